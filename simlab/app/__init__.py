@@ -1,0 +1,5 @@
+"""The app layer: command-line flags and the app loop object (no Omniverse, launching is instant)."""
+
+from simlab.app.app_launcher import AppLauncher, SimulationApp, resolve_device
+
+__all__ = ["AppLauncher", "SimulationApp", "resolve_device"]

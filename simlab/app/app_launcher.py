@@ -1,0 +1,267 @@
+"""``AppLauncher``: the command-line flags and the app loop object of Isaac Lab, without Omniverse.
+
+There is no simulator application to boot, so launching is instant. The app object keeps Isaac
+Lab's script structure working::
+
+    parser = argparse.ArgumentParser()
+    AppLauncher.add_app_launcher_args(parser)
+    args = parser.parse_args()
+    app_launcher = AppLauncher(args)
+    simulation_app = app_launcher.app
+    ...
+    while simulation_app.is_running():
+        ...
+    simulation_app.close()
+
+Ctrl+C: if the script polls ``is_running()``, the first Ctrl+C makes it return False so the loop
+ends cleanly; a second Ctrl+C raises ``KeyboardInterrupt``. Scripts that never poll (e.g. a
+training loop) get the ``KeyboardInterrupt`` at once.
+"""
+
+from __future__ import annotations
+
+import argparse
+import atexit
+import difflib
+import importlib.util
+import os
+import re
+import signal
+import sys
+import threading
+import warnings
+from typing import Any
+
+__all__ = ["AppLauncher", "SimulationApp", "resolve_device"]
+
+_DEVICE_RE = re.compile(r"^(cpu|cuda(:\d+)?)$")
+
+
+def _gpu_backend_available() -> bool:
+    """True if mujoco_warp is installed and torch sees a CUDA device."""
+    if importlib.util.find_spec("mujoco_warp") is None:
+        return False  # decided without importing torch
+    import torch
+
+    return torch.cuda.is_available()
+
+
+def resolve_device(device: str | None) -> str:
+    """The device to simulate on: ``"cpu"`` or ``"cuda:N"``.
+
+    ``None`` (or ``"auto"``) reads the ``SIMLAB_DEVICE`` environment variable, and without it picks
+    ``"cuda:0"`` when a GPU and mujoco_warp are available, else ``"cpu"``. ``"cuda"`` means
+    ``"cuda:0"``. A CUDA device asked for on a machine without one falls back to ``"cpu"`` with a
+    warning.
+    """
+    if device is None or device == "auto":
+        device = os.environ.get("SIMLAB_DEVICE") or None
+        if device is None or device == "auto":
+            return "cuda:0" if _gpu_backend_available() else "cpu"
+    if not isinstance(device, str):
+        raise TypeError(f"device must be a string such as 'cpu' or 'cuda:0', got {type(device).__name__}.")
+    device = device.strip().lower()
+    if not _DEVICE_RE.match(device):
+        raise ValueError(
+            f"Invalid device '{device}'. Allowed: 'cpu', 'cuda', 'cuda:N' (N = GPU index), 'auto'."
+        )
+    if device == "cpu":
+        return device
+    if device == "cuda":
+        device = "cuda:0"
+    if not _gpu_backend_available():
+        warnings.warn(
+            f"Device '{device}' requested but no CUDA GPU with mujoco_warp is available; using 'cpu'.",
+            stacklevel=2,
+        )
+        return "cpu"
+    import torch
+
+    index = int(device.split(":")[1])
+    if index >= torch.cuda.device_count():
+        raise ValueError(
+            f"Device '{device}' does not exist: {torch.cuda.device_count()} CUDA device(s) visible."
+        )
+    return device
+
+
+class SimulationApp:
+    """The app object scripts loop on: ``is_running()``, ``update()``, ``close()``."""
+
+    def __init__(self, max_steps: int | None = None, install_signal_handler: bool = True):
+        self.max_steps = max_steps
+        self.num_polls = 0  # calls of is_running()
+        self._interrupted = False
+        self._closed = False
+        self._prev_handler: Any = None
+        self._handler_installed = False
+        if install_signal_handler and threading.current_thread() is threading.main_thread():
+            self._prev_handler = signal.getsignal(signal.SIGINT)
+            signal.signal(signal.SIGINT, self._on_sigint)
+            self._handler_installed = True
+        atexit.register(self.close)
+
+    def _on_sigint(self, signum: int, frame: Any) -> None:
+        if self._interrupted or self.num_polls == 0:
+            # second Ctrl+C, or a script that never polls is_running(): stop now
+            raise KeyboardInterrupt
+        self._interrupted = True
+        print(
+            "\n[simlab] Ctrl+C: stopping at the end of this step (press Ctrl+C again to abort).",
+            file=sys.stderr,
+        )
+
+    @property
+    def interrupted(self) -> bool:
+        """True once Ctrl+C was pressed."""
+        return self._interrupted
+
+    def is_running(self) -> bool:
+        """False once closed, interrupted by Ctrl+C, or polled more than ``max_steps`` times."""
+        if self._closed or self._interrupted:
+            return False
+        self.num_polls += 1
+        return self.max_steps is None or self.num_polls <= self.max_steps
+
+    def is_exiting(self) -> bool:
+        return not self.is_running()
+
+    def update(self) -> None:
+        """Isaac Sim renders a frame here; simlab's viewers are driven by the simulation context."""
+
+    def close(self) -> None:
+        """Restore the previous Ctrl+C handler. Safe to call more than once (also runs at exit)."""
+        if self._closed:
+            return
+        self._closed = True
+        if self._handler_installed and threading.current_thread() is threading.main_thread():
+            # only restore if nobody replaced our handler in the meantime
+            if signal.getsignal(signal.SIGINT) == self._on_sigint:
+                signal.signal(signal.SIGINT, self._prev_handler)
+            self._handler_installed = False
+        atexit.unregister(self.close)
+
+    @property
+    def closed(self) -> bool:
+        return self._closed
+
+
+class AppLauncher:
+    """Parse the app flags and create the app object.
+
+    Args:
+        launcher_args: an ``argparse.Namespace`` (from a parser given to
+            :meth:`add_app_launcher_args`) or a dict; keys it does not know are ignored, since
+            the script's own flags share the namespace.
+        **kwargs: the same settings as keywords; they override ``launcher_args``.
+    """
+
+    # flag name -> (default, help)
+    _ARGS: dict[str, tuple[Any, str]] = {
+        "headless": (False, "Run without a viewer window."),
+        "device": (None, "Simulation device: 'cpu', 'cuda' or 'cuda:N'. Default: $SIMLAB_DEVICE, else "
+                   "'cuda:0' if a GPU with mujoco_warp is available, else 'cpu'."),
+        "enable_cameras": (False, "Enable camera sensors and offscreen rendering."),
+        "livestream": (-1, "Accepted for Isaac Lab compatibility and ignored (simlab has no livestreaming)."),
+        "max_app_steps": (None, "Stop the app loop (is_running() -> False) after this many iterations."),
+        "verbose": (False, "Print the resolved app settings."),
+    }  # fmt: skip
+
+    def __init__(self, launcher_args: argparse.Namespace | dict | None = None, **kwargs: Any):
+        if launcher_args is None:
+            settings: dict[str, Any] = {}
+        elif isinstance(launcher_args, argparse.Namespace):
+            settings = dict(vars(launcher_args))
+        elif isinstance(launcher_args, dict):
+            settings = dict(launcher_args)
+        else:
+            raise TypeError(
+                "AppLauncher expects an argparse.Namespace, a dict or None, got "
+                f"{type(launcher_args).__name__}."
+            )
+        unknown = [k for k in kwargs if k not in self._ARGS]
+        if unknown:
+            hints = "".join(
+                f" ('{k}': did you mean '{c[0]}'?)"
+                for k in unknown
+                if (c := difflib.get_close_matches(k, self._ARGS, 1))
+            )
+            raise TypeError(
+                f"AppLauncher got unknown setting(s) {unknown}.{hints} Valid: {list(self._ARGS)}."
+            )
+        settings.update(kwargs)
+        cfg = {name: settings.get(name, default) for name, (default, _) in self._ARGS.items()}
+        for name in ("headless", "enable_cameras", "verbose"):
+            if cfg[name] is None:
+                cfg[name] = False
+            if not isinstance(cfg[name], bool):
+                raise TypeError(f"AppLauncher: '{name}' must be a bool, got {cfg[name]!r}.")
+        steps = cfg["max_app_steps"]
+        if steps is not None and (isinstance(steps, bool) or not isinstance(steps, int) or steps < 0):
+            raise ValueError(f"AppLauncher: 'max_app_steps' must be None or an int >= 0, got {steps!r}.")
+        livestream = cfg["livestream"] if cfg["livestream"] is not None else -1
+        if livestream not in (-1, 0, 1, 2):
+            raise ValueError(f"AppLauncher: 'livestream' must be one of -1, 0, 1, 2, got {livestream!r}.")
+        if livestream > 0:
+            print("[simlab] --livestream is ignored: simlab has no livestreaming (use the MuJoCo viewer).")
+
+        self._headless: bool = cfg["headless"]
+        self._enable_cameras: bool = cfg["enable_cameras"]
+        self._verbose: bool = cfg["verbose"]
+        self._max_app_steps: int | None = steps
+        self._device: str = resolve_device(cfg["device"])
+        # ranks for multi-GPU training (set by torchrun)
+        self.local_rank = int(os.environ.get("LOCAL_RANK", 0))
+        self.global_rank = int(os.environ.get("RANK", 0))
+        self._app = SimulationApp(max_steps=steps)
+        if self._verbose:
+            print(
+                f"[simlab] AppLauncher: device={self._device} headless={self._headless} "
+                f"enable_cameras={self._enable_cameras} max_app_steps={steps}"
+            )
+
+    @staticmethod
+    def add_app_launcher_args(parser: argparse.ArgumentParser) -> None:
+        """Add the app flags to ``parser``, skipping any flag the script already defined."""
+        if not isinstance(parser, argparse.ArgumentParser):
+            raise TypeError(f"Expected an argparse.ArgumentParser, got {type(parser).__name__}.")
+        existing = parser._option_string_actions  # flag string -> action; argparse has no public API
+        group = parser.add_argument_group("app_launcher arguments", "simlab app settings.")
+        specs: dict[str, dict[str, Any]] = {
+            "headless": {"action": "store_true"},
+            "device": {"type": str},
+            "enable_cameras": {"action": "store_true"},
+            "livestream": {"type": int, "choices": [-1, 0, 1, 2]},
+            "max_app_steps": {"type": int},
+            "verbose": {"action": "store_true"},
+        }
+        for name, spec in specs.items():
+            flag = f"--{name}"
+            if flag in existing:
+                continue
+            default, help_text = AppLauncher._ARGS[name]
+            group.add_argument(flag, default=default, help=help_text, **spec)
+
+    @property
+    def app(self) -> SimulationApp:
+        return self._app
+
+    @property
+    def device(self) -> str:
+        return self._device
+
+    @property
+    def headless(self) -> bool:
+        return self._headless
+
+    @property
+    def enable_cameras(self) -> bool:
+        return self._enable_cameras
+
+    @property
+    def max_app_steps(self) -> int | None:
+        return self._max_app_steps
+
+    @property
+    def verbose(self) -> bool:
+        return self._verbose

@@ -1,0 +1,6 @@
+"""Assets: articulations and rigid objects, and the config of anything placed in a scene."""
+
+from .articulation import Articulation, ArticulationData
+from .articulation_cfg import ArticulationCfg
+from .asset_base import AssetBase, AssetBaseCfg
+from .rigid_object import RigidObject, RigidObjectCfg, RigidObjectData

@@ -1,0 +1,384 @@
+"""Articulations: robots made of bodies and hinge/slide joints, with a fixed or floating base.
+
+State lives in the backend's MjData tensors; ``ArticulationData`` reads it through live views.
+Positions and orientations that an articulation reads or writes are in the world frame with the
+environment origins included (``scene.env_origins``), as in Isaac Lab, although each environment
+is its own MuJoCo world centred on zero: the origins are added on read and removed on write.
+
+Writes of state (root pose, joint positions, ...) reach the simulation at its next call; derived
+quantities (body poses and velocities) follow after the next ``step`` or ``forward``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import mujoco
+import torch
+
+from simlab.actuators import ActuatorBase
+from simlab.actuators.actuator_pd import per_joint_values
+from simlab.utils.string import resolve_matching_names, resolve_matching_names_values
+
+from .asset_base import EnvIds
+from .root_body import RootedAsset, RootedAssetData, contiguous
+
+
+class Articulation(RootedAsset):
+    """A robot of ``num_joints`` hinge/slide joints; see ``ArticulationCfg``."""
+
+    def __init__(self, cfg):
+        self.actuators: dict[str, ActuatorBase] = {}
+        super().__init__(cfg)
+
+    data: ArticulationData
+
+    def _make_data(self, sim) -> ArticulationData:
+        return ArticulationData(self, sim)
+
+    # -- building ---------------------------------------------------------------------------------
+
+    def _spec_joint_names(self, spec: mujoco.MjSpec) -> list[str]:
+        return [
+            j.name[len(self.prefix) :]
+            for j in spec.joints
+            if j.name.startswith(self.prefix) and j.type != mujoco.mjtJoint.mjJNT_FREE
+        ]
+
+    def _on_spawned(self, sim) -> None:
+        """Add one MuJoCo actuator per actuated joint; see ``simlab.actuators.actuator_cfg``."""
+        spec = sim.spec
+        joint_names = self._spec_joint_names(spec)
+        claimed: dict[str, str] = {}
+        for group, act_cfg in self.cfg.actuators.items():
+            _, names = resolve_matching_names(act_cfg.joint_names_expr, joint_names)
+            for name in names:
+                if name in claimed:
+                    raise ValueError(f"Joint '{name}' is driven by both actuator groups '{claimed[name]}' and '{group}'")
+                claimed[name] = group
+            implicit = act_cfg.class_type.is_implicit_model
+            kp = per_joint_values(act_cfg.stiffness, names, 0.0)
+            kd = per_joint_values(act_cfg.damping, names, 0.0)
+            effort_cfg = act_cfg.effort_limit_sim if act_cfg.effort_limit_sim is not None else act_cfg.effort_limit
+            effort = per_joint_values(effort_cfg, names, float("inf"))
+            armature = per_joint_values(act_cfg.armature, names, None)
+            friction = per_joint_values(act_cfg.friction, names, None)
+            for i, name in enumerate(names):
+                joint = spec.joint(self.prefix + name)
+                if armature[i] is not None:
+                    joint.armature = armature[i]
+                if friction[i] is not None:
+                    joint.frictionloss = friction[i]
+                act = spec.add_actuator(name=self.prefix + name, target=self.prefix + name)
+                act.trntype = mujoco.mjtTrn.mjTRN_JOINT
+                act.gaintype = mujoco.mjtGain.mjGAIN_FIXED
+                act.biastype = mujoco.mjtBias.mjBIAS_AFFINE
+                act.gainprm[0] = 1.0
+                if implicit:
+                    act.biasprm[1], act.biasprm[2] = -kp[i], -kd[i]
+                act.ctrllimited = mujoco.mjtLimited.mjLIMITED_FALSE
+                if effort[i] != float("inf"):
+                    act.forcelimited = mujoco.mjtLimited.mjLIMITED_TRUE
+                    act.forcerange = [-effort[i], effort[i]]
+
+    def _on_compile(self, model: mujoco.MjModel) -> None:
+        """Start every world at the configured joint positions (MuJoCo resets to ``qpos0``)."""
+        ids = self._model_joint_ids(model)
+        names = [model.joint(j).name[len(self.prefix) :] for j in ids]
+        if not names:
+            return
+        idx, _, values = resolve_matching_names_values(self.cfg.init_state.joint_pos, names)
+        for i, value in zip(idx, values):
+            model.qpos0[model.jnt_qposadr[ids[i]]] = value
+
+    def _model_joint_ids(self, model: mujoco.MjModel) -> list[int]:
+        ids = []
+        for j in range(model.njnt):
+            if not model.joint(j).name.startswith(self.prefix) or model.jnt_type[j] == mujoco.mjtJoint.mjJNT_FREE:
+                continue
+            if model.jnt_type[j] == mujoco.mjtJoint.mjJNT_BALL:
+                raise ValueError(f"Joint '{model.joint(j).name}' is a ball joint; articulations take hinge and slide joints")
+            ids.append(j)
+        return ids
+
+    def _initialize(self, sim) -> None:
+        super()._initialize(sim)
+        model, physics = sim.model, sim.physics
+        n, dev = self.num_instances, self.device
+        joint_ids = self._model_joint_ids(model)
+        self._joint_names = [model.joint(j).name[len(self.prefix) :] for j in joint_ids]
+        self._qpos_cols = contiguous([int(model.jnt_qposadr[j]) for j in joint_ids], dev)
+        self._dof_cols = contiguous([int(model.jnt_dofadr[j]) for j in joint_ids], dev)
+        self._qpos_index = torch.tensor([int(model.jnt_qposadr[j]) for j in joint_ids], dtype=torch.long, device=dev)
+        self._dof_index = torch.tensor([int(model.jnt_dofadr[j]) for j in joint_ids], dtype=torch.long, device=dev)
+        self._joint_model_ids = joint_ids
+        num_joints = len(joint_ids)
+
+        # Actuators: one MuJoCo actuator per actuated joint, named like the joint.
+        data = self.data
+        data.joint_stiffness = torch.zeros(n, num_joints, device=dev)
+        data.joint_damping = torch.zeros(n, num_joints, device=dev)
+        data.joint_effort_limits = torch.full((n, num_joints), float("inf"), device=dev)
+        data.joint_velocity_limits = torch.full((n, num_joints), float("inf"), device=dev)
+        data.joint_armature = torch.tensor(model.dof_armature[self._dof_index.cpu()], device=dev).repeat(n, 1)
+        data.joint_friction_coeff = torch.tensor(model.dof_frictionloss[self._dof_index.cpu()], device=dev).repeat(n, 1)
+        actuated, ctrl_cols, self._explicit = [], [], []
+        for group, act_cfg in self.cfg.actuators.items():
+            ids, names = resolve_matching_names(act_cfg.joint_names_expr, self._joint_names)
+            actuator = act_cfg.class_type(act_cfg, names, ids, n, dev)
+            self.actuators[group] = actuator
+            data.joint_stiffness[:, ids] = actuator.stiffness
+            data.joint_damping[:, ids] = actuator.damping
+            data.joint_effort_limits[:, ids] = actuator.effort_limit
+            data.joint_velocity_limits[:, ids] = actuator.velocity_limit
+            actuated += ids
+            ctrl_cols += [model.actuator(self.prefix + name).id for name in names]
+            if not actuator.is_implicit_model:
+                self._explicit.append(actuator)
+        order = sorted(range(len(actuated)), key=lambda k: actuated[k])
+        self._actuated = contiguous([actuated[k] for k in order], dev)
+        self._ctrl_cols = contiguous([ctrl_cols[k] for k in order], dev)
+        self._num_actuated = len(actuated)
+        self._all_implicit = not self._explicit
+        self._ctrl = physics.data("ctrl")
+        self._actuator_force = physics.data("actuator_force")
+
+        # Limits and defaults.
+        ranges = torch.tensor(model.jnt_range[joint_ids], dtype=torch.float32, device=dev).reshape(num_joints, 2)
+        limited = torch.tensor(model.jnt_limited[joint_ids].astype(bool), device=dev)
+        ranges[~limited] = torch.tensor([-float("inf"), float("inf")], device=dev)
+        data.joint_pos_limits = ranges.repeat(n, 1, 1)
+        data.default_joint_pos_limits = data.joint_pos_limits.clone()
+        data.soft_joint_pos_limits = soft_limits(data.joint_pos_limits, self.cfg.soft_joint_pos_limit_factor)
+        data.soft_joint_vel_limits = data.joint_velocity_limits.clone()
+        data.default_joint_stiffness = data.joint_stiffness.clone()
+        data.default_joint_damping = data.joint_damping.clone()
+        data.default_joint_pos = torch.zeros(n, num_joints, device=dev)
+        data.default_joint_vel = torch.zeros(n, num_joints, device=dev)
+        if num_joints:
+            for attr, values in (("default_joint_pos", self.cfg.init_state.joint_pos), ("default_joint_vel", self.cfg.init_state.joint_vel)):
+                idx, _, vals = resolve_matching_names_values(values, self._joint_names)
+                getattr(data, attr)[:, idx] = torch.tensor(vals, dtype=torch.float32, device=dev)
+        data.joint_pos_target = data.default_joint_pos.clone()
+        data.joint_vel_target = torch.zeros(n, num_joints, device=dev)
+        data.joint_effort_target = torch.zeros(n, num_joints, device=dev)
+        data._explicit_torque = torch.zeros(n, num_joints, device=dev)
+        data.joint_names = self._joint_names
+
+    # -- Isaac Lab's API --------------------------------------------------------------------------
+
+    @property
+    def num_joints(self) -> int:
+        return len(self._joint_names)
+
+    @property
+    def joint_names(self) -> list[str]:
+        return self._joint_names
+
+    @property
+    def num_fixed_tendons(self) -> int:
+        return 0
+
+    def find_joints(
+        self, name_keys: str | Sequence[str], joint_subset: list[str] | None = None, preserve_order: bool = False
+    ) -> tuple[list[int], list[str]]:
+        """Indices and names of the joints matching names or regexes (errors list what exists)."""
+        joint_subset = self.joint_names if joint_subset is None else joint_subset
+        return resolve_matching_names(name_keys, joint_subset, preserve_order)
+
+    def reset(self, env_ids: EnvIds = None) -> None:
+        super().reset(env_ids)
+        for actuator in self.actuators.values():
+            actuator.reset(env_ids)
+
+    def write_data_to_sim(self) -> None:
+        """Turn joint targets into MuJoCo controls and apply external wrenches."""
+        super().write_data_to_sim()
+        if not self._num_actuated:
+            return
+        d, cols = self.data, self._actuated
+        if self._all_implicit:
+            # ctrl = kp q* + kd qd* + tau_ff (the PD bias lives in the model; see actuator_cfg).
+            ctrl = d.joint_stiffness * d.joint_pos_target + d.joint_damping * d.joint_vel_target + d.joint_effort_target
+            self._ctrl[:, self._ctrl_cols] = ctrl if isinstance(cols, slice) and cols == slice(0, self.num_joints) else ctrl[:, cols]
+            return
+        ctrl = d.joint_stiffness * d.joint_pos_target + d.joint_damping * d.joint_vel_target + d.joint_effort_target
+        for actuator in self._explicit:
+            j = actuator.joint_indices
+            torque = actuator.compute_torque(
+                d.joint_pos_target[:, j], d.joint_vel_target[:, j], d.joint_effort_target[:, j],
+                d.joint_pos[:, j], d.joint_vel[:, j],
+                d.joint_stiffness[:, j], d.joint_damping[:, j], d.joint_effort_limits[:, j], d.joint_velocity_limits[:, j],
+            )
+            ctrl[:, j] = torque
+            d._explicit_torque[:, j] = torque
+        self._ctrl[:, self._ctrl_cols] = ctrl[:, cols]
+
+    # joint state ---------------------------------------------------------------------------------
+
+    def write_joint_state_to_sim(self, position, velocity, joint_ids=None, env_ids: EnvIds = None) -> None:
+        self.write_joint_position_to_sim(position, joint_ids, env_ids)
+        self.write_joint_velocity_to_sim(velocity, joint_ids, env_ids)
+
+    def write_joint_position_to_sim(self, position, joint_ids=None, env_ids: EnvIds = None) -> None:
+        self._write_cols(self._qpos, self._cols(self._qpos_cols, self._qpos_index, joint_ids), env_ids, position)
+
+    def write_joint_velocity_to_sim(self, velocity, joint_ids=None, env_ids: EnvIds = None) -> None:
+        self._write_cols(self._qvel, self._cols(self._dof_cols, self._dof_index, joint_ids), env_ids, velocity)
+
+    # joint targets -------------------------------------------------------------------------------
+
+    def set_joint_position_target(self, target, joint_ids=None, env_ids: EnvIds = None) -> None:
+        self._write_cols(self.data.joint_pos_target, self._joint_index(joint_ids), env_ids, target)
+
+    def set_joint_velocity_target(self, target, joint_ids=None, env_ids: EnvIds = None) -> None:
+        self._write_cols(self.data.joint_vel_target, self._joint_index(joint_ids), env_ids, target)
+
+    def set_joint_effort_target(self, target, joint_ids=None, env_ids: EnvIds = None) -> None:
+        self._write_cols(self.data.joint_effort_target, self._joint_index(joint_ids), env_ids, target)
+
+    # joint properties (per world; what randomization events change) ------------------------------
+
+    def write_joint_stiffness_to_sim(self, stiffness, joint_ids=None, env_ids: EnvIds = None) -> None:
+        self._write_cols(self.data.joint_stiffness, self._joint_index(joint_ids), env_ids, stiffness)
+        self._sync_actuator_model(1, self.data.joint_stiffness, env_ids)
+
+    def write_joint_damping_to_sim(self, damping, joint_ids=None, env_ids: EnvIds = None) -> None:
+        self._write_cols(self.data.joint_damping, self._joint_index(joint_ids), env_ids, damping)
+        self._sync_actuator_model(2, self.data.joint_damping, env_ids)
+
+    def write_joint_effort_limit_to_sim(self, limits, joint_ids=None, env_ids: EnvIds = None) -> None:
+        self._write_cols(self.data.joint_effort_limits, self._joint_index(joint_ids), env_ids, limits)
+        env = self._env_index(env_ids)
+        limit = self.data.joint_effort_limits[env][:, self._actuated].clamp(max=1e9)
+        forcerange = self._physics.model_field("actuator_forcerange")
+        self._physics.model_field("actuator_forcelimited")[env, self._ctrl_cols] = 1
+        forcerange[env, self._ctrl_cols] = torch.stack([-limit, limit], dim=-1)
+
+    def write_joint_velocity_limit_to_sim(self, limits, joint_ids=None, env_ids: EnvIds = None) -> None:
+        self._write_cols(self.data.joint_velocity_limits, self._joint_index(joint_ids), env_ids, limits)
+
+    def write_joint_armature_to_sim(self, armature, joint_ids=None, env_ids: EnvIds = None) -> None:
+        self._write_cols(self.data.joint_armature, self._joint_index(joint_ids), env_ids, armature)
+        self._write_model_dofs("dof_armature", self.data.joint_armature, env_ids)
+
+    def write_joint_friction_coefficient_to_sim(self, friction, joint_ids=None, env_ids: EnvIds = None) -> None:
+        self._write_cols(self.data.joint_friction_coeff, self._joint_index(joint_ids), env_ids, friction)
+        self._write_model_dofs("dof_frictionloss", self.data.joint_friction_coeff, env_ids)
+
+    def write_joint_position_limit_to_sim(self, limits, joint_ids=None, env_ids: EnvIds = None) -> None:
+        env, cols = self._env_index(env_ids), self._joint_index(joint_ids)
+        self._write_cols(self.data.joint_pos_limits, cols, env_ids, limits)
+        self.data.soft_joint_pos_limits = soft_limits(self.data.joint_pos_limits, self.cfg.soft_joint_pos_limit_factor)
+        jnt_range = self._physics.model_field("jnt_range")
+        ids = torch.tensor(self._joint_model_ids, dtype=torch.long, device=self.device)
+        jnt_range[env, ids] = self.data.joint_pos_limits[env].clamp(-1e9, 1e9)
+
+    # -- helpers ----------------------------------------------------------------------------------
+
+    def _joint_index(self, joint_ids):
+        if joint_ids is None or (isinstance(joint_ids, slice) and joint_ids == slice(None)):
+            return slice(None)
+        return torch.as_tensor(joint_ids, dtype=torch.long, device=self.device)
+
+    def _cols(self, cols, index: torch.Tensor, joint_ids):
+        """State columns (qpos or qvel) of the selected joints."""
+        sel = self._joint_index(joint_ids)
+        return cols if isinstance(sel, slice) else index[sel]
+
+    def _sync_actuator_model(self, bias_term: int, gains: torch.Tensor, env_ids: EnvIds) -> None:
+        """Implicit actuators hold their PD gains in the model's bias: keep it per world in step."""
+        implicit = [a for a in self.actuators.values() if a.is_implicit_model]
+        if not implicit:
+            return
+        env = self._env_index(env_ids)
+        biasprm = self._physics.model_field("actuator_biasprm")
+        rows = biasprm[env] if not isinstance(env, slice) else biasprm
+        for actuator in implicit:
+            ctrl_cols = torch.tensor(
+                [self._sim.model.actuator(self.prefix + name).id for name in actuator.joint_names], device=self.device
+            )
+            values = -gains[env][:, actuator.joint_indices]
+            rows[:, ctrl_cols, bias_term] = values
+        if not isinstance(env, slice):
+            biasprm[env] = rows
+
+    def _write_model_dofs(self, field: str, values: torch.Tensor, env_ids: EnvIds) -> None:
+        env = self._env_index(env_ids)
+        target = self._physics.model_field(field)
+        if isinstance(env, slice):
+            target[:, self._dof_index] = values
+        else:
+            target[env[:, None], self._dof_index] = values[env]
+
+
+def soft_limits(limits: torch.Tensor, factor: float) -> torch.Tensor:
+    """Limits shrunk about their middle by ``factor``; infinite limits stay infinite."""
+    mean = (limits[..., 0] + limits[..., 1]) / 2
+    half = (limits[..., 1] - limits[..., 0]) / 2 * factor
+    soft = torch.stack([mean - half, mean + half], dim=-1)
+    return torch.where(torch.isfinite(limits), soft, limits)
+
+
+class ArticulationData(RootedAssetData):
+    """Live joint state plus the per-env joint properties the articulation keeps in torch."""
+
+    def __init__(self, asset: Articulation, sim):
+        super().__init__(asset, sim)
+        self._qacc = sim.physics.data("qacc")
+        self.joint_names: list[str] = []
+        # Filled by Articulation._initialize: (num_envs, num_joints[, 2]) tensors.
+        self.default_joint_pos: torch.Tensor
+        self.default_joint_vel: torch.Tensor
+        self.joint_pos_target: torch.Tensor
+        self.joint_vel_target: torch.Tensor
+        self.joint_effort_target: torch.Tensor
+        self.joint_stiffness: torch.Tensor
+        self.joint_damping: torch.Tensor
+        self.joint_armature: torch.Tensor
+        self.joint_friction_coeff: torch.Tensor
+        self.joint_pos_limits: torch.Tensor
+        self.soft_joint_pos_limits: torch.Tensor
+        self.joint_velocity_limits: torch.Tensor
+        self.soft_joint_vel_limits: torch.Tensor
+        self.joint_effort_limits: torch.Tensor
+
+    @property
+    def joint_pos(self) -> torch.Tensor:
+        a = self._asset
+        return a._qpos[:, a._qpos_cols]
+
+    @property
+    def joint_vel(self) -> torch.Tensor:
+        a = self._asset
+        return a._qvel[:, a._dof_cols]
+
+    @property
+    def joint_acc(self) -> torch.Tensor:
+        a = self._asset
+        return self._qacc[:, a._dof_cols]
+
+    @property
+    def applied_torque(self) -> torch.Tensor:
+        """Torque MuJoCo's actuators applied in the last step, after clamping (0 where unactuated)."""
+        a = self._asset
+        torque = torch.zeros_like(self.joint_effort_target)
+        torque[:, a._actuated] = a._actuator_force[:, a._ctrl_cols]
+        return torque
+
+    @property
+    def computed_torque(self) -> torch.Tensor:
+        """Torque the actuator models ask for, before effort limits."""
+        torque = (
+            self.joint_stiffness * (self.joint_pos_target - self.joint_pos)
+            + self.joint_damping * (self.joint_vel_target - self.joint_vel)
+            + self.joint_effort_target
+        )
+        for actuator in self._asset._explicit:
+            torque[:, actuator.joint_indices] = self._explicit_torque[:, actuator.joint_indices]
+        return torque
+
+    # Isaac Lab's older names.
+    joint_limits = property(lambda self: self.joint_pos_limits)
+    joint_vel_limits = property(lambda self: self.joint_velocity_limits)
+    joint_friction = property(lambda self: self.joint_friction_coeff)

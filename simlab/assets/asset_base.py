@@ -1,0 +1,98 @@
+"""The life cycle every asset shares: spawn into the spec, then bind to the compiled model.
+
+An asset is created while the scene is built: its ``__init__`` spawns it (if ``cfg.spawn`` is set)
+into the current simulation's spec. Once the simulation compiles (``sim.reset()``), ``_initialize``
+looks its bodies and joints up in the model and binds its data to the backend's live tensors.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import MISSING
+
+import torch
+
+from simlab.sim import SimulationContext
+from simlab.sim.spawners import SpawnerCfg, entity_name
+from simlab.utils import configclass
+
+
+@configclass
+class AssetBaseCfg:
+    @configclass
+    class InitialStateCfg:
+        pos: tuple[float, float, float] = (0.0, 0.0, 0.0)
+        rot: tuple[float, float, float, float] = (1.0, 0.0, 0.0, 0.0)
+        """Quaternion (w, x, y, z)."""
+
+    class_type: type | None = None
+    prim_path: str = MISSING
+    """``{ENV_REGEX_NS}/Name`` for a per-environment asset, ``/World/Name`` for a global one."""
+    spawn: SpawnerCfg | None = None
+    init_state: InitialStateCfg = InitialStateCfg()
+    collision_group: int = 0
+    debug_vis: bool = False
+
+
+EnvIds = Sequence[int] | torch.Tensor | slice | None
+
+
+class AssetBase:
+    """Spawns on construction; binds to the simulation when it compiles."""
+
+    def __init__(self, cfg: AssetBaseCfg):
+        cfg.validate()
+        self.cfg = cfg
+        self.name = entity_name(cfg.prim_path)
+        self.prefix = f"{self.name}/"
+        sim = SimulationContext.instance()
+        if sim is None:
+            raise RuntimeError(f"Create a SimulationContext before the asset '{cfg.prim_path}'.")
+        self._sim = sim
+        self._is_initialized = False
+        if cfg.spawn is not None:
+            cfg.spawn.func(cfg.prim_path, cfg.spawn, translation=cfg.init_state.pos, orientation=cfg.init_state.rot)
+        self._on_spawned(sim)
+        sim.add_compile_callback(self._on_compile)
+        sim.add_reset_callback(self._initialize)
+
+    @property
+    def is_initialized(self) -> bool:
+        return self._is_initialized
+
+    @property
+    def device(self) -> str:
+        return self._sim.device
+
+    @property
+    def num_instances(self) -> int:
+        return self._sim.num_envs
+
+    def _on_spawned(self, sim: SimulationContext) -> None:
+        """Edit the spec after spawning (actuators, joint properties)."""
+
+    def _on_compile(self, model) -> None:
+        """Edit the compiled model before the backend copies it (initial joint positions)."""
+
+    def _initialize(self, sim: SimulationContext) -> None:
+        self._is_initialized = True
+
+    def reset(self, env_ids: EnvIds = None) -> None:
+        pass
+
+    def write_data_to_sim(self) -> None:
+        pass
+
+    def update(self, dt: float) -> None:
+        pass
+
+    # -- index helpers ----------------------------------------------------------------------------
+
+    def _env_index(self, env_ids: EnvIds) -> torch.Tensor | slice:
+        if env_ids is None or (isinstance(env_ids, slice) and env_ids == slice(None)):
+            return slice(None)
+        if isinstance(env_ids, slice):
+            return env_ids
+        if isinstance(env_ids, torch.Tensor):
+            return env_ids.to(device=self.device, dtype=torch.long) if env_ids.dtype != torch.bool else env_ids
+        return torch.as_tensor(list(env_ids), dtype=torch.long, device=self.device)

@@ -1,0 +1,326 @@
+"""What rigid objects and articulations share: a root body, its bodies, and external wrenches.
+
+Frames and conventions (Isaac Lab's): quaternions ``(w, x, y, z)``; the root state is
+``(pos, quat, lin_vel, ang_vel)`` in the world frame, 13 numbers per env. MuJoCo's free joint keeps
+its angular velocity in the body frame; the conversion happens here, on read and on write. A
+fixed base is a mocap body: its pose can be written, its velocity is zero.
+"""
+
+from __future__ import annotations
+
+import mujoco
+import torch
+
+import simlab.utils.math as math_utils
+from simlab.utils.string import resolve_matching_names
+
+from .asset_base import AssetBase, EnvIds
+
+
+def contiguous(ids: list[int], device) -> slice | torch.Tensor:
+    """A slice when ``ids`` are consecutive (so indexing gives a live view), else an index tensor."""
+    if ids and ids == list(range(ids[0], ids[0] + len(ids))):
+        return slice(ids[0], ids[0] + len(ids))
+    return torch.tensor(ids, dtype=torch.long, device=device)
+
+
+class RootedAsset(AssetBase):
+    """Bodies named ``<Name>/...`` in the model, the first one being the root."""
+
+    data: RootedAssetData
+
+    def _initialize(self, sim) -> None:
+        super()._initialize(sim)
+        model, physics = sim.model, sim.physics
+        self._physics = physics
+        body_ids = [b for b in range(model.nbody) if model.body(b).name.startswith(self.prefix)]
+        if not body_ids:
+            raise RuntimeError(f"'{self.cfg.prim_path}' has no bodies named '{self.prefix}...' in the model")
+        self._body_ids = body_ids
+        self._body_index = torch.tensor(body_ids, dtype=torch.long, device=self.device)
+        self._body_names = [model.body(b).name[len(self.prefix) :] for b in body_ids]
+        root = body_ids[0]
+        self._root_body = root
+        free = [j for j in range(model.njnt) if model.jnt_bodyid[j] == root and model.jnt_type[j] == mujoco.mjtJoint.mjJNT_FREE]
+        self._mocap_id = int(model.body_mocapid[root])
+        self._is_fixed_base = not free
+        if free:
+            qadr, dadr = int(model.jnt_qposadr[free[0]]), int(model.jnt_dofadr[free[0]])
+            self._root_pos_cols, self._root_quat_cols = slice(qadr, qadr + 3), slice(qadr + 3, qadr + 7)
+            self._root_lin_cols, self._root_ang_cols = slice(dadr, dadr + 3), slice(dadr + 3, dadr + 6)
+        self._qpos, self._qvel = physics.data("qpos"), physics.data("qvel")
+        if self._mocap_id >= 0:
+            self._mocap_pos, self._mocap_quat = physics.data("mocap_pos"), physics.data("mocap_quat")
+        self._xfrc_applied = physics.data("xfrc_applied")
+        n = self.num_instances
+        self._ext_force_b = torch.zeros(n, len(body_ids), 3, device=self.device)
+        self._ext_torque_b = torch.zeros(n, len(body_ids), 3, device=self.device)
+        self._has_external_wrench = False
+        self.data = self._make_data(sim)
+        init = self.cfg.init_state
+        state = [*init.pos, *init.rot, *getattr(init, "lin_vel", (0, 0, 0)), *getattr(init, "ang_vel", (0, 0, 0))]
+        self.data.default_root_state = torch.tensor(state, dtype=torch.float32, device=self.device).repeat(n, 1)
+        self.data.body_names = self._body_names
+        self.data.default_mass = torch.tensor(model.body_mass[body_ids], dtype=torch.float32, device=self.device).repeat(n, 1)
+        self.data.default_inertia = torch.tensor(model.body_inertia[body_ids], dtype=torch.float32, device=self.device).repeat(n, 1, 1)
+
+    def _make_data(self, sim) -> RootedAssetData:
+        raise NotImplementedError
+
+    # -- Isaac Lab's API --------------------------------------------------------------------------
+
+    @property
+    def num_bodies(self) -> int:
+        return len(self._body_ids)
+
+    @property
+    def body_names(self) -> list[str]:
+        return self._body_names
+
+    @property
+    def is_fixed_base(self) -> bool:
+        return self._is_fixed_base
+
+    @property
+    def root_physx_view(self):
+        raise AttributeError("simlab has no PhysX views: the state is in asset.data, the model in sim.model")
+
+    @property
+    def _ALL_INDICES(self) -> torch.Tensor:  # noqa: N802 - Isaac Lab's name
+        return torch.arange(self.num_instances, dtype=torch.long, device=self.device)
+
+    def find_bodies(self, name_keys, preserve_order: bool = False) -> tuple[list[int], list[str]]:
+        """Indices and names of the bodies matching names or regexes (errors list what exists)."""
+        return resolve_matching_names(name_keys, self.body_names, preserve_order)
+
+    def reset(self, env_ids: EnvIds = None) -> None:
+        env = self._env_index(env_ids)
+        self._ext_force_b[env] = 0.0
+        self._ext_torque_b[env] = 0.0
+
+    def write_data_to_sim(self) -> None:
+        if self._has_external_wrench:
+            quat = self.data.body_quat_w
+            self._xfrc_applied[:, self._body_index, 0:3] = math_utils.quat_apply(quat, self._ext_force_b)
+            self._xfrc_applied[:, self._body_index, 3:6] = math_utils.quat_apply(quat, self._ext_torque_b)
+
+    def write_root_state_to_sim(self, root_state: torch.Tensor, env_ids: EnvIds = None) -> None:
+        self.write_root_pose_to_sim(root_state[:, :7], env_ids)
+        self.write_root_velocity_to_sim(root_state[:, 7:], env_ids)
+
+    def write_root_pose_to_sim(self, root_pose: torch.Tensor, env_ids: EnvIds = None) -> None:
+        """Root position (world frame, env origin included) and quaternion (w, x, y, z)."""
+        env = self._env_index(env_ids)
+        self._check_rows(root_pose, 7, env, "root_pose")
+        pos = root_pose[:, :3] - self._sim.env_origins[env]
+        quat = math_utils.normalize(root_pose[:, 3:7])
+        if self._is_fixed_base:
+            if self._mocap_id < 0:
+                raise RuntimeError(f"'{self.cfg.prim_path}' is welded to the world; its pose cannot be written")
+            self._mocap_pos[env, self._mocap_id] = pos
+            self._mocap_quat[env, self._mocap_id] = quat
+        else:
+            self._qpos[env, self._root_pos_cols] = pos
+            self._qpos[env, self._root_quat_cols] = quat
+
+    def write_root_velocity_to_sim(self, root_velocity: torch.Tensor, env_ids: EnvIds = None) -> None:
+        """Root linear and angular velocity, both in the world frame."""
+        if self._is_fixed_base:
+            return
+        env = self._env_index(env_ids)
+        self._check_rows(root_velocity, 6, env, "root_velocity")
+        quat = self._qpos[env, self._root_quat_cols]
+        self._qvel[env, self._root_lin_cols] = root_velocity[:, :3]
+        self._qvel[env, self._root_ang_cols] = math_utils.quat_apply_inverse(quat, root_velocity[:, 3:6])
+
+    # Isaac Lab 2.x names for the same writes.
+    write_root_link_pose_to_sim = write_root_pose_to_sim
+    write_root_com_velocity_to_sim = write_root_velocity_to_sim
+    write_root_link_velocity_to_sim = write_root_velocity_to_sim
+
+    def set_external_force_and_torque(
+        self, forces: torch.Tensor, torques: torch.Tensor, body_ids=None, env_ids: EnvIds = None, is_global: bool = False
+    ) -> None:
+        """Wrenches applied at the bodies' centres of mass every physics step until changed.
+
+        Forces are in the body frame (``is_global=False``, Isaac Lab's default) or the world frame.
+        """
+        env = self._env_index(env_ids)
+        bodies = slice(None) if body_ids is None else torch.as_tensor(body_ids, dtype=torch.long, device=self.device)
+        if is_global:
+            quat = self.data.body_quat_w[env][:, bodies]
+            forces, torques = math_utils.quat_apply_inverse(quat, forces), math_utils.quat_apply_inverse(quat, torques)
+        self._write_cols3(self._ext_force_b, env, bodies, forces)
+        self._write_cols3(self._ext_torque_b, env, bodies, torques)
+        self._has_external_wrench = bool(self._ext_force_b.any() or self._ext_torque_b.any())
+        if not self._has_external_wrench:
+            self._xfrc_applied[:, self._body_index] = 0.0
+
+    # -- helpers ----------------------------------------------------------------------------------
+
+    def _check_rows(self, value: torch.Tensor, width: int, env, what: str) -> None:
+        rows = self.num_instances if isinstance(env, slice) else (int(env.sum()) if env.dtype == torch.bool else len(env))
+        if value.ndim != 2 or value.shape[1] != width or value.shape[0] != rows:
+            raise ValueError(f"{what} must have shape ({rows}, {width}) for the selected envs, got {tuple(value.shape)}")
+
+    @staticmethod
+    def _write_cols(dst: torch.Tensor, cols, env_ids, values) -> None:
+        """``dst[env_ids, cols] = values`` for any mix of slices and index tensors."""
+        env = slice(None) if env_ids is None else env_ids
+        if not isinstance(env, (slice, torch.Tensor)):
+            env = torch.as_tensor(list(env), dtype=torch.long, device=dst.device)
+        if isinstance(env, torch.Tensor) and env.dtype != torch.bool:
+            env = env.to(device=dst.device, dtype=torch.long)
+        if isinstance(env, torch.Tensor) and isinstance(cols, torch.Tensor):
+            if env.dtype == torch.bool:
+                env = env.nonzero().flatten()
+            dst[env[:, None], cols] = values
+        else:
+            dst[env, cols] = values
+
+    _write_cols3 = _write_cols
+
+
+class RootedAssetData:
+    """Live views of an asset's state. Read every step; nothing here is cached."""
+
+    GRAVITY_VEC_W = None
+    FORWARD_VEC_B = None
+
+    def __init__(self, asset: RootedAsset, sim):
+        self._asset = asset
+        self._origins = sim.env_origins
+        physics = sim.physics
+        dev = asset.device
+        self._xpos, self._xquat, self._cvel = physics.data("xpos"), physics.data("xquat"), physics.data("cvel")
+        self._xipos = physics.data("xipos")
+        self._subtree_com = physics.data("subtree_com")
+        self._rootids = torch.tensor(sim.model.body_rootid[asset._body_ids], dtype=torch.long, device=dev)
+        gravity = torch.tensor(sim.model.opt.gravity, dtype=torch.float32, device=dev)
+        norm = torch.linalg.norm(gravity)
+        gravity = gravity / norm if norm > 0 else torch.tensor([0.0, 0.0, -1.0], device=dev)
+        n = asset.num_instances
+        self.GRAVITY_VEC_W = gravity.repeat(n, 1)
+        self.FORWARD_VEC_B = torch.tensor([1.0, 0.0, 0.0], device=dev).repeat(n, 1)
+        self.default_root_state: torch.Tensor
+        self.body_names: list[str] = []
+
+    # root ------------------------------------------------------------------------------------------
+
+    @property
+    def root_pos_w(self) -> torch.Tensor:
+        a = self._asset
+        if a._is_fixed_base:
+            if a._mocap_id >= 0:
+                return a._mocap_pos[:, a._mocap_id] + self._origins
+            return self._xpos[:, a._root_body] + self._origins
+        return a._qpos[:, a._root_pos_cols] + self._origins
+
+    @property
+    def root_quat_w(self) -> torch.Tensor:
+        a = self._asset
+        if a._is_fixed_base:
+            return a._mocap_quat[:, a._mocap_id] if a._mocap_id >= 0 else self._xquat[:, a._root_body]
+        return a._qpos[:, a._root_quat_cols]
+
+    @property
+    def root_lin_vel_w(self) -> torch.Tensor:
+        a = self._asset
+        if a._is_fixed_base:
+            return torch.zeros_like(self.GRAVITY_VEC_W)
+        return a._qvel[:, a._root_lin_cols]
+
+    @property
+    def root_ang_vel_b(self) -> torch.Tensor:
+        a = self._asset
+        if a._is_fixed_base:
+            return torch.zeros_like(self.GRAVITY_VEC_W)
+        return a._qvel[:, a._root_ang_cols]
+
+    @property
+    def root_ang_vel_w(self) -> torch.Tensor:
+        return math_utils.quat_apply(self.root_quat_w, self.root_ang_vel_b)
+
+    @property
+    def root_lin_vel_b(self) -> torch.Tensor:
+        return math_utils.quat_apply_inverse(self.root_quat_w, self.root_lin_vel_w)
+
+    @property
+    def root_pose_w(self) -> torch.Tensor:
+        return torch.cat([self.root_pos_w, self.root_quat_w], dim=-1)
+
+    @property
+    def root_vel_w(self) -> torch.Tensor:
+        return torch.cat([self.root_lin_vel_w, self.root_ang_vel_w], dim=-1)
+
+    @property
+    def root_state_w(self) -> torch.Tensor:
+        return torch.cat([self.root_pos_w, self.root_quat_w, self.root_lin_vel_w, self.root_ang_vel_w], dim=-1)
+
+    @property
+    def projected_gravity_b(self) -> torch.Tensor:
+        return math_utils.quat_apply_inverse(self.root_quat_w, self.GRAVITY_VEC_W)
+
+    @property
+    def heading_w(self) -> torch.Tensor:
+        forward = math_utils.quat_apply(self.root_quat_w, self.FORWARD_VEC_B)
+        return torch.atan2(forward[:, 1], forward[:, 0])
+
+    # Isaac Lab 2.x aliases: the root link is the root body's frame.
+    root_link_pos_w = root_pos_w
+    root_link_quat_w = root_quat_w
+    root_link_pose_w = root_pose_w
+    root_link_state_w = root_state_w
+    root_com_lin_vel_w = root_lin_vel_w
+    root_com_ang_vel_w = root_ang_vel_w
+    root_com_lin_vel_b = root_lin_vel_b
+    root_com_ang_vel_b = root_ang_vel_b
+    root_com_vel_w = root_vel_w
+
+    # bodies -----------------------------------------------------------------------------------------
+
+    @property
+    def body_pos_w(self) -> torch.Tensor:
+        return self._xpos[:, self._asset._body_index] + self._origins[:, None]
+
+    @property
+    def body_quat_w(self) -> torch.Tensor:
+        return self._xquat[:, self._asset._body_index]
+
+    @property
+    def body_ang_vel_w(self) -> torch.Tensor:
+        return self._cvel[:, self._asset._body_index, 0:3]
+
+    @property
+    def body_lin_vel_w(self) -> torch.Tensor:
+        # cvel's linear part is the velocity of the point at the kinematic tree's centre of mass.
+        ids = self._asset._body_index
+        offset = self._xpos[:, ids] - self._subtree_com[:, self._rootids]
+        return self._cvel[:, ids, 3:6] + torch.cross(self._cvel[:, ids, 0:3], offset, dim=-1)
+
+    @property
+    def body_com_pos_w(self) -> torch.Tensor:
+        return self._xipos[:, self._asset._body_index] + self._origins[:, None]
+
+    @property
+    def body_pose_w(self) -> torch.Tensor:
+        return torch.cat([self.body_pos_w, self.body_quat_w], dim=-1)
+
+    @property
+    def body_vel_w(self) -> torch.Tensor:
+        return torch.cat([self.body_lin_vel_w, self.body_ang_vel_w], dim=-1)
+
+    @property
+    def body_state_w(self) -> torch.Tensor:
+        return torch.cat([self.body_pos_w, self.body_quat_w, self.body_lin_vel_w, self.body_ang_vel_w], dim=-1)
+
+    body_link_pos_w = body_pos_w
+    body_link_quat_w = body_quat_w
+    body_link_pose_w = body_pose_w
+    body_link_state_w = body_state_w
+    body_com_lin_vel_w = body_lin_vel_w
+    body_com_ang_vel_w = body_ang_vel_w
+
+    @property
+    def body_mass(self) -> torch.Tensor:
+        return self._asset._physics.model_field("body_mass")[:, self._asset._body_index]

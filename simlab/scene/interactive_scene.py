@@ -1,0 +1,145 @@
+"""The interactive scene: builds one MuJoCo model from the entities of its config.
+
+Each config field that is an asset or sensor config becomes an entity, added to the spec in
+declaration order. The scene then owns the entity objects (``scene["robot"]``), the environment
+origins, and the per-step calls that move data between the entities and the simulation.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import fields
+
+import torch
+
+from simlab.assets import Articulation, ArticulationCfg, AssetBaseCfg, RigidObject, RigidObjectCfg
+from simlab.sensors import SensorBase, SensorBaseCfg
+from simlab.sim import SimulationContext
+from simlab.utils.string import closest_matches
+
+from .interactive_scene_cfg import InteractiveSceneCfg
+
+ENV_NS = "/World/envs/env_0"
+ENV_REGEX_NS = "/World/envs/env_.*"
+
+
+def grid_origins(num_envs: int, spacing: float, device) -> torch.Tensor:
+    """Environment origins on a square-ish grid in the xy plane, centred on zero."""
+    rows = math.ceil(math.sqrt(num_envs))
+    cols = math.ceil(num_envs / rows)
+    ii, jj = torch.meshgrid(torch.arange(rows, device=device), torch.arange(cols, device=device), indexing="ij")
+    origins = torch.zeros(num_envs, 3, device=device)
+    origins[:, 0] = -(ii.flatten()[:num_envs] - (rows - 1) / 2) * spacing
+    origins[:, 1] = (jj.flatten()[:num_envs] - (cols - 1) / 2) * spacing
+    return origins
+
+
+class InteractiveScene:
+    def __init__(self, cfg: InteractiveSceneCfg):
+        cfg.validate()
+        if cfg.num_envs < 1:
+            raise ValueError(f"InteractiveSceneCfg.num_envs must be at least 1, got {cfg.num_envs}")
+        self.cfg = cfg
+        sim = SimulationContext.instance()
+        if sim is None:
+            raise RuntimeError("Create a SimulationContext before the InteractiveScene.")
+        self.sim = sim
+        sim.num_envs = cfg.num_envs
+        sim.env_origins = grid_origins(cfg.num_envs, cfg.env_spacing, sim.device)
+        self.articulations: dict[str, Articulation] = {}
+        self.rigid_objects: dict[str, RigidObject] = {}
+        self.sensors: dict[str, SensorBase] = {}
+        self.extras: dict[str, AssetBaseCfg] = {}
+        self._add_entities_from_cfg()
+
+    # -- Isaac Lab's API --------------------------------------------------------------------------
+
+    @property
+    def num_envs(self) -> int:
+        return self.cfg.num_envs
+
+    @property
+    def device(self) -> str:
+        return self.sim.device
+
+    @property
+    def env_origins(self) -> torch.Tensor:
+        """(num_envs, 3) positions of the environments in the world frame."""
+        return self.sim.env_origins
+
+    @property
+    def physics_dt(self) -> float:
+        return self.sim.get_physics_dt()
+
+    @property
+    def env_ns(self) -> str:
+        return "/World/envs"
+
+    @property
+    def env_regex_ns(self) -> str:
+        return ENV_REGEX_NS
+
+    def clone_environments(self, copy_from_source: bool = False) -> None:
+        """Nothing to clone: every world already is a copy of the one model."""
+
+    def filter_collisions(self, global_prim_paths: Sequence[str] | None = None) -> None:
+        """Nothing to filter: environments are separate MuJoCo worlds and never collide."""
+
+    def reset(self, env_ids: Sequence[int] | torch.Tensor | None = None) -> None:
+        for entity in self._entities():
+            entity.reset(env_ids)
+
+    def write_data_to_sim(self) -> None:
+        for asset in (*self.articulations.values(), *self.rigid_objects.values()):
+            asset.write_data_to_sim()
+
+    def update(self, dt: float) -> None:
+        for entity in self._entities():
+            entity.update(dt)
+
+    def keys(self) -> list[str]:
+        return [*self.articulations, *self.rigid_objects, *self.sensors, *self.extras]
+
+    def __getitem__(self, key: str):
+        for group in (self.articulations, self.rigid_objects, self.sensors, self.extras):
+            if key in group:
+                return group[key]
+        hint = closest_matches(key, self.keys())
+        raise KeyError(f"Scene has no entity '{key}'" + (f" (did you mean {hint}?)" if hint else "") + f"; entities: {self.keys()}")
+
+    def __contains__(self, key: str) -> bool:
+        return key in self.keys()
+
+    def __str__(self) -> str:
+        lines = [f"<InteractiveScene> {self.num_envs} envs, spacing {self.cfg.env_spacing} m, device {self.device}"]
+        for kind, group in (("articulation", self.articulations), ("rigid object", self.rigid_objects),
+                            ("sensor", self.sensors), ("extra", self.extras)):
+            lines += [f"  {name}: {kind} at {getattr(obj, 'cfg', obj).prim_path}" for name, obj in group.items()]
+        return "\n".join(lines)
+
+    # -- building ---------------------------------------------------------------------------------
+
+    def _entities(self):
+        return (*self.articulations.values(), *self.rigid_objects.values(), *self.sensors.values())
+
+    def _add_entities_from_cfg(self) -> None:
+        base_fields = {f.name for f in fields(InteractiveSceneCfg)}
+        for f in fields(self.cfg):
+            value = getattr(self.cfg, f.name)
+            if f.name in base_fields or value is None:
+                continue
+            if not isinstance(value, (AssetBaseCfg, SensorBaseCfg)):
+                continue
+            value = value.replace(prim_path=value.prim_path.format(ENV_REGEX_NS=ENV_REGEX_NS))
+            if isinstance(value, ArticulationCfg):
+                self.articulations[f.name] = value.class_type(value)
+            elif isinstance(value, RigidObjectCfg):
+                self.rigid_objects[f.name] = value.class_type(value)
+            elif isinstance(value, SensorBaseCfg):
+                self.sensors[f.name] = value.class_type(value, self)
+            else:
+                if value.spawn is not None:
+                    value.spawn.func(value.prim_path, value.spawn, translation=value.init_state.pos,
+                                     orientation=value.init_state.rot)
+                self.extras[f.name] = value

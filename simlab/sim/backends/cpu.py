@@ -1,0 +1,77 @@
+"""The ``cpu`` backend: MuJoCo C on a thread pool, through ``mjbatch.Batch``.
+
+mjbatch keeps each world's integration state and steps the worlds on a C++ thread pool with the
+GIL released. ``Batch.bind(field, float32)`` returns a float32 array that mjbatch synchronises
+with the float64 simulation both ways around every call, so ``torch.from_numpy`` on it is a live,
+zero-copy tensor: nothing is copied per step on the Python side.
+"""
+
+from __future__ import annotations
+
+import mjbatch
+import mujoco
+import numpy as np
+import torch
+
+from .base import EnvIds, PhysicsBackend
+
+
+class CpuBackend(PhysicsBackend):
+    name = "cpu"
+
+    def __init__(
+        self,
+        model: mujoco.MjModel,
+        num_envs: int,
+        device: str = "cpu",
+        num_threads: int = 0,
+        nconmax: int | None = None,
+        njmax: int | None = None,
+    ):
+        # nconmax / njmax size the GPU's fixed buffers; MuJoCo C grows its arena as needed.
+        super().__init__(model, num_envs, device)
+        # forward=True ends every step() call with mj_forward: derived fields match qpos/qvel.
+        self.batch = mjbatch.Batch(model, num_envs, num_threads=num_threads, forward=True)
+        self._probe = mujoco.MjData(model)  # for field dtypes: a binding's dtype is fixed at first bind
+        self._data: dict[str, torch.Tensor] = {}
+        self._model: dict[str, torch.Tensor] = {}
+
+    @property
+    def num_threads(self) -> int:
+        return self.batch.num_threads
+
+    def data(self, name: str) -> torch.Tensor:
+        if name not in self._data:
+            native = getattr(self._probe, name, None)
+            if not isinstance(native, np.ndarray):
+                raise ValueError(f"MjData has no array field '{name}'")
+            dtype = np.float32 if native.dtype == np.float64 else None
+            self._data[name] = torch.from_numpy(self.batch.bind(name, dtype))
+        return self._data[name]
+
+    def model_field(self, name: str) -> torch.Tensor:
+        key = name.removeprefix("opt.")
+        if key not in self._model:
+            source = self.model.opt if name.startswith("opt.") else self.model
+            native = getattr(source, key, None)
+            if native is None:
+                raise ValueError(f"MjModel has no field '{name}'")
+            is_real = np.asarray(native).dtype == np.float64
+            try:
+                expanded = self.batch.expand(key, np.float32 if is_real else None)
+            except ValueError as err:
+                raise ValueError(f"MjModel field '{name}' cannot be made per-world: {err}") from err
+            self._model[key] = torch.from_numpy(expanded)
+        return self._model[key]
+
+    def step(self, nstep: int = 1) -> None:
+        self.batch.step(nstep=nstep)
+
+    def forward(self, env_ids: EnvIds = None) -> None:
+        self.batch.forward(self._ids_numpy(env_ids))
+
+    def reset(self, env_ids: EnvIds = None) -> None:
+        self.batch.reset(self._ids_numpy(env_ids))
+
+    def set_const(self, env_ids: EnvIds = None) -> None:
+        self.batch.set_const(self._ids_numpy(env_ids))

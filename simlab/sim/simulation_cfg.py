@@ -1,0 +1,46 @@
+"""Configuration of the physics simulation."""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from simlab.utils import configclass
+
+
+@configclass
+class MujocoCfg:
+    """MuJoCo solver options (``mjOption``) and buffer sizes; Isaac Lab's ``PhysxCfg`` counterpart."""
+
+    integrator: Literal["euler", "rk4", "implicit", "implicitfast"] = "implicitfast"
+    """``implicitfast`` integrates joint damping and PD velocity gains implicitly, as PhysX drives do."""
+    solver: Literal["newton", "cg", "pgs"] = "newton"
+    """MuJoCo Warp has no PGS solver: ``pgs`` only runs on the cpu backend."""
+    iterations: int = 100
+    ls_iterations: int = 50
+    tolerance: float = 1e-8
+    cone: Literal["pyramidal", "elliptic"] = "pyramidal"
+    impratio: float = 1.0
+    disable_contacts: bool = False
+    """Skip collision detection entirely: the cheapest choice for tasks where nothing touches."""
+    nconmax: int | None = None
+    """Contacts per world the cuda backend reserves (None: estimated from the model)."""
+    njmax: int | None = None
+    """Constraint rows per world the cuda backend reserves (None: estimated from the model)."""
+    num_threads: int = 0
+    """Worker threads of the cpu backend (0: every core)."""
+
+
+@configclass
+class SimulationCfg:
+    """The physics step, gravity, device and solver options of a simulation."""
+
+    dt: float = 1.0 / 60.0
+    """Physics time step in seconds."""
+    render_interval: int = 1
+    """Physics steps between two rendered frames when rendering while stepping."""
+    device: str = "auto"
+    """``"cpu"`` (MuJoCo through mjbatch), ``"cuda"`` / ``"cuda:N"`` (MuJoCo Warp), or ``"auto"``
+    (the GPU when one and mujoco-warp are available, else the CPU)."""
+    gravity: tuple[float, float, float] = (0.0, 0.0, -9.81)
+    mujoco: MujocoCfg = MujocoCfg()
+    seed: int | None = None

@@ -1,0 +1,185 @@
+"""The simulation: one MuJoCo model built from a spec, stepped in ``num_envs`` worlds by a backend.
+
+Isaac Lab's stage is simlab's ``mujoco.MjSpec``. Spawners (ground, lights, robot files, shapes)
+add to the spec of the current ``SimulationContext`` while a scene is being built; ``reset()``
+compiles it once into the ``MjModel`` that every world shares, starts the backend and lets the
+assets resolve their joints and bodies against it. From then on ``step()`` advances every world.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+
+import mujoco
+import torch
+
+from .backends import PhysicsBackend, make_backend
+from .simulation_cfg import SimulationCfg
+
+_INTEGRATORS = {
+    "euler": mujoco.mjtIntegrator.mjINT_EULER,
+    "rk4": mujoco.mjtIntegrator.mjINT_RK4,
+    "implicit": mujoco.mjtIntegrator.mjINT_IMPLICIT,
+    "implicitfast": mujoco.mjtIntegrator.mjINT_IMPLICITFAST,
+}
+_SOLVERS = {"newton": mujoco.mjtSolver.mjSOL_NEWTON, "cg": mujoco.mjtSolver.mjSOL_CG, "pgs": mujoco.mjtSolver.mjSOL_PGS}
+_CONES = {"pyramidal": mujoco.mjtCone.mjCONE_PYRAMIDAL, "elliptic": mujoco.mjtCone.mjCONE_ELLIPTIC}
+
+
+def _choice(table: dict, value: str, what: str):
+    if value not in table:
+        raise ValueError(f"Unknown MuJoCo {what} '{value}'; allowed: {sorted(table)}")
+    return table[value]
+
+
+def resolve_device(device: str | None) -> str:
+    """``auto``/None picks the GPU when one and mujoco-warp are there, else the CPU."""
+    if device in (None, "", "auto"):
+        if torch.cuda.is_available():
+            try:
+                import mujoco_warp  # noqa: F401
+
+                return "cuda:0"
+            except ImportError:
+                pass
+        return "cpu"
+    if device == "cpu" or device == "cuda" or (device.startswith("cuda:") and device[5:].isdigit()):
+        return "cuda:0" if device == "cuda" else device
+    raise ValueError(f"Unknown device '{device}'; allowed: 'cpu', 'cuda', 'cuda:N' or 'auto'")
+
+
+class SimulationContext:
+    """Owns the spec being built, the compiled model and the physics backend."""
+
+    _instance: SimulationContext | None = None
+
+    def __init__(self, cfg: SimulationCfg | None = None):
+        self.cfg = cfg if cfg is not None else SimulationCfg()
+        self.device = resolve_device(self.cfg.device)
+        self.cfg.device = self.device
+        self.spec = self._new_spec()
+        self.model: mujoco.MjModel | None = None
+        self.backend: PhysicsBackend | None = None
+        self.num_envs = 1
+        self.camera_eye: tuple[float, float, float] = (7.5, 7.5, 7.5)
+        self.camera_target: tuple[float, float, float] = (0.0, 0.0, 0.0)
+        self.env_origins: torch.Tensor | None = None
+        """(num_envs, 3) offsets of the environments in the world frame, set by the scene."""
+        self._on_compile: list[Callable[[mujoco.MjModel], None]] = []
+        self._on_reset: list[Callable[[SimulationContext], None]] = []
+        self._step_count = 0
+        SimulationContext._instance = self
+
+    # -- Isaac Lab's API ------------------------------------------------------------------------
+
+    @classmethod
+    def instance(cls) -> SimulationContext | None:
+        return cls._instance
+
+    @classmethod
+    def clear_instance(cls) -> None:
+        if cls._instance is not None and cls._instance.backend is not None:
+            cls._instance.backend.close()
+        cls._instance = None
+
+    def get_physics_dt(self) -> float:
+        return self.cfg.dt
+
+    def get_rendering_dt(self) -> float:
+        return self.cfg.dt * self.cfg.render_interval
+
+    def set_camera_view(self, eye: Sequence[float], target: Sequence[float]) -> None:
+        """Where the offscreen camera looks from and at (world frame)."""
+        self.camera_eye = tuple(float(x) for x in eye)
+        self.camera_target = tuple(float(x) for x in target)
+
+    def is_playing(self) -> bool:
+        return self.backend is not None
+
+    def is_stopped(self) -> bool:
+        return self.backend is None
+
+    def has_gui(self) -> bool:
+        return False
+
+    def reset(self, soft: bool = False) -> None:
+        """Compile the spec (first call), start the backend, and reset every world."""
+        if self.backend is None:
+            self.model = self.spec.compile()
+            for callback in self._on_compile:
+                callback(self.model)
+            if self.env_origins is None:
+                self.env_origins = torch.zeros(self.num_envs, 3, device=self.device)
+            opts = self.cfg.mujoco
+            self.backend = make_backend(
+                self.model, self.num_envs, self.device,
+                num_threads=opts.num_threads, nconmax=opts.nconmax, njmax=opts.njmax,
+            )
+            for callback in self._on_reset:
+                callback(self)
+        if not soft:
+            self.backend.reset()
+
+    def step(self, render: bool = True) -> None:
+        """One physics step of every world."""
+        self.physics.step(1)
+        self._step_count += 1
+
+    def forward(self) -> None:
+        self.physics.forward()
+
+    def render(self, mode=None) -> None:
+        """Rendering is offscreen and on demand (``env.render()``); nothing to do per step."""
+
+    # -- simlab ---------------------------------------------------------------------------------
+
+    @property
+    def physics(self) -> PhysicsBackend:
+        if self.backend is None:
+            raise RuntimeError("The simulation is not started yet: call sim.reset() after building the scene.")
+        return self.backend
+
+    def add_compile_callback(self, callback: Callable[[mujoco.MjModel], None]) -> None:
+        """Run ``callback(model)`` right after compiling, before the backend copies the model."""
+        if self.model is not None:
+            raise RuntimeError("The simulation is already compiled: create assets before sim.reset().")
+        self._on_compile.append(callback)
+
+    def add_reset_callback(self, callback: Callable[[SimulationContext], None]) -> None:
+        """Run ``callback(sim)`` once the model is compiled (at once if it already is)."""
+        self._on_reset.append(callback)
+        if self.backend is not None:
+            callback(self)
+
+    def _new_spec(self) -> mujoco.MjSpec:
+        cfg, opts = self.cfg, self.cfg.mujoco
+        spec = mujoco.MjSpec()
+        spec.modelname = "simlab"
+        spec.compiler.degree = False
+        spec.option.timestep = cfg.dt
+        spec.option.gravity = list(cfg.gravity)
+        spec.option.integrator = _choice(_INTEGRATORS, opts.integrator, "integrator")
+        spec.option.solver = _choice(_SOLVERS, opts.solver, "solver")
+        spec.option.cone = _choice(_CONES, opts.cone, "cone")
+        spec.option.iterations = opts.iterations
+        spec.option.ls_iterations = opts.ls_iterations
+        spec.option.tolerance = opts.tolerance
+        spec.option.impratio = opts.impratio
+        if opts.disable_contacts:
+            spec.option.disableflags |= mujoco.mjtDisableBit.mjDSBL_CONTACT
+        if not math.isfinite(cfg.dt) or cfg.dt <= 0:
+            raise ValueError(f"SimulationCfg.dt must be a positive number of seconds, got {cfg.dt}")
+        # A generous free camera distance so renders of spread-out scenes are not clipped.
+        spec.visual.map.zfar = 200.0
+        return spec
+
+
+def current_spec() -> mujoco.MjSpec:
+    """The spec that spawners add to: the current simulation's, before it is compiled."""
+    sim = SimulationContext.instance()
+    if sim is None:
+        raise RuntimeError("No SimulationContext: create one (SimulationContext(SimulationCfg())) before spawning.")
+    if sim.backend is not None:
+        raise RuntimeError("The simulation is already compiled: spawn everything before sim.reset().")
+    return sim.spec

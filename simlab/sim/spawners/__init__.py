@@ -1,0 +1,23 @@
+"""Spawners: configs whose ``func(prim_path, cfg)`` adds a ground, light, robot or shape to the spec."""
+
+from .from_files import (
+    GroundPlaneCfg,
+    MjcfFileCfg,
+    UrdfFileCfg,
+    UsdFileCfg,
+    entity_name,
+    spawn_from_mjcf,
+    spawn_from_urdf,
+    spawn_ground_plane,
+)
+from .lights import DistantLightCfg, DomeLightCfg, LightCfg, spawn_light
+from .materials import PreviewSurfaceCfg, RigidBodyMaterialCfg
+from .shapes import CapsuleCfg, CuboidCfg, CylinderCfg, ShapeCfg, SphereCfg, spawn_shape
+from .spawner_cfg import (
+    ArticulationRootPropertiesCfg,
+    CollisionPropertiesCfg,
+    MassPropertiesCfg,
+    RigidBodyPropertiesCfg,
+    RigidObjectSpawnerCfg,
+    SpawnerCfg,
+)

@@ -1,0 +1,155 @@
+"""Spawners that read robot files (MJCF, URDF) and the ground plane.
+
+A robot file holds one root body under its ``<worldbody>``. It is attached to the scene's spec
+under the name prefix ``<Name>/`` (``Name`` is the last element of the prim path, so
+``{ENV_REGEX_NS}/Robot`` gives joints ``Robot/<joint>``). A root body without a free joint is a
+fixed base; it becomes a MuJoCo mocap body so that writing its root pose still moves it.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import MISSING
+
+import mujoco
+
+from simlab.utils import configclass
+
+from ..simulation_context import current_spec
+from .materials import PreviewSurfaceCfg, RigidBodyMaterialCfg
+from .spawner_cfg import ArticulationRootPropertiesCfg, RigidObjectSpawnerCfg, SpawnerCfg
+
+
+def entity_name(prim_path: str) -> str:
+    """The name an entity gets in the model: the last element of its prim path."""
+    name = prim_path.rstrip("/").split("/")[-1]
+    if not name or any(c in name for c in "*.[]()"):
+        raise ValueError(f"Prim path '{prim_path}' must end in a plain name, e.g. '{{ENV_REGEX_NS}}/Robot'")
+    return name
+
+
+def has_free_joint(body: mujoco.MjsBody) -> bool:
+    return any(j.type == mujoco.mjtJoint.mjJNT_FREE for j in body.joints)
+
+
+def attach_root_body(
+    child: mujoco.MjSpec, prim_path: str, translation=None, orientation=None, fix_root: bool | None = None
+) -> mujoco.MjsBody:
+    """Attach the single root body of ``child`` to the current spec, named ``<Name>/...``."""
+    spec = current_spec()
+    roots = child.worldbody.bodies
+    if len(roots) != 1:
+        names = [b.name for b in roots]
+        raise ValueError(f"A robot file must hold exactly one root body under <worldbody>, found {names}")
+    root = roots[0]
+    if fix_root:
+        for joint in [j for j in root.joints if j.type == mujoco.mjtJoint.mjJNT_FREE]:
+            child.delete(joint)
+    frame = spec.worldbody.add_frame(
+        pos=list(translation) if translation is not None else [0.0, 0.0, 0.0],
+        quat=list(orientation) if orientation is not None else [1.0, 0.0, 0.0, 0.0],
+    )
+    name = entity_name(prim_path)
+    try:
+        body = frame.attach_body(root, f"{name}/", "")
+    except ValueError as err:
+        raise ValueError(f"Cannot add '{prim_path}' to the scene (is the name '{name}' used twice?): {err}") from err
+    if not has_free_joint(body):
+        body.mocap = True  # a fixed base that root-pose writes can still place
+    return body
+
+
+def spawn_from_mjcf(prim_path: str, cfg: MjcfFileCfg, translation=None, orientation=None) -> mujoco.MjsBody:
+    path = os.path.expanduser(cfg.asset_path)
+    if not os.path.isfile(path):
+        raise FileNotFoundError(f"MJCF file not found: '{path}'")
+    child = mujoco.MjSpec.from_file(path)
+    # Actuators come from the asset's config (ArticulationCfg.actuators), not from the file.
+    if cfg.drop_actuators:
+        for actuator in list(child.actuators):
+            child.delete(actuator)
+    fix = cfg.articulation_props.fix_root_link if cfg.articulation_props is not None else None
+    return attach_root_body(child, prim_path, translation, orientation, fix)
+
+
+def spawn_from_urdf(prim_path: str, cfg: UrdfFileCfg, translation=None, orientation=None) -> mujoco.MjsBody:
+    path = os.path.expanduser(cfg.asset_path)
+    if not os.path.isfile(path):
+        raise FileNotFoundError(f"URDF file not found: '{path}'")
+    child = mujoco.MjSpec.from_file(path)
+    if not cfg.fix_base:
+        child.worldbody.bodies[0].add_freejoint()
+    return attach_root_body(child, prim_path, translation, orientation)
+
+
+def spawn_ground_plane(prim_path: str, cfg: GroundPlaneCfg, translation=None, orientation=None) -> mujoco.MjsGeom:
+    """An infinite plane at z = 0 (plus ``translation``) with a checker texture."""
+    spec = current_spec()
+    name = entity_name(prim_path)
+    tex = spec.add_texture(
+        name=f"{name}/checker",
+        type=mujoco.mjtTexture.mjTEXTURE_2D,
+        builtin=mujoco.mjtBuiltin.mjBUILTIN_CHECKER,
+        rgb1=[c * 1.0 for c in cfg.color],
+        rgb2=[c * 0.8 for c in cfg.color],
+        width=256,
+        height=256,
+    )
+    material = spec.add_material(name=f"{name}/grid", texrepeat=[1.0, 1.0], texuniform=True, reflectance=0.05)
+    material.textures[mujoco.mjtTextureRole.mjTEXROLE_RGB] = tex.name
+    return spec.worldbody.add_geom(
+        name=name,
+        type=mujoco.mjtGeom.mjGEOM_PLANE,
+        size=[cfg.size[0] / 2, cfg.size[1] / 2, 0.1],
+        pos=list(translation) if translation is not None else [0.0, 0.0, 0.0],
+        friction=cfg.physics_material.friction(),
+        material=material.name,
+    )
+
+
+@configclass
+class FileCfg(RigidObjectSpawnerCfg):
+    asset_path: str = MISSING
+    scale: tuple[float, float, float] | None = None
+    articulation_props: ArticulationRootPropertiesCfg | None = None
+    visual_material: PreviewSurfaceCfg | None = None
+
+
+@configclass
+class MjcfFileCfg(FileCfg):
+    """A robot described in MJCF: one root body under ``<worldbody>``."""
+
+    func: object = spawn_from_mjcf
+    drop_actuators: bool = True
+
+
+@configclass
+class UrdfFileCfg(FileCfg):
+    """A robot described in URDF, compiled by MuJoCo's URDF reader."""
+
+    func: object = spawn_from_urdf
+    fix_base: bool = True
+
+
+def _usd_unsupported(prim_path, cfg, translation=None, orientation=None):
+    raise NotImplementedError(
+        f"'{prim_path}': simlab reads MJCF and URDF, not USD. Use sim_utils.MjcfFileCfg(asset_path=...) "
+        "or sim_utils.UrdfFileCfg(asset_path=...)."
+    )
+
+
+@configclass
+class UsdFileCfg(FileCfg):
+    """USD needs Omniverse; kept so that ported configs fail with a clear message."""
+
+    func: object = _usd_unsupported
+    usd_path: str = MISSING
+
+
+@configclass
+class GroundPlaneCfg(SpawnerCfg):
+    func: object = spawn_ground_plane
+    usd_path: str | None = None
+    color: tuple[float, float, float] = (0.25, 0.3, 0.35)
+    size: tuple[float, float] = (100.0, 100.0)
+    physics_material: RigidBodyMaterialCfg = RigidBodyMaterialCfg()

@@ -1,0 +1,182 @@
+"""Dict helpers: config <-> dict conversion, recursive updates, pretty printing."""
+
+from __future__ import annotations
+
+import dataclasses
+import re
+from collections.abc import Mapping
+from typing import Any
+
+from simlab.utils.string import closest_matches, is_lambda_expression, string_to_callable
+
+__all__ = ["MISSING_STR", "class_to_dict", "print_dict", "update_class_from_dict", "update_dict"]
+
+# How a MISSING value is written to yaml (the same marker OmegaConf/Hydra use).
+MISSING_STR = "???"
+
+_CALLABLE_STR = re.compile(r"^[A-Za-z_][\w.]*:[A-Za-z_<][\w.<>]*$")
+# fields that hold a callable even when currently unset (None / MISSING)
+_CALLABLE_FIELDS = ("func", "class_type")
+
+
+def _is_config_instance(obj: Any) -> bool:
+    return dataclasses.is_dataclass(obj) and not isinstance(obj, type)
+
+
+def _callable_name(value: Any) -> str:
+    # lambdas have no importable name: keep a readable marker instead of failing the whole dump
+    if is_lambda_expression(value):
+        return f"{value.__module__}:{value.__qualname__}"
+    module = getattr(value, "__module__", None) or type(value).__module__
+    qualname = getattr(value, "__qualname__", None) or type(value).__qualname__
+    return f"{module}:{qualname}"
+
+
+def _value_to_plain(value: Any) -> Any:
+    """Turn one config value into plain python (dicts, lists, scalars, strings)."""
+    if value is None or value is dataclasses.MISSING or isinstance(value, (bool, int, float, str)):
+        return value
+    if _is_config_instance(value):
+        return class_to_dict(value)
+    if isinstance(value, Mapping):
+        return {k: _value_to_plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple, set, frozenset)):
+        return [_value_to_plain(v) for v in value]
+    if isinstance(value, type) or callable(value):
+        return _callable_name(value)
+    if hasattr(value, "tolist"):  # torch tensors, numpy arrays and scalars
+        return value.tolist()
+    if hasattr(value, "__dict__"):
+        return class_to_dict(value)
+    return value
+
+
+def class_to_dict(obj: Any) -> dict[str, Any]:
+    """Recursively convert a config (or any object with ``__dict__``) into a plain dict.
+
+    Callables and classes become ``"module:qualname"`` strings, tuples become lists, tensors
+    and arrays become lists, so that the result can be written to yaml.
+    """
+    if _is_config_instance(obj):
+        items = ((f.name, getattr(obj, f.name)) for f in dataclasses.fields(obj))
+    elif isinstance(obj, Mapping):
+        items = obj.items()
+    elif hasattr(obj, "__dict__"):
+        items = ((k, v) for k, v in vars(obj).items() if not k.startswith("__"))
+    else:
+        raise ValueError(f"Expected a config class instance, a dict or an object, got {type(obj).__name__}.")
+    return {k: _value_to_plain(v) for k, v in items}
+
+
+def _valid_keys(obj: Any) -> list[str]:
+    if _is_config_instance(obj):
+        return [f.name for f in dataclasses.fields(obj)]
+    return [k for k in vars(obj) if not k.startswith("__")]
+
+
+def _merge_value(current: Any, value: Any, path: str, field_default: Any = dataclasses.MISSING) -> Any:
+    """The new value for a member currently holding ``current``, given ``value`` from a dict."""
+    if value is None:
+        return None  # None removes a term (e.g. ``rewards.alive = None``)
+    if isinstance(value, str) and value == MISSING_STR:
+        return dataclasses.MISSING
+    if isinstance(value, Mapping):
+        if current is None or current is dataclasses.MISSING:
+            # the field was unset: rebuild its default config (if it has one) and fill it in
+            if _is_config_instance(field_default):
+                current = field_default
+            else:
+                return dict(value)
+        if isinstance(current, dict):
+            for k, v in value.items():
+                current[k] = _merge_value(current[k], v, f"{path}.{k}") if k in current else v
+            return current
+        if _is_config_instance(current) or (hasattr(current, "__dict__") and not callable(current)):
+            update_class_from_dict(current, value, _ns=path)
+            return current
+        raise ValueError(
+            f"Cannot set '{path}' from a dict: the current value is {type(current).__name__} ({current!r})."
+        )
+    if _is_config_instance(current):
+        raise ValueError(
+            f"'{path}' holds a config of type {type(current).__name__}; expected a dict (to update it) or"
+            f" None (to remove it), got {type(value).__name__}: {value!r}."
+        )
+    if isinstance(value, (list, tuple)):
+        if isinstance(current, (list, tuple)) and len(current) == len(value):
+            value = [
+                _merge_value(c, v, f"{path}[{i}]") if isinstance(v, Mapping) and _is_config_instance(c) else v
+                for i, (c, v) in enumerate(zip(current, value))
+            ]
+        return tuple(value) if isinstance(current, tuple) else list(value)
+    if isinstance(value, str) and _CALLABLE_STR.match(value):
+        leaf = path.rsplit(".", 1)[-1]
+        unset = current is None or current is dataclasses.MISSING
+        if (callable(current) and not isinstance(current, str)) or (unset and leaf in _CALLABLE_FIELDS):
+            return string_to_callable(value)
+    return value
+
+
+def update_class_from_dict(obj: Any, data: Mapping[str, Any], _ns: str = "") -> None:
+    """Update the members of ``obj`` (a config, a dict or an object) in place from ``data``.
+
+    Nested configs are updated recursively; strings ``"module:qualname"`` given for a member that
+    holds a callable are resolved to the callable; ``None`` removes a term; a key that is not a
+    member raises a ``KeyError`` naming the key, the valid keys and the closest match.
+    """
+    if not isinstance(data, Mapping):
+        raise TypeError(
+            f"Expected a dict to update '{_ns or type(obj).__name__}', got {type(data).__name__}."
+        )
+    if isinstance(obj, dict):
+        for key, value in data.items():
+            path = f"{_ns}.{key}" if _ns else str(key)
+            obj[key] = _merge_value(obj[key], value, path) if key in obj else value
+        return
+
+    fields = {f.name: f for f in dataclasses.fields(obj)} if _is_config_instance(obj) else {}
+    valid = _valid_keys(obj)
+    for key, value in data.items():
+        path = f"{_ns}.{key}" if _ns else str(key)
+        if key not in valid:
+            close = closest_matches(str(key), valid, n=1)
+            hint = f" Did you mean '{close[0]}'?" if close else ""
+            raise KeyError(f"Key '{path}' is not a field of {type(obj).__name__}. Valid keys: {valid}.{hint}")
+        current = getattr(obj, key)
+        default = dataclasses.MISSING
+        if (
+            isinstance(value, Mapping)
+            and (current is None or current is dataclasses.MISSING)
+            and key in fields
+        ):
+            # the field is unset but a dict arrives: start from the field's default config, if any
+            f = fields[key]
+            default = f.default_factory() if f.default_factory is not dataclasses.MISSING else f.default
+        setattr(obj, key, _merge_value(current, value, path, default))
+
+
+def update_dict(orig_dict: dict, new_dict: Mapping) -> dict:
+    """Recursively merge ``new_dict`` into ``orig_dict`` (nested dicts are merged, not replaced)."""
+    for key, value in new_dict.items():
+        if isinstance(value, Mapping) and isinstance(orig_dict.get(key), dict):
+            update_dict(orig_dict[key], value)
+        else:
+            orig_dict[key] = value
+    return orig_dict
+
+
+def print_dict(val: Any, nesting: int = -4, start: bool = True) -> None:
+    """Print a (nested) dict or config as an indented tree, callables as ``module:qualname``."""
+    if _is_config_instance(val):
+        val = class_to_dict(val)
+    if isinstance(val, dict):
+        if not start:
+            print("")
+        nesting += 4
+        for key, item in val.items():
+            print(nesting * " " + f"{key}: ", end="")
+            print_dict(item, nesting, start=False)
+    elif callable(val):
+        print(_callable_name(val))
+    else:
+        print(val)
