@@ -89,14 +89,14 @@ def test_resolve_device(monkeypatch):
         resolve_device("cuda:x")
 
 
-def test_cuda_without_gpu_falls_back_to_cpu(monkeypatch):
+def test_cuda_without_gpu_is_a_clear_error(monkeypatch):
     import simlab.app.app_launcher as app_launcher
 
     monkeypatch.setattr(app_launcher, "_gpu_backend_available", lambda: False)
     monkeypatch.delenv("SIMLAB_DEVICE", raising=False)
     assert resolve_device(None) == "cpu"
-    with pytest.warns(UserWarning, match="using 'cpu'"):
-        assert resolve_device("cuda") == "cpu"
+    with pytest.raises(RuntimeError, match=r"simlab\[gpu\]|no CUDA GPU"):
+        resolve_device("cuda")
 
 
 def test_env_var_device_used_by_launcher(launchers, monkeypatch):

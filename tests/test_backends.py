@@ -68,7 +68,8 @@ def _cuda_unavailable() -> str | None:
 
 
 CUDA_SKIP = _cuda_unavailable()
-cuda_only = [pytest.mark.gpu, pytest.mark.skipif(CUDA_SKIP is not None, reason=f"no cuda backend: {CUDA_SKIP}")]
+needs_cuda = pytest.mark.skipif(CUDA_SKIP is not None, reason=f"no cuda backend: {CUDA_SKIP}")
+cuda_only = [pytest.mark.gpu, needs_cuda]
 BACKENDS = ["cpu", pytest.param("cuda", marks=cuda_only)]
 
 
@@ -150,7 +151,8 @@ def test_reset_selected_worlds_only(kind: str, cartpole: mujoco.MjModel) -> None
     sim.data("qfrc_applied")[:, 1] = 0.1
     sim.data("xfrc_applied")[:, 2, 0] = 0.5
     sim.step(10)
-    state = {name: sim.data(name).clone() for name in ("qpos", "qvel", "ctrl", "qfrc_applied", "xfrc_applied")}
+    names = ("qpos", "qvel", "ctrl", "qfrc_applied", "xfrc_applied")
+    state = {name: sim.data(name).clone() for name in names}
     assert state["qvel"].abs().sum() > 0
 
     sim.reset(torch.tensor([1], device=sim.device))
@@ -225,7 +227,7 @@ def test_cuda_unavailable_is_a_clear_error(cartpole: mujoco.MjModel) -> None:
 
 
 @pytest.mark.gpu
-@pytest.mark.skipif(CUDA_SKIP is not None, reason=f"no cuda backend: {CUDA_SKIP}")
+@needs_cuda
 def test_cpu_cuda_parity(cartpole: mujoco.MjModel) -> None:
     """Same model, state and controls for 200 steps: MuJoCo C (float64) vs MuJoCo Warp (float32).
 
@@ -254,7 +256,7 @@ def test_cpu_cuda_parity(cartpole: mujoco.MjModel) -> None:
 
 
 @pytest.mark.gpu
-@pytest.mark.skipif(CUDA_SKIP is not None, reason=f"no cuda backend: {CUDA_SKIP}")
+@needs_cuda
 def test_cuda_contact_buffers_and_overflow() -> None:
     model = _spheres(4)  # 4 spheres resting on the plane: 4 contacts per world
     sim = make("cuda", model, 8)  # default buffers: enough

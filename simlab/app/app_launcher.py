@@ -51,8 +51,8 @@ def resolve_device(device: str | None) -> str:
 
     ``None`` (or ``"auto"``) reads the ``SIMLAB_DEVICE`` environment variable, and without it picks
     ``"cuda:0"`` when a GPU and mujoco_warp are available, else ``"cpu"``. ``"cuda"`` means
-    ``"cuda:0"``. A CUDA device asked for on a machine without one falls back to ``"cpu"`` with a
-    warning.
+    ``"cuda:0"``. A CUDA device asked for where there is no GPU or no mujoco-warp is an error that
+    says how to install the GPU backend.
     """
     if device is None or device == "auto":
         device = os.environ.get("SIMLAB_DEVICE") or None
@@ -69,12 +69,13 @@ def resolve_device(device: str | None) -> str:
         return device
     if device == "cuda":
         device = "cuda:0"
-    if not _gpu_backend_available():
-        warnings.warn(
-            f"Device '{device}' requested but no CUDA GPU with mujoco_warp is available; using 'cpu'.",
-            stacklevel=2,
+    if importlib.util.find_spec("mujoco_warp") is None:
+        raise RuntimeError(
+            f"Device '{device}' needs MuJoCo Warp, which is not installed: pip install \"simlab[gpu]\" "
+            "(or run on the CPU with --device cpu)."
         )
-        return "cpu"
+    if not _gpu_backend_available():
+        raise RuntimeError(f"Device '{device}' asked for, but torch sees no CUDA GPU here; use --device cpu.")
     import torch
 
     index = int(device.split(":")[1])

@@ -14,6 +14,8 @@ from collections.abc import Callable, Sequence
 import mujoco
 import torch
 
+from simlab.app.app_launcher import resolve_device
+
 from .backends import PhysicsBackend, make_backend
 from .simulation_cfg import SimulationCfg
 
@@ -31,22 +33,6 @@ def _choice(table: dict, value: str, what: str):
     if value not in table:
         raise ValueError(f"Unknown MuJoCo {what} '{value}'; allowed: {sorted(table)}")
     return table[value]
-
-
-def resolve_device(device: str | None) -> str:
-    """``auto``/None picks the GPU when one and mujoco-warp are there, else the CPU."""
-    if device in (None, "", "auto"):
-        if torch.cuda.is_available():
-            try:
-                import mujoco_warp  # noqa: F401
-
-                return "cuda:0"
-            except ImportError:
-                pass
-        return "cpu"
-    if device == "cpu" or device == "cuda" or (device.startswith("cuda:") and device[5:].isdigit()):
-        return "cuda:0" if device == "cuda" else device
-    raise ValueError(f"Unknown device '{device}'; allowed: 'cpu', 'cuda', 'cuda:N' or 'auto'")
 
 
 class SimulationContext:

@@ -61,9 +61,9 @@ def require_cuda_backend(device: str = "cuda") -> tuple[Any, Any]:
     except ImportError as err:
         raise RuntimeError(f"{_INSTALL_HINT} (mujoco_warp is not installed: {err})") from err
 
+    wp.config.quiet = True  # no start-up banner or kernel-load lines
     if device == "cpu":  # MuJoCo Warp's CPU device: slow, for debugging without a GPU
         return wp, mjw
-    wp.config.quiet = True  # no start-up banner
     wp.init()
     if not wp.is_cuda_available():
         raise RuntimeError(f"{_INSTALL_HINT} (Warp finds no CUDA device; asked for '{device}')")
@@ -189,6 +189,7 @@ class CudaBackend(PhysicsBackend):
         self._data: dict[str, torch.Tensor] = {}
         self._model: dict[str, torch.Tensor] = {}
         self._graphs: dict[Any, Any] = {}
+        self._streams: dict[int, Any] = {}
         self.capture_seconds: dict[Any, float] = {}  # wall time of each graph capture (diagnostics)
 
         self._mask = wp.to_torch(self._reset_mask)
@@ -350,7 +351,15 @@ class CudaBackend(PhysicsBackend):
         wp = self._wp
         if not self._is_cuda:
             return wp.ScopedDevice(self._wp_device)
-        return wp.ScopedStream(wp.stream_from_torch(torch.cuda.current_stream(self.device)))
+        return wp.ScopedStream(self._torch_stream())
+
+    def _torch_stream(self) -> Any:
+        """Warp's handle on torch's current stream (cached: one wrapper per torch stream)."""
+        stream = torch.cuda.current_stream(self.device)
+        handle = self._streams.get(stream.cuda_stream)
+        if handle is None:
+            handle = self._streams[stream.cuda_stream] = self._wp.stream_from_torch(stream)
+        return handle
 
     def _run(self, key: Any, body: Callable[[], None]) -> None:
         """Replay the graph for ``key``, capturing ``body`` into it on first use."""
@@ -364,7 +373,7 @@ class CudaBackend(PhysicsBackend):
             graph = self._graphs[key] = capture.graph
             self.capture_seconds[key] = time.perf_counter() - start
         if self._is_cuda:
-            wp.capture_launch(graph, stream=wp.stream_from_torch(torch.cuda.current_stream(self.device)))
+            wp.capture_launch(graph, stream=self._torch_stream())
         else:
             wp.capture_launch(graph)
 

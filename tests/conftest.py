@@ -1,0 +1,42 @@
+"""Shared test fixtures: the physics devices to run on, and a fresh SimulationContext per test."""
+
+from __future__ import annotations
+
+import os
+
+import pytest
+
+os.environ.setdefault("MUJOCO_GL", "osmesa")
+
+
+def cuda_available() -> bool:
+    try:
+        import mujoco_warp  # noqa: F401
+        import torch
+
+        return torch.cuda.is_available()
+    except ImportError:
+        return False
+
+
+# Backend-dependent tests take `device`; the cuda case runs on the GPU machine only.
+DEVICES = ["cpu", pytest.param("cuda:0", marks=[pytest.mark.gpu])]
+
+
+def pytest_collection_modifyitems(config, items):
+    if cuda_available():
+        return
+    skip = pytest.mark.skip(reason="needs an NVIDIA GPU and mujoco-warp (pip install 'simlab[gpu]')")
+    for item in items:
+        if "gpu" in item.keywords:
+            item.add_marker(skip)
+
+
+@pytest.fixture(autouse=True)
+def _fresh_simulation():
+    """Each test starts without a SimulationContext and leaves none behind."""
+    from simlab.sim import SimulationContext
+
+    SimulationContext.clear_instance()
+    yield
+    SimulationContext.clear_instance()
