@@ -1,3 +1,6 @@
 """Robot configurations and their MJCF models (``simlab.robots.<robot>``)."""
 
+from .ant import ANT_CFG
+from .cart_double_pendulum import CART_DOUBLE_PENDULUM_CFG
 from .cartpole import CARTPOLE_CFG
+from .humanoid import HUMANOID_CFG

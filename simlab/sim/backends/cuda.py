@@ -56,12 +56,12 @@ def require_cuda_backend(device: str = "cuda") -> tuple[Any, Any]:
         import warp as wp
     except ImportError as err:
         raise RuntimeError(f"{_INSTALL_HINT} (warp is not installed: {err})") from err
+    wp.config.quiet = True  # no start-up banner or kernel-load lines (before mujoco_warp inits warp)
     try:
         import mujoco_warp as mjw
     except ImportError as err:
         raise RuntimeError(f"{_INSTALL_HINT} (mujoco_warp is not installed: {err})") from err
 
-    wp.config.quiet = True  # no start-up banner or kernel-load lines
     if device == "cpu":  # MuJoCo Warp's CPU device: slow, for debugging without a GPU
         return wp, mjw
     wp.init()

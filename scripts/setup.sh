@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Create .venv and install simlab into it.
+#   bash scripts/setup.sh          # simlab with the RL libraries (train and play)
+#   bash scripts/setup.sh dev      # the same plus the test tools
+# torch is pinned by constraints.txt in every install path, so pip never swaps in a CUDA build
+# (on this project's CPU machines `pip install torch==2.13.0` takes a local CPU wheel).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+extras="train,rsl_rl,skrl,sb3,render"
+[ "${1:-}" = "dev" ] && extras="$extras,dev"
+# Offscreen rendering on a CPU host uses OSMesa (MUJOCO_GL=osmesa); install it where we can.
+if ! ldconfig -p 2>/dev/null | grep -q libOSMesa; then
+  if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
+    (apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libosmesa6 >/dev/null) \
+      || echo "note: could not install libosmesa6; rendering tests will be skipped"
+  else
+    echo "note: install libosmesa6 (Debian/Ubuntu) for offscreen rendering on the CPU"
+  fi
+fi
+[ -d .venv ] || python3 -m venv .venv
+.venv/bin/python -m pip install -q --upgrade pip
+.venv/bin/python -m pip install -q -c constraints.txt torch==2.13.0
+.venv/bin/python -m pip install -q -c constraints.txt -e ".[$extras]"
+# rl_games pins psutil<6 and pulls pygame-ce: an optional extra, installed for the full setup.
+.venv/bin/python -m pip install -q -c constraints.txt -e ".[rl_games]" || echo "note: rl_games not installed"
+echo "simlab installed in .venv"

@@ -1,0 +1,1 @@
+"""Benchmarks behind ``simlab bench``: they print figures; nothing here asserts a speed."""

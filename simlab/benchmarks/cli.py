@@ -1,0 +1,107 @@
+"""``simlab bench``: measure and print throughput tables; optionally write them as JSON.
+
+    simlab bench physics --robots cartpole --num_envs 1024 4096 --device cpu
+    simlab bench --device cuda:0 --json bench.json       # every suite
+
+Figures are measured on the machine at hand. Ratios compare variants measured in alternating
+rounds within the same run, which is what holds up on a noisy machine.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+from collections.abc import Callable
+
+SUITES = ("physics", "env", "inference", "train")
+
+
+def _print_table(rows: list[dict], columns: list[tuple[str, str, str]]) -> None:
+    header = [title for title, _, _ in columns]
+    body = []
+    for row in rows:
+        cells = []
+        for _, key, fmt in columns:
+            value = row.get(key)
+            cells.append("-" if value is None else format(value, fmt) if fmt else str(value))
+        body.append(cells)
+    widths = [max(len(h), *(len(r[i]) for r in body)) if body else len(h) for i, h in enumerate(header)]
+    print("  ".join(h.rjust(w) for h, w in zip(header, widths)))
+    for cells in body:
+        print("  ".join(c.rjust(w) for c, w in zip(cells, widths)))
+
+
+PHYSICS_COLUMNS = [
+    ("robot", "robot", ""), ("device", "device", ""), ("envs", "num_envs", "d"),
+    ("raw steps/s", "raw_steps_per_s", ",.0f"), ("scene steps/s", "scene_steps_per_s", ",.0f"),
+    ("raw ms", "raw_ms_per_step", ".3f"), ("scene ms", "scene_ms_per_step", ".3f"),
+    ("scene/raw", "ratio", ".2f"), ("GPU MB", "gpu_memory_mb", ".0f"),
+]
+ENV_COLUMNS = [
+    ("task", "task", ""), ("device", "device", ""), ("envs", "num_envs", "d"),
+    ("env steps/s", "env_steps_per_s", ",.0f"), ("physics steps/s", "physics_steps_per_s", ",.0f"),
+    ("env ms", "env_ms_per_step", ".3f"), ("raw physics steps/s", "raw_physics_steps_per_s", ",.0f"),
+    ("env/raw", "ratio", ".2f"), ("GPU MB", "gpu_memory_mb", ".0f"),
+]
+TRAIN_COLUMNS = [
+    ("task", "task", ""), ("device", "device", ""), ("envs", "num_envs", "d"),
+    ("env steps/s", "env_steps_per_s", ",.0f"), ("s/iteration", "seconds_per_iteration", ".3f"),
+    ("iterations", "iterations", "d"), ("GPU MB", "gpu_memory_mb", ".0f"),
+]
+
+
+def _suite_functions() -> dict[str, tuple[Callable[..., list[dict]], list]]:
+    from . import suites
+
+    return {
+        "physics": (suites.physics, PHYSICS_COLUMNS),
+        "env": (suites.env_step, ENV_COLUMNS),
+        "inference": (suites.env_step_with_policy, ENV_COLUMNS),
+        "train": (suites.train, TRAIN_COLUMNS),
+    }
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="simlab bench", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("suites", nargs="*", choices=[[], *SUITES], default=[], help=f"suites to run (default: all of {SUITES})")
+    parser.add_argument("--device", default=None, help="cpu or cuda:N (default: the GPU when there is one)")
+    parser.add_argument("--num_envs", type=int, nargs="+", default=None, help="env counts (default: by device)")
+    parser.add_argument("--robots", nargs="+", default=["cartpole", "ant", "humanoid"], help="physics suite robots")
+    parser.add_argument("--tasks", nargs="+", default=None, help="env/train suite tasks (Gymnasium ids)")
+    parser.add_argument("--steps", type=int, default=None, help="timed steps per round")
+    parser.add_argument("--iterations", type=int, default=10, help="timed training iterations")
+    parser.add_argument("--json", default=None, help="write the results to this JSON file")
+    args = parser.parse_args(argv)
+
+    from simlab.app.app_launcher import resolve_device
+
+    device = resolve_device(args.device)
+    gpu = device.startswith("cuda")
+    num_envs = args.num_envs or ([1024, 4096, 16384, 65536] if gpu else [256, 1024])
+    steps = args.steps or (200 if gpu else 50)
+    chosen = args.suites or list(SUITES)
+    functions = _suite_functions()
+    results: dict[str, list[dict]] = {}
+    for name in chosen:
+        fn, columns = functions[name]
+        print(f"\n== {name} ({device}) ==", flush=True)
+        rows = fn(device=device, num_envs=num_envs, steps=steps, robots=args.robots, tasks=args.tasks,
+                  iterations=args.iterations)
+        _print_table(rows, columns)
+        results[name] = rows
+    if args.json:
+        meta = {"device": device, "machine": platform.node(), "cpu_count": os.cpu_count()}
+        if gpu:
+            import torch
+
+            meta["gpu"] = torch.cuda.get_device_name()
+        with open(args.json, "w") as f:
+            json.dump({"meta": meta, "results": results}, f, indent=2)
+        print(f"\nwrote {args.json}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

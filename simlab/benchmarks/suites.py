@@ -1,0 +1,38 @@
+"""The benchmark suites: each runs over env counts and returns one row (a dict) per measurement."""
+
+from __future__ import annotations
+
+import traceback
+
+from .physics import bench_physics
+
+
+def _guarded(rows: list[dict], label: dict, fn) -> None:
+    """Run one measurement; a failure (out of memory, say) becomes a row that says so."""
+    try:
+        rows.append(fn())
+    except Exception as err:  # noqa: BLE001 - report and go on with the other sizes
+        traceback.print_exc()
+        rows.append({**label, "error": f"{type(err).__name__}: {err}"})
+        print(f"  {label}: failed: {type(err).__name__}: {err}")
+
+
+def physics(device: str, num_envs: list[int], steps: int, robots: list[str], **_) -> list[dict]:
+    rows: list[dict] = []
+    for robot in robots:
+        for n in num_envs:
+            _guarded(rows, {"robot": robot, "device": device, "num_envs": n},
+                     lambda robot=robot, n=n: bench_physics(robot, n, device, steps))
+    return rows
+
+
+def env_step(device: str, num_envs: list[int], steps: int, tasks: list[str] | None, **_) -> list[dict]:
+    raise NotImplementedError("env suite: being written")
+
+
+def env_step_with_policy(device: str, num_envs: list[int], steps: int, tasks: list[str] | None, **_) -> list[dict]:
+    raise NotImplementedError("inference suite: being written")
+
+
+def train(device: str, num_envs: list[int], tasks: list[str] | None, iterations: int, **_) -> list[dict]:
+    raise NotImplementedError("train suite: being written")

@@ -1,0 +1,43 @@
+"""Timing helpers shared by the benchmarks: device-synchronised clocks and interleaved rounds."""
+
+from __future__ import annotations
+
+import statistics
+import time
+from collections.abc import Callable
+
+import torch
+
+
+def synchronize(device: str) -> None:
+    if str(device).startswith("cuda"):
+        torch.cuda.synchronize()
+
+
+def time_loop(fn: Callable[[], None], steps: int, device: str) -> float:
+    """Seconds per call of ``fn`` over ``steps`` calls (device work included)."""
+    synchronize(device)
+    start = time.perf_counter()
+    for _ in range(steps):
+        fn()
+    synchronize(device)
+    return (time.perf_counter() - start) / steps
+
+
+def interleaved(variants: dict[str, Callable[[], None]], steps: int, device: str, rounds: int = 3) -> dict[str, float]:
+    """Median seconds per call of each variant, measured in alternating rounds.
+
+    Alternating the variants spreads the machine's noise (other processes, clocks) over all of
+    them, so their ratio is meaningful even when absolute figures drift.
+    """
+    samples: dict[str, list[float]] = {name: [] for name in variants}
+    for _ in range(rounds):
+        for name, fn in variants.items():
+            samples[name].append(time_loop(fn, steps, device))
+    return {name: statistics.median(values) for name, values in samples.items()}
+
+
+def gpu_memory_mb(device: str) -> float | None:
+    if str(device).startswith("cuda"):
+        return torch.cuda.max_memory_allocated() / 2**20
+    return None
