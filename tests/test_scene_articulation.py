@@ -102,7 +102,9 @@ def test_cartpole_names_defaults_and_root_state(device):
     state = robot.data.root_state_w
     assert state.shape == (4, 13)
     torch.testing.assert_close(state[:, :3], scene.env_origins + torch.tensor([0.0, 0.0, 2.0], device=sim.device))
-    torch.testing.assert_close(robot.data.default_root_state[:, :3], torch.tensor([[0.0, 0.0, 2.0]] * 4, device=sim.device))
+    torch.testing.assert_close(
+        robot.data.default_root_state[:, :3], torch.tensor([[0.0, 0.0, 2.0]] * 4, device=sim.device)
+    )
     # Cartpole facts: 1 kg cart and pole, slider range +-4 m, damping 10, effort limit 400.
     torch.testing.assert_close(robot.data.default_mass[0, 1:], torch.tensor([1.0, 1.0], device=sim.device))
     assert robot.data.joint_pos_limits[0, 0].tolist() == [-4.0, 4.0]
@@ -198,8 +200,12 @@ def test_position_targets_are_reached(actuator):
 
 def test_dc_motor_torque_speed_curve():
     cfg = DCMotorCfg(
-        joint_names_expr=["slider_to_cart"], stiffness=0.0, damping=0.0, saturation_effort=100.0,
-        effort_limit=80.0, velocity_limit=2.0,
+        joint_names_expr=["slider_to_cart"],
+        stiffness=0.0,
+        damping=0.0,
+        saturation_effort=100.0,
+        effort_limit=80.0,
+        velocity_limit=2.0,
     )
 
     @configclass
@@ -221,7 +227,9 @@ def test_rigid_object_free_fall_and_velocity_frames(device):
     sim, scene = make_scene(CubeSceneCfg(num_envs=2, env_spacing=2.0), device, dt=0.002)
     cube = scene["cube"]
     assert not cube.is_fixed_base
-    torch.testing.assert_close(cube.data.root_pos_w, scene.env_origins + torch.tensor([0.0, 0.0, 1.0], device=sim.device))
+    torch.testing.assert_close(
+        cube.data.root_pos_w, scene.env_origins + torch.tensor([0.0, 0.0, 1.0], device=sim.device)
+    )
     step(sim, scene, 100)  # 0.2 s of free fall: v = -g t
     assert cube.data.root_lin_vel_w[:, 2].cpu().tolist() == pytest.approx([-9.81 * 0.2] * 2, rel=1e-3)
 
@@ -245,7 +253,9 @@ def test_external_force_accelerates_body(device):
     forces = torch.tensor([[[4.0, 0.0, 0.0]], [[0.0, -2.0, 0.0]]], device=sim.device)
     cube.set_external_force_and_torque(forces, torch.zeros_like(forces), is_global=True)
     step(sim, scene, 50)  # 0.1 s at a = F / 2 kg
-    torch.testing.assert_close(cube.data.root_lin_vel_w[:, :2].cpu(), torch.tensor([[0.2, 0.0], [0.0, -0.1]]), atol=1e-4, rtol=0)
+    torch.testing.assert_close(
+        cube.data.root_lin_vel_w[:, :2].cpu(), torch.tensor([[0.2, 0.0], [0.0, -0.1]]), atol=1e-4, rtol=0
+    )
 
 
 @pytest.mark.parametrize("device", DEVICES)

@@ -49,7 +49,16 @@ class ActuatorBase:
         """Stateless models have nothing to reset."""
 
     def compute_torque(
-        self, pos_target, vel_target, effort_target, joint_pos, joint_vel, stiffness, damping, effort_limit, velocity_limit
+        self,
+        pos_target,
+        vel_target,
+        effort_target,
+        joint_pos,
+        joint_vel,
+        stiffness,
+        damping,
+        effort_limit,
+        velocity_limit,
     ) -> torch.Tensor:
         """The joint torque an explicit model applies (gains and limits are per env and joint)."""
         raise NotImplementedError(f"{type(self).__name__} is computed by the physics engine")
@@ -65,7 +74,16 @@ class IdealPDActuator(ActuatorBase):
     """``tau = kp (q* - q) + kd (qd* - qd) + tau_ff``, clipped to the effort limit, in torch."""
 
     def compute_torque(
-        self, pos_target, vel_target, effort_target, joint_pos, joint_vel, stiffness, damping, effort_limit, velocity_limit
+        self,
+        pos_target,
+        vel_target,
+        effort_target,
+        joint_pos,
+        joint_vel,
+        stiffness,
+        damping,
+        effort_limit,
+        velocity_limit,
     ):
         torque = stiffness * (pos_target - joint_pos) + damping * (vel_target - joint_vel) + effort_target
         return self._clip_effort(torque, joint_vel, effort_limit, velocity_limit)

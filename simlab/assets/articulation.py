@@ -54,7 +54,9 @@ class Articulation(RootedAsset):
             _, names = resolve_matching_names(act_cfg.joint_names_expr, joint_names)
             for name in names:
                 if name in claimed:
-                    raise ValueError(f"Joint '{name}' is driven by both actuator groups '{claimed[name]}' and '{group}'")
+                    raise ValueError(
+                        f"Joint '{name}' is driven by both actuator groups '{claimed[name]}' and '{group}'"
+                    )
                 claimed[name] = group
             implicit = act_cfg.class_type.is_implicit_model
             kp = per_joint_values(act_cfg.stiffness, names, 0.0)
@@ -97,7 +99,9 @@ class Articulation(RootedAsset):
             if not model.joint(j).name.startswith(self.prefix) or model.jnt_type[j] == mujoco.mjtJoint.mjJNT_FREE:
                 continue
             if model.jnt_type[j] == mujoco.mjtJoint.mjJNT_BALL:
-                raise ValueError(f"Joint '{model.joint(j).name}' is a ball joint; articulations take hinge and slide joints")
+                raise ValueError(
+                    f"Joint '{model.joint(j).name}' is a ball joint; articulations take hinge and slide joints"
+                )
             ids.append(j)
         return ids
 
@@ -156,7 +160,10 @@ class Articulation(RootedAsset):
         data.default_joint_pos = torch.zeros(n, num_joints, device=dev)
         data.default_joint_vel = torch.zeros(n, num_joints, device=dev)
         if num_joints:
-            for attr, values in (("default_joint_pos", self.cfg.init_state.joint_pos), ("default_joint_vel", self.cfg.init_state.joint_vel)):
+            for attr, values in (
+                ("default_joint_pos", self.cfg.init_state.joint_pos),
+                ("default_joint_vel", self.cfg.init_state.joint_vel),
+            ):
                 idx, _, vals = resolve_matching_names_values(values, self._joint_names)
                 getattr(data, attr)[:, idx] = torch.tensor(vals, dtype=torch.float32, device=dev)
         data.joint_pos_target = data.default_joint_pos.clone()
@@ -200,15 +207,23 @@ class Articulation(RootedAsset):
         if self._all_implicit:
             # ctrl = kp q* + kd qd* + tau_ff (the PD bias lives in the model; see actuator_cfg).
             ctrl = d.joint_stiffness * d.joint_pos_target + d.joint_damping * d.joint_vel_target + d.joint_effort_target
-            self._ctrl[:, self._ctrl_cols] = ctrl if isinstance(cols, slice) and cols == slice(0, self.num_joints) else ctrl[:, cols]
+            self._ctrl[:, self._ctrl_cols] = (
+                ctrl if isinstance(cols, slice) and cols == slice(0, self.num_joints) else ctrl[:, cols]
+            )
             return
         ctrl = d.joint_stiffness * d.joint_pos_target + d.joint_damping * d.joint_vel_target + d.joint_effort_target
         for actuator in self._explicit:
             j = actuator.joint_indices
             torque = actuator.compute_torque(
-                d.joint_pos_target[:, j], d.joint_vel_target[:, j], d.joint_effort_target[:, j],
-                d.joint_pos[:, j], d.joint_vel[:, j],
-                d.joint_stiffness[:, j], d.joint_damping[:, j], d.joint_effort_limits[:, j], d.joint_velocity_limits[:, j],
+                d.joint_pos_target[:, j],
+                d.joint_vel_target[:, j],
+                d.joint_effort_target[:, j],
+                d.joint_pos[:, j],
+                d.joint_vel[:, j],
+                d.joint_stiffness[:, j],
+                d.joint_damping[:, j],
+                d.joint_effort_limits[:, j],
+                d.joint_velocity_limits[:, j],
             )
             ctrl[:, j] = torque
             d._explicit_torque[:, j] = torque

@@ -41,7 +41,11 @@ class RootedAsset(AssetBase):
         self._body_names = [model.body(b).name[len(self.prefix) :] for b in body_ids]
         root = body_ids[0]
         self._root_body = root
-        free = [j for j in range(model.njnt) if model.jnt_bodyid[j] == root and model.jnt_type[j] == mujoco.mjtJoint.mjJNT_FREE]
+        free = [
+            j
+            for j in range(model.njnt)
+            if model.jnt_bodyid[j] == root and model.jnt_type[j] == mujoco.mjtJoint.mjJNT_FREE
+        ]
         self._mocap_id = int(model.body_mocapid[root])
         self._is_fixed_base = not free
         if free:
@@ -61,8 +65,12 @@ class RootedAsset(AssetBase):
         state = [*init.pos, *init.rot, *getattr(init, "lin_vel", (0, 0, 0)), *getattr(init, "ang_vel", (0, 0, 0))]
         self.data.default_root_state = torch.tensor(state, dtype=torch.float32, device=self.device).repeat(n, 1)
         self.data.body_names = self._body_names
-        self.data.default_mass = torch.tensor(model.body_mass[body_ids], dtype=torch.float32, device=self.device).repeat(n, 1)
-        self.data.default_inertia = torch.tensor(model.body_inertia[body_ids], dtype=torch.float32, device=self.device).repeat(n, 1, 1)
+        self.data.default_mass = torch.tensor(
+            model.body_mass[body_ids], dtype=torch.float32, device=self.device
+        ).repeat(n, 1)
+        self.data.default_inertia = torch.tensor(
+            model.body_inertia[body_ids], dtype=torch.float32, device=self.device
+        ).repeat(n, 1, 1)
 
     def _make_data(self, sim) -> RootedAssetData:
         raise NotImplementedError
@@ -139,7 +147,12 @@ class RootedAsset(AssetBase):
     write_root_link_velocity_to_sim = write_root_velocity_to_sim
 
     def set_external_force_and_torque(
-        self, forces: torch.Tensor, torques: torch.Tensor, body_ids=None, env_ids: EnvIds = None, is_global: bool = False
+        self,
+        forces: torch.Tensor,
+        torques: torch.Tensor,
+        body_ids=None,
+        env_ids: EnvIds = None,
+        is_global: bool = False,
     ) -> None:
         """Wrenches applied at the bodies' centres of mass every physics step until changed.
 
@@ -159,9 +172,13 @@ class RootedAsset(AssetBase):
     # -- helpers ----------------------------------------------------------------------------------
 
     def _check_rows(self, value: torch.Tensor, width: int, env, what: str) -> None:
-        rows = self.num_instances if isinstance(env, slice) else (int(env.sum()) if env.dtype == torch.bool else len(env))
+        rows = (
+            self.num_instances if isinstance(env, slice) else (int(env.sum()) if env.dtype == torch.bool else len(env))
+        )
         if value.ndim != 2 or value.shape[1] != width or value.shape[0] != rows:
-            raise ValueError(f"{what} must have shape ({rows}, {width}) for the selected envs, got {tuple(value.shape)}")
+            raise ValueError(
+                f"{what} must have shape ({rows}, {width}) for the selected envs, got {tuple(value.shape)}"
+            )
 
     @staticmethod
     def _write_cols(dst: torch.Tensor, cols, env_ids, values) -> None:

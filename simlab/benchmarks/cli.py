@@ -34,21 +34,35 @@ def _print_table(rows: list[dict], columns: list[tuple[str, str, str]]) -> None:
 
 
 PHYSICS_COLUMNS = [
-    ("robot", "robot", ""), ("device", "device", ""), ("envs", "num_envs", "d"),
-    ("raw steps/s", "raw_steps_per_s", ",.0f"), ("scene steps/s", "scene_steps_per_s", ",.0f"),
-    ("raw ms", "raw_ms_per_step", ".3f"), ("scene ms", "scene_ms_per_step", ".3f"),
-    ("scene/raw", "ratio", ".2f"), ("GPU MB", "gpu_memory_mb", ".0f"),
+    ("robot", "robot", ""),
+    ("device", "device", ""),
+    ("envs", "num_envs", "d"),
+    ("raw steps/s", "raw_steps_per_s", ",.0f"),
+    ("scene steps/s", "scene_steps_per_s", ",.0f"),
+    ("raw ms", "raw_ms_per_step", ".3f"),
+    ("scene ms", "scene_ms_per_step", ".3f"),
+    ("scene/raw", "ratio", ".2f"),
+    ("GPU MB", "gpu_memory_mb", ".0f"),
 ]
 ENV_COLUMNS = [
-    ("task", "task", ""), ("device", "device", ""), ("envs", "num_envs", "d"),
-    ("env steps/s", "env_steps_per_s", ",.0f"), ("physics steps/s", "physics_steps_per_s", ",.0f"),
-    ("env ms", "env_ms_per_step", ".3f"), ("raw physics steps/s", "raw_physics_steps_per_s", ",.0f"),
-    ("env/raw", "ratio", ".2f"), ("GPU MB", "gpu_memory_mb", ".0f"),
+    ("task", "task", ""),
+    ("device", "device", ""),
+    ("envs", "num_envs", "d"),
+    ("env steps/s", "env_steps_per_s", ",.0f"),
+    ("physics steps/s", "physics_steps_per_s", ",.0f"),
+    ("env ms", "env_ms_per_step", ".3f"),
+    ("raw physics steps/s", "raw_physics_steps_per_s", ",.0f"),
+    ("env/raw", "ratio", ".2f"),
+    ("GPU MB", "gpu_memory_mb", ".0f"),
 ]
 TRAIN_COLUMNS = [
-    ("task", "task", ""), ("device", "device", ""), ("envs", "num_envs", "d"),
-    ("env steps/s", "env_steps_per_s", ",.0f"), ("s/iteration", "seconds_per_iteration", ".3f"),
-    ("iterations", "iterations", "d"), ("GPU MB", "gpu_memory_mb", ".0f"),
+    ("task", "task", ""),
+    ("device", "device", ""),
+    ("envs", "num_envs", "d"),
+    ("env steps/s", "env_steps_per_s", ",.0f"),
+    ("s/iteration", "seconds_per_iteration", ".3f"),
+    ("iterations", "iterations", "d"),
+    ("GPU MB", "gpu_memory_mb", ".0f"),
 ]
 
 
@@ -64,8 +78,12 @@ def _suite_functions() -> dict[str, tuple[Callable[..., list[dict]], list]]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="simlab bench", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("suites", nargs="*", choices=[[], *SUITES], default=[], help=f"suites to run (default: all of {SUITES})")
+    parser = argparse.ArgumentParser(
+        prog="simlab bench", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
+    parser.add_argument(
+        "suites", nargs="*", choices=[[], *SUITES], default=[], help=f"suites to run (default: all of {SUITES})"
+    )
     parser.add_argument("--device", default=None, help="cpu or cuda:N (default: the GPU when there is one)")
     parser.add_argument("--num_envs", type=int, nargs="+", default=None, help="env counts (default: by device)")
     parser.add_argument("--robots", nargs="+", default=["cartpole", "ant", "humanoid"], help="physics suite robots")
@@ -87,8 +105,14 @@ def main(argv: list[str] | None = None) -> int:
     for name in chosen:
         fn, columns = functions[name]
         print(f"\n== {name} ({device}) ==", flush=True)
-        rows = fn(device=device, num_envs=num_envs, steps=steps, robots=args.robots, tasks=args.tasks,
-                  iterations=args.iterations)
+        rows = fn(
+            device=device,
+            num_envs=num_envs,
+            steps=steps,
+            robots=args.robots,
+            tasks=args.tasks,
+            iterations=args.iterations,
+        )
         _print_table(rows, columns)
         results[name] = rows
     if args.json:

@@ -21,8 +21,11 @@ def physics(device: str, num_envs: list[int], steps: int, robots: list[str], **_
     rows: list[dict] = []
     for robot in robots:
         for n in num_envs:
-            _guarded(rows, {"robot": robot, "device": device, "num_envs": n},
-                     lambda robot=robot, n=n: bench_physics(robot, n, device, steps))
+            _guarded(
+                rows,
+                {"robot": robot, "device": device, "num_envs": n},
+                lambda robot=robot, n=n: bench_physics(robot, n, device, steps),
+            )
     return rows
 
 

@@ -10,7 +10,9 @@ ASSETS_DIR = os.path.join(os.path.dirname(__file__), "assets")
 
 CARTPOLE_CFG = ArticulationCfg(
     spawn=sim_utils.MjcfFileCfg(asset_path=os.path.join(ASSETS_DIR, "cartpole.xml")),
-    init_state=ArticulationCfg.InitialStateCfg(pos=(0.0, 0.0, 2.0), joint_pos={"slider_to_cart": 0.0, "cart_to_pole": 0.0}),
+    init_state=ArticulationCfg.InitialStateCfg(
+        pos=(0.0, 0.0, 2.0), joint_pos={"slider_to_cart": 0.0, "cart_to_pole": 0.0}
+    ),
     actuators={
         "cart_actuator": ImplicitActuatorCfg(
             joint_names_expr=["slider_to_cart"], effort_limit_sim=400.0, stiffness=0.0, damping=10.0

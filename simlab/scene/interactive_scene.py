@@ -106,15 +106,21 @@ class InteractiveScene:
             if key in group:
                 return group[key]
         hint = closest_matches(key, self.keys())
-        raise KeyError(f"Scene has no entity '{key}'" + (f" (did you mean {hint}?)" if hint else "") + f"; entities: {self.keys()}")
+        raise KeyError(
+            f"Scene has no entity '{key}'" + (f" (did you mean {hint}?)" if hint else "") + f"; entities: {self.keys()}"
+        )
 
     def __contains__(self, key: str) -> bool:
         return key in self.keys()
 
     def __str__(self) -> str:
         lines = [f"<InteractiveScene> {self.num_envs} envs, spacing {self.cfg.env_spacing} m, device {self.device}"]
-        for kind, group in (("articulation", self.articulations), ("rigid object", self.rigid_objects),
-                            ("sensor", self.sensors), ("extra", self.extras)):
+        for kind, group in (
+            ("articulation", self.articulations),
+            ("rigid object", self.rigid_objects),
+            ("sensor", self.sensors),
+            ("extra", self.extras),
+        ):
             lines += [f"  {name}: {kind} at {getattr(obj, 'cfg', obj).prim_path}" for name, obj in group.items()]
         return "\n".join(lines)
 
@@ -140,6 +146,7 @@ class InteractiveScene:
                 self.sensors[f.name] = value.class_type(value, self)
             else:
                 if value.spawn is not None:
-                    value.spawn.func(value.prim_path, value.spawn, translation=value.init_state.pos,
-                                     orientation=value.init_state.rot)
+                    value.spawn.func(
+                        value.prim_path, value.spawn, translation=value.init_state.pos, orientation=value.init_state.rot
+                    )
                 self.extras[f.name] = value

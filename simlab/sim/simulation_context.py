@@ -99,8 +99,12 @@ class SimulationContext:
                 self.env_origins = torch.zeros(self.num_envs, 3, device=self.device)
             opts = self.cfg.mujoco
             self.backend = make_backend(
-                self.model, self.num_envs, self.device,
-                num_threads=opts.num_threads, nconmax=opts.nconmax, njmax=opts.njmax,
+                self.model,
+                self.num_envs,
+                self.device,
+                num_threads=opts.num_threads,
+                nconmax=opts.nconmax,
+                njmax=opts.njmax,
             )
             for callback in self._on_reset:
                 callback(self)

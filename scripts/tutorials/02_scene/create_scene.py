@@ -21,11 +21,10 @@ import torch  # noqa: E402
 
 import simlab.sim as sim_utils  # noqa: E402
 from simlab.assets import ArticulationCfg, AssetBaseCfg  # noqa: E402
+from simlab.robots.cartpole import CARTPOLE_CFG  # noqa: E402, I001
 from simlab.scene import InteractiveScene, InteractiveSceneCfg  # noqa: E402
 from simlab.sim import SimulationContext  # noqa: E402
 from simlab.utils import configclass  # noqa: E402
-
-from simlab.robots.cartpole import CARTPOLE_CFG  # noqa: E402, I001
 
 
 @configclass

@@ -1,0 +1,85 @@
+"""Export a policy network (observations -> actions) to TorchScript and ONNX.
+
+Every library's trained actor is first turned into a plain ``nn.Module`` mapping a batch of
+flat observations ``(N, obs_dim)`` to deterministic actions ``(N, action_dim)`` (normalization
+included); these functions then write it out. Both files take the input named ``obs`` with a
+dynamic batch dimension and give ``actions``.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import copy
+import io
+import os
+
+import torch
+import torch.nn as nn
+
+__all__ = ["export_policy_as_jit", "export_policy_as_onnx", "PolicyWithNormalizer"]
+
+
+class PolicyWithNormalizer(nn.Module):
+    """``policy(normalizer(obs))``: one module to export, normalization baked in."""
+
+    def __init__(self, policy: nn.Module, normalizer: nn.Module | None = None):
+        super().__init__()
+        self.normalizer = copy.deepcopy(normalizer) if normalizer is not None else nn.Identity()
+        self.policy = copy.deepcopy(policy)
+
+    def forward(self, obs: torch.Tensor) -> torch.Tensor:
+        return self.policy(self.normalizer(obs))
+
+
+def _prepare(policy: nn.Module, normalizer: nn.Module | None) -> nn.Module:
+    module = PolicyWithNormalizer(policy, normalizer) if normalizer is not None else copy.deepcopy(policy)
+    return module.to("cpu").eval()
+
+
+def export_policy_as_jit(
+    policy: nn.Module, path: str, filename: str = "policy.pt", normalizer: nn.Module | None = None,
+    obs_dim: int | None = None,
+) -> str:
+    """Write ``policy`` (with an optional observation ``normalizer``) as TorchScript; return the file path.
+
+    The module is scripted; if it cannot be scripted (library models often use Python-only code),
+    it is traced with a zero observation of size ``obs_dim``.
+    """
+    module = _prepare(policy, normalizer)
+    os.makedirs(path, exist_ok=True)
+    file = os.path.join(path, filename)
+    try:
+        scripted = torch.jit.script(module)
+    except Exception as e:  # noqa: BLE001 - any scripting failure falls back to tracing
+        if obs_dim is None:
+            raise RuntimeError(f"Cannot script {type(policy).__name__} ({e}); pass obs_dim to trace it.") from e
+        with torch.no_grad():
+            scripted = torch.jit.trace(module, torch.zeros(1, obs_dim), check_trace=False)
+    scripted.save(file)
+    return file
+
+
+def export_policy_as_onnx(
+    policy: nn.Module, path: str, obs_dim: int, filename: str = "policy.onnx",
+    normalizer: nn.Module | None = None, verbose: bool = False,
+) -> str:
+    """Write ``policy`` (with an optional ``normalizer``) as ONNX (opset 18, dynamic batch); return the path."""
+    module = _prepare(policy, normalizer)
+    os.makedirs(path, exist_ok=True)
+    file = os.path.join(path, filename)
+    batch = torch.export.Dim("batch", min=1)
+    # the exporter reports each stage on stdout; keep the console for training output
+    sink = contextlib.nullcontext() if verbose else contextlib.redirect_stdout(io.StringIO())
+    with sink, torch.no_grad():
+        torch.onnx.export(
+            module,
+            (torch.zeros(2, obs_dim),),
+            file,
+            input_names=["obs"],
+            output_names=["actions"],
+            dynamic_shapes=({0: batch},),
+            opset_version=18,
+            external_data=False,
+            verbose=verbose,
+        )
+    return file
