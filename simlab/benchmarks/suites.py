@@ -30,12 +30,36 @@ def physics(device: str, num_envs: list[int], steps: int, robots: list[str], **_
 
 
 def env_step(device: str, num_envs: list[int], steps: int, tasks: list[str] | None, **_) -> list[dict]:
-    raise NotImplementedError("env suite: being written")
+    return _env_rows(device, num_envs, steps, tasks, with_policy=False)
 
 
 def env_step_with_policy(device: str, num_envs: list[int], steps: int, tasks: list[str] | None, **_) -> list[dict]:
-    raise NotImplementedError("inference suite: being written")
+    return _env_rows(device, num_envs, steps, tasks, with_policy=True)
+
+
+def _env_rows(device, num_envs, steps, tasks, with_policy: bool) -> list[dict]:
+    from .env_suites import DEFAULT_TASKS, bench_env
+
+    rows: list[dict] = []
+    for task in tasks or DEFAULT_TASKS:
+        for n in num_envs:
+            _guarded(
+                rows,
+                {"task": task, "device": device, "num_envs": n},
+                lambda task=task, n=n: bench_env(task, n, device, steps, with_policy),
+            )
+    return rows
 
 
 def train(device: str, num_envs: list[int], tasks: list[str] | None, iterations: int, **_) -> list[dict]:
-    raise NotImplementedError("train suite: being written")
+    from .env_suites import bench_train
+
+    rows: list[dict] = []
+    for task in tasks or ["simlab/Cartpole-v0", "simlab/Humanoid-Direct-v0"]:
+        for n in num_envs:
+            _guarded(
+                rows,
+                {"task": task, "device": device, "num_envs": n},
+                lambda task=task, n=n: bench_train(task, n, device, iterations),
+            )
+    return rows

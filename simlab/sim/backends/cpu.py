@@ -47,6 +47,8 @@ class CpuBackend(PhysicsBackend):
                 raise ValueError(f"MjData has no array field '{name}'")
             dtype = np.float32 if native.dtype == np.float64 else None
             self._data[name] = torch.from_numpy(self.batch.bind(name, dtype))
+            # mjbatch fills a new binding at its next call; make it current now (forward is pure).
+            self.batch.forward()
         return self._data[name]
 
     def model_field(self, name: str) -> torch.Tensor:

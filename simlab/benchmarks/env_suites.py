@@ -1,0 +1,139 @@
+"""Env-level benchmarks: env step with random actions, with policy inference, and rsl_rl training.
+
+Each measurement builds the registered task at the given env count, so the figures include
+everything the task does per step (action processing, decimated physics, MDP terms, resets,
+observations). The raw-physics figure is measured on the same compiled model and backend in
+alternating rounds, so ``ratio = physics steps/s through the env / raw physics steps/s``.
+"""
+
+from __future__ import annotations
+
+import time
+
+import gymnasium as gym
+import torch
+
+import simlab.sim as sim_utils
+
+from .timing import gpu_memory_mb, interleaved, synchronize
+
+DEFAULT_TASKS = ["simlab/Cartpole-v0", "simlab/Cartpole-Direct-v0", "simlab/Ant-Direct-v0", "simlab/Humanoid-Direct-v0"]
+
+
+def make_env(task: str, num_envs: int, device: str):
+    import simlab.tasks  # noqa: F401 - registers the tasks
+    from simlab.tasks.utils import parse_env_cfg
+
+    sim_utils.SimulationContext.clear_instance()
+    cfg = parse_env_cfg(task, device=device, num_envs=num_envs)
+    return gym.make(task, cfg=cfg).unwrapped
+
+
+def _random_actions(env) -> torch.Tensor:
+    space = env.single_action_space
+    dim = int(sum(s.shape[0] for s in space.values())) if isinstance(space, gym.spaces.Dict) else space.shape[0]
+    return torch.rand(env.num_envs, dim, device=env.device) * 2 - 1
+
+
+def _step_fn(env, policy=None):
+    multi_agent = hasattr(env, "possible_agents")
+    obs = {"obs": None}
+
+    def step() -> None:
+        if policy is not None and obs["obs"] is not None:
+            with torch.inference_mode():
+                actions = policy(obs["obs"])
+        else:
+            actions = _random_actions(env)
+        if multi_agent:
+            sizes = [env.action_spaces[a].shape[0] for a in env.possible_agents]
+            actions = dict(zip(env.possible_agents, torch.split(actions, sizes, dim=-1)))
+        result = env.step(actions)
+        if not multi_agent:
+            obs["obs"] = result[0]["policy"]
+
+    return step
+
+
+def _raw_fn(env):
+    physics = env.sim.physics
+    ctrl = physics.data("ctrl")
+
+    def raw() -> None:
+        ctrl.copy_(torch.rand_like(ctrl) * 2 - 1)
+        physics.step(1)
+
+    return raw
+
+
+def bench_env(task: str, num_envs: int, device: str, steps: int, with_policy: bool = False) -> dict:
+    env = make_env(task, num_envs, device)
+    env.reset()
+    policy = None
+    if with_policy:
+        obs_dim = env.single_observation_space["policy"].shape[0]
+        act_dim = _random_actions(env).shape[1]
+        # rsl_rl's default actor for these tasks: an MLP of three ELU layers.
+        policy = torch.nn.Sequential(
+            torch.nn.Linear(obs_dim, 256),
+            torch.nn.ELU(),
+            torch.nn.Linear(256, 128),
+            torch.nn.ELU(),
+            torch.nn.Linear(128, 64),
+            torch.nn.ELU(),
+            torch.nn.Linear(64, act_dim),
+        ).to(env.device)
+    step, raw = _step_fn(env, policy), _raw_fn(env)
+    decimation = env.cfg.decimation
+    for fn in (step, raw):
+        for _ in range(10):
+            fn()
+    # raw steps one physics step per call; run it `decimation` times per env step's worth.
+    seconds = interleaved({"env": step, "raw": raw}, steps, device)
+    env_rate = num_envs / seconds["env"]
+    raw_rate = num_envs / seconds["raw"]
+    row = {
+        "task": task,
+        "device": str(env.device),
+        "num_envs": num_envs,
+        "env_steps_per_s": env_rate,
+        "physics_steps_per_s": env_rate * decimation,
+        "env_ms_per_step": seconds["env"] * 1e3,
+        "raw_physics_steps_per_s": raw_rate,
+        "ratio": env_rate * decimation / raw_rate,
+        "gpu_memory_mb": gpu_memory_mb(env.device),
+        "policy": with_policy,
+    }
+    env.close()
+    return row
+
+
+def bench_train(task: str, num_envs: int, device: str, iterations: int) -> dict:
+    """Wall time of rsl_rl PPO iterations (rollout + update), after one warm-up iteration."""
+    from rsl_rl.runners import OnPolicyRunner
+
+    from simlab.rl.rsl_rl import RslRlVecEnvWrapper
+    from simlab.tasks.utils import load_cfg_from_registry
+
+    env = make_env(task, num_envs, device)
+    agent_cfg = load_cfg_from_registry(task, "rsl_rl_cfg_entry_point")
+    wrapped = RslRlVecEnvWrapper(env)
+    runner = OnPolicyRunner(wrapped, agent_cfg.to_dict(), log_dir=None, device=str(env.device))
+    runner.learn(num_learning_iterations=1)
+    synchronize(device)
+    start = time.perf_counter()
+    runner.learn(num_learning_iterations=iterations)
+    synchronize(device)
+    seconds = (time.perf_counter() - start) / iterations
+    steps_per_iteration = agent_cfg.num_steps_per_env * num_envs
+    row = {
+        "task": task,
+        "device": str(env.device),
+        "num_envs": num_envs,
+        "iterations": iterations,
+        "seconds_per_iteration": seconds,
+        "env_steps_per_s": steps_per_iteration / seconds,
+        "gpu_memory_mb": gpu_memory_mb(env.device),
+    }
+    env.close()
+    return row

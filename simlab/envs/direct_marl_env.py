@@ -1,0 +1,324 @@
+"""The direct workflow for several agents acting in the same environments (Isaac Lab's ``DirectMARLEnv``).
+
+Same life cycle and hooks as :class:`~simlab.envs.DirectRLEnv`, with dicts keyed by agent name
+where the single-agent env has tensors: ``step({agent: action})`` returns per-agent observations,
+rewards, terminations and time-outs, each with the env dimension first. ``state()`` is the shared
+state of centralized critics. An environment resets once every agent in it is done (the flags are
+ANDed over agents) and, as in the single-agent env, in the same step (SAME_STEP autoreset); the
+observations reached before the reset are kept in ``extras[agent]["final_obs"]``.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from collections.abc import Sequence
+from typing import Any, ClassVar
+
+import gymnasium as gym
+import numpy as np
+import torch
+
+from simlab.scene import InteractiveScene
+from simlab.sim import SimulationContext
+from simlab.utils.seed import set_seed
+
+from .direct_marl_env_cfg import DirectMARLEnvCfg
+from .direct_rl_env import (
+    RENDER_MODES,
+    apply_deprecated_space_fields,
+    check_action,
+    check_env_cfg,
+    make_event_manager,
+    make_renderer,
+    render_frame,
+)
+from .utils.spaces import sample_space, spec_to_gym_space
+
+logger = logging.getLogger(__name__)
+
+
+class DirectMARLEnv:
+    """``num_envs`` environments, each with the agents of ``cfg.possible_agents``."""
+
+    metadata: ClassVar[dict[str, Any]] = {
+        "render_modes": RENDER_MODES,
+        "autoreset_mode": gym.vector.AutoresetMode.SAME_STEP,
+    }
+
+    def __init__(self, cfg: DirectMARLEnvCfg, render_mode: str | None = None, **kwargs):
+        apply_deprecated_space_fields(cfg, ("observation_spaces", "num_observations"),
+                                      ("action_spaces", "num_actions"), ("state_space", "num_states"))
+        cfg.validate()
+        check_env_cfg(cfg)
+        check_agents(cfg)
+        if render_mode not in RENDER_MODES:
+            raise ValueError(f"Unknown render_mode '{render_mode}'; allowed: {RENDER_MODES}")
+        self.cfg = cfg
+        self.render_mode = render_mode
+        self._is_closed = False
+        self.metadata = dict(type(self).metadata)
+
+        if cfg.seed is not None:
+            cfg.seed = self.seed(cfg.seed)
+        else:
+            logger.warning("Seed not set for the environment: its creation may not be deterministic.")
+
+        SimulationContext.clear_instance()
+        self.sim: SimulationContext = SimulationContext(cfg.sim)
+        self.sim.set_camera_view(cfg.viewer.eye, cfg.viewer.lookat)
+        if "cuda" in self.device:
+            torch.cuda.set_device(self.device)
+        self.scene = InteractiveScene(cfg.scene)
+        self._setup_scene()
+        self.event_manager = make_event_manager(cfg.events, self)
+        if self.event_manager is not None and "prestartup" in self.event_manager.available_modes:
+            self.event_manager.apply(mode="prestartup")
+        self.sim.reset()
+        self.scene.update(dt=self.physics_dt)
+
+        self.has_debug_vis_implementation = False
+        self.extras: dict[str, dict] = {agent: {} for agent in cfg.possible_agents}
+        self._sim_step_counter = 0
+        self.common_step_counter = 0
+        self.episode_length_buf = torch.zeros(self.num_envs, dtype=torch.long, device=self.device)
+        self.reset_buf = torch.zeros(self.num_envs, dtype=torch.bool, device=self.device)
+        self.final_state_buf: torch.Tensor | None = None
+        self._all_env_ids = torch.arange(self.num_envs, dtype=torch.long, device=self.device)
+        self._configure_env_spaces()
+
+        if self.event_manager is not None and "startup" in self.event_manager.available_modes:
+            self.event_manager.apply(mode="startup")
+        self.metadata["render_fps"] = 1.0 / self.step_dt
+        self._renderer = None
+
+    def __del__(self):
+        if getattr(self, "_is_closed", True) is False:
+            self.close()
+
+    # -- properties -------------------------------------------------------------------------------
+
+    @property
+    def num_envs(self) -> int:
+        return self.scene.num_envs
+
+    @property
+    def num_agents(self) -> int:
+        """Agents currently acting (those that returned observations)."""
+        return len(self.agents)
+
+    @property
+    def max_num_agents(self) -> int:
+        return len(self.possible_agents)
+
+    @property
+    def unwrapped(self) -> DirectMARLEnv:
+        return self
+
+    @property
+    def physics_dt(self) -> float:
+        return self.cfg.sim.dt
+
+    @property
+    def step_dt(self) -> float:
+        return self.cfg.sim.dt * self.cfg.decimation
+
+    @property
+    def device(self) -> str:
+        return self.sim.device
+
+    @property
+    def max_episode_length_s(self) -> float:
+        return self.cfg.episode_length_s
+
+    @property
+    def max_episode_length(self) -> int:
+        return math.ceil(self.max_episode_length_s / (self.cfg.sim.dt * self.cfg.decimation))
+
+    def observation_space(self, agent: str) -> gym.Space:
+        """The observation space of one agent in one environment."""
+        return self.observation_spaces[agent]
+
+    def action_space(self, agent: str) -> gym.Space:
+        """The action space of one agent in one environment."""
+        return self.action_spaces[agent]
+
+    # -- operations -------------------------------------------------------------------------------
+
+    def reset(self, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[dict, dict]:
+        """Reset every environment; returns ``({agent: obs}, extras)``."""
+        if seed is not None:
+            self.seed(seed)
+        self._reset_idx(self._all_env_ids)
+        self.scene.write_data_to_sim()
+        self.sim.forward()
+        self.obs_dict = self._get_observations()
+        self.agents = [agent for agent in self.possible_agents if agent in self.obs_dict]
+        return self.obs_dict, self.extras
+
+    def step(self, actions: dict[str, torch.Tensor]) -> tuple[dict, dict, dict, dict, dict]:
+        """Apply each agent's action (num_envs, ...) for ``decimation`` physics steps."""
+        missing = [agent for agent in self.agents if agent not in actions]
+        if missing:
+            raise KeyError(
+                f"No action for agents {missing}; step() takes a dict with an action for each of {self.agents}"
+            )
+        unknown = [agent for agent in actions if agent not in self.action_spaces]
+        if unknown:
+            raise KeyError(f"Actions for unknown agents {unknown}; agents: {self.possible_agents}")
+        actions = {
+            agent: check_action(action, self.action_spaces[agent], self.num_envs, self.device)
+            for agent, action in actions.items()
+        }
+        self._pre_physics_step(actions)
+        for _ in range(self.cfg.decimation):
+            self._sim_step_counter += 1
+            self._apply_action()
+            self.scene.write_data_to_sim()
+            self.sim.step(render=False)
+            self.scene.update(dt=self.physics_dt)
+
+        self.episode_length_buf += 1
+        self.common_step_counter += 1
+        self.terminated_dict, self.time_out_dict = self._get_dones()
+        # an environment resets once all its agents are done
+        self.reset_buf[:] = all_agents(self.terminated_dict) | all_agents(self.time_out_dict)
+        self.reward_dict = self._get_rewards()
+
+        reset_env_ids = self.reset_buf.nonzero(as_tuple=False).squeeze(-1)
+        final_obs = None
+        if len(reset_env_ids) > 0:
+            final_obs = self._get_observations()
+            self.final_state_buf = self._state_of(final_obs)
+            self._reset_idx(reset_env_ids)
+            self.sim.physics.forward(reset_env_ids)
+        if self.event_manager is not None and "interval" in self.event_manager.available_modes:
+            self.event_manager.apply(mode="interval", dt=self.step_dt)
+
+        self.obs_dict = self._get_observations()
+        self.agents = [agent for agent in self.possible_agents if agent in self.obs_dict]
+        if final_obs is None:
+            self.final_state_buf = None  # state() of this step's observations is the final state
+        for agent in self.possible_agents:
+            extras = self.extras.setdefault(agent, {})
+            source = final_obs if final_obs is not None else self.obs_dict
+            if agent in source:
+                extras["final_obs"] = source[agent]
+        return self.obs_dict, self.reward_dict, self.terminated_dict, self.time_out_dict, self.extras
+
+    def state(self) -> torch.Tensor | None:
+        """The shared state (num_envs, ...): the agents' observations concatenated for
+        ``state_space=-1``, ``_get_states()`` for a declared space, None for ``state_space=0``.
+
+        After a step that reset envs, ``final_state_buf`` holds the state reached before the reset.
+        """
+        self.state_buf = self._state_of(self.obs_dict)
+        return self.state_buf
+
+    def _state_of(self, obs_dict: dict[str, torch.Tensor]) -> torch.Tensor | None:
+        if not self.cfg.state_space:
+            return None
+        if isinstance(self.cfg.state_space, int) and self.cfg.state_space < 0:
+            return torch.cat([obs_dict[agent].reshape(self.num_envs, -1) for agent in self.possible_agents], dim=-1)
+        return self._get_states()
+
+    @staticmethod
+    def seed(seed: int = -1) -> int:
+        return set_seed(seed)
+
+    def render(self, recompute: bool = False) -> np.ndarray | None:
+        """An RGB frame of env ``cfg.viewer.env_index`` for ``render_mode="rgb_array"``, else None."""
+        if self.render_mode != "rgb_array":
+            return None
+        if self._renderer is None:
+            self._renderer = make_renderer(self.sim.model, self.cfg.viewer)
+        return render_frame(self._renderer, self, self.cfg.viewer)
+
+    def close(self) -> None:
+        if self._is_closed:
+            return
+        if self._renderer is not None and hasattr(self._renderer, "close"):
+            self._renderer.close()
+        self._renderer = None
+        self.event_manager = None
+        if SimulationContext.instance() is self.sim:
+            SimulationContext.clear_instance()
+        self._is_closed = True
+
+    def set_debug_vis(self, debug_vis: bool) -> bool:
+        return False
+
+    # -- helpers ----------------------------------------------------------------------------------
+
+    def _configure_env_spaces(self) -> None:
+        self.agents = list(self.cfg.possible_agents)
+        self.possible_agents = list(self.cfg.possible_agents)
+        self.observation_spaces = {a: spec_to_gym_space(self.cfg.observation_spaces[a]) for a in self.possible_agents}
+        self.action_spaces = {a: spec_to_gym_space(self.cfg.action_spaces[a]) for a in self.possible_agents}
+        if not self.cfg.state_space:
+            self.state_space = None
+        elif isinstance(self.cfg.state_space, int) and self.cfg.state_space < 0:
+            self.state_space = gym.spaces.flatten_space(
+                gym.spaces.Tuple([self.observation_spaces[a] for a in self.possible_agents])
+            )
+        else:
+            self.state_space = spec_to_gym_space(self.cfg.state_space)
+        self.actions = {
+            a: sample_space(self.action_spaces[a], self.device, batch_size=self.num_envs, fill_value=0)
+            for a in self.possible_agents
+        }
+
+    def _reset_idx(self, env_ids: Sequence[int] | torch.Tensor) -> None:
+        """Reset the scene's entities and the episode counters of ``env_ids``; tasks extend it."""
+        self.scene.reset(env_ids)
+        if self.event_manager is not None and "reset" in self.event_manager.available_modes:
+            env_step_count = self._sim_step_counter // self.cfg.decimation
+            self.event_manager.apply(mode="reset", env_ids=env_ids, global_env_step_count=env_step_count)
+        self.episode_length_buf[env_ids] = 0
+
+    # -- the task's hooks -------------------------------------------------------------------------
+
+    def _setup_scene(self) -> None:
+        """Create the task's assets before the model compiles."""
+
+    def _pre_physics_step(self, actions: dict[str, torch.Tensor]) -> None:
+        raise NotImplementedError(f"Please implement the '_pre_physics_step' method for {type(self).__name__}.")
+
+    def _apply_action(self) -> None:
+        raise NotImplementedError(f"Please implement the '_apply_action' method for {type(self).__name__}.")
+
+    def _get_observations(self) -> dict[str, torch.Tensor]:
+        raise NotImplementedError(f"Please implement the '_get_observations' method for {type(self).__name__}.")
+
+    def _get_states(self) -> torch.Tensor:
+        raise NotImplementedError(
+            f"Please implement the '_get_states' method for {type(self).__name__} "
+            "(or set state_space to -1 to concatenate the observations, or 0 for no state)."
+        )
+
+    def _get_rewards(self) -> dict[str, torch.Tensor]:
+        raise NotImplementedError(f"Please implement the '_get_rewards' method for {type(self).__name__}.")
+
+    def _get_dones(self) -> tuple[dict[str, torch.Tensor], dict[str, torch.Tensor]]:
+        raise NotImplementedError(f"Please implement the '_get_dones' method for {type(self).__name__}.")
+
+
+def all_agents(flags: dict[str, torch.Tensor]) -> torch.Tensor:
+    """True where the flag is set for every agent."""
+    values = iter(flags.values())
+    out = next(values).bool()
+    for value in values:
+        out = out & value
+    return out
+
+
+def check_agents(cfg: DirectMARLEnvCfg) -> None:
+    """Every agent needs an observation and an action space, and nothing else may have one."""
+    agents = list(cfg.possible_agents)
+    if not agents or len(set(agents)) != len(agents):
+        raise ValueError(f"possible_agents must be a non-empty list of distinct names, got {agents}")
+    for field in ("observation_spaces", "action_spaces"):
+        spaces = getattr(cfg, field)
+        if not isinstance(spaces, dict) or set(spaces) != set(agents):
+            keys = sorted(spaces) if isinstance(spaces, dict) else spaces
+            raise ValueError(f"{type(cfg).__name__}.{field} must have one entry per agent {agents}, got {keys}")

@@ -1,0 +1,368 @@
+"""The direct workflow: one class computes observations, rewards and dones itself.
+
+A task subclasses :class:`DirectRLEnv` and writes the hooks (Isaac Lab's API)::
+
+    _setup_scene()            # create assets (Articulation(cfg), spawners) before the model compiles
+    _pre_physics_step(a)      # once per env step: store / scale the actions
+    _apply_action()           # every physics step: set joint targets from the stored actions
+    _get_dones()              # -> (terminated, time_out), each (num_envs,) bool
+    _get_rewards()            # -> (num_envs,) reward
+    _reset_idx(env_ids)       # write the initial state of these envs (call super() first)
+    _get_observations()       # -> {"policy": (num_envs, ...)[, "critic": ...]}
+    _get_states()             # -> critic observation, optional (asymmetric actor-critic)
+
+``step(action)`` runs ``_pre_physics_step`` once and ``decimation`` physics steps, then counts the
+step, asks for dones and rewards, resets the envs that finished (Gymnasium's SAME_STEP autoreset)
+and returns ``(obs, reward, terminated, truncated, extras)``. The observation the finished envs
+reached before their reset is kept in ``extras["final_obs"]`` for bootstrapping (Isaac Lab has no
+such key); ``extras["time_outs"]`` repeats the time-out flags for rsl_rl.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from collections.abc import Sequence
+from dataclasses import MISSING
+from typing import Any, ClassVar
+
+import gymnasium as gym
+import numpy as np
+import torch
+
+from simlab.scene import InteractiveScene
+from simlab.sim import SimulationContext
+from simlab.utils.seed import set_seed
+
+from .direct_rl_env_cfg import DirectRLEnvCfg
+from .utils.spaces import sample_space, spec_to_gym_space
+
+logger = logging.getLogger(__name__)
+
+RENDER_MODES = [None, "human", "rgb_array"]
+
+
+class DirectRLEnv(gym.Env):
+    """A vectorized environment of ``num_envs`` copies; tensors have the env dimension first."""
+
+    is_vector_env: ClassVar[bool] = True
+    metadata: ClassVar[dict[str, Any]] = {
+        "render_modes": RENDER_MODES,
+        "autoreset_mode": gym.vector.AutoresetMode.SAME_STEP,
+    }
+
+    def __init__(self, cfg: DirectRLEnvCfg, render_mode: str | None = None, **kwargs):
+        apply_deprecated_space_fields(cfg, ("observation_space", "num_observations"),
+                                      ("action_space", "num_actions"), ("state_space", "num_states"))
+        cfg.validate()
+        check_env_cfg(cfg)
+        if render_mode not in RENDER_MODES:
+            raise ValueError(f"Unknown render_mode '{render_mode}'; allowed: {RENDER_MODES}")
+        self.cfg = cfg
+        self.render_mode = render_mode
+        self._is_closed = False
+        self.metadata = dict(type(self).metadata)  # per instance: render_fps depends on the config
+
+        if cfg.seed is not None:
+            cfg.seed = self.seed(cfg.seed)
+        else:
+            logger.warning("Seed not set for the environment: its creation may not be deterministic.")
+
+        # A new simulation per env: the previous one (and its model) is discarded.
+        SimulationContext.clear_instance()
+        self.sim: SimulationContext = SimulationContext(cfg.sim)
+        self.sim.set_camera_view(cfg.viewer.eye, cfg.viewer.lookat)
+        if "cuda" in self.device:
+            torch.cuda.set_device(self.device)
+
+        # Build the scene: declared entities, then the task's own (_setup_scene), then compile.
+        self.scene = InteractiveScene(cfg.scene)
+        self._setup_scene()
+        self.event_manager = make_event_manager(cfg.events, self)
+        if self.event_manager is not None and "prestartup" in self.event_manager.available_modes:
+            self.event_manager.apply(mode="prestartup")
+        self.sim.reset()
+        self.scene.update(dt=self.physics_dt)
+
+        self.has_debug_vis_implementation = False
+        self.extras: dict[str, Any] = {}
+        self._sim_step_counter = 0
+        self.common_step_counter = 0
+        self.episode_length_buf = torch.zeros(self.num_envs, dtype=torch.long, device=self.device)
+        self.reset_terminated = torch.zeros(self.num_envs, dtype=torch.bool, device=self.device)
+        self.reset_time_outs = torch.zeros_like(self.reset_terminated)
+        self.reset_buf = torch.zeros_like(self.reset_terminated)
+        self._all_env_ids = torch.arange(self.num_envs, dtype=torch.long, device=self.device)
+        self._configure_gym_env_spaces()
+
+        if self.event_manager is not None and "startup" in self.event_manager.available_modes:
+            self.event_manager.apply(mode="startup")
+        self.metadata["render_fps"] = 1.0 / self.step_dt
+        self._renderer = None
+
+    def __del__(self):
+        if getattr(self, "_is_closed", True) is False:
+            self.close()
+
+    # -- properties -------------------------------------------------------------------------------
+
+    @property
+    def num_envs(self) -> int:
+        return self.scene.num_envs
+
+    @property
+    def physics_dt(self) -> float:
+        """The physics time step [s]."""
+        return self.cfg.sim.dt
+
+    @property
+    def step_dt(self) -> float:
+        """The environment step [s]: ``decimation`` physics steps."""
+        return self.cfg.sim.dt * self.cfg.decimation
+
+    @property
+    def device(self) -> str:
+        return self.sim.device
+
+    @property
+    def max_episode_length_s(self) -> float:
+        return self.cfg.episode_length_s
+
+    @property
+    def max_episode_length(self) -> int:
+        """Episode length in env steps."""
+        return math.ceil(self.max_episode_length_s / (self.cfg.sim.dt * self.cfg.decimation))
+
+    # -- operations -------------------------------------------------------------------------------
+
+    def reset(self, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[dict, dict]:
+        """Reset every environment; returns ``(obs, extras)``. Call once, then only ``step``."""
+        if seed is not None:
+            self.seed(seed)
+        self._reset_idx(self._all_env_ids)
+        self.scene.write_data_to_sim()
+        self.sim.forward()
+        self.obs_buf = self._observations()
+        return self.obs_buf, self.extras
+
+    def step(self, action: torch.Tensor) -> tuple[dict, torch.Tensor, torch.Tensor, torch.Tensor, dict]:
+        """Apply ``action`` (num_envs, ...) for ``decimation`` physics steps; see the module docstring."""
+        action = check_action(action, self.single_action_space, self.num_envs, self.device)
+        self._pre_physics_step(action)
+        for _ in range(self.cfg.decimation):
+            self._sim_step_counter += 1
+            self._apply_action()
+            self.scene.write_data_to_sim()
+            self.sim.step(render=False)
+            self.scene.update(dt=self.physics_dt)
+
+        self.episode_length_buf += 1
+        self.common_step_counter += 1
+        self.reset_terminated[:], self.reset_time_outs[:] = self._get_dones()
+        self.reset_buf = self.reset_terminated | self.reset_time_outs
+        self.reward_buf = self._get_rewards()
+
+        # SAME_STEP autoreset: keep what the finished envs saw, then reset them.
+        reset_env_ids = self.reset_buf.nonzero(as_tuple=False).squeeze(-1)
+        final_obs = None
+        if len(reset_env_ids) > 0:
+            final_obs = self._observations()
+            self._reset_idx(reset_env_ids)
+            self.sim.physics.forward(reset_env_ids)  # body poses of the reset envs for the observations
+        if self.event_manager is not None and "interval" in self.event_manager.available_modes:
+            self.event_manager.apply(mode="interval", dt=self.step_dt)
+
+        self.obs_buf = self._observations()
+        self.extras["final_obs"] = final_obs if final_obs is not None else self.obs_buf
+        self.extras["time_outs"] = self.reset_time_outs
+        return self.obs_buf, self.reward_buf, self.reset_terminated, self.reset_time_outs, self.extras
+
+    @staticmethod
+    def seed(seed: int = -1) -> int:
+        """Seed python, numpy and torch; returns the seed used (a drawn one for -1)."""
+        return set_seed(seed)
+
+    def render(self, recompute: bool = False) -> np.ndarray | None:
+        """An RGB frame (H, W, 3) of env ``cfg.viewer.env_index`` for ``render_mode="rgb_array"``.
+
+        ``"human"`` and None render nothing: simlab has no window.
+        """
+        if self.render_mode != "rgb_array":
+            return None
+        if self._renderer is None:
+            self._renderer = make_renderer(self.sim.model, self.cfg.viewer)
+        return render_frame(self._renderer, self, self.cfg.viewer)
+
+    def close(self) -> None:
+        """Release the simulation (the SimulationContext instance is cleared)."""
+        if self._is_closed:
+            return
+        if self._renderer is not None and hasattr(self._renderer, "close"):
+            self._renderer.close()
+        self._renderer = None
+        self.event_manager = None
+        if SimulationContext.instance() is self.sim:
+            SimulationContext.clear_instance()
+        self._is_closed = True
+
+    def set_debug_vis(self, debug_vis: bool) -> bool:
+        """Debug markers need a viewer; simlab has none, so this is never supported."""
+        return False
+
+    # -- helpers ----------------------------------------------------------------------------------
+
+    def _configure_gym_env_spaces(self) -> None:
+        """Single and batched spaces; ``observation_space`` batches the policy space (as Isaac Lab)."""
+        self.single_observation_space = gym.spaces.Dict()
+        self.single_observation_space["policy"] = spec_to_gym_space(self.cfg.observation_space)
+        self.single_action_space = spec_to_gym_space(self.cfg.action_space)
+        self.observation_space = gym.vector.utils.batch_space(self.single_observation_space["policy"], self.num_envs)
+        self.action_space = gym.vector.utils.batch_space(self.single_action_space, self.num_envs)
+        self.state_space = None
+        if self.cfg.state_space:
+            self.single_observation_space["critic"] = spec_to_gym_space(self.cfg.state_space)
+            self.state_space = gym.vector.utils.batch_space(self.single_observation_space["critic"], self.num_envs)
+        # tasks whose observations include the last action read it before the first step
+        self.actions = sample_space(self.single_action_space, self.device, batch_size=self.num_envs, fill_value=0)
+
+    def _observations(self) -> dict:
+        """The task's observations, with ``"critic"`` from ``_get_states`` when a state space is set."""
+        obs = self._get_observations()
+        if self.cfg.state_space and "critic" not in obs:
+            states = self._get_states()
+            if states is not None:
+                obs["critic"] = states
+        return obs
+
+    def _reset_idx(self, env_ids: Sequence[int] | torch.Tensor) -> None:
+        """Reset the scene's entities and the episode counters of ``env_ids``; tasks extend it."""
+        self.scene.reset(env_ids)
+        if self.event_manager is not None and "reset" in self.event_manager.available_modes:
+            env_step_count = self._sim_step_counter // self.cfg.decimation
+            self.event_manager.apply(mode="reset", env_ids=env_ids, global_env_step_count=env_step_count)
+        self.episode_length_buf[env_ids] = 0
+
+    # -- the task's hooks -------------------------------------------------------------------------
+
+    def _setup_scene(self) -> None:
+        """Create the task's assets (``Articulation(cfg)``, ground, lights) before the model compiles."""
+
+    def _pre_physics_step(self, actions: torch.Tensor) -> None:
+        raise NotImplementedError(f"Please implement the '_pre_physics_step' method for {type(self).__name__}.")
+
+    def _apply_action(self) -> None:
+        raise NotImplementedError(f"Please implement the '_apply_action' method for {type(self).__name__}.")
+
+    def _get_observations(self) -> dict:
+        raise NotImplementedError(f"Please implement the '_get_observations' method for {type(self).__name__}.")
+
+    def _get_states(self) -> torch.Tensor | dict | None:
+        """The critic's observation for asymmetric actor-critic; None without a state space."""
+        return None
+
+    def _get_rewards(self) -> torch.Tensor:
+        raise NotImplementedError(f"Please implement the '_get_rewards' method for {type(self).__name__}.")
+
+    def _get_dones(self) -> tuple[torch.Tensor, torch.Tensor]:
+        raise NotImplementedError(f"Please implement the '_get_dones' method for {type(self).__name__}.")
+
+    def _set_debug_vis_impl(self, debug_vis: bool) -> None:
+        raise NotImplementedError(f"Debug visualization is not implemented for {type(self).__name__}.")
+
+
+# -- shared with the multi-agent env -----------------------------------------------------------------
+
+
+def apply_deprecated_space_fields(cfg, *pairs: tuple[str, str]) -> None:
+    """Isaac Lab's old ``num_*`` fields fill the space fields left unset."""
+    for space, old in pairs:
+        if getattr(cfg, old, None) is not None and getattr(cfg, space, None) is MISSING:
+            logger.warning(f"{type(cfg).__name__}.{old} is deprecated: use {space} instead.")
+            setattr(cfg, space, getattr(cfg, old))
+
+
+def check_env_cfg(cfg) -> None:
+    """Errors for config values the env cannot run with."""
+    if isinstance(cfg.decimation, bool) or not isinstance(cfg.decimation, int) or cfg.decimation < 1:
+        raise ValueError(f"{type(cfg).__name__}.decimation must be an int >= 1, got {cfg.decimation!r}")
+    if not cfg.episode_length_s > 0:
+        raise ValueError(f"{type(cfg).__name__}.episode_length_s must be positive, got {cfg.episode_length_s!r}")
+    for name in ("observation_noise_model", "action_noise_model"):
+        if getattr(cfg, name, None):
+            raise NotImplementedError(
+                f"{type(cfg).__name__}.{name}: noise models are not supported yet; set it to None"
+            )
+
+
+def check_action(action, space: gym.spaces.Space, num_envs: int, device: str) -> torch.Tensor:
+    """The action as a tensor on ``device``, after checking its shape and that it is finite."""
+    if not isinstance(action, torch.Tensor):
+        action = torch.as_tensor(np.asarray(action), device=device)
+    action = action.to(device)
+    if isinstance(space, (gym.spaces.Box, gym.spaces.MultiDiscrete)):
+        expected = (num_envs, *space.shape)
+        if tuple(action.shape) != expected:
+            raise ValueError(
+                f"Expected actions of shape {expected} (num_envs, *action shape), got {tuple(action.shape)}"
+            )
+    if action.is_floating_point() and not torch.isfinite(action).all():
+        bad = (~torch.isfinite(action)).reshape(num_envs, -1).any(dim=-1).nonzero().flatten().tolist()
+        more = "..." if len(bad) > 10 else ""
+        raise ValueError(f"Actions contain NaN or inf (envs {bad[:10]}{more}); actions must be finite")
+    return action
+
+
+def make_event_manager(events_cfg, env):
+    """An ``EventManager`` for ``cfg.events`` (None when there are no events)."""
+    if events_cfg is None:
+        return None
+    try:
+        from simlab.managers import EventManager
+    except ImportError as err:
+        raise ImportError("cfg.events needs simlab.managers.EventManager, which failed to import") from err
+    return EventManager(events_cfg, env)
+
+
+def make_renderer(model, viewer_cfg):
+    from simlab.sim.renderer import OffscreenRenderer
+
+    width, height = viewer_cfg.resolution
+    return OffscreenRenderer(model, width, height)
+
+
+def render_frame(renderer, env, viewer_cfg) -> np.ndarray:
+    """Render env ``viewer_cfg.env_index`` from the viewer camera (same frames as the manager-based env)."""
+    eye, lookat = camera_pose(env, viewer_cfg)
+    return renderer.render(env.sim.physics, viewer_cfg.env_index, eye, lookat)
+
+
+def camera_pose(env, viewer) -> tuple[np.ndarray, np.ndarray]:
+    """The viewer's eye and look-at point in the frame of the rendered MuJoCo world.
+
+    Each env is its own MuJoCo world centred on zero, so world-frame points lose the env origin;
+    ``origin_type`` "env" / "asset_root" / "asset_body" places them relative to that env, asset or body.
+    """
+    index = viewer.env_index
+    if not 0 <= index < env.num_envs:
+        raise ValueError(f"cfg.viewer.env_index is {index}, but there are {env.num_envs} envs")
+    eye, lookat = np.asarray(viewer.eye, dtype=np.float64), np.asarray(viewer.lookat, dtype=np.float64)
+    origin = env.scene.env_origins[index].cpu().numpy().astype(np.float64)
+    if viewer.origin_type == "world":
+        offset = -origin
+    elif viewer.origin_type == "env":
+        offset = np.zeros(3)
+    elif viewer.origin_type in ("asset_root", "asset_body"):
+        if viewer.asset_name is None:
+            raise ValueError(f"cfg.viewer.origin_type='{viewer.origin_type}' needs cfg.viewer.asset_name")
+        asset = env.scene[viewer.asset_name]
+        if viewer.origin_type == "asset_root":
+            pos = asset.data.root_pos_w[index]
+        else:
+            body_ids, _ = asset.find_bodies(viewer.body_name)
+            pos = asset.data.body_pos_w[index, body_ids[0]]
+        offset = pos.cpu().numpy().astype(np.float64) - origin
+    else:
+        raise ValueError(
+            f"Unknown cfg.viewer.origin_type '{viewer.origin_type}'; allowed: world, env, asset_root, asset_body"
+        )
+    return eye + offset, lookat + offset

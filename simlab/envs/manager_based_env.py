@@ -1,0 +1,218 @@
+"""The manager-based environment: a scene stepped by actions, observed through managers.
+
+Construction follows Isaac Lab: the simulation and the scene are built, the event manager (its
+``prestartup`` events edit the model before it compiles), ``sim.reset()`` compiles and starts the
+physics, then the action and observation managers, then the ``startup`` events.
+
+``step(action)``: the action manager processes the action once, then for ``decimation`` physics
+steps applies it, writes the scene to the simulation, steps, and updates the scene's sensors;
+``interval`` events run, and observations are computed. No rewards: see ``ManagerBasedRLEnv``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+import torch
+
+from simlab.managers import ActionManager, EventManager, ObservationManager
+from simlab.scene import InteractiveScene
+from simlab.sim import SimulationContext
+from simlab.utils.configclass import MissingFieldError
+from simlab.utils.seed import set_seed
+
+from .common import VecEnvObs
+from .manager_based_env_cfg import ManagerBasedEnvCfg
+
+
+class ManagerBasedEnv:
+    def __init__(self, cfg: ManagerBasedEnvCfg):
+        try:
+            cfg.validate()
+        except MissingFieldError as err:
+            raise MissingFieldError(f"The environment config is incomplete: {err}") from err
+        if not isinstance(cfg.decimation, int) or cfg.decimation < 1:
+            raise ValueError(f"cfg.decimation must be an int >= 1 (physics steps per env step), got {cfg.decimation!r}")
+        self.cfg = cfg
+        self._is_closed = False
+        self._renderer = None
+        self._viewer = None
+        if cfg.seed is not None:
+            cfg.seed = self.seed(cfg.seed)
+
+        # A fresh simulation: a previous env's (or script's) context would hold the old model.
+        SimulationContext.clear_instance()
+        self.sim = SimulationContext(cfg.sim)
+        self.sim.set_camera_view(cfg.viewer.eye, cfg.viewer.lookat)
+        if cfg.sim.render_interval < cfg.decimation:
+            print(
+                f"[simlab] sim.render_interval ({cfg.sim.render_interval}) < decimation ({cfg.decimation}):"
+                " renders happen once per env step anyway (render() is on demand)."
+            )
+        print("[INFO]: Base environment:")
+        print(f"\tEnvironment device    : {self.device}")
+        print(f"\tEnvironment seed      : {cfg.seed}")
+        print(f"\tPhysics step-size     : {self.physics_dt}")
+        print(f"\tEnvironment step-size : {self.step_dt}")
+
+        self.scene = InteractiveScene(cfg.scene)
+        print("[INFO]: Scene manager:", self.scene)
+
+        # Events first: "prestartup" terms change the model before it is compiled.
+        self.event_manager = EventManager(cfg.events, self)
+        self.event_manager.apply(mode="prestartup")
+
+        self.sim.reset()
+        self.scene.update(dt=self.physics_dt)
+
+        self._sim_step_counter = 0
+        self.extras: dict[str, Any] = {}
+        self.load_managers()
+        print("[INFO]: Event Manager:", self.event_manager)
+        self.obs_buf: VecEnvObs = {}
+
+    def __del__(self):
+        try:
+            self.close()
+        except Exception:  # noqa: BLE001 - interpreter shutdown
+            pass
+
+    # -- properties ------------------------------------------------------------------------------
+
+    @property
+    def num_envs(self) -> int:
+        return self.scene.num_envs
+
+    @property
+    def physics_dt(self) -> float:
+        return self.cfg.sim.dt
+
+    @property
+    def step_dt(self) -> float:
+        """Seconds of simulation per env step: ``sim.dt * decimation``."""
+        return self.cfg.sim.dt * self.cfg.decimation
+
+    @property
+    def device(self) -> str:
+        return self.sim.device
+
+    @property
+    def unwrapped(self) -> ManagerBasedEnv:
+        return self
+
+    # -- building ----------------------------------------------------------------------------------
+
+    def load_managers(self) -> None:
+        self.action_manager = ActionManager(self.cfg.actions, self)
+        print("[INFO]: Action Manager:", self.action_manager)
+        self.observation_manager = ObservationManager(self.cfg.observations, self)
+        print("[INFO]: Observation Manager:", self.observation_manager)
+        if type(self) is ManagerBasedEnv:
+            self.event_manager.apply(mode="startup")
+
+    # -- operations ----------------------------------------------------------------------------------
+
+    def reset(
+        self, seed: int | None = None, env_ids: Sequence[int] | torch.Tensor | None = None, options: dict | None = None
+    ) -> tuple[VecEnvObs, dict]:
+        """Reset the given envs (all by default); returns ``(obs, extras)``."""
+        if env_ids is None:
+            env_ids = torch.arange(self.num_envs, dtype=torch.long, device=self.device)
+        elif not isinstance(env_ids, torch.Tensor):
+            env_ids = torch.as_tensor(list(env_ids), dtype=torch.long, device=self.device)
+        if seed is not None:
+            self.seed(seed)
+        self._reset_idx(env_ids)
+        self.scene.write_data_to_sim()
+        self.sim.physics.forward(env_ids)
+        self.obs_buf = self.observation_manager.compute(update_history=True)
+        return self.obs_buf, self.extras
+
+    def step(self, action: torch.Tensor) -> tuple[VecEnvObs, dict]:
+        self.action_manager.process_action(action)
+        self._physics_steps()
+        if "interval" in self.event_manager.available_modes:
+            self.event_manager.apply(mode="interval", dt=self.step_dt)
+        self.obs_buf = self.observation_manager.compute(update_history=True)
+        return self.obs_buf, self.extras
+
+    @staticmethod
+    def seed(seed: int = -1) -> int:
+        """Seed python, numpy and torch; returns the seed used (``-1`` draws one)."""
+        return set_seed(seed)
+
+    def render(self, recompute: bool = False) -> np.ndarray:
+        """An RGB image (H, W, 3) of env ``cfg.viewer.env_index`` from the viewer camera."""
+        return self._render_rgb()
+
+    def close(self) -> None:
+        if self._is_closed:
+            return
+        if self._renderer is not None:
+            self._renderer.close()
+            self._renderer = None
+        if self._viewer is not None:
+            self._viewer.close()
+            self._viewer = None
+        if SimulationContext.instance() is getattr(self, "sim", None):
+            SimulationContext.clear_instance()
+        self._is_closed = True
+
+    # -- helpers -------------------------------------------------------------------------------------
+
+    def _physics_steps(self) -> None:
+        """``decimation`` physics steps with the processed action held."""
+        for _ in range(self.cfg.decimation):
+            self._sim_step_counter += 1
+            self.action_manager.apply_action()
+            self.scene.write_data_to_sim()
+            self.sim.step(render=False)
+            self.scene.update(dt=self.physics_dt)
+
+    def _reset_idx(self, env_ids: torch.Tensor) -> None:
+        self.scene.reset(env_ids)
+        if "reset" in self.event_manager.available_modes:
+            env_step_count = self._sim_step_counter // self.cfg.decimation
+            self.event_manager.apply(mode="reset", env_ids=env_ids, global_env_step_count=env_step_count)
+        self.extras["log"] = {}
+        self.extras["log"].update(self.observation_manager.reset(env_ids))
+        self.extras["log"].update(self.action_manager.reset(env_ids))
+        self.extras["log"].update(self.event_manager.reset(env_ids))
+
+    def _camera_pose(self) -> tuple[np.ndarray, np.ndarray]:
+        """The viewer camera's eye and lookat in the frame of the rendered MuJoCo world."""
+        viewer = self.cfg.viewer
+        index = viewer.env_index
+        if not 0 <= index < self.num_envs:
+            raise ValueError(f"cfg.viewer.env_index is {index}, but there are {self.num_envs} envs")
+        eye, lookat = np.asarray(viewer.eye, dtype=np.float64), np.asarray(viewer.lookat, dtype=np.float64)
+        origin = self.scene.env_origins[index].cpu().numpy().astype(np.float64)
+        # Each env is its own MuJoCo world centred on zero: world-frame points lose the env origin.
+        if viewer.origin_type == "world":
+            offset = -origin
+        elif viewer.origin_type == "env":
+            offset = np.zeros(3)
+        elif viewer.origin_type in ("asset_root", "asset_body"):
+            if viewer.asset_name is None:
+                raise ValueError(f"cfg.viewer.origin_type='{viewer.origin_type}' needs cfg.viewer.asset_name")
+            asset = self.scene[viewer.asset_name]
+            if viewer.origin_type == "asset_root":
+                pos = asset.data.root_pos_w[index]
+            else:
+                body_ids, _ = asset.find_bodies(viewer.body_name)
+                pos = asset.data.body_pos_w[index, body_ids[0]]
+            offset = pos.cpu().numpy().astype(np.float64) - origin
+        else:
+            raise ValueError(f"Unknown cfg.viewer.origin_type '{viewer.origin_type}'; allowed: world, env, asset_root, asset_body")
+        return eye + offset, lookat + offset
+
+    def _render_rgb(self) -> np.ndarray:
+        from simlab.sim.renderer import OffscreenRenderer
+
+        if self._renderer is None:
+            width, height = self.cfg.viewer.resolution
+            self._renderer = OffscreenRenderer(self.sim.model, width, height)
+        eye, lookat = self._camera_pose()
+        return self._renderer.render(self.sim.physics, self.cfg.viewer.env_index, eye, lookat)

@@ -1,0 +1,147 @@
+"""Actions: the policy's action vector, split among action terms that drive the scene's assets.
+
+``process_action`` runs once per env step (scale, offset, clip); ``apply_action`` runs every physics
+step (write joint targets), so a decimated env holds each action for ``decimation`` physics steps.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
+import torch
+
+from .manager_base import ManagerBase, ManagerTermBase, cfg_items, format_table
+from .manager_term_cfg import ActionTermCfg
+
+if TYPE_CHECKING:
+    from simlab.envs import ManagerBasedEnv
+
+
+class ActionTerm(ManagerTermBase):
+    """Turns its slice of the action vector into commands for one asset."""
+
+    def __init__(self, cfg: ActionTermCfg, env: ManagerBasedEnv):
+        super().__init__(cfg, env)
+        if cfg.asset_name not in env.scene.keys():
+            raise ValueError(f"asset_name '{cfg.asset_name}' is not in the scene; entities: {env.scene.keys()}")
+        self._asset = env.scene[cfg.asset_name]
+
+    @property
+    def action_dim(self) -> int:
+        raise NotImplementedError
+
+    @property
+    def raw_actions(self) -> torch.Tensor:
+        raise NotImplementedError
+
+    @property
+    def processed_actions(self) -> torch.Tensor:
+        raise NotImplementedError
+
+    def process_actions(self, actions: torch.Tensor) -> None:
+        raise NotImplementedError
+
+    def apply_actions(self) -> None:
+        raise NotImplementedError
+
+
+class ActionManager(ManagerBase):
+    """Splits the action among its terms, in declaration order."""
+
+    def __init__(self, cfg: object, env: ManagerBasedEnv):
+        self._terms: dict[str, ActionTerm] = {}
+        super().__init__(cfg, env)
+        self._check_finite = bool(getattr(env.cfg, "check_finite_actions", True))
+        self._action = torch.zeros(self.num_envs, self.total_action_dim, device=self.device)
+        self._prev_action = torch.zeros_like(self._action)
+
+    def __str__(self) -> str:
+        rows = [(i, name, term.action_dim) for i, (name, term) in enumerate(self._terms.items())]
+        return format_table(f"Active Action Terms (shape: {self.total_action_dim})", ["Index", "Name", "Dimension"], rows)
+
+    @property
+    def total_action_dim(self) -> int:
+        return sum(self.action_term_dim)
+
+    @property
+    def active_terms(self) -> list[str]:
+        return list(self._terms)
+
+    @property
+    def action_term_dim(self) -> list[int]:
+        return [term.action_dim for term in self._terms.values()]
+
+    @property
+    def action(self) -> torch.Tensor:
+        """(num_envs, total_action_dim) the last action given to ``process_action``."""
+        return self._action
+
+    @property
+    def prev_action(self) -> torch.Tensor:
+        """The action before that."""
+        return self._prev_action
+
+    @property
+    def has_debug_vis_implementation(self) -> bool:
+        return False
+
+    def get_term(self, name: str) -> ActionTerm:
+        if name not in self._terms:
+            raise KeyError(f"No action term '{name}'; action terms: {list(self._terms)}")
+        return self._terms[name]
+
+    def get_active_iterable_terms(self, env_idx: int) -> Sequence[tuple[str, Sequence[float]]]:
+        out, idx = [], 0
+        for name, term in self._terms.items():
+            out.append((name, self._action[env_idx, idx : idx + term.action_dim].cpu().tolist()))
+            idx += term.action_dim
+        return out
+
+    def reset(self, env_ids: Sequence[int] | torch.Tensor | None = None) -> dict[str, torch.Tensor]:
+        env = slice(None) if env_ids is None else env_ids
+        self._prev_action[env] = 0.0
+        self._action[env] = 0.0
+        for term in self._terms.values():
+            term.reset(env_ids)
+        return {}
+
+    def process_action(self, action: torch.Tensor) -> None:
+        """Check the action, store it, and let each term process its slice."""
+        if not isinstance(action, torch.Tensor):
+            action = torch.as_tensor(action, dtype=torch.float32)
+        expected = (self.num_envs, self.total_action_dim)
+        if tuple(action.shape) != expected:
+            raise ValueError(
+                f"The action must have shape (num_envs, action_dim) = {expected}, got {tuple(action.shape)}"
+                f" (action terms: {dict(zip(self.active_terms, self.action_term_dim))})"
+            )
+        action = action.to(device=self.device, dtype=torch.float32)
+        if self._check_finite and not bool(torch.isfinite(action).all()):
+            bad = (~torch.isfinite(action)).any(dim=1).nonzero().flatten().tolist()
+            raise ValueError(
+                f"The action contains NaN or inf in env(s) {bad[:10]}{'...' if len(bad) > 10 else ''};"
+                " actions must be finite (check the policy's outputs)"
+            )
+        self._prev_action[:] = self._action
+        self._action[:] = action
+        idx = 0
+        for term in self._terms.values():
+            term.process_actions(action[:, idx : idx + term.action_dim])
+            idx += term.action_dim
+
+    def apply_action(self) -> None:
+        for term in self._terms.values():
+            term.apply_actions()
+
+    def _prepare_terms(self) -> None:
+        for name, term_cfg in cfg_items(self.cfg):
+            if not isinstance(term_cfg, ActionTermCfg):
+                raise TypeError(f"ActionManager: term '{name}' must be an ActionTermCfg, got {type(term_cfg).__name__}")
+            try:
+                term_cfg.validate()
+                self._terms[name] = term_cfg.class_type(term_cfg, self._env)
+            except (ValueError, KeyError, TypeError) as err:
+                raise self._term_error(name, str(err)) from err
+        if not self._terms:
+            raise ValueError("ActionManager: the actions config declares no action term")

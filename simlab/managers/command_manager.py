@@ -1,0 +1,126 @@
+"""Commands: goals the policy follows (e.g. a base velocity), resampled after a random time.
+
+A ``CommandTerm`` holds ``command`` (num_envs, ...) and resamples it per env when its timer runs
+out; it may track metrics (logged at resets as ``Metrics/<term>/<metric>``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
+import torch
+
+from .manager_base import ManagerBase, ManagerTermBase, cfg_items, format_table
+from .manager_term_cfg import CommandTermCfg
+
+if TYPE_CHECKING:
+    from simlab.envs import ManagerBasedRLEnv
+
+
+class CommandTerm(ManagerTermBase):
+    """Subclasses implement ``command``, ``_resample_command``, ``_update_command``, ``_update_metrics``."""
+
+    def __init__(self, cfg: CommandTermCfg, env: ManagerBasedRLEnv):
+        super().__init__(cfg, env)
+        self.metrics: dict[str, torch.Tensor] = {}
+        self.time_left = torch.zeros(self.num_envs, device=self.device)
+        self.command_counter = torch.zeros(self.num_envs, dtype=torch.long, device=self.device)
+
+    @property
+    def command(self) -> torch.Tensor:
+        raise NotImplementedError
+
+    def reset(self, env_ids: Sequence[int] | torch.Tensor | None = None) -> dict[str, float]:
+        if env_ids is None:
+            env_ids = torch.arange(self.num_envs, device=self.device)
+        extras = {}
+        for name, value in self.metrics.items():
+            extras[name] = value[env_ids].mean()
+            value[env_ids] = 0.0
+        self.command_counter[env_ids] = 0
+        self._resample(env_ids)
+        return extras
+
+    def compute(self, dt: float) -> None:
+        self._update_metrics()
+        self.time_left -= dt
+        ids = (self.time_left <= 0.0).nonzero().flatten()
+        if len(ids):
+            self._resample(ids)
+        self._update_command()
+
+    def _resample(self, env_ids: torch.Tensor) -> None:
+        if len(env_ids) == 0:
+            return
+        lower, upper = self.cfg.resampling_time_range
+        self.time_left[env_ids] = torch.rand(len(env_ids), device=self.device) * (upper - lower) + lower
+        self._resample_command(env_ids)
+        self.command_counter[env_ids] += 1
+
+    def _resample_command(self, env_ids: torch.Tensor) -> None:
+        raise NotImplementedError
+
+    def _update_command(self) -> None:
+        raise NotImplementedError
+
+    def _update_metrics(self) -> None:
+        raise NotImplementedError
+
+    def set_debug_vis(self, debug_vis: bool) -> bool:
+        return False
+
+
+class CommandManager(ManagerBase):
+    def __init__(self, cfg: object, env: ManagerBasedRLEnv):
+        self._terms: dict[str, CommandTerm] = {}
+        self._term_cfgs: list[tuple[str, CommandTermCfg]] = []
+        super().__init__(cfg, env)
+
+    def __str__(self) -> str:
+        rows = [(i, name, type(term).__name__) for i, (name, term) in enumerate(self._terms.items())]
+        return format_table("Active Command Terms", ["Index", "Name", "Type"], rows)
+
+    @property
+    def active_terms(self) -> list[str]:
+        return [name for name, _ in self._term_cfgs]
+
+    @property
+    def has_debug_vis_implementation(self) -> bool:
+        return False
+
+    def get_command(self, name: str) -> torch.Tensor:
+        return self.get_term(name).command
+
+    def get_term(self, name: str) -> CommandTerm:
+        if name not in self._terms:
+            raise KeyError(f"No command term '{name}'; command terms: {self.active_terms}")
+        return self._terms[name]
+
+    def get_active_iterable_terms(self, env_idx: int) -> Sequence[tuple[str, Sequence[float]]]:
+        return [(name, term.command[env_idx].cpu().tolist()) for name, term in self._terms.items()]
+
+    def reset(self, env_ids: Sequence[int] | torch.Tensor | None = None) -> dict[str, torch.Tensor]:
+        extras = {}
+        for name, term in self._terms.items():
+            for metric, value in term.reset(env_ids).items():
+                extras[f"Metrics/{name}/{metric}"] = value
+        return extras
+
+    def compute(self, dt: float) -> None:
+        for term in self._terms.values():
+            term.compute(dt)
+
+    def _prepare_terms(self) -> None:
+        for name, term_cfg in cfg_items(self.cfg):
+            if not isinstance(term_cfg, CommandTermCfg):
+                raise TypeError(f"CommandManager: term '{name}' must be a CommandTermCfg, got {type(term_cfg).__name__}")
+            self._term_cfgs.append((name, term_cfg))
+
+    def _on_sim_started(self) -> None:
+        for name, term_cfg in self._term_cfgs:
+            try:
+                term_cfg.validate()
+                self._terms[name] = term_cfg.class_type(term_cfg, self._env)
+            except (ValueError, KeyError, TypeError) as err:
+                raise self._term_error(name, str(err)) from err

@@ -1,0 +1,81 @@
+"""Curricula: functions run at resets that change the task as training goes (reward weights, ranges).
+
+``func(env, env_ids, **params)``; a returned number, tensor or dict is logged as ``Curriculum/<term>``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any
+
+import torch
+
+from .manager_base import ManagerBase, ManagerTermBase, cfg_items, format_table
+from .manager_term_cfg import CurriculumTermCfg
+
+if TYPE_CHECKING:
+    from simlab.envs import ManagerBasedRLEnv
+
+
+class CurriculumManager(ManagerBase):
+    def __init__(self, cfg: object, env: ManagerBasedRLEnv):
+        self._terms: list[tuple[str, CurriculumTermCfg]] = []
+        self._class_terms: list[ManagerTermBase] = []
+        self._state: dict[str, Any] = {}
+        super().__init__(cfg, env)
+
+    def __str__(self) -> str:
+        rows = [(i, name) for i, (name, _) in enumerate(self._terms)]
+        return format_table("Active Curriculum Terms", ["Index", "Name"], rows)
+
+    @property
+    def active_terms(self) -> list[str]:
+        return [name for name, _ in self._terms]
+
+    def get_term_cfg(self, term_name: str) -> CurriculumTermCfg:
+        for name, cfg in self._terms:
+            if name == term_name:
+                return cfg
+        raise KeyError(f"No curriculum term '{term_name}'; curriculum terms: {self.active_terms}")
+
+    def get_active_iterable_terms(self, env_idx: int) -> Sequence[tuple[str, Sequence[float]]]:
+        out = []
+        for name, value in self._state.items():
+            if isinstance(value, torch.Tensor):
+                value = value.flatten().tolist()
+            out.append((name, value if isinstance(value, list) else [value]))
+        return out
+
+    def reset(self, env_ids: Sequence[int] | torch.Tensor | None = None) -> dict[str, Any]:
+        extras = {}
+        for name, value in self._state.items():
+            if isinstance(value, dict):
+                for key, item in value.items():
+                    extras[f"Curriculum/{name}/{key}"] = item
+            else:
+                extras[f"Curriculum/{name}"] = value
+        for term in self._class_terms:
+            term.reset(env_ids)
+        return extras
+
+    def compute(self, env_ids: Sequence[int] | torch.Tensor | None = None) -> None:
+        if env_ids is None:
+            env_ids = torch.arange(self.num_envs, device=self.device)
+        for name, cfg in self._terms:
+            value = cfg.func(self._env, env_ids, **cfg.params)
+            if value is not None:
+                self._state[name] = value
+
+    def _prepare_terms(self) -> None:
+        for name, term_cfg in cfg_items(self.cfg):
+            if not isinstance(term_cfg, CurriculumTermCfg):
+                raise TypeError(f"CurriculumManager: term '{name}' must be a CurriculumTermCfg, got {type(term_cfg).__name__}")
+            self._resolve_common_term_cfg(name, term_cfg, min_argc=2)
+            self._terms.append((name, term_cfg))
+
+    def _on_sim_started(self) -> None:
+        for name, term_cfg in self._terms:
+            self._resolve_scene_entities(name, term_cfg)
+            self._build_class_term(name, term_cfg)
+            if isinstance(term_cfg.func, ManagerTermBase):
+                self._class_terms.append(term_cfg.func)

@@ -1,0 +1,209 @@
+"""Bases of the managers and of class-based terms.
+
+A manager turns the term configs declared as fields of a config class into callable terms. It
+checks each term when it is built, so that a misspelled function, a parameter the function does
+not take, a required one missing, or an entity that is not in the scene fails at construction with
+a message naming the term, instead of at the first step.
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+import inspect
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any
+
+import torch
+
+from simlab.utils.string import closest_matches, resolve_matching_names, string_to_callable
+
+from .manager_term_cfg import ManagerTermBaseCfg
+from .scene_entity_cfg import SceneEntityCfg
+
+if TYPE_CHECKING:
+    from simlab.envs import ManagerBasedEnv
+
+
+class ManagerTermBase:
+    """A term with state: built once with ``(cfg, env)``, then called like a term function.
+
+    Subclasses implement ``__call__(env, **params)`` (events and curricula: ``(env, env_ids,
+    **params)``) and may implement ``reset(env_ids)``.
+    """
+
+    def __init__(self, cfg: ManagerTermBaseCfg, env: ManagerBasedEnv):
+        self.cfg = cfg
+        self._env = env
+
+    @property
+    def num_envs(self) -> int:
+        return self._env.num_envs
+
+    @property
+    def device(self) -> str:
+        return self._env.device
+
+    @property
+    def __name__(self) -> str:  # so that tables and errors name it like a function
+        return type(self).__name__
+
+    def reset(self, env_ids: Sequence[int] | torch.Tensor | None = None) -> None:
+        pass
+
+    def serialize(self) -> dict:
+        return {}
+
+    def __call__(self, *args: Any, **kwargs: Any) -> Any:
+        raise NotImplementedError(f"{type(self).__name__} must implement __call__")
+
+
+def cfg_items(cfg: Any) -> list[tuple[str, Any]]:
+    """The ``(name, value)`` fields of a config class (or dict) in declaration order, skipping None."""
+    if cfg is None:
+        return []
+    if isinstance(cfg, dict):
+        items = list(cfg.items())
+    elif dataclasses.is_dataclass(cfg):
+        items = [(f.name, getattr(cfg, f.name)) for f in dataclasses.fields(cfg)]
+    else:
+        items = list(vars(cfg).items())
+    return [(name, value) for name, value in items if value is not None]
+
+
+def format_table(title: str, header: Sequence[str], rows: Sequence[Sequence[Any]]) -> str:
+    """A plain-text table, like the ones Isaac Lab prints at start-up."""
+    cells = [[str(h) for h in header]] + [[_fmt(c) for c in row] for row in rows]
+    widths = [max(len(r[i]) for r in cells) for i in range(len(header))]
+    inner = sum(widths) + 3 * len(widths) - 1
+    if len(title) + 2 > inner:
+        widths[-1] += len(title) + 2 - inner
+        inner = len(title) + 2
+    rule = "+" + "+".join("-" * (w + 2) for w in widths) + "+"
+    lines = ["+" + "-" * inner + "+", "|" + title.center(inner) + "|", rule]
+    lines.append("| " + " | ".join(c.ljust(w) for c, w in zip(cells[0], widths)) + " |")
+    lines.append(rule)
+    lines += ["| " + " | ".join(c.ljust(w) for c, w in zip(r, widths)) + " |" for r in cells[1:]]
+    lines.append(rule)
+    return "\n".join(lines)
+
+
+def _fmt(value: Any) -> str:
+    return f"{value:g}" if isinstance(value, float) else str(value)
+
+
+def func_name(func: Any) -> str:
+    return getattr(func, "__name__", type(func).__name__)
+
+
+class ManagerBase:
+    """Builds, checks and holds the terms of one config class."""
+
+    def __init__(self, cfg: object, env: ManagerBasedEnv):
+        self.cfg = copy.deepcopy(cfg)
+        self._env = env
+        self._prepare_terms()
+        # Terms that need the scene (entity ids, class terms) are finished once the sim has started.
+        env.sim.add_reset_callback(lambda sim: self._on_sim_started())
+
+    @property
+    def num_envs(self) -> int:
+        return self._env.num_envs
+
+    @property
+    def device(self) -> str:
+        return self._env.device
+
+    @property
+    def active_terms(self) -> list[str] | dict[str, list[str]]:
+        raise NotImplementedError
+
+    def reset(self, env_ids: Sequence[int] | torch.Tensor | None = None) -> dict[str, torch.Tensor]:
+        """Reset per-env state of the terms; returns what to log about the finished episodes."""
+        return {}
+
+    def find_terms(self, name_keys: str | Sequence[str]) -> list[str]:
+        """Names of the active terms matching names or regular expressions."""
+        terms = self.active_terms
+        names = [n for group in terms.values() for n in group] if isinstance(terms, dict) else terms
+        return resolve_matching_names(name_keys, names)[1]
+
+    def get_active_iterable_terms(self, env_idx: int) -> Sequence[tuple[str, Sequence[float]]]:
+        raise NotImplementedError
+
+    # -- building --------------------------------------------------------------------------------
+
+    def _prepare_terms(self) -> None:
+        raise NotImplementedError
+
+    def _on_sim_started(self) -> None:
+        """Resolve scene entities and build class-based terms (called once the sim is reset)."""
+
+    def _term_error(self, name: str, message: str) -> ValueError:
+        return ValueError(f"{type(self).__name__}: term '{name}': {message}")
+
+    def _resolve_common_term_cfg(self, name: str, term_cfg: ManagerTermBaseCfg, min_argc: int = 1) -> None:
+        """Check a term's function and parameters against its signature (no scene needed)."""
+        if not isinstance(term_cfg, ManagerTermBaseCfg):
+            raise TypeError(
+                f"{type(self).__name__}: term '{name}' must be a {ManagerTermBaseCfg.__name__} subclass"
+                f" config, got {type(term_cfg).__name__}"
+            )
+        if term_cfg.func is dataclasses.MISSING:
+            raise self._term_error(name, "no 'func' given")
+        if isinstance(term_cfg.func, str):
+            try:
+                term_cfg.func = string_to_callable(term_cfg.func)
+            except (ValueError, TypeError) as err:
+                raise self._term_error(name, str(err)) from err
+        if not callable(term_cfg.func):
+            raise self._term_error(name, f"'func' must be a function or a ManagerTermBase class, got {term_cfg.func!r}")
+        if not isinstance(term_cfg.params, dict):
+            raise self._term_error(name, f"'params' must be a dict, got {type(term_cfg.params).__name__}")
+        self._check_params(name, term_cfg.func, term_cfg.params, min_argc)
+
+    def _check_params(self, name: str, func: Any, params: dict, min_argc: int) -> None:
+        if inspect.isclass(func):
+            if not issubclass(func, ManagerTermBase):
+                raise self._term_error(name, f"class {func.__name__} must subclass ManagerTermBase")
+            target, skip = func.__call__, 1 + min_argc  # self, then env (, env_ids)
+        else:
+            target, skip = func, min_argc
+        try:
+            parameters = list(inspect.signature(target).parameters.values())
+        except (TypeError, ValueError):
+            return  # builtins without a signature: nothing to check
+        kinds = inspect.Parameter
+        if any(p.kind == kinds.VAR_POSITIONAL for p in parameters):
+            return
+        if len(parameters) < skip:
+            first = "(env, env_ids, ...)" if min_argc == 2 else "(env, ...)"
+            raise self._term_error(name, f"{func_name(func)} must take {first} as its first argument(s)")
+        rest = [p for p in parameters[skip:] if p.kind in (kinds.POSITIONAL_OR_KEYWORD, kinds.KEYWORD_ONLY)]
+        accepted = [p.name for p in rest]
+        required = [p.name for p in rest if p.default is kinds.empty]
+        takes_any = any(p.kind == kinds.VAR_KEYWORD for p in parameters)
+        unknown = [k for k in params if k not in accepted] if not takes_any else []
+        if unknown:
+            hints = "".join(f" ('{k}': did you mean '{c[0]}'?)" for k in unknown if (c := closest_matches(k, accepted, 1)))
+            raise self._term_error(
+                name, f"{func_name(func)} got unknown parameter(s) {unknown}.{hints} It takes {accepted}"
+            )
+        missing = [k for k in required if k not in params]
+        if missing:
+            raise self._term_error(name, f"{func_name(func)} needs parameter(s) {missing} in 'params' (it takes {accepted})")
+
+    def _resolve_scene_entities(self, name: str, term_cfg: ManagerTermBaseCfg) -> None:
+        for key, value in term_cfg.params.items():
+            if isinstance(value, SceneEntityCfg):
+                try:
+                    value.resolve(self._env.scene)
+                except (ValueError, KeyError) as err:
+                    raise self._term_error(name, f"parameter '{key}': {err}") from err
+
+    def _build_class_term(self, name: str, term_cfg: ManagerTermBaseCfg) -> None:
+        if inspect.isclass(term_cfg.func):
+            try:
+                term_cfg.func = term_cfg.func(cfg=term_cfg, env=self._env)
+            except (ValueError, KeyError) as err:
+                raise self._term_error(name, str(err)) from err

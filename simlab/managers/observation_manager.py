@@ -1,0 +1,233 @@
+"""Observations: groups of terms (``"policy"``, ``"critic"``, ...), each a tensor or a dict of terms.
+
+Per term, in order: ``func(env, **params)``, modifiers, noise (if the group enables corruption),
+clip, scale, then history (a buffer of the last ``history_length`` values, oldest first, filled
+with the first value after a reset).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import inspect
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
+import torch
+
+from simlab.utils.modifiers import ModifierBase
+
+from .manager_base import ManagerBase, ManagerTermBase, cfg_items, format_table, func_name
+from .manager_term_cfg import ObservationGroupCfg, ObservationTermCfg
+
+if TYPE_CHECKING:
+    from simlab.envs import ManagerBasedEnv
+
+_GROUP_FIELDS = {f.name for f in dataclasses.fields(ObservationGroupCfg)}
+
+
+class _History:
+    """The last ``length`` values of a term per env, oldest first."""
+
+    def __init__(self, length: int, num_envs: int, device: str):
+        self.length = length
+        self.buffer: torch.Tensor | None = None
+        self.fresh = torch.ones(num_envs, dtype=torch.bool, device=device)
+
+    def with_value(self, value: torch.Tensor) -> torch.Tensor:
+        """The buffer after appending ``value`` (not stored)."""
+        fill = value.unsqueeze(1).expand(-1, self.length, *value.shape[1:])
+        if self.buffer is None:
+            return fill.clone()
+        shifted = torch.cat([self.buffer[:, 1:], value.unsqueeze(1)], dim=1)
+        mask = self.fresh.view(-1, *([1] * (shifted.ndim - 1)))
+        return torch.where(mask, fill, shifted)
+
+    def append(self, value: torch.Tensor) -> torch.Tensor:
+        self.buffer = self.with_value(value)
+        self.fresh[:] = False
+        return self.buffer
+
+
+class ObservationManager(ManagerBase):
+    def __init__(self, cfg: object, env: ManagerBasedEnv):
+        if cfg is None:
+            raise ValueError("The observations config is None: declare at least a 'policy' group")
+        self._group_terms: dict[str, list[tuple[str, ObservationTermCfg]]] = {}
+        self._group_cfgs: dict[str, ObservationGroupCfg] = {}
+        self._histories: dict[str, dict[str, _History]] = {}
+        self._class_modifiers: list[ModifierBase] = []
+        self._class_terms: list[ManagerTermBase] = []
+        self._group_obs_term_dim: dict[str, list[tuple[int, ...]]] = {}
+        self._group_obs_dim: dict[str, tuple[int, ...] | list[tuple[int, ...]]] = {}
+        super().__init__(cfg, env)
+
+    def __str__(self) -> str:
+        tables = []
+        for group, terms in self._group_terms.items():
+            dims = self._group_obs_term_dim.get(group, [()] * len(terms))
+            rows = [(i, name, dims[i]) for i, (name, _) in enumerate(terms)]
+            title = f"Active Observation Terms in Group: '{group}'"
+            if self._group_cfgs[group].concatenate_terms:
+                title += f" (shape: {self._group_obs_dim.get(group)})"
+            tables.append(format_table(title, ["Index", "Name", "Shape"], rows))
+        return "\n".join(tables)
+
+    @property
+    def active_terms(self) -> dict[str, list[str]]:
+        return {group: [name for name, _ in terms] for group, terms in self._group_terms.items()}
+
+    @property
+    def group_obs_dim(self) -> dict[str, tuple[int, ...] | list[tuple[int, ...]]]:
+        """Per group: the concatenated shape (without the env dim), or the list of term shapes."""
+        return self._group_obs_dim
+
+    @property
+    def group_obs_term_dim(self) -> dict[str, list[tuple[int, ...]]]:
+        return self._group_obs_term_dim
+
+    @property
+    def group_obs_concatenate(self) -> dict[str, bool]:
+        return {group: cfg.concatenate_terms for group, cfg in self._group_cfgs.items()}
+
+    def get_term_cfg(self, group: str, name: str) -> ObservationTermCfg:
+        for term_name, term_cfg in self._group_terms[group]:
+            if term_name == name:
+                return term_cfg
+        raise KeyError(f"No observation term '{name}' in group '{group}'; terms: {self.active_terms[group]}")
+
+    def get_active_iterable_terms(self, env_idx: int) -> Sequence[tuple[str, Sequence[float]]]:
+        out = []
+        for group, terms in self._group_terms.items():
+            obs = self.compute_group(group, update_history=False)
+            if not isinstance(obs, dict):
+                obs = self._terms_as_dict(group, obs)
+            out += [(f"{group}-{name}", value[env_idx].flatten().cpu().tolist()) for name, value in obs.items()]
+        return out
+
+    def _terms_as_dict(self, group: str, obs: torch.Tensor) -> dict[str, torch.Tensor]:
+        out, idx = {}, 0
+        for (name, _), dim in zip(self._group_terms[group], self._group_obs_term_dim[group]):
+            size = int(torch.tensor(dim).prod())
+            out[name] = obs[:, idx : idx + size]
+            idx += size
+        return out
+
+    def reset(self, env_ids: Sequence[int] | torch.Tensor | None = None) -> dict[str, torch.Tensor]:
+        env = slice(None) if env_ids is None else env_ids
+        for term in self._class_terms:
+            term.reset(env_ids)
+        for modifier in self._class_modifiers:
+            modifier.reset(env_ids)
+        for histories in self._histories.values():
+            for history in histories.values():
+                history.fresh[env] = True
+        return {}
+
+    def compute(self, update_history: bool = False) -> dict[str, torch.Tensor | dict[str, torch.Tensor]]:
+        """Every group's observation. ``update_history=False`` leaves the history buffers as they are."""
+        return {group: self.compute_group(group, update_history) for group in self._group_terms}
+
+    def compute_group(self, group_name: str, update_history: bool = False) -> torch.Tensor | dict[str, torch.Tensor]:
+        if group_name not in self._group_terms:
+            raise ValueError(f"No observation group '{group_name}'; groups: {list(self._group_terms)}")
+        env = self._env
+        group_cfg = self._group_cfgs[group_name]
+        histories = self._histories[group_name]
+        obs: dict[str, torch.Tensor] = {}
+        for name, term_cfg in self._group_terms[group_name]:
+            value = term_cfg.func(env, **term_cfg.params).clone()
+            if term_cfg.modifiers is not None:
+                for modifier in term_cfg.modifiers:
+                    value = modifier.func(value) if isinstance(modifier.func, ModifierBase) else modifier.func(value, **modifier.params)
+            if term_cfg.noise is not None:
+                value = term_cfg.noise.func(value, term_cfg.noise)
+            if term_cfg.clip is not None:
+                value = value.clip_(min=term_cfg.clip[0], max=term_cfg.clip[1])
+            if term_cfg.scale is not None:
+                value = value.mul_(term_cfg.scale)
+            if name in histories:
+                history = histories[name]
+                value = history.append(value) if update_history or history.buffer is None else history.with_value(value)
+                if term_cfg.flatten_history_dim:
+                    value = value.reshape(value.shape[0], -1)
+            obs[name] = value
+        if group_cfg.concatenate_terms:
+            dim = group_cfg.concatenate_dim
+            return torch.cat(list(obs.values()), dim=dim + 1 if dim >= 0 else dim)
+        return obs
+
+    # -- building --------------------------------------------------------------------------------
+
+    def _prepare_terms(self) -> None:
+        for group_name, group_cfg in cfg_items(self.cfg):
+            if not isinstance(group_cfg, ObservationGroupCfg):
+                raise TypeError(
+                    f"ObservationManager: '{group_name}' must be an ObservationGroupCfg (a group of terms),"
+                    f" got {type(group_cfg).__name__}"
+                )
+            terms = []
+            for name, term_cfg in cfg_items(group_cfg):
+                if name in _GROUP_FIELDS:
+                    continue
+                if not isinstance(term_cfg, ObservationTermCfg):
+                    raise TypeError(
+                        f"ObservationManager: term '{name}' in group '{group_name}' must be an ObservationTermCfg,"
+                        f" got {type(term_cfg).__name__}"
+                    )
+                self._resolve_common_term_cfg(f"{group_name}/{name}", term_cfg, min_argc=1)
+                if group_cfg.history_length is not None:
+                    term_cfg.history_length = group_cfg.history_length
+                    term_cfg.flatten_history_dim = group_cfg.flatten_history_dim
+                if not group_cfg.enable_corruption:
+                    term_cfg.noise = None
+                if term_cfg.scale is not None and not isinstance(term_cfg.scale, (int, float)):
+                    term_cfg.scale = torch.tensor(term_cfg.scale, dtype=torch.float32, device=self.device)
+                terms.append((name, term_cfg))
+            if not terms:
+                raise ValueError(f"ObservationManager: group '{group_name}' has no terms")
+            self._group_terms[group_name] = terms
+            self._group_cfgs[group_name] = group_cfg
+
+    def _on_sim_started(self) -> None:
+        env = self._env
+        for group_name, terms in self._group_terms.items():
+            self._histories[group_name] = {}
+            dims = []
+            for name, term_cfg in terms:
+                self._resolve_scene_entities(f"{group_name}/{name}", term_cfg)
+                self._build_class_term(f"{group_name}/{name}", term_cfg)
+                if isinstance(term_cfg.func, ManagerTermBase):
+                    self._class_terms.append(term_cfg.func)
+                try:
+                    value = term_cfg.func(env, **term_cfg.params)
+                except Exception as err:
+                    raise self._term_error(f"{group_name}/{name}", f"{func_name(term_cfg.func)} failed: {err!r}") from err
+                if not isinstance(value, torch.Tensor) or value.ndim < 1 or value.shape[0] != self.num_envs:
+                    shape = tuple(value.shape) if isinstance(value, torch.Tensor) else type(value).__name__
+                    raise self._term_error(
+                        f"{group_name}/{name}", f"{func_name(term_cfg.func)} must return a (num_envs, ...) tensor, got {shape}"
+                    )
+                term_dim = tuple(value.shape[1:])
+                for modifier in term_cfg.modifiers or []:
+                    if inspect.isclass(modifier.func):
+                        if not issubclass(modifier.func, ModifierBase):
+                            raise self._term_error(f"{group_name}/{name}", f"modifier {modifier.func} must subclass ModifierBase")
+                        modifier.func = modifier.func(cfg=modifier, data_dim=tuple(value.shape), device=self.device)
+                        self._class_modifiers.append(modifier.func)
+                if term_cfg.history_length > 0:
+                    self._histories[group_name][name] = _History(term_cfg.history_length, self.num_envs, self.device)
+                    h = term_cfg.history_length
+                    term_dim = (h * int(torch.tensor(term_dim).prod()),) if term_cfg.flatten_history_dim else (h, *term_dim)
+                dims.append(term_dim)
+            self._group_obs_term_dim[group_name] = dims
+            if self._group_cfgs[group_name].concatenate_terms:
+                try:
+                    sample = self.compute_group(group_name, update_history=False)
+                except RuntimeError as err:
+                    raise ValueError(
+                        f"ObservationManager: the terms of group '{group_name}' cannot be concatenated"
+                        f" (shapes {dict(zip(self.active_terms[group_name], dims))}): {err}"
+                    ) from err
+                self._group_obs_dim[group_name] = tuple(sample.shape[1:])
+            else:
+                self._group_obs_dim[group_name] = dims

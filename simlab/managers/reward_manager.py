@@ -1,0 +1,97 @@
+"""Rewards: ``sum(weight * term(env) * step_dt)`` over the terms, with per-term episode sums.
+
+At a reset the episode sums of the resetting envs are logged as ``Episode_Reward/<term>``
+(averaged over those envs and divided by the episode length in seconds, as Isaac Lab does).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
+import torch
+
+from .manager_base import ManagerBase, ManagerTermBase, cfg_items, format_table
+from .manager_term_cfg import RewardTermCfg
+
+if TYPE_CHECKING:
+    from simlab.envs import ManagerBasedRLEnv
+
+
+class RewardManager(ManagerBase):
+    def __init__(self, cfg: object, env: ManagerBasedRLEnv):
+        self._terms: list[tuple[str, RewardTermCfg]] = []
+        self._class_terms: list[ManagerTermBase] = []
+        super().__init__(cfg, env)
+        n = len(self._terms)
+        self._reward_buf = torch.zeros(self.num_envs, device=self.device)
+        self._episode_sums = torch.zeros(self.num_envs, n, device=self.device)
+        self._step_reward = torch.zeros(self.num_envs, n, device=self.device)
+
+    def __str__(self) -> str:
+        rows = [(i, name, float(cfg.weight)) for i, (name, cfg) in enumerate(self._terms)]
+        return format_table("Active Reward Terms", ["Index", "Name", "Weight"], rows)
+
+    @property
+    def active_terms(self) -> list[str]:
+        return [name for name, _ in self._terms]
+
+    @property
+    def episode_sums(self) -> dict[str, torch.Tensor]:
+        return {name: self._episode_sums[:, i] for i, (name, _) in enumerate(self._terms)}
+
+    def reset(self, env_ids: Sequence[int] | torch.Tensor | None = None) -> dict[str, torch.Tensor]:
+        env = slice(None) if env_ids is None else env_ids
+        extras = {}
+        means = self._episode_sums[env].mean(dim=0) / self._env.max_episode_length_s
+        for i, (name, _) in enumerate(self._terms):
+            extras["Episode_Reward/" + name] = means[i]
+        self._episode_sums[env] = 0.0
+        for term in self._class_terms:
+            term.reset(env_ids)
+        return extras
+
+    def compute(self, dt: float) -> torch.Tensor:
+        """The (num_envs,) reward of this env step."""
+        self._reward_buf.zero_()
+        for i, (name, cfg) in enumerate(self._terms):
+            if cfg.weight == 0.0:
+                self._step_reward[:, i] = 0.0
+                continue
+            value = cfg.func(self._env, **cfg.params) * (cfg.weight * dt)
+            self._reward_buf += value
+            self._episode_sums[:, i] += value
+            self._step_reward[:, i] = value / dt
+        return self._reward_buf
+
+    def get_term_cfg(self, term_name: str) -> RewardTermCfg:
+        for name, cfg in self._terms:
+            if name == term_name:
+                return cfg
+        raise KeyError(f"No reward term '{term_name}'; reward terms: {self.active_terms}")
+
+    def set_term_cfg(self, term_name: str, cfg: RewardTermCfg) -> None:
+        for i, (name, _) in enumerate(self._terms):
+            if name == term_name:
+                self._terms[i] = (name, cfg)
+                return
+        raise KeyError(f"No reward term '{term_name}'; reward terms: {self.active_terms}")
+
+    def get_active_iterable_terms(self, env_idx: int) -> Sequence[tuple[str, Sequence[float]]]:
+        return [(name, [float(self._step_reward[env_idx, i])]) for i, (name, _) in enumerate(self._terms)]
+
+    def _prepare_terms(self) -> None:
+        for name, term_cfg in cfg_items(self.cfg):
+            if not isinstance(term_cfg, RewardTermCfg):
+                raise TypeError(f"RewardManager: term '{name}' must be a RewardTermCfg, got {type(term_cfg).__name__}")
+            self._resolve_common_term_cfg(name, term_cfg, min_argc=1)
+            if not isinstance(term_cfg.weight, (int, float)):
+                raise self._term_error(name, f"weight must be a number, got {term_cfg.weight!r}")
+            self._terms.append((name, term_cfg))
+
+    def _on_sim_started(self) -> None:
+        for name, term_cfg in self._terms:
+            self._resolve_scene_entities(name, term_cfg)
+            self._build_class_term(name, term_cfg)
+            if isinstance(term_cfg.func, ManagerTermBase):
+                self._class_terms.append(term_cfg.func)

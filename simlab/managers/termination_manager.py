@@ -1,0 +1,105 @@
+"""Terminations: boolean terms; ``time_out`` terms truncate the episode, the others terminate it.
+
+At a reset, ``Episode_Termination/<term>`` counts how many of the resetting envs each term ended.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
+import torch
+
+from .manager_base import ManagerBase, ManagerTermBase, cfg_items, format_table
+from .manager_term_cfg import TerminationTermCfg
+
+if TYPE_CHECKING:
+    from simlab.envs import ManagerBasedRLEnv
+
+
+class TerminationManager(ManagerBase):
+    def __init__(self, cfg: object, env: ManagerBasedRLEnv):
+        self._terms: list[tuple[str, TerminationTermCfg]] = []
+        self._class_terms: list[ManagerTermBase] = []
+        super().__init__(cfg, env)
+        n = self.num_envs
+        self._term_dones = torch.zeros(n, len(self._terms), dtype=torch.bool, device=self.device)
+        self._truncated_buf = torch.zeros(n, dtype=torch.bool, device=self.device)
+        self._terminated_buf = torch.zeros_like(self._truncated_buf)
+        self._time_out_mask = [cfg.time_out for _, cfg in self._terms]
+
+    def __str__(self) -> str:
+        rows = [(i, name, cfg.time_out) for i, (name, cfg) in enumerate(self._terms)]
+        return format_table("Active Termination Terms", ["Index", "Name", "Time Out"], rows)
+
+    @property
+    def active_terms(self) -> list[str]:
+        return [name for name, _ in self._terms]
+
+    @property
+    def dones(self) -> torch.Tensor:
+        """(num_envs,) terminated or truncated."""
+        return self._truncated_buf | self._terminated_buf
+
+    @property
+    def time_outs(self) -> torch.Tensor:
+        return self._truncated_buf
+
+    @property
+    def terminated(self) -> torch.Tensor:
+        return self._terminated_buf
+
+    def get_term(self, name: str) -> torch.Tensor:
+        """(num_envs,) the value of term ``name`` at the last ``compute``."""
+        return self._term_dones[:, self._index(name)]
+
+    def get_term_cfg(self, term_name: str) -> TerminationTermCfg:
+        return self._terms[self._index(term_name)][1]
+
+    def set_term_cfg(self, term_name: str, cfg: TerminationTermCfg) -> None:
+        self._terms[self._index(term_name)] = (term_name, cfg)
+        self._time_out_mask = [c.time_out for _, c in self._terms]
+
+    def _index(self, name: str) -> int:
+        for i, (term_name, _) in enumerate(self._terms):
+            if term_name == name:
+                return i
+        raise KeyError(f"No termination term '{name}'; termination terms: {self.active_terms}")
+
+    def get_active_iterable_terms(self, env_idx: int) -> Sequence[tuple[str, Sequence[float]]]:
+        return [(name, [float(self._term_dones[env_idx, i])]) for i, (name, _) in enumerate(self._terms)]
+
+    def reset(self, env_ids: Sequence[int] | torch.Tensor | None = None) -> dict[str, torch.Tensor]:
+        env = slice(None) if env_ids is None else env_ids
+        counts = self._term_dones[env].sum(dim=0)
+        extras = {"Episode_Termination/" + name: counts[i] for i, (name, _) in enumerate(self._terms)}
+        for term in self._class_terms:
+            term.reset(env_ids)
+        return extras
+
+    def compute(self) -> torch.Tensor:
+        """(num_envs,) bool: which envs are done after this step."""
+        self._truncated_buf.zero_()
+        self._terminated_buf.zero_()
+        for i, (_, cfg) in enumerate(self._terms):
+            value = cfg.func(self._env, **cfg.params)
+            self._term_dones[:, i] = value
+            if self._time_out_mask[i]:
+                self._truncated_buf |= value
+            else:
+                self._terminated_buf |= value
+        return self._truncated_buf | self._terminated_buf
+
+    def _prepare_terms(self) -> None:
+        for name, term_cfg in cfg_items(self.cfg):
+            if not isinstance(term_cfg, TerminationTermCfg):
+                raise TypeError(f"TerminationManager: term '{name}' must be a TerminationTermCfg, got {type(term_cfg).__name__}")
+            self._resolve_common_term_cfg(name, term_cfg, min_argc=1)
+            self._terms.append((name, term_cfg))
+
+    def _on_sim_started(self) -> None:
+        for name, term_cfg in self._terms:
+            self._resolve_scene_entities(name, term_cfg)
+            self._build_class_term(name, term_cfg)
+            if isinstance(term_cfg.func, ManagerTermBase):
+                self._class_terms.append(term_cfg.func)

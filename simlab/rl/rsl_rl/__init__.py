@@ -1,0 +1,28 @@
+"""rsl_rl (rsl-rl-lib 5.x) support: the env wrapper, runner config classes and policy export.
+
+The config classes import without rsl_rl installed (task configs use them); the wrapper needs
+``pip install "simlab[rsl_rl]"``.
+"""
+
+from typing import Any
+
+from .exporter import export_policy_as_jit, export_policy_as_onnx
+from .rl_cfg import RslRlMLPModelCfg, RslRlOnPolicyRunnerCfg, RslRlPpoActorCriticCfg, RslRlPpoAlgorithmCfg
+
+__all__ = [
+    "RslRlMLPModelCfg",
+    "RslRlOnPolicyRunnerCfg",
+    "RslRlPpoActorCriticCfg",
+    "RslRlPpoAlgorithmCfg",
+    "RslRlVecEnvWrapper",
+    "export_policy_as_jit",
+    "export_policy_as_onnx",
+]
+
+
+def __getattr__(name: str) -> Any:
+    if name == "RslRlVecEnvWrapper":
+        from .vecenv_wrapper import RslRlVecEnvWrapper
+
+        return RslRlVecEnvWrapper
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -1,0 +1,177 @@
+"""Config classes for rsl_rl's on-policy runner (rsl-rl-lib 5.x), as in Isaac Lab's ``isaaclab_rl.rsl_rl``.
+
+``RslRlOnPolicyRunnerCfg.to_rsl_rl_dict()`` gives the dict that ``rsl_rl.runners.OnPolicyRunner``
+reads: ``obs_groups``, the ``actor`` / ``critic`` model dicts (``class_name`` + ``MLPModel`` kwargs,
+``distribution_cfg`` for a stochastic actor), and ``algorithm`` (``class_name`` + ``PPO`` kwargs).
+The pre-4.0 ``policy = RslRlPpoActorCriticCfg(...)`` form is still accepted and converted.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import MISSING, field
+from typing import Any, Literal
+
+from simlab.utils import configclass
+
+__all__ = [
+    "RslRlMLPModelCfg",
+    "RslRlOnPolicyRunnerCfg",
+    "RslRlPpoActorCriticCfg",
+    "RslRlPpoAlgorithmCfg",
+]
+
+
+def _default_device() -> str:
+    from simlab.app.app_launcher import resolve_device
+
+    return resolve_device(None)
+
+
+@configclass
+class RslRlMLPModelCfg:
+    """An MLP model (rsl_rl ``MLPModel``): the actor (with an output distribution) or the critic."""
+
+    @configclass
+    class GaussianDistributionCfg:
+        """Gaussian output with a state-independent, learned standard deviation."""
+
+        class_name: str = "GaussianDistribution"
+        init_std: float = 1.0
+        """Initial standard deviation of the actions."""
+        std_type: Literal["scalar", "log"] = "scalar"
+        """Parameterization of the standard deviation."""
+
+    class_name: str = "MLPModel"
+    hidden_dims: list[int] = MISSING
+    """Hidden layer sizes."""
+    activation: str = "elu"
+    """Activation function name ('elu', 'relu', 'tanh', ...)."""
+    obs_normalization: bool = False
+    """Normalize the model's input with running mean and variance."""
+    distribution_cfg: GaussianDistributionCfg | None = None
+    """Output distribution (the actor's); None gives a deterministic output (the critic)."""
+
+
+@configclass
+class RslRlPpoActorCriticCfg:
+    """Deprecated (rsl-rl < 4) actor-critic config; converted to ``actor`` / ``critic`` models."""
+
+    class_name: str = "ActorCritic"
+    init_noise_std: float = MISSING
+    noise_std_type: Literal["scalar", "log"] = "scalar"
+    actor_obs_normalization: bool = False
+    critic_obs_normalization: bool = False
+    actor_hidden_dims: list[int] = MISSING
+    critic_hidden_dims: list[int] = MISSING
+    activation: str = MISSING
+
+
+@configclass
+class RslRlPpoAlgorithmCfg:
+    """PPO hyperparameters (the keyword arguments of ``rsl_rl.algorithms.PPO``)."""
+
+    class_name: str = "PPO"
+    num_learning_epochs: int = MISSING
+    num_mini_batches: int = MISSING
+    learning_rate: float = MISSING
+    schedule: str = "adaptive"
+    """'adaptive' (learning rate follows desired_kl) or 'fixed'."""
+    gamma: float = MISSING
+    lam: float = MISSING
+    entropy_coef: float = MISSING
+    desired_kl: float = MISSING
+    max_grad_norm: float = MISSING
+    value_loss_coef: float = MISSING
+    use_clipped_value_loss: bool = True
+    clip_param: float = MISSING
+    optimizer: Literal["adam", "adamw", "sgd", "rmsprop"] = "adam"
+    normalize_advantage_per_mini_batch: bool = False
+    rnd_cfg: dict | None = None
+    """Random network distillation settings (rsl_rl's dict form), or None."""
+    symmetry_cfg: dict | None = None
+    """Symmetry augmentation settings (rsl_rl's dict form), or None."""
+
+
+@configclass
+class RslRlOnPolicyRunnerCfg:
+    """The runner: rollout length, iterations, models, algorithm, logging and checkpoints."""
+
+    seed: int = 42
+    device: str = field(default_factory=_default_device)
+    """Device of the learner (the CLI sets it to the simulation device)."""
+    num_steps_per_env: int = MISSING
+    """Environment steps per env collected in each iteration."""
+    max_iterations: int = MISSING
+    obs_groups: dict[str, list[str]] = {}
+    """Observation sets -> env observation groups, e.g. ``{"actor": ["policy"], "critic": ["critic"]}``.
+    Empty: the actor reads "policy", the critic "critic" if the env has that group, else "policy"."""
+    clip_actions: float | None = None
+    """Clip actions to [-clip_actions, clip_actions] in the wrapper; None does not clip."""
+    check_for_nan: bool = True
+    actor: RslRlMLPModelCfg = MISSING
+    critic: RslRlMLPModelCfg = MISSING
+    algorithm: RslRlPpoAlgorithmCfg = MISSING
+    policy: RslRlPpoActorCriticCfg | None = None
+    """Deprecated: set ``actor`` and ``critic`` instead."""
+    empirical_normalization: bool | None = None
+    """Deprecated: set ``obs_normalization`` of the models instead."""
+    save_interval: int = MISSING
+    """Iterations between checkpoints."""
+    experiment_name: str = MISSING
+    """Folder under ``logs/rsl_rl/``."""
+    run_name: str = ""
+    """Appended to the run folder's time stamp: ``<timestamp>_<run_name>``."""
+    logger: Literal["tensorboard", "wandb", "neptune"] = "tensorboard"
+    wandb_project: str = "simlab"
+    neptune_project: str = "simlab"
+    resume: bool = False
+    load_run: str = ".*"
+    """Run folder to resume from (regex; the latest match)."""
+    load_checkpoint: str = "model_.*.pt"
+    """Checkpoint file to resume from (regex; the latest match)."""
+
+    def to_rsl_rl_dict(self, obs_group_names: list[str] | None = None) -> dict[str, Any]:
+        """The dict ``OnPolicyRunner`` takes; ``obs_group_names`` (the env's groups) resolves ``obs_groups``."""
+        cfg = _convert_deprecated(self)
+        cfg.validate()
+        d = cfg.to_dict()
+        for key in ("policy", "empirical_normalization"):
+            d.pop(key, None)
+        if not d["obs_groups"]:
+            groups = obs_group_names or ["policy"]
+            d["obs_groups"] = {"actor": ["policy"], "critic": ["critic"] if "critic" in groups else ["policy"]}
+        return d
+
+
+def _convert_deprecated(cfg: RslRlOnPolicyRunnerCfg) -> RslRlOnPolicyRunnerCfg:
+    """Turn the deprecated ``policy`` / ``empirical_normalization`` fields into ``actor`` / ``critic``."""
+    cfg = cfg.copy()
+    p = cfg.policy
+    if p is not None and p is not MISSING:
+        if cfg.actor is not MISSING or cfg.critic is not MISSING:
+            raise ValueError("Set either 'policy' (deprecated) or 'actor' and 'critic', not both.")
+        if p.class_name != "ActorCritic":
+            raise ValueError(
+                f"policy.class_name '{p.class_name}' has no rsl-rl 5 equivalent here; only 'ActorCritic' is converted."
+                " Use actor/critic = RslRlMLPModelCfg(...)."
+            )
+        cfg.actor = RslRlMLPModelCfg(
+            hidden_dims=list(p.actor_hidden_dims),
+            activation=p.activation,
+            obs_normalization=p.actor_obs_normalization,
+            distribution_cfg=RslRlMLPModelCfg.GaussianDistributionCfg(
+                init_std=p.init_noise_std, std_type=p.noise_std_type
+            ),
+        )
+        cfg.critic = RslRlMLPModelCfg(
+            hidden_dims=list(p.critic_hidden_dims), activation=p.activation,
+            obs_normalization=p.critic_obs_normalization,
+        )
+        cfg.policy = None
+    if cfg.empirical_normalization is not None:
+        for model in (cfg.actor, cfg.critic):
+            if dataclasses.is_dataclass(model):
+                model.obs_normalization = bool(cfg.empirical_normalization)
+        cfg.empirical_normalization = None
+    return cfg

@@ -1,0 +1,1 @@
+"""Tasks of the direct workflow (Isaac Lab's ``isaaclab_tasks.direct``)."""

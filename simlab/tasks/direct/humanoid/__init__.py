@@ -1,0 +1,18 @@
+"""Humanoid, direct workflow: run forward without falling (LocomotionEnv)."""
+
+import gymnasium as gym
+
+from . import agents
+
+gym.register(
+    id="simlab/Humanoid-Direct-v0",
+    entry_point="simlab.tasks.direct.humanoid.humanoid_env:HumanoidEnv",
+    disable_env_checker=True,
+    kwargs={
+        "env_cfg_entry_point": "simlab.tasks.direct.humanoid.humanoid_env:HumanoidEnvCfg",
+        "rsl_rl_cfg_entry_point": f"{agents.__name__}.rsl_rl_ppo_cfg:HumanoidPPORunnerCfg",
+        "skrl_cfg_entry_point": f"{agents.__name__}:skrl_ppo_cfg.yaml",
+        "sb3_cfg_entry_point": f"{agents.__name__}:sb3_ppo_cfg.yaml",
+        "rl_games_cfg_entry_point": f"{agents.__name__}:rl_games_ppo_cfg.yaml",
+    },
+)

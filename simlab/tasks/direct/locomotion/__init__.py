@@ -1,0 +1,1 @@
+"""The locomotion base of the direct ant and humanoid tasks."""

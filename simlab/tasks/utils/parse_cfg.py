@@ -1,0 +1,148 @@
+"""Configs from the Gymnasium registry and checkpoints from log folders (Isaac Lab's ``parse_cfg``)."""
+
+from __future__ import annotations
+
+import importlib
+import inspect
+import os
+import re
+from typing import Any
+
+import gymnasium as gym
+import yaml
+
+from simlab.utils.string import closest_matches
+
+__all__ = ["get_checkpoint_path", "load_cfg_from_registry", "parse_env_cfg", "registered_task_ids"]
+
+
+def registered_task_ids(keyword: str | None = None) -> list[str]:
+    """The simlab task ids (sorted), optionally only those containing ``keyword`` (case-insensitive)."""
+    import simlab.tasks  # noqa: F401 - registers the tasks
+
+    ids = sorted(i for i in gym.registry if i.startswith("simlab/"))
+    if keyword:
+        ids = [i for i in ids if keyword.lower() in i.lower()]
+    return ids
+
+
+def task_spec(task_name: str) -> gym.envs.registration.EnvSpec:
+    """The registry entry of ``task_name``; an unknown id raises naming the closest registered ones."""
+    import simlab.tasks  # noqa: F401
+
+    if not isinstance(task_name, str) or not task_name:
+        raise ValueError(f"A task id is required, e.g. 'simlab/Cartpole-v0'; got {task_name!r}.")
+    name = task_name.split(":")[-1]
+    if name not in gym.registry:
+        ids = registered_task_ids()
+        close = closest_matches(name, ids, n=3, cutoff=0.3)
+        hint = f" Closest: {close}." if close else ""
+        raise ValueError(f"Unknown task '{task_name}'.{hint} Registered tasks: {ids} (see `simlab list`).")
+    return gym.spec(name)
+
+
+def _load_entry_point(entry_point: Any, what: str) -> Any:
+    if callable(entry_point):
+        return entry_point() if inspect.isclass(entry_point) or inspect.isfunction(entry_point) else entry_point
+    if not isinstance(entry_point, str):
+        return entry_point  # an instance given directly
+    module_name, _, attr = entry_point.partition(":")
+    if attr.endswith((".yaml", ".yml")):
+        module = importlib.import_module(module_name)
+        path = os.path.join(os.path.dirname(module.__file__), attr)
+        if not os.path.isfile(path):
+            raise FileNotFoundError(f"{what}: the file '{path}' does not exist.")
+        with open(path) as f:
+            return yaml.safe_load(f) or {}
+    if entry_point.endswith((".yaml", ".yml")):
+        with open(entry_point) as f:
+            return yaml.safe_load(f) or {}
+    if not attr:
+        raise ValueError(f"{what}: expected 'module:ClassName' or 'module:file.yaml', got '{entry_point}'.")
+    obj: Any = importlib.import_module(module_name)
+    for part in attr.split("."):
+        obj = getattr(obj, part)
+    return obj() if callable(obj) else obj
+
+
+def load_cfg_from_registry(task_name: str, entry_point_key: str) -> Any:
+    """Load the config that the task registered under ``entry_point_key``.
+
+    Config classes are instantiated; ``"module:file.yaml"`` entry points are read into a dict.
+    E.g. ``load_cfg_from_registry("simlab/Cartpole-v0", "rsl_rl_cfg_entry_point")``.
+    """
+    spec = task_spec(task_name)
+    entry_point = spec.kwargs.get(entry_point_key)
+    if entry_point is None:
+        keys = sorted(k for k in spec.kwargs if k.endswith("entry_point"))
+        close = closest_matches(entry_point_key, keys, n=1)
+        hint = f" Did you mean '{close[0]}'?" if close else ""
+        raise ValueError(
+            f"Task '{task_name}' has no '{entry_point_key}'.{hint} It registers: {keys}."
+        )
+    return _load_entry_point(entry_point, f"{task_name} {entry_point_key}")
+
+
+def parse_env_cfg(task_name: str, device: str = "cuda:0", num_envs: int | None = None,
+                  use_fabric: bool | None = None) -> Any:
+    """The task's env config with the simulation ``device`` and, if given, ``num_envs`` set.
+
+    ``use_fabric`` is accepted for Isaac Lab compatibility and ignored (simlab has no USD stage).
+    """
+    from simlab.app.app_launcher import resolve_device
+
+    cfg = load_cfg_from_registry(task_name, "env_cfg_entry_point")
+    if isinstance(cfg, dict):
+        raise TypeError(f"The env config of '{task_name}' must be a config class, not a dict.")
+    cfg.sim.device = resolve_device(device)
+    if num_envs is not None:
+        if isinstance(num_envs, bool) or not isinstance(num_envs, int) or num_envs < 1:
+            raise ValueError(f"num_envs must be a positive int, got {num_envs!r}.")
+        cfg.scene.num_envs = num_envs
+    return cfg
+
+
+def _natural_key(name: str) -> list:
+    # model_100.pt after model_99.pt
+    return [int(t) if t.isdigit() else t for t in re.split(r"(\d+)", name)]
+
+
+def get_checkpoint_path(log_path: str, run_dir: str = ".*", checkpoint: str = ".*",
+                        other_dirs: list[str] | None = None, sort_alphabetical: bool = True) -> str:
+    """The latest checkpoint in the latest run under ``log_path``.
+
+    Args:
+        log_path: the experiment folder, e.g. ``logs/rsl_rl/cartpole``.
+        run_dir: regex for the run folders (the last one, by name = time stamp, is taken).
+        checkpoint: regex for the checkpoint files (the last one in natural order is taken).
+        other_dirs: sub-folders of the run that hold the checkpoints, e.g. ``["checkpoints"]``.
+        sort_alphabetical: sort runs by name (time stamps); False sorts by modification time.
+
+    Raises:
+        FileNotFoundError: naming the folders looked in and the patterns used.
+    """
+    if not os.path.isdir(log_path):
+        raise FileNotFoundError(f"No runs: the folder '{os.path.abspath(log_path)}' does not exist.")
+    runs = [e for e in os.scandir(log_path) if e.is_dir() and re.match(run_dir, e.name)]
+    if not runs:
+        raise FileNotFoundError(f"No run folder matching '{run_dir}' in '{os.path.abspath(log_path)}'.")
+    if sort_alphabetical:
+        runs.sort(key=lambda e: e.name)
+    else:
+        runs.sort(key=lambda e: e.stat().st_mtime)
+    looked = []
+    # the latest run first; fall back to earlier runs that have checkpoints (a run may have died early)
+    for run in reversed(runs):
+        folder = os.path.join(run.path, *(other_dirs or []))
+        looked.append(folder)
+        if not os.path.isdir(folder):
+            continue
+        files = [f for f in os.listdir(folder) if re.match(checkpoint, f) and os.path.isfile(os.path.join(folder, f))]
+        if files:
+            files.sort(key=_natural_key)
+            return os.path.join(folder, files[-1])
+        if run_dir != ".*":
+            break
+    raise FileNotFoundError(
+        f"No checkpoint matching '{checkpoint}' found. Looked in: {[os.path.abspath(p) for p in looked]}."
+    )

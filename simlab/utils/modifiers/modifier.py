@@ -1,0 +1,81 @@
+"""Modifier functions and stateful modifiers."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import torch
+
+
+def scale(data: torch.Tensor, multiplier: float) -> torch.Tensor:
+    return data * multiplier
+
+
+def clip(data: torch.Tensor, bounds: tuple[float | None, float | None]) -> torch.Tensor:
+    return data.clip(min=bounds[0], max=bounds[1])
+
+
+def bias(data: torch.Tensor, value: float) -> torch.Tensor:
+    return data + value
+
+
+class ModifierBase:
+    """A modifier with per-env state: ``__call__(data)`` and ``reset(env_ids)``."""
+
+    def __init__(self, cfg, data_dim: tuple[int, ...], device: str):
+        self._cfg = cfg
+        self._data_dim = data_dim
+        self._device = device
+
+    def reset(self, env_ids: Sequence[int] | torch.Tensor | None = None) -> None:
+        raise NotImplementedError
+
+    def __call__(self, data: torch.Tensor) -> torch.Tensor:
+        raise NotImplementedError
+
+
+class DigitalFilter(ModifierBase):
+    """Linear IIR/FIR filter with coefficients ``A`` (feedback) and ``B`` (feedforward)."""
+
+    def __init__(self, cfg, data_dim: tuple[int, ...], device: str):
+        super().__init__(cfg, data_dim, device)
+        if cfg.A is None or cfg.B is None or len(cfg.B) == 0:
+            raise ValueError("DigitalFilterCfg needs coefficient lists A (may be empty) and B (not empty)")
+        self.A = torch.tensor(cfg.A, dtype=torch.float32, device=device)
+        self.B = torch.tensor(cfg.B, dtype=torch.float32, device=device)
+        self.x_n = torch.zeros(*data_dim, len(cfg.B), device=device)
+        self.y_n = torch.zeros(*data_dim, len(cfg.A), device=device)
+
+    def reset(self, env_ids=None) -> None:
+        env = slice(None) if env_ids is None else env_ids
+        self.x_n[env] = 0.0
+        self.y_n[env] = 0.0
+
+    def __call__(self, data: torch.Tensor) -> torch.Tensor:
+        self.x_n = torch.roll(self.x_n, shifts=1, dims=-1)
+        self.x_n[..., 0] = data
+        y = torch.sum(self.x_n * self.B, dim=-1)
+        if len(self.A):
+            y = y - torch.sum(self.y_n * self.A, dim=-1)
+            self.y_n = torch.roll(self.y_n, shifts=1, dims=-1)
+            self.y_n[..., 0] = y
+        return y
+
+
+class Integrator(ModifierBase):
+    """Trapezoidal integration of the data over time."""
+
+    def __init__(self, cfg, data_dim: tuple[int, ...], device: str):
+        super().__init__(cfg, data_dim, device)
+        self.integral = torch.zeros(data_dim, device=device)
+        self.y_prev = torch.zeros(data_dim, device=device)
+
+    def reset(self, env_ids=None) -> None:
+        env = slice(None) if env_ids is None else env_ids
+        self.integral[env] = 0.0
+        self.y_prev[env] = 0.0
+
+    def __call__(self, data: torch.Tensor) -> torch.Tensor:
+        self.integral += (data + self.y_prev) / 2 * self._cfg.dt
+        self.y_prev[:] = data
+        return self.integral.clone()
