@@ -124,8 +124,9 @@ class Articulation(RootedAsset):
         data.joint_damping = torch.zeros(n, num_joints, device=dev)
         data.joint_effort_limits = torch.full((n, num_joints), float("inf"), device=dev)
         data.joint_velocity_limits = torch.full((n, num_joints), float("inf"), device=dev)
-        data.joint_armature = torch.tensor(model.dof_armature[self._dof_index.cpu()], device=dev).repeat(n, 1)
-        data.joint_friction_coeff = torch.tensor(model.dof_frictionloss[self._dof_index.cpu()], device=dev).repeat(n, 1)
+        dofs, f32 = self._dof_index.cpu(), torch.float32
+        data.joint_armature = torch.tensor(model.dof_armature[dofs], dtype=f32, device=dev).repeat(n, 1)
+        data.joint_friction_coeff = torch.tensor(model.dof_frictionloss[dofs], dtype=f32, device=dev).repeat(n, 1)
         actuated, ctrl_cols, self._explicit = [], [], []
         for group, act_cfg in self.cfg.actuators.items():
             ids, names = resolve_matching_names(act_cfg.joint_names_expr, self._joint_names)
@@ -294,7 +295,11 @@ class Articulation(RootedAsset):
     def _joint_index(self, joint_ids):
         if joint_ids is None or (isinstance(joint_ids, slice) and joint_ids == slice(None)):
             return slice(None)
-        return torch.as_tensor(joint_ids, dtype=torch.long, device=self.device)
+        if isinstance(joint_ids, torch.Tensor):
+            return joint_ids.to(device=self.device, dtype=torch.long)
+        if isinstance(joint_ids, slice):
+            return joint_ids
+        return self._index_tensor(joint_ids)
 
     def _cols(self, cols, index: torch.Tensor, joint_ids):
         """State columns (qpos or qvel) of the selected joints."""

@@ -95,4 +95,13 @@ class AssetBase:
             return env_ids
         if isinstance(env_ids, torch.Tensor):
             return env_ids.to(device=self.device, dtype=torch.long) if env_ids.dtype != torch.bool else env_ids
-        return torch.as_tensor(list(env_ids), dtype=torch.long, device=self.device)
+        return self._index_tensor(env_ids)
+
+    def _index_tensor(self, ids) -> torch.Tensor:
+        """Python index lists as device tensors, cached: no host-to-device copy per step (which
+        would also keep the step out of a CUDA graph)."""
+        key = tuple(int(i) for i in ids)
+        cache = self.__dict__.setdefault("_index_cache", {})
+        if key not in cache:
+            cache[key] = torch.tensor(key, dtype=torch.long, device=self.device)
+        return cache[key]

@@ -1,1 +1,1 @@
-
+"""The ``simlab`` command: ``train``, ``play``, ``list``, ``random``, ``zero``, ``bench``."""

@@ -38,7 +38,7 @@ from .utils.spaces import sample_space, spec_to_gym_space
 logger = logging.getLogger(__name__)
 
 
-class DirectMARLEnv:
+class DirectMARLEnv(gym.Env):
     """``num_envs`` environments, each with the agents of ``cfg.possible_agents``."""
 
     metadata: ClassVar[dict[str, Any]] = {
@@ -47,8 +47,12 @@ class DirectMARLEnv:
     }
 
     def __init__(self, cfg: DirectMARLEnvCfg, render_mode: str | None = None, **kwargs):
-        apply_deprecated_space_fields(cfg, ("observation_spaces", "num_observations"),
-                                      ("action_spaces", "num_actions"), ("state_space", "num_states"))
+        apply_deprecated_space_fields(
+            cfg,
+            ("observation_spaces", "num_observations"),
+            ("action_spaces", "num_actions"),
+            ("state_space", "num_states"),
+        )
         cfg.validate()
         check_env_cfg(cfg)
         check_agents(cfg)
@@ -57,6 +61,7 @@ class DirectMARLEnv:
         self.cfg = cfg
         self.render_mode = render_mode
         self._is_closed = False
+        self._renderer = None
         self.metadata = dict(type(self).metadata)
 
         if cfg.seed is not None:
@@ -90,7 +95,6 @@ class DirectMARLEnv:
         if self.event_manager is not None and "startup" in self.event_manager.available_modes:
             self.event_manager.apply(mode="startup")
         self.metadata["render_fps"] = 1.0 / self.step_dt
-        self._renderer = None
 
     def __del__(self):
         if getattr(self, "_is_closed", True) is False:
@@ -241,7 +245,7 @@ class DirectMARLEnv:
             self._renderer.close()
         self._renderer = None
         self.event_manager = None
-        if SimulationContext.instance() is self.sim:
+        if SimulationContext.instance() is getattr(self, "sim", None):
             SimulationContext.clear_instance()
         self._is_closed = True
 

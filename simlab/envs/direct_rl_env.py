@@ -35,6 +35,7 @@ from simlab.sim import SimulationContext
 from simlab.utils.seed import set_seed
 
 from .direct_rl_env_cfg import DirectRLEnvCfg
+from .utils.cuda_graph import CudaGraphStep
 from .utils.spaces import sample_space, spec_to_gym_space
 
 logger = logging.getLogger(__name__)
@@ -52,8 +53,12 @@ class DirectRLEnv(gym.Env):
     }
 
     def __init__(self, cfg: DirectRLEnvCfg, render_mode: str | None = None, **kwargs):
-        apply_deprecated_space_fields(cfg, ("observation_space", "num_observations"),
-                                      ("action_space", "num_actions"), ("state_space", "num_states"))
+        apply_deprecated_space_fields(
+            cfg,
+            ("observation_space", "num_observations"),
+            ("action_space", "num_actions"),
+            ("state_space", "num_states"),
+        )
         cfg.validate()
         check_env_cfg(cfg)
         if render_mode not in RENDER_MODES:
@@ -61,6 +66,7 @@ class DirectRLEnv(gym.Env):
         self.cfg = cfg
         self.render_mode = render_mode
         self._is_closed = False
+        self._renderer = None
         self.metadata = dict(type(self).metadata)  # per instance: render_fps depends on the config
 
         if cfg.seed is not None:
@@ -98,7 +104,10 @@ class DirectRLEnv(gym.Env):
         if self.event_manager is not None and "startup" in self.event_manager.available_modes:
             self.event_manager.apply(mode="startup")
         self.metadata["render_fps"] = 1.0 / self.step_dt
-        self._renderer = None
+        # The GPU fast path; events keep per-env timers on the host, so they step eagerly.
+        self._cuda_graph = None
+        if "cuda" in self.device and cfg.sim.use_cuda_graph and self.event_manager is None:
+            self._cuda_graph = CudaGraphStep(self, self._graph_step)
 
     def __del__(self):
         if getattr(self, "_is_closed", True) is False:
@@ -139,7 +148,10 @@ class DirectRLEnv(gym.Env):
         """Reset every environment; returns ``(obs, extras)``. Call once, then only ``step``."""
         if seed is not None:
             self.seed(seed)
-        self._reset_idx(self._all_env_ids)
+        if self._cuda_graph is not None:
+            self._cuda_graph.learn_reset_footprint()  # a full reset that also notes what it writes
+        else:
+            self._reset_idx(self._all_env_ids)
         self.scene.write_data_to_sim()
         self.sim.forward()
         self.obs_buf = self._observations()
@@ -147,6 +159,8 @@ class DirectRLEnv(gym.Env):
 
     def step(self, action: torch.Tensor) -> tuple[dict, torch.Tensor, torch.Tensor, torch.Tensor, dict]:
         """Apply ``action`` (num_envs, ...) for ``decimation`` physics steps; see the module docstring."""
+        if self._cuda_graph is not None:
+            return self._step_graphed(action)
         action = check_action(action, self.single_action_space, self.num_envs, self.device)
         self._pre_physics_step(action)
         for _ in range(self.cfg.decimation):
@@ -177,6 +191,38 @@ class DirectRLEnv(gym.Env):
         self.extras["time_outs"] = self.reset_time_outs
         return self.obs_buf, self.reward_buf, self.reset_terminated, self.reset_time_outs, self.extras
 
+    def _step_graphed(self, action: torch.Tensor) -> tuple[dict, torch.Tensor, torch.Tensor, torch.Tensor, dict]:
+        """``step`` on the GPU fast path: the same order of work, replayed as one CUDA graph."""
+        action = check_action(action, self.single_action_space, self.num_envs, self.device, check_finite=False)
+        if self._cuda_graph._touched is None:
+            self._cuda_graph.learn_reset_footprint()  # step() without reset(): reset all first
+        obs, reward, terminated, truncated, final_obs = self._cuda_graph(action)
+        self._sim_step_counter += self.cfg.decimation
+        self.common_step_counter += 1
+        self.obs_buf, self.reward_buf = obs, reward
+        self.extras["final_obs"] = final_obs
+        self.extras["time_outs"] = truncated
+        return obs, reward, terminated, truncated, self.extras
+
+    def _graph_step(self, action: torch.Tensor):
+        """The body of a graphed step: fixed shapes, resets by mask (see ``CudaGraphStep``)."""
+        self._pre_physics_step(action)
+        for _ in range(self.cfg.decimation):
+            self._apply_action()
+            self.scene.write_data_to_sim()
+            self.sim.physics.step(1)
+            self.scene.update(dt=self.physics_dt)
+        self.episode_length_buf += 1
+        terminated, time_outs = self._get_dones()
+        self.reset_terminated.copy_(terminated)
+        self.reset_time_outs.copy_(time_outs)
+        torch.logical_or(self.reset_terminated, self.reset_time_outs, out=self.reset_buf)
+        reward = self._get_rewards()
+        final_obs = self._observations()
+        self._cuda_graph.masked_reset(self.reset_buf)
+        self.sim.physics.forward()
+        return self._observations(), reward, self.reset_terminated, self.reset_time_outs, final_obs
+
     @staticmethod
     def seed(seed: int = -1) -> int:
         """Seed python, numpy and torch; returns the seed used (a drawn one for -1)."""
@@ -201,7 +247,7 @@ class DirectRLEnv(gym.Env):
             self._renderer.close()
         self._renderer = None
         self.event_manager = None
-        if SimulationContext.instance() is self.sim:
+        if SimulationContext.instance() is getattr(self, "sim", None):
             SimulationContext.clear_instance()
         self._is_closed = True
 
@@ -294,8 +340,10 @@ def check_env_cfg(cfg) -> None:
             )
 
 
-def check_action(action, space: gym.spaces.Space, num_envs: int, device: str) -> torch.Tensor:
-    """The action as a tensor on ``device``, after checking its shape and that it is finite."""
+def check_action(
+    action, space: gym.spaces.Space, num_envs: int, device: str, check_finite: bool = True
+) -> torch.Tensor:
+    """The action as a tensor on ``device``, after checking its shape and (here) that it is finite."""
     if not isinstance(action, torch.Tensor):
         action = torch.as_tensor(np.asarray(action), device=device)
     action = action.to(device)
@@ -305,7 +353,7 @@ def check_action(action, space: gym.spaces.Space, num_envs: int, device: str) ->
             raise ValueError(
                 f"Expected actions of shape {expected} (num_envs, *action shape), got {tuple(action.shape)}"
             )
-    if action.is_floating_point() and not torch.isfinite(action).all():
+    if check_finite and action.is_floating_point() and not torch.isfinite(action).all():
         bad = (~torch.isfinite(action)).reshape(num_envs, -1).any(dim=-1).nonzero().flatten().tolist()
         more = "..." if len(bad) > 10 else ""
         raise ValueError(f"Actions contain NaN or inf (envs {bad[:10]}{more}); actions must be finite")

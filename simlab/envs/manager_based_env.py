@@ -11,6 +11,7 @@ steps applies it, writes the scene to the simulation, steps, and updates the sce
 
 from __future__ import annotations
 
+import contextlib
 from collections.abc import Sequence
 from typing import Any
 
@@ -74,10 +75,8 @@ class ManagerBasedEnv:
         self.obs_buf: VecEnvObs = {}
 
     def __del__(self):
-        try:
+        with contextlib.suppress(Exception):  # at interpreter shutdown modules may be gone
             self.close()
-        except Exception:  # noqa: BLE001 - interpreter shutdown
-            pass
 
     # -- properties ------------------------------------------------------------------------------
 
@@ -205,7 +204,9 @@ class ManagerBasedEnv:
                 pos = asset.data.body_pos_w[index, body_ids[0]]
             offset = pos.cpu().numpy().astype(np.float64) - origin
         else:
-            raise ValueError(f"Unknown cfg.viewer.origin_type '{viewer.origin_type}'; allowed: world, env, asset_root, asset_body")
+            raise ValueError(
+                f"Unknown cfg.viewer.origin_type '{viewer.origin_type}'; allowed: world, env, asset_root, asset_body"
+            )
         return eye + offset, lookat + offset
 
     def _render_rgb(self) -> np.ndarray:

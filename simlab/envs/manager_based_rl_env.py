@@ -83,7 +83,10 @@ class ManagerBasedRLEnv(ManagerBasedEnv, gym.Env):
                 self.single_observation_space[group] = gym.spaces.Box(-np.inf, np.inf, shape=om.group_obs_dim[group])
             else:
                 self.single_observation_space[group] = gym.spaces.Dict(
-                    {name: gym.spaces.Box(-np.inf, np.inf, shape=dim) for name, dim in zip(names, om.group_obs_term_dim[group])}
+                    {
+                        name: gym.spaces.Box(-np.inf, np.inf, shape=dim)
+                        for name, dim in zip(names, om.group_obs_term_dim[group])
+                    }
                 )
         self.single_action_space = gym.spaces.Box(-np.inf, np.inf, shape=(self.action_manager.total_action_dim,))
         self.observation_space = gym.vector.utils.batch_space(self.single_observation_space, self.num_envs)

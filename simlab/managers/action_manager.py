@@ -23,7 +23,7 @@ class ActionTerm(ManagerTermBase):
 
     def __init__(self, cfg: ActionTermCfg, env: ManagerBasedEnv):
         super().__init__(cfg, env)
-        if cfg.asset_name not in env.scene.keys():
+        if cfg.asset_name not in env.scene:
             raise ValueError(f"asset_name '{cfg.asset_name}' is not in the scene; entities: {env.scene.keys()}")
         self._asset = env.scene[cfg.asset_name]
 
@@ -58,7 +58,9 @@ class ActionManager(ManagerBase):
 
     def __str__(self) -> str:
         rows = [(i, name, term.action_dim) for i, (name, term) in enumerate(self._terms.items())]
-        return format_table(f"Active Action Terms (shape: {self.total_action_dim})", ["Index", "Name", "Dimension"], rows)
+        return format_table(
+            f"Active Action Terms (shape: {self.total_action_dim})", ["Index", "Name", "Dimension"], rows
+        )
 
     @property
     def total_action_dim(self) -> int:

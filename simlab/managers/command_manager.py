@@ -114,7 +114,9 @@ class CommandManager(ManagerBase):
     def _prepare_terms(self) -> None:
         for name, term_cfg in cfg_items(self.cfg):
             if not isinstance(term_cfg, CommandTermCfg):
-                raise TypeError(f"CommandManager: term '{name}' must be a CommandTermCfg, got {type(term_cfg).__name__}")
+                raise TypeError(
+                    f"CommandManager: term '{name}' must be a CommandTermCfg, got {type(term_cfg).__name__}"
+                )
             self._term_cfgs.append((name, term_cfg))
 
     def _on_sim_started(self) -> None:

@@ -69,7 +69,9 @@ class CurriculumManager(ManagerBase):
     def _prepare_terms(self) -> None:
         for name, term_cfg in cfg_items(self.cfg):
             if not isinstance(term_cfg, CurriculumTermCfg):
-                raise TypeError(f"CurriculumManager: term '{name}' must be a CurriculumTermCfg, got {type(term_cfg).__name__}")
+                raise TypeError(
+                    f"CurriculumManager: term '{name}' must be a CurriculumTermCfg, got {type(term_cfg).__name__}"
+                )
             self._resolve_common_term_cfg(name, term_cfg, min_argc=2)
             self._terms.append((name, term_cfg))
 

@@ -34,7 +34,11 @@ class EventManager(ManagerBase):
         for mode, terms in self._mode_terms.items():
             if mode == "interval":
                 rows = [(i, name, term.interval_range_s) for i, (name, term) in enumerate(terms)]
-                tables.append(format_table(f"Active Event Terms in Mode: '{mode}'", ["Index", "Name", "Interval time range (s)"], rows))
+                tables.append(
+                    format_table(
+                        f"Active Event Terms in Mode: '{mode}'", ["Index", "Name", "Interval time range (s)"], rows
+                    )
+                )
             else:
                 rows = [(i, name) for i, (name, _) in enumerate(terms)]
                 tables.append(format_table(f"Active Event Terms in Mode: '{mode}'", ["Index", "Name"], rows))
@@ -148,7 +152,9 @@ class EventManager(ManagerBase):
                 lower, upper = rng
                 self._interval_time_left[name] = torch.rand(n, device=self.device) * (upper - lower) + lower
             elif term_cfg.interval_range_s is not None:
-                raise self._term_error(name, f"interval_range_s is only for mode 'interval' (mode is '{term_cfg.mode}')")
+                raise self._term_error(
+                    name, f"interval_range_s is only for mode 'interval' (mode is '{term_cfg.mode}')"
+                )
             if term_cfg.mode == "reset":
                 self._reset_last_step[name] = torch.zeros(self.num_envs, dtype=torch.long, device=self.device)
                 self._reset_triggered_once[name] = torch.zeros(self.num_envs, dtype=torch.bool, device=self.device)
@@ -163,4 +169,3 @@ class EventManager(ManagerBase):
                 self._build_class_term(name, term_cfg)
                 if isinstance(term_cfg.func, ManagerTermBase):
                     self._class_terms.setdefault(mode, []).append(term_cfg.func)
-

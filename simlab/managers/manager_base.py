@@ -62,17 +62,15 @@ def cfg_items(cfg: Any) -> list[tuple[str, Any]]:
     """The ``(name, value)`` fields of a config class (or dict) in declaration order, skipping None."""
     if cfg is None:
         return []
-    if isinstance(cfg, dict):
-        items = list(cfg.items())
-    elif dataclasses.is_dataclass(cfg):
-        items = [(f.name, getattr(cfg, f.name)) for f in dataclasses.fields(cfg)]
-    else:
-        items = list(vars(cfg).items())
-    return [(name, value) for name, value in items if value is not None]
+    # Instance attributes, not only dataclass fields: terms may be added to a config after creation.
+    items = list(cfg.items()) if isinstance(cfg, dict) else list(vars(cfg).items())
+    return [(name, value) for name, value in items if value is not None and not name.startswith("_")]
 
 
 def format_table(title: str, header: Sequence[str], rows: Sequence[Sequence[Any]]) -> str:
     """A plain-text table, like the ones Isaac Lab prints at start-up."""
+    if not rows:
+        return f"{title}: none"
     cells = [[str(h) for h in header]] + [[_fmt(c) for c in row] for row in rows]
     widths = [max(len(r[i]) for r in cells) for i in range(len(header))]
     inner = sum(widths) + 3 * len(widths) - 1
@@ -185,13 +183,17 @@ class ManagerBase:
         takes_any = any(p.kind == kinds.VAR_KEYWORD for p in parameters)
         unknown = [k for k in params if k not in accepted] if not takes_any else []
         if unknown:
-            hints = "".join(f" ('{k}': did you mean '{c[0]}'?)" for k in unknown if (c := closest_matches(k, accepted, 1)))
+            hints = "".join(
+                f" ('{k}': did you mean '{c[0]}'?)" for k in unknown if (c := closest_matches(k, accepted, 1))
+            )
             raise self._term_error(
                 name, f"{func_name(func)} got unknown parameter(s) {unknown}.{hints} It takes {accepted}"
             )
         missing = [k for k in required if k not in params]
         if missing:
-            raise self._term_error(name, f"{func_name(func)} needs parameter(s) {missing} in 'params' (it takes {accepted})")
+            raise self._term_error(
+                name, f"{func_name(func)} needs parameter(s) {missing} in 'params' (it takes {accepted})"
+            )
 
     def _resolve_scene_entities(self, name: str, term_cfg: ManagerTermBaseCfg) -> None:
         for key, value in term_cfg.params.items():

@@ -97,7 +97,7 @@ class ObservationManager(ManagerBase):
 
     def get_active_iterable_terms(self, env_idx: int) -> Sequence[tuple[str, Sequence[float]]]:
         out = []
-        for group, terms in self._group_terms.items():
+        for group in self._group_terms:
             obs = self.compute_group(group, update_history=False)
             if not isinstance(obs, dict):
                 obs = self._terms_as_dict(group, obs)
@@ -138,7 +138,11 @@ class ObservationManager(ManagerBase):
             value = term_cfg.func(env, **term_cfg.params).clone()
             if term_cfg.modifiers is not None:
                 for modifier in term_cfg.modifiers:
-                    value = modifier.func(value) if isinstance(modifier.func, ModifierBase) else modifier.func(value, **modifier.params)
+                    value = (
+                        modifier.func(value)
+                        if isinstance(modifier.func, ModifierBase)
+                        else modifier.func(value, **modifier.params)
+                    )
             if term_cfg.noise is not None:
                 value = term_cfg.noise.func(value, term_cfg.noise)
             if term_cfg.clip is not None:
@@ -201,23 +205,30 @@ class ObservationManager(ManagerBase):
                 try:
                     value = term_cfg.func(env, **term_cfg.params)
                 except Exception as err:
-                    raise self._term_error(f"{group_name}/{name}", f"{func_name(term_cfg.func)} failed: {err!r}") from err
+                    raise self._term_error(
+                        f"{group_name}/{name}", f"{func_name(term_cfg.func)} failed: {err!r}"
+                    ) from err
                 if not isinstance(value, torch.Tensor) or value.ndim < 1 or value.shape[0] != self.num_envs:
                     shape = tuple(value.shape) if isinstance(value, torch.Tensor) else type(value).__name__
                     raise self._term_error(
-                        f"{group_name}/{name}", f"{func_name(term_cfg.func)} must return a (num_envs, ...) tensor, got {shape}"
+                        f"{group_name}/{name}",
+                        f"{func_name(term_cfg.func)} must return a (num_envs, ...) tensor, got {shape}",
                     )
                 term_dim = tuple(value.shape[1:])
                 for modifier in term_cfg.modifiers or []:
                     if inspect.isclass(modifier.func):
                         if not issubclass(modifier.func, ModifierBase):
-                            raise self._term_error(f"{group_name}/{name}", f"modifier {modifier.func} must subclass ModifierBase")
+                            raise self._term_error(
+                                f"{group_name}/{name}", f"modifier {modifier.func} must subclass ModifierBase"
+                            )
                         modifier.func = modifier.func(cfg=modifier, data_dim=tuple(value.shape), device=self.device)
                         self._class_modifiers.append(modifier.func)
                 if term_cfg.history_length > 0:
                     self._histories[group_name][name] = _History(term_cfg.history_length, self.num_envs, self.device)
                     h = term_cfg.history_length
-                    term_dim = (h * int(torch.tensor(term_dim).prod()),) if term_cfg.flatten_history_dim else (h, *term_dim)
+                    term_dim = (
+                        (h * int(torch.tensor(term_dim).prod()),) if term_cfg.flatten_history_dim else (h, *term_dim)
+                    )
                 dims.append(term_dim)
             self._group_obs_term_dim[group_name] = dims
             if self._group_cfgs[group_name].concatenate_terms:

@@ -27,6 +27,8 @@ class RewardManager(ManagerBase):
         self._reward_buf = torch.zeros(self.num_envs, device=self.device)
         self._episode_sums = torch.zeros(self.num_envs, n, device=self.device)
         self._step_reward = torch.zeros(self.num_envs, n, device=self.device)
+        """(num_envs, num_terms) ``weight * term`` of the last step (per second, before ``dt``)."""
+        self._zeros = torch.zeros(self.num_envs, device=self.device)
 
     def __str__(self) -> str:
         rows = [(i, name, float(cfg.weight)) for i, (name, cfg) in enumerate(self._terms)]
@@ -53,15 +55,14 @@ class RewardManager(ManagerBase):
 
     def compute(self, dt: float) -> torch.Tensor:
         """The (num_envs,) reward of this env step."""
-        self._reward_buf.zero_()
-        for i, (name, cfg) in enumerate(self._terms):
-            if cfg.weight == 0.0:
-                self._step_reward[:, i] = 0.0
-                continue
-            value = cfg.func(self._env, **cfg.params) * (cfg.weight * dt)
-            self._reward_buf += value
-            self._episode_sums[:, i] += value
-            self._step_reward[:, i] = value / dt
+        if not self._terms:
+            return self._reward_buf
+        values = [self._zeros if cfg.weight == 0.0 else cfg.func(self._env, **cfg.params) for _, cfg in self._terms]
+        # Weights are read every step: curricula may change them.
+        weights = torch.tensor([cfg.weight for _, cfg in self._terms], device=self.device)
+        torch.mul(torch.stack(values, dim=1), weights, out=self._step_reward)
+        self._episode_sums.add_(self._step_reward, alpha=dt)
+        torch.sum(self._step_reward, dim=1, out=self._reward_buf).mul_(dt)
         return self._reward_buf
 
     def get_term_cfg(self, term_name: str) -> RewardTermCfg:

@@ -29,7 +29,7 @@ class SceneEntityCfg:
 
     def resolve(self, scene) -> None:
         """Check the entity exists and fill ``joint_ids`` / ``body_ids`` from the names (or the reverse)."""
-        if self.name not in scene.keys():
+        if self.name not in scene:
             raise ValueError(f"the scene has no entity '{self.name}'; entities: {scene.keys()}")
         entity = scene[self.name]
         self.joint_ids, self.joint_names = self._resolve(entity, "joint", self.joint_names, self.joint_ids)

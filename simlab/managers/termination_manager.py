@@ -93,7 +93,9 @@ class TerminationManager(ManagerBase):
     def _prepare_terms(self) -> None:
         for name, term_cfg in cfg_items(self.cfg):
             if not isinstance(term_cfg, TerminationTermCfg):
-                raise TypeError(f"TerminationManager: term '{name}' must be a TerminationTermCfg, got {type(term_cfg).__name__}")
+                raise TypeError(
+                    f"TerminationManager: term '{name}' must be a TerminationTermCfg, got {type(term_cfg).__name__}"
+                )
             self._resolve_common_term_cfg(name, term_cfg, min_argc=1)
             self._terms.append((name, term_cfg))
 

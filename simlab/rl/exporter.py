@@ -11,7 +11,9 @@ from __future__ import annotations
 import contextlib
 import copy
 import io
+import logging
 import os
+import warnings
 
 import torch
 import torch.nn as nn
@@ -49,11 +51,14 @@ def export_policy_as_jit(
     os.makedirs(path, exist_ok=True)
     file = os.path.join(path, filename)
     try:
-        scripted = torch.jit.script(module)
+        with warnings.catch_warnings():  # TorchScript is deprecated in torch 2.10+, yet still the deployable format
+            warnings.simplefilter("ignore", DeprecationWarning)
+            scripted = torch.jit.script(module)
     except Exception as e:  # noqa: BLE001 - any scripting failure falls back to tracing
         if obs_dim is None:
             raise RuntimeError(f"Cannot script {type(policy).__name__} ({e}); pass obs_dim to trace it.") from e
-        with torch.no_grad():
+        with torch.no_grad(), warnings.catch_warnings():
+            warnings.simplefilter("ignore", DeprecationWarning)
             scripted = torch.jit.trace(module, torch.zeros(1, obs_dim), check_trace=False)
     scripted.save(file)
     return file
@@ -70,7 +75,13 @@ def export_policy_as_onnx(
     batch = torch.export.Dim("batch", min=1)
     # the exporter reports each stage on stdout; keep the console for training output
     sink = contextlib.nullcontext() if verbose else contextlib.redirect_stdout(io.StringIO())
-    with sink, torch.no_grad():
+    onnx_log = logging.getLogger("torch.onnx")
+    level = onnx_log.level
+    if not verbose:
+        onnx_log.setLevel(logging.ERROR)  # e.g. "torchvision is not installed" notes
+    with sink, torch.no_grad(), warnings.catch_warnings():
+        if not verbose:
+            warnings.simplefilter("ignore", FutureWarning)
         torch.onnx.export(
             module,
             (torch.zeros(2, obs_dim),),
@@ -82,4 +93,5 @@ def export_policy_as_onnx(
             external_data=False,
             verbose=verbose,
         )
+    onnx_log.setLevel(level)
     return file

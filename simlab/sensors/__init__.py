@@ -1,3 +1,4 @@
 """Sensors read from the simulation each step: contact forces, frames, IMUs."""
 
+from .contact_sensor import ContactSensor, ContactSensorCfg, ContactSensorData
 from .sensor_base import SensorBase, SensorBaseCfg

@@ -43,4 +43,7 @@ class SimulationCfg:
     (the GPU when one and mujoco-warp are available, else the CPU)."""
     gravity: tuple[float, float, float] = (0.0, 0.0, -9.81)
     mujoco: MujocoCfg = MujocoCfg()
+    use_cuda_graph: bool = True
+    """On the GPU, replay each whole env step as one CUDA graph when the task allows it
+    (``simlab.envs.utils.cuda_graph``); False steps eagerly, kernel by kernel."""
     seed: int | None = None

@@ -98,13 +98,10 @@ class SimulationContext:
             if self.env_origins is None:
                 self.env_origins = torch.zeros(self.num_envs, 3, device=self.device)
             opts = self.cfg.mujoco
+            # each backend takes its own options: a thread pool on the cpu, buffer sizes on the gpu
+            options = {"num_threads": opts.num_threads} if self.device == "cpu" else {}
             self.backend = make_backend(
-                self.model,
-                self.num_envs,
-                self.device,
-                num_threads=opts.num_threads,
-                nconmax=opts.nconmax,
-                njmax=opts.njmax,
+                self.model, self.num_envs, self.device, nconmax=opts.nconmax, njmax=opts.njmax, **options
             )
             for callback in self._on_reset:
                 callback(self)

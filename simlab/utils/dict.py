@@ -38,6 +38,8 @@ def _value_to_plain(value: Any) -> Any:
         return value
     if _is_config_instance(value):
         return class_to_dict(value)
+    if isinstance(value, slice):  # e.g. SceneEntityCfg.joint_ids = slice(None): "all"
+        return f"slice({value.start}, {value.stop}, {value.step})"
     if isinstance(value, Mapping):
         return {k: _value_to_plain(v) for k, v in value.items()}
     if isinstance(value, (list, tuple, set, frozenset)):

@@ -274,6 +274,8 @@ class CudaBackend(PhysicsBackend):
         self._run(("step", nstep), body)
         # Sticky record of overflows: reset() clears Data.overflow in the worlds it resets.
         self._overflow_seen.bitwise_or_(self._overflow)
+        if torch.cuda.is_current_stream_capturing():
+            return  # a captured env step checks between replays (CudaGraphStep.check)
         self._calls_since_check += 1
         if self.overflow_check_interval and self._calls_since_check >= self.overflow_check_interval:
             self.check_overflow()
@@ -364,6 +366,15 @@ class CudaBackend(PhysicsBackend):
     def _run(self, key: Any, body: Callable[[], None]) -> None:
         """Replay the graph for ``key``, capturing ``body`` into it on first use."""
         wp = self._wp
+        if self._is_cuda and torch.cuda.is_current_stream_capturing():
+            # Inside a capture of the whole env step (simlab.envs.utils.cuda_graph): record the
+            # kernels into that graph, on torch's capturing stream, instead of launching ours.
+            with (
+                wp.ScopedDevice(self._wp_device),
+                wp.ScopedCapture(device=self._wp_device, stream=self._torch_stream(), external=True),
+            ):
+                body()
+            return
         graph = self._graphs.get(key)
         if graph is None:
             start = time.perf_counter()

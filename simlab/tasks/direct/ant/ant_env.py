@@ -28,9 +28,7 @@ class AntEnvCfg(DirectRLEnvCfg):
     state_space = 0
 
     # simulation: the legs touch only the ground
-    sim: SimulationCfg = SimulationCfg(
-        dt=1 / 120, render_interval=decimation, mujoco=MujocoCfg(nconmax=32, njmax=160)
-    )
+    sim: SimulationCfg = SimulationCfg(dt=1 / 120, render_interval=decimation, mujoco=MujocoCfg(nconmax=32, njmax=160))
     terrain = GroundPlaneCfg(
         physics_material=sim_utils.RigidBodyMaterialCfg(static_friction=1.0, dynamic_friction=1.0, restitution=0.0)
     )

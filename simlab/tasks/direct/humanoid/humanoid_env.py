@@ -28,9 +28,7 @@ class HumanoidEnvCfg(DirectRLEnvCfg):
     state_space = 0
 
     # simulation: a lying humanoid touches the ground and itself at a few dozen points
-    sim: SimulationCfg = SimulationCfg(
-        dt=1 / 120, render_interval=decimation, mujoco=MujocoCfg(nconmax=64, njmax=320)
-    )
+    sim: SimulationCfg = SimulationCfg(dt=1 / 120, render_interval=decimation, mujoco=MujocoCfg(nconmax=64, njmax=320))
     terrain = GroundPlaneCfg(
         physics_material=sim_utils.RigidBodyMaterialCfg(static_friction=1.0, dynamic_friction=1.0, restitution=0.0)
     )

@@ -308,4 +308,3 @@ def compute_intermediate_values(
         prev_potentials,
         potentials,
     )
-

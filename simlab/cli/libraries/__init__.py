@@ -1,0 +1,17 @@
+"""One adapter per RL library: configure, train (with resume and Ctrl+C saves) and load a policy.
+
+Each module has ``experiment_name(agent_cfg, task)``, ``configure(agent_cfg, args, env_cfg)``,
+``train(env, agent_cfg, run_dir, args, resume_path)`` and ``load_policy(env, agent_cfg, checkpoint)``.
+"""
+
+from __future__ import annotations
+
+import importlib
+from types import ModuleType
+
+__all__ = ["get_library"]
+
+
+def get_library(name: str) -> ModuleType:
+    """The adapter module of library ``name`` (its library is imported only when used)."""
+    return importlib.import_module(f"{__name__}.{name}")

@@ -1,0 +1,135 @@
+"""rl_games adapter: the a2c_continuous agent from the task's YAML, run folders, resume, Ctrl+C saves."""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import copy
+import io
+import math
+import os
+from typing import Any
+
+import gymnasium as gym
+import torch
+import torch.nn as nn
+
+from simlab.cli.libraries.progress import ProgressBar
+from simlab.cli.policy import Policy
+from simlab.rl.utils import require
+
+require("rl_games")
+from rl_games.torch_runner import Runner  # noqa: E402
+
+from simlab.rl.rl_games import RlGamesVecEnvWrapper, SimlabAlgoObserver, register_rl_games_env  # noqa: E402
+
+
+def experiment_name(agent_cfg: dict, task: str) -> str:
+    return agent_cfg["params"]["config"]["name"]
+
+
+def configure(agent_cfg: dict, args: argparse.Namespace, env_cfg: Any) -> None:
+    params = agent_cfg["params"]
+    config = params["config"]
+    if args.seed is not None:
+        params["seed"] = args.seed
+    device = env_cfg.sim.device
+    config["device"] = config["device_name"] = device
+    config.setdefault("torch_compile", False)
+    if getattr(args, "max_iterations", None) is not None:
+        config["max_epochs"] = args.max_iterations
+    num_envs = env_cfg.scene.num_envs
+    config["num_actors"] = num_envs
+    batch = config["horizon_length"] * num_envs
+    if config["minibatch_size"] > batch or batch % config["minibatch_size"]:
+        # tuned for more envs: keep the mini-batch a divisor of the batch
+        size = min(config["minibatch_size"], batch)
+        while batch % size:
+            size -= 1
+        config["minibatch_size"] = size
+    env_cfg.seed = params["seed"]
+
+
+def _clips(agent_cfg: dict) -> tuple[float, float]:
+    env = agent_cfg["params"].get("env", {})
+    return float(env.get("clip_observations", math.inf)), float(env.get("clip_actions", math.inf))
+
+
+def _runner(env: gym.Env, agent_cfg: dict, observer: Any = None) -> tuple[Runner, RlGamesVecEnvWrapper]:
+    clip_obs, clip_actions = _clips(agent_cfg)
+    device = agent_cfg["params"]["config"]["device"]
+    wrapped = RlGamesVecEnvWrapper(env, device, clip_obs, clip_actions)
+    register_rl_games_env(wrapped)
+    runner = Runner(observer or SimlabAlgoObserver())
+    with contextlib.redirect_stdout(io.StringIO()):
+        runner.load(copy.deepcopy(agent_cfg))
+    return runner, wrapped
+
+
+def train(env: gym.Env, agent_cfg: dict, run_dir: str, args: argparse.Namespace, resume_path: str | None) -> None:
+    cfg = copy.deepcopy(agent_cfg)
+    config = cfg["params"]["config"]
+    config["train_dir"], config["full_experiment_name"] = os.path.split(run_dir)
+    bar: dict[str, ProgressBar] = {}
+    steps_per_epoch = config["horizon_length"] * env.unwrapped.num_envs
+
+    def on_epoch(frame: int, epoch: int, total_time: float) -> None:
+        if "bar" not in bar:
+            bar["bar"] = ProgressBar(total=config["max_epochs"], initial=epoch - 1, desc="rl_games")
+        rewards = getattr(agent, "game_rewards", None)
+        reward = float(rewards.get_mean()[0]) if rewards is not None and rewards.current_size > 0 else None
+        bar["bar"].update(1, steps=steps_per_epoch, reward=reward)
+
+    runner, _ = _runner(env, cfg, SimlabAlgoObserver(on_epoch=on_epoch))
+    agent = runner.algo_factory.create(runner.algo_name, base_name="run", params=runner.params)
+    if resume_path:
+        agent.restore(resume_path)
+        print(f"[simlab] Resumed from {resume_path} at epoch {agent.epoch_num}")
+    verbose = bool(getattr(args, "verbose", False))
+    try:
+        with contextlib.nullcontext() if verbose else contextlib.redirect_stdout(io.StringIO()):
+            agent.train()
+    except KeyboardInterrupt:
+        path = os.path.join(agent.nn_dir, f"last_{config['name']}_ep_{agent.epoch_num}_interrupted")
+        agent.save(path)
+        print(f"\n[simlab] Interrupted: saved {path}.pth")
+        raise
+    finally:
+        if "bar" in bar:
+            bar["bar"].close()
+
+
+class _RlGamesActor(nn.Module):
+    """Observation clipping and normalization, the network's mean, and rl_games' action rescaling."""
+
+    def __init__(self, model: nn.Module, clip_obs: float, clip_actions: float):
+        super().__init__()
+        self.model = copy.deepcopy(model)
+        self.clip_obs, self.clip_actions = clip_obs, clip_actions
+
+    def forward(self, obs: torch.Tensor) -> torch.Tensor:
+        obs = torch.clamp(obs, -self.clip_obs, self.clip_obs)
+        mu = self.model.a2c_network({"obs": self.model.norm_obs(obs)})[0]
+        # the player clamps the mean to [-1, 1] and rescales it to the action space [-clip, clip]
+        return torch.clamp(mu, -1.0, 1.0) * self.clip_actions
+
+
+def load_policy(env: gym.Env, agent_cfg: dict, checkpoint: str) -> Policy:
+    runner, wrapped = _runner(env, agent_cfg)
+    runner.params["config"]["env_info"] = wrapped.get_env_info()
+    runner.params["config"]["vec_env"] = wrapped
+    with contextlib.redirect_stdout(io.StringIO()):
+        player = runner.create_player()
+        player.restore(checkpoint)
+    player.model.eval()
+    clip_obs, clip_actions = _clips(agent_cfg)
+    if not math.isfinite(clip_actions):
+        raise ValueError("rl_games play needs a finite params.env.clip_actions (the action space bounds).")
+    module = _RlGamesActor(player.model, clip_obs, clip_actions)
+    groups = wrapped.obs_groups["obs"]
+
+    def inputs(obs: dict) -> dict[str, torch.Tensor]:
+        return {"policy": torch.cat([obs[g].reshape(obs[g].shape[0], -1) for g in groups], dim=-1)}
+
+    dim = wrapped.observation_space.shape[0]
+    return Policy({"policy": module}, inputs, {"policy": dim}, device=agent_cfg["params"]["config"]["device"])

@@ -1,0 +1,112 @@
+"""rsl_rl adapter: ``OnPolicyRunner`` training with a progress bar, resume and Ctrl+C saves."""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import io
+import os
+import statistics
+from typing import Any
+
+import gymnasium as gym
+import torch
+
+from simlab.cli.libraries.progress import ProgressBar
+from simlab.cli.policy import ClampActions, Policy
+from simlab.rl.utils import require
+
+require("rsl_rl")
+from rsl_rl.runners import OnPolicyRunner  # noqa: E402
+from rsl_rl.utils.logger import Logger  # noqa: E402
+
+from simlab.rl.rsl_rl import RslRlOnPolicyRunnerCfg, RslRlVecEnvWrapper  # noqa: E402
+
+
+def experiment_name(agent_cfg: RslRlOnPolicyRunnerCfg, task: str) -> str:
+    return agent_cfg.experiment_name
+
+
+def configure(agent_cfg: RslRlOnPolicyRunnerCfg, args: argparse.Namespace, env_cfg: Any) -> None:
+    if args.seed is not None:
+        agent_cfg.seed = args.seed
+    agent_cfg.device = env_cfg.sim.device
+    if getattr(args, "max_iterations", None) is not None:
+        agent_cfg.max_iterations = args.max_iterations
+    if getattr(args, "run_name", None):
+        agent_cfg.run_name = args.run_name
+    env_cfg.seed = agent_cfg.seed
+
+
+class _ProgressLogger(Logger):
+    """rsl_rl's logger (TensorBoard, git state), with a progress bar instead of a block per iteration."""
+
+    verbose = False
+
+    def log(self, it: int, start_it: int, total_it: int, collect_time: float, learn_time: float, **kw: Any) -> None:
+        if not hasattr(self, "_bar"):
+            self._bar = ProgressBar(total=total_it, initial=start_it, desc="rsl_rl")
+        sink = contextlib.nullcontext() if self.verbose else contextlib.redirect_stdout(io.StringIO())
+        with sink:
+            super().log(it=it, start_it=start_it, total_it=total_it, collect_time=collect_time,
+                        learn_time=learn_time, **kw)
+        reward = statistics.mean(self.rewbuffer) if self.rewbuffer else None
+        length = statistics.mean(self.lenbuffer) if self.lenbuffer else None
+        steps = self.cfg["num_steps_per_env"] * self.num_envs
+        self._bar.update(1, steps=steps, reward=reward, ep_len=length)
+
+    def stop_logging_writer(self) -> None:
+        if hasattr(self, "_bar"):
+            self._bar.close()
+        if self.writer is not None and hasattr(self.writer, "flush"):
+            self.writer.flush()
+        super().stop_logging_writer()
+
+
+def _make_runner(env: gym.Env, agent_cfg: RslRlOnPolicyRunnerCfg, log_dir: str | None) -> OnPolicyRunner:
+    wrapped = RslRlVecEnvWrapper(env, clip_actions=agent_cfg.clip_actions)
+    cfg = agent_cfg.to_rsl_rl_dict(list(wrapped.get_observations().keys()))
+    with contextlib.redirect_stdout(io.StringIO()):  # it prints the models; params/agent.yaml has them
+        runner = OnPolicyRunner(wrapped, cfg, log_dir=log_dir, device=agent_cfg.device)
+    return runner
+
+
+def train(env: gym.Env, agent_cfg: RslRlOnPolicyRunnerCfg, run_dir: str, args: argparse.Namespace,
+          resume_path: str | None) -> None:
+    runner = _make_runner(env, agent_cfg, run_dir)
+    logger = _ProgressLogger(
+        log_dir=run_dir, cfg=runner.cfg, env_cfg=runner.env.cfg, num_envs=runner.env.num_envs,
+        is_distributed=runner.is_distributed, gpu_world_size=runner.gpu_world_size,
+        gpu_global_rank=runner.gpu_global_rank, device=runner.device,
+    )
+    logger.verbose = bool(getattr(args, "verbose", False))
+    runner.logger = logger
+    import simlab
+
+    runner.add_git_repo_to_log(simlab.__file__)
+    if resume_path:
+        runner.load(resume_path, map_location=agent_cfg.device)
+        print(f"[simlab] Resumed from {resume_path} at iteration {runner.current_learning_iteration}")
+    try:
+        runner.learn(num_learning_iterations=agent_cfg.max_iterations, init_at_random_ep_len=True)
+    except KeyboardInterrupt:
+        path = os.path.join(run_dir, f"model_{runner.current_learning_iteration}.pt")
+        runner.save(path)
+        logger.stop_logging_writer()
+        print(f"\n[simlab] Interrupted: saved {path}")
+        raise
+
+
+def load_policy(env: gym.Env, agent_cfg: RslRlOnPolicyRunnerCfg, checkpoint: str) -> Policy:
+    runner = _make_runner(env, agent_cfg, None)
+    runner.load(checkpoint, load_cfg={"actor": True}, map_location=agent_cfg.device)
+    actor = runner.alg.get_policy()
+    module = actor.as_jit()
+    if agent_cfg.clip_actions is not None:
+        module = ClampActions(module, -agent_cfg.clip_actions, agent_cfg.clip_actions)
+    groups = runner.cfg["obs_groups"]["actor"]
+
+    def inputs(obs: dict) -> dict[str, torch.Tensor]:
+        return {"policy": torch.cat([obs[g].reshape(obs[g].shape[0], -1) for g in groups], dim=-1)}
+
+    return Policy({"policy": module}, inputs, {"policy": actor.obs_dim}, device=agent_cfg.device)

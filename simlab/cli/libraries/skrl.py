@@ -1,0 +1,110 @@
+"""skrl adapter: skrl's ``Runner`` (PPO, IPPO, MAPPO) from the task's YAML, run folders, resume, Ctrl+C saves."""
+
+from __future__ import annotations
+
+import argparse
+import copy
+import os
+from typing import Any
+
+import gymnasium as gym
+import torch
+import torch.nn as nn
+
+from simlab.cli.policy import Policy
+from simlab.rl.skrl import SkrlVecEnvWrapper
+from simlab.rl.utils import require
+
+require("skrl")
+from skrl.utils.runner.torch import Runner  # noqa: E402
+
+
+def experiment_name(agent_cfg: dict, task: str) -> str:
+    return agent_cfg["agent"]["experiment"]["directory"]
+
+
+def configure(agent_cfg: dict, args: argparse.Namespace, env_cfg: Any) -> None:
+    if args.seed is not None:
+        agent_cfg["seed"] = args.seed
+    if getattr(args, "max_iterations", None) is not None:
+        agent_cfg["trainer"]["timesteps"] = args.max_iterations * agent_cfg["agent"]["rollouts"]
+    agent_cfg["trainer"]["close_environment_at_exit"] = False
+    # skrl's "auto" intervals are timesteps/100 and /10, which is 0 (never) in short runs: keep them >= 1
+    timesteps, rollouts = agent_cfg["trainer"]["timesteps"], agent_cfg["agent"]["rollouts"]
+    exp = agent_cfg["agent"]["experiment"]
+    if exp.get("write_interval", "auto") == "auto":
+        exp["write_interval"] = max(1, timesteps // 100)
+    if exp.get("checkpoint_interval", "auto") == "auto":
+        exp["checkpoint_interval"] = max(rollouts, timesteps // 10 // rollouts * rollouts)
+    env_cfg.seed = agent_cfg["seed"]
+
+
+def _make_runner(env: gym.Env, agent_cfg: dict, run_dir: str | None) -> Runner:
+    cfg = copy.deepcopy(agent_cfg)
+    exp = cfg["agent"]["experiment"]
+    if run_dir is None:  # playing: write nothing
+        exp["write_interval"] = 0
+        exp["checkpoint_interval"] = 0
+        cfg["trainer"]["disable_progressbar"] = True
+    else:
+        exp["directory"], exp["experiment_name"] = os.path.split(run_dir)
+    wrapped = SkrlVecEnvWrapper(env, ml_framework="torch", wrapper="isaaclab")
+    return Runner(wrapped, cfg)
+
+
+def train(env: gym.Env, agent_cfg: dict, run_dir: str, args: argparse.Namespace, resume_path: str | None) -> None:
+    runner = _make_runner(env, agent_cfg, run_dir)
+    if resume_path:
+        runner.agent.load(resume_path)
+        print(f"[simlab] Resumed weights, optimizer and normalizers from {resume_path}")
+    checkpoints = os.path.join(run_dir, "checkpoints")
+    steps = env.unwrapped.common_step_counter
+    try:
+        runner.run("train")
+    except KeyboardInterrupt:
+        os.makedirs(checkpoints, exist_ok=True)
+        path = os.path.join(checkpoints, f"agent_{env.unwrapped.common_step_counter - steps}.pt")
+        runner.agent.save(path)
+        print(f"\n[simlab] Interrupted: saved {path}")
+        raise
+    final = os.path.join(checkpoints, f"agent_{agent_cfg['trainer']['timesteps']}.pt")
+    if not os.path.isfile(final):
+        os.makedirs(checkpoints, exist_ok=True)
+        runner.agent.save(final)
+
+
+class _SkrlActor(nn.Module):
+    """Observation preprocessor + the policy model's mean action."""
+
+    def __init__(self, model: nn.Module, preprocessor: Any):
+        super().__init__()
+        self.model = copy.deepcopy(model)
+        self.preprocessor = copy.deepcopy(preprocessor) if isinstance(preprocessor, nn.Module) else nn.Identity()
+
+    def forward(self, obs: torch.Tensor) -> torch.Tensor:
+        mean, _ = self.model.compute({"observations": self.preprocessor(obs)}, role="policy")
+        return mean
+
+
+def load_policy(env: gym.Env, agent_cfg: dict, checkpoint: str) -> Policy:
+    runner = _make_runner(env, agent_cfg, None)
+    agent = runner.agent
+    agent.load(checkpoint)
+    agent.enable_training_mode(False)
+    device = str(agent.device)
+    if hasattr(agent, "policies"):  # IPPO / MAPPO: one actor per agent, fed its own observation
+        names = list(agent.possible_agents)
+        modules = {a: _SkrlActor(agent.policies[a], agent._observation_preprocessor[a]) for a in names}
+        dims = {a: gym.spaces.flatdim(env.unwrapped.observation_spaces[a]) for a in names}
+
+        def inputs(obs: dict) -> dict[str, torch.Tensor]:
+            return {a: obs[a].reshape(obs[a].shape[0], -1) for a in names}
+
+        return Policy(modules, inputs, dims, device=device)
+    module = _SkrlActor(agent.policy, agent._observation_preprocessor)
+    dim = gym.spaces.flatdim(env.unwrapped.single_observation_space["policy"])
+
+    def inputs(obs: dict) -> dict[str, torch.Tensor]:
+        return {"policy": obs["policy"].reshape(obs["policy"].shape[0], -1)}
+
+    return Policy({"policy": module}, inputs, {"policy": dim}, device=device)

@@ -1,0 +1,107 @@
+"""``simlab play``: load a checkpoint, export the policy, run it (record videos, report returns)."""
+
+from __future__ import annotations
+
+import argparse
+import os
+from collections.abc import Callable
+from typing import Any
+
+import torch
+
+from simlab.cli.libraries import get_library
+from simlab.cli.runs import find_last_checkpoint, resolve_checkpoint, run_dir_of_checkpoint
+from simlab.cli.session import load_configs, make_env
+from simlab.cli.train import uses_multi_agent_learner
+
+__all__ = ["locate_checkpoint", "rollout", "run_play"]
+
+
+def locate_checkpoint(args: argparse.Namespace, experiment: str) -> str:
+    if args.checkpoint:
+        return resolve_checkpoint(args.checkpoint, args.library)
+    if args.use_last_checkpoint:
+        return find_last_checkpoint(args.log_root, args.library, experiment)
+    raise ValueError("play needs --checkpoint PATH or --use_last_checkpoint.")
+
+
+def _total(x: Any) -> torch.Tensor:
+    return sum(x.values()) if isinstance(x, dict) else x
+
+
+def _any(x: Any) -> torch.Tensor:
+    if isinstance(x, dict):
+        out = torch.zeros_like(next(iter(x.values())), dtype=torch.bool)
+        for v in x.values():
+            out |= v.bool()
+        return out
+    return x.bool()
+
+
+def rollout(env: Any, policy: Callable, steps: int | None,
+            on_step: Callable[[Any, Any, Any], None] | None = None) -> dict[str, float]:
+    """Step ``env`` with ``policy`` for ``steps`` (None: until Ctrl+C); episode statistics of the run."""
+    obs, _ = env.reset()
+    base = env.unwrapped
+    returns = torch.zeros(base.num_envs, device=base.device)
+    lengths = torch.zeros(base.num_envs, device=base.device)
+    done_returns: list[float] = []
+    done_lengths: list[float] = []
+    step = 0
+    try:
+        while steps is None or step < steps:
+            actions = policy(obs)
+            obs, rew, terminated, truncated, _ = env.step(actions)
+            if on_step is not None:
+                on_step(base, obs, actions)
+            returns += _total(rew).reshape(-1).to(returns.device)
+            lengths += 1
+            done = (_any(terminated) | _any(truncated)).reshape(-1).to(returns.device)
+            if done.any():
+                done_returns += returns[done].tolist()
+                done_lengths += lengths[done].tolist()
+                returns[done] = 0
+                lengths[done] = 0
+            step += 1
+    except KeyboardInterrupt:
+        print("\n[simlab] Stopped.")
+    n = len(done_returns)
+    return {
+        "steps": step,
+        "episodes": n,
+        "mean_return": sum(done_returns) / n if n else float(returns.mean()),
+        "mean_length": sum(done_lengths) / n if n else float(lengths.mean()),
+    }
+
+
+def run_play(args: argparse.Namespace, overrides: list[str],
+             on_step: Callable[[Any, Any, Any], None] | None = None) -> dict[str, Any]:
+    """Play ``args.task`` with a trained policy; returns the episode statistics and exported files."""
+    lib = get_library(args.library)
+    env_cfg, agent_cfg = load_configs(args, overrides)
+    lib.configure(agent_cfg, args, env_cfg)
+    checkpoint = locate_checkpoint(args, lib.experiment_name(agent_cfg, args.task))
+    run_dir = run_dir_of_checkpoint(checkpoint, args.library)
+    args.video_interval = 10**12  # one video, from the first step
+    env = make_env(args, env_cfg, os.path.join(run_dir, "videos", "play"),
+                   single_agent=not uses_multi_agent_learner(args))
+    try:
+        print(f"[simlab] Playing {checkpoint} on {env_cfg.sim.device}")
+        policy = lib.load_policy(env, agent_cfg, checkpoint)
+        result: dict[str, Any] = {"checkpoint": checkpoint}
+        if not args.no_export:
+            folder = os.path.join(os.path.dirname(checkpoint), "exported")
+            result["exported"] = policy.export(folder)
+            print(f"[simlab] Exported the policy to {folder}: {[os.path.basename(f) for f in result['exported']]}")
+        steps = args.steps
+        if steps is None and (args.eval or args.video):
+            steps = args.video_length if args.video else int(env.unwrapped.max_episode_length)
+        result.update(rollout(env, policy, steps, on_step))
+    finally:
+        env.close()
+    if args.eval:
+        print(
+            f"[simlab] {result['steps']} steps, {result['episodes']} finished episodes: "
+            f"mean return {result['mean_return']:.3f}, mean length {result['mean_length']:.1f} steps"
+        )
+    return result

@@ -1,0 +1,86 @@
+"""What train, play, random and zero share: configs from the registry + flags + overrides, and the env."""
+
+from __future__ import annotations
+
+import argparse
+import os
+from typing import Any
+
+import gymnasium as gym
+
+from simlab.rl.utils import is_multi_agent
+from simlab.tasks.utils import apply_overrides, load_cfg_from_registry
+
+__all__ = ["LIBRARIES", "agent_entry_point", "load_configs", "make_env", "resolve_seed"]
+
+LIBRARIES = ("rsl_rl", "skrl", "sb3", "rl_games")
+SKRL_ALGORITHMS = ("PPO", "IPPO", "MAPPO")
+
+
+def agent_entry_point(library: str, algorithm: str | None) -> str:
+    """The registry key of the agent config for ``library`` (and skrl's ``algorithm``)."""
+    if library not in LIBRARIES:
+        raise ValueError(f"Unknown library '{library}'. Choose one of {list(LIBRARIES)}.")
+    algo = (algorithm or "PPO").upper()
+    if library == "skrl":
+        if algo not in SKRL_ALGORITHMS:
+            raise ValueError(f"--algorithm '{algorithm}' is not one of skrl's {list(SKRL_ALGORITHMS)}.")
+        return "skrl_cfg_entry_point" if algo == "PPO" else f"skrl_{algo.lower()}_cfg_entry_point"
+    if algo != "PPO":
+        raise ValueError(f"--algorithm {algorithm} is for skrl only; {library} trains PPO.")
+    return f"{library}_cfg_entry_point"
+
+
+def resolve_seed(seed: int | None) -> int | None:
+    """-1 draws a random seed; None keeps the config's."""
+    from simlab.utils.seed import set_seed
+
+    if seed is None:
+        return None
+    return set_seed(seed) if seed == -1 else seed
+
+
+def load_configs(args: argparse.Namespace, overrides: list[str], with_agent: bool = True) -> tuple[Any, Any]:
+    """The env and agent configs of ``args.task``: registry defaults, then overrides, then flags.
+
+    As in Isaac Lab's scripts, a flag that is given (``--num_envs``, ``--device``, ``--seed``)
+    wins over the same setting in an override.
+    """
+    from simlab.app.app_launcher import resolve_device
+
+    env_cfg = load_cfg_from_registry(args.task, "env_cfg_entry_point")
+    agent_cfg = None
+    if with_agent:
+        agent_cfg = load_cfg_from_registry(args.task, agent_entry_point(args.library, args.algorithm))
+    apply_overrides(env_cfg, agent_cfg, overrides)
+    if getattr(args, "num_envs", None) is not None:
+        if args.num_envs < 1:
+            raise ValueError(f"--num_envs must be at least 1, got {args.num_envs}.")
+        env_cfg.scene.num_envs = args.num_envs
+    if getattr(args, "device", None) is not None:
+        env_cfg.sim.device = resolve_device(args.device)
+    else:
+        env_cfg.sim.device = resolve_device(env_cfg.sim.device)
+    return env_cfg, agent_cfg
+
+
+def make_env(args: argparse.Namespace, env_cfg: Any, video_dir: str | None, single_agent: bool) -> gym.Env:
+    """``gym.make`` the task (rgb_array rendering with ``--video``), record videos, flatten multi-agent envs."""
+    video = bool(getattr(args, "video", False)) and video_dir is not None
+    env = gym.make(args.task, cfg=env_cfg, render_mode="rgb_array" if video else None)
+    if single_agent and is_multi_agent(env):
+        from simlab.envs import multi_agent_to_single_agent
+
+        env = multi_agent_to_single_agent(env)
+    if video:
+        interval = max(1, int(getattr(args, "video_interval", 2000)))
+        os.makedirs(video_dir, exist_ok=True)
+        env = gym.wrappers.RecordVideo(
+            env,
+            video_folder=video_dir,
+            step_trigger=lambda step: step % interval == 0,
+            video_length=args.video_length,
+            disable_logger=True,
+        )
+        print(f"[simlab] Recording {args.video_length}-step videos every {interval} steps to {video_dir}")
+    return env

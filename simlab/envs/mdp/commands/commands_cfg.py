@@ -1,0 +1,42 @@
+"""Configurations of the command terms (Isaac Lab's names and fields)."""
+
+from __future__ import annotations
+
+from dataclasses import MISSING
+
+from simlab.managers.manager_term_cfg import CommandTermCfg
+from simlab.utils import configclass
+
+from .null_command import NullCommand
+from .velocity_command import UniformVelocityCommand
+
+
+@configclass
+class NullCommandCfg(CommandTermCfg):
+    class_type: type = NullCommand
+
+    def __post_init__(self):
+        # Never resampled.
+        self.resampling_time_range = (float("inf"), float("inf"))
+
+
+@configclass
+class UniformVelocityCommandCfg(CommandTermCfg):
+    class_type: type = UniformVelocityCommand
+    asset_name: str = MISSING
+    heading_command: bool = False
+    """Compute the yaw rate from a sampled heading instead of sampling it."""
+    heading_control_stiffness: float = 1.0
+    rel_standing_envs: float = 0.0
+    """Fraction of envs commanded to stand still."""
+    rel_heading_envs: float = 1.0
+    """Fraction of envs following a heading (with ``heading_command``)."""
+
+    @configclass
+    class Ranges:
+        lin_vel_x: tuple[float, float] = MISSING
+        lin_vel_y: tuple[float, float] = MISSING
+        ang_vel_z: tuple[float, float] = MISSING
+        heading: tuple[float, float] | None = None
+
+    ranges: Ranges = MISSING

@@ -1,0 +1,76 @@
+"""Base velocity commands ``(v_x, v_y, w_z)`` in the robot's root frame, optionally steering the
+yaw rate towards a sampled heading."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import torch
+
+import simlab.utils.math as math_utils
+from simlab.managers.command_manager import CommandTerm
+
+if TYPE_CHECKING:
+    from simlab.envs import ManagerBasedRLEnv
+
+    from .commands_cfg import UniformVelocityCommandCfg
+
+
+class UniformVelocityCommand(CommandTerm):
+    """Velocities drawn uniformly from ``cfg.ranges``. A fraction ``rel_standing_envs`` of the envs
+    is told to stand still; with ``heading_command``, a fraction ``rel_heading_envs`` gets its yaw
+    rate from a heading error: ``w_z = clip(heading_control_stiffness * wrap(heading - yaw))``."""
+
+    cfg: UniformVelocityCommandCfg
+
+    def __init__(self, cfg: UniformVelocityCommandCfg, env: ManagerBasedRLEnv):
+        super().__init__(cfg, env)
+        if cfg.heading_command and cfg.ranges.heading is None:
+            raise ValueError("heading_command=True needs ranges.heading=(min, max) radians")
+        if cfg.asset_name not in env.scene:
+            raise ValueError(f"asset_name '{cfg.asset_name}' is not in the scene; entities: {env.scene.keys()}")
+        self.robot = env.scene[cfg.asset_name]
+        n, dev = self.num_envs, self.device
+        self.vel_command_b = torch.zeros(n, 3, device=dev)
+        self.heading_target = torch.zeros(n, device=dev)
+        self.is_heading_env = torch.zeros(n, dtype=torch.bool, device=dev)
+        self.is_standing_env = torch.zeros(n, dtype=torch.bool, device=dev)
+        self.metrics["error_vel_xy"] = torch.zeros(n, device=dev)
+        self.metrics["error_vel_yaw"] = torch.zeros(n, device=dev)
+
+    def __str__(self) -> str:
+        return (
+            f"UniformVelocityCommand: resampling every {self.cfg.resampling_time_range} s,"
+            f" heading command {self.cfg.heading_command}, standing envs {self.cfg.rel_standing_envs}"
+        )
+
+    @property
+    def command(self) -> torch.Tensor:
+        """(num_envs, 3) desired ``(v_x, v_y, w_z)`` in the root frame."""
+        return self.vel_command_b
+
+    def _update_metrics(self) -> None:
+        steps = self.cfg.resampling_time_range[1] / self._env.step_dt
+        data = self.robot.data
+        self.metrics["error_vel_xy"] += (
+            torch.norm(self.vel_command_b[:, :2] - data.root_lin_vel_b[:, :2], dim=-1) / steps
+        )
+        self.metrics["error_vel_yaw"] += torch.abs(self.vel_command_b[:, 2] - data.root_ang_vel_b[:, 2]) / steps
+
+    def _resample_command(self, env_ids: torch.Tensor) -> None:
+        r, n, dev = self.cfg.ranges, len(env_ids), self.device
+        sample = torch.empty(n, device=dev)
+        self.vel_command_b[env_ids, 0] = sample.uniform_(*r.lin_vel_x)
+        self.vel_command_b[env_ids, 1] = sample.uniform_(*r.lin_vel_y)
+        self.vel_command_b[env_ids, 2] = sample.uniform_(*r.ang_vel_z)
+        if self.cfg.heading_command:
+            self.heading_target[env_ids] = sample.uniform_(*r.heading)
+            self.is_heading_env[env_ids] = sample.uniform_(0.0, 1.0) <= self.cfg.rel_heading_envs
+        self.is_standing_env[env_ids] = sample.uniform_(0.0, 1.0) <= self.cfg.rel_standing_envs
+
+    def _update_command(self) -> None:
+        if self.cfg.heading_command:
+            error = math_utils.wrap_to_pi(self.heading_target - self.robot.data.heading_w)
+            yaw_rate = (self.cfg.heading_control_stiffness * error).clip(*self.cfg.ranges.ang_vel_z)
+            self.vel_command_b[:, 2] = torch.where(self.is_heading_env, yaw_rate, self.vel_command_b[:, 2])
+        self.vel_command_b.masked_fill_(self.is_standing_env[:, None], 0.0)

@@ -1,0 +1,366 @@
+"""Event terms: ``func(env, env_ids, ...)``, for resets and domain randomization. Isaac Lab's names
+and meanings.
+
+Randomizations of physical properties change per-world MuJoCo model fields through
+``env.sim.physics.model_field(...)`` (masses, inertias, frictions, gravity), so each env can have
+its own. Distributions are ``"uniform"``, ``"log_uniform"`` or ``"gaussian"``; operations ``"add"``,
+``"scale"`` (multiply the default value) or ``"abs"`` (replace it).
+"""
+
+from __future__ import annotations
+
+import contextlib
+from typing import TYPE_CHECKING, Literal
+
+import torch
+
+import simlab.utils.math as math_utils
+from simlab.managers import SceneEntityCfg
+from simlab.managers.manager_base import ManagerTermBase
+
+if TYPE_CHECKING:
+    from simlab.envs import ManagerBasedEnv
+
+_ROBOT = SceneEntityCfg("robot")
+_POSE_KEYS = ("x", "y", "z", "roll", "pitch", "yaw")
+
+
+def _ids(env: ManagerBasedEnv, env_ids) -> torch.Tensor:
+    if env_ids is None:
+        return torch.arange(env.num_envs, device=env.device)
+    return torch.as_tensor(env_ids, dtype=torch.long, device=env.device)
+
+
+def _range_tensor(ranges: dict[str, tuple[float, float]], device) -> torch.Tensor:
+    unknown = [k for k in ranges if k not in _POSE_KEYS]
+    if unknown:
+        raise ValueError(f"unknown range key(s) {unknown}; allowed: {list(_POSE_KEYS)}")
+    return torch.tensor([ranges.get(k, (0.0, 0.0)) for k in _POSE_KEYS], dtype=torch.float32, device=device)
+
+
+def _sample(distribution: str, params: tuple[float, float], shape, device) -> torch.Tensor:
+    if distribution == "uniform":
+        return math_utils.sample_uniform(params[0], params[1], shape, device)
+    if distribution == "log_uniform":
+        return math_utils.sample_log_uniform(params[0], params[1], shape, device)
+    if distribution == "gaussian":
+        return math_utils.sample_gaussian(params[0], params[1], shape, device)
+    raise ValueError(f"Unknown distribution '{distribution}'; allowed: 'uniform', 'log_uniform', 'gaussian'")
+
+
+def _randomize(default: torch.Tensor, params: tuple[float, float], operation: str, distribution: str) -> torch.Tensor:
+    """``default`` changed by a sample of ``distribution`` with ``operation``."""
+    sample = _sample(distribution, params, tuple(default.shape), default.device)
+    if operation == "add":
+        return default + sample
+    if operation == "scale":
+        return default * sample
+    if operation == "abs":
+        return sample
+    raise ValueError(f"Unknown operation '{operation}'; allowed: 'add', 'scale', 'abs'")
+
+
+def _cols(ids, count: int, device) -> torch.Tensor:
+    """Index tensor for a SceneEntityCfg id list or slice."""
+    if isinstance(ids, slice):
+        return torch.arange(count, device=device)[ids]
+    return torch.as_tensor(ids, dtype=torch.long, device=device)
+
+
+# -- resets ----------------------------------------------------------------------------------------
+
+
+def reset_root_state_uniform(
+    env: ManagerBasedEnv,
+    env_ids: torch.Tensor,
+    pose_range: dict[str, tuple[float, float]],
+    velocity_range: dict[str, tuple[float, float]],
+    asset_cfg: SceneEntityCfg = _ROBOT,
+) -> None:
+    """Default root state (at the env origin) plus uniform offsets of position, orientation
+    (roll/pitch/yaw, composed after the default) and velocity (all in the world frame)."""
+    env_ids = _ids(env, env_ids)
+    asset = env.scene[asset_cfg.name]
+    root = asset.data.default_root_state[env_ids].clone()
+    ranges = _range_tensor(pose_range, env.device)
+    pose = math_utils.sample_uniform(ranges[:, 0], ranges[:, 1], (len(env_ids), 6), env.device)
+    positions = root[:, 0:3] + env.scene.env_origins[env_ids] + pose[:, 0:3]
+    delta = math_utils.quat_from_euler_xyz(pose[:, 3], pose[:, 4], pose[:, 5])
+    orientations = math_utils.quat_mul(root[:, 3:7], delta)
+    ranges = _range_tensor(velocity_range, env.device)
+    velocities = root[:, 7:13] + math_utils.sample_uniform(ranges[:, 0], ranges[:, 1], (len(env_ids), 6), env.device)
+    asset.write_root_pose_to_sim(torch.cat([positions, orientations], dim=-1), env_ids=env_ids)
+    asset.write_root_velocity_to_sim(velocities, env_ids=env_ids)
+
+
+def _write_joints(asset, env_ids: torch.Tensor, joint_ids, pos: torch.Tensor, vel: torch.Tensor) -> None:
+    limits = asset.data.soft_joint_pos_limits[env_ids][:, joint_ids]
+    pos = pos.clamp(limits[..., 0], limits[..., 1])
+    vel_limits = asset.data.soft_joint_vel_limits[env_ids][:, joint_ids]
+    vel = vel.clamp(-vel_limits, vel_limits)
+    asset.write_joint_state_to_sim(pos, vel, joint_ids=joint_ids, env_ids=env_ids)
+
+
+def reset_joints_by_scale(
+    env: ManagerBasedEnv,
+    env_ids: torch.Tensor,
+    position_range: tuple[float, float],
+    velocity_range: tuple[float, float],
+    asset_cfg: SceneEntityCfg = _ROBOT,
+) -> None:
+    """Default joint state multiplied by uniform factors, clamped to the soft limits."""
+    env_ids = _ids(env, env_ids)
+    asset = env.scene[asset_cfg.name]
+    ids = asset_cfg.joint_ids
+    pos = asset.data.default_joint_pos[env_ids][:, ids].clone()
+    vel = asset.data.default_joint_vel[env_ids][:, ids].clone()
+    pos *= math_utils.sample_uniform(*position_range, tuple(pos.shape), env.device)
+    vel *= math_utils.sample_uniform(*velocity_range, tuple(vel.shape), env.device)
+    _write_joints(asset, env_ids, ids, pos, vel)
+
+
+def reset_joints_by_offset(
+    env: ManagerBasedEnv,
+    env_ids: torch.Tensor,
+    position_range: tuple[float, float],
+    velocity_range: tuple[float, float],
+    asset_cfg: SceneEntityCfg = _ROBOT,
+) -> None:
+    """Default joint state plus uniform offsets, clamped to the soft limits."""
+    env_ids = _ids(env, env_ids)
+    asset = env.scene[asset_cfg.name]
+    ids = asset_cfg.joint_ids
+    pos = asset.data.default_joint_pos[env_ids][:, ids].clone()
+    vel = asset.data.default_joint_vel[env_ids][:, ids].clone()
+    pos += math_utils.sample_uniform(*position_range, tuple(pos.shape), env.device)
+    vel += math_utils.sample_uniform(*velocity_range, tuple(vel.shape), env.device)
+    _write_joints(asset, env_ids, ids, pos, vel)
+
+
+def reset_scene_to_default(env: ManagerBasedEnv, env_ids: torch.Tensor, reset_joint_targets: bool = False) -> None:
+    """Every rigid object and articulation back to its default root (and joint) state."""
+    env_ids = _ids(env, env_ids)
+    origins = env.scene.env_origins[env_ids]
+    for asset in (*env.scene.rigid_objects.values(), *env.scene.articulations.values()):
+        root = asset.data.default_root_state[env_ids].clone()
+        root[:, 0:3] += origins
+        asset.write_root_pose_to_sim(root[:, :7], env_ids=env_ids)
+        asset.write_root_velocity_to_sim(root[:, 7:], env_ids=env_ids)
+    for asset in env.scene.articulations.values():
+        pos = asset.data.default_joint_pos[env_ids].clone()
+        vel = asset.data.default_joint_vel[env_ids].clone()
+        asset.write_joint_state_to_sim(pos, vel, env_ids=env_ids)
+        if reset_joint_targets:
+            asset.set_joint_position_target(pos, env_ids=env_ids)
+            asset.set_joint_velocity_target(vel, env_ids=env_ids)
+
+
+# -- disturbances ----------------------------------------------------------------------------------
+
+
+def push_by_setting_velocity(
+    env: ManagerBasedEnv,
+    env_ids: torch.Tensor,
+    velocity_range: dict[str, tuple[float, float]],
+    asset_cfg: SceneEntityCfg = _ROBOT,
+) -> None:
+    """Add uniform random linear/angular velocities (world frame) to the root: a push."""
+    env_ids = _ids(env, env_ids)
+    asset = env.scene[asset_cfg.name]
+    vel = asset.data.root_vel_w[env_ids].clone()
+    ranges = _range_tensor(velocity_range, env.device)
+    vel += math_utils.sample_uniform(ranges[:, 0], ranges[:, 1], tuple(vel.shape), env.device)
+    asset.write_root_velocity_to_sim(vel, env_ids=env_ids)
+
+
+def apply_external_force_torque(
+    env: ManagerBasedEnv,
+    env_ids: torch.Tensor,
+    force_range: tuple[float, float],
+    torque_range: tuple[float, float],
+    asset_cfg: SceneEntityCfg = _ROBOT,
+) -> None:
+    """Uniform random forces and torques (body frame) on the selected bodies, held until changed."""
+    env_ids = _ids(env, env_ids)
+    asset = env.scene[asset_cfg.name]
+    num_bodies = len(asset_cfg.body_ids) if isinstance(asset_cfg.body_ids, list) else asset.num_bodies
+    size = (len(env_ids), num_bodies, 3)
+    forces = math_utils.sample_uniform(*force_range, size, env.device)
+    torques = math_utils.sample_uniform(*torque_range, size, env.device)
+    body_ids = None if isinstance(asset_cfg.body_ids, slice) else asset_cfg.body_ids
+    asset.set_external_force_and_torque(forces, torques, body_ids=body_ids, env_ids=env_ids)
+
+
+# -- physical properties ---------------------------------------------------------------------------
+
+
+def _set_const(env: ManagerBasedEnv, env_ids: torch.Tensor) -> None:
+    """Let derived model constants follow edited masses (the GPU backend keeps its own)."""
+    with contextlib.suppress(NotImplementedError):
+        env.sim.physics.set_const(env_ids)
+
+
+def randomize_rigid_body_mass(
+    env: ManagerBasedEnv,
+    env_ids: torch.Tensor | None,
+    asset_cfg: SceneEntityCfg,
+    mass_distribution_params: tuple[float, float],
+    operation: Literal["add", "scale", "abs"],
+    distribution: Literal["uniform", "log_uniform", "gaussian"] = "uniform",
+    recompute_inertia: bool = True,
+) -> None:
+    """Per-env body masses from the default ones; inertias scale with the mass if ``recompute_inertia``."""
+    env_ids = _ids(env, env_ids)
+    asset = env.scene[asset_cfg.name]
+    physics = env.sim.physics
+    local = _cols(asset_cfg.body_ids, asset.num_bodies, env.device)
+    bodies = asset._body_index[local]
+    default = asset.data.default_mass[env_ids][:, local]
+    masses = _randomize(default, mass_distribution_params, operation, distribution).clamp(min=1e-6)
+    body_mass = physics.model_field("body_mass")
+    body_mass[env_ids[:, None], bodies] = masses
+    if recompute_inertia:
+        ratio = masses / default.clamp(min=1e-9)
+        inertia = asset.data.default_inertia[env_ids][:, local] * ratio[..., None]
+        physics.model_field("body_inertia")[env_ids[:, None], bodies] = inertia
+    _set_const(env, env_ids)
+
+
+class randomize_rigid_body_material(ManagerTermBase):  # noqa: N801 - Isaac Lab's name
+    """Per-env friction of the asset's geoms, drawn from ``num_buckets`` sampled materials.
+
+    MuJoCo has one sliding friction coefficient per geom (``geom_friction[..., 0]``): it takes the
+    static friction sample. MuJoCo has no restitution coefficient; ``restitution_range`` is checked
+    but has no effect (bounciness follows from ``geom_solref``).
+    """
+
+    def __init__(self, cfg, env: ManagerBasedEnv):
+        super().__init__(cfg, env)
+        asset_cfg: SceneEntityCfg = cfg.params["asset_cfg"]
+        asset = env.scene[asset_cfg.name]
+        model = env.sim.model
+        local = _cols(asset_cfg.body_ids, asset.num_bodies, "cpu").tolist()
+        bodies = {asset._body_ids[i] for i in local}
+        geoms = [g for g in range(model.ngeom) if int(model.geom_bodyid[g]) in bodies]
+        if not geoms:
+            raise ValueError(
+                f"randomize_rigid_body_material: asset '{asset_cfg.name}' has no geoms on the selected bodies"
+            )
+        self._geoms = torch.tensor(geoms, dtype=torch.long, device=env.device)
+
+    def __call__(
+        self,
+        env: ManagerBasedEnv,
+        env_ids: torch.Tensor | None,
+        static_friction_range: tuple[float, float],
+        dynamic_friction_range: tuple[float, float],
+        restitution_range: tuple[float, float],
+        num_buckets: int,
+        asset_cfg: SceneEntityCfg,
+        make_consistent: bool = False,
+    ) -> None:
+        env_ids = _ids(env, env_ids)
+        ranges = torch.tensor([static_friction_range, dynamic_friction_range, restitution_range], device=env.device)
+        buckets = math_utils.sample_uniform(ranges[:, 0], ranges[:, 1], (num_buckets, 3), env.device)
+        if make_consistent:
+            buckets[:, 1] = torch.min(buckets[:, 0], buckets[:, 1])
+        choice = torch.randint(0, num_buckets, (len(env_ids), len(self._geoms)), device=env.device)
+        friction = env.sim.physics.model_field("geom_friction")
+        friction[env_ids[:, None], self._geoms, 0] = buckets[choice, 0]
+
+
+def randomize_actuator_gains(
+    env: ManagerBasedEnv,
+    env_ids: torch.Tensor | None,
+    asset_cfg: SceneEntityCfg,
+    stiffness_distribution_params: tuple[float, float] | None = None,
+    damping_distribution_params: tuple[float, float] | None = None,
+    operation: Literal["add", "scale", "abs"] = "abs",
+    distribution: Literal["uniform", "log_uniform", "gaussian"] = "uniform",
+) -> None:
+    """Per-env PD gains of the selected joints' actuators, from the default gains."""
+    env_ids = _ids(env, env_ids)
+    asset = env.scene[asset_cfg.name]
+    joints = _cols(asset_cfg.joint_ids, asset.num_joints, env.device)
+    data = asset.data
+    if stiffness_distribution_params is not None:
+        value = data.joint_stiffness[env_ids].clone()
+        value[:, joints] = _randomize(
+            data.default_joint_stiffness[env_ids][:, joints], stiffness_distribution_params, operation, distribution
+        )
+        asset.write_joint_stiffness_to_sim(value, env_ids=env_ids)
+    if damping_distribution_params is not None:
+        value = data.joint_damping[env_ids].clone()
+        value[:, joints] = _randomize(
+            data.default_joint_damping[env_ids][:, joints], damping_distribution_params, operation, distribution
+        )
+        asset.write_joint_damping_to_sim(value, env_ids=env_ids)
+
+
+class randomize_joint_parameters(ManagerTermBase):  # noqa: N801 - Isaac Lab's name
+    """Per-env joint friction, armature and position limits, from the values at start-up."""
+
+    def __init__(self, cfg, env: ManagerBasedEnv):
+        super().__init__(cfg, env)
+        asset = env.scene[cfg.params["asset_cfg"].name]
+        self._default_friction = asset.data.joint_friction_coeff.clone()
+        self._default_armature = asset.data.joint_armature.clone()
+        self._default_limits = asset.data.joint_pos_limits.clone()
+
+    def __call__(
+        self,
+        env: ManagerBasedEnv,
+        env_ids: torch.Tensor | None,
+        asset_cfg: SceneEntityCfg,
+        friction_distribution_params: tuple[float, float] | None = None,
+        armature_distribution_params: tuple[float, float] | None = None,
+        lower_limit_distribution_params: tuple[float, float] | None = None,
+        upper_limit_distribution_params: tuple[float, float] | None = None,
+        operation: Literal["add", "scale", "abs"] = "abs",
+        distribution: Literal["uniform", "log_uniform", "gaussian"] = "uniform",
+    ) -> None:
+        env_ids = _ids(env, env_ids)
+        asset = env.scene[asset_cfg.name]
+        joints = _cols(asset_cfg.joint_ids, asset.num_joints, env.device)
+        data = asset.data
+        if friction_distribution_params is not None:
+            value = data.joint_friction_coeff[env_ids].clone()
+            value[:, joints] = _randomize(
+                self._default_friction[env_ids][:, joints], friction_distribution_params, operation, distribution
+            ).clamp(min=0.0)
+            asset.write_joint_friction_coefficient_to_sim(value, env_ids=env_ids)
+        if armature_distribution_params is not None:
+            value = data.joint_armature[env_ids].clone()
+            value[:, joints] = _randomize(
+                self._default_armature[env_ids][:, joints], armature_distribution_params, operation, distribution
+            ).clamp(min=0.0)
+            asset.write_joint_armature_to_sim(value, env_ids=env_ids)
+            _set_const(env, env_ids)
+        if lower_limit_distribution_params is not None or upper_limit_distribution_params is not None:
+            limits = data.joint_pos_limits[env_ids].clone()
+            for col, params in ((0, lower_limit_distribution_params), (1, upper_limit_distribution_params)):
+                if params is not None:
+                    limits[:, joints, col] = _randomize(
+                        self._default_limits[env_ids][:, joints, col], params, operation, distribution
+                    )
+            if bool((limits[..., 0] > limits[..., 1]).any()):
+                raise ValueError("randomize_joint_parameters: a sampled lower joint limit exceeds the upper one")
+            asset.write_joint_position_limit_to_sim(limits, env_ids=env_ids)
+
+
+def randomize_physics_scene_gravity(
+    env: ManagerBasedEnv,
+    env_ids: torch.Tensor | None,
+    gravity_distribution_params: tuple[list[float], list[float]],
+    operation: Literal["add", "scale", "abs"],
+    distribution: Literal["uniform", "log_uniform", "gaussian"] = "uniform",
+) -> None:
+    """Per-env gravity vector (``opt.gravity``) from the configured gravity ``cfg.sim.gravity``.
+
+    Isaac Lab's PhysX scene has one gravity for all envs; every MuJoCo world has its own."""
+    env_ids = _ids(env, env_ids)
+    default = torch.tensor(env.cfg.sim.gravity, dtype=torch.float32, device=env.device).repeat(len(env_ids), 1)
+    low = torch.tensor(gravity_distribution_params[0], dtype=torch.float32, device=env.device)
+    high = torch.tensor(gravity_distribution_params[1], dtype=torch.float32, device=env.device)
+    gravity = _randomize(default, (low, high), operation, distribution)
+    env.sim.physics.model_field("opt.gravity")[env_ids] = gravity

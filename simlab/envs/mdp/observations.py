@@ -1,0 +1,112 @@
+"""Observation terms: ``func(env, ...) -> (num_envs, dim)``. Isaac Lab's names and meanings.
+
+Frames: ``_w`` is the world frame (positions without the env origin where noted), ``base_*`` /
+``_b`` the robot's root frame.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import torch
+
+import simlab.utils.math as math_utils
+from simlab.managers import SceneEntityCfg
+
+if TYPE_CHECKING:
+    from simlab.envs import ManagerBasedEnv, ManagerBasedRLEnv
+
+_ROBOT = SceneEntityCfg("robot")
+
+
+# -- root state ------------------------------------------------------------------------------------
+
+
+def base_pos_z(env: ManagerBasedEnv, asset_cfg: SceneEntityCfg = _ROBOT) -> torch.Tensor:
+    """Root height in the world frame (N, 1)."""
+    return env.scene[asset_cfg.name].data.root_pos_w[:, 2:3]
+
+
+def base_lin_vel(env: ManagerBasedEnv, asset_cfg: SceneEntityCfg = _ROBOT) -> torch.Tensor:
+    """Root linear velocity in the root frame (N, 3)."""
+    return env.scene[asset_cfg.name].data.root_lin_vel_b
+
+
+def base_ang_vel(env: ManagerBasedEnv, asset_cfg: SceneEntityCfg = _ROBOT) -> torch.Tensor:
+    """Root angular velocity in the root frame (N, 3)."""
+    return env.scene[asset_cfg.name].data.root_ang_vel_b
+
+
+def projected_gravity(env: ManagerBasedEnv, asset_cfg: SceneEntityCfg = _ROBOT) -> torch.Tensor:
+    """Gravity direction (unit vector) in the root frame (N, 3)."""
+    return env.scene[asset_cfg.name].data.projected_gravity_b
+
+
+def root_pos_w(env: ManagerBasedEnv, asset_cfg: SceneEntityCfg = _ROBOT) -> torch.Tensor:
+    """Root position relative to the env origin, world axes (N, 3)."""
+    return env.scene[asset_cfg.name].data.root_pos_w - env.scene.env_origins
+
+
+def root_quat_w(
+    env: ManagerBasedEnv, make_quat_unique: bool = False, asset_cfg: SceneEntityCfg = _ROBOT
+) -> torch.Tensor:
+    """Root orientation (w, x, y, z) (N, 4); with ``make_quat_unique`` the real part is kept >= 0."""
+    quat = env.scene[asset_cfg.name].data.root_quat_w
+    return math_utils.quat_unique(quat) if make_quat_unique else quat
+
+
+def root_lin_vel_w(env: ManagerBasedEnv, asset_cfg: SceneEntityCfg = _ROBOT) -> torch.Tensor:
+    return env.scene[asset_cfg.name].data.root_lin_vel_w
+
+
+def root_ang_vel_w(env: ManagerBasedEnv, asset_cfg: SceneEntityCfg = _ROBOT) -> torch.Tensor:
+    return env.scene[asset_cfg.name].data.root_ang_vel_w
+
+
+# -- joint state -----------------------------------------------------------------------------------
+
+
+def joint_pos(env: ManagerBasedEnv, asset_cfg: SceneEntityCfg = _ROBOT) -> torch.Tensor:
+    return env.scene[asset_cfg.name].data.joint_pos[:, asset_cfg.joint_ids]
+
+
+def joint_pos_rel(env: ManagerBasedEnv, asset_cfg: SceneEntityCfg = _ROBOT) -> torch.Tensor:
+    """Joint positions minus the default joint positions."""
+    data = env.scene[asset_cfg.name].data
+    return data.joint_pos[:, asset_cfg.joint_ids] - data.default_joint_pos[:, asset_cfg.joint_ids]
+
+
+def joint_pos_limit_normalized(env: ManagerBasedEnv, asset_cfg: SceneEntityCfg = _ROBOT) -> torch.Tensor:
+    """Joint positions scaled to [-1, 1] between the soft joint limits."""
+    data = env.scene[asset_cfg.name].data
+    limits = data.soft_joint_pos_limits[:, asset_cfg.joint_ids]
+    return math_utils.scale_transform(data.joint_pos[:, asset_cfg.joint_ids], limits[..., 0], limits[..., 1])
+
+
+def joint_vel(env: ManagerBasedEnv, asset_cfg: SceneEntityCfg = _ROBOT) -> torch.Tensor:
+    return env.scene[asset_cfg.name].data.joint_vel[:, asset_cfg.joint_ids]
+
+
+def joint_vel_rel(env: ManagerBasedEnv, asset_cfg: SceneEntityCfg = _ROBOT) -> torch.Tensor:
+    """Joint velocities minus the default joint velocities."""
+    data = env.scene[asset_cfg.name].data
+    return data.joint_vel[:, asset_cfg.joint_ids] - data.default_joint_vel[:, asset_cfg.joint_ids]
+
+
+def joint_effort(env: ManagerBasedEnv, asset_cfg: SceneEntityCfg = _ROBOT) -> torch.Tensor:
+    """Efforts the actuators applied to the joints in the last physics step."""
+    return env.scene[asset_cfg.name].data.applied_torque[:, asset_cfg.joint_ids]
+
+
+# -- actions and commands --------------------------------------------------------------------------
+
+
+def last_action(env: ManagerBasedEnv, action_name: str | None = None) -> torch.Tensor:
+    """The last action (all terms), or the raw action of the term ``action_name``."""
+    if action_name is None:
+        return env.action_manager.action
+    return env.action_manager.get_term(action_name).raw_actions
+
+
+def generated_commands(env: ManagerBasedRLEnv, command_name: str) -> torch.Tensor:
+    return env.command_manager.get_command(command_name)

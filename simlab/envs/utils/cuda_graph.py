@@ -1,0 +1,188 @@
+"""The GPU fast path: a whole env step replayed as one CUDA graph.
+
+On the GPU an env step is a few hundred small kernels (action processing, the decimated physics
+steps, dones, rewards, resets, observations). Launched one by one from Python they cost more than
+the physics itself at a few thousand envs, and the resets' ``nonzero()`` stalls the pipeline every
+step. ``CudaGraphStep`` records the step once with ``torch.cuda.graph`` (MuJoCo Warp's kernels join
+the same capture on the same stream) and then replays it for each call.
+
+A graph has fixed shapes, so resets are done by mask instead of by index: the step resets *every*
+env and keeps the reset state only where the env finished. Which tensors a reset touches is learnt
+once, eagerly, from a full reset (the physics state plus every env-sized tensor whose in-place
+version counter moved); those are saved before the reset and blended back after it::
+
+    saved = [t.clone() for t in touched]
+    env._reset_idx(all_envs)
+    t.copy_(torch.where(finished, t, saved))   # for each touched tensor
+
+What cannot be captured (a task hook that synchronises, reads ``.item()``, or copies from the
+host) makes the capture fail; the env then keeps stepping eagerly and says so once. Returned
+tensors are the graph's static buffers: the next step overwrites them, as with Isaac Lab's buffers.
+Finite actions are checked on the device and reported at the next periodic check (every
+``check_interval`` steps), since checking each step would stall the pipeline.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Callable, Iterable
+from typing import Any
+
+import torch
+
+logger = logging.getLogger(__name__)
+
+# MjData fields that hold a world's dynamic state: what a reset may write, what a blend restores.
+PHYSICS_STATE = (
+    "qpos",
+    "qvel",
+    "act",
+    "ctrl",
+    "mocap_pos",
+    "mocap_quat",
+    "qfrc_applied",
+    "xfrc_applied",
+    "qacc_warmstart",
+)
+
+
+def env_sized_tensors(root: Any, num_envs: int, device: torch.device, depth: int = 4) -> list[torch.Tensor]:
+    """Tensors of leading size ``num_envs`` on ``device`` reachable from ``root``'s attributes.
+
+    Walks attributes, dicts, lists and tuples of simlab objects (env, scene, assets, managers,
+    terms, actuators) and of the task, not into foreign libraries.
+    """
+    found: dict[int, torch.Tensor] = {}
+    seen: set[int] = set()
+
+    def visit(obj: Any, level: int) -> None:
+        if isinstance(obj, torch.Tensor):
+            if obj.dim() > 0 and obj.shape[0] == num_envs and obj.device == device:
+                found.setdefault(id(obj), obj)
+            return
+        if level > depth or id(obj) in seen:
+            return
+        seen.add(id(obj))
+        if isinstance(obj, dict):
+            children: Iterable = obj.values()
+        elif isinstance(obj, (list, tuple)):
+            children = obj
+        elif hasattr(obj, "__dict__") and _is_simlab_or_task(obj):
+            children = vars(obj).values()
+        else:
+            return
+        for child in children:
+            visit(child, level + 1)
+
+    visit(root, 0)
+    return list(found.values())
+
+
+def _is_simlab_or_task(obj: Any) -> bool:
+    module = type(obj).__module__
+    return not module.startswith(("torch", "numpy", "mujoco", "warp", "gymnasium", "builtins"))
+
+
+class CudaGraphStep:
+    """Replays ``step_fn(actions)`` as one CUDA graph; see the module docstring.
+
+    Args:
+        env: the env (for ``num_envs``, ``device``, ``sim`` and ``_reset_idx``).
+        step_fn: the env step written with :meth:`masked_reset` instead of index resets; it
+            returns the step's outputs (tensors, or dicts/tuples of tensors).
+        warmup: eager calls before the capture (lazy initialisation must not be captured).
+        check_interval: replays between two checks of actions and physics buffers (each a sync).
+    """
+
+    def __init__(self, env, step_fn: Callable[[torch.Tensor], Any], warmup: int = 2, check_interval: int = 100):
+        self.env = env
+        self.step_fn = step_fn
+        self.warmup = warmup
+        self.check_interval = check_interval
+        self.graph: torch.cuda.CUDAGraph | None = None
+        self.failed: str | None = None
+        self._calls = 0
+        self._touched: list[torch.Tensor] | None = None
+        self._static_action: torch.Tensor | None = None
+        self._outputs: Any = None
+        self._nonfinite = torch.zeros((), dtype=torch.bool, device=env.device)
+
+    # -- masked resets ---------------------------------------------------------------------------
+
+    def learn_reset_footprint(self) -> None:
+        """Find what a full reset writes: run ``env._reset_idx`` on all envs, eagerly, once."""
+        env = self.env
+        physics = env.sim.physics
+        state = [physics.data(name) for name in PHYSICS_STATE if _has_field(physics, name)]
+        candidates = env_sized_tensors(env, env.num_envs, torch.device(env.device))
+        before = {id(t): t._version for t in candidates}
+        env._reset_idx(env._all_env_ids)
+        after = env_sized_tensors(env, env.num_envs, torch.device(env.device))
+        touched = {id(t): t for t in state}
+        for t in after:
+            if before.get(id(t)) != t._version:  # written in place, or a new tensor
+                touched.setdefault(id(t), t)
+        self._touched = list(touched.values())
+
+    def masked_reset(self, finished: torch.Tensor) -> None:
+        """Reset the envs where ``finished`` is True without data-dependent shapes."""
+        env = self.env
+        if self._touched is None:
+            raise RuntimeError("learn_reset_footprint() must run before masked_reset()")
+        saved = [t.clone() for t in self._touched]
+        env._reset_idx(env._all_env_ids)
+        for tensor, old in zip(self._touched, saved):
+            mask = finished.view(-1, *([1] * (tensor.dim() - 1)))
+            tensor.copy_(torch.where(mask, tensor, old))
+
+    # -- stepping --------------------------------------------------------------------------------
+
+    def __call__(self, action: torch.Tensor) -> Any:
+        self._nonfinite |= ~torch.isfinite(action).all()
+        self._calls += 1
+        if self.graph is None and self.failed is None and self._calls > self.warmup:
+            self._capture(action)
+        if self.graph is None:
+            outputs = self.step_fn(action)
+        else:
+            self._static_action.copy_(action)
+            self.graph.replay()
+            outputs = self._outputs
+        if self._calls % self.check_interval == 0:
+            self.check()
+        return outputs
+
+    def check(self) -> None:
+        """Raise if an action since the last check was not finite, or a physics buffer overflowed."""
+        if bool(self._nonfinite):
+            self._nonfinite.zero_()
+            raise ValueError(
+                f"Actions contained NaN or inf in a step among the last {self.check_interval} (the GPU fast path "
+                "checks periodically); actions must be finite"
+            )
+        check_overflow = getattr(self.env.sim.physics, "check_overflow", None)
+        if check_overflow is not None:
+            check_overflow()
+
+    def _capture(self, action: torch.Tensor) -> None:
+        self._static_action = action.detach().clone()
+        graph = torch.cuda.CUDAGraph()
+        try:
+            torch.cuda.synchronize()
+            with torch.cuda.graph(graph):
+                self._outputs = self.step_fn(self._static_action)
+            self.graph = graph
+        except Exception as err:  # noqa: BLE001 - any capture failure means: stay eager
+            self.failed = f"{type(err).__name__}: {err}"
+            self._outputs = None
+            torch.cuda.synchronize()
+            logger.warning("CUDA-graph capture of the env step failed; stepping eagerly. (%s)", self.failed)
+            print(f"[simlab] CUDA-graph capture of the env step failed, stepping eagerly: {self.failed}")
+
+
+def _has_field(physics, name: str) -> bool:
+    try:
+        physics.data(name)
+    except ValueError:
+        return False
+    return True

@@ -1,0 +1,110 @@
+"""The ``simlab`` command: a short train + play + export per library, resume, errors, videos, Ctrl+C."""
+
+from __future__ import annotations
+
+import glob
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+import torch
+
+from simlab.cli.main import main
+
+TASK = "simlab/Cartpole-v0"
+SMALL = ["--task", TASK, "--num_envs", "16", "--headless", "--device", "cpu"]
+LIBRARIES = ["rsl_rl", "skrl", "sb3", "rl_games"]
+
+
+def _run(tmp_path, *argv) -> int:
+    return main([*argv, "--log_root", str(tmp_path / "logs")])
+
+
+def _only_run(tmp_path, library):
+    runs = glob.glob(str(tmp_path / "logs" / library / "*" / "*"))
+    assert len(runs) == 1, runs
+    return runs[0]
+
+
+@pytest.mark.parametrize("library", LIBRARIES)
+def test_train_play_export(tmp_path, library):
+    seed = "agent.params.seed=5" if library == "rl_games" else "agent.seed=5"
+    assert _run(tmp_path, "train", *SMALL, "--library", library, "--max_iterations", "2", seed) == 0
+    run = _only_run(tmp_path, library)
+    for name in ("env.yaml", "agent.yaml", "command.txt"):
+        assert os.path.isfile(os.path.join(run, "params", name))
+    assert "--max_iterations 2" in open(os.path.join(run, "params", "command.txt")).read()
+    assert glob.glob(os.path.join(run, "**", "events.out.tfevents.*"), recursive=True)
+
+    assert _run(tmp_path, "play", *SMALL, "--library", library, "--use_last_checkpoint", "--steps", "3") == 0
+    exported = glob.glob(os.path.join(run, "**", "exported"), recursive=True)
+    assert len(exported) == 1
+    ort = pytest.importorskip("onnxruntime")
+    obs = np.random.default_rng(0).standard_normal((5, 4)).astype(np.float32)
+    (onnx_actions,) = ort.InferenceSession(os.path.join(exported[0], "policy.onnx")).run(["actions"], {"obs": obs})
+    jit_actions = torch.jit.load(os.path.join(exported[0], "policy.pt"))(torch.from_numpy(obs)).detach().numpy()
+    assert onnx_actions.shape == (5, 1)
+    np.testing.assert_allclose(onnx_actions, jit_actions, atol=1e-5)
+
+
+def test_resume_continues_iterations(tmp_path):
+    assert _run(tmp_path, "train", *SMALL, "--max_iterations", "2", "agent.save_interval=1") == 0
+    first = _only_run(tmp_path, "rsl_rl")
+    ckpt = os.path.join(first, "model_1.pt")
+    assert os.path.isfile(ckpt)
+    time.sleep(1.1)  # a new time-stamped run folder
+    assert _run(tmp_path, "train", *SMALL, "--max_iterations", "2", "--checkpoint", ckpt) == 0
+    second = max(glob.glob(str(tmp_path / "logs" / "rsl_rl" / "*" / "*")))
+    assert second != first
+    saved = torch.load(os.path.join(second, "model_2.pt"), weights_only=False)
+    assert saved["iter"] == 2 and "optimizer_state_dict" in saved
+
+
+def test_errors_are_clear(tmp_path, capsys):
+    assert _run(tmp_path, "train", "--task", "simlab/Cartpol-v0") == 2
+    assert "Cartpole-v0" in capsys.readouterr().err
+    assert _run(tmp_path, "play", *SMALL, "--use_last_checkpoint") == 2
+    err = capsys.readouterr().err
+    assert "No checkpoint" in err and "logs" in err
+    assert _run(tmp_path, "train", *SMALL, "--distributed") == 2
+    assert "not yet supported" in capsys.readouterr().err
+    assert _run(tmp_path, "train", *SMALL, "env.actions.joint_efort.scale=1") == 2
+    assert "joint_effort" in capsys.readouterr().err
+    with pytest.raises(SystemExit):
+        _run(tmp_path, "train", *SMALL, "--no_such_flag")
+
+
+def test_list_random_zero(tmp_path, capsys):
+    assert main(["list", "--keyword", "cartpole"]) == 0
+    out = capsys.readouterr().out
+    assert "simlab/Cartpole-v0" in out and "simlab/Ant-Direct-v0" not in out
+    assert _run(tmp_path, "random", *SMALL, "--steps", "3") == 0
+    assert _run(tmp_path, "zero", "--task", "simlab/Cart-Double-Pendulum-Direct-v0", "--num_envs", "2",
+                "--steps", "3") == 0
+
+
+def test_train_video(tmp_path):
+    assert _run(tmp_path, "train", "--task", TASK, "--num_envs", "4", "--max_iterations", "1", "--video",
+                "--video_length", "5", "--video_interval", "8") == 0
+    videos = glob.glob(os.path.join(_only_run(tmp_path, "rsl_rl"), "videos", "train", "*.mp4"))
+    assert videos and os.path.getsize(videos[0]) > 0
+
+
+def test_python_m_simlab_and_ctrl_c_saves(tmp_path):
+    cmd = [sys.executable, "-m", "simlab", "train", *SMALL, "--max_iterations", "100000",
+           "--log_root", str(tmp_path / "logs")]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
+    deadline = time.time() + 60
+    while time.time() < deadline and not glob.glob(str(tmp_path / "logs" / "rsl_rl" / "*" / "*" / "model_0.pt")):
+        time.sleep(0.2)
+    proc.send_signal(signal.SIGINT)
+    out, _ = proc.communicate(timeout=60)
+    assert proc.returncode == 130, out.decode()[-2000:]
+    run = _only_run(tmp_path, "rsl_rl")
+    saved = [f for f in os.listdir(run) if f.startswith("model_") and f != "model_0.pt"]
+    assert saved, out.decode()[-2000:]
+    assert b"Interrupted: saved" in out

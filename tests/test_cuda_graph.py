@@ -1,0 +1,86 @@
+"""The GPU fast path: masked resets (checked on the CPU) and the captured env step (on the GPU)."""
+
+from __future__ import annotations
+
+import pytest
+import torch
+from conftest import cuda_available
+
+from simlab.envs.utils.cuda_graph import CudaGraphStep
+from simlab.tasks.direct.cartpole.cartpole_env import CartpoleEnv, CartpoleEnvCfg
+
+
+def make_env(device: str, num_envs: int = 16, use_cuda_graph: bool = True, seed: int = 7) -> CartpoleEnv:
+    cfg = CartpoleEnvCfg()
+    cfg.scene.num_envs = num_envs
+    cfg.sim.device = device
+    cfg.sim.use_cuda_graph = use_cuda_graph
+    cfg.seed = seed
+    return CartpoleEnv(cfg)
+
+
+def test_masked_reset_matches_index_reset_outside_the_finished_envs():
+    """The masked path (eager, on the CPU) changes finished envs only, as the index path does."""
+    masked, eager = make_env("cpu"), make_env("cpu")
+    masked._cuda_graph = CudaGraphStep(masked, masked._graph_step, warmup=10**9)  # never captures on CPU
+    obs_m, _ = masked.reset(seed=3)
+    obs_e, _ = eager.reset(seed=3)
+    torch.testing.assert_close(obs_m["policy"], obs_e["policy"])
+    actions = torch.full((16, 1), 0.3)
+    resets = 0
+    for _ in range(120):
+        obs_m, rew_m, term_m, trunc_m, extras_m = masked.step(actions)
+        obs_e, rew_e, term_e, trunc_e, extras_e = eager.step(actions)
+        # dones and rewards come before the reset: identical on both paths
+        torch.testing.assert_close(term_m, term_e)
+        torch.testing.assert_close(rew_m, rew_e)
+        done = term_m | trunc_m
+        kept = ~done
+        torch.testing.assert_close(obs_m["policy"][kept], obs_e["policy"][kept])
+        torch.testing.assert_close(extras_m["final_obs"]["policy"], extras_e["final_obs"]["policy"])
+        if done.any():
+            resets += int(done.sum())
+            # reset envs start a new episode from the task's ranges (random draws differ by path)
+            pole = obs_m["policy"][done, 0].abs()
+            assert (pole <= 0.25 * torch.pi + 1e-5).all()
+            assert (masked.episode_length_buf[done] == 0).all()
+            # bring the eager env to the masked one's state so the comparison goes on
+            eager.cartpole.write_joint_state_to_sim(masked.cartpole.data.joint_pos, masked.cartpole.data.joint_vel)
+            eager.sim.forward()
+        torch.testing.assert_close(masked.episode_length_buf, eager.episode_length_buf)
+    assert resets > 0, "the test must see resets"
+    masked.close()
+    eager.close()
+
+
+def test_reset_footprint_covers_task_buffers():
+    env = make_env("cpu")
+    graph = CudaGraphStep(env, env._graph_step)
+    graph.learn_reset_footprint()
+    touched = {id(t) for t in graph._touched}
+    assert id(env.episode_length_buf) in touched
+    assert id(env.sim.physics.data("qpos")) in touched
+    env.close()
+
+
+@pytest.mark.gpu
+@pytest.mark.skipif(not cuda_available(), reason="needs an NVIDIA GPU and mujoco-warp")
+def test_captured_step_matches_eager_step_on_gpu():
+    graphed, eager = make_env("cuda:0", 256), make_env("cuda:0", 256, use_cuda_graph=False)
+    graphed.reset(seed=3)
+    eager.reset(seed=3)
+    actions = torch.zeros(256, 1, device="cuda:0")
+    for i in range(20):  # before any episode ends (the pole needs longer to fall past 90 degrees)
+        obs_g, rew_g, *_ = graphed.step(actions)
+        obs_e, rew_e, *_ = eager.step(actions)
+        torch.testing.assert_close(obs_g["policy"], obs_e["policy"], atol=1e-4, rtol=1e-4, msg=f"step {i}")
+        torch.testing.assert_close(rew_g, rew_e, atol=1e-4, rtol=1e-4)
+    assert graphed._cuda_graph.failed is None, graphed._cuda_graph.failed
+    assert graphed._cuda_graph.graph is not None
+    # and it keeps running through resets
+    for _ in range(400):
+        obs_g, *_ = graphed.step(torch.rand(256, 1, device="cuda:0") * 2 - 1)
+    assert torch.isfinite(obs_g["policy"]).all()
+    assert (graphed.episode_length_buf < graphed.max_episode_length).all()
+    graphed.close()
+    eager.close()

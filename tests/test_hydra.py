@@ -1,0 +1,82 @@
+"""Hydra-style overrides of env and agent configs."""
+
+from __future__ import annotations
+
+import sys
+
+import pytest
+
+from simlab.tasks.utils import apply_overrides, hydra_task_config, load_cfg_from_registry
+from simlab.tasks.utils.hydra import OverrideError, parse_override
+
+
+@pytest.fixture
+def cfgs():
+    env = load_cfg_from_registry("simlab/Cartpole-v0", "env_cfg_entry_point")
+    agent = load_cfg_from_registry("simlab/Cartpole-v0", "rsl_rl_cfg_entry_point")
+    return env, agent
+
+
+def test_parse_override_values():
+    assert parse_override("env.a.b=10") == (["env", "a", "b"], 10, False)
+    assert parse_override("agent.x=0.5")[1] == 0.5
+    assert parse_override("agent.x=null")[1] is None
+    assert parse_override("agent.x=[1, 2]")[1] == [1, 2]
+    assert parse_override("agent.x=hello")[1] == "hello"
+    assert parse_override("+agent.x=true") == (["agent", "x"], True, True)
+
+
+def test_override_env_and_agent(cfgs):
+    env, agent = cfgs
+    apply_overrides(env, agent, ["env.actions.joint_effort.scale=10", "agent.seed=2024", "env.scene.num_envs=8",
+                                 "agent.actor.hidden_dims=[16, 16]"])
+    assert env.actions.joint_effort.scale == 10
+    assert agent.seed == 2024 and env.scene.num_envs == 8
+    assert agent.actor.hidden_dims == [16, 16]
+
+
+def test_null_removes_a_term(cfgs):
+    env, agent = cfgs
+    term = next(name for name in vars(env.rewards) if getattr(env.rewards, name) is not None)
+    apply_overrides(env, agent, [f"env.rewards.{term}=null"])
+    assert getattr(env.rewards, term) is None
+
+
+def test_wrong_key_names_nearest(cfgs):
+    env, agent = cfgs
+    with pytest.raises(OverrideError, match="joint_effort") as e:
+        apply_overrides(env, agent, ["env.actions.joint_efort.scale=10"])
+    assert "Nearest valid keys" in str(e.value)
+    with pytest.raises(OverrideError, match="'seed'"):
+        apply_overrides(env, agent, ["agent.sed=1"])
+    with pytest.raises(OverrideError, match="Did you mean 'agent.seed'"):
+        apply_overrides(env, agent, ["agnt.seed=1"])
+
+
+def test_type_checks(cfgs):
+    env, agent = cfgs
+    with pytest.raises(OverrideError, match="number"):
+        apply_overrides(env, agent, ["env.scene.num_envs=many"])
+    with pytest.raises(OverrideError, match="not an override"):
+        apply_overrides(env, agent, ["--num_envs"])
+
+
+def test_dict_agent_and_new_keys():
+    env = load_cfg_from_registry("simlab/Cartpole-v0", "env_cfg_entry_point")
+    agent = load_cfg_from_registry("simlab/Cartpole-v0", "skrl_cfg_entry_point")
+    apply_overrides(env, agent, ["agent.agent.rollouts=8", "+agent.agent.new_key=1"])
+    assert agent["agent"]["rollouts"] == 8 and agent["agent"]["new_key"] == 1
+    with pytest.raises(OverrideError, match="rollouts"):
+        apply_overrides(env, agent, ["agent.agent.rolouts=8"])
+
+
+def test_hydra_task_config_decorator(monkeypatch):
+    monkeypatch.setattr(sys, "argv", ["train.py", "env.scene.num_envs=3", "agent.max_iterations=7"])
+    seen = {}
+
+    @hydra_task_config("simlab/Cartpole-v0", "rsl_rl_cfg_entry_point")
+    def main(env_cfg, agent_cfg):
+        seen["env"], seen["agent"] = env_cfg, agent_cfg
+
+    main()
+    assert seen["env"].scene.num_envs == 3 and seen["agent"].max_iterations == 7
