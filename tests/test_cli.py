@@ -37,7 +37,8 @@ def test_train_play_export(tmp_path, library):
     run = _only_run(tmp_path, library)
     for name in ("env.yaml", "agent.yaml", "command.txt"):
         assert os.path.isfile(os.path.join(run, "params", name))
-    assert "--max_iterations 2" in open(os.path.join(run, "params", "command.txt")).read()
+    with open(os.path.join(run, "params", "command.txt")) as f:
+        assert "--max_iterations 2" in f.read()
     assert glob.glob(os.path.join(run, "**", "events.out.tfevents.*"), recursive=True)
 
     assert _run(tmp_path, "play", *SMALL, "--library", library, "--use_last_checkpoint", "--steps", "3") == 0
@@ -101,6 +102,7 @@ def test_python_m_simlab_and_ctrl_c_saves(tmp_path):
     deadline = time.time() + 60
     while time.time() < deadline and not glob.glob(str(tmp_path / "logs" / "rsl_rl" / "*" / "*" / "model_0.pt")):
         time.sleep(0.2)
+    time.sleep(2.0)  # a few iterations past the first checkpoint
     proc.send_signal(signal.SIGINT)
     out, _ = proc.communicate(timeout=60)
     assert proc.returncode == 130, out.decode()[-2000:]

@@ -33,9 +33,8 @@ def test_mlp_with_normalizer(tmp_path):
 
 
 def test_rsl_rl_model(tmp_path):
-    from tensordict import TensorDict
-
     from rsl_rl.models import MLPModel
+    from tensordict import TensorDict
 
     obs = TensorDict({"policy": torch.randn(3, 6)}, batch_size=[3])
     model = MLPModel(obs, {"actor": ["policy"]}, "actor", 2, hidden_dims=[8], obs_normalization=True,

@@ -28,6 +28,7 @@ from simlab.managers import CommandManager, CurriculumManager, RewardManager, Te
 from .common import VecEnvObs, VecEnvStepReturn
 from .manager_based_env import ManagerBasedEnv
 from .manager_based_rl_env_cfg import ManagerBasedRLEnvCfg
+from .utils.cuda_graph import CudaGraphStep
 
 
 class ManagerBasedRLEnv(ManagerBasedEnv, gym.Env):
@@ -47,6 +48,12 @@ class ManagerBasedRLEnv(ManagerBasedEnv, gym.Env):
         super().__init__(cfg)
         self.episode_length_buf = torch.zeros(self.num_envs, dtype=torch.long, device=self.device)
         self.metadata = dict(self.metadata, render_fps=1.0 / self.step_dt)
+        self._all_env_ids = torch.arange(self.num_envs, dtype=torch.long, device=self.device)
+        # The GPU fast path (simlab.envs.utils.cuda_graph); interval events and curricula run on the host.
+        self._cuda_graph = None
+        host_driven = "interval" in self.event_manager.available_modes or self.curriculum_manager.active_terms
+        if "cuda" in self.device and cfg.sim.use_cuda_graph and not host_driven:
+            self._cuda_graph = CudaGraphStep(self, self._graph_step)
         print("[INFO]: Completed setting up the environment...")
 
     # -- properties --------------------------------------------------------------------------------
@@ -95,6 +102,8 @@ class ManagerBasedRLEnv(ManagerBasedEnv, gym.Env):
     # -- operations --------------------------------------------------------------------------------
 
     def step(self, action: torch.Tensor) -> VecEnvStepReturn:
+        if self._cuda_graph is not None:
+            return self._step_graphed(action)
         self.action_manager.process_action(action)
         self._physics_steps()
 
@@ -125,7 +134,60 @@ class ManagerBasedRLEnv(ManagerBasedEnv, gym.Env):
         self, seed: int | None = None, env_ids: Sequence[int] | torch.Tensor | None = None, options: dict | None = None
     ) -> tuple[VecEnvObs, dict]:
         self.extras.pop("final_obs", None)
-        return super().reset(seed=seed, env_ids=env_ids, options=options)
+        if self._cuda_graph is not None and env_ids is None:
+            # A full reset that also notes what a reset writes (for the masked resets of the graph).
+            self._learn_footprint = True
+        try:
+            return super().reset(seed=seed, env_ids=env_ids, options=options)
+        finally:
+            self._learn_footprint = False
+
+    def _step_graphed(self, action: torch.Tensor) -> VecEnvStepReturn:
+        """``step`` on the GPU fast path: the same order of work, replayed as one CUDA graph.
+
+        Episode logs are masked means over the envs that finished; like the eager step, they are
+        refreshed only in steps where some env finished (one host read of a flag per step).
+        """
+        action = action.to(device=self.device, dtype=torch.float32)
+        if action.shape != (self.num_envs, self.action_manager.total_action_dim):
+            self.action_manager.process_action(action)  # raises with the expected shape
+        if self._cuda_graph._touched is None:
+            self.reset()
+        obs, reward, terminated, truncated, final_obs, log = self._cuda_graph(action)
+        self._sim_step_counter += self.cfg.decimation
+        self.common_step_counter += 1
+        self.obs_buf, self.reward_buf = obs, reward
+        self.reset_terminated, self.reset_time_outs = terminated, truncated
+        self.extras["time_outs"] = truncated
+        if bool(self.reset_buf.any()):
+            self.extras["final_obs"] = final_obs
+            self.extras["log"] = {name: value.clone() for name, value in log.items()}  # the next replay overwrites
+        else:
+            self.extras.pop("final_obs", None)
+        return obs, reward, terminated, truncated, self.extras
+
+    def _graph_step(self, action: torch.Tensor):
+        """The body of a graphed step: fixed shapes, resets by mask (see ``CudaGraphStep``)."""
+        self.action_manager.process_action(action)
+        for _ in range(self.cfg.decimation):
+            self.action_manager.apply_action()
+            self.scene.write_data_to_sim()
+            self.sim.physics.step(1)
+            self.scene.update(dt=self.physics_dt)
+        self.episode_length_buf += 1
+        self.reset_buf = self.termination_manager.compute()
+        terminated, truncated = self.termination_manager.terminated, self.termination_manager.time_outs
+        reward = self.reward_manager.compute(dt=self.step_dt)
+        log = {
+            **self.reward_manager.episode_log(self.reset_buf),
+            **self.termination_manager.episode_log(self.reset_buf),
+        }
+        final_obs = self.observation_manager.compute(update_history=False)
+        self._cuda_graph.masked_reset(self.reset_buf)
+        self.sim.physics.forward()
+        self.command_manager.compute(dt=self.step_dt)
+        obs = self.observation_manager.compute(update_history=True)
+        return obs, reward, terminated, truncated, final_obs, log
 
     def render(self, recompute: bool = False) -> np.ndarray | None:
         """``rgb_array``: an (H, W, 3) uint8 image of env ``cfg.viewer.env_index``; ``human``: show it
@@ -147,6 +209,10 @@ class ManagerBasedRLEnv(ManagerBasedEnv, gym.Env):
     # -- helpers -------------------------------------------------------------------------------------
 
     def _reset_idx(self, env_ids: torch.Tensor) -> None:
+        if getattr(self, "_learn_footprint", False):
+            self._learn_footprint = False
+            self._cuda_graph.learn_reset_footprint()  # runs _reset_idx on every env
+            return
         self.curriculum_manager.compute(env_ids=env_ids)
         self.scene.reset(env_ids)
         if "reset" in self.event_manager.available_modes:

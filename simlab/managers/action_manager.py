@@ -11,6 +11,8 @@ from typing import TYPE_CHECKING
 
 import torch
 
+from simlab.utils.cuda import is_capturing
+
 from .manager_base import ManagerBase, ManagerTermBase, cfg_items, format_table
 from .manager_term_cfg import ActionTermCfg
 
@@ -119,7 +121,7 @@ class ActionManager(ManagerBase):
                 f" (action terms: {dict(zip(self.active_terms, self.action_term_dim))})"
             )
         action = action.to(device=self.device, dtype=torch.float32)
-        if self._check_finite and not bool(torch.isfinite(action).all()):
+        if self._check_finite and not is_capturing() and not bool(torch.isfinite(action).all()):
             bad = (~torch.isfinite(action)).any(dim=1).nonzero().flatten().tolist()
             raise ValueError(
                 f"The action contains NaN or inf in env(s) {bad[:10]}{'...' if len(bad) > 10 else ''};"

@@ -11,6 +11,8 @@ from typing import TYPE_CHECKING
 
 import torch
 
+from simlab.utils.cuda import is_capturing
+
 from .manager_base import ManagerBase, ManagerTermBase, cfg_items, format_table
 from .manager_term_cfg import RewardTermCfg
 
@@ -58,12 +60,27 @@ class RewardManager(ManagerBase):
         if not self._terms:
             return self._reward_buf
         values = [self._zeros if cfg.weight == 0.0 else cfg.func(self._env, **cfg.params) for _, cfg in self._terms]
-        # Weights are read every step: curricula may change them.
-        weights = torch.tensor([cfg.weight for _, cfg in self._terms], device=self.device)
-        torch.mul(torch.stack(values, dim=1), weights, out=self._step_reward)
+        # Weights are refreshed from the term configs every step (curricula may change them); the
+        # copy goes through a host buffer so a captured step reads the current values on replay.
+        torch.mul(torch.stack(values, dim=1), self._current_weights(), out=self._step_reward)
         self._episode_sums.add_(self._step_reward, alpha=dt)
         torch.sum(self._step_reward, dim=1, out=self._reward_buf).mul_(dt)
         return self._reward_buf
+
+    def _current_weights(self) -> torch.Tensor:
+        if not hasattr(self, "_weights"):
+            self._weights = torch.zeros(len(self._terms), device=self.device)
+            self._weights_host = torch.zeros(len(self._terms), pin_memory=torch.cuda.is_available())
+        if not is_capturing():
+            self._weights_host.copy_(torch.tensor([cfg.weight for _, cfg in self._terms]))
+            self._weights.copy_(self._weights_host, non_blocking=True)
+        return self._weights
+
+    def episode_log(self, finished: torch.Tensor) -> dict[str, torch.Tensor]:
+        """``Episode_Reward/<term>`` of the finished envs (a mask), as ``reset`` reports them."""
+        count = finished.sum().clamp(min=1)
+        means = (self._episode_sums * finished[:, None]).sum(dim=0) / count / self._env.max_episode_length_s
+        return {"Episode_Reward/" + name: means[i] for i, (name, _) in enumerate(self._terms)}
 
     def get_term_cfg(self, term_name: str) -> RewardTermCfg:
         for name, cfg in self._terms:
@@ -75,6 +92,7 @@ class RewardManager(ManagerBase):
         for i, (name, _) in enumerate(self._terms):
             if name == term_name:
                 self._terms[i] = (name, cfg)
+                self._current_weights()  # a captured step reads the weights tensor, not the configs
                 return
         raise KeyError(f"No reward term '{term_name}'; reward terms: {self.active_terms}")
 

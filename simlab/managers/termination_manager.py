@@ -77,6 +77,11 @@ class TerminationManager(ManagerBase):
             term.reset(env_ids)
         return extras
 
+    def episode_log(self, finished: torch.Tensor) -> dict[str, torch.Tensor]:
+        """``Episode_Termination/<term>`` counts among the finished envs (a mask), as ``reset``."""
+        counts = (self._term_dones & finished[:, None]).sum(dim=0)
+        return {"Episode_Termination/" + name: counts[i] for i, (name, _) in enumerate(self._terms)}
+
     def compute(self) -> torch.Tensor:
         """(num_envs,) bool: which envs are done after this step."""
         self._truncated_buf.zero_()

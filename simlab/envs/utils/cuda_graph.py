@@ -110,7 +110,10 @@ class CudaGraphStep:
     # -- masked resets ---------------------------------------------------------------------------
 
     def learn_reset_footprint(self) -> None:
-        """Find what a full reset writes: run ``env._reset_idx`` on all envs, eagerly, once."""
+        """Find what a full reset writes: run ``env._reset_idx`` on all envs, eagerly, once.
+
+        Call it where the env resets every env anyway (``reset()``), in place of that reset.
+        """
         env = self.env
         physics = env.sim.physics
         state = [physics.data(name) for name in PHYSICS_STATE if _has_field(physics, name)]

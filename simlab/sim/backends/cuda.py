@@ -30,6 +30,8 @@ import mujoco
 import numpy as np
 import torch
 
+from simlab.utils.cuda import is_capturing
+
 from .base import EnvIds, PhysicsBackend
 
 _INSTALL_HINT = 'the cuda backend needs an NVIDIA GPU and MuJoCo Warp: pip install "simlab[gpu]"'
@@ -274,7 +276,7 @@ class CudaBackend(PhysicsBackend):
         self._run(("step", nstep), body)
         # Sticky record of overflows: reset() clears Data.overflow in the worlds it resets.
         self._overflow_seen.bitwise_or_(self._overflow)
-        if torch.cuda.is_current_stream_capturing():
+        if is_capturing():
             return  # a captured env step checks between replays (CudaGraphStep.check)
         self._calls_since_check += 1
         if self.overflow_check_interval and self._calls_since_check >= self.overflow_check_interval:
@@ -366,7 +368,7 @@ class CudaBackend(PhysicsBackend):
     def _run(self, key: Any, body: Callable[[], None]) -> None:
         """Replay the graph for ``key``, capturing ``body`` into it on first use."""
         wp = self._wp
-        if self._is_cuda and torch.cuda.is_current_stream_capturing():
+        if self._is_cuda and is_capturing():
             # Inside a capture of the whole env step (simlab.envs.utils.cuda_graph): record the
             # kernels into that graph, on torch's capturing stream, instead of launching ours.
             with (
