@@ -53,6 +53,7 @@ ENV_COLUMNS = [
     ("env ms", "env_ms_per_step", ".3f"),
     ("raw physics steps/s", "raw_physics_steps_per_s", ",.0f"),
     ("env/raw", "ratio", ".2f"),
+    ("graph", "cuda_graph", ""),
     ("GPU MB", "gpu_memory_mb", ".0f"),
 ]
 TRAIN_COLUMNS = [
@@ -90,6 +91,12 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--tasks", nargs="+", default=None, help="env/train suite tasks (Gymnasium ids)")
     parser.add_argument("--steps", type=int, default=None, help="timed steps per round")
     parser.add_argument("--iterations", type=int, default=10, help="timed training iterations")
+    parser.add_argument(
+        "--cuda_graph",
+        choices=["on", "off", "both"],
+        default="on",
+        help="GPU fast path for env steps: replay each step as one CUDA graph (on), eager (off), or both",
+    )
     parser.add_argument("--json", default=None, help="write the results to this JSON file")
     args = parser.parse_args(argv)
 
@@ -112,6 +119,7 @@ def main(argv: list[str] | None = None) -> int:
             robots=args.robots,
             tasks=args.tasks,
             iterations=args.iterations,
+            graphs={"on": [True], "off": [False], "both": [True, False]}[args.cuda_graph],
         )
         _print_table(rows, columns)
         results[name] = rows

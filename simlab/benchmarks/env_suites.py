@@ -20,13 +20,22 @@ from .timing import gpu_memory_mb, interleaved, synchronize
 DEFAULT_TASKS = ["simlab/Cartpole-v0", "simlab/Cartpole-Direct-v0", "simlab/Ant-Direct-v0", "simlab/Humanoid-Direct-v0"]
 
 
-def make_env(task: str, num_envs: int, device: str):
+def make_env(task: str, num_envs: int, device: str, cuda_graph: bool = True):
     import simlab.tasks  # noqa: F401 - registers the tasks
     from simlab.tasks.utils import parse_env_cfg
 
     sim_utils.SimulationContext.clear_instance()
     cfg = parse_env_cfg(task, device=device, num_envs=num_envs)
+    cfg.sim.use_cuda_graph = cuda_graph
     return gym.make(task, cfg=cfg).unwrapped
+
+
+def _graph_state(env) -> str:
+    """'on' when the env step replays as a CUDA graph, 'off' when eager, 'failed' when it could not."""
+    graph = getattr(env, "_cuda_graph", None)
+    if graph is None:
+        return "off"
+    return "failed" if graph.failed else ("on" if graph.graph is not None else "pending")
 
 
 def _random_actions(env) -> torch.Tensor:
@@ -66,8 +75,10 @@ def _raw_fn(env):
     return raw
 
 
-def bench_env(task: str, num_envs: int, device: str, steps: int, with_policy: bool = False) -> dict:
-    env = make_env(task, num_envs, device)
+def bench_env(
+    task: str, num_envs: int, device: str, steps: int, with_policy: bool = False, cuda_graph: bool = True
+) -> dict:
+    env = make_env(task, num_envs, device, cuda_graph)
     env.reset()
     policy = None
     if with_policy:
@@ -103,19 +114,20 @@ def bench_env(task: str, num_envs: int, device: str, steps: int, with_policy: bo
         "ratio": env_rate * decimation / raw_rate,
         "gpu_memory_mb": gpu_memory_mb(env.device),
         "policy": with_policy,
+        "cuda_graph": _graph_state(env),
     }
     env.close()
     return row
 
 
-def bench_train(task: str, num_envs: int, device: str, iterations: int) -> dict:
+def bench_train(task: str, num_envs: int, device: str, iterations: int, cuda_graph: bool = True) -> dict:
     """Wall time of rsl_rl PPO iterations (rollout + update), after one warm-up iteration."""
     from rsl_rl.runners import OnPolicyRunner
 
     from simlab.rl.rsl_rl import RslRlVecEnvWrapper
     from simlab.tasks.utils import load_cfg_from_registry
 
-    env = make_env(task, num_envs, device)
+    env = make_env(task, num_envs, device, cuda_graph)
     agent_cfg = load_cfg_from_registry(task, "rsl_rl_cfg_entry_point")
     wrapped = RslRlVecEnvWrapper(env)
     runner = OnPolicyRunner(wrapped, agent_cfg.to_dict(), log_dir=None, device=str(env.device))
@@ -134,6 +146,7 @@ def bench_train(task: str, num_envs: int, device: str, iterations: int) -> dict:
         "seconds_per_iteration": seconds,
         "env_steps_per_s": steps_per_iteration / seconds,
         "gpu_memory_mb": gpu_memory_mb(env.device),
+        "cuda_graph": _graph_state(env),
     }
     env.close()
     return row

@@ -51,7 +51,7 @@ def _env_rows(device, num_envs, steps, tasks, with_policy: bool) -> list[dict]:
     return rows
 
 
-def train(device: str, num_envs: list[int], tasks: list[str] | None, iterations: int, **_) -> list[dict]:
+def train(device: str, num_envs: list[int], tasks: list[str] | None, iterations: int, **kw) -> list[dict]:
     from .env_suites import bench_train
 
     rows: list[dict] = []

@@ -7,4 +7,4 @@ import torch
 
 def is_capturing() -> bool:
     """Whether the current CUDA stream is recording a graph (False without CUDA)."""
-    return torch.cuda.is_available() and is_capturing()
+    return torch.cuda.is_available() and torch.cuda.is_current_stream_capturing()

@@ -114,13 +114,22 @@ class _RlGamesActor(nn.Module):
         return torch.clamp(mu, -1.0, 1.0) * self.clip_actions
 
 
+def _restore_on_device(player: Any, checkpoint: str, device: str) -> None:
+    """rl_games' ``restore`` without ``map_location``: load a GPU-trained checkpoint on any device."""
+    state = torch.load(checkpoint, map_location=device, weights_only=False)
+    model_state = {k.replace("_orig_mod.", ""): v for k, v in state["model"].items()}
+    player.model.load_state_dict(model_state)
+    if player.normalize_input and "running_mean_std" in state:
+        player.model.running_mean_std.load_state_dict(state["running_mean_std"])
+
+
 def load_policy(env: gym.Env, agent_cfg: dict, checkpoint: str) -> Policy:
     runner, wrapped = _runner(env, agent_cfg)
     runner.params["config"]["env_info"] = wrapped.get_env_info()
     runner.params["config"]["vec_env"] = wrapped
     with contextlib.redirect_stdout(io.StringIO()):
         player = runner.create_player()
-        player.restore(checkpoint)
+    _restore_on_device(player, checkpoint, agent_cfg["params"]["config"]["device"])
     player.model.eval()
     clip_obs, clip_actions = _clips(agent_cfg)
     if not math.isfinite(clip_actions):

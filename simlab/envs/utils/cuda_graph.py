@@ -170,15 +170,18 @@ class CudaGraphStep:
     def _capture(self, action: torch.Tensor) -> None:
         self._static_action = action.detach().clone()
         graph = torch.cuda.CUDAGraph()
+        rng_state = torch.cuda.get_rng_state()
         try:
             torch.cuda.synchronize()
-            with torch.cuda.graph(graph):
+            # thread_local: only this thread's calls are checked (Warp may query the driver meanwhile)
+            with torch.cuda.graph(graph, capture_error_mode="thread_local"):
                 self._outputs = self.step_fn(self._static_action)
             self.graph = graph
         except Exception as err:  # noqa: BLE001 - any capture failure means: stay eager
             self.failed = f"{type(err).__name__}: {err}"
             self._outputs = None
             torch.cuda.synchronize()
+            torch.cuda.set_rng_state(rng_state)
             logger.warning("CUDA-graph capture of the env step failed; stepping eagerly. (%s)", self.failed)
             print(f"[simlab] CUDA-graph capture of the env step failed, stepping eagerly: {self.failed}")
 

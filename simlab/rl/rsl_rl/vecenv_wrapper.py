@@ -78,7 +78,8 @@ class RslRlVecEnvWrapper(VecEnv):
 
     @episode_length_buf.setter
     def episode_length_buf(self, value: torch.Tensor) -> None:
-        self.unwrapped.episode_length_buf = value
+        # in place: the env (or a multi-agent view of one) keeps its own buffer
+        self.unwrapped.episode_length_buf[:] = value
 
     # -- VecEnv ----------------------------------------------------------------------------------
 

@@ -371,9 +371,12 @@ class CudaBackend(PhysicsBackend):
         if self._is_cuda and is_capturing():
             # Inside a capture of the whole env step (simlab.envs.utils.cuda_graph): record the
             # kernels into that graph, on torch's capturing stream, instead of launching ours.
+            # Warp must allocate its temporaries on that stream too (stream-ordered, capturable).
+            stream = self._torch_stream()
             with (
                 wp.ScopedDevice(self._wp_device),
-                wp.ScopedCapture(device=self._wp_device, stream=self._torch_stream(), external=True),
+                wp.ScopedStream(stream),
+                wp.ScopedCapture(device=self._wp_device, stream=stream, external=True),
             ):
                 body()
             return
