@@ -74,17 +74,13 @@ def saturate(x: torch.Tensor, lower: torch.Tensor | float, upper: torch.Tensor |
     return torch.maximum(torch.minimum(x, upper), lower)
 
 
-def scale_transform(
-    x: torch.Tensor, lower: torch.Tensor | float, upper: torch.Tensor | float
-) -> torch.Tensor:
+def scale_transform(x: torch.Tensor, lower: torch.Tensor | float, upper: torch.Tensor | float) -> torch.Tensor:
     """Map ``[lower, upper]`` linearly to ``[-1, 1]``."""
     offset = (lower + upper) * 0.5
     return 2 * (x - offset) / (upper - lower)
 
 
-def unscale_transform(
-    x: torch.Tensor, lower: torch.Tensor | float, upper: torch.Tensor | float
-) -> torch.Tensor:
+def unscale_transform(x: torch.Tensor, lower: torch.Tensor | float, upper: torch.Tensor | float) -> torch.Tensor:
     """Map ``[-1, 1]`` linearly to ``[lower, upper]`` (inverse of :func:`scale_transform`)."""
     offset = (lower + upper) * 0.5
     return x * (upper - lower) * 0.5 + offset
@@ -260,9 +256,9 @@ def quat_from_matrix(matrix: torch.Tensor) -> torch.Tensor:
     m02, m12, m22 = m[2].unbind(-1)
     # 2|w|, 2|x|, 2|y|, 2|z|; the largest gives the best-conditioned formula (Shepperd's method)
     q_abs = torch.sqrt(
-        torch.stack(
-            (1 + m00 + m11 + m22, 1 + m00 - m11 - m22, 1 - m00 + m11 - m22, 1 - m00 - m11 + m22), dim=-1
-        ).clamp(min=0.0)
+        torch.stack((1 + m00 + m11 + m22, 1 + m00 - m11 - m22, 1 - m00 + m11 - m22, 1 - m00 - m11 + m22), dim=-1).clamp(
+            min=0.0
+        )
     )
     # row i is 4 * q_i * (w, x, y, z)
     candidates = torch.stack(
@@ -319,8 +315,12 @@ def _size_tuple(size: int | tuple[int, ...] | list[int] | torch.Size) -> tuple[i
     raise TypeError(f"size must be an int or a tuple of ints, got {size!r}.")
 
 
-def _as_tensor(x: torch.Tensor | float, device: Device) -> torch.Tensor:
-    return torch.as_tensor(x, dtype=torch.float32, device=device) if not isinstance(x, torch.Tensor) else x
+def _as_tensor(x: torch.Tensor | float, device: Device) -> torch.Tensor | float:
+    # Python numbers stay numbers: torch broadcasts them without a host-to-device copy (which a
+    # captured CUDA graph could not hold).
+    if isinstance(x, (torch.Tensor, int, float)):
+        return x
+    return torch.as_tensor(x, dtype=torch.float32, device=device)
 
 
 def sample_uniform(
@@ -351,7 +351,8 @@ def sample_log_uniform(
     device: Device = None,
 ) -> torch.Tensor:
     """Samples whose logarithm is uniform in ``[log lower, log upper)``; bounds must be positive."""
-    lower, upper = _as_tensor(lower, device), _as_tensor(upper, device)
+    lower = torch.as_tensor(lower, dtype=torch.float32, device=device)
+    upper = torch.as_tensor(upper, dtype=torch.float32, device=device)
     if (lower <= 0).any() or (upper <= 0).any():
         raise ValueError(f"sample_log_uniform needs positive bounds, got lower={lower}, upper={upper}.")
     return torch.exp(sample_uniform(torch.log(lower), torch.log(upper), size, device))

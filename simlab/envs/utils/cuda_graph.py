@@ -24,7 +24,9 @@ Finite actions are checked on the device and reported at the next periodic check
 
 from __future__ import annotations
 
+import contextlib
 import logging
+import traceback
 from collections.abc import Callable, Iterable
 from typing import Any
 
@@ -104,6 +106,7 @@ class CudaGraphStep:
         self._calls = 0
         self._touched: list[torch.Tensor] | None = None
         self._static_action: torch.Tensor | None = None
+        self._index_cache: dict[tuple[int, ...], torch.Tensor] = {}
         self._outputs: Any = None
         self._nonfinite = torch.zeros((), dtype=torch.bool, device=env.device)
 
@@ -145,7 +148,10 @@ class CudaGraphStep:
         self._calls += 1
         if self.graph is None and self.failed is None and self._calls > self.warmup:
             self._capture(action)
-        if self.graph is None:
+        if self.graph is None and self._calls == self.warmup:
+            with list_indices_on_device(torch.device(self.env.device), self._index_cache):
+                outputs = self.step_fn(action)  # also prepares the index tensors for the capture
+        elif self.graph is None:
             outputs = self.step_fn(action)
         else:
             self._static_action.copy_(action)
@@ -170,20 +176,62 @@ class CudaGraphStep:
     def _capture(self, action: torch.Tensor) -> None:
         self._static_action = action.detach().clone()
         graph = torch.cuda.CUDAGraph()
-        rng_state = torch.cuda.get_rng_state()
+        generator = torch.cuda.default_generators[torch.cuda.current_device()]
+        rng_state = generator.clone_state()  # a failed capture leaves the generator mid-capture
         try:
             torch.cuda.synchronize()
             # thread_local: only this thread's calls are checked (Warp may query the driver meanwhile)
-            with torch.cuda.graph(graph, capture_error_mode="thread_local"):
+            with (
+                list_indices_on_device(torch.device(self.env.device), self._index_cache),
+                torch.cuda.graph(graph, capture_error_mode="thread_local"),
+            ):
                 self._outputs = self.step_fn(self._static_action)
             self.graph = graph
         except Exception as err:  # noqa: BLE001 - any capture failure means: stay eager
-            self.failed = f"{type(err).__name__}: {err}"
+            frames = [f for f in traceback.extract_tb(err.__traceback__) if "site-packages" not in f.filename]
+            where = f" at {frames[-1].filename}:{frames[-1].lineno}" if frames else ""
+            self.failed = f"{type(err).__name__}: {err}{where}"
             self._outputs = None
             torch.cuda.synchronize()
-            torch.cuda.set_rng_state(rng_state)
+            generator.graphsafe_set_state(rng_state)
             logger.warning("CUDA-graph capture of the env step failed; stepping eagerly. (%s)", self.failed)
             print(f"[simlab] CUDA-graph capture of the env step failed, stepping eagerly: {self.failed}")
+
+
+@contextlib.contextmanager
+def list_indices_on_device(device: torch.device, cache: dict[tuple[int, ...], torch.Tensor]):
+    """While capturing, index tensors with Python int lists through cached device tensors.
+
+    Isaac Lab-style code indexes with the lists ``find_joints`` returns
+    (``joint_pos[:, self._cart_dof_idx]``). Torch turns such a list into a host tensor and copies
+    it to the GPU on every call, which a CUDA graph cannot record. The capture runs the step's
+    Python once, so converting the lists then is enough: the replays index with the recorded
+    device tensors. Indexing results are the same as with the lists.
+    """
+    cache: dict[tuple[int, ...], torch.Tensor] = {}
+    get_item, set_item = torch.Tensor.__getitem__, torch.Tensor.__setitem__
+
+    def convert(index, tensor_device):
+        if isinstance(index, tuple):
+            return tuple(convert(i, tensor_device) for i in index)
+        if isinstance(index, list) and index and all(type(i) is int for i in index) and tensor_device == device:
+            key = tuple(index)
+            if key not in cache:
+                cache[key] = torch.tensor(key, dtype=torch.long, device=device)
+            return cache[key]
+        return index
+
+    def getitem(self, index):
+        return get_item(self, convert(index, self.device))
+
+    def setitem(self, index, value):
+        return set_item(self, convert(index, self.device), value)
+
+    torch.Tensor.__getitem__, torch.Tensor.__setitem__ = getitem, setitem
+    try:
+        yield cache
+    finally:
+        torch.Tensor.__getitem__, torch.Tensor.__setitem__ = get_item, set_item
 
 
 def _has_field(physics, name: str) -> bool:

@@ -373,10 +373,11 @@ class CudaBackend(PhysicsBackend):
             # kernels into that graph, on torch's capturing stream, instead of launching ours.
             # Warp must allocate its temporaries on that stream too (stream-ordered, capturable).
             stream = self._torch_stream()
+            # No stream sync on entry: a wait on uncaptured work would invalidate the capture.
             with (
                 wp.ScopedDevice(self._wp_device),
-                wp.ScopedStream(stream),
-                wp.ScopedCapture(device=self._wp_device, stream=stream, external=True),
+                wp.ScopedStream(stream, sync_enter=False, sync_exit=False),
+                wp.ScopedCapture(device=self._wp_device, external=True),
             ):
                 body()
             return
