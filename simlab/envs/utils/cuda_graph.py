@@ -206,9 +206,10 @@ def list_indices_on_device(device: torch.device, cache: dict[tuple[int, ...], to
     (``joint_pos[:, self._cart_dof_idx]``). Torch turns such a list into a host tensor and copies
     it to the GPU on every call, which a CUDA graph cannot record. The capture runs the step's
     Python once, so converting the lists then is enough: the replays index with the recorded
-    device tensors. Indexing results are the same as with the lists.
+    device tensors. Indexing results are the same as with the lists. The last eager step before
+    the capture runs with the same ``cache`` so that the device tensors exist before the capture
+    starts (creating one is itself a copy that a capture cannot hold).
     """
-    cache: dict[tuple[int, ...], torch.Tensor] = {}
     get_item, set_item = torch.Tensor.__getitem__, torch.Tensor.__setitem__
 
     def convert(index, tensor_device):
