@@ -129,7 +129,7 @@ def bench_train(task: str, num_envs: int, device: str, iterations: int, cuda_gra
 
     env = make_env(task, num_envs, device, cuda_graph)
     agent_cfg = load_cfg_from_registry(task, "rsl_rl_cfg_entry_point")
-    wrapped = RslRlVecEnvWrapper(env)
+    wrapped = RslRlVecEnvWrapper(env, clip_actions=agent_cfg.clip_actions)
     runner = OnPolicyRunner(wrapped, agent_cfg.to_dict(), log_dir=None, device=str(env.device))
     runner.learn(num_learning_iterations=1)
     synchronize(device)

@@ -29,25 +29,26 @@ def physics(device: str, num_envs: list[int], steps: int, robots: list[str], **_
     return rows
 
 
-def env_step(device: str, num_envs: list[int], steps: int, tasks: list[str] | None, **_) -> list[dict]:
-    return _env_rows(device, num_envs, steps, tasks, with_policy=False)
+def env_step(device: str, num_envs: list[int], steps: int, tasks: list[str] | None, **kw) -> list[dict]:
+    return _env_rows(device, num_envs, steps, tasks, False, kw.get("graphs", [True]))
 
 
-def env_step_with_policy(device: str, num_envs: list[int], steps: int, tasks: list[str] | None, **_) -> list[dict]:
-    return _env_rows(device, num_envs, steps, tasks, with_policy=True)
+def env_step_with_policy(device: str, num_envs: list[int], steps: int, tasks: list[str] | None, **kw) -> list[dict]:
+    return _env_rows(device, num_envs, steps, tasks, True, kw.get("graphs", [True]))
 
 
-def _env_rows(device, num_envs, steps, tasks, with_policy: bool) -> list[dict]:
+def _env_rows(device, num_envs, steps, tasks, with_policy: bool, graphs: list[bool]) -> list[dict]:
     from .env_suites import DEFAULT_TASKS, bench_env
 
     rows: list[dict] = []
     for task in tasks or DEFAULT_TASKS:
         for n in num_envs:
-            _guarded(
-                rows,
-                {"task": task, "device": device, "num_envs": n},
-                lambda task=task, n=n: bench_env(task, n, device, steps, with_policy),
-            )
+            for graph in graphs:
+                _guarded(
+                    rows,
+                    {"task": task, "device": device, "num_envs": n},
+                    lambda task=task, n=n, graph=graph: bench_env(task, n, device, steps, with_policy, graph),
+                )
     return rows
 
 
@@ -57,9 +58,10 @@ def train(device: str, num_envs: list[int], tasks: list[str] | None, iterations:
     rows: list[dict] = []
     for task in tasks or ["simlab/Cartpole-v0", "simlab/Humanoid-Direct-v0"]:
         for n in num_envs:
-            _guarded(
-                rows,
-                {"task": task, "device": device, "num_envs": n},
-                lambda task=task, n=n: bench_train(task, n, device, iterations),
-            )
+            for graph in kw.get("graphs", [True]):
+                _guarded(
+                    rows,
+                    {"task": task, "device": device, "num_envs": n},
+                    lambda task=task, n=n, graph=graph: bench_train(task, n, device, iterations, graph),
+                )
     return rows

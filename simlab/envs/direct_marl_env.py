@@ -175,11 +175,11 @@ class DirectMARLEnv(gym.Env):
             for agent, action in actions.items()
         }
         self._pre_physics_step(actions)
-        for _ in range(self.cfg.decimation):
+        for substep in range(self.cfg.decimation):
             self._sim_step_counter += 1
             self._apply_action()
             self.scene.write_data_to_sim()
-            self.sim.step(render=False)
+            self.sim.step(render=False, forward=substep == self.cfg.decimation - 1 or bool(self.scene.sensors))
             self.scene.update(dt=self.physics_dt)
 
         self.episode_length_buf += 1

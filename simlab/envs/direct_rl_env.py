@@ -163,11 +163,11 @@ class DirectRLEnv(gym.Env):
             return self._step_graphed(action)
         action = check_action(action, self.single_action_space, self.num_envs, self.device)
         self._pre_physics_step(action)
-        for _ in range(self.cfg.decimation):
+        for substep in range(self.cfg.decimation):
             self._sim_step_counter += 1
             self._apply_action()
             self.scene.write_data_to_sim()
-            self.sim.step(render=False)
+            self.sim.step(render=False, forward=self._forward_after(substep))
             self.scene.update(dt=self.physics_dt)
 
         self.episode_length_buf += 1
@@ -207,10 +207,10 @@ class DirectRLEnv(gym.Env):
     def _graph_step(self, action: torch.Tensor):
         """The body of a graphed step: fixed shapes, resets by mask (see ``CudaGraphStep``)."""
         self._pre_physics_step(action)
-        for _ in range(self.cfg.decimation):
+        for substep in range(self.cfg.decimation):
             self._apply_action()
             self.scene.write_data_to_sim()
-            self.sim.physics.step(1)
+            self.sim.step(render=False, forward=self._forward_after(substep))
             self.scene.update(dt=self.physics_dt)
         self.episode_length_buf += 1
         terminated, time_outs = self._get_dones()
@@ -222,6 +222,11 @@ class DirectRLEnv(gym.Env):
         self._cuda_graph.masked_reset(self.reset_buf)
         self.sim.physics.forward()
         return self._observations(), reward, self.reset_terminated, self.reset_time_outs, final_obs
+
+    def _forward_after(self, substep: int) -> bool:
+        """Derived quantities are refreshed after the last substep, or after each when sensors
+        read them every physics step; in between only joint states matter (see PhysicsBackend.step)."""
+        return substep == self.cfg.decimation - 1 or bool(self.scene.sensors)
 
     @staticmethod
     def seed(seed: int = -1) -> int:

@@ -163,12 +163,17 @@ class ManagerBasedEnv:
 
     def _physics_steps(self) -> None:
         """``decimation`` physics steps with the processed action held."""
-        for _ in range(self.cfg.decimation):
+        for substep in range(self.cfg.decimation):
             self._sim_step_counter += 1
             self.action_manager.apply_action()
             self.scene.write_data_to_sim()
-            self.sim.step(render=False)
+            self.sim.step(render=False, forward=self._forward_after(substep))
             self.scene.update(dt=self.physics_dt)
+
+    def _forward_after(self, substep: int) -> bool:
+        """Derived quantities are refreshed after the last substep, or after each when sensors
+        read them every physics step; in between only joint states matter (see PhysicsBackend.step)."""
+        return substep == self.cfg.decimation - 1 or bool(self.scene.sensors)
 
     def _reset_idx(self, env_ids: torch.Tensor) -> None:
         self.scene.reset(env_ids)

@@ -169,10 +169,10 @@ class ManagerBasedRLEnv(ManagerBasedEnv, gym.Env):
     def _graph_step(self, action: torch.Tensor):
         """The body of a graphed step: fixed shapes, resets by mask (see ``CudaGraphStep``)."""
         self.action_manager.process_action(action)
-        for _ in range(self.cfg.decimation):
+        for substep in range(self.cfg.decimation):
             self.action_manager.apply_action()
             self.scene.write_data_to_sim()
-            self.sim.physics.step(1)
+            self.sim.step(render=False, forward=self._forward_after(substep))
             self.scene.update(dt=self.physics_dt)
         self.episode_length_buf += 1
         self.reset_buf = self.termination_manager.compute()

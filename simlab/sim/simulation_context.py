@@ -108,9 +108,13 @@ class SimulationContext:
         if not soft:
             self.backend.reset()
 
-    def step(self, render: bool = True) -> None:
-        """One physics step of every world."""
-        self.physics.step(1)
+    def step(self, render: bool = True, forward: bool = True) -> None:
+        """One physics step of every world.
+
+        ``forward=False`` leaves derived quantities (body poses, sensor data) one substep behind,
+        as a plain ``mj_step`` does; envs pass it for all but the last decimated substep.
+        """
+        self.physics.step(1, forward=forward)
         self._step_count += 1
 
     def forward(self) -> None:

@@ -30,6 +30,7 @@ import traceback
 from collections.abc import Callable, Iterable
 from typing import Any
 
+import numpy as np
 import torch
 
 logger = logging.getLogger(__name__)
@@ -191,6 +192,7 @@ class CudaGraphStep:
             frames = [f for f in traceback.extract_tb(err.__traceback__) if "site-packages" not in f.filename]
             where = f" at {frames[-1].filename}:{frames[-1].lineno}" if frames else ""
             self.failed = f"{type(err).__name__}: {err}{where}"
+            self.failed_traceback = traceback.format_exc()
             self._outputs = None
             torch.cuda.synchronize()
             generator.graphsafe_set_state(rng_state)
@@ -200,7 +202,8 @@ class CudaGraphStep:
 
 @contextlib.contextmanager
 def list_indices_on_device(device: torch.device, cache: dict[tuple[int, ...], torch.Tensor]):
-    """While capturing, index tensors with Python int lists through cached device tensors.
+    """While capturing, index tensors with Python int lists through cached device tensors, and
+    assign Python scalars through device fills.
 
     Isaac Lab-style code indexes with the lists ``find_joints`` returns
     (``joint_pos[:, self._cart_dof_idx]``). Torch turns such a list into a host tensor and copies
@@ -215,8 +218,8 @@ def list_indices_on_device(device: torch.device, cache: dict[tuple[int, ...], to
     def convert(index, tensor_device):
         if isinstance(index, tuple):
             return tuple(convert(i, tensor_device) for i in index)
-        if isinstance(index, list) and index and all(type(i) is int for i in index) and tensor_device == device:
-            key = tuple(index)
+        if isinstance(index, list) and index and tensor_device == device and all(_is_int(i) for i in index):
+            key = tuple(int(i) for i in index)
             if key not in cache:
                 cache[key] = torch.tensor(key, dtype=torch.long, device=device)
             return cache[key]
@@ -226,6 +229,9 @@ def list_indices_on_device(device: torch.device, cache: dict[tuple[int, ...], to
         return get_item(self, convert(index, self.device))
 
     def setitem(self, index, value):
+        if isinstance(value, (int, float, bool)) and self.device == device:
+            # ``x[ids] = 0.0`` would copy a host scalar; a fill on the device records as a kernel.
+            value = torch.full((), value, dtype=self.dtype, device=device)
         return set_item(self, convert(index, self.device), value)
 
     torch.Tensor.__getitem__, torch.Tensor.__setitem__ = getitem, setitem
@@ -233,6 +239,10 @@ def list_indices_on_device(device: torch.device, cache: dict[tuple[int, ...], to
         yield cache
     finally:
         torch.Tensor.__getitem__, torch.Tensor.__setitem__ = get_item, set_item
+
+
+def _is_int(value) -> bool:
+    return isinstance(value, (int, np.integer)) and not isinstance(value, bool)
 
 
 def _has_field(physics, name: str) -> bool:

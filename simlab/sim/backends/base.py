@@ -56,8 +56,13 @@ class PhysicsBackend(ABC):
         """
 
     @abstractmethod
-    def step(self, nstep: int = 1) -> None:
-        """Advance every world by ``nstep`` physics steps, then forward (see module docstring)."""
+    def step(self, nstep: int = 1, forward: bool = True) -> None:
+        """Advance every world by ``nstep`` physics steps, then forward (see module docstring).
+
+        ``forward=False`` skips the final forward: derived quantities then stay one substep
+        behind, as after a plain ``mj_step``. Envs use it for all but the last of the decimated
+        physics steps of an env step, when nothing reads derived quantities in between.
+        """
 
     @abstractmethod
     def forward(self, env_ids: EnvIds = None) -> None:

@@ -30,8 +30,9 @@ class CpuBackend(PhysicsBackend):
     ):
         # nconmax / njmax size the GPU's fixed buffers; MuJoCo C grows its arena as needed.
         super().__init__(model, num_envs, device)
-        # forward=True ends every step() call with mj_forward: derived fields match qpos/qvel.
-        self.batch = mjbatch.Batch(model, num_envs, num_threads=num_threads, forward=True)
+        # Two views of the same worlds would not share state, so one batch without the built-in
+        # forward; step() asks for the forward explicitly (one more pool dispatch, same work).
+        self.batch = mjbatch.Batch(model, num_envs, num_threads=num_threads, forward=False)
         self._probe = mujoco.MjData(model)  # for field dtypes: a binding's dtype is fixed at first bind
         self._data: dict[str, torch.Tensor] = {}
         self._model: dict[str, torch.Tensor] = {}
@@ -66,8 +67,10 @@ class CpuBackend(PhysicsBackend):
             self._model[key] = torch.from_numpy(expanded)
         return self._model[key]
 
-    def step(self, nstep: int = 1) -> None:
+    def step(self, nstep: int = 1, forward: bool = True) -> None:
         self.batch.step(nstep=nstep)
+        if forward:
+            self.batch.forward()
 
     def forward(self, env_ids: EnvIds = None) -> None:
         self.batch.forward(self._ids_numpy(env_ids))

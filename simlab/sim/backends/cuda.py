@@ -265,15 +265,16 @@ class CudaBackend(PhysicsBackend):
 
     # -- physics -------------------------------------------------------------------------------
 
-    def step(self, nstep: int = 1) -> None:
+    def step(self, nstep: int = 1, forward: bool = True) -> None:
         m, d, mjw = self.wp_model, self.wp_data, self._mjw
 
         def body() -> None:
             for _ in range(nstep):
                 mjw.step(m, d)
-            mjw.forward(m, d)  # derived fields agree with the new qpos/qvel (base.py semantics)
+            if forward:
+                mjw.forward(m, d)  # derived fields agree with the new qpos/qvel (base.py semantics)
 
-        self._run(("step", nstep), body)
+        self._run(("step", nstep, forward), body)
         # Sticky record of overflows: reset() clears Data.overflow in the worlds it resets.
         self._overflow_seen.bitwise_or_(self._overflow)
         if is_capturing():

@@ -9,6 +9,9 @@ class AntPPORunnerCfg(RslRlOnPolicyRunnerCfg):
     num_steps_per_env = 32
     max_iterations = 1000
     save_interval = 50
+    # Torques are gear x action: keep actions in [-1, 1] (Isaac Lab's rl_games configs for this task
+    # clip at 1.0 too). Unclipped Gaussian samples saturate the joints and destabilise MuJoCo at 120 Hz.
+    clip_actions = 1.0
     experiment_name = "ant_direct"
     actor = RslRlMLPModelCfg(
         hidden_dims=[400, 200, 100],
