@@ -33,6 +33,11 @@ class CpuBackend(PhysicsBackend):
         # Two views of the same worlds would not share state, so one batch without the built-in
         # forward; step() asks for the forward explicitly (one more pool dispatch, same work).
         self.batch = mjbatch.Batch(model, num_envs, num_threads=num_threads, forward=False)
+        # torch's own worker threads spin after each op and take the cores from mjbatch's pool:
+        # measured on 2 cores, a 4096-env cartpole step took 27.7 ms with 2 torch threads and 17.7 ms
+        # with 1. The per-env tensor math is small next to the physics, so torch gets one thread.
+        if self.batch.num_threads > 1:
+            torch.set_num_threads(1)
         self._probe = mujoco.MjData(model)  # for field dtypes: a binding's dtype is fixed at first bind
         self._data: dict[str, torch.Tensor] = {}
         self._model: dict[str, torch.Tensor] = {}
