@@ -6,7 +6,7 @@ import pytest
 import torch
 from conftest import cuda_available
 
-from simlab.envs.utils.cuda_graph import CudaGraphStep
+from simlab.envs.utils.cuda_graph import CudaGraphStep, _get
 from simlab.tasks.direct.cartpole.cartpole_env import CartpoleEnv, CartpoleEnvCfg
 
 
@@ -53,11 +53,45 @@ def test_masked_reset_matches_index_reset_outside_the_finished_envs():
     eager.close()
 
 
+def test_masked_reset_follows_tensors_a_reset_replaces():
+    """The locomotion tasks' reset *replaces* their potentials; the blend must act on the new ones.
+
+    Staggered episode counters make envs time out at different steps; the locomotion reset is
+    deterministic, so the masked and the index paths must agree on every value.
+    """
+    from simlab.tasks.direct.ant.ant_env import AntEnv, AntEnvCfg
+
+    envs = []
+    for _ in range(2):
+        cfg = AntEnvCfg()
+        cfg.scene.num_envs = 8
+        cfg.sim.device = "cpu"
+        cfg.episode_length_s = 0.5
+        envs.append(AntEnv(cfg))
+    masked, eager = envs
+    masked._cuda_graph = CudaGraphStep(masked, masked._graph_step, warmup=10**9)
+    masked.reset()
+    eager.reset()
+    for env in envs:
+        env.episode_length_buf[:] = torch.arange(8) * 3
+    actions = torch.full((8, 8), 0.2)
+    resets = 0
+    for i in range(45):
+        obs_m, rew_m, term_m, trunc_m, _ = masked.step(actions)
+        obs_e, rew_e, term_e, trunc_e, _ = eager.step(actions)
+        torch.testing.assert_close(rew_m, rew_e, msg=f"step {i}")
+        torch.testing.assert_close(obs_m["policy"], obs_e["policy"], msg=f"step {i}")
+        resets += int((term_m | trunc_m).sum())
+    assert 0 < resets
+    masked.close()
+    eager.close()
+
+
 def test_reset_footprint_covers_task_buffers():
     env = make_env("cpu")
     graph = CudaGraphStep(env, env._graph_step)
     graph.learn_reset_footprint()
-    touched = {id(t) for t in graph._touched}
+    touched = {id(_get(loc)) for loc in graph._touched}
     assert id(env.episode_length_buf) in touched
     assert id(env.sim.physics.data("qpos")) in touched
     env.close()

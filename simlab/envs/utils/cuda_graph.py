@@ -49,36 +49,46 @@ PHYSICS_STATE = (
 )
 
 
-def env_sized_tensors(root: Any, num_envs: int, device: torch.device, depth: int = 4) -> list[torch.Tensor]:
-    """Tensors of leading size ``num_envs`` on ``device`` reachable from ``root``'s attributes.
+Location = tuple  # (container, key): an attribute of an object, an item of a dict or list
+
+
+def env_sized_tensors(root: Any, num_envs: int, device: torch.device, depth: int = 4) -> dict[tuple, Location]:
+    """Where tensors of leading size ``num_envs`` on ``device`` live, reachable from ``root``.
 
     Walks attributes, dicts, lists and tuples of simlab objects (env, scene, assets, managers,
-    terms, actuators) and of the task, not into foreign libraries.
+    terms, actuators) and of the task, not into foreign libraries. Returns locations rather than
+    tensors: a reset may *replace* a tensor (``self.potentials = ...``), and the blend must act on
+    what the attribute holds after the reset. Keys are ``(id(container), key)``.
     """
-    found: dict[int, torch.Tensor] = {}
+    found: dict[tuple, Location] = {}
     seen: set[int] = set()
 
     def visit(obj: Any, level: int) -> None:
-        if isinstance(obj, torch.Tensor):
-            if obj.dim() > 0 and obj.shape[0] == num_envs and obj.device == device:
-                found.setdefault(id(obj), obj)
-            return
-        if level > depth or id(obj) in seen:
+        if level > depth or id(obj) in seen or isinstance(obj, torch.Tensor):
             return
         seen.add(id(obj))
         if isinstance(obj, dict):
-            children: Iterable = obj.values()
-        elif isinstance(obj, (list, tuple)):
-            children = obj
+            items: Iterable = obj.items()
+        elif isinstance(obj, list):
+            items = enumerate(obj)
         elif hasattr(obj, "__dict__") and _is_simlab_or_task(obj):
-            children = vars(obj).values()
+            items = vars(obj).items()
         else:
             return
-        for child in children:
-            visit(child, level + 1)
+        for key, child in list(items):
+            if isinstance(child, torch.Tensor):
+                if child.dim() > 0 and child.shape[0] == num_envs and child.device == device:
+                    found[(id(obj), key)] = (obj, key)
+            else:
+                visit(child, level + 1)
 
     visit(root, 0)
-    return list(found.values())
+    return found
+
+
+def _get(location: Location) -> Any:
+    container, key = location
+    return container[key] if isinstance(container, (dict, list)) else getattr(container, key, None)
 
 
 def _is_simlab_or_task(obj: Any) -> bool:
@@ -119,16 +129,19 @@ class CudaGraphStep:
         Call it where the env resets every env anyway (``reset()``), in place of that reset.
         """
         env = self.env
+        device = torch.device(env.device)
         physics = env.sim.physics
-        state = [physics.data(name) for name in PHYSICS_STATE if _has_field(physics, name)]
-        candidates = env_sized_tensors(env, env.num_envs, torch.device(env.device))
-        before = {id(t): t._version for t in candidates}
+        bound = physics.bound_data()  # the backend's name -> tensor table (a dict location)
+        state = {(id(bound), name): (bound, name) for name in PHYSICS_STATE if _has_field(physics, name)}
+        before = env_sized_tensors(env, env.num_envs, device)
+        versions = {key: (id(_get(loc)), _get(loc)._version) for key, loc in before.items()}
         env._reset_idx(env._all_env_ids)
-        after = env_sized_tensors(env, env.num_envs, torch.device(env.device))
-        touched = {id(t): t for t in state}
-        for t in after:
-            if before.get(id(t)) != t._version:  # written in place, or a new tensor
-                touched.setdefault(id(t), t)
+        after = env_sized_tensors(env, env.num_envs, device)
+        touched = dict(state)
+        for key, loc in after.items():
+            tensor = _get(loc)
+            if versions.get(key) != (id(tensor), tensor._version):  # written in place, or replaced
+                touched.setdefault(key, loc)
         self._touched = list(touched.values())
 
     def masked_reset(self, finished: torch.Tensor) -> None:
@@ -136,9 +149,12 @@ class CudaGraphStep:
         env = self.env
         if self._touched is None:
             raise RuntimeError("learn_reset_footprint() must run before masked_reset()")
-        saved = [t.clone() for t in self._touched]
+        saved = [_get(loc).clone() for loc in self._touched]
         env._reset_idx(env._all_env_ids)
-        for tensor, old in zip(self._touched, saved):
+        for loc, old in zip(self._touched, saved):
+            tensor = _get(loc)  # what the location holds now (a reset may replace it)
+            if tensor is None or tensor.shape != old.shape:
+                continue
             mask = finished.view(-1, *([1] * (tensor.dim() - 1)))
             tensor.copy_(torch.where(mask, tensor, old))
 

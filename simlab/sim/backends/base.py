@@ -72,6 +72,10 @@ class PhysicsBackend(ABC):
     def reset(self, env_ids: EnvIds = None) -> None:
         """Restore the initial state of the selected worlds (all when ``None``), then forward."""
 
+    def bound_data(self) -> dict[str, torch.Tensor]:
+        """The MjData fields handed out so far by ``data``, by name."""
+        return self._data
+
     def set_const(self, env_ids: EnvIds = None) -> None:
         """Recompute derived model constants (body inertias, ...) after editing model fields."""
         raise NotImplementedError(f"the {self.name} backend does not support set_const")
