@@ -190,6 +190,25 @@ class CudaGraphStep:
         if check_overflow is not None:
             check_overflow()
 
+    @staticmethod
+    def _keep_rebound_tensors(before: dict) -> None:
+        """Steps that rebind attributes (``self.potentials = ...``) read the old tensor first.
+
+        A graph reads and writes fixed addresses: code that reads ``self.potentials`` and then
+        rebinds it would, on every replay, read the tensor it saw at capture time. So the graph
+        ends by copying each rebound tensor back into the old one, and the attribute keeps the
+        old one: the next replay then reads this step's values, as eager code does.
+        """
+        for loc, old in before.values():
+            new = _get(loc)
+            if isinstance(new, torch.Tensor) and new is not old and new.shape == old.shape and new.dtype == old.dtype:
+                old.copy_(new)
+                container, key = loc
+                if isinstance(container, (dict, list)):
+                    container[key] = old
+                else:
+                    setattr(container, key, old)
+
     def _capture(self, action: torch.Tensor) -> None:
         self._static_action = action.detach().clone()
         graph = torch.cuda.CUDAGraph()
@@ -198,11 +217,16 @@ class CudaGraphStep:
         try:
             torch.cuda.synchronize()
             # thread_local: only this thread's calls are checked (Warp may query the driver meanwhile)
+            device = torch.device(self.env.device)
+            before = {
+                key: (loc, _get(loc)) for key, loc in env_sized_tensors(self.env, self.env.num_envs, device).items()
+            }
             with (
-                list_indices_on_device(torch.device(self.env.device), self._index_cache),
+                list_indices_on_device(device, self._index_cache),
                 torch.cuda.graph(graph, capture_error_mode="thread_local"),
             ):
                 self._outputs = self.step_fn(self._static_action)
+                self._keep_rebound_tensors(before)
             self.graph = graph
         except Exception as err:  # noqa: BLE001 - any capture failure means: stay eager
             frames = [f for f in traceback.extract_tb(err.__traceback__) if "site-packages" not in f.filename]
