@@ -299,3 +299,47 @@ def test_initial_joint_positions_from_config():
     robot = scene["robot"]
     assert robot.data.default_joint_pos[0].tolist() == pytest.approx([0.0, math.pi / 8])
     assert robot.data.joint_pos[1].tolist() == pytest.approx([0.0, math.pi / 8])
+
+
+URDF = """<?xml version="1.0"?>
+<robot name="arm">
+  <link name="base"><inertial><mass value="2.0"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>
+    <collision><geometry><box size="0.2 0.2 0.2"/></geometry></collision></link>
+  <link name="upper"><inertial><origin xyz="0 0 0.25"/><mass value="1.0"/>
+    <inertia ixx="0.02" iyy="0.02" izz="0.001" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="shoulder" type="revolute"><parent link="base"/><child link="upper"/>
+    <origin xyz="0 0 0.1"/><axis xyz="0 1 0"/><limit lower="-1.5" upper="1.5" effort="50" velocity="5"/></joint>
+</robot>
+"""
+
+
+@pytest.mark.parametrize("fix_base", [True, False])
+def test_urdf_robot(tmp_path, fix_base):
+    path = tmp_path / "arm.urdf"
+    path.write_text(URDF)
+
+    @configclass
+    class SceneCfg(InteractiveSceneCfg):
+        ground = AssetBaseCfg(prim_path="/World/ground", spawn=sim_utils.GroundPlaneCfg())
+        arm = ArticulationCfg(
+            prim_path="{ENV_REGEX_NS}/Arm",
+            spawn=sim_utils.UrdfFileCfg(asset_path=str(path), fix_base=fix_base),
+            init_state=ArticulationCfg.InitialStateCfg(pos=(0.0, 0.0, 0.5), joint_pos={"shoulder": 0.3}),
+            actuators={"arm": ImplicitActuatorCfg(joint_names_expr=["shoulder"], stiffness=100.0, damping=10.0)},
+        )
+
+    sim, scene = make_scene(SceneCfg(num_envs=2, env_spacing=2.0), "cpu", dt=0.005)
+    arm = scene["arm"]
+    assert arm.joint_names == ["shoulder"] and arm.body_names == ["base", "upper"]
+    assert arm.is_fixed_base == fix_base
+    assert arm.data.joint_pos_limits[0, 0].tolist() == pytest.approx([-1.5, 1.5])
+    assert arm.data.default_mass[0].tolist() == pytest.approx([2.0, 1.0])
+    assert arm.data.joint_pos[:, 0].tolist() == pytest.approx([0.3, 0.3])
+    arm.set_joint_position_target(torch.full((2, 1), -0.5))
+    step(sim, scene, 400)
+    z = arm.data.root_pos_w[:, 2]
+    if fix_base:
+        assert torch.allclose(z, torch.tensor([0.5, 0.5]))
+        assert arm.data.joint_pos[:, 0].tolist() == pytest.approx([-0.5, -0.5], abs=0.05)
+    else:
+        assert (z < 0.2).all(), "a floating base falls onto the ground"
