@@ -29,7 +29,6 @@ import re
 import signal
 import sys
 import threading
-import warnings
 from typing import Any
 
 __all__ = ["AppLauncher", "SimulationApp", "resolve_device"]
