@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import math
 from typing import Literal
 
 import torch
 
 from simlab.utils import configclass
+from simlab.utils.seed import set_seed
 
 
 @configclass
@@ -36,3 +38,44 @@ VecEnvObs = dict[str, torch.Tensor | dict[str, torch.Tensor]]
 
 VecEnvStepReturn = tuple[VecEnvObs, torch.Tensor, torch.Tensor, torch.Tensor, dict]
 """``(obs, reward, terminated, truncated, extras)``, each with the env dimension first."""
+
+
+class SimulatedEnv:
+    """What every simlab env reads off its config and simulation (``cfg``, ``sim``, ``scene``)."""
+
+    @property
+    def num_envs(self) -> int:
+        return self.scene.num_envs
+
+    @property
+    def physics_dt(self) -> float:
+        """The physics time step [s]."""
+        return self.cfg.sim.dt
+
+    @property
+    def step_dt(self) -> float:
+        """Seconds of simulation per env step: ``sim.dt * decimation``."""
+        return self.cfg.sim.dt * self.cfg.decimation
+
+    @property
+    def device(self) -> str:
+        return self.sim.device
+
+    @property
+    def max_episode_length_s(self) -> float:
+        return self.cfg.episode_length_s
+
+    @property
+    def max_episode_length(self) -> int:
+        """Env steps per episode: ``ceil(episode_length_s / step_dt)``."""
+        return math.ceil(self.max_episode_length_s / self.step_dt)
+
+    @staticmethod
+    def seed(seed: int = -1) -> int:
+        """Seed python, numpy and torch; returns the seed used (a drawn one for -1)."""
+        return set_seed(seed)
+
+    def _forward_after(self, substep: int) -> bool:
+        """Derived quantities are refreshed after the last substep, or after each when sensors
+        read them every physics step; in between only joint states matter (see PhysicsBackend.step)."""
+        return substep == self.cfg.decimation - 1 or bool(self.scene.sensors)

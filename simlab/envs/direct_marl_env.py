@@ -11,34 +11,31 @@ observations reached before the reset are kept in ``extras[agent]["final_obs"]``
 from __future__ import annotations
 
 import logging
-import math
 from collections.abc import Sequence
 from typing import Any, ClassVar
 
 import gymnasium as gym
-import numpy as np
 import torch
 
 from simlab.scene import InteractiveScene
 from simlab.sim import SimulationContext
-from simlab.utils.seed import set_seed
 
+from .common import SimulatedEnv
 from .direct_marl_env_cfg import DirectMARLEnvCfg
 from .direct_rl_env import (
     RENDER_MODES,
+    DirectRLEnv,
     apply_deprecated_space_fields,
     check_action,
     check_env_cfg,
     make_event_manager,
-    make_renderer,
-    render_frame,
 )
 from .utils.spaces import sample_space, spec_to_gym_space
 
 logger = logging.getLogger(__name__)
 
 
-class DirectMARLEnv(gym.Env):
+class DirectMARLEnv(SimulatedEnv, gym.Env):
     """``num_envs`` environments, each with the agents of ``cfg.possible_agents``."""
 
     metadata: ClassVar[dict[str, Any]] = {
@@ -103,10 +100,6 @@ class DirectMARLEnv(gym.Env):
     # -- properties -------------------------------------------------------------------------------
 
     @property
-    def num_envs(self) -> int:
-        return self.scene.num_envs
-
-    @property
     def num_agents(self) -> int:
         """Agents currently acting (those that returned observations)."""
         return len(self.agents)
@@ -118,26 +111,6 @@ class DirectMARLEnv(gym.Env):
     @property
     def unwrapped(self) -> DirectMARLEnv:
         return self
-
-    @property
-    def physics_dt(self) -> float:
-        return self.cfg.sim.dt
-
-    @property
-    def step_dt(self) -> float:
-        return self.cfg.sim.dt * self.cfg.decimation
-
-    @property
-    def device(self) -> str:
-        return self.sim.device
-
-    @property
-    def max_episode_length_s(self) -> float:
-        return self.cfg.episode_length_s
-
-    @property
-    def max_episode_length(self) -> int:
-        return math.ceil(self.max_episode_length_s / (self.cfg.sim.dt * self.cfg.decimation))
 
     def observation_space(self, agent: str) -> gym.Space:
         """The observation space of one agent in one environment."""
@@ -226,31 +199,10 @@ class DirectMARLEnv(gym.Env):
             return torch.cat([obs_dict[agent].reshape(self.num_envs, -1) for agent in self.possible_agents], dim=-1)
         return self._get_states()
 
-    @staticmethod
-    def seed(seed: int = -1) -> int:
-        return set_seed(seed)
-
-    def render(self, recompute: bool = False) -> np.ndarray | None:
-        """An RGB frame of env ``cfg.viewer.env_index`` for ``render_mode="rgb_array"``, else None."""
-        if self.render_mode != "rgb_array":
-            return None
-        if self._renderer is None:
-            self._renderer = make_renderer(self.sim.model, self.cfg.viewer)
-        return render_frame(self._renderer, self, self.cfg.viewer)
-
-    def close(self) -> None:
-        if self._is_closed:
-            return
-        if self._renderer is not None and hasattr(self._renderer, "close"):
-            self._renderer.close()
-        self._renderer = None
-        self.event_manager = None
-        if SimulationContext.instance() is getattr(self, "sim", None):
-            SimulationContext.clear_instance()
-        self._is_closed = True
-
-    def set_debug_vis(self, debug_vis: bool) -> bool:
-        return False
+    # Rendering, closing and debug visualisation work as in the single-agent direct env.
+    render = DirectRLEnv.render
+    close = DirectRLEnv.close
+    set_debug_vis = DirectRLEnv.set_debug_vis
 
     # -- helpers ----------------------------------------------------------------------------------
 

@@ -21,7 +21,6 @@ such key); ``extras["time_outs"]`` repeats the time-out flags for rsl_rl.
 from __future__ import annotations
 
 import logging
-import math
 from collections.abc import Sequence
 from dataclasses import MISSING
 from typing import Any, ClassVar
@@ -32,8 +31,8 @@ import torch
 
 from simlab.scene import InteractiveScene
 from simlab.sim import SimulationContext
-from simlab.utils.seed import set_seed
 
+from .common import SimulatedEnv
 from .direct_rl_env_cfg import DirectRLEnvCfg
 from .utils.cuda_graph import CudaGraphStep
 from .utils.spaces import sample_space, spec_to_gym_space
@@ -43,7 +42,7 @@ logger = logging.getLogger(__name__)
 RENDER_MODES = [None, "human", "rgb_array"]
 
 
-class DirectRLEnv(gym.Env):
+class DirectRLEnv(SimulatedEnv, gym.Env):
     """A vectorized environment of ``num_envs`` copies; tensors have the env dimension first."""
 
     is_vector_env: ClassVar[bool] = True
@@ -112,35 +111,6 @@ class DirectRLEnv(gym.Env):
     def __del__(self):
         if getattr(self, "_is_closed", True) is False:
             self.close()
-
-    # -- properties -------------------------------------------------------------------------------
-
-    @property
-    def num_envs(self) -> int:
-        return self.scene.num_envs
-
-    @property
-    def physics_dt(self) -> float:
-        """The physics time step [s]."""
-        return self.cfg.sim.dt
-
-    @property
-    def step_dt(self) -> float:
-        """The environment step [s]: ``decimation`` physics steps."""
-        return self.cfg.sim.dt * self.cfg.decimation
-
-    @property
-    def device(self) -> str:
-        return self.sim.device
-
-    @property
-    def max_episode_length_s(self) -> float:
-        return self.cfg.episode_length_s
-
-    @property
-    def max_episode_length(self) -> int:
-        """Episode length in env steps."""
-        return math.ceil(self.max_episode_length_s / (self.cfg.sim.dt * self.cfg.decimation))
 
     # -- operations -------------------------------------------------------------------------------
 
@@ -222,16 +192,6 @@ class DirectRLEnv(gym.Env):
         self._cuda_graph.masked_reset(self.reset_buf)
         self.sim.physics.forward()
         return self._observations(), reward, self.reset_terminated, self.reset_time_outs, final_obs
-
-    def _forward_after(self, substep: int) -> bool:
-        """Derived quantities are refreshed after the last substep, or after each when sensors
-        read them every physics step; in between only joint states matter (see PhysicsBackend.step)."""
-        return substep == self.cfg.decimation - 1 or bool(self.scene.sensors)
-
-    @staticmethod
-    def seed(seed: int = -1) -> int:
-        """Seed python, numpy and torch; returns the seed used (a drawn one for -1)."""
-        return set_seed(seed)
 
     def render(self, recompute: bool = False) -> np.ndarray | None:
         """An RGB frame (H, W, 3) of env ``cfg.viewer.env_index`` for ``render_mode="rgb_array"``.

@@ -22,13 +22,12 @@ from simlab.managers import ActionManager, EventManager, ObservationManager
 from simlab.scene import InteractiveScene
 from simlab.sim import SimulationContext
 from simlab.utils.configclass import MissingFieldError
-from simlab.utils.seed import set_seed
 
-from .common import VecEnvObs
+from .common import SimulatedEnv, VecEnvObs
 from .manager_based_env_cfg import ManagerBasedEnvCfg
 
 
-class ManagerBasedEnv:
+class ManagerBasedEnv(SimulatedEnv):
     def __init__(self, cfg: ManagerBasedEnvCfg):
         try:
             cfg.validate()
@@ -81,23 +80,6 @@ class ManagerBasedEnv:
     # -- properties ------------------------------------------------------------------------------
 
     @property
-    def num_envs(self) -> int:
-        return self.scene.num_envs
-
-    @property
-    def physics_dt(self) -> float:
-        return self.cfg.sim.dt
-
-    @property
-    def step_dt(self) -> float:
-        """Seconds of simulation per env step: ``sim.dt * decimation``."""
-        return self.cfg.sim.dt * self.cfg.decimation
-
-    @property
-    def device(self) -> str:
-        return self.sim.device
-
-    @property
     def unwrapped(self) -> ManagerBasedEnv:
         return self
 
@@ -137,11 +119,6 @@ class ManagerBasedEnv:
         self.obs_buf = self.observation_manager.compute(update_history=True)
         return self.obs_buf, self.extras
 
-    @staticmethod
-    def seed(seed: int = -1) -> int:
-        """Seed python, numpy and torch; returns the seed used (``-1`` draws one)."""
-        return set_seed(seed)
-
     def render(self, recompute: bool = False) -> np.ndarray:
         """An RGB image (H, W, 3) of env ``cfg.viewer.env_index`` from the viewer camera."""
         return self._render_rgb()
@@ -169,11 +146,6 @@ class ManagerBasedEnv:
             self.scene.write_data_to_sim()
             self.sim.step(render=False, forward=self._forward_after(substep))
             self.scene.update(dt=self.physics_dt)
-
-    def _forward_after(self, substep: int) -> bool:
-        """Derived quantities are refreshed after the last substep, or after each when sensors
-        read them every physics step; in between only joint states matter (see PhysicsBackend.step)."""
-        return substep == self.cfg.decimation - 1 or bool(self.scene.sensors)
 
     def _reset_idx(self, env_ids: torch.Tensor) -> None:
         self.scene.reset(env_ids)

@@ -15,7 +15,6 @@ events, observations.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from typing import Any, ClassVar
 
@@ -57,15 +56,6 @@ class ManagerBasedRLEnv(ManagerBasedEnv, gym.Env):
         print("[INFO]: Completed setting up the environment...")
 
     # -- properties --------------------------------------------------------------------------------
-
-    @property
-    def max_episode_length_s(self) -> float:
-        return self.cfg.episode_length_s
-
-    @property
-    def max_episode_length(self) -> int:
-        """Env steps per episode: ``ceil(episode_length_s / step_dt)``."""
-        return math.ceil(self.max_episode_length_s / self.step_dt)
 
     # -- building ----------------------------------------------------------------------------------
 

@@ -1,0 +1,38 @@
+"""`simlab bench` runs end to end on the CPU and prints its tables (figures are not asserted)."""
+
+from __future__ import annotations
+
+import json
+
+from simlab.benchmarks.cli import main
+
+
+def test_bench_physics_and_env_print_tables_and_json(tmp_path, capsys):
+    out = tmp_path / "bench.json"
+    code = main(
+        [
+            "physics",
+            "env",
+            "--device",
+            "cpu",
+            "--robots",
+            "cartpole",
+            "--tasks",
+            "simlab/Cartpole-Direct-v0",
+            "--num_envs",
+            "16",
+            "--steps",
+            "3",
+            "--json",
+            str(out),
+        ]
+    )
+    assert code == 0
+    printed = capsys.readouterr().out
+    assert "scene/raw" in printed and "env/raw" in printed
+    results = json.loads(out.read_text())["results"]
+    physics, env = results["physics"][0], results["env"][0]
+    assert "error" not in physics and "error" not in env
+    assert physics["raw_steps_per_s"] > 0 and physics["scene_steps_per_s"] > 0
+    assert env["env_steps_per_s"] > 0 and env["cuda_graph"] == "off"
+    assert env["physics_steps_per_s"] == env["env_steps_per_s"] * 2  # cartpole decimation
