@@ -37,9 +37,7 @@ def test_flags_defaults():
 
 
 def test_flags_parsed(launchers):
-    args = make_parser().parse_args(
-        ["--headless", "--device", "cpu", "--enable_cameras", "--max_app_steps", "3"]
-    )
+    args = make_parser().parse_args(["--headless", "--device", "cpu", "--enable_cameras", "--max_app_steps", "3"])
     launcher = launchers(args)
     assert launcher.headless and launcher.enable_cameras
     assert launcher.device == "cpu" and launcher.max_app_steps == 3

@@ -84,20 +84,47 @@ def test_list_random_zero(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "simlab/Cartpole-v0" in out and "simlab/Ant-Direct-v0" not in out
     assert _run(tmp_path, "random", *SMALL, "--steps", "3") == 0
-    assert _run(tmp_path, "zero", "--task", "simlab/Cart-Double-Pendulum-Direct-v0", "--num_envs", "2",
-                "--steps", "3") == 0
+    assert (
+        _run(tmp_path, "zero", "--task", "simlab/Cart-Double-Pendulum-Direct-v0", "--num_envs", "2", "--steps", "3")
+        == 0
+    )
 
 
 def test_train_video(tmp_path):
-    assert _run(tmp_path, "train", "--task", TASK, "--num_envs", "4", "--max_iterations", "1", "--video",
-                "--video_length", "5", "--video_interval", "8") == 0
+    assert (
+        _run(
+            tmp_path,
+            "train",
+            "--task",
+            TASK,
+            "--num_envs",
+            "4",
+            "--max_iterations",
+            "1",
+            "--video",
+            "--video_length",
+            "5",
+            "--video_interval",
+            "8",
+        )
+        == 0
+    )
     videos = glob.glob(os.path.join(_only_run(tmp_path, "rsl_rl"), "videos", "train", "*.mp4"))
     assert videos and os.path.getsize(videos[0]) > 0
 
 
 def test_python_m_simlab_and_ctrl_c_saves(tmp_path):
-    cmd = [sys.executable, "-m", "simlab", "train", *SMALL, "--max_iterations", "100000",
-           "--log_root", str(tmp_path / "logs")]
+    cmd = [
+        sys.executable,
+        "-m",
+        "simlab",
+        "train",
+        *SMALL,
+        "--max_iterations",
+        "100000",
+        "--log_root",
+        str(tmp_path / "logs"),
+    ]
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
     deadline = time.time() + 60
     while time.time() < deadline and not glob.glob(str(tmp_path / "logs" / "rsl_rl" / "*" / "*" / "model_0.pt")):

@@ -37,8 +37,15 @@ def test_rsl_rl_model(tmp_path):
     from tensordict import TensorDict
 
     obs = TensorDict({"policy": torch.randn(3, 6)}, batch_size=[3])
-    model = MLPModel(obs, {"actor": ["policy"]}, "actor", 2, hidden_dims=[8], obs_normalization=True,
-                     distribution_cfg={"class_name": "GaussianDistribution", "init_std": 1.0})
+    model = MLPModel(
+        obs,
+        {"actor": ["policy"]},
+        "actor",
+        2,
+        hidden_dims=[8],
+        obs_normalization=True,
+        distribution_cfg={"class_name": "GaussianDistribution", "init_std": 1.0},
+    )
     model.update_normalization(TensorDict({"policy": torch.randn(50, 6) * 3 + 1}, batch_size=[50]))
     model.eval()
     file = rsl_export_onnx(model, str(tmp_path))

@@ -28,8 +28,16 @@ def test_parse_override_values():
 
 def test_override_env_and_agent(cfgs):
     env, agent = cfgs
-    apply_overrides(env, agent, ["env.actions.joint_effort.scale=10", "agent.seed=2024", "env.scene.num_envs=8",
-                                 "agent.actor.hidden_dims=[16, 16]"])
+    apply_overrides(
+        env,
+        agent,
+        [
+            "env.actions.joint_effort.scale=10",
+            "agent.seed=2024",
+            "env.scene.num_envs=8",
+            "agent.actor.hidden_dims=[16, 16]",
+        ],
+    )
     assert env.actions.joint_effort.scale == 10
     assert agent.seed == 2024 and env.scene.num_envs == 8
     assert agent.actor.hidden_dims == [16, 16]

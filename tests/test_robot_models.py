@@ -118,9 +118,7 @@ def body_mass(model: mujoco.MjModel, name: str) -> float:
 
 def joint_names(model: mujoco.MjModel, types=None) -> list[str]:
     types = None if types is None else {int(t) for t in types}
-    return [
-        model.joint(i).name for i in range(model.njnt) if types is None or int(model.jnt_type[i]) in types
-    ]
+    return [model.joint(i).name for i in range(model.njnt) if types is None or int(model.jnt_type[i]) in types]
 
 
 def in_scene(name: str, height: float) -> tuple[mujoco.MjModel, mujoco.MjData]:
@@ -302,9 +300,7 @@ def test_humanoid_facts():
 
 @pytest.mark.parametrize("name", sorted(MODELS))
 def test_stable_above_ground(name):
-    height = {"cartpole.xml": 2.0, "cart_double_pendulum.xml": 2.0, "ant.xml": 0.5, "humanoid.xml": 1.34}[
-        name
-    ]
+    height = {"cartpole.xml": 2.0, "cart_double_pendulum.xml": 2.0, "ant.xml": 0.5, "humanoid.xml": 1.34}[name]
     model, data = in_scene(name, height)
     assert model.nu == 0
     if name.startswith("cart"):

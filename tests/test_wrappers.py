@@ -126,8 +126,15 @@ def test_sb3_wrapper_terminal_observation_and_episode_info():
 def test_process_sb3_cfg():
     from simlab.rl.sb3 import process_sb3_cfg
 
-    out = process_sb3_cfg({"n_steps": 16, "n_minibatches": 4, "learning_rate": "lin_1e-3",
-                           "policy_kwargs": {"activation_fn": "nn.ELU", "net_arch": [32, 32]}}, num_envs=8)
+    out = process_sb3_cfg(
+        {
+            "n_steps": 16,
+            "n_minibatches": 4,
+            "learning_rate": "lin_1e-3",
+            "policy_kwargs": {"activation_fn": "nn.ELU", "net_arch": [32, 32]},
+        },
+        num_envs=8,
+    )
     assert out["batch_size"] == 32 and "n_minibatches" not in out
     assert out["policy_kwargs"]["activation_fn"] is torch.nn.ELU
     assert out["learning_rate"](0.5) == pytest.approx(5e-4)
@@ -138,8 +145,9 @@ def test_process_sb3_cfg():
 def test_rl_games_wrapper():
     from simlab.rl.rl_games import RlGamesVecEnvWrapper
 
-    env = RlGamesVecEnvWrapper(make(), "cpu", clip_obs=0.01, clip_actions=1.0,
-                               obs_groups={"obs": ["policy"], "states": ["policy"]})
+    env = RlGamesVecEnvWrapper(
+        make(), "cpu", clip_obs=0.01, clip_actions=1.0, obs_groups={"obs": ["policy"], "states": ["policy"]}
+    )
     try:
         info = env.get_env_info()
         assert info["observation_space"].shape == (4,) and info["state_space"].shape == (4,)

@@ -62,8 +62,21 @@ def main() -> int:
 
     results = []
     for lib in args.libraries:
-        train_cmd = [sys.executable, "-m", "simlab", "train", "--task", args.task, "--library", lib,
-                     "--headless", "--log_root", args.log_root, "--run_name", "learns"]
+        train_cmd = [
+            sys.executable,
+            "-m",
+            "simlab",
+            "train",
+            "--task",
+            args.task,
+            "--library",
+            lib,
+            "--headless",
+            "--log_root",
+            args.log_root,
+            "--run_name",
+            "learns",
+        ]
         for flag in ("num_envs", "max_iterations", "device"):
             if getattr(args, flag) is not None:
                 train_cmd += [f"--{flag}", str(getattr(args, flag))]
@@ -76,8 +89,20 @@ def main() -> int:
             if proc.returncode != 0:
                 results.append((lib, wall, float("nan"), False))
                 continue
-        play_argv = ["play", "--task", args.task, "--library", lib, "--use_last_checkpoint", "--headless",
-                     "--num_envs", str(args.eval_envs), "--log_root", args.log_root, "--no_export"]
+        play_argv = [
+            "play",
+            "--task",
+            args.task,
+            "--library",
+            lib,
+            "--use_last_checkpoint",
+            "--headless",
+            "--num_envs",
+            str(args.eval_envs),
+            "--log_root",
+            args.log_root,
+            "--no_export",
+        ]
         if args.device:
             play_argv += ["--device", args.device]
         play_args = build_parser().parse_args(play_argv)
@@ -91,8 +116,10 @@ def main() -> int:
         frac = counts["inside"] / max(1, counts["total"])
         results.append((lib, wall, frac, frac >= args.fraction))
 
-    print(f"\n{args.task}: |pole angle| < {args.threshold} rad in >= {args.fraction:.0%} of steps "
-          f"({args.eval_envs} envs, {args.eval_seconds} s)")
+    print(
+        f"\n{args.task}: |pole angle| < {args.threshold} rad in >= {args.fraction:.0%} of steps "
+        f"({args.eval_envs} envs, {args.eval_seconds} s)"
+    )
     print(f"{'library':<10} {'train wall [s]':>14} {'inside':>8}  result")
     for lib, wall, frac, ok in results:
         print(f"{lib:<10} {wall:>14.1f} {frac:>8.1%}  {'PASS' if ok else 'FAIL'}")

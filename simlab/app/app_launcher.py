@@ -61,9 +61,7 @@ def resolve_device(device: str | None) -> str:
         raise TypeError(f"device must be a string such as 'cpu' or 'cuda:0', got {type(device).__name__}.")
     device = device.strip().lower()
     if not _DEVICE_RE.match(device):
-        raise ValueError(
-            f"Invalid device '{device}'. Allowed: 'cpu', 'cuda', 'cuda:N' (N = GPU index), 'auto'."
-        )
+        raise ValueError(f"Invalid device '{device}'. Allowed: 'cpu', 'cuda', 'cuda:N' (N = GPU index), 'auto'.")
     if device == "cpu":
         return device
     if device == "cuda":
@@ -79,9 +77,7 @@ def resolve_device(device: str | None) -> str:
 
     index = int(device.split(":")[1])
     if index >= torch.cuda.device_count():
-        raise ValueError(
-            f"Device '{device}' does not exist: {torch.cuda.device_count()} CUDA device(s) visible."
-        )
+        raise ValueError(f"Device '{device}' does not exist: {torch.cuda.device_count()} CUDA device(s) visible.")
     return device
 
 
@@ -176,8 +172,7 @@ class AppLauncher:
             settings = dict(launcher_args)
         else:
             raise TypeError(
-                "AppLauncher expects an argparse.Namespace, a dict or None, got "
-                f"{type(launcher_args).__name__}."
+                f"AppLauncher expects an argparse.Namespace, a dict or None, got {type(launcher_args).__name__}."
             )
         unknown = [k for k in kwargs if k not in self._ARGS]
         if unknown:
@@ -186,9 +181,7 @@ class AppLauncher:
                 for k in unknown
                 if (c := difflib.get_close_matches(k, self._ARGS, 1))
             )
-            raise TypeError(
-                f"AppLauncher got unknown setting(s) {unknown}.{hints} Valid: {list(self._ARGS)}."
-            )
+            raise TypeError(f"AppLauncher got unknown setting(s) {unknown}.{hints} Valid: {list(self._ARGS)}.")
         settings.update(kwargs)
         cfg = {name: settings.get(name, default) for name, (default, _) in self._ARGS.items()}
         for name in ("headless", "enable_cameras", "verbose"):

@@ -23,8 +23,11 @@ __all__ = ["build_parser", "main"]
 def _add_common(p: argparse.ArgumentParser, video: bool = True) -> None:
     p.add_argument("--task", required=True, help="Task id, e.g. simlab/Cartpole-v0 (see `simlab list`).")
     p.add_argument("--num_envs", type=int, default=None, help="Number of parallel envs (default: the task's).")
-    p.add_argument("--device", default=None,
-                   help="cpu, cuda or cuda:N (default: $SIMLAB_DEVICE, else the GPU if there is one, else cpu).")
+    p.add_argument(
+        "--device",
+        default=None,
+        help="cpu, cuda or cuda:N (default: $SIMLAB_DEVICE, else the GPU if there is one, else cpu).",
+    )
     p.add_argument("--seed", type=int, default=None, help="Seed (-1 draws one; default: the agent config's).")
     p.add_argument("--headless", action="store_true", help="No viewer window (simlab never opens one).")
     if video:
@@ -36,8 +39,13 @@ def _add_common(p: argparse.ArgumentParser, video: bool = True) -> None:
 
 def _add_agent(p: argparse.ArgumentParser) -> None:
     p.add_argument("--library", choices=LIBRARIES, default="rsl_rl", help="RL library (default: rsl_rl).")
-    p.add_argument("--algorithm", type=str.upper, choices=SKRL_ALGORITHMS, default=None,
-                   help="skrl algorithm: PPO (default), IPPO or MAPPO (multi-agent tasks).")
+    p.add_argument(
+        "--algorithm",
+        type=str.upper,
+        choices=SKRL_ALGORITHMS,
+        default=None,
+        help="skrl algorithm: PPO (default), IPPO or MAPPO (multi-agent tasks).",
+    )
     p.add_argument("--checkpoint", default=None, help="Checkpoint file (or run folder) to resume from / play.")
     p.add_argument("--distributed", action="store_true", help="Multi-GPU training (not yet supported).")
     p.add_argument("--verbose", action="store_true", help="Print the libraries' own per-iteration logs.")
@@ -45,8 +53,10 @@ def _add_agent(p: argparse.ArgumentParser) -> None:
 
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
-        prog="simlab", description="Train, play and list simlab tasks.",
-        formatter_class=argparse.RawDescriptionHelpFormatter, epilog=__doc__.split("\n\n", 1)[1],
+        prog="simlab",
+        description="Train, play and list simlab tasks.",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        epilog=__doc__.split("\n\n", 1)[1],
     )
     sub = parser.add_subparsers(dest="command", metavar="{train,play,list,random,zero,bench}")
     sub.required = True
@@ -60,10 +70,17 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("play", help="Run a trained policy; export it to ONNX and TorchScript.")
     _add_common(p)
     _add_agent(p)
-    p.add_argument("--use_last_checkpoint", action="store_true",
-                   help="Play the newest checkpoint of the newest run of this task and library.")
-    p.add_argument("--steps", type=int, default=None,
-                   help="Env steps to run (default: one episode with --eval or --video, else until Ctrl+C).")
+    p.add_argument(
+        "--use_last_checkpoint",
+        action="store_true",
+        help="Play the newest checkpoint of the newest run of this task and library.",
+    )
+    p.add_argument(
+        "--steps",
+        type=int,
+        default=None,
+        help="Env steps to run (default: one episode with --eval or --video, else until Ctrl+C).",
+    )
     p.add_argument("--eval", action="store_true", help="Report episode returns and lengths at the end.")
     p.add_argument("--no_export", action="store_true", help="Do not export the policy.")
 

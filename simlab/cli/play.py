@@ -38,8 +38,9 @@ def _any(x: Any) -> torch.Tensor:
     return x.bool()
 
 
-def rollout(env: Any, policy: Callable, steps: int | None,
-            on_step: Callable[[Any, Any, Any], None] | None = None) -> dict[str, float]:
+def rollout(
+    env: Any, policy: Callable, steps: int | None, on_step: Callable[[Any, Any, Any], None] | None = None
+) -> dict[str, float]:
     """Step ``env`` with ``policy`` for ``steps`` (None: until Ctrl+C); episode statistics of the run."""
     obs, _ = env.reset()
     base = env.unwrapped
@@ -74,8 +75,9 @@ def rollout(env: Any, policy: Callable, steps: int | None,
     }
 
 
-def run_play(args: argparse.Namespace, overrides: list[str],
-             on_step: Callable[[Any, Any, Any], None] | None = None) -> dict[str, Any]:
+def run_play(
+    args: argparse.Namespace, overrides: list[str], on_step: Callable[[Any, Any, Any], None] | None = None
+) -> dict[str, Any]:
     """Play ``args.task`` with a trained policy; returns the episode statistics and exported files."""
     lib = get_library(args.library)
     env_cfg, agent_cfg = load_configs(args, overrides)
@@ -83,8 +85,9 @@ def run_play(args: argparse.Namespace, overrides: list[str],
     checkpoint = locate_checkpoint(args, lib.experiment_name(agent_cfg, args.task))
     run_dir = run_dir_of_checkpoint(checkpoint, args.library)
     args.video_interval = 10**12  # one video, from the first step
-    env = make_env(args, env_cfg, os.path.join(run_dir, "videos", "play"),
-                   single_agent=not uses_multi_agent_learner(args))
+    env = make_env(
+        args, env_cfg, os.path.join(run_dir, "videos", "play"), single_agent=not uses_multi_agent_learner(args)
+    )
     try:
         print(f"[simlab] Playing {checkpoint} on {env_cfg.sim.device}")
         policy = lib.load_policy(env, agent_cfg, checkpoint)

@@ -39,7 +39,10 @@ def _prepare(policy: nn.Module, normalizer: nn.Module | None) -> nn.Module:
 
 
 def export_policy_as_jit(
-    policy: nn.Module, path: str, filename: str = "policy.pt", normalizer: nn.Module | None = None,
+    policy: nn.Module,
+    path: str,
+    filename: str = "policy.pt",
+    normalizer: nn.Module | None = None,
     obs_dim: int | None = None,
 ) -> str:
     """Write ``policy`` (with an optional observation ``normalizer``) as TorchScript; return the file path.
@@ -65,8 +68,12 @@ def export_policy_as_jit(
 
 
 def export_policy_as_onnx(
-    policy: nn.Module, path: str, obs_dim: int, filename: str = "policy.onnx",
-    normalizer: nn.Module | None = None, verbose: bool = False,
+    policy: nn.Module,
+    path: str,
+    obs_dim: int,
+    filename: str = "policy.onnx",
+    normalizer: nn.Module | None = None,
+    verbose: bool = False,
 ) -> str:
     """Write ``policy`` (with an optional ``normalizer``) as ONNX (opset 18, dynamic batch); return the path."""
     module = _prepare(policy, normalizer)

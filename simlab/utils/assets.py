@@ -19,9 +19,7 @@ def check_file_path(path: str | os.PathLike) -> int:
     return 1 if os.path.isfile(_expand(path)) else 0
 
 
-def retrieve_file_path(
-    path: str | os.PathLike, download_dir: str | None = None, force_download: bool = True
-) -> str:
+def retrieve_file_path(path: str | os.PathLike, download_dir: str | None = None, force_download: bool = True) -> str:
     """The absolute path of a local file (absolute, relative or ``~`` paths).
 
     With ``download_dir`` the file is copied there (overwriting only if ``force_download``) and the

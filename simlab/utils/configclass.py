@@ -67,9 +67,7 @@ def _replace(self: T, **kwargs: Any) -> T:
     valid = [f.name for f in dataclasses.fields(self) if f.init]
     unknown = [k for k in kwargs if k not in valid]
     if unknown:
-        hints = "".join(
-            f" ('{k}': did you mean '{c[0]}'?)" for k in unknown if (c := closest_matches(k, valid, 1))
-        )
+        hints = "".join(f" ('{k}': did you mean '{c[0]}'?)" for k in unknown if (c := closest_matches(k, valid, 1)))
         raise TypeError(
             f"{type(self).__name__}.replace() got unknown field(s) {unknown}.{hints} Valid fields: {valid}."
         )
@@ -117,9 +115,7 @@ def _validate(self) -> None:
     missing = _find_missing(self, "", set())
     if missing:
         listing = "\n".join(f"  - {m}" for m in missing)
-        raise MissingFieldError(
-            f"{type(self).__name__} has {len(missing)} missing field(s) to set:\n{listing}"
-        )
+        raise MissingFieldError(f"{type(self).__name__} has {len(missing)} missing field(s) to set:\n{listing}")
 
 
 _METHODS: dict[str, Callable] = {
@@ -164,9 +160,7 @@ def _process_class(cls: type) -> None:
     own_ann: dict[str, Any] = dict(cls.__dict__.get("__annotations__", {}))
 
     # unannotated class attributes become fields; keep the order in which they were written
-    value_keys = [
-        k for k, v in cls.__dict__.items() if k in own_ann or not _is_member_not_field(cls, k, v, inherited)
-    ]
+    value_keys = [k for k, v in cls.__dict__.items() if k in own_ann or not _is_member_not_field(cls, k, v, inherited)]
     ann_order = list(own_ann)
     annotations: dict[str, Any] = {}
     for key in value_keys:

@@ -127,9 +127,7 @@ def update_class_from_dict(obj: Any, data: Mapping[str, Any], _ns: str = "") -> 
     member raises a ``KeyError`` naming the key, the valid keys and the closest match.
     """
     if not isinstance(data, Mapping):
-        raise TypeError(
-            f"Expected a dict to update '{_ns or type(obj).__name__}', got {type(data).__name__}."
-        )
+        raise TypeError(f"Expected a dict to update '{_ns or type(obj).__name__}', got {type(data).__name__}.")
     if isinstance(obj, dict):
         for key, value in data.items():
             path = f"{_ns}.{key}" if _ns else str(key)
@@ -146,11 +144,7 @@ def update_class_from_dict(obj: Any, data: Mapping[str, Any], _ns: str = "") -> 
             raise KeyError(f"Key '{path}' is not a field of {type(obj).__name__}. Valid keys: {valid}.{hint}")
         current = getattr(obj, key)
         default = dataclasses.MISSING
-        if (
-            isinstance(value, Mapping)
-            and (current is None or current is dataclasses.MISSING)
-            and key in fields
-        ):
+        if isinstance(value, Mapping) and (current is None or current is dataclasses.MISSING) and key in fields:
             # the field is unset but a dict arrives: start from the field's default config, if any
             f = fields[key]
             default = f.default_factory() if f.default_factory is not dataclasses.MISSING else f.default

@@ -35,9 +35,7 @@ def _as_key_list(keys: str | Sequence[str]) -> list[str]:
     keys = list(keys)
     for k in keys:
         if not isinstance(k, str):
-            raise TypeError(
-                f"Keys must be strings (regular expressions), got {k!r} of type {type(k).__name__}."
-            )
+            raise TypeError(f"Keys must be strings (regular expressions), got {k!r} of type {type(k).__name__}.")
     return keys
 
 
@@ -144,15 +142,12 @@ def string_to_callable(name: str) -> Callable:
         module_name, _, attr_path = name.rpartition(".")
     if not module_name or not attr_path:
         raise ValueError(
-            f"Cannot resolve '{name}': expected 'module:qualname' (e.g. 'simlab.envs.mdp:joint_pos')"
-            " or 'module.attr'."
+            f"Cannot resolve '{name}': expected 'module:qualname' (e.g. 'simlab.envs.mdp:joint_pos') or 'module.attr'."
         )
     try:
         obj: Any = importlib.import_module(module_name)
     except ImportError as e:
-        raise ValueError(
-            f"Cannot resolve '{name}': module '{module_name}' could not be imported ({e})."
-        ) from e
+        raise ValueError(f"Cannot resolve '{name}': module '{module_name}' could not be imported ({e}).") from e
     for part in attr_path.split("."):
         if not hasattr(obj, part):
             public = [a for a in dir(obj) if not a.startswith("_")]

@@ -48,8 +48,9 @@ class _ProgressLogger(Logger):
             self._bar = ProgressBar(total=total_it, initial=start_it, desc="rsl_rl")
         sink = contextlib.nullcontext() if self.verbose else contextlib.redirect_stdout(io.StringIO())
         with sink:
-            super().log(it=it, start_it=start_it, total_it=total_it, collect_time=collect_time,
-                        learn_time=learn_time, **kw)
+            super().log(
+                it=it, start_it=start_it, total_it=total_it, collect_time=collect_time, learn_time=learn_time, **kw
+            )
         reward = statistics.mean(self.rewbuffer) if self.rewbuffer else None
         length = statistics.mean(self.lenbuffer) if self.lenbuffer else None
         steps = self.cfg["num_steps_per_env"] * self.num_envs
@@ -71,13 +72,19 @@ def _make_runner(env: gym.Env, agent_cfg: RslRlOnPolicyRunnerCfg, log_dir: str |
     return runner
 
 
-def train(env: gym.Env, agent_cfg: RslRlOnPolicyRunnerCfg, run_dir: str, args: argparse.Namespace,
-          resume_path: str | None) -> None:
+def train(
+    env: gym.Env, agent_cfg: RslRlOnPolicyRunnerCfg, run_dir: str, args: argparse.Namespace, resume_path: str | None
+) -> None:
     runner = _make_runner(env, agent_cfg, run_dir)
     logger = _ProgressLogger(
-        log_dir=run_dir, cfg=runner.cfg, env_cfg=runner.env.cfg, num_envs=runner.env.num_envs,
-        is_distributed=runner.is_distributed, gpu_world_size=runner.gpu_world_size,
-        gpu_global_rank=runner.gpu_global_rank, device=runner.device,
+        log_dir=run_dir,
+        cfg=runner.cfg,
+        env_cfg=runner.env.cfg,
+        num_envs=runner.env.num_envs,
+        is_distributed=runner.is_distributed,
+        gpu_world_size=runner.gpu_world_size,
+        gpu_global_rank=runner.gpu_global_rank,
+        device=runner.device,
     )
     logger.verbose = bool(getattr(args, "verbose", False))
     runner.logger = logger

@@ -26,8 +26,7 @@ from simlab.rl.sb3 import Sb3VecEnvWrapper, process_sb3_cfg  # noqa: E402
 
 # rollouts between checkpoints (rsl_rl's save_interval of the same tasks)
 SAVE_EVERY_ROLLOUTS = 50
-_NOT_PPO_ARGS = ("n_timesteps", "policy", "seed", "normalize_input", "normalize_value", "clip_obs",
-                 "experiment_name")
+_NOT_PPO_ARGS = ("n_timesteps", "policy", "seed", "normalize_input", "normalize_value", "clip_obs", "experiment_name")
 
 
 def experiment_name(agent_cfg: dict, task: str) -> str:
@@ -79,9 +78,13 @@ def _wrap(env: gym.Env, extra: dict, gamma: float) -> Any:
     venv = Sb3VecEnvWrapper(env, fast_variant=True)
     if extra.get("normalize_input") or extra.get("normalize_value"):
         venv = VecNormalize(
-            venv, training=True, norm_obs=bool(extra.get("normalize_input")),
-            norm_reward=bool(extra.get("normalize_value")), clip_obs=float(extra.get("clip_obs", 10.0)),
-            gamma=gamma, clip_reward=np.inf,
+            venv,
+            training=True,
+            norm_obs=bool(extra.get("normalize_input")),
+            norm_reward=bool(extra.get("normalize_value")),
+            clip_obs=float(extra.get("clip_obs", 10.0)),
+            gamma=gamma,
+            clip_reward=np.inf,
         )
     return venv
 
@@ -107,10 +110,12 @@ def train(env: gym.Env, agent_cfg: dict, run_dir: str, args: argparse.Namespace,
         model = PPO(extra.get("policy", "MlpPolicy"), venv, verbose=0, seed=extra.get("seed"), **kwargs)
     model.set_logger(configure_logger(run_dir, ["tensorboard"]))
     save_freq = max(1, kwargs.get("n_steps", 2048) * SAVE_EVERY_ROLLOUTS)
-    callbacks = CallbackList([
-        CheckpointCallback(save_freq, run_dir, name_prefix="model", save_vecnormalize=True, verbose=0),
-        _LogEnvExtras(),
-    ])
+    callbacks = CallbackList(
+        [
+            CheckpointCallback(save_freq, run_dir, name_prefix="model", save_vecnormalize=True, verbose=0),
+            _LogEnvExtras(),
+        ]
+    )
 
     def save(path: str) -> None:
         model.save(path)
@@ -118,8 +123,12 @@ def train(env: gym.Env, agent_cfg: dict, run_dir: str, args: argparse.Namespace,
             venv.save(_vecnormalize_path(path))
 
     try:
-        model.learn(total_timesteps=int(extra["n_timesteps"]), callback=callbacks, progress_bar=True,
-                    reset_num_timesteps=resume_path is None)
+        model.learn(
+            total_timesteps=int(extra["n_timesteps"]),
+            callback=callbacks,
+            progress_bar=True,
+            reset_num_timesteps=resume_path is None,
+        )
     except KeyboardInterrupt:
         path = os.path.join(run_dir, f"model_{model.num_timesteps}_steps.zip")
         save(path)
@@ -140,8 +149,9 @@ class _Sb3Actor(nn.Module):
         self.normalize = mean is not None
         dim = policy.observation_space.shape[0]
         self.register_buffer("mean", torch.as_tensor(mean if mean is not None else np.zeros(dim), dtype=torch.float32))
-        self.register_buffer("std", torch.sqrt(torch.as_tensor(var if var is not None else np.ones(dim),
-                                                               dtype=torch.float32) + eps))
+        self.register_buffer(
+            "std", torch.sqrt(torch.as_tensor(var if var is not None else np.ones(dim), dtype=torch.float32) + eps)
+        )
         self.clip_obs = float(clip_obs)
 
     def forward(self, obs: torch.Tensor) -> torch.Tensor:

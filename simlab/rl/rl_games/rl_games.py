@@ -44,7 +44,11 @@ class RlGamesVecEnvWrapper(IVecEnv):
     """
 
     def __init__(
-        self, env: gym.Env, rl_device: str, clip_obs: float, clip_actions: float,
+        self,
+        env: gym.Env,
+        rl_device: str,
+        clip_obs: float,
+        clip_actions: float,
         obs_groups: dict[str, list[str]] | None = None,
     ):
         base = check_single_agent(env, "RlGamesVecEnvWrapper")
@@ -180,8 +184,9 @@ class RlGamesGpuEnv(IVecEnv):
         self.env.close()
 
 
-def register_rl_games_env(env: RlGamesVecEnvWrapper, env_name: str = "rlgpu",
-                          vecenv_type: str = "SimlabRlgWrapper") -> None:
+def register_rl_games_env(
+    env: RlGamesVecEnvWrapper, env_name: str = "rlgpu", vecenv_type: str = "SimlabRlgWrapper"
+) -> None:
     """Make ``env`` the one rl_games creates for ``config.env_name == env_name``."""
     vecenv.register(vecenv_type, lambda config_name, num_actors, **kw: RlGamesGpuEnv(config_name, num_actors, **kw))
     env_configurations.register(env_name, {"vecenv_type": vecenv_type, "env_creator": lambda **kwargs: env})

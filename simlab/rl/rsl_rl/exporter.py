@@ -25,8 +25,12 @@ def export_policy_as_jit(
 
 
 def export_policy_as_onnx(
-    policy: nn.Module, path: str, normalizer: nn.Module | None = None, filename: str = "policy.onnx",
-    verbose: bool = False, obs_dim: int | None = None,
+    policy: nn.Module,
+    path: str,
+    normalizer: nn.Module | None = None,
+    filename: str = "policy.onnx",
+    verbose: bool = False,
+    obs_dim: int | None = None,
 ) -> str:
     """Write the actor ``policy`` as ONNX (input ``obs``, output ``actions``, dynamic batch)."""
     module, dim = policy_module(policy)

@@ -165,7 +165,8 @@ def _convert_deprecated(cfg: RslRlOnPolicyRunnerCfg) -> RslRlOnPolicyRunnerCfg:
             ),
         )
         cfg.critic = RslRlMLPModelCfg(
-            hidden_dims=list(p.critic_hidden_dims), activation=p.activation,
+            hidden_dims=list(p.critic_hidden_dims),
+            activation=p.activation,
             obs_normalization=p.critic_obs_normalization,
         )
         cfg.policy = None

@@ -37,9 +37,7 @@ class OverrideError(ValueError):
 def parse_override(text: str) -> tuple[list[str], Any, bool]:
     """``"env.a.b=1"`` -> (``["env", "a", "b"]``, ``1``, add); ``add`` is True for ``+key=value``."""
     if "=" not in text:
-        raise OverrideError(
-            f"'{text}' is not an override. Use key=value, e.g. env.scene.num_envs=32 or agent.seed=1."
-        )
+        raise OverrideError(f"'{text}' is not an override. Use key=value, e.g. env.scene.num_envs=32 or agent.seed=1.")
     key, _, raw = text.partition("=")
     key = key.strip()
     add = key.startswith("+")

@@ -77,14 +77,13 @@ def load_cfg_from_registry(task_name: str, entry_point_key: str) -> Any:
         keys = sorted(k for k in spec.kwargs if k.endswith("entry_point"))
         close = closest_matches(entry_point_key, keys, n=1)
         hint = f" Did you mean '{close[0]}'?" if close else ""
-        raise ValueError(
-            f"Task '{task_name}' has no '{entry_point_key}'.{hint} It registers: {keys}."
-        )
+        raise ValueError(f"Task '{task_name}' has no '{entry_point_key}'.{hint} It registers: {keys}.")
     return _load_entry_point(entry_point, f"{task_name} {entry_point_key}")
 
 
-def parse_env_cfg(task_name: str, device: str = "cuda:0", num_envs: int | None = None,
-                  use_fabric: bool | None = None) -> Any:
+def parse_env_cfg(
+    task_name: str, device: str = "cuda:0", num_envs: int | None = None, use_fabric: bool | None = None
+) -> Any:
     """The task's env config with the simulation ``device`` and, if given, ``num_envs`` set.
 
     ``use_fabric`` is accepted for Isaac Lab compatibility and ignored (simlab has no USD stage).
@@ -107,8 +106,13 @@ def _natural_key(name: str) -> list:
     return [int(t) if t.isdigit() else t for t in re.split(r"(\d+)", name)]
 
 
-def get_checkpoint_path(log_path: str, run_dir: str = ".*", checkpoint: str = ".*",
-                        other_dirs: list[str] | None = None, sort_alphabetical: bool = True) -> str:
+def get_checkpoint_path(
+    log_path: str,
+    run_dir: str = ".*",
+    checkpoint: str = ".*",
+    other_dirs: list[str] | None = None,
+    sort_alphabetical: bool = True,
+) -> str:
     """The latest checkpoint in the latest run under ``log_path``.
 
     Args:
