@@ -25,6 +25,7 @@ from simlab.utils.configclass import MissingFieldError
 
 from .common import SimulatedEnv, VecEnvObs
 from .manager_based_env_cfg import ManagerBasedEnvCfg
+from .utils.viewer import camera_pose, make_renderer, render_frame
 
 
 class ManagerBasedEnv(SimulatedEnv):
@@ -159,38 +160,9 @@ class ManagerBasedEnv(SimulatedEnv):
 
     def _camera_pose(self) -> tuple[np.ndarray, np.ndarray]:
         """The viewer camera's eye and lookat in the frame of the rendered MuJoCo world."""
-        viewer = self.cfg.viewer
-        index = viewer.env_index
-        if not 0 <= index < self.num_envs:
-            raise ValueError(f"cfg.viewer.env_index is {index}, but there are {self.num_envs} envs")
-        eye, lookat = np.asarray(viewer.eye, dtype=np.float64), np.asarray(viewer.lookat, dtype=np.float64)
-        origin = self.scene.env_origins[index].cpu().numpy().astype(np.float64)
-        # Each env is its own MuJoCo world centred on zero: world-frame points lose the env origin.
-        if viewer.origin_type == "world":
-            offset = -origin
-        elif viewer.origin_type == "env":
-            offset = np.zeros(3)
-        elif viewer.origin_type in ("asset_root", "asset_body"):
-            if viewer.asset_name is None:
-                raise ValueError(f"cfg.viewer.origin_type='{viewer.origin_type}' needs cfg.viewer.asset_name")
-            asset = self.scene[viewer.asset_name]
-            if viewer.origin_type == "asset_root":
-                pos = asset.data.root_pos_w[index]
-            else:
-                body_ids, _ = asset.find_bodies(viewer.body_name)
-                pos = asset.data.body_pos_w[index, body_ids[0]]
-            offset = pos.cpu().numpy().astype(np.float64) - origin
-        else:
-            raise ValueError(
-                f"Unknown cfg.viewer.origin_type '{viewer.origin_type}'; allowed: world, env, asset_root, asset_body"
-            )
-        return eye + offset, lookat + offset
+        return camera_pose(self, self.cfg.viewer)
 
     def _render_rgb(self) -> np.ndarray:
-        from simlab.sim.renderer import OffscreenRenderer
-
         if self._renderer is None:
-            width, height = self.cfg.viewer.resolution
-            self._renderer = OffscreenRenderer(self.sim.model, width, height)
-        eye, lookat = self._camera_pose()
-        return self._renderer.render(self.sim.physics, self.cfg.viewer.env_index, eye, lookat)
+            self._renderer = make_renderer(self.sim.model, self.cfg.viewer)
+        return render_frame(self._renderer, self, self.cfg.viewer)
