@@ -144,7 +144,6 @@ class Articulation(RootedAsset):
         self._actuated = contiguous([actuated[k] for k in order], dev)
         self._ctrl_cols = contiguous([ctrl_cols[k] for k in order], dev)
         self._num_actuated = len(actuated)
-        self._all_implicit = not self._explicit
         self._ctrl = physics.data("ctrl")
         self._actuator_force = physics.data("actuator_force")
 
@@ -204,15 +203,10 @@ class Articulation(RootedAsset):
         super().write_data_to_sim()
         if not self._num_actuated:
             return
-        d, cols = self.data, self._actuated
-        if self._all_implicit:
-            # ctrl = kp q* + kd qd* + tau_ff (the PD bias lives in the model; see actuator_cfg).
-            ctrl = d.joint_stiffness * d.joint_pos_target + d.joint_damping * d.joint_vel_target + d.joint_effort_target
-            self._ctrl[:, self._ctrl_cols] = (
-                ctrl if isinstance(cols, slice) and cols == slice(0, self.num_joints) else ctrl[:, cols]
-            )
-            return
+        d = self.data
+        # Implicit: ctrl = kp q* + kd qd* + tau_ff (the PD bias lives in the model; see actuator_cfg).
         ctrl = d.joint_stiffness * d.joint_pos_target + d.joint_damping * d.joint_vel_target + d.joint_effort_target
+        # Explicit models replace their joints' ctrl with the torque they compute.
         for actuator in self._explicit:
             j = actuator.joint_indices
             torque = actuator.compute_torque(
@@ -228,7 +222,7 @@ class Articulation(RootedAsset):
             )
             ctrl[:, j] = torque
             d._explicit_torque[:, j] = torque
-        self._ctrl[:, self._ctrl_cols] = ctrl[:, cols]
+        self._ctrl[:, self._ctrl_cols] = ctrl[:, self._actuated]
 
     # joint state ---------------------------------------------------------------------------------
 
