@@ -142,7 +142,13 @@ class CudaGraphStep:
             tensor = _get(loc)
             if versions.get(key) != (id(tensor), tensor._version):  # written in place, or replaced
                 touched.setdefault(key, loc)
-        self._touched = list(touched.values())
+        # One location per tensor (an asset's qpos view is the backend's qpos), none for empty ones.
+        by_tensor: dict[int, Location] = {}
+        for loc in touched.values():
+            tensor = _get(loc)
+            if tensor.numel() > 0:
+                by_tensor.setdefault(id(tensor), loc)
+        self._touched = list(by_tensor.values())
 
     def masked_reset(self, finished: torch.Tensor) -> None:
         """Reset the envs where ``finished`` is True without data-dependent shapes."""
