@@ -19,6 +19,19 @@ def cuda_available() -> bool:
         return False
 
 
+def rendering_available() -> bool:
+    """Whether MuJoCo can render offscreen here (OSMesa on a CPU host: Debian's libosmesa6)."""
+    import mujoco
+
+    from simlab.sim.renderer import OffscreenRenderer
+
+    try:
+        OffscreenRenderer(mujoco.MjModel.from_xml_string("<mujoco/>"), 8, 8)
+    except RuntimeError:
+        return False
+    return True
+
+
 # Backend-dependent tests take `device`; the cuda case runs on the GPU machine only.
 DEVICES = ["cpu", pytest.param("cuda:0", marks=[pytest.mark.gpu])]
 

@@ -12,6 +12,7 @@ import time
 import numpy as np
 import pytest
 import torch
+from conftest import rendering_available
 
 from simlab.cli.main import main
 
@@ -90,6 +91,7 @@ def test_list_random_zero(tmp_path, capsys):
     )
 
 
+@pytest.mark.skipif(not rendering_available(), reason="no offscreen OpenGL (install libosmesa6)")
 def test_train_video(tmp_path):
     assert (
         _run(
