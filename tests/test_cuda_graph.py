@@ -87,6 +87,46 @@ def test_masked_reset_follows_tensors_a_reset_replaces():
     eager.close()
 
 
+class ReplayInPlace:
+    """Stands in for a CUDA graph on the CPU: a replay recomputes the step into the same buffers."""
+
+    def __init__(self, graph_step: CudaGraphStep):
+        self.step = graph_step
+
+    def replay(self) -> None:
+        fresh = self.step.step_fn(self.step._static_action)
+        _copy_into(self.step._outputs, fresh)
+
+
+def _copy_into(static, fresh) -> None:
+    if isinstance(static, torch.Tensor):
+        static.copy_(fresh)
+    elif isinstance(static, dict):
+        for key in static:
+            _copy_into(static[key], fresh[key])
+    else:
+        for a, b in zip(static, fresh):
+            _copy_into(a, b)
+
+
+def test_replayed_outputs_are_not_overwritten_by_the_next_step():
+    """Learners keep the observation they acted on past the next step (rsl_rl stores it then):
+    what a replayed step returns must not be the graph's buffers, which the next replay overwrites."""
+    env = make_env("cpu")
+    graph_step = CudaGraphStep(env, env._graph_step, warmup=10**9)
+    env._cuda_graph = graph_step
+    env.reset(seed=1)
+    graph_step._static_action = torch.zeros(16, 1)
+    graph_step._outputs = graph_step.step_fn(graph_step._static_action)
+    graph_step.graph = ReplayInPlace(graph_step)
+    obs_1, *_ = env.step(torch.full((16, 1), 0.5))
+    kept = obs_1["policy"].clone()
+    obs_2, *_ = env.step(torch.full((16, 1), -0.5))
+    torch.testing.assert_close(obs_1["policy"], kept)  # unchanged by the second step
+    assert not torch.equal(obs_2["policy"], kept)
+    env.close()
+
+
 def test_reset_footprint_covers_task_buffers():
     env = make_env("cpu")
     graph = CudaGraphStep(env, env._graph_step)

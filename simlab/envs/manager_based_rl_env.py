@@ -151,7 +151,7 @@ class ManagerBasedRLEnv(ManagerBasedEnv, gym.Env):
         self.extras["time_outs"] = truncated
         if bool(self.reset_buf.any()):
             self.extras["final_obs"] = final_obs
-            self.extras["log"] = {name: value.clone() for name, value in log.items()}  # the next replay overwrites
+            self.extras["log"] = log
         else:
             self.extras.pop("final_obs", None)
         return obs, reward, terminated, truncated, self.extras

@@ -17,7 +17,7 @@ version counter moved); those are saved before the reset and blended back after 
 
 What cannot be captured (a task hook that synchronises, reads ``.item()``, or copies from the
 host) makes the capture fail; the env then keeps stepping eagerly and says so once. Returned
-tensors are the graph's static buffers: the next step overwrites them, as with Isaac Lab's buffers.
+tensors are copies of the graph's static buffers, so a caller may keep them across steps.
 Finite actions are checked on the device and reported at the next periodic check (every
 ``check_interval`` steps), since checking each step would stall the pipeline.
 """
@@ -179,7 +179,10 @@ class CudaGraphStep:
         else:
             self._static_action.copy_(action)
             self.graph.replay()
-            outputs = self._outputs
+            # Fresh tensors, as an eager step returns: the next replay overwrites the graph's buffers,
+            # and learners keep references (rsl_rl stores the observation it acted on until after
+            # the next step returns; aliased, it would store the next observation instead).
+            outputs = _clone_tree(self._outputs)
         if self._calls % self.check_interval == 0:
             self.check()
         return outputs
@@ -285,6 +288,17 @@ def list_indices_on_device(device: torch.device, cache: dict[tuple[int, ...], to
         yield cache
     finally:
         torch.Tensor.__getitem__, torch.Tensor.__setitem__ = get_item, set_item
+
+
+def _clone_tree(value: Any) -> Any:
+    """Copies of the tensors in nested dicts, tuples and lists."""
+    if isinstance(value, torch.Tensor):
+        return value.clone()
+    if isinstance(value, dict):
+        return {key: _clone_tree(item) for key, item in value.items()}
+    if isinstance(value, (tuple, list)):
+        return type(value)(_clone_tree(item) for item in value)
+    return value
 
 
 def _is_int(value) -> bool:
