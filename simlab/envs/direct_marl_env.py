@@ -17,18 +17,15 @@ from typing import Any, ClassVar
 import gymnasium as gym
 import torch
 
-from simlab.scene import InteractiveScene
-from simlab.sim import SimulationContext
-
 from .common import SimulatedEnv
 from .direct_marl_env_cfg import DirectMARLEnvCfg
 from .direct_rl_env import (
     RENDER_MODES,
     DirectRLEnv,
     apply_deprecated_space_fields,
+    build_simulation,
     check_action,
     check_env_cfg,
-    make_event_manager,
 )
 from .utils.spaces import sample_space, spec_to_gym_space
 
@@ -53,31 +50,7 @@ class DirectMARLEnv(SimulatedEnv, gym.Env):
         cfg.validate()
         check_env_cfg(cfg)
         check_agents(cfg)
-        if render_mode not in RENDER_MODES:
-            raise ValueError(f"Unknown render_mode '{render_mode}'; allowed: {RENDER_MODES}")
-        self.cfg = cfg
-        self.render_mode = render_mode
-        self._is_closed = False
-        self._renderer = None
-        self.metadata = dict(type(self).metadata)
-
-        if cfg.seed is not None:
-            cfg.seed = self.seed(cfg.seed)
-        else:
-            logger.warning("Seed not set for the environment: its creation may not be deterministic.")
-
-        SimulationContext.clear_instance()
-        self.sim: SimulationContext = SimulationContext(cfg.sim)
-        self.sim.set_camera_view(cfg.viewer.eye, cfg.viewer.lookat)
-        if "cuda" in self.device:
-            torch.cuda.set_device(self.device)
-        self.scene = InteractiveScene(cfg.scene)
-        self._setup_scene()
-        self.event_manager = make_event_manager(cfg.events, self)
-        if self.event_manager is not None and "prestartup" in self.event_manager.available_modes:
-            self.event_manager.apply(mode="prestartup")
-        self.sim.reset()
-        self.scene.update(dt=self.physics_dt)
+        build_simulation(self, cfg, render_mode)
 
         self.has_debug_vis_implementation = False
         self.extras: dict[str, dict] = {agent: {} for agent in cfg.possible_agents}

@@ -61,34 +61,7 @@ class DirectRLEnv(SimulatedEnv, gym.Env):
         )
         cfg.validate()
         check_env_cfg(cfg)
-        if render_mode not in RENDER_MODES:
-            raise ValueError(f"Unknown render_mode '{render_mode}'; allowed: {RENDER_MODES}")
-        self.cfg = cfg
-        self.render_mode = render_mode
-        self._is_closed = False
-        self._renderer = None
-        self.metadata = dict(type(self).metadata)  # per instance: render_fps depends on the config
-
-        if cfg.seed is not None:
-            cfg.seed = self.seed(cfg.seed)
-        else:
-            logger.warning("Seed not set for the environment: its creation may not be deterministic.")
-
-        # A new simulation per env: the previous one (and its model) is discarded.
-        SimulationContext.clear_instance()
-        self.sim: SimulationContext = SimulationContext(cfg.sim)
-        self.sim.set_camera_view(cfg.viewer.eye, cfg.viewer.lookat)
-        if "cuda" in self.device:
-            torch.cuda.set_device(self.device)
-
-        # Build the scene: declared entities, then the task's own (_setup_scene), then compile.
-        self.scene = InteractiveScene(cfg.scene)
-        self._setup_scene()
-        self.event_manager = make_event_manager(cfg.events, self)
-        if self.event_manager is not None and "prestartup" in self.event_manager.available_modes:
-            self.event_manager.apply(mode="prestartup")
-        self.sim.reset()
-        self.scene.update(dt=self.physics_dt)
+        build_simulation(self, cfg, render_mode)
 
         self.has_debug_vis_implementation = False
         self.extras: dict[str, Any] = {}
@@ -283,6 +256,35 @@ class DirectRLEnv(SimulatedEnv, gym.Env):
 
 
 # -- shared with the multi-agent env -----------------------------------------------------------------
+
+
+def build_simulation(env, cfg, render_mode: str | None) -> None:
+    """What a direct env's constructor does first: seed, a new simulation, the scene (declared
+    entities, then the task's ``_setup_scene``), ``prestartup`` events, then compile."""
+    if render_mode not in RENDER_MODES:
+        raise ValueError(f"Unknown render_mode '{render_mode}'; allowed: {RENDER_MODES}")
+    env.cfg = cfg
+    env.render_mode = render_mode
+    env._is_closed = False
+    env._renderer = None
+    env.metadata = dict(type(env).metadata)  # per instance: render_fps depends on the config
+    if cfg.seed is not None:
+        cfg.seed = env.seed(cfg.seed)
+    else:
+        logger.warning("Seed not set for the environment: its creation may not be deterministic.")
+    # A new simulation per env: the previous one (and its model) is discarded.
+    SimulationContext.clear_instance()
+    env.sim = SimulationContext(cfg.sim)
+    env.sim.set_camera_view(cfg.viewer.eye, cfg.viewer.lookat)
+    if "cuda" in env.device:
+        torch.cuda.set_device(env.device)
+    env.scene = InteractiveScene(cfg.scene)
+    env._setup_scene()
+    env.event_manager = make_event_manager(cfg.events, env)
+    if env.event_manager is not None and "prestartup" in env.event_manager.available_modes:
+        env.event_manager.apply(mode="prestartup")
+    env.sim.reset()
+    env.scene.update(dt=env.physics_dt)
 
 
 def apply_deprecated_space_fields(cfg, *pairs: tuple[str, str]) -> None:
