@@ -10,7 +10,6 @@ observations reached before the reset are kept in ``extras[agent]["final_obs"]``
 
 from __future__ import annotations
 
-import logging
 from collections.abc import Sequence
 from typing import Any, ClassVar
 
@@ -28,8 +27,6 @@ from .direct_rl_env import (
     check_env_cfg,
 )
 from .utils.spaces import sample_space, spec_to_gym_space
-
-logger = logging.getLogger(__name__)
 
 
 class DirectMARLEnv(SimulatedEnv, gym.Env):
