@@ -269,6 +269,14 @@ class randomize_rigid_body_material(ManagerTermBase):  # noqa: N801 - Isaac Lab'
         friction[env_ids[:, None], self._geoms, 0] = buckets[choice, 0]
 
 
+def _joint_values(current, default, env_ids, joints, params, operation, distribution, min_value=None):
+    """``current`` of the selected envs, with the selected joints' values drawn around ``default``."""
+    value = current[env_ids].clone()
+    sample = _randomize(default[env_ids][:, joints], params, operation, distribution)
+    value[:, joints] = sample if min_value is None else sample.clamp(min=min_value)
+    return value
+
+
 def randomize_actuator_gains(
     env: ManagerBasedEnv,
     env_ids: torch.Tensor | None,
@@ -284,15 +292,25 @@ def randomize_actuator_gains(
     joints = _cols(asset_cfg.joint_ids, asset.num_joints, env.device)
     data = asset.data
     if stiffness_distribution_params is not None:
-        value = data.joint_stiffness[env_ids].clone()
-        value[:, joints] = _randomize(
-            data.default_joint_stiffness[env_ids][:, joints], stiffness_distribution_params, operation, distribution
+        value = _joint_values(
+            data.joint_stiffness,
+            data.default_joint_stiffness,
+            env_ids,
+            joints,
+            stiffness_distribution_params,
+            operation,
+            distribution,
         )
         asset.write_joint_stiffness_to_sim(value, env_ids=env_ids)
     if damping_distribution_params is not None:
-        value = data.joint_damping[env_ids].clone()
-        value[:, joints] = _randomize(
-            data.default_joint_damping[env_ids][:, joints], damping_distribution_params, operation, distribution
+        value = _joint_values(
+            data.joint_damping,
+            data.default_joint_damping,
+            env_ids,
+            joints,
+            damping_distribution_params,
+            operation,
+            distribution,
         )
         asset.write_joint_damping_to_sim(value, env_ids=env_ids)
 
@@ -324,16 +342,28 @@ class randomize_joint_parameters(ManagerTermBase):  # noqa: N801 - Isaac Lab's n
         joints = _cols(asset_cfg.joint_ids, asset.num_joints, env.device)
         data = asset.data
         if friction_distribution_params is not None:
-            value = data.joint_friction_coeff[env_ids].clone()
-            value[:, joints] = _randomize(
-                self._default_friction[env_ids][:, joints], friction_distribution_params, operation, distribution
-            ).clamp(min=0.0)
+            value = _joint_values(
+                data.joint_friction_coeff,
+                self._default_friction,
+                env_ids,
+                joints,
+                friction_distribution_params,
+                operation,
+                distribution,
+                min_value=0.0,
+            )
             asset.write_joint_friction_coefficient_to_sim(value, env_ids=env_ids)
         if armature_distribution_params is not None:
-            value = data.joint_armature[env_ids].clone()
-            value[:, joints] = _randomize(
-                self._default_armature[env_ids][:, joints], armature_distribution_params, operation, distribution
-            ).clamp(min=0.0)
+            value = _joint_values(
+                data.joint_armature,
+                self._default_armature,
+                env_ids,
+                joints,
+                armature_distribution_params,
+                operation,
+                distribution,
+                min_value=0.0,
+            )
             asset.write_joint_armature_to_sim(value, env_ids=env_ids)
             _set_const(env, env_ids)
         if lower_limit_distribution_params is not None or upper_limit_distribution_params is not None:
