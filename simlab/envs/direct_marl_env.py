@@ -10,7 +10,6 @@ observations reached before the reset are kept in ``extras[agent]["final_obs"]``
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from typing import Any, ClassVar
 
 import gymnasium as gym
@@ -194,13 +193,8 @@ class DirectMARLEnv(SimulatedEnv, gym.Env):
             for a in self.possible_agents
         }
 
-    def _reset_idx(self, env_ids: Sequence[int] | torch.Tensor) -> None:
-        """Reset the scene's entities and the episode counters of ``env_ids``; tasks extend it."""
-        self.scene.reset(env_ids)
-        if self.event_manager is not None and "reset" in self.event_manager.available_modes:
-            env_step_count = self._sim_step_counter // self.cfg.decimation
-            self.event_manager.apply(mode="reset", env_ids=env_ids, global_env_step_count=env_step_count)
-        self.episode_length_buf[env_ids] = 0
+    # Resetting the scene, reset events and episode counters works as in the single-agent env.
+    _reset_idx = DirectRLEnv._reset_idx
 
     # -- the task's hooks -------------------------------------------------------------------------
 
