@@ -163,8 +163,8 @@ class RootedAsset(AssetBase):
         if is_global:
             quat = self.data.body_quat_w[env][:, bodies]
             forces, torques = math_utils.quat_apply_inverse(quat, forces), math_utils.quat_apply_inverse(quat, torques)
-        self._write_cols3(self._ext_force_b, bodies, env, forces)
-        self._write_cols3(self._ext_torque_b, bodies, env, torques)
+        self._write_cols(self._ext_force_b, bodies, env, forces)
+        self._write_cols(self._ext_torque_b, bodies, env, torques)
         self._has_external_wrench = bool(self._ext_force_b.any() or self._ext_torque_b.any())
         if not self._has_external_wrench:
             self._xfrc_applied[:, self._body_index] = 0.0
@@ -194,8 +194,6 @@ class RootedAsset(AssetBase):
             dst[env[:, None], cols] = values
         else:
             dst[env, cols] = values
-
-    _write_cols3 = _write_cols
 
 
 class RootedAssetData:
