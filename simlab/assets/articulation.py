@@ -6,7 +6,7 @@ environment origins included (``scene.env_origins``), as in Isaac Lab, although 
 is its own MuJoCo world centred on zero: the origins are added on read and removed on write.
 
 Writes of state (root pose, joint positions, ...) reach the simulation at its next call; derived
-quantities (body poses and velocities) follow after the next ``step`` or ``forward``.
+quantities (body poses and velocities) are recomputed when next read.
 """
 
 from __future__ import annotations
@@ -232,9 +232,11 @@ class Articulation(RootedAsset):
 
     def write_joint_position_to_sim(self, position, joint_ids=None, env_ids: EnvIds = None) -> None:
         self._write_cols(self._qpos, self._cols(self._qpos_cols, self._qpos_index, joint_ids), env_ids, position)
+        self._physics.mark_stale(self._env_index(env_ids))
 
     def write_joint_velocity_to_sim(self, velocity, joint_ids=None, env_ids: EnvIds = None) -> None:
         self._write_cols(self._qvel, self._cols(self._dof_cols, self._dof_index, joint_ids), env_ids, velocity)
+        self._physics.mark_stale(self._env_index(env_ids))
 
     # joint targets -------------------------------------------------------------------------------
 
@@ -370,14 +372,14 @@ class ArticulationData(RootedAssetData):
     @property
     def joint_acc(self) -> torch.Tensor:
         a = self._asset
-        return self._qacc[:, a._dof_cols]
+        return self._derived(self._qacc)[:, a._dof_cols]
 
     @property
     def applied_torque(self) -> torch.Tensor:
         """Torque MuJoCo's actuators applied in the last step, after clamping (0 where unactuated)."""
         a = self._asset
         torque = torch.zeros_like(self.joint_effort_target)
-        torque[:, a._actuated] = a._actuator_force[:, a._ctrl_cols]
+        torque[:, a._actuated] = self._derived(a._actuator_force)[:, a._ctrl_cols]
         return torque
 
     @property

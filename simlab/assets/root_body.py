@@ -130,6 +130,7 @@ class RootedAsset(AssetBase):
         else:
             self._qpos[env, self._root_pos_cols] = pos
             self._qpos[env, self._root_quat_cols] = quat
+        self._physics.mark_stale(env)
 
     def write_root_velocity_to_sim(self, root_velocity: torch.Tensor, env_ids: EnvIds = None) -> None:
         """Root linear and angular velocity, both in the world frame."""
@@ -140,6 +141,7 @@ class RootedAsset(AssetBase):
         quat = self._qpos[env, self._root_quat_cols]
         self._qvel[env, self._root_lin_cols] = root_velocity[:, :3]
         self._qvel[env, self._root_ang_cols] = math_utils.quat_apply_inverse(quat, root_velocity[:, 3:6])
+        self._physics.mark_stale(env)
 
     # Isaac Lab 2.x names for the same writes.
     write_root_link_pose_to_sim = write_root_pose_to_sim
@@ -197,7 +199,12 @@ class RootedAsset(AssetBase):
 
 
 class RootedAssetData:
-    """Live views of an asset's state. Read every step; nothing here is cached."""
+    """Live views of an asset's state. Read every step; nothing here is cached.
+
+    Joint and root states are MuJoCo's ``qpos``/``qvel`` themselves. Body poses and velocities
+    are derived quantities: reading one first forwards the worlds whose state changed since
+    (``PhysicsBackend.ensure_forward``), so they are always current and cost nothing when unread.
+    """
 
     GRAVITY_VEC_W = None
     FORWARD_VEC_B = None
@@ -206,6 +213,7 @@ class RootedAssetData:
         self._asset = asset
         self._origins = sim.env_origins
         physics = sim.physics
+        self._physics = physics
         dev = asset.device
         self._xpos, self._xquat, self._cvel = physics.data("xpos"), physics.data("xquat"), physics.data("cvel")
         self._xipos = physics.data("xipos")
@@ -220,6 +228,11 @@ class RootedAssetData:
         self.default_root_state: torch.Tensor
         self.body_names: list[str] = []
 
+    def _derived(self, field: torch.Tensor) -> torch.Tensor:
+        """``field`` (a derived MjData tensor) once it matches the current state."""
+        self._physics.ensure_forward()
+        return field
+
     # root ------------------------------------------------------------------------------------------
 
     @property
@@ -228,14 +241,14 @@ class RootedAssetData:
         if a._is_fixed_base:
             if a._mocap_id >= 0:
                 return a._mocap_pos[:, a._mocap_id] + self._origins
-            return self._xpos[:, a._root_body] + self._origins
+            return self._derived(self._xpos)[:, a._root_body] + self._origins
         return a._qpos[:, a._root_pos_cols] + self._origins
 
     @property
     def root_quat_w(self) -> torch.Tensor:
         a = self._asset
         if a._is_fixed_base:
-            return a._mocap_quat[:, a._mocap_id] if a._mocap_id >= 0 else self._xquat[:, a._root_body]
+            return a._mocap_quat[:, a._mocap_id] if a._mocap_id >= 0 else self._derived(self._xquat)[:, a._root_body]
         return a._qpos[:, a._root_quat_cols]
 
     @property
@@ -296,26 +309,27 @@ class RootedAssetData:
 
     @property
     def body_pos_w(self) -> torch.Tensor:
-        return self._xpos[:, self._asset._body_index] + self._origins[:, None]
+        return self._derived(self._xpos)[:, self._asset._body_index] + self._origins[:, None]
 
     @property
     def body_quat_w(self) -> torch.Tensor:
-        return self._xquat[:, self._asset._body_index]
+        return self._derived(self._xquat)[:, self._asset._body_index]
 
     @property
     def body_ang_vel_w(self) -> torch.Tensor:
-        return self._cvel[:, self._asset._body_index, 0:3]
+        return self._derived(self._cvel)[:, self._asset._body_index, 0:3]
 
     @property
     def body_lin_vel_w(self) -> torch.Tensor:
         # cvel's linear part is the velocity of the point at the kinematic tree's centre of mass.
         ids = self._asset._body_index
+        self._physics.ensure_forward()
         offset = self._xpos[:, ids] - self._subtree_com[:, self._rootids]
         return self._cvel[:, ids, 3:6] + torch.cross(self._cvel[:, ids, 0:3], offset, dim=-1)
 
     @property
     def body_com_pos_w(self) -> torch.Tensor:
-        return self._xipos[:, self._asset._body_index] + self._origins[:, None]
+        return self._derived(self._xipos)[:, self._asset._body_index] + self._origins[:, None]
 
     @property
     def body_pose_w(self) -> torch.Tensor:

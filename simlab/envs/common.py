@@ -74,8 +74,3 @@ class SimulatedEnv:
     def seed(seed: int = -1) -> int:
         """Seed python, numpy and torch; returns the seed used (a drawn one for -1)."""
         return set_seed(seed)
-
-    def _forward_after(self, substep: int) -> bool:
-        """Derived quantities are refreshed after the last substep, or after each when sensors
-        read them every physics step; in between only joint states matter (see PhysicsBackend.step)."""
-        return substep == self.cfg.decimation - 1 or bool(self.scene.sensors)

@@ -97,7 +97,7 @@ class DirectMARLEnv(SimulatedEnv, gym.Env):
             self.seed(seed)
         self._reset_idx(self._all_env_ids)
         self.scene.write_data_to_sim()
-        self.sim.forward()
+        self.sim.physics.mark_stale()
         self.obs_dict = self._get_observations()
         self.agents = [agent for agent in self.possible_agents if agent in self.obs_dict]
         return self.obs_dict, self.extras
@@ -117,11 +117,11 @@ class DirectMARLEnv(SimulatedEnv, gym.Env):
             for agent, action in actions.items()
         }
         self._pre_physics_step(actions)
-        for substep in range(self.cfg.decimation):
+        for _ in range(self.cfg.decimation):
             self._sim_step_counter += 1
             self._apply_action()
             self.scene.write_data_to_sim()
-            self.sim.step(render=False, forward=substep == self.cfg.decimation - 1 or bool(self.scene.sensors))
+            self.sim.step(render=False, forward=False)
             self.scene.update(dt=self.physics_dt)
 
         self.episode_length_buf += 1
@@ -137,7 +137,7 @@ class DirectMARLEnv(SimulatedEnv, gym.Env):
             final_obs = self._get_observations()
             self.final_state_buf = self._state_of(final_obs)
             self._reset_idx(reset_env_ids)
-            self.sim.physics.forward(reset_env_ids)
+            self.sim.physics.mark_stale(reset_env_ids)
         if self.event_manager is not None and "interval" in self.event_manager.available_modes:
             self.event_manager.apply(mode="interval", dt=self.step_dt)
 

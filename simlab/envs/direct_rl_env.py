@@ -97,7 +97,7 @@ class DirectRLEnv(SimulatedEnv, gym.Env):
         else:
             self._reset_idx(self._all_env_ids)
         self.scene.write_data_to_sim()
-        self.sim.forward()
+        self.sim.physics.mark_stale()
         self.obs_buf = self._observations()
         return self.obs_buf, self.extras
 
@@ -107,11 +107,11 @@ class DirectRLEnv(SimulatedEnv, gym.Env):
             return self._step_graphed(action)
         action = check_action(action, self.single_action_space, self.num_envs, self.device)
         self._pre_physics_step(action)
-        for substep in range(self.cfg.decimation):
+        for _ in range(self.cfg.decimation):
             self._sim_step_counter += 1
             self._apply_action()
             self.scene.write_data_to_sim()
-            self.sim.step(render=False, forward=self._forward_after(substep))
+            self.sim.step(render=False, forward=False)
             self.scene.update(dt=self.physics_dt)
 
         self.episode_length_buf += 1
@@ -126,7 +126,7 @@ class DirectRLEnv(SimulatedEnv, gym.Env):
         if len(reset_env_ids) > 0:
             final_obs = self._observations()
             self._reset_idx(reset_env_ids)
-            self.sim.physics.forward(reset_env_ids)  # body poses of the reset envs for the observations
+            self.sim.physics.mark_stale(reset_env_ids)  # body poses follow when read
         if self.event_manager is not None and "interval" in self.event_manager.available_modes:
             self.event_manager.apply(mode="interval", dt=self.step_dt)
 
@@ -151,10 +151,10 @@ class DirectRLEnv(SimulatedEnv, gym.Env):
     def _graph_step(self, action: torch.Tensor):
         """The body of a graphed step: fixed shapes, resets by mask (see ``CudaGraphStep``)."""
         self._pre_physics_step(action)
-        for substep in range(self.cfg.decimation):
+        for _ in range(self.cfg.decimation):
             self._apply_action()
             self.scene.write_data_to_sim()
-            self.sim.step(render=False, forward=self._forward_after(substep))
+            self.sim.step(render=False, forward=False)
             self.scene.update(dt=self.physics_dt)
         self.episode_length_buf += 1
         terminated, time_outs = self._get_dones()
@@ -164,7 +164,7 @@ class DirectRLEnv(SimulatedEnv, gym.Env):
         reward = self._get_rewards()
         final_obs = self._observations()
         self._cuda_graph.masked_reset(self.reset_buf)
-        self.sim.physics.forward()
+        self.sim.physics.mark_stale()
         return self._observations(), reward, self.reset_terminated, self.reset_time_outs, final_obs
 
     def render(self, recompute: bool = False) -> np.ndarray | None:

@@ -108,7 +108,7 @@ class ManagerBasedEnv(SimulatedEnv):
             self.seed(seed)
         self._reset_idx(env_ids)
         self.scene.write_data_to_sim()
-        self.sim.physics.forward(env_ids)
+        self.sim.physics.mark_stale(env_ids)
         self.obs_buf = self.observation_manager.compute(update_history=True)
         return self.obs_buf, self.extras
 
@@ -141,11 +141,11 @@ class ManagerBasedEnv(SimulatedEnv):
 
     def _physics_steps(self) -> None:
         """``decimation`` physics steps with the processed action held."""
-        for substep in range(self.cfg.decimation):
+        for _ in range(self.cfg.decimation):
             self._sim_step_counter += 1
             self.action_manager.apply_action()
             self.scene.write_data_to_sim()
-            self.sim.step(render=False, forward=self._forward_after(substep))
+            self.sim.step(render=False, forward=False)
             self.scene.update(dt=self.physics_dt)
 
     def _reset_idx(self, env_ids: torch.Tensor) -> None:

@@ -111,7 +111,7 @@ class ManagerBasedRLEnv(ManagerBasedEnv, gym.Env):
             self.extras["final_obs"] = self.observation_manager.compute(update_history=False)
             self._reset_idx(reset_env_ids)
             self.scene.write_data_to_sim()
-            self.sim.physics.forward(reset_env_ids)
+            self.sim.physics.mark_stale(reset_env_ids)
         self.extras["time_outs"] = self.reset_time_outs
 
         self.command_manager.compute(dt=self.step_dt)
@@ -159,10 +159,10 @@ class ManagerBasedRLEnv(ManagerBasedEnv, gym.Env):
     def _graph_step(self, action: torch.Tensor):
         """The body of a graphed step: fixed shapes, resets by mask (see ``CudaGraphStep``)."""
         self.action_manager.process_action(action)
-        for substep in range(self.cfg.decimation):
+        for _ in range(self.cfg.decimation):
             self.action_manager.apply_action()
             self.scene.write_data_to_sim()
-            self.sim.step(render=False, forward=self._forward_after(substep))
+            self.sim.step(render=False, forward=False)
             self.scene.update(dt=self.physics_dt)
         self.episode_length_buf += 1
         self.reset_buf = self.termination_manager.compute()
@@ -174,7 +174,7 @@ class ManagerBasedRLEnv(ManagerBasedEnv, gym.Env):
         }
         final_obs = self.observation_manager.compute(update_history=False)
         self._cuda_graph.masked_reset(self.reset_buf)
-        self.sim.physics.forward()
+        self.sim.physics.mark_stale()
         self.command_manager.compute(dt=self.step_dt)
         obs = self.observation_manager.compute(update_history=True)
         return obs, reward, terminated, truncated, final_obs, log

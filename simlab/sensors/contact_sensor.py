@@ -125,6 +125,7 @@ class ContactSensor(SensorBase):
             return
         elapsed, self._timestamp = self._timestamp, 0.0
         d = self._data
+        self._sim.physics.ensure_forward()  # contact forces of the current state
         external = self._cfrc_ext[:, self._body_ids, 3:6] - self._xfrc[:, self._body_ids, 0:3]
         d.net_forces_w.copy_(external)
         if d.net_forces_w_history.shape[1] > 1:

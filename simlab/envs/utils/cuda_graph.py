@@ -120,6 +120,7 @@ class CudaGraphStep:
         self._index_cache: dict[tuple[int, ...], torch.Tensor] = {}
         self._outputs: Any = None
         self._nonfinite = torch.zeros((), dtype=torch.bool, device=env.device)
+        self._stale_at_capture = True
 
     # -- masked resets ---------------------------------------------------------------------------
 
@@ -177,6 +178,9 @@ class CudaGraphStep:
         elif self.graph is None:
             outputs = self.step_fn(action)
         else:
+            physics = self.env.sim.physics
+            if physics.is_stale and not self._stale_at_capture:
+                physics.ensure_forward()  # state written since the last step; the graph assumes it forwarded
             self._static_action.copy_(action)
             self.graph.replay()
             # Fresh tensors, as an eager step returns: the next replay overwrites the graph's buffers,
@@ -230,6 +234,9 @@ class CudaGraphStep:
             before = {
                 key: (loc, _get(loc)) for key, loc in env_sized_tensors(self.env, self.env.num_envs, device).items()
             }
+            # Which derived quantities the replays may take as current at the start of a step (see
+            # PhysicsBackend.ensure_forward): the capture records a forward only where one was due.
+            self._stale_at_capture = self.env.sim.physics.is_stale
             with (
                 list_indices_on_device(device, self._index_cache),
                 torch.cuda.graph(graph, capture_error_mode="thread_local"),

@@ -18,6 +18,13 @@ Simulation semantics shared by all backends:
   controls and applied forces) in the selected worlds, then runs forward there.
 * ``forward(env_ids)`` recomputes derived quantities from ``qpos``/``qvel`` after a state write.
 
+Derived quantities are computed when first read, as Isaac Lab's lazy data buffers are. A step
+without its final forward, or a state write announced with ``mark_stale(env_ids)``, leaves the
+worlds *stale*; ``ensure_forward()`` forwards the stale worlds, if any, and is called by every
+reader of derived quantities (asset data, sensors). A step whose observations and rewards read
+only joint states therefore runs no forward at all: the physics work equals ``mj_step``'s.
+Forward is a pure function of the state, so when it runs changes no value and no trajectory.
+
 Nothing above the backend knows which backend runs.
 """
 
@@ -37,10 +44,17 @@ class PhysicsBackend(ABC):
 
     name: str = "base"
 
+    # A forward over all worlds may cost the same as one over a few (one GPU launch): such a
+    # backend tracks staleness with one flag and forwards every world.
+    forwards_all_worlds: bool = False
+
     def __init__(self, model: mujoco.MjModel, num_envs: int, device: str):
         self.model = model
         self.num_envs = num_envs
         self.device = torch.device(device)
+        self._stale_all = False
+        self._stale = torch.zeros(num_envs, dtype=torch.bool)  # per world, when not forwards_all_worlds
+        self._any_stale = False
 
     @abstractmethod
     def data(self, name: str) -> torch.Tensor:
@@ -55,22 +69,72 @@ class PhysicsBackend(ABC):
         ``mjOption`` field such as ``"opt.gravity"``.
         """
 
-    @abstractmethod
     def step(self, nstep: int = 1, forward: bool = True) -> None:
         """Advance every world by ``nstep`` physics steps, then forward (see module docstring).
 
-        ``forward=False`` skips the final forward: derived quantities then stay one substep
-        behind, as after a plain ``mj_step``. Envs use it for all but the last of the decimated
-        physics steps of an env step, when nothing reads derived quantities in between.
+        ``forward=False`` skips the final forward and marks every world stale: derived quantities
+        then stay one substep behind until ``ensure_forward``, as after a plain ``mj_step``.
         """
+        self._step(nstep, forward)
+        if forward:
+            self._clear_stale()
+        else:
+            self.mark_stale()
 
-    @abstractmethod
     def forward(self, env_ids: EnvIds = None) -> None:
         """Recompute derived quantities of the selected worlds (all when ``None``)."""
+        self._forward(env_ids)
+        if env_ids is None or self.forwards_all_worlds:
+            self._clear_stale()
 
-    @abstractmethod
     def reset(self, env_ids: EnvIds = None) -> None:
         """Restore the initial state of the selected worlds (all when ``None``), then forward."""
+        self._reset(env_ids)
+        if env_ids is None or self.forwards_all_worlds:
+            self._clear_stale()
+
+    # -- lazy derived quantities -----------------------------------------------------------------
+
+    def mark_stale(self, env_ids: EnvIds = None) -> None:
+        """Note that the state of these worlds (all when ``None``) changed since their last forward."""
+        if env_ids is None or self.forwards_all_worlds:
+            self._stale_all = True
+        else:
+            self._stale[self._ids_cpu(env_ids)] = True
+            self._any_stale = True
+
+    @property
+    def is_stale(self) -> bool:
+        """Whether some world's derived quantities lag its state."""
+        return self._stale_all or self._any_stale
+
+    def ensure_forward(self) -> None:
+        """Forward the stale worlds, if any, so that derived quantities match the state."""
+        if self._stale_all:
+            self.forward()
+        elif self._any_stale:
+            self.forward(self._stale.nonzero().flatten())
+            self._clear_stale()
+
+    def _clear_stale(self) -> None:
+        self._stale_all = False
+        if self._any_stale:
+            self._stale.zero_()
+            self._any_stale = False
+
+    # -- what each backend implements ------------------------------------------------------------
+
+    @abstractmethod
+    def _step(self, nstep: int, forward: bool) -> None:
+        """``nstep`` physics steps of every world, then a forward of all when ``forward``."""
+
+    @abstractmethod
+    def _forward(self, env_ids: EnvIds) -> None:
+        """Recompute derived quantities of the selected worlds."""
+
+    @abstractmethod
+    def _reset(self, env_ids: EnvIds) -> None:
+        """Restore the initial state of the selected worlds, then forward them."""
 
     def bound_data(self) -> dict[str, torch.Tensor]:
         """The MjData fields handed out so far by ``data``, by name."""
@@ -84,6 +148,15 @@ class PhysicsBackend(ABC):
         """Release backend resources."""
 
     # -- helpers shared by the backends -------------------------------------------------------
+
+    @staticmethod
+    def _ids_cpu(env_ids) -> slice | torch.Tensor:
+        """``env_ids`` (a slice, an index or bool tensor on any device, a list) as a CPU index."""
+        if isinstance(env_ids, slice):
+            return env_ids
+        if isinstance(env_ids, torch.Tensor):
+            return env_ids.detach().cpu()
+        return torch.as_tensor(list(env_ids), dtype=torch.long)
 
     def _ids_numpy(self, env_ids: EnvIds):
         import numpy as np

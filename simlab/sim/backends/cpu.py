@@ -72,15 +72,15 @@ class CpuBackend(PhysicsBackend):
             self._model[key] = torch.from_numpy(expanded)
         return self._model[key]
 
-    def step(self, nstep: int = 1, forward: bool = True) -> None:
+    def _step(self, nstep: int, forward: bool) -> None:
         self.batch.step(nstep=nstep)
         if forward:
             self.batch.forward()
 
-    def forward(self, env_ids: EnvIds = None) -> None:
+    def _forward(self, env_ids: EnvIds) -> None:
         self.batch.forward(self._ids_numpy(env_ids))
 
-    def reset(self, env_ids: EnvIds = None) -> None:
+    def _reset(self, env_ids: EnvIds) -> None:
         self.batch.reset(self._ids_numpy(env_ids))
 
     def set_const(self, env_ids: EnvIds = None) -> None:

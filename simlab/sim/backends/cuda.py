@@ -142,6 +142,7 @@ class CudaBackend(PhysicsBackend):
     """
 
     name = "cuda"
+    forwards_all_worlds = True  # one graph over all worlds costs what a masked one would
 
     def __init__(
         self,
@@ -265,7 +266,7 @@ class CudaBackend(PhysicsBackend):
 
     # -- physics -------------------------------------------------------------------------------
 
-    def step(self, nstep: int = 1, forward: bool = True) -> None:
+    def _step(self, nstep: int, forward: bool) -> None:
         m, d, mjw = self.wp_model, self.wp_data, self._mjw
 
         def body() -> None:
@@ -283,7 +284,7 @@ class CudaBackend(PhysicsBackend):
         if self.overflow_check_interval and self._calls_since_check >= self.overflow_check_interval:
             self.check_overflow()
 
-    def forward(self, env_ids: EnvIds = None) -> None:
+    def _forward(self, env_ids: EnvIds) -> None:
         """Recompute derived quantities. Runs on *all* worlds whatever ``env_ids`` says.
 
         Forward is a pure function of the state, so in worlds whose state did not change it
@@ -292,7 +293,7 @@ class CudaBackend(PhysicsBackend):
         """
         self._run("forward", lambda: self._mjw.forward(self.wp_model, self.wp_data))
 
-    def reset(self, env_ids: EnvIds = None) -> None:
+    def _reset(self, env_ids: EnvIds) -> None:
         """Reset the selected worlds (``mujoco_warp.reset_data`` with a mask), then forward all."""
         if env_ids is None:
             self._mask.fill_(True)
