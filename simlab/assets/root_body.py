@@ -102,9 +102,10 @@ class RootedAsset(AssetBase):
         return resolve_matching_names(name_keys, self.body_names, preserve_order)
 
     def reset(self, env_ids: EnvIds = None) -> None:
-        env = self._env_index(env_ids)
-        self._ext_force_b[env] = 0.0
-        self._ext_torque_b[env] = 0.0
+        if self._has_external_wrench:  # else both are zero already: no kernels for nothing
+            env = self._env_index(env_ids)
+            self._ext_force_b[env] = 0.0
+            self._ext_torque_b[env] = 0.0
 
     def write_data_to_sim(self) -> None:
         if self._has_external_wrench:

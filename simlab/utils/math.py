@@ -331,6 +331,8 @@ def sample_uniform(
 ) -> torch.Tensor:
     """Uniform samples in ``[lower, upper)`` of shape ``size``; tensor bounds broadcast against it."""
     shape = _size_tuple(size)
+    if isinstance(lower, (int, float)) and isinstance(upper, (int, float)) and lower <= upper:
+        return torch.empty(shape, device=device).uniform_(lower, upper)  # one kernel, not four
     lower, upper = _as_tensor(lower, device), _as_tensor(upper, device)
     return torch.rand(shape, device=device) * (upper - lower) + lower
 

@@ -134,11 +134,14 @@ class CudaGraphStep:
         physics = env.sim.physics
         bound = physics.bound_data()  # the backend's name -> tensor table (a dict location)
         state = {(id(bound), name): (bound, name) for name in PHYSICS_STATE if _has_field(physics, name)}
-        before = env_sized_tensors(env, env.num_envs, device)
+        before = {**state, **env_sized_tensors(env, env.num_envs, device)}
         versions = {key: (id(_get(loc)), _get(loc)._version) for key, loc in before.items()}
-        env._reset_idx(env._all_env_ids)
-        after = env_sized_tensors(env, env.num_envs, device)
-        touched = dict(state)
+        with _calls_noted(physics, "_reset") as physics_resets:
+            env._reset_idx(env._all_env_ids)
+        after = {**state, **env_sized_tensors(env, env.num_envs, device)}
+        # A backend reset writes the whole physics state in kernels that torch's version counters
+        # do not see; without one, the state fields count as touched only where torch wrote them.
+        touched = dict(state) if physics_resets else {}
         for key, loc in after.items():
             tensor = _get(loc)
             if versions.get(key) != (id(tensor), tensor._version):  # written in place, or replaced
@@ -163,7 +166,7 @@ class CudaGraphStep:
             if tensor is None or tensor.shape != old.shape:
                 continue
             mask = finished.view(-1, *([1] * (tensor.dim() - 1)))
-            tensor.copy_(torch.where(mask, tensor, old))
+            torch.where(mask, tensor, old, out=tensor)  # elementwise, so writing in place is safe
 
     # -- stepping --------------------------------------------------------------------------------
 
@@ -310,6 +313,23 @@ def _clone_tree(value: Any) -> Any:
 
 def _is_int(value) -> bool:
     return isinstance(value, (int, np.integer)) and not isinstance(value, bool)
+
+
+@contextlib.contextmanager
+def _calls_noted(obj: Any, method: str):
+    """Yields a list that gets one entry per call of ``obj.<method>`` inside the block."""
+    calls: list[tuple] = []
+    original = getattr(obj, method)
+
+    def noted(*args, **kwargs):
+        calls.append(args)
+        return original(*args, **kwargs)
+
+    setattr(obj, method, noted)
+    try:
+        yield calls
+    finally:
+        delattr(obj, method)  # back to the class's method
 
 
 def _has_field(physics, name: str) -> bool:
