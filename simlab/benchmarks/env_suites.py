@@ -70,7 +70,7 @@ def _raw_fn(env):
 
     def raw() -> None:
         ctrl.copy_(torch.rand_like(ctrl) * 2 - 1)
-        physics.step(1)
+        physics.step(1, forward=False)  # mj_step alone
 
     return raw
 

@@ -62,7 +62,7 @@ def bench_physics(robot: str, num_envs: int, device: str, steps: int = 200, roun
 
     def raw() -> None:
         ctrl.copy_(torch.rand_like(ctrl) * 2 - 1)
-        physics.step(1)
+        physics.step(1, forward=False)  # mj_step alone
 
     def framework() -> None:
         articulation.set_joint_effort_target(torch.rand(num_envs, n_joints, device=sim.device) * 2 - 1)

@@ -111,7 +111,7 @@ class DirectRLEnv(SimulatedEnv, gym.Env):
             self._sim_step_counter += 1
             self._apply_action()
             self.scene.write_data_to_sim()
-            self.sim.step(render=False, forward=False)
+            self.sim.step(render=False)
             self.scene.update(dt=self.physics_dt)
 
         self.episode_length_buf += 1
@@ -154,7 +154,7 @@ class DirectRLEnv(SimulatedEnv, gym.Env):
         for _ in range(self.cfg.decimation):
             self._apply_action()
             self.scene.write_data_to_sim()
-            self.sim.step(render=False, forward=False)
+            self.sim.step(render=False)
             self.scene.update(dt=self.physics_dt)
         self.episode_length_buf += 1
         terminated, time_outs = self._get_dones()

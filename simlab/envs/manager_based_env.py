@@ -145,7 +145,7 @@ class ManagerBasedEnv(SimulatedEnv):
             self._sim_step_counter += 1
             self.action_manager.apply_action()
             self.scene.write_data_to_sim()
-            self.sim.step(render=False, forward=False)
+            self.sim.step(render=False)
             self.scene.update(dt=self.physics_dt)
 
     def _reset_idx(self, env_ids: torch.Tensor) -> None:

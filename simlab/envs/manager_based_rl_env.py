@@ -162,7 +162,7 @@ class ManagerBasedRLEnv(ManagerBasedEnv, gym.Env):
         for _ in range(self.cfg.decimation):
             self.action_manager.apply_action()
             self.scene.write_data_to_sim()
-            self.sim.step(render=False, forward=False)
+            self.sim.step(render=False)
             self.scene.update(dt=self.physics_dt)
         self.episode_length_buf += 1
         self.reset_buf = self.termination_manager.compute()

@@ -108,16 +108,18 @@ class SimulationContext:
         if not soft:
             self.backend.reset()
 
-    def step(self, render: bool = True, forward: bool = True) -> None:
-        """One physics step of every world.
+    def step(self, render: bool = True, forward: bool = False) -> None:
+        """One physics step of every world (``mj_step``).
 
-        ``forward=False`` leaves derived quantities (body poses, sensor data) one substep behind,
-        as a plain ``mj_step`` does; envs pass it for all but the last decimated substep.
+        Body poses, velocities and sensor data are derived quantities: asset data and sensors
+        compute them when read (``PhysicsBackend.ensure_forward``). Code that reads raw MjData
+        tensors of derived fields calls ``forward()`` first, or passes ``forward=True``.
         """
         self.physics.step(1, forward=forward)
         self._step_count += 1
 
     def forward(self) -> None:
+        """Recompute derived quantities (body poses, velocities, sensors) of every world now."""
         self.physics.forward()
 
     def render(self, mode=None) -> None:
