@@ -217,3 +217,19 @@ def test_manager_env_captures_on_gpu():
     assert torch.isfinite(obs_g["policy"]).all()
     graphed.close()
     eager.close()
+
+
+@pytest.mark.gpu
+def test_diverged_state_is_reported_at_the_periodic_check():
+    env = make_env("cuda:0", 64)
+    env.reset()
+    actions = torch.zeros(64, 1, device="cuda:0")
+    for _ in range(4):  # warm-up steps and the capture
+        env.step(actions)
+    assert env._cuda_graph.graph is not None, env._cuda_graph.failed
+    env._cuda_graph.check_interval = 2
+    env.scene["cartpole"]._qvel[3] = float("nan")
+    with pytest.raises(ValueError, match="NaN or inf"):
+        for _ in range(4):
+            env.step(actions)
+    env.close()

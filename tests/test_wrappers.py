@@ -160,3 +160,27 @@ def test_rl_games_wrapper():
         env.close()
     with pytest.raises(ValueError, match="not groups of the env"):
         RlGamesVecEnvWrapper(make(), "cpu", 5.0, 1.0, obs_groups={"obs": ["critic"]})
+
+
+def test_progress_logger_keeps_rsl_rl_episode_statistics(tmp_path):
+    """simlab's rsl_rl logger defers the episode bookkeeping to log time; the buffers must match rsl_rl's."""
+    from rsl_rl.utils.logger import Logger
+
+    from simlab.cli.libraries.rsl_rl import _ProgressLogger
+
+    cfg = {"num_steps_per_env": 4, "algorithm": {}, "logger": "tensorboard"}
+    args = {"cfg": cfg, "env_cfg": {}, "num_envs": 6, "is_distributed": False, "gpu_world_size": 1,
+            "gpu_global_rank": 0, "device": "cpu"}  # fmt: skip
+    ours, theirs = _ProgressLogger(log_dir=str(tmp_path / "a"), **args), Logger(log_dir=str(tmp_path / "b"), **args)
+    ours.writer = theirs.writer = object()  # bookkeeping runs only with a writer
+    generator = torch.Generator().manual_seed(0)
+    for _ in range(40):
+        rewards = torch.rand(6, generator=generator)
+        dones = (torch.rand(6, generator=generator) < 0.2).float()
+        ours.process_env_step(rewards, dones, {})
+        theirs.process_env_step(rewards, dones, {})
+    ours._flush_finished()
+    assert len(theirs.rewbuffer) > 10
+    assert list(ours.rewbuffer) == pytest.approx(list(theirs.rewbuffer))
+    assert list(ours.lenbuffer) == list(theirs.lenbuffer)
+    torch.testing.assert_close(ours.cur_reward_sum, theirs.cur_reward_sum)

@@ -51,6 +51,8 @@ def main() -> None:
     env.reset()
     actions = _random_actions(env)
     step_s = time_loop(lambda: env.step(actions), args.steps, "cuda:0")
+    graphed = count_kernels(env)
+    print(f"a replayed (graphed) step runs {graphed['kernels_per_step']:.0f} kernels as seen by the profiler")
     physics = env.sim.physics
     decimation = env.cfg.decimation
 
@@ -63,9 +65,11 @@ def main() -> None:
     print(
         f"graphed env step {step_s * 1e3:.3f} ms (graph: {env._cuda_graph.graph is not None}); "
         f"its physics alone {physics_s * 1e3:.3f} ms ({physics_s / step_s:.0%}); "
-        f"the rest (MDP, masked reset, observations, forwards the task reads) {max(step_s - physics_s, 0) * 1e3:.3f} ms; "
+        f"the rest (MDP, masked reset, observations, forwards the task reads) "
+        f"{max(step_s - physics_s, 0) * 1e3:.3f} ms; "
         f"for scale, one forward {forward_s * 1e3:.3f} ms"
     )
+
 
 if __name__ == "__main__":
     main()

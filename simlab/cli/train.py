@@ -42,10 +42,27 @@ def run_train(args: argparse.Namespace, overrides: list[str], argv: list[str] | 
         f"[simlab] Training {args.task} with {args.library} on {env_cfg.sim.device}, "
         f"{env.unwrapped.num_envs} envs. Run folder: {run_dir}"
     )
-    start = time.time()
+    startup = seconds_since_process_start()
+    start = time.perf_counter()
     try:
         lib.train(env, agent_cfg, run_dir, args, resume)
     finally:
         env.close()
-    print(f"[simlab] Training took {time.time() - start:.1f} s. Run folder: {run_dir}")
+    took = time.perf_counter() - start
+    print(
+        f"[simlab] Training took {took:.1f} s after {startup:.1f} s of start-up "
+        f"({startup + took:.1f} s in all). Run folder: {run_dir}"
+    )
     return run_dir
+
+
+def seconds_since_process_start() -> float:
+    """Wall time since this process started (Linux's /proc; NaN elsewhere)."""
+    try:
+        with open("/proc/self/stat") as f:
+            start_ticks = int(f.read().rsplit(")", 1)[1].split()[19])  # field 22: starttime
+        with open("/proc/uptime") as f:
+            uptime = float(f.read().split()[0])
+        return uptime - start_ticks / os.sysconf("SC_CLK_TCK")
+    except (OSError, ValueError, IndexError):
+        return float("nan")

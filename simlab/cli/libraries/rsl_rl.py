@@ -43,7 +43,12 @@ class _ProgressLogger(Logger):
 
     verbose = False
 
+    def __init__(self, *args: Any, **kwargs: Any):
+        super().__init__(*args, **kwargs)
+        self._finished: list[tuple[torch.Tensor, torch.Tensor, torch.Tensor]] = []
+
     def log(self, it: int, start_it: int, total_it: int, collect_time: float, learn_time: float, **kw: Any) -> None:
+        self._flush_finished()
         if not hasattr(self, "_bar"):
             self._bar = ProgressBar(total=total_it, initial=start_it, desc="rsl_rl")
         sink = contextlib.nullcontext() if self.verbose else contextlib.redirect_stdout(io.StringIO())
@@ -56,6 +61,34 @@ class _ProgressLogger(Logger):
         steps = self.cfg["num_steps_per_env"] * self.num_envs
         self._bar.update(1, steps=steps, reward=reward, ep_len=length)
 
+    def process_env_step(self, rewards, dones, extras, intrinsic_rewards=None) -> None:
+        """rsl_rl's bookkeeping without its per-step device-to-host copies.
+
+        rsl_rl copies the returns of finished episodes to the host every step, which makes the
+        CPU wait for the GPU each step. Here they stay on the device until ``log``, once per
+        iteration; the buffers then hold the same episodes in the same order.
+        """
+        if self.writer is None or intrinsic_rewards is not None:
+            return super().process_env_step(rewards, dones, extras, intrinsic_rewards)
+        if "episode" in extras:
+            self.ep_extras.append(extras["episode"])
+        elif "log" in extras:
+            self.ep_extras.append(extras["log"])
+        self.cur_reward_sum += rewards
+        self.cur_episode_length += 1
+        done = dones > 0
+        self._finished.append((done, self.cur_reward_sum.clone(), self.cur_episode_length.clone()))
+        self.cur_reward_sum.masked_fill_(done, 0.0)
+        self.cur_episode_length.masked_fill_(done, 0.0)
+
+    def _flush_finished(self) -> None:
+        if not self._finished:
+            return
+        done, returns, lengths = (torch.stack(column) for column in zip(*self._finished))
+        self._finished.clear()
+        self.rewbuffer.extend(returns[done].tolist())  # step-major: the order rsl_rl keeps
+        self.lenbuffer.extend(lengths[done].tolist())
+
     def stop_logging_writer(self) -> None:
         if hasattr(self, "_bar"):
             self._bar.close()
@@ -67,6 +100,10 @@ class _ProgressLogger(Logger):
 def _make_runner(env: gym.Env, agent_cfg: RslRlOnPolicyRunnerCfg, log_dir: str | None) -> OnPolicyRunner:
     wrapped = RslRlVecEnvWrapper(env, clip_actions=agent_cfg.clip_actions)
     cfg = agent_cfg.to_rsl_rl_dict(list(wrapped.get_observations().keys()))
+    if getattr(env.unwrapped, "_cuda_graph", None) is not None:
+        # rsl_rl's NaN check reads three flags back per step (each a CPU-GPU sync); the graphed
+        # step accumulates the same check on the device and raises at its periodic check.
+        cfg["check_for_nan"] = False
     with contextlib.redirect_stdout(io.StringIO()):  # it prints the models; params/agent.yaml has them
         runner = OnPolicyRunner(wrapped, cfg, log_dir=log_dir, device=agent_cfg.device)
     return runner

@@ -18,8 +18,8 @@ version counter moved); those are saved before the reset and blended back after 
 What cannot be captured (a task hook that synchronises, reads ``.item()``, or copies from the
 host) makes the capture fail; the env then keeps stepping eagerly and says so once. Returned
 tensors are copies of the graph's static buffers, so a caller may keep them across steps.
-Finite actions are checked on the device and reported at the next periodic check (every
-``check_interval`` steps), since checking each step would stall the pipeline.
+Finite actions, observations and rewards are checked on the device and reported at the next
+periodic check (every ``check_interval`` steps), since checking each step would stall the pipeline.
 """
 
 from __future__ import annotations
@@ -120,6 +120,7 @@ class CudaGraphStep:
         self._index_cache: dict[tuple[int, ...], torch.Tensor] = {}
         self._outputs: Any = None
         self._nonfinite = torch.zeros((), dtype=torch.bool, device=env.device)
+        self._nonfinite_outputs = torch.zeros((), dtype=torch.bool, device=env.device)
         self._stale_at_capture = True
 
     # -- masked resets ---------------------------------------------------------------------------
@@ -202,6 +203,12 @@ class CudaGraphStep:
                 f"Actions contained NaN or inf in a step among the last {self.check_interval} (the GPU fast path "
                 "checks periodically); actions must be finite"
             )
+        if bool(self._nonfinite_outputs):
+            self._nonfinite_outputs.zero_()
+            raise ValueError(
+                f"Observations or rewards contained NaN or inf in a step among the last {self.check_interval}: the "
+                "simulation diverged (large actions or gains for the time step?) or a task term divides by zero"
+            )
         check_overflow = getattr(self.env.sim.physics, "check_overflow", None)
         if check_overflow is not None:
             check_overflow()
@@ -246,6 +253,9 @@ class CudaGraphStep:
             ):
                 self._outputs = self.step_fn(self._static_action)
                 self._keep_rebound_tensors(before)
+                for tensor in _tensors(self._outputs):  # recorded in the graph: no launches of its own
+                    if tensor.is_floating_point():
+                        self._nonfinite_outputs.logical_or_(~torch.isfinite(tensor).all())
             self.graph = graph
         except Exception as err:  # noqa: BLE001 - any capture failure means: stay eager
             frames = [f for f in traceback.extract_tb(err.__traceback__) if "site-packages" not in f.filename]
@@ -298,6 +308,14 @@ def list_indices_on_device(device: torch.device, cache: dict[tuple[int, ...], to
         yield cache
     finally:
         torch.Tensor.__getitem__, torch.Tensor.__setitem__ = get_item, set_item
+
+
+def _tensors(value: Any) -> list[torch.Tensor]:
+    """The tensors in nested dicts, tuples and lists."""
+    if isinstance(value, torch.Tensor):
+        return [value]
+    items = value.values() if isinstance(value, dict) else value if isinstance(value, (tuple, list)) else ()
+    return [tensor for item in items for tensor in _tensors(item)]
 
 
 def _clone_tree(value: Any) -> Any:
