@@ -6,7 +6,7 @@ import pytest
 import torch
 from conftest import cuda_available
 
-from simlab.envs.utils.cuda_graph import CudaGraphStep, _get
+from simlab.envs.utils.cuda_graph import CudaGraphStep, PackedOutputs, _get
 from simlab.tasks.direct.cartpole.cartpole_env import CartpoleEnv, CartpoleEnvCfg
 
 
@@ -94,19 +94,9 @@ class ReplayInPlace:
         self.step = graph_step
 
     def replay(self) -> None:
-        fresh = self.step.step_fn(self.step._static_action)
-        _copy_into(self.step._outputs, fresh)
-
-
-def _copy_into(static, fresh) -> None:
-    if isinstance(static, torch.Tensor):
-        static.copy_(fresh)
-    elif isinstance(static, dict):
-        for key in static:
-            _copy_into(static[key], fresh[key])
-    else:
-        for a, b in zip(static, fresh):
-            _copy_into(a, b)
+        fresh = PackedOutputs(self.step.step_fn(self.step._static_action))
+        for dtype, buffer in self.step._packed.buffers.items():
+            buffer.copy_(fresh.buffers[dtype])
 
 
 def test_replayed_outputs_are_not_overwritten_by_the_next_step():
@@ -117,7 +107,7 @@ def test_replayed_outputs_are_not_overwritten_by_the_next_step():
     env._cuda_graph = graph_step
     env.reset(seed=1)
     graph_step._static_action = torch.zeros(16, 1)
-    graph_step._outputs = graph_step.step_fn(graph_step._static_action)
+    graph_step._packed = PackedOutputs(graph_step.step_fn(graph_step._static_action))
     graph_step.graph = ReplayInPlace(graph_step)
     obs_1, *_ = env.step(torch.full((16, 1), 0.5))
     kept = obs_1["policy"].clone()
@@ -125,6 +115,31 @@ def test_replayed_outputs_are_not_overwritten_by_the_next_step():
     torch.testing.assert_close(obs_1["policy"], kept)  # unchanged by the second step
     assert not torch.equal(obs_2["policy"], kept)
     env.close()
+
+
+def test_packed_outputs_keep_structure_values_and_dtypes():
+    outputs = (
+        {"policy": torch.randn(4, 3)},
+        torch.randn(4),
+        torch.tensor([True, False, True, False]),
+        {"log": {"a": torch.tensor(2.5), "n": torch.tensor(3)}},
+    )
+    packed = PackedOutputs(outputs)
+    assert len(packed.buffers) == 3  # float32, bool, int64
+    copy = packed.fresh_copy()
+    assert isinstance(copy, tuple) and set(copy[0]) == {"policy"}
+    for a, b in zip(_flat(outputs), _flat(copy)):
+        assert a.dtype == b.dtype and a.shape == b.shape
+        torch.testing.assert_close(a, b)
+    packed.buffers[torch.float32].zero_()  # the next replay overwrites the buffers ...
+    torch.testing.assert_close(copy[0]["policy"], outputs[0]["policy"])  # ... not what was handed out
+
+
+def _flat(value):
+    if isinstance(value, torch.Tensor):
+        return [value]
+    items = value.values() if isinstance(value, dict) else value
+    return [t for item in items for t in _flat(item)]
 
 
 def test_reset_footprint_covers_task_buffers():

@@ -118,7 +118,7 @@ class CudaGraphStep:
         self._touched: list[torch.Tensor] | None = None
         self._static_action: torch.Tensor | None = None
         self._index_cache: dict[tuple[int, ...], torch.Tensor] = {}
-        self._outputs: Any = None
+        self._packed: PackedOutputs | None = None
         self._nonfinite = torch.zeros((), dtype=torch.bool, device=env.device)
         self._nonfinite_outputs = torch.zeros((), dtype=torch.bool, device=env.device)
         self._stale_at_capture = True
@@ -190,7 +190,7 @@ class CudaGraphStep:
             # Fresh tensors, as an eager step returns: the next replay overwrites the graph's buffers,
             # and learners keep references (rsl_rl stores the observation it acted on until after
             # the next step returns; aliased, it would store the next observation instead).
-            outputs = _clone_tree(self._outputs)
+            outputs = self._packed.fresh_copy()
         if self._calls % self.check_interval == 0:
             self.check()
         return outputs
@@ -251,18 +251,20 @@ class CudaGraphStep:
                 list_indices_on_device(device, self._index_cache),
                 torch.cuda.graph(graph, capture_error_mode="thread_local"),
             ):
-                self._outputs = self.step_fn(self._static_action)
+                outputs = self.step_fn(self._static_action)
                 self._keep_rebound_tensors(before)
-                for tensor in _tensors(self._outputs):  # recorded in the graph: no launches of its own
+                observations = outputs[0] if isinstance(outputs, tuple) else outputs
+                for tensor in _tensors(observations):  # a diverged state shows in the observations
                     if tensor.is_floating_point():
                         self._nonfinite_outputs.logical_or_(~torch.isfinite(tensor).all())
+                self._packed = PackedOutputs(outputs)
             self.graph = graph
         except Exception as err:  # noqa: BLE001 - any capture failure means: stay eager
             frames = [f for f in traceback.extract_tb(err.__traceback__) if "site-packages" not in f.filename]
             where = f" at {frames[-1].filename}:{frames[-1].lineno}" if frames else ""
             self.failed = f"{type(err).__name__}: {err}{where}"
             self.failed_traceback = traceback.format_exc()
-            self._outputs = None
+            self._packed = None
             torch.cuda.synchronize()
             generator.graphsafe_set_state(rng_state)
             logger.warning("CUDA-graph capture of the env step failed; stepping eagerly. (%s)", self.failed)
@@ -318,14 +320,39 @@ def _tensors(value: Any) -> list[torch.Tensor]:
     return [tensor for item in items for tensor in _tensors(item)]
 
 
-def _clone_tree(value: Any) -> Any:
-    """Copies of the tensors in nested dicts, tuples and lists."""
+class PackedOutputs:
+    """A step's output tensors gathered into one flat buffer per dtype, inside the graph.
+
+    Copying them out after each replay then takes one kernel per dtype instead of one per tensor
+    (a manager-based step returns a dozen: observations, rewards, dones, episode logs).
+    """
+
+    def __init__(self, outputs: Any):
+        self.outputs = outputs
+        self.layout: list[tuple[torch.dtype, int, torch.Size]] = []
+        groups: dict[torch.dtype, list[torch.Tensor]] = {}
+        for tensor in _tensors(outputs):
+            group = groups.setdefault(tensor.dtype, [])
+            self.layout.append((tensor.dtype, sum(t.numel() for t in group), tensor.shape))
+            group.append(tensor)
+        self.buffers = {dtype: torch.cat([t.reshape(-1) for t in group]) for dtype, group in groups.items()}
+
+    def fresh_copy(self) -> Any:
+        """The outputs as views into fresh copies of the buffers."""
+        copies = {dtype: buffer.clone() for dtype, buffer in self.buffers.items()}
+        views = iter(copies[dtype].narrow(0, start, shape.numel()).view(shape) for dtype, start, shape in self.layout)
+        return _map_tensors(self.outputs, lambda _: next(views))
+
+
+def _map_tensors(value: Any, fn: Callable[[torch.Tensor], Any]) -> Any:
+    """``value`` with each tensor in its nested dicts, tuples and lists replaced by ``fn(tensor)``,
+    in the order ``_tensors`` lists them."""
     if isinstance(value, torch.Tensor):
-        return value.clone()
+        return fn(value)
     if isinstance(value, dict):
-        return {key: _clone_tree(item) for key, item in value.items()}
+        return {key: _map_tensors(item, fn) for key, item in value.items()}
     if isinstance(value, (tuple, list)):
-        return type(value)(_clone_tree(item) for item in value)
+        return type(value)(_map_tensors(item, fn) for item in value)
     return value
 
 
