@@ -284,6 +284,14 @@ def test_cuda_contact_buffers_and_overflow() -> None:
 
 @pytest.mark.gpu
 @needs_cuda
+def test_cuda_reports_its_device_memory(cartpole: mujoco.MjModel) -> None:
+    small, large = make("cuda", cartpole, 16).device_memory_bytes(), make("cuda", cartpole, 256).device_memory_bytes()
+    assert small >= 16 * cartpole.nq * 4  # at least the positions of every world
+    assert large > small
+
+
+@pytest.mark.gpu
+@needs_cuda
 def test_cuda_orders_with_torch_side_stream(cartpole: mujoco.MjModel) -> None:
     """Writes, steps and reads issued on a non-default torch stream see each other in order."""
     if WARP_DEVICE == "cpu":

@@ -15,7 +15,7 @@ import torch
 
 import simlab.sim as sim_utils
 
-from .timing import gpu_memory_mb, interleaved, synchronize
+from .timing import gpu_memory_mb, interleaved, reset_gpu_memory_peak, synchronize
 
 DEFAULT_TASKS = ["simlab/Cartpole-v0", "simlab/Cartpole-Direct-v0", "simlab/Ant-Direct-v0", "simlab/Humanoid-Direct-v0"]
 
@@ -78,6 +78,7 @@ def _raw_fn(env):
 def bench_env(
     task: str, num_envs: int, device: str, steps: int, with_policy: bool = False, cuda_graph: bool = True
 ) -> dict:
+    reset_gpu_memory_peak(device)
     env = make_env(task, num_envs, device, cuda_graph)
     env.reset()
     policy = None
@@ -112,7 +113,7 @@ def bench_env(
         "env_ms_per_step": seconds["env"] * 1e3,
         "raw_physics_steps_per_s": raw_rate,
         "ratio": env_rate * decimation / raw_rate,
-        "gpu_memory_mb": gpu_memory_mb(env.device),
+        "gpu_memory_mb": gpu_memory_mb(env.device, env.sim.physics),
         "policy": with_policy,
         "cuda_graph": _graph_state(env),
     }
@@ -122,15 +123,14 @@ def bench_env(
 
 def bench_train(task: str, num_envs: int, device: str, iterations: int, cuda_graph: bool = True) -> dict:
     """Wall time of rsl_rl PPO iterations (rollout + update), after one warm-up iteration."""
-    from rsl_rl.runners import OnPolicyRunner
-
-    from simlab.rl.rsl_rl import RslRlVecEnvWrapper
+    from simlab.cli.libraries.rsl_rl import make_runner
     from simlab.tasks.utils import load_cfg_from_registry
 
+    reset_gpu_memory_peak(device)
     env = make_env(task, num_envs, device, cuda_graph)
     agent_cfg = load_cfg_from_registry(task, "rsl_rl_cfg_entry_point")
-    wrapped = RslRlVecEnvWrapper(env, clip_actions=agent_cfg.clip_actions)
-    runner = OnPolicyRunner(wrapped, agent_cfg.to_dict(), log_dir=None, device=str(env.device))
+    agent_cfg.device = str(env.device)
+    runner = make_runner(env, agent_cfg, log_dir=None)  # as `simlab train` builds it, without logging
     runner.learn(num_learning_iterations=1)
     synchronize(device)
     start = time.perf_counter()
@@ -145,7 +145,7 @@ def bench_train(task: str, num_envs: int, device: str, iterations: int, cuda_gra
         "iterations": iterations,
         "seconds_per_iteration": seconds,
         "env_steps_per_s": steps_per_iteration / seconds,
-        "gpu_memory_mb": gpu_memory_mb(env.device),
+        "gpu_memory_mb": gpu_memory_mb(env.device, env.sim.physics),
         "cuda_graph": _graph_state(env),
     }
     env.close()

@@ -15,7 +15,7 @@ from simlab.assets import AssetBaseCfg
 from simlab.scene import InteractiveScene, InteractiveSceneCfg
 from simlab.utils import configclass
 
-from .timing import gpu_memory_mb, interleaved
+from .timing import gpu_memory_mb, interleaved, reset_gpu_memory_peak
 
 
 def robot_cfg(name: str):
@@ -53,6 +53,7 @@ def build_scene(robot: str, num_envs: int, device: str) -> tuple[sim_utils.Simul
 
 
 def bench_physics(robot: str, num_envs: int, device: str, steps: int = 200, rounds: int = 3) -> dict:
+    reset_gpu_memory_peak(device)
     sim, scene = build_scene(robot, num_envs, device)
     articulation = scene["robot"]
     physics = sim.physics
@@ -84,7 +85,7 @@ def bench_physics(robot: str, num_envs: int, device: str, steps: int = 200, roun
         "raw_ms_per_step": seconds["raw"] * 1e3,
         "scene_ms_per_step": seconds["scene"] * 1e3,
         "ratio": seconds["raw"] / seconds["scene"],
-        "gpu_memory_mb": gpu_memory_mb(sim.device),
+        "gpu_memory_mb": gpu_memory_mb(sim.device, physics),
     }
     sim_utils.SimulationContext.clear_instance()
     return result

@@ -37,7 +37,18 @@ def interleaved(variants: dict[str, Callable[[], None]], steps: int, device: str
     return {name: statistics.median(values) for name, values in samples.items()}
 
 
-def gpu_memory_mb(device: str) -> float | None:
+def reset_gpu_memory_peak(device: str) -> None:
+    """Start a new peak for ``gpu_memory_mb`` (call before building what is measured)."""
     if str(device).startswith("cuda"):
-        return torch.cuda.max_memory_allocated() / 2**20
-    return None
+        torch.cuda.empty_cache()
+        torch.cuda.reset_peak_memory_stats()
+
+
+def gpu_memory_mb(device: str, physics=None) -> float | None:
+    """GPU memory of one benchmark configuration: torch's peak since ``reset_gpu_memory_peak``
+    (env buffers, policy, learner) plus the physics' own arrays, which MuJoCo Warp allocates
+    outside torch."""
+    if not str(device).startswith("cuda"):
+        return None
+    physics_bytes = physics.device_memory_bytes() if physics is not None else 0
+    return (torch.cuda.max_memory_allocated() + physics_bytes) / 2**20

@@ -97,7 +97,7 @@ class _ProgressLogger(Logger):
         super().stop_logging_writer()
 
 
-def _make_runner(env: gym.Env, agent_cfg: RslRlOnPolicyRunnerCfg, log_dir: str | None) -> OnPolicyRunner:
+def make_runner(env: gym.Env, agent_cfg: RslRlOnPolicyRunnerCfg, log_dir: str | None) -> OnPolicyRunner:
     wrapped = RslRlVecEnvWrapper(env, clip_actions=agent_cfg.clip_actions)
     cfg = agent_cfg.to_rsl_rl_dict(list(wrapped.get_observations().keys()))
     if getattr(env.unwrapped, "_cuda_graph", None) is not None:
@@ -112,7 +112,7 @@ def _make_runner(env: gym.Env, agent_cfg: RslRlOnPolicyRunnerCfg, log_dir: str |
 def train(
     env: gym.Env, agent_cfg: RslRlOnPolicyRunnerCfg, run_dir: str, args: argparse.Namespace, resume_path: str | None
 ) -> None:
-    runner = _make_runner(env, agent_cfg, run_dir)
+    runner = make_runner(env, agent_cfg, run_dir)
     logger = _ProgressLogger(
         log_dir=run_dir,
         cfg=runner.cfg,
@@ -142,7 +142,7 @@ def train(
 
 
 def load_policy(env: gym.Env, agent_cfg: RslRlOnPolicyRunnerCfg, checkpoint: str) -> Policy:
-    runner = _make_runner(env, agent_cfg, None)
+    runner = make_runner(env, agent_cfg, None)
     runner.load(checkpoint, load_cfg={"actor": True}, map_location=agent_cfg.device)
     actor = runner.alg.get_policy()
     module = actor.as_jit()

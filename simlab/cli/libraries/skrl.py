@@ -39,7 +39,7 @@ def configure(agent_cfg: dict, args: argparse.Namespace, env_cfg: Any) -> None:
     env_cfg.seed = agent_cfg["seed"]
 
 
-def _make_runner(env: gym.Env, agent_cfg: dict, run_dir: str | None) -> Runner:
+def make_runner(env: gym.Env, agent_cfg: dict, run_dir: str | None) -> Runner:
     cfg = copy.deepcopy(agent_cfg)
     exp = cfg["agent"]["experiment"]
     if run_dir is None:  # playing: write nothing
@@ -53,7 +53,7 @@ def _make_runner(env: gym.Env, agent_cfg: dict, run_dir: str | None) -> Runner:
 
 
 def train(env: gym.Env, agent_cfg: dict, run_dir: str, args: argparse.Namespace, resume_path: str | None) -> None:
-    runner = _make_runner(env, agent_cfg, run_dir)
+    runner = make_runner(env, agent_cfg, run_dir)
     if resume_path:
         runner.agent.load(resume_path)
         print(f"[simlab] Resumed weights, optimizer and normalizers from {resume_path}")
@@ -87,7 +87,7 @@ class _SkrlActor(nn.Module):
 
 
 def load_policy(env: gym.Env, agent_cfg: dict, checkpoint: str) -> Policy:
-    runner = _make_runner(env, agent_cfg, None)
+    runner = make_runner(env, agent_cfg, None)
     agent = runner.agent
     agent.load(checkpoint)
     agent.enable_training_mode(False)

@@ -144,6 +144,10 @@ class PhysicsBackend(ABC):
         """Recompute derived model constants (body inertias, ...) after editing model fields."""
         raise NotImplementedError(f"the {self.name} backend does not support set_const")
 
+    def device_memory_bytes(self) -> int:
+        """Bytes of device memory the physics holds (model and data of all worlds); 0 on the host."""
+        return 0
+
     def close(self) -> None:  # noqa: B027 - optional hook
         """Release backend resources."""
 

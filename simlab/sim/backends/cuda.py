@@ -326,6 +326,23 @@ class CudaBackend(PhysicsBackend):
             self._mjw.set_const(self.wp_model, self.wp_data)
         self.forward()
 
+    def device_memory_bytes(self) -> int:
+        """Bytes of the Warp arrays of the model, the data of all worlds, and their nested structs."""
+        wp = self._wp
+        seen: set[int] = set()
+
+        def size(obj: Any) -> int:
+            if id(obj) in seen:
+                return 0
+            seen.add(id(obj))
+            if isinstance(obj, wp.array):
+                return obj.capacity or 0
+            if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
+                return sum(size(getattr(obj, f.name, None)) for f in dataclasses.fields(obj))
+            return 0
+
+        return size(self.wp_model) + size(self.wp_data)
+
     def check_overflow(self) -> None:
         """Raise ``RuntimeError`` if any world overflowed a buffer since the last check.
 
