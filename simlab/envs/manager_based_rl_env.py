@@ -9,8 +9,8 @@ where some env reset) for bootstrapping, and ``extras["time_outs"]`` marks the t
 ``Episode_Termination/<term>`` of the envs that reset in the step.
 
 Order inside ``step`` (Isaac Lab's): actions, ``decimation`` physics steps, episode counters,
-terminations, rewards, resets (then a forward of the reset worlds), commands, ``interval``
-events, observations.
+terminations, rewards, resets, commands, ``interval`` events, observations. Body poses and other
+derived quantities are recomputed only if a term reads them (``PhysicsBackend.ensure_forward``).
 """
 
 from __future__ import annotations
