@@ -248,3 +248,28 @@ def test_diverged_state_is_reported_at_the_periodic_check():
         for _ in range(4):
             env.step(actions)
     env.close()
+
+
+@pytest.mark.gpu
+def test_an_env_left_to_garbage_collection_does_not_break_the_next_capture():
+    """An env nobody closed is freed by the cyclic collector; its CUDA graphs must not be destroyed
+    in the middle of the next env's captures (which invalidates them)."""
+    actions = torch.zeros(32, 1, device="cuda:0")
+    for _ in range(3):
+        env = make_env("cuda:0", 32)
+        env.reset()
+        for _ in range(4):
+            env.step(actions)
+        assert env._cuda_graph.graph is not None, env._cuda_graph.failed
+        cycle = [env]
+        cycle.append(cycle)  # only the cyclic collector can free it now
+        del env, cycle
+
+
+def test_closing_releases_the_graph():
+    env = make_env("cpu")
+    graph_step = CudaGraphStep(env, env._graph_step, warmup=10**9)
+    env._cuda_graph = graph_step
+    graph_step.graph = object()  # stands in for a captured graph
+    env.close()
+    assert graph_step.graph is None and graph_step.failed == "released"

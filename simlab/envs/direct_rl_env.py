@@ -186,6 +186,8 @@ class DirectRLEnv(SimulatedEnv, gym.Env):
             self._renderer.close()
         self._renderer = None
         self.event_manager = None
+        if getattr(self, "_cuda_graph", None) is not None:  # the MARL env shares this close
+            self._cuda_graph.release()
         if SimulationContext.instance() is getattr(self, "sim", None):
             SimulationContext.clear_instance()
         self._is_closed = True

@@ -133,6 +133,8 @@ class ManagerBasedEnv(SimulatedEnv):
         if self._viewer is not None:
             self._viewer.close()
             self._viewer = None
+        if getattr(self, "_cuda_graph", None) is not None:  # the RL env's GPU fast path
+            self._cuda_graph.release()
         if SimulationContext.instance() is getattr(self, "sim", None):
             SimulationContext.clear_instance()
         self._is_closed = True

@@ -33,6 +33,8 @@ from typing import Any
 import numpy as np
 import torch
 
+from simlab.utils.cuda import gc_paused
+
 logger = logging.getLogger(__name__)
 
 # MjData fields that hold a world's dynamic state: what a reset may write, what a blend restores.
@@ -195,6 +197,13 @@ class CudaGraphStep:
             self.check()
         return outputs
 
+    def release(self) -> None:
+        """Drop the graph and its buffers now (``env.close()``), not whenever garbage collection runs."""
+        self.graph = None
+        self._packed = None
+        self._static_action = None
+        self.failed = self.failed or "released"  # a released step stays eager
+
     def check(self) -> None:
         """Raise if an action since the last check was not finite, or a physics buffer overflowed."""
         if bool(self._nonfinite):
@@ -248,6 +257,7 @@ class CudaGraphStep:
             # PhysicsBackend.ensure_forward): the capture records a forward only where one was due.
             self._stale_at_capture = self.env.sim.physics.is_stale
             with (
+                gc_paused(),
                 list_indices_on_device(device, self._index_cache),
                 torch.cuda.graph(graph, capture_error_mode="thread_local"),
             ):

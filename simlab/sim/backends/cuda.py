@@ -30,7 +30,7 @@ import mujoco
 import numpy as np
 import torch
 
-from simlab.utils.cuda import is_capturing
+from simlab.utils.cuda import gc_paused, is_capturing
 
 from .base import EnvIds, PhysicsBackend
 
@@ -404,7 +404,7 @@ class CudaBackend(PhysicsBackend):
         if graph is None:
             start = time.perf_counter()
             # Captured on Warp's own stream: capture cannot run on torch's legacy default stream.
-            with wp.ScopedDevice(self._wp_device), wp.ScopedCapture(device=self._wp_device) as capture:
+            with gc_paused(), wp.ScopedDevice(self._wp_device), wp.ScopedCapture(device=self._wp_device) as capture:
                 body()
             graph = self._graphs[key] = capture.graph
             self.capture_seconds[key] = time.perf_counter() - start
