@@ -18,6 +18,7 @@ import torch
 
 from simlab.actuators import ActuatorBase
 from simlab.actuators.actuator_pd import per_joint_values
+from simlab.utils.cuda import is_capturing
 from simlab.utils.string import resolve_matching_names, resolve_matching_names_values
 
 from .asset_base import EnvIds
@@ -300,7 +301,18 @@ class Articulation(RootedAsset):
     def _cols(self, cols, index: torch.Tensor, joint_ids):
         """State columns (qpos or qvel) of the selected joints."""
         sel = self._joint_index(joint_ids)
-        return cols if isinstance(sel, slice) else index[sel]
+        if isinstance(sel, slice):
+            return cols
+        if not isinstance(joint_ids, (list, tuple)) or is_capturing():
+            return index[sel]
+        # Joints named by index lists (what find_joints and SceneEntityCfg give) recur every step:
+        # keep their columns instead of gathering them again (not while capturing: a tensor made
+        # then is only filled when the graph replays).
+        cache = self.__dict__.setdefault("_cols_cache", {})
+        key = (id(index), tuple(int(i) for i in joint_ids))
+        if key not in cache:
+            cache[key] = index[sel]
+        return cache[key]
 
     def _sync_actuator_model(self, bias_term: int, gains: torch.Tensor, env_ids: EnvIds) -> None:
         """Implicit actuators hold their PD gains in the model's bias: keep it per world in step."""

@@ -31,6 +31,13 @@ def _ids(env: ManagerBasedEnv, env_ids) -> torch.Tensor:
     return torch.as_tensor(env_ids, dtype=torch.long, device=env.device)
 
 
+def _rows(values: torch.Tensor, env_ids: torch.Tensor, cols) -> torch.Tensor:
+    """``values[env_ids][:, cols]`` as a fresh tensor, gathered in one kernel instead of two."""
+    if isinstance(cols, slice):
+        return values[env_ids, cols]
+    return values[env_ids[:, None], cols]
+
+
 def _range_tensor(ranges: dict[str, tuple[float, float]], device) -> torch.Tensor:
     unknown = [k for k in ranges if k not in _POSE_KEYS]
     if unknown:
@@ -94,9 +101,9 @@ def reset_root_state_uniform(
 
 
 def _write_joints(asset, env_ids: torch.Tensor, joint_ids, pos: torch.Tensor, vel: torch.Tensor) -> None:
-    limits = asset.data.soft_joint_pos_limits[env_ids][:, joint_ids]
+    limits = _rows(asset.data.soft_joint_pos_limits, env_ids, joint_ids)
     pos = pos.clamp(limits[..., 0], limits[..., 1])
-    vel_limits = asset.data.soft_joint_vel_limits[env_ids][:, joint_ids]
+    vel_limits = _rows(asset.data.soft_joint_vel_limits, env_ids, joint_ids)
     vel = vel.clamp(-vel_limits, vel_limits)
     asset.write_joint_state_to_sim(pos, vel, joint_ids=joint_ids, env_ids=env_ids)
 
@@ -112,8 +119,8 @@ def reset_joints_by_scale(
     env_ids = _ids(env, env_ids)
     asset = env.scene[asset_cfg.name]
     ids = asset_cfg.joint_ids
-    pos = asset.data.default_joint_pos[env_ids][:, ids].clone()
-    vel = asset.data.default_joint_vel[env_ids][:, ids].clone()
+    pos = _rows(asset.data.default_joint_pos, env_ids, ids)
+    vel = _rows(asset.data.default_joint_vel, env_ids, ids)
     pos *= math_utils.sample_uniform(*position_range, tuple(pos.shape), env.device)
     vel *= math_utils.sample_uniform(*velocity_range, tuple(vel.shape), env.device)
     _write_joints(asset, env_ids, ids, pos, vel)
@@ -130,8 +137,8 @@ def reset_joints_by_offset(
     env_ids = _ids(env, env_ids)
     asset = env.scene[asset_cfg.name]
     ids = asset_cfg.joint_ids
-    pos = asset.data.default_joint_pos[env_ids][:, ids].clone()
-    vel = asset.data.default_joint_vel[env_ids][:, ids].clone()
+    pos = _rows(asset.data.default_joint_pos, env_ids, ids)
+    vel = _rows(asset.data.default_joint_vel, env_ids, ids)
     pos += math_utils.sample_uniform(*position_range, tuple(pos.shape), env.device)
     vel += math_utils.sample_uniform(*velocity_range, tuple(vel.shape), env.device)
     _write_joints(asset, env_ids, ids, pos, vel)
@@ -215,13 +222,13 @@ def randomize_rigid_body_mass(
     physics = env.sim.physics
     local = _cols(asset_cfg.body_ids, asset.num_bodies, env.device)
     bodies = asset._body_index[local]
-    default = asset.data.default_mass[env_ids][:, local]
+    default = _rows(asset.data.default_mass, env_ids, local)
     masses = _randomize(default, mass_distribution_params, operation, distribution).clamp(min=1e-6)
     body_mass = physics.model_field("body_mass")
     body_mass[env_ids[:, None], bodies] = masses
     if recompute_inertia:
         ratio = masses / default.clamp(min=1e-9)
-        inertia = asset.data.default_inertia[env_ids][:, local] * ratio[..., None]
+        inertia = _rows(asset.data.default_inertia, env_ids, local) * ratio[..., None]
         physics.model_field("body_inertia")[env_ids[:, None], bodies] = inertia
     _set_const(env, env_ids)
 
@@ -272,7 +279,7 @@ class randomize_rigid_body_material(ManagerTermBase):  # noqa: N801 - Isaac Lab'
 def _joint_values(current, default, env_ids, joints, params, operation, distribution, min_value=None):
     """``current`` of the selected envs, with the selected joints' values drawn around ``default``."""
     value = current[env_ids].clone()
-    sample = _randomize(default[env_ids][:, joints], params, operation, distribution)
+    sample = _randomize(_rows(default, env_ids, joints), params, operation, distribution)
     value[:, joints] = sample if min_value is None else sample.clamp(min=min_value)
     return value
 
