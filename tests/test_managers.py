@@ -334,6 +334,17 @@ def test_bad_action_and_event_terms_fail_at_construction():
         ManagerBasedRLEnv(cfg)
 
 
+def test_terms_of_the_wrong_config_type_are_named():
+    cfg = cartpole_cfg()
+    cfg.rewards.alive = mdp.time_out  # a function where a RewardTermCfg belongs
+    with pytest.raises(TypeError, match=r"RewardManager: term 'alive' must be a RewardTermCfg, got function"):
+        ManagerBasedRLEnv(cfg)
+    cfg = cartpole_cfg()
+    cfg.events.reset_cart_position = 3
+    with pytest.raises(TypeError, match=r"EventManager: term 'reset_cart_position' must be an EventTermCfg, got int"):
+        ManagerBasedRLEnv(cfg)
+
+
 def test_missing_config_fields_are_reported():
     from simlab.envs import ManagerBasedRLEnvCfg
 

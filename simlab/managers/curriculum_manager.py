@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any
 
 import torch
 
-from .manager_base import ManagerBase, ManagerTermBase, cfg_items, format_table
+from .manager_base import ManagerBase, ManagerTermBase, format_table
 from .manager_term_cfg import CurriculumTermCfg
 
 if TYPE_CHECKING:
@@ -67,17 +67,7 @@ class CurriculumManager(ManagerBase):
                 self._state[name] = value
 
     def _prepare_terms(self) -> None:
-        for name, term_cfg in cfg_items(self.cfg):
-            if not isinstance(term_cfg, CurriculumTermCfg):
-                raise TypeError(
-                    f"CurriculumManager: term '{name}' must be a CurriculumTermCfg, got {type(term_cfg).__name__}"
-                )
-            self._resolve_common_term_cfg(name, term_cfg, min_argc=2)
-            self._terms.append((name, term_cfg))
+        self._terms = self._checked_terms(CurriculumTermCfg, min_argc=2)
 
     def _on_sim_started(self) -> None:
-        for name, term_cfg in self._terms:
-            self._resolve_scene_entities(name, term_cfg)
-            self._build_class_term(name, term_cfg)
-            if isinstance(term_cfg.func, ManagerTermBase):
-                self._class_terms.append(term_cfg.func)
+        self._class_terms = self._finish_terms(self._terms)

@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING
 
 import torch
 
-from .manager_base import ManagerBase, ManagerTermBase, cfg_items, format_table
+from .manager_base import ManagerBase, ManagerTermBase, format_table
 from .manager_term_cfg import EventTermCfg
 
 if TYPE_CHECKING:
@@ -138,12 +138,9 @@ class EventManager(ManagerBase):
     # -- building --------------------------------------------------------------------------------
 
     def _prepare_terms(self) -> None:
-        for name, term_cfg in cfg_items(self.cfg):
-            if not isinstance(term_cfg, EventTermCfg):
-                raise TypeError(f"EventManager: term '{name}' must be an EventTermCfg, got {type(term_cfg).__name__}")
+        for name, term_cfg in self._checked_terms(EventTermCfg, min_argc=2):
             if term_cfg.mode not in MODES:
                 raise self._term_error(name, f"unknown mode '{term_cfg.mode}'; modes: {list(MODES)}")
-            self._resolve_common_term_cfg(name, term_cfg, min_argc=2)
             if term_cfg.mode == "interval":
                 rng = term_cfg.interval_range_s
                 if rng is None or len(rng) != 2 or rng[0] > rng[1] or rng[0] < 0:
@@ -162,10 +159,5 @@ class EventManager(ManagerBase):
 
     def _on_sim_started(self) -> None:
         for mode, terms in self._mode_terms.items():
-            if mode == "prestartup":
-                continue
-            for name, term_cfg in terms:
-                self._resolve_scene_entities(name, term_cfg)
-                self._build_class_term(name, term_cfg)
-                if isinstance(term_cfg.func, ManagerTermBase):
-                    self._class_terms.setdefault(mode, []).append(term_cfg.func)
+            if mode != "prestartup":
+                self._class_terms[mode] = self._finish_terms(terms)

@@ -137,6 +137,29 @@ class ManagerBase:
     def _on_sim_started(self) -> None:
         """Resolve scene entities and build class-based terms (called once the sim is reset)."""
 
+    def _checked_terms(self, term_type: type, min_argc: int) -> list[tuple[str, Any]]:
+        """The config's ``(name, term_cfg)`` pairs in order, each a ``term_type`` with a valid function."""
+        terms = []
+        for name, term_cfg in cfg_items(self.cfg):
+            if not isinstance(term_cfg, term_type):
+                wanted, got = term_type.__name__, type(term_cfg).__name__
+                article = "an" if wanted[0] in "AEIOU" else "a"
+                raise TypeError(f"{type(self).__name__}: term '{name}' must be {article} {wanted}, got {got}")
+            self._resolve_common_term_cfg(name, term_cfg, min_argc=min_argc)
+            terms.append((name, term_cfg))
+        return terms
+
+    def _finish_terms(self, terms: list[tuple[str, Any]], prefix: str = "") -> list[ManagerTermBase]:
+        """Resolve the terms' scene entities and build their classes (once the sim has started);
+        returns the class-based term instances, which ``reset`` must reach."""
+        class_terms = []
+        for name, term_cfg in terms:
+            self._resolve_scene_entities(prefix + name, term_cfg)
+            self._build_class_term(prefix + name, term_cfg)
+            if isinstance(term_cfg.func, ManagerTermBase):
+                class_terms.append(term_cfg.func)
+        return class_terms
+
     def _term_error(self, name: str, message: str) -> ValueError:
         return ValueError(f"{type(self).__name__}: term '{name}': {message}")
 

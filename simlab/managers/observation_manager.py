@@ -197,11 +197,8 @@ class ObservationManager(ManagerBase):
         for group_name, terms in self._group_terms.items():
             self._histories[group_name] = {}
             dims = []
+            self._class_terms += self._finish_terms(terms, prefix=f"{group_name}/")
             for name, term_cfg in terms:
-                self._resolve_scene_entities(f"{group_name}/{name}", term_cfg)
-                self._build_class_term(f"{group_name}/{name}", term_cfg)
-                if isinstance(term_cfg.func, ManagerTermBase):
-                    self._class_terms.append(term_cfg.func)
                 try:
                     value = term_cfg.func(env, **term_cfg.params)
                 except Exception as err:

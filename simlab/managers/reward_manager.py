@@ -13,7 +13,7 @@ import torch
 
 from simlab.utils.cuda import is_capturing
 
-from .manager_base import ManagerBase, ManagerTermBase, cfg_items, format_table
+from .manager_base import ManagerBase, ManagerTermBase, format_table
 from .manager_term_cfg import RewardTermCfg
 
 if TYPE_CHECKING:
@@ -100,17 +100,10 @@ class RewardManager(ManagerBase):
         return [(name, [float(self._step_reward[env_idx, i])]) for i, (name, _) in enumerate(self._terms)]
 
     def _prepare_terms(self) -> None:
-        for name, term_cfg in cfg_items(self.cfg):
-            if not isinstance(term_cfg, RewardTermCfg):
-                raise TypeError(f"RewardManager: term '{name}' must be a RewardTermCfg, got {type(term_cfg).__name__}")
-            self._resolve_common_term_cfg(name, term_cfg, min_argc=1)
+        self._terms = self._checked_terms(RewardTermCfg, min_argc=1)
+        for name, term_cfg in self._terms:
             if not isinstance(term_cfg.weight, (int, float)):
                 raise self._term_error(name, f"weight must be a number, got {term_cfg.weight!r}")
-            self._terms.append((name, term_cfg))
 
     def _on_sim_started(self) -> None:
-        for name, term_cfg in self._terms:
-            self._resolve_scene_entities(name, term_cfg)
-            self._build_class_term(name, term_cfg)
-            if isinstance(term_cfg.func, ManagerTermBase):
-                self._class_terms.append(term_cfg.func)
+        self._class_terms = self._finish_terms(self._terms)
