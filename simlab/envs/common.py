@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import Literal
 
 import torch
@@ -51,6 +52,19 @@ class SimulatedEnv:
     def physics_dt(self) -> float:
         """The physics time step [s]."""
         return self.cfg.sim.dt
+
+    def _physics_steps(self, apply_action: Callable[[], None]) -> None:
+        """One env step's ``decimation`` physics steps, ``apply_action`` before each.
+
+        Derived quantities (body poses, sensor data) are recomputed only when something reads
+        them (``PhysicsBackend.ensure_forward``). Callers count ``_sim_step_counter``: a graphed
+        step runs this Python once, at capture, and counts outside the graph.
+        """
+        for _ in range(self.cfg.decimation):
+            apply_action()
+            self.scene.write_data_to_sim()
+            self.sim.step(render=False)
+            self.scene.update(dt=self.physics_dt)
 
     @property
     def step_dt(self) -> float:

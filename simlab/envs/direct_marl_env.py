@@ -117,12 +117,8 @@ class DirectMARLEnv(SimulatedEnv, gym.Env):
             for agent, action in actions.items()
         }
         self._pre_physics_step(actions)
-        for _ in range(self.cfg.decimation):
-            self._sim_step_counter += 1
-            self._apply_action()
-            self.scene.write_data_to_sim()
-            self.sim.step(render=False)
-            self.scene.update(dt=self.physics_dt)
+        self._physics_steps(self._apply_action)
+        self._sim_step_counter += self.cfg.decimation
 
         self.episode_length_buf += 1
         self.common_step_counter += 1

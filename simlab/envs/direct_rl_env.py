@@ -107,12 +107,8 @@ class DirectRLEnv(SimulatedEnv, gym.Env):
             return self._step_graphed(action)
         action = check_action(action, self.single_action_space, self.num_envs, self.device)
         self._pre_physics_step(action)
-        for _ in range(self.cfg.decimation):
-            self._sim_step_counter += 1
-            self._apply_action()
-            self.scene.write_data_to_sim()
-            self.sim.step(render=False)
-            self.scene.update(dt=self.physics_dt)
+        self._physics_steps(self._apply_action)
+        self._sim_step_counter += self.cfg.decimation
 
         self.episode_length_buf += 1
         self.common_step_counter += 1
@@ -151,11 +147,7 @@ class DirectRLEnv(SimulatedEnv, gym.Env):
     def _graph_step(self, action: torch.Tensor):
         """The body of a graphed step: fixed shapes, resets by mask (see ``CudaGraphStep``)."""
         self._pre_physics_step(action)
-        for _ in range(self.cfg.decimation):
-            self._apply_action()
-            self.scene.write_data_to_sim()
-            self.sim.step(render=False)
-            self.scene.update(dt=self.physics_dt)
+        self._physics_steps(self._apply_action)
         self.episode_length_buf += 1
         terminated, time_outs = self._get_dones()
         self.reset_terminated.copy_(terminated)

@@ -114,7 +114,8 @@ class ManagerBasedEnv(SimulatedEnv):
 
     def step(self, action: torch.Tensor) -> tuple[VecEnvObs, dict]:
         self.action_manager.process_action(action)
-        self._physics_steps()
+        self._physics_steps(self.action_manager.apply_action)
+        self._sim_step_counter += self.cfg.decimation
         if "interval" in self.event_manager.available_modes:
             self.event_manager.apply(mode="interval", dt=self.step_dt)
         self.obs_buf = self.observation_manager.compute(update_history=True)
@@ -140,15 +141,6 @@ class ManagerBasedEnv(SimulatedEnv):
         self._is_closed = True
 
     # -- helpers -------------------------------------------------------------------------------------
-
-    def _physics_steps(self) -> None:
-        """``decimation`` physics steps with the processed action held."""
-        for _ in range(self.cfg.decimation):
-            self._sim_step_counter += 1
-            self.action_manager.apply_action()
-            self.scene.write_data_to_sim()
-            self.sim.step(render=False)
-            self.scene.update(dt=self.physics_dt)
 
     def _reset_idx(self, env_ids: torch.Tensor) -> None:
         self.scene.reset(env_ids)

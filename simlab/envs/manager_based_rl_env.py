@@ -95,7 +95,8 @@ class ManagerBasedRLEnv(ManagerBasedEnv, gym.Env):
         if self._cuda_graph is not None:
             return self._step_graphed(action)
         self.action_manager.process_action(action)
-        self._physics_steps()
+        self._physics_steps(self.action_manager.apply_action)
+        self._sim_step_counter += self.cfg.decimation
 
         self.episode_length_buf += 1
         self.common_step_counter += 1
@@ -159,11 +160,7 @@ class ManagerBasedRLEnv(ManagerBasedEnv, gym.Env):
     def _graph_step(self, action: torch.Tensor):
         """The body of a graphed step: fixed shapes, resets by mask (see ``CudaGraphStep``)."""
         self.action_manager.process_action(action)
-        for _ in range(self.cfg.decimation):
-            self.action_manager.apply_action()
-            self.scene.write_data_to_sim()
-            self.sim.step(render=False)
-            self.scene.update(dt=self.physics_dt)
+        self._physics_steps(self.action_manager.apply_action)
         self.episode_length_buf += 1
         self.reset_buf = self.termination_manager.compute()
         terminated, truncated = self.termination_manager.terminated, self.termination_manager.time_outs
