@@ -18,8 +18,9 @@ version counter moved); those are saved before the reset and blended back after 
 What cannot be captured (a task hook that synchronises, reads ``.item()``, or copies from the
 host) makes the capture fail; the env then keeps stepping eagerly and says so once. Returned
 tensors are copies of the graph's static buffers, so a caller may keep them across steps.
-Finite actions, observations and rewards are checked on the device and reported at the next
-periodic check (every ``check_interval`` steps), since checking each step would stall the pipeline.
+Finite actions and observations (a diverged state shows there first) are checked on the device and
+reported at the next periodic check (every ``check_interval`` steps), since checking each step
+would stall the pipeline.
 """
 
 from __future__ import annotations
@@ -215,7 +216,7 @@ class CudaGraphStep:
         if bool(self._nonfinite_outputs):
             self._nonfinite_outputs.zero_()
             raise ValueError(
-                f"Observations or rewards contained NaN or inf in a step among the last {self.check_interval}: the "
+                f"Observations contained NaN or inf in a step among the last {self.check_interval}: the "
                 "simulation diverged (large actions or gains for the time step?) or a task term divides by zero"
             )
         check_overflow = getattr(self.env.sim.physics, "check_overflow", None)
