@@ -26,6 +26,7 @@ _POSE_KEYS = ("x", "y", "z", "roll", "pitch", "yaw")
 
 
 def _ids(env: ManagerBasedEnv, env_ids) -> torch.Tensor:
+    """The env ids as an index tensor: indexing with it gathers, so the result is already a copy."""
     if env_ids is None:
         return torch.arange(env.num_envs, device=env.device)
     return torch.as_tensor(env_ids, dtype=torch.long, device=env.device)
@@ -88,7 +89,7 @@ def reset_root_state_uniform(
     (roll/pitch/yaw, composed after the default) and velocity (all in the world frame)."""
     env_ids = _ids(env, env_ids)
     asset = env.scene[asset_cfg.name]
-    root = asset.data.default_root_state[env_ids].clone()
+    root = asset.data.default_root_state[env_ids]
     ranges = _range_tensor(pose_range, env.device)
     pose = math_utils.sample_uniform(ranges[:, 0], ranges[:, 1], (len(env_ids), 6), env.device)
     positions = root[:, 0:3] + env.scene.env_origins[env_ids] + pose[:, 0:3]
@@ -149,13 +150,13 @@ def reset_scene_to_default(env: ManagerBasedEnv, env_ids: torch.Tensor, reset_jo
     env_ids = _ids(env, env_ids)
     origins = env.scene.env_origins[env_ids]
     for asset in (*env.scene.rigid_objects.values(), *env.scene.articulations.values()):
-        root = asset.data.default_root_state[env_ids].clone()
+        root = asset.data.default_root_state[env_ids]
         root[:, 0:3] += origins
         asset.write_root_pose_to_sim(root[:, :7], env_ids=env_ids)
         asset.write_root_velocity_to_sim(root[:, 7:], env_ids=env_ids)
     for asset in env.scene.articulations.values():
-        pos = asset.data.default_joint_pos[env_ids].clone()
-        vel = asset.data.default_joint_vel[env_ids].clone()
+        pos = asset.data.default_joint_pos[env_ids]
+        vel = asset.data.default_joint_vel[env_ids]
         asset.write_joint_state_to_sim(pos, vel, env_ids=env_ids)
         if reset_joint_targets:
             asset.set_joint_position_target(pos, env_ids=env_ids)
@@ -174,7 +175,7 @@ def push_by_setting_velocity(
     """Add uniform random linear/angular velocities (world frame) to the root: a push."""
     env_ids = _ids(env, env_ids)
     asset = env.scene[asset_cfg.name]
-    vel = asset.data.root_vel_w[env_ids].clone()
+    vel = asset.data.root_vel_w[env_ids]
     ranges = _range_tensor(velocity_range, env.device)
     vel += math_utils.sample_uniform(ranges[:, 0], ranges[:, 1], tuple(vel.shape), env.device)
     asset.write_root_velocity_to_sim(vel, env_ids=env_ids)
@@ -278,7 +279,7 @@ class randomize_rigid_body_material(ManagerTermBase):  # noqa: N801 - Isaac Lab'
 
 def _joint_values(current, default, env_ids, joints, params, operation, distribution, min_value=None):
     """``current`` of the selected envs, with the selected joints' values drawn around ``default``."""
-    value = current[env_ids].clone()
+    value = current[env_ids]
     sample = _randomize(_rows(default, env_ids, joints), params, operation, distribution)
     value[:, joints] = sample if min_value is None else sample.clamp(min=min_value)
     return value
@@ -374,7 +375,7 @@ class randomize_joint_parameters(ManagerTermBase):  # noqa: N801 - Isaac Lab's n
             asset.write_joint_armature_to_sim(value, env_ids=env_ids)
             _set_const(env, env_ids)
         if lower_limit_distribution_params is not None or upper_limit_distribution_params is not None:
-            limits = data.joint_pos_limits[env_ids].clone()
+            limits = data.joint_pos_limits[env_ids]
             for col, params in ((0, lower_limit_distribution_params), (1, upper_limit_distribution_params)):
                 if params is not None:
                     limits[:, joints, col] = _randomize(
