@@ -18,7 +18,6 @@ import torch
 
 from simlab.actuators import ActuatorBase
 from simlab.actuators.actuator_pd import per_joint_values
-from simlab.utils.cuda import is_capturing
 from simlab.utils.string import resolve_matching_names, resolve_matching_names_values
 
 from .asset_base import EnvIds
@@ -303,11 +302,12 @@ class Articulation(RootedAsset):
         sel = self._joint_index(joint_ids)
         if isinstance(sel, slice):
             return cols
-        if not isinstance(joint_ids, (list, tuple)) or is_capturing():
+        if not isinstance(joint_ids, (list, tuple)):
             return index[sel]
         # Joints named by index lists (what find_joints and SceneEntityCfg give) recur every step:
-        # keep their columns instead of gathering them again (not while capturing: a tensor made
-        # then is only filled when the graph replays).
+        # keep their columns instead of gathering them again. Every code path of an env step runs
+        # eagerly before a graph capture (resets are by mask, never skipped), so the cache is
+        # filled outside any capture.
         cache = self.__dict__.setdefault("_cols_cache", {})
         key = (id(index), tuple(int(i) for i in joint_ids))
         if key not in cache:

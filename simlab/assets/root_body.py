@@ -12,6 +12,7 @@ import mujoco
 import torch
 
 import simlab.utils.math as math_utils
+from simlab.utils.env_mask import PerEnvState, env_mask, is_mask, masked_copy_, rows
 from simlab.utils.string import resolve_matching_names
 
 from .asset_base import AssetBase, EnvIds
@@ -57,8 +58,10 @@ class RootedAsset(AssetBase):
             self._mocap_pos, self._mocap_quat = physics.data("mocap_pos"), physics.data("mocap_quat")
         self._xfrc_applied = physics.data("xfrc_applied")
         n = self.num_instances
-        self._ext_force_b = torch.zeros(n, len(body_ids), 3, device=self.device)
-        self._ext_torque_b = torch.zeros(n, len(body_ids), 3, device=self.device)
+        # Per-env state: the external wrench set until changed (cleared by a reset).
+        self._state = PerEnvState(n, self.device)
+        self._ext_force_b = self._state.zeros("ext_force_b", (len(body_ids), 3))
+        self._ext_torque_b = self._state.zeros("ext_torque_b", (len(body_ids), 3))
         self._has_external_wrench = False
         self.data = self._make_data(sim)
         init = self.cfg.init_state
@@ -103,9 +106,7 @@ class RootedAsset(AssetBase):
 
     def reset(self, env_ids: EnvIds = None) -> None:
         if self._has_external_wrench:  # else both are zero already: no kernels for nothing
-            env = self._env_index(env_ids)
-            self._ext_force_b[env] = 0.0
-            self._ext_torque_b[env] = 0.0
+            self._state.reset(env_mask(env_ids, self.num_instances, self.device))
 
     def write_data_to_sim(self) -> None:
         if self._has_external_wrench:
@@ -121,16 +122,17 @@ class RootedAsset(AssetBase):
         """Root position (world frame, env origin included) and quaternion (w, x, y, z)."""
         env = self._env_index(env_ids)
         self._check_rows(root_pose, 7, env, "root_pose")
-        pos = root_pose[:, :3] - self._sim.env_origins[env]
+        origins = self._sim.env_origins if is_mask(env) else self._sim.env_origins[env]
+        pos = root_pose[:, :3] - origins
         quat = math_utils.normalize(root_pose[:, 3:7])
         if self._is_fixed_base:
             if self._mocap_id < 0:
                 raise RuntimeError(f"'{self.cfg.prim_path}' is welded to the world; its pose cannot be written")
-            self._mocap_pos[env, self._mocap_id] = pos
-            self._mocap_quat[env, self._mocap_id] = quat
+            self._write_cols(self._mocap_pos, self._mocap_id, env, pos)
+            self._write_cols(self._mocap_quat, self._mocap_id, env, quat)
         else:
-            self._qpos[env, self._root_pos_cols] = pos
-            self._qpos[env, self._root_quat_cols] = quat
+            self._write_cols(self._qpos, self._root_pos_cols, env, pos)
+            self._write_cols(self._qpos, self._root_quat_cols, env, quat)
         self._physics.mark_stale(env)
 
     def write_root_velocity_to_sim(self, root_velocity: torch.Tensor, env_ids: EnvIds = None) -> None:
@@ -139,9 +141,10 @@ class RootedAsset(AssetBase):
             return
         env = self._env_index(env_ids)
         self._check_rows(root_velocity, 6, env, "root_velocity")
-        quat = self._qpos[env, self._root_quat_cols]
-        self._qvel[env, self._root_lin_cols] = root_velocity[:, :3]
-        self._qvel[env, self._root_ang_cols] = math_utils.quat_apply_inverse(quat, root_velocity[:, 3:6])
+        quat = self._qpos[:, self._root_quat_cols] if is_mask(env) else self._qpos[env, self._root_quat_cols]
+        self._write_cols(self._qvel, self._root_lin_cols, env, root_velocity[:, :3])
+        ang_vel_b = math_utils.quat_apply_inverse(quat, root_velocity[:, 3:6])  # MuJoCo's free joint: body frame
+        self._write_cols(self._qvel, self._root_ang_cols, env, ang_vel_b)
         self._physics.mark_stale(env)
 
     # Isaac Lab 2.x names for the same writes.
@@ -175,29 +178,34 @@ class RootedAsset(AssetBase):
     # -- helpers ----------------------------------------------------------------------------------
 
     def _check_rows(self, value: torch.Tensor, width: int, env, what: str) -> None:
-        rows = (
-            self.num_instances if isinstance(env, slice) else (int(env.sum()) if env.dtype == torch.bool else len(env))
-        )
-        if value.ndim != 2 or value.shape[1] != width or value.shape[0] != rows:
+        # A mask selects rows of values given for every env (fixed shapes); ids, rows of their own.
+        n_rows = self.num_instances if isinstance(env, slice) or is_mask(env) else len(env)
+        if value.ndim != 2 or value.shape[1] != width or value.shape[0] != n_rows:
             raise ValueError(
-                f"{what} must have shape ({rows}, {width}) for the selected envs, got {tuple(value.shape)}"
+                f"{what} must have shape ({n_rows}, {width}) for the selected envs, got {tuple(value.shape)}"
             )
 
     @staticmethod
     def _write_cols(dst: torch.Tensor, cols, env_ids, values) -> None:
-        """``dst[env_ids, cols] = values`` for any mix of slices and index tensors."""
+        """``dst[env_ids, cols] = values`` for env ids (rows of ``values`` per id), a bool mask
+        (``values`` has a row per env; rows where the mask is clear keep their value), or None."""
         env = slice(None) if env_ids is None else env_ids
+        if is_mask(env):
+            mask = env.to(dst.device)
+            if isinstance(cols, (slice, int)):  # a view: select in place
+                masked_copy_(dst[:, cols], mask, values)
+            else:
+                old = dst[:, cols]
+                dst[:, cols] = torch.where(rows(mask, old), torch.as_tensor(values, dtype=dst.dtype), old)
+            return
         if not isinstance(env, (slice, torch.Tensor)):
             env = torch.as_tensor(list(env), dtype=torch.long, device=dst.device)
-        if isinstance(env, torch.Tensor) and env.dtype != torch.bool:
+        if isinstance(env, torch.Tensor):
             env = env.to(device=dst.device, dtype=torch.long)
         if isinstance(env, torch.Tensor) and isinstance(cols, torch.Tensor):
-            if env.dtype == torch.bool:
-                env = env.nonzero().flatten()
             dst[env[:, None], cols] = values
         else:
             dst[env, cols] = values
-
 
 class RootedAssetData:
     """Live views of an asset's state. Read every step; nothing here is cached.

@@ -5,7 +5,8 @@ where the single-agent env has tensors: ``step({agent: action})`` returns per-ag
 rewards, terminations and time-outs, each with the env dimension first. ``state()`` is the shared
 state of centralized critics. An environment resets once every agent in it is done (the flags are
 ANDed over agents) and, as in the single-agent env, in the same step (SAME_STEP autoreset); the
-observations reached before the reset are kept in ``extras[agent]["final_obs"]``.
+observations reached before the reset are kept in ``extras[agent]["final_obs"]`` and the state in
+``final_state_buf``.
 """
 
 from __future__ import annotations
@@ -25,6 +26,7 @@ from .direct_rl_env import (
     check_action,
     check_env_cfg,
 )
+from .utils.cuda_graph import EnvStepper
 from .utils.spaces import sample_space, spec_to_gym_space
 
 
@@ -56,11 +58,13 @@ class DirectMARLEnv(SimulatedEnv, gym.Env):
         self.reset_buf = torch.zeros(self.num_envs, dtype=torch.bool, device=self.device)
         self.final_state_buf: torch.Tensor | None = None
         self._all_env_ids = torch.arange(self.num_envs, dtype=torch.long, device=self.device)
+        self._step_count = torch.zeros((), dtype=torch.long, device=self.device)
         self._configure_env_spaces()
 
         if self.event_manager is not None and "startup" in self.event_manager.available_modes:
             self.event_manager.apply(mode="startup")
         self.metadata["render_fps"] = 1.0 / self.step_dt
+        self._stepper = EnvStepper(self, self._step_body)
 
     def __del__(self):
         if getattr(self, "_is_closed", True) is False:
@@ -116,37 +120,34 @@ class DirectMARLEnv(SimulatedEnv, gym.Env):
             agent: check_action(action, self.action_spaces[agent], self.num_envs, self.device)
             for agent, action in actions.items()
         }
-        self._pre_physics_step(actions)
-        self._physics_steps(self._apply_action)
+        obs, rewards, terminated, time_outs, final_obs, self.final_state_buf = self._stepper(actions)
         self._sim_step_counter += self.cfg.decimation
-
-        self.episode_length_buf += 1
         self.common_step_counter += 1
-        self.terminated_dict, self.time_out_dict = self._get_dones()
-        # an environment resets once all its agents are done
-        self.reset_buf[:] = all_agents(self.terminated_dict) | all_agents(self.time_out_dict)
-        self.reward_dict = self._get_rewards()
-
-        reset_env_ids = self.reset_buf.nonzero(as_tuple=False).squeeze(-1)
-        final_obs = None
-        if len(reset_env_ids) > 0:
-            final_obs = self._get_observations()
-            self.final_state_buf = self._state_of(final_obs)
-            self._reset_idx(reset_env_ids)
-            self.sim.physics.mark_stale(reset_env_ids)
-        if self.event_manager is not None and "interval" in self.event_manager.available_modes:
-            self.event_manager.apply(mode="interval", dt=self.step_dt)
-
-        self.obs_dict = self._get_observations()
+        self.obs_dict, self.reward_dict = obs, rewards
+        self.terminated_dict, self.time_out_dict = terminated, time_outs
         self.agents = [agent for agent in self.possible_agents if agent in self.obs_dict]
-        if final_obs is None:
-            self.final_state_buf = None  # state() of this step's observations is the final state
         for agent in self.possible_agents:
             extras = self.extras.setdefault(agent, {})
-            source = final_obs if final_obs is not None else self.obs_dict
-            if agent in source:
-                extras["final_obs"] = source[agent]
+            if agent in final_obs:
+                extras["final_obs"] = final_obs[agent]
         return self.obs_dict, self.reward_dict, self.terminated_dict, self.time_out_dict, self.extras
+
+    def _step_body(self, actions: dict[str, torch.Tensor]):
+        """The step, as the single-agent env's (fixed shapes: eager or replayed as a graph)."""
+        self._pre_physics_step(actions)
+        self._physics_steps(self._apply_action)
+        self.episode_length_buf += 1
+        self._step_count += 1
+        terminated, time_outs = self._get_dones()
+        # an environment resets once all its agents are done
+        torch.logical_or(all_agents(terminated), all_agents(time_outs), out=self.reset_buf)
+        rewards = self._get_rewards()
+        final_obs = self._get_observations()
+        final_state = self._state_of(final_obs)
+        self._reset_finished(self.reset_buf)
+        if self.event_manager is not None and "interval" in self.event_manager.available_modes:
+            self.event_manager.apply(mode="interval", dt=self.step_dt)
+        return self._get_observations(), rewards, terminated, time_outs, final_obs, final_state
 
     def state(self) -> torch.Tensor | None:
         """The shared state (num_envs, ...): the agents' observations concatenated for
@@ -189,8 +190,13 @@ class DirectMARLEnv(SimulatedEnv, gym.Env):
             for a in self.possible_agents
         }
 
-    # Resetting the scene, reset events and episode counters works as in the single-agent env.
+    # Resets (by mask, or a task's own _reset_idx) and stepping work as in the single-agent env.
     _reset_idx = DirectRLEnv._reset_idx
+    _reset_mask = DirectRLEnv._reset_mask
+    _reset_finished = DirectRLEnv._reset_finished
+    _resets_by_mask = DirectRLEnv._resets_by_mask
+    graph_blockers = DirectRLEnv.graph_blockers
+    step_is_graphed = DirectRLEnv.step_is_graphed
 
     # -- the task's hooks -------------------------------------------------------------------------
 

@@ -7,15 +7,21 @@ A task subclasses :class:`DirectRLEnv` and writes the hooks (Isaac Lab's API)::
     _apply_action()           # every physics step: set joint targets from the stored actions
     _get_dones()              # -> (terminated, time_out), each (num_envs,) bool
     _get_rewards()            # -> (num_envs,) reward
-    _reset_idx(env_ids)       # write the initial state of these envs (call super() first)
+    _reset_mask(env_mask)     # write the initial state where the (num_envs,) bool mask is set
+      or _reset_idx(env_ids)  # Isaac Lab's form: the same for a list of env ids (call super() first)
     _get_observations()       # -> {"policy": (num_envs, ...)[, "critic": ...]}
     _get_states()             # -> critic observation, optional (asymmetric actor-critic)
 
 ``step(action)`` runs ``_pre_physics_step`` once and ``decimation`` physics steps, then counts the
 step, asks for dones and rewards, resets the envs that finished (Gymnasium's SAME_STEP autoreset)
-and returns ``(obs, reward, terminated, truncated, extras)``. The observation the finished envs
-reached before their reset is kept in ``extras["final_obs"]`` for bootstrapping (Isaac Lab has no
-such key); ``extras["time_outs"]`` repeats the time-out flags for rsl_rl.
+and returns ``(obs, reward, terminated, truncated, extras)``; ``docs/env_step.md`` states what the
+returned values and ``extras`` mean, the same for every workflow.
+
+Resets. A task written with ``_reset_mask`` draws its random initial states for every env and writes
+them where the mask is set (the asset writers take the mask with values for every env): the step
+then has fixed shapes and, on the GPU, replays as one CUDA graph. A task that overrides Isaac Lab's
+``_reset_idx`` instead works unchanged, with its step run eagerly (the ids are data-dependent).
+Calling ``_reset_idx(env_ids)`` on a ``_reset_mask`` task resets those envs through the mask.
 """
 
 from __future__ import annotations
@@ -31,10 +37,11 @@ import torch
 
 from simlab.scene import InteractiveScene
 from simlab.sim import SimulationContext
+from simlab.utils.env_mask import env_mask, masked_copy_
 
 from .common import SimulatedEnv
 from .direct_rl_env_cfg import DirectRLEnvCfg
-from .utils.cuda_graph import CudaGraphStep
+from .utils.cuda_graph import EnvStepper
 from .utils.spaces import sample_space, spec_to_gym_space
 from .utils.viewer import camera_pose, make_renderer, render_frame  # noqa: F401 - camera_pose re-exported
 
@@ -72,15 +79,14 @@ class DirectRLEnv(SimulatedEnv, gym.Env):
         self.reset_time_outs = torch.zeros_like(self.reset_terminated)
         self.reset_buf = torch.zeros_like(self.reset_terminated)
         self._all_env_ids = torch.arange(self.num_envs, dtype=torch.long, device=self.device)
+        self._step_count = torch.zeros((), dtype=torch.long, device=self.device)
+        """Env steps taken, on the device (what a graphed step's event terms read)."""
         self._configure_gym_env_spaces()
 
         if self.event_manager is not None and "startup" in self.event_manager.available_modes:
             self.event_manager.apply(mode="startup")
         self.metadata["render_fps"] = 1.0 / self.step_dt
-        # The GPU fast path; events keep per-env timers on the host, so they step eagerly.
-        self._cuda_graph = None
-        if "cuda" in self.device and cfg.sim.use_cuda_graph and self.event_manager is None:
-            self._cuda_graph = CudaGraphStep(self, self._graph_step)
+        self._stepper = EnvStepper(self, self._step_body)
 
     def __del__(self):
         if getattr(self, "_is_closed", True) is False:
@@ -92,10 +98,7 @@ class DirectRLEnv(SimulatedEnv, gym.Env):
         """Reset every environment; returns ``(obs, extras)``. Call once, then only ``step``."""
         if seed is not None:
             self.seed(seed)
-        if self._cuda_graph is not None:
-            self._cuda_graph.learn_reset_footprint()  # a full reset that also notes what it writes
-        else:
-            self._reset_idx(self._all_env_ids)
+        self._reset_idx(self._all_env_ids)
         self.scene.write_data_to_sim()
         self.sim.physics.mark_stale()
         self.obs_buf = self._observations()
@@ -103,40 +106,8 @@ class DirectRLEnv(SimulatedEnv, gym.Env):
 
     def step(self, action: torch.Tensor) -> tuple[dict, torch.Tensor, torch.Tensor, torch.Tensor, dict]:
         """Apply ``action`` (num_envs, ...) for ``decimation`` physics steps; see the module docstring."""
-        if self._cuda_graph is not None:
-            return self._step_graphed(action)
         action = check_action(action, self.single_action_space, self.num_envs, self.device)
-        self._pre_physics_step(action)
-        self._physics_steps(self._apply_action)
-        self._sim_step_counter += self.cfg.decimation
-
-        self.episode_length_buf += 1
-        self.common_step_counter += 1
-        self.reset_terminated[:], self.reset_time_outs[:] = self._get_dones()
-        self.reset_buf = self.reset_terminated | self.reset_time_outs
-        self.reward_buf = self._get_rewards()
-
-        # SAME_STEP autoreset: keep what the finished envs saw, then reset them.
-        reset_env_ids = self.reset_buf.nonzero(as_tuple=False).squeeze(-1)
-        final_obs = None
-        if len(reset_env_ids) > 0:
-            final_obs = self._observations()
-            self._reset_idx(reset_env_ids)
-            self.sim.physics.mark_stale(reset_env_ids)  # body poses follow when read
-        if self.event_manager is not None and "interval" in self.event_manager.available_modes:
-            self.event_manager.apply(mode="interval", dt=self.step_dt)
-
-        self.obs_buf = self._observations()
-        self.extras["final_obs"] = final_obs if final_obs is not None else self.obs_buf
-        self.extras["time_outs"] = self.reset_time_outs
-        return self.obs_buf, self.reward_buf, self.reset_terminated, self.reset_time_outs, self.extras
-
-    def _step_graphed(self, action: torch.Tensor) -> tuple[dict, torch.Tensor, torch.Tensor, torch.Tensor, dict]:
-        """``step`` on the GPU fast path: the same order of work, replayed as one CUDA graph."""
-        action = check_action(action, self.single_action_space, self.num_envs, self.device, check_finite=False)
-        if self._cuda_graph._touched is None:
-            self._cuda_graph.learn_reset_footprint()  # step() without reset(): reset all first
-        obs, reward, terminated, truncated, final_obs = self._cuda_graph(action)
+        obs, reward, terminated, truncated, final_obs = self._stepper(action)
         self._sim_step_counter += self.cfg.decimation
         self.common_step_counter += 1
         self.obs_buf, self.reward_buf = obs, reward
@@ -144,20 +115,53 @@ class DirectRLEnv(SimulatedEnv, gym.Env):
         self.extras["time_outs"] = truncated
         return obs, reward, terminated, truncated, self.extras
 
-    def _graph_step(self, action: torch.Tensor):
-        """The body of a graphed step: fixed shapes, resets by mask (see ``CudaGraphStep``)."""
+    @property
+    def step_is_graphed(self) -> bool:
+        """Whether ``step`` replays one captured CUDA graph (see ``simlab.envs.utils.cuda_graph``)."""
+        return self._stepper.is_graphed
+
+    def graph_blockers(self) -> list[str]:
+        """What makes this env's step select envs by ids (so it cannot be captured as a graph)."""
+        blockers = []
+        if not self._resets_by_mask:
+            blockers.append(
+                f"{type(self).__name__} overrides _reset_idx (resets by env ids); override _reset_mask(env_mask)"
+                " instead to let the step replay as a CUDA graph"
+            )
+        if self.event_manager is not None:
+            blockers += self.event_manager.graph_blockers()
+        return blockers
+
+    def _step_body(self, action: torch.Tensor):
+        """The step (Isaac Lab's order), with fixed shapes: run eagerly or replayed as a graph."""
         self._pre_physics_step(action)
         self._physics_steps(self._apply_action)
         self.episode_length_buf += 1
+        self._step_count += 1
         terminated, time_outs = self._get_dones()
         self.reset_terminated.copy_(terminated)
         self.reset_time_outs.copy_(time_outs)
         torch.logical_or(self.reset_terminated, self.reset_time_outs, out=self.reset_buf)
         reward = self._get_rewards()
-        final_obs = self._observations()
-        self._cuda_graph.masked_reset(self.reset_buf)
-        self.sim.physics.mark_stale()
+        final_obs = self._observations()  # what the finished envs ended in, for bootstrapping
+        self._reset_finished(self.reset_buf)
+        if self.event_manager is not None and "interval" in self.event_manager.available_modes:
+            self.event_manager.apply(mode="interval", dt=self.step_dt)
         return self._observations(), reward, self.reset_terminated, self.reset_time_outs, final_obs
+
+    @property
+    def _resets_by_mask(self) -> bool:
+        return type(self)._reset_idx is DirectRLEnv._reset_idx
+
+    def _reset_finished(self, finished: torch.Tensor) -> None:
+        """SAME_STEP autoreset of the envs where ``finished`` is set."""
+        if self._resets_by_mask:
+            self._reset_mask(finished)
+        else:  # the task's Isaac Lab-style _reset_idx: ids, so this step runs eagerly
+            env_ids = finished.nonzero().flatten()
+            if len(env_ids):
+                self._reset_idx(env_ids)
+        self.sim.physics.mark_stale(finished)  # body poses follow when read
 
     def render(self, recompute: bool = False) -> np.ndarray | None:
         """An RGB frame (H, W, 3) of env ``cfg.viewer.env_index`` for ``render_mode="rgb_array"``.
@@ -178,8 +182,8 @@ class DirectRLEnv(SimulatedEnv, gym.Env):
             self._renderer.close()
         self._renderer = None
         self.event_manager = None
-        if getattr(self, "_cuda_graph", None) is not None:  # the MARL env shares this close
-            self._cuda_graph.release()
+        if getattr(self, "_stepper", None) is not None:  # the MARL env shares this close
+            self._stepper.release()
         if SimulationContext.instance() is getattr(self, "sim", None):
             SimulationContext.clear_instance()
         self._is_closed = True
@@ -214,12 +218,17 @@ class DirectRLEnv(SimulatedEnv, gym.Env):
         return obs
 
     def _reset_idx(self, env_ids: Sequence[int] | torch.Tensor) -> None:
-        """Reset the scene's entities and the episode counters of ``env_ids``; tasks extend it."""
-        self.scene.reset(env_ids)
+        """Reset the envs ``env_ids`` (Isaac Lab's hook): through ``_reset_mask`` unless a task
+        overrides this with its own index-based reset (calling ``super()._reset_idx`` first)."""
+        self._reset_mask(env_mask(env_ids, self.num_envs, self.device))
+
+    def _reset_mask(self, env_mask: torch.Tensor) -> None:
+        """Reset the scene's entities, reset events and episode counters where ``env_mask`` is set;
+        tasks extend it (call ``super()._reset_mask`` first) to write their initial states."""
+        self.scene.reset(env_mask)
         if self.event_manager is not None and "reset" in self.event_manager.available_modes:
-            env_step_count = self._sim_step_counter // self.cfg.decimation
-            self.event_manager.apply(mode="reset", env_ids=env_ids, global_env_step_count=env_step_count)
-        self.episode_length_buf[env_ids] = 0
+            self.event_manager.apply(mode="reset", env_ids=env_mask, global_env_step_count=self._step_count)
+        masked_copy_(self.episode_length_buf, env_mask, 0)
 
     # -- the task's hooks -------------------------------------------------------------------------
 
@@ -270,8 +279,6 @@ def build_simulation(env, cfg, render_mode: str | None) -> None:
     SimulationContext.clear_instance()
     env.sim = SimulationContext(cfg.sim)
     env.sim.set_camera_view(cfg.viewer.eye, cfg.viewer.lookat)
-    if "cuda" in env.device:
-        torch.cuda.set_device(env.device)
     env.scene = InteractiveScene(cfg.scene)
     env._setup_scene()
     env.event_manager = make_event_manager(cfg.events, env)
@@ -302,23 +309,20 @@ def check_env_cfg(cfg) -> None:
             )
 
 
-def check_action(
-    action, space: gym.spaces.Space, num_envs: int, device: str, check_finite: bool = True
-) -> torch.Tensor:
-    """The action as a tensor on ``device``, after checking its shape and (here) that it is finite."""
+def check_action(action, space: gym.spaces.Space, num_envs: int, device: str) -> torch.Tensor:
+    """The action as a tensor on ``device`` (float32 for a Box space, detached from autograd),
+    after checking its shape. Finite values are checked by the stepper (``EnvStepper``)."""
     if not isinstance(action, torch.Tensor):
-        action = torch.as_tensor(np.asarray(action), device=device)
-    action = action.to(device)
+        action = torch.as_tensor(np.asarray(action))
+    action = action.detach().to(device)
+    if isinstance(space, gym.spaces.Box):
+        action = action.to(torch.float32)
     if isinstance(space, (gym.spaces.Box, gym.spaces.MultiDiscrete)):
         expected = (num_envs, *space.shape)
         if tuple(action.shape) != expected:
             raise ValueError(
                 f"Expected actions of shape {expected} (num_envs, *action shape), got {tuple(action.shape)}"
             )
-    if check_finite and action.is_floating_point() and not torch.isfinite(action).all():
-        bad = (~torch.isfinite(action)).reshape(num_envs, -1).any(dim=-1).nonzero().flatten().tolist()
-        more = "..." if len(bad) > 10 else ""
-        raise ValueError(f"Actions contain NaN or inf (envs {bad[:10]}{more}); actions must be finite")
     return action
 
 

@@ -22,6 +22,7 @@ from simlab.managers import ActionManager, EventManager, ObservationManager
 from simlab.scene import InteractiveScene
 from simlab.sim import SimulationContext
 from simlab.utils.configclass import MissingFieldError
+from simlab.utils.env_mask import env_mask
 
 from .common import SimulatedEnv, VecEnvObs
 from .manager_based_env_cfg import ManagerBasedEnvCfg
@@ -69,6 +70,8 @@ class ManagerBasedEnv(SimulatedEnv):
         self.scene.update(dt=self.physics_dt)
 
         self._sim_step_counter = 0
+        self._step_count = torch.zeros((), dtype=torch.long, device=self.device)
+        """Env steps taken, on the device (what a graphed step's event terms read)."""
         self.extras: dict[str, Any] = {}
         self.load_managers()
         print("[INFO]: Event Manager:", self.event_manager)
@@ -100,15 +103,12 @@ class ManagerBasedEnv(SimulatedEnv):
         self, seed: int | None = None, env_ids: Sequence[int] | torch.Tensor | None = None, options: dict | None = None
     ) -> tuple[VecEnvObs, dict]:
         """Reset the given envs (all by default); returns ``(obs, extras)``."""
-        if env_ids is None:
-            env_ids = torch.arange(self.num_envs, dtype=torch.long, device=self.device)
-        elif not isinstance(env_ids, torch.Tensor):
-            env_ids = torch.as_tensor(list(env_ids), dtype=torch.long, device=self.device)
         if seed is not None:
             self.seed(seed)
-        self._reset_idx(env_ids)
+        mask = env_mask(env_ids, self.num_envs, self.device)
+        self._reset_idx(mask)
         self.scene.write_data_to_sim()
-        self.sim.physics.mark_stale(env_ids)
+        self.sim.physics.mark_stale(mask)
         self.obs_buf = self.observation_manager.compute(update_history=True)
         return self.obs_buf, self.extras
 
@@ -116,6 +116,7 @@ class ManagerBasedEnv(SimulatedEnv):
         self.action_manager.process_action(action)
         self._physics_steps(self.action_manager.apply_action)
         self._sim_step_counter += self.cfg.decimation
+        self._step_count += 1
         if "interval" in self.event_manager.available_modes:
             self.event_manager.apply(mode="interval", dt=self.step_dt)
         self.obs_buf = self.observation_manager.compute(update_history=True)
@@ -134,23 +135,24 @@ class ManagerBasedEnv(SimulatedEnv):
         if self._viewer is not None:
             self._viewer.close()
             self._viewer = None
-        if getattr(self, "_cuda_graph", None) is not None:  # the RL env's GPU fast path
-            self._cuda_graph.release()
+        if getattr(self, "_stepper", None) is not None:  # the RL env's stepper
+            self._stepper.release()
         if SimulationContext.instance() is getattr(self, "sim", None):
             SimulationContext.clear_instance()
         self._is_closed = True
 
     # -- helpers -------------------------------------------------------------------------------------
 
-    def _reset_idx(self, env_ids: torch.Tensor) -> None:
-        self.scene.reset(env_ids)
+    def _reset_idx(self, env_ids: Sequence[int] | torch.Tensor) -> None:
+        """Reset the envs ``env_ids`` (ids or a bool mask): scene, reset events, managers."""
+        mask = env_mask(env_ids, self.num_envs, self.device)
+        self.scene.reset(mask)
         if "reset" in self.event_manager.available_modes:
-            env_step_count = self._sim_step_counter // self.cfg.decimation
-            self.event_manager.apply(mode="reset", env_ids=env_ids, global_env_step_count=env_step_count)
+            self.event_manager.apply(mode="reset", env_ids=mask, global_env_step_count=self._step_count)
         self.extras["log"] = {}
-        self.extras["log"].update(self.observation_manager.reset(env_ids))
-        self.extras["log"].update(self.action_manager.reset(env_ids))
-        self.extras["log"].update(self.event_manager.reset(env_ids))
+        self.extras["log"].update(self.observation_manager.reset(mask))
+        self.extras["log"].update(self.action_manager.reset(mask))
+        self.extras["log"].update(self.event_manager.reset(mask))
 
     def _camera_pose(self) -> tuple[np.ndarray, np.ndarray]:
         """The viewer camera's eye and lookat in the frame of the rendered MuJoCo world."""

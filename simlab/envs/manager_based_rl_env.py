@@ -1,16 +1,17 @@
 """The manager-based RL environment: a ``gymnasium.Env`` over ``num_envs`` parallel worlds.
 
 ``step(action)`` returns ``(obs, reward, terminated, truncated, extras)``, tensors with the env
-dimension first. Envs that finish are reset inside the same step (Gymnasium's SAME_STEP autoreset),
-so the returned observation of such an env is the first one of its next episode; the observation
-before the reset is kept in ``extras["final_obs"]`` (every group, every env; present only in steps
-where some env reset) for bootstrapping, and ``extras["time_outs"]`` marks the truncations
-(the key rsl_rl reads). ``extras["log"]`` carries ``Episode_Reward/<term>`` and
-``Episode_Termination/<term>`` of the envs that reset in the step.
+dimension first. Envs that finish are reset inside the same step (Gymnasium's SAME_STEP autoreset);
+``docs/env_step.md`` states what the returned values and ``extras`` mean, the same for every
+workflow. ``extras["log"]`` carries ``Episode_Reward/<term>`` and ``Episode_Termination/<term>`` of
+the envs that reset in the step.
 
-Order inside ``step`` (Isaac Lab's): actions, ``decimation`` physics steps, episode counters,
-terminations, rewards, resets, commands, ``interval`` events, observations. Body poses and other
-derived quantities are recomputed only if a term reads them (``PhysicsBackend.ensure_forward``).
+Order inside the step (Isaac Lab's): actions, ``decimation`` physics steps, episode counters,
+terminations, rewards, resets, commands, ``interval`` events, observations. The envs that finished
+are reset by mask: every manager and term resets its own per-env state where the mask is set, so
+the step has fixed shapes and, on the GPU, replays as one CUDA graph (``simlab.envs.utils.cuda_graph``).
+Body poses and other derived quantities are recomputed only if a term reads them
+(``PhysicsBackend.ensure_forward``).
 """
 
 from __future__ import annotations
@@ -23,11 +24,12 @@ import numpy as np
 import torch
 
 from simlab.managers import CommandManager, CurriculumManager, RewardManager, TerminationManager
+from simlab.utils.env_mask import env_mask, masked_copy_
 
 from .common import VecEnvObs, VecEnvStepReturn
 from .manager_based_env import ManagerBasedEnv
 from .manager_based_rl_env_cfg import ManagerBasedRLEnvCfg
-from .utils.cuda_graph import CudaGraphStep
+from .utils.cuda_graph import EnvStepper
 
 
 class ManagerBasedRLEnv(ManagerBasedEnv, gym.Env):
@@ -48,11 +50,7 @@ class ManagerBasedRLEnv(ManagerBasedEnv, gym.Env):
         self.episode_length_buf = torch.zeros(self.num_envs, dtype=torch.long, device=self.device)
         self.metadata = dict(self.metadata, render_fps=1.0 / self.step_dt)
         self._all_env_ids = torch.arange(self.num_envs, dtype=torch.long, device=self.device)
-        # The GPU fast path (simlab.envs.utils.cuda_graph); interval events and curricula run on the host.
-        self._cuda_graph = None
-        host_driven = "interval" in self.event_manager.available_modes or self.curriculum_manager.active_terms
-        if "cuda" in self.device and cfg.sim.use_cuda_graph and not host_driven:
-            self._cuda_graph = CudaGraphStep(self, self._graph_step)
+        self._stepper = EnvStepper(self, self._step_body)
         print("[INFO]: Completed setting up the environment...")
 
     # -- properties --------------------------------------------------------------------------------
@@ -92,89 +90,56 @@ class ManagerBasedRLEnv(ManagerBasedEnv, gym.Env):
     # -- operations --------------------------------------------------------------------------------
 
     def step(self, action: torch.Tensor) -> VecEnvStepReturn:
-        if self._cuda_graph is not None:
-            return self._step_graphed(action)
+        action = self.action_manager.check_action(action)
+        obs, reward, terminated, truncated, final_obs, log = self._stepper(action)
+        self._sim_step_counter += self.cfg.decimation
+        self.common_step_counter += 1
+        self.obs_buf, self.reward_buf = obs, reward
+        self.reset_terminated, self.reset_time_outs = terminated, truncated
+        self.extras["final_obs"] = final_obs
+        self.extras["time_outs"] = truncated
+        # Episode logs are means over the envs that finished; as in Isaac Lab they are refreshed
+        # only in steps where some env finished (one read of a flag per step).
+        if bool(self.reset_buf.any()):
+            self.extras["log"] = log
+        return obs, reward, terminated, truncated, self.extras
+
+    @property
+    def step_is_graphed(self) -> bool:
+        """Whether ``step`` replays one captured CUDA graph (see ``simlab.envs.utils.cuda_graph``)."""
+        return self._stepper.is_graphed
+
+    def graph_blockers(self) -> list[str]:
+        """What makes this env's step select envs by ids (so it cannot be captured as a graph)."""
+        blockers = self.event_manager.graph_blockers() + self.command_manager.graph_blockers()
+        blockers += self.curriculum_manager.graph_blockers()
+        if type(self)._reset_idx is not ManagerBasedRLEnv._reset_idx:
+            blockers.append(f"{type(self).__name__} overrides _reset_idx")
+        return blockers
+
+    def _step_body(self, action: torch.Tensor):
+        """The step, with fixed shapes: run eagerly or replayed as one CUDA graph."""
         self.action_manager.process_action(action)
         self._physics_steps(self.action_manager.apply_action)
-        self._sim_step_counter += self.cfg.decimation
-
         self.episode_length_buf += 1
-        self.common_step_counter += 1
+        self._step_count += 1
         self.reset_buf = self.termination_manager.compute()
-        self.reset_terminated = self.termination_manager.terminated
-        self.reset_time_outs = self.termination_manager.time_outs
-        self.reward_buf = self.reward_manager.compute(dt=self.step_dt)
-
-        self.extras.pop("final_obs", None)
-        reset_env_ids = self.reset_buf.nonzero().flatten()
-        if len(reset_env_ids) > 0:
-            # The observation the finished episodes ended in, before their reset (for bootstrapping).
-            self.extras["final_obs"] = self.observation_manager.compute(update_history=False)
-            self._reset_idx(reset_env_ids)
-            self.scene.write_data_to_sim()
-            self.sim.physics.mark_stale(reset_env_ids)
-        self.extras["time_outs"] = self.reset_time_outs
-
+        terminated, truncated = self.termination_manager.terminated, self.termination_manager.time_outs
+        reward = self.reward_manager.compute(dt=self.step_dt)
+        # The observation the finished episodes ended in, before their reset (for bootstrapping).
+        final_obs = self.observation_manager.compute(update_history=False)
+        log = self._reset_envs(self.reset_buf)
         self.command_manager.compute(dt=self.step_dt)
         if "interval" in self.event_manager.available_modes:
             self.event_manager.apply(mode="interval", dt=self.step_dt)
-        self.obs_buf = self.observation_manager.compute(update_history=True)
-        return self.obs_buf, self.reward_buf, self.reset_terminated, self.reset_time_outs, self.extras
+        obs = self.observation_manager.compute(update_history=True)
+        return obs, reward, terminated, truncated, final_obs, log
 
     def reset(
         self, seed: int | None = None, env_ids: Sequence[int] | torch.Tensor | None = None, options: dict | None = None
     ) -> tuple[VecEnvObs, dict]:
         self.extras.pop("final_obs", None)
-        if self._cuda_graph is not None and env_ids is None:
-            # A full reset that also notes what a reset writes (for the masked resets of the graph).
-            self._learn_footprint = True
-        try:
-            return super().reset(seed=seed, env_ids=env_ids, options=options)
-        finally:
-            self._learn_footprint = False
-
-    def _step_graphed(self, action: torch.Tensor) -> VecEnvStepReturn:
-        """``step`` on the GPU fast path: the same order of work, replayed as one CUDA graph.
-
-        Episode logs are masked means over the envs that finished; like the eager step, they are
-        refreshed only in steps where some env finished (one host read of a flag per step).
-        """
-        action = action.to(device=self.device, dtype=torch.float32)
-        if action.shape != (self.num_envs, self.action_manager.total_action_dim):
-            self.action_manager.process_action(action)  # raises with the expected shape
-        if self._cuda_graph._touched is None:
-            self.reset()
-        obs, reward, terminated, truncated, final_obs, log = self._cuda_graph(action)
-        self._sim_step_counter += self.cfg.decimation
-        self.common_step_counter += 1
-        self.obs_buf, self.reward_buf = obs, reward
-        self.reset_terminated, self.reset_time_outs = terminated, truncated
-        self.extras["time_outs"] = truncated
-        if bool(self.reset_buf.any()):
-            self.extras["final_obs"] = final_obs
-            self.extras["log"] = log
-        else:
-            self.extras.pop("final_obs", None)
-        return obs, reward, terminated, truncated, self.extras
-
-    def _graph_step(self, action: torch.Tensor):
-        """The body of a graphed step: fixed shapes, resets by mask (see ``CudaGraphStep``)."""
-        self.action_manager.process_action(action)
-        self._physics_steps(self.action_manager.apply_action)
-        self.episode_length_buf += 1
-        self.reset_buf = self.termination_manager.compute()
-        terminated, truncated = self.termination_manager.terminated, self.termination_manager.time_outs
-        reward = self.reward_manager.compute(dt=self.step_dt)
-        log = {
-            **self.reward_manager.episode_log(self.reset_buf),
-            **self.termination_manager.episode_log(self.reset_buf),
-        }
-        final_obs = self.observation_manager.compute(update_history=False)
-        self._cuda_graph.masked_reset(self.reset_buf)
-        self.sim.physics.mark_stale()
-        self.command_manager.compute(dt=self.step_dt)
-        obs = self.observation_manager.compute(update_history=True)
-        return obs, reward, terminated, truncated, final_obs, log
+        return super().reset(seed=seed, env_ids=env_ids, options=options)
 
     def render(self, recompute: bool = False) -> np.ndarray | None:
         """``rgb_array``: an (H, W, 3) uint8 image of env ``cfg.viewer.env_index``; ``human``: show it
@@ -195,26 +160,32 @@ class ManagerBasedRLEnv(ManagerBasedEnv, gym.Env):
 
     # -- helpers -------------------------------------------------------------------------------------
 
-    def _reset_idx(self, env_ids: torch.Tensor) -> None:
-        if getattr(self, "_learn_footprint", False):
-            self._learn_footprint = False
-            self._cuda_graph.learn_reset_footprint()  # runs _reset_idx on every env
-            return
-        self.curriculum_manager.compute(env_ids=env_ids)
-        self.scene.reset(env_ids)
+    def _reset_idx(self, env_ids: Sequence[int] | torch.Tensor) -> None:
+        """Reset the envs ``env_ids`` (Isaac Lab's hook; ids or a bool mask); logs go to ``extras["log"]``."""
+        self.extras["log"] = self._reset_envs(env_mask(env_ids, self.num_envs, self.device))
+
+    def _reset_envs(self, mask: torch.Tensor) -> dict[str, Any]:
+        """Reset where ``mask`` is set: curricula, scene, reset events, every manager, counters.
+        Returns the episode log of those envs."""
+        self.curriculum_manager.compute(env_ids=mask)
+        self.scene.reset(mask)
         if "reset" in self.event_manager.available_modes:
-            env_step_count = self._sim_step_counter // self.cfg.decimation
-            self.event_manager.apply(mode="reset", env_ids=env_ids, global_env_step_count=env_step_count)
+            self.event_manager.apply(mode="reset", env_ids=mask, global_env_step_count=self._step_count)
         log: dict[str, Any] = {}
-        log.update(self.observation_manager.reset(env_ids))
-        log.update(self.action_manager.reset(env_ids))
-        log.update(self.reward_manager.reset(env_ids))
-        log.update(self.curriculum_manager.reset(env_ids))
-        log.update(self.command_manager.reset(env_ids))
-        log.update(self.event_manager.reset(env_ids))
-        log.update(self.termination_manager.reset(env_ids))
-        self.extras["log"] = log
-        self.episode_length_buf[env_ids] = 0
+        for manager in (
+            self.observation_manager,
+            self.action_manager,
+            self.reward_manager,
+            self.curriculum_manager,
+            self.command_manager,
+            self.event_manager,
+            self.termination_manager,
+        ):
+            log.update(manager.reset(mask))
+        masked_copy_(self.episode_length_buf, mask, 0)
+        self.scene.write_data_to_sim()
+        self.sim.physics.mark_stale(mask)
+        return log
 
     def _render_human(self) -> None:
         import mujoco

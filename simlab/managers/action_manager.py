@@ -9,9 +9,10 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
+import numpy as np
 import torch
 
-from simlab.utils.cuda import is_capturing
+from simlab.utils.env_mask import PerEnvState
 
 from .manager_base import ManagerBase, ManagerTermBase, cfg_items, format_table
 from .manager_term_cfg import ActionTermCfg
@@ -54,9 +55,9 @@ class ActionManager(ManagerBase):
     def __init__(self, cfg: object, env: ManagerBasedEnv):
         self._terms: dict[str, ActionTerm] = {}
         super().__init__(cfg, env)
-        self._check_finite = bool(getattr(env.cfg, "check_finite_actions", True))
-        self._action = torch.zeros(self.num_envs, self.total_action_dim, device=self.device)
-        self._prev_action = torch.zeros_like(self._action)
+        self._state = PerEnvState(self.num_envs, self.device)
+        self._action = self._state.zeros("action", (self.total_action_dim,))
+        self._prev_action = self._state.zeros("prev_action", (self.total_action_dim,))
 
     def __str__(self) -> str:
         rows = [(i, name, term.action_dim) for i, (name, term) in enumerate(self._terms.items())]
@@ -103,30 +104,30 @@ class ActionManager(ManagerBase):
         return out
 
     def reset(self, env_ids: Sequence[int] | torch.Tensor | None = None) -> dict[str, torch.Tensor]:
-        env = slice(None) if env_ids is None else env_ids
-        self._prev_action[env] = 0.0
-        self._action[env] = 0.0
+        mask = self._mask(env_ids)
+        self._state.reset(mask)
         for term in self._terms.values():
-            term.reset(env_ids)
+            term.reset(mask)
         return {}
 
-    def process_action(self, action: torch.Tensor) -> None:
-        """Check the action, store it, and let each term process its slice."""
+    def check_action(self, action) -> torch.Tensor:
+        """The action as a float32 tensor on the env's device (detached), after checking its shape.
+
+        Finite values are checked where the env step is run (``simlab.envs.utils.cuda_graph``).
+        """
         if not isinstance(action, torch.Tensor):
-            action = torch.as_tensor(action, dtype=torch.float32)
+            action = torch.as_tensor(np.asarray(action), dtype=torch.float32)
         expected = (self.num_envs, self.total_action_dim)
         if tuple(action.shape) != expected:
             raise ValueError(
                 f"The action must have shape (num_envs, action_dim) = {expected}, got {tuple(action.shape)}"
                 f" (action terms: {dict(zip(self.active_terms, self.action_term_dim))})"
             )
-        action = action.to(device=self.device, dtype=torch.float32)
-        if self._check_finite and not is_capturing() and not bool(torch.isfinite(action).all()):
-            bad = (~torch.isfinite(action)).any(dim=1).nonzero().flatten().tolist()
-            raise ValueError(
-                f"The action contains NaN or inf in env(s) {bad[:10]}{'...' if len(bad) > 10 else ''};"
-                " actions must be finite (check the policy's outputs)"
-            )
+        return action.detach().to(device=self.device, dtype=torch.float32)
+
+    def process_action(self, action: torch.Tensor) -> None:
+        """Check the action, store it, and let each term process its slice."""
+        action = self.check_action(action)
         self._prev_action[:] = self._action
         self._action[:] = action
         idx = 0

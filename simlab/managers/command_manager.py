@@ -11,6 +11,8 @@ from typing import TYPE_CHECKING
 
 import torch
 
+from simlab.utils.env_mask import env_mask, masked_copy_, rows
+
 from .manager_base import ManagerBase, ManagerTermBase, cfg_items, format_table
 from .manager_term_cfg import CommandTermCfg
 
@@ -19,7 +21,14 @@ if TYPE_CHECKING:
 
 
 class CommandTerm(ManagerTermBase):
-    """Subclasses implement ``command``, ``_resample_command``, ``_update_command``, ``_update_metrics``."""
+    """Subclasses implement ``command``, ``_resample_command``, ``_update_command``, ``_update_metrics``.
+
+    ``_resample_command(env_ids)`` gets ids (Isaac Lab's convention: eager, a host read per step)
+    or, when the class sets ``resamples_by_mask = True``, a ``(num_envs,)`` bool mask, with which the
+    term draws for every env and keeps the draws where the mask is set (a graphable step).
+    """
+
+    resamples_by_mask: bool = False
 
     def __init__(self, cfg: CommandTermCfg, env: ManagerBasedRLEnv):
         super().__init__(cfg, env)
@@ -32,31 +41,33 @@ class CommandTerm(ManagerTermBase):
         raise NotImplementedError
 
     def reset(self, env_ids: Sequence[int] | torch.Tensor | None = None) -> dict[str, float]:
-        if env_ids is None:
-            env_ids = torch.arange(self.num_envs, device=self.device)
+        mask = env_mask(env_ids, self.num_envs, self.device)
+        count = mask.sum().clamp(min=1)
         extras = {}
         for name, value in self.metrics.items():
-            extras[name] = value[env_ids].mean()
-            value[env_ids] = 0.0
-        self.command_counter[env_ids] = 0
-        self._resample(env_ids)
+            extras[name] = (value * rows(mask, value)).sum() / count
+            masked_copy_(value, mask, 0.0)
+        masked_copy_(self.command_counter, mask, 0)
+        self._resample(mask)
         return extras
 
     def compute(self, dt: float) -> None:
         self._update_metrics()
         self.time_left -= dt
-        ids = (self.time_left <= 0.0).nonzero().flatten()
-        if len(ids):
-            self._resample(ids)
+        self._resample(self.time_left <= 0.0)
         self._update_command()
 
-    def _resample(self, env_ids: torch.Tensor) -> None:
-        if len(env_ids) == 0:
-            return
+    def _resample(self, mask: torch.Tensor) -> None:
+        """New commands and timers for the envs where ``mask`` is set."""
         lower, upper = self.cfg.resampling_time_range
-        self.time_left[env_ids] = torch.rand(len(env_ids), device=self.device) * (upper - lower) + lower
-        self._resample_command(env_ids)
-        self.command_counter[env_ids] += 1
+        masked_copy_(self.time_left, mask, torch.rand(self.num_envs, device=self.device) * (upper - lower) + lower)
+        if self.resamples_by_mask:
+            self._resample_command(mask)
+        else:
+            ids = mask.nonzero().flatten()  # an index-based term: data-dependent ids, eager only
+            if len(ids):
+                self._resample_command(ids)
+        self.command_counter += mask
 
     def _resample_command(self, env_ids: torch.Tensor) -> None:
         raise NotImplementedError
@@ -110,6 +121,13 @@ class CommandManager(ManagerBase):
     def compute(self, dt: float) -> None:
         for term in self._terms.values():
             term.compute(dt)
+
+    def graph_blockers(self) -> list[str]:
+        return [
+            f"command term '{name}' resamples by env ids; set resamples_by_mask = True on {type(term).__name__}"
+            for name, term in self._terms.items()
+            if not term.resamples_by_mask and type(term).compute is CommandTerm.compute
+        ]
 
     def _prepare_terms(self) -> None:
         for name, term_cfg in cfg_items(self.cfg):

@@ -10,6 +10,8 @@ from typing import TYPE_CHECKING, Any
 
 import torch
 
+from simlab.utils.env_mask import term_env_ids
+
 from .manager_base import ManagerBase, ManagerTermBase, format_table
 from .manager_term_cfg import CurriculumTermCfg
 
@@ -59,12 +61,19 @@ class CurriculumManager(ManagerBase):
         return extras
 
     def compute(self, env_ids: Sequence[int] | torch.Tensor | None = None) -> None:
-        if env_ids is None:
-            env_ids = torch.arange(self.num_envs, device=self.device)
+        mask = self._mask(env_ids)
         for name, cfg in self._terms:
-            value = cfg.func(self._env, env_ids, **cfg.params)
+            ids = term_env_ids(cfg.func, mask)  # the mask for terms that take one, else ids
+            value = cfg.func(self._env, ids if ids is not None else mask.nonzero().flatten(), **cfg.params)
             if value is not None:
                 self._state[name] = value
+
+    def graph_blockers(self) -> list[str]:
+        return [
+            f"curriculum term '{name}' takes env ids; mark it @takes_env_mask to take a bool mask"
+            for name, cfg in self._terms
+            if not getattr(cfg.func, "takes_env_mask", False)
+        ]
 
     def _prepare_terms(self) -> None:
         self._terms = self._checked_terms(CurriculumTermCfg, min_argc=2)

@@ -11,6 +11,8 @@ from typing import TYPE_CHECKING
 
 import torch
 
+from simlab.utils.env_mask import masked_copy_, term_env_ids
+
 from .manager_base import ManagerBase, ManagerTermBase, format_table
 from .manager_term_cfg import EventTermCfg
 
@@ -68,16 +70,14 @@ class EventManager(ManagerBase):
         raise KeyError(f"No event term '{term_name}'; event terms: {self.active_terms}")
 
     def reset(self, env_ids: Sequence[int] | torch.Tensor | None = None) -> dict[str, torch.Tensor]:
+        mask = self._mask(env_ids)
         for terms in self._class_terms.values():
             for term in terms:
-                term.reset(env_ids)
+                term.reset(mask)
         # Per-env interval timers restart with the episode (Isaac Lab's behaviour).
         for name, term_cfg in self._mode_terms.get("interval", []):
             if not term_cfg.is_global_time:
-                env = slice(None) if env_ids is None else env_ids
-                time_left = self._interval_time_left[name]
-                lower, upper = term_cfg.interval_range_s
-                time_left[env] = torch.rand_like(time_left[env]) * (upper - lower) + lower
+                masked_copy_(self._interval_time_left[name], mask, self._draw_interval(term_cfg, self.num_envs))
         return {}
 
     def apply(
@@ -85,36 +85,30 @@ class EventManager(ManagerBase):
         mode: str,
         env_ids: Sequence[int] | torch.Tensor | None = None,
         dt: float | None = None,
-        global_env_step_count: int | None = None,
+        global_env_step_count: int | torch.Tensor | None = None,
     ) -> None:
-        """Apply the terms of ``mode``; ``interval`` needs ``dt``, ``reset`` with a minimum step count
-        between resets needs ``global_env_step_count``."""
+        """Apply the terms of ``mode`` to ``env_ids`` (ids or a bool mask; all envs when None).
+
+        ``interval`` needs ``dt``; ``reset`` with a minimum step count between resets needs
+        ``global_env_step_count`` (an int, or a device tensor so that a graphed step reads the
+        current count). Envs are selected by mask throughout: terms marked ``takes_env_mask`` get
+        the mask, the others get ids (see ``simlab.utils.env_mask.term_env_ids``).
+        """
         if mode not in MODES:
             raise ValueError(f"Unknown event mode '{mode}'; modes: {list(MODES)}")
         if mode not in self._mode_terms:
             return
         if mode == "interval" and dt is None:
             raise ValueError("EventManager.apply(mode='interval') needs the time step dt")
-        all_ids = torch.arange(self.num_envs, device=self.device)
-        if env_ids is None:
-            env_ids = all_ids
-        elif not isinstance(env_ids, torch.Tensor):
-            env_ids = torch.as_tensor(list(env_ids), dtype=torch.long, device=self.device)
+        mask = self._mask(env_ids)
         for name, term_cfg in self._mode_terms[mode]:
+            selected = mask
             if mode == "interval":
                 time_left = self._interval_time_left[name]
                 time_left -= dt
-                lower, upper = term_cfg.interval_range_s
-                if term_cfg.is_global_time:
-                    if float(time_left[0]) < 1e-6:
-                        time_left[:] = torch.rand(1, device=self.device) * (upper - lower) + lower
-                        term_cfg.func(self._env, all_ids, **term_cfg.params)
-                    continue
                 due = time_left < 1e-6
-                ids = due.nonzero().flatten()
-                if len(ids):
-                    time_left[ids] = torch.rand(len(ids), device=self.device) * (upper - lower) + lower
-                    term_cfg.func(self._env, ids, **term_cfg.params)
+                masked_copy_(time_left, due, self._draw_interval(term_cfg, len(time_left)))
+                selected = due.expand(self.num_envs) if term_cfg.is_global_time else due
             elif mode == "reset" and term_cfg.min_step_count_between_reset > 0:
                 if global_env_step_count is None:
                     raise ValueError(
@@ -122,18 +116,30 @@ class EventManager(ManagerBase):
                         " global_env_step_count"
                     )
                 last, once = self._reset_last_step[name], self._reset_triggered_once[name]
-                steps_since = global_env_step_count - last[env_ids]
-                valid = (steps_since >= term_cfg.min_step_count_between_reset) | ~once[env_ids]
-                ids = env_ids[valid]
-                if len(ids):
-                    last[ids] = global_env_step_count
-                    once[ids] = True
-                    term_cfg.func(self._env, ids, **term_cfg.params)
-            else:
-                if mode == "reset" and global_env_step_count is not None:
-                    self._reset_last_step[name][env_ids] = global_env_step_count
-                    self._reset_triggered_once[name][env_ids] = True
-                term_cfg.func(self._env, env_ids, **term_cfg.params)
+                waited = (global_env_step_count - last) >= term_cfg.min_step_count_between_reset
+                selected = mask & (waited | ~once)
+            if mode == "reset" and global_env_step_count is not None:
+                masked_copy_(self._reset_last_step[name], selected, global_env_step_count)
+                masked_copy_(self._reset_triggered_once[name], selected, True)
+            if mode in ("startup", "prestartup"):
+                all_ids = torch.arange(self.num_envs, device=self.device)
+                term_cfg.func(self._env, all_ids if env_ids is None else env_ids, **term_cfg.params)
+                continue
+            ids = term_env_ids(term_cfg.func, selected)
+            if ids is not None:
+                term_cfg.func(self._env, ids, **term_cfg.params)
+
+    def graph_blockers(self) -> list[str]:
+        return [
+            f"event term '{name}' (mode '{mode}') takes env ids; mark it @takes_env_mask to take a bool mask"
+            for mode in ("reset", "interval")
+            for name, cfg in self._mode_terms.get(mode, [])
+            if not getattr(cfg.func, "takes_env_mask", False)
+        ]
+
+    def _draw_interval(self, term_cfg: EventTermCfg, n: int) -> torch.Tensor:
+        lower, upper = term_cfg.interval_range_s
+        return torch.rand(n, device=self.device) * (upper - lower) + lower
 
     # -- building --------------------------------------------------------------------------------
 
@@ -146,8 +152,7 @@ class EventManager(ManagerBase):
                 if rng is None or len(rng) != 2 or rng[0] > rng[1] or rng[0] < 0:
                     raise self._term_error(name, f"interval events need interval_range_s=(min, max) seconds, got {rng}")
                 n = 1 if term_cfg.is_global_time else self.num_envs
-                lower, upper = rng
-                self._interval_time_left[name] = torch.rand(n, device=self.device) * (upper - lower) + lower
+                self._interval_time_left[name] = self._draw_interval(term_cfg, n)
             elif term_cfg.interval_range_s is not None:
                 raise self._term_error(
                     name, f"interval_range_s is only for mode 'interval' (mode is '{term_cfg.mode}')"

@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Any
 
 import torch
 
+from simlab.utils.env_mask import env_mask
 from simlab.utils.string import closest_matches, resolve_matching_names, string_to_callable
 
 from .manager_term_cfg import ManagerTermBaseCfg
@@ -29,7 +30,9 @@ class ManagerTermBase:
     """A term with state: built once with ``(cfg, env)``, then called like a term function.
 
     Subclasses implement ``__call__(env, **params)`` (events and curricula: ``(env, env_ids,
-    **params)``) and may implement ``reset(env_ids)``.
+    **params)``) and may implement ``reset(env_ids)``. Managers pass ``reset`` a ``(num_envs,)``
+    bool mask of the envs that reset; ``buffer[env_ids] = 0`` works with it, and
+    ``masked_copy_(buffer, env_ids, 0)`` (``simlab.utils.env_mask``) also keeps a CUDA-graphed step.
     """
 
     def __init__(self, cfg: ManagerTermBaseCfg, env: ManagerBasedEnv):
@@ -117,8 +120,20 @@ class ManagerBase:
         raise NotImplementedError
 
     def reset(self, env_ids: Sequence[int] | torch.Tensor | None = None) -> dict[str, torch.Tensor]:
-        """Reset per-env state of the terms; returns what to log about the finished episodes."""
+        """Reset per-env state of the terms; returns what to log about the finished episodes.
+
+        ``env_ids`` may be ids or a ``(num_envs,)`` bool mask (what an env step passes): managers
+        reset by mask, with fixed shapes (see ``simlab.utils.env_mask``).
+        """
         return {}
+
+    def graph_blockers(self) -> list[str]:
+        """Terms that select envs by ids (so an env step that runs them cannot be a CUDA graph)."""
+        return []
+
+    def _mask(self, env_ids: Sequence[int] | torch.Tensor | None) -> torch.Tensor:
+        """``env_ids`` as a ``(num_envs,)`` bool mask on the env's device."""
+        return env_mask(env_ids, self.num_envs, self.device)
 
     def find_terms(self, name_keys: str | Sequence[str]) -> list[str]:
         """Names of the active terms matching names or regular expressions."""

@@ -113,14 +113,14 @@ class ObservationManager(ManagerBase):
         return out
 
     def reset(self, env_ids: Sequence[int] | torch.Tensor | None = None) -> dict[str, torch.Tensor]:
-        env = slice(None) if env_ids is None else env_ids
+        mask = self._mask(env_ids)
         for term in self._class_terms:
-            term.reset(env_ids)
+            term.reset(mask)
         for modifier in self._class_modifiers:
-            modifier.reset(env_ids)
+            modifier.reset(mask)
         for histories in self._histories.values():
             for history in histories.values():
-                history.fresh[env] = True
+                history.fresh |= mask  # refilled with the next observation
         return {}
 
     def compute(self, update_history: bool = False) -> dict[str, torch.Tensor | dict[str, torch.Tensor]]:

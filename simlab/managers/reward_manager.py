@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING
 
 import torch
 
-from simlab.utils.cuda import is_capturing
+from simlab.utils.env_mask import masked_copy_
 
 from .manager_base import ManagerBase, ManagerTermBase, format_table
 from .manager_term_cfg import RewardTermCfg
@@ -45,14 +45,14 @@ class RewardManager(ManagerBase):
         return {name: self._episode_sums[:, i] for i, (name, _) in enumerate(self._terms)}
 
     def reset(self, env_ids: Sequence[int] | torch.Tensor | None = None) -> dict[str, torch.Tensor]:
-        env = slice(None) if env_ids is None else env_ids
-        extras = {}
-        means = self._episode_sums[env].mean(dim=0) / self._env.max_episode_length_s
-        for i, (name, _) in enumerate(self._terms):
-            extras["Episode_Reward/" + name] = means[i]
-        self._episode_sums[env] = 0.0
+        """Log the episode sums of the resetting envs (mean over them, per second), then zero them."""
+        mask = self._mask(env_ids)
+        count = mask.sum().clamp(min=1)
+        means = (self._episode_sums * mask[:, None]).sum(dim=0) / count / self._env.max_episode_length_s
+        extras = {"Episode_Reward/" + name: means[i] for i, (name, _) in enumerate(self._terms)}
+        masked_copy_(self._episode_sums, mask, 0.0)
         for term in self._class_terms:
-            term.reset(env_ids)
+            term.reset(mask)
         return extras
 
     def compute(self, dt: float) -> torch.Tensor:
@@ -68,19 +68,18 @@ class RewardManager(ManagerBase):
         return self._reward_buf
 
     def _current_weights(self) -> torch.Tensor:
-        if not hasattr(self, "_weights"):
-            self._weights = torch.zeros(len(self._terms), device=self.device)
-            self._weights_host = torch.zeros(len(self._terms), pin_memory=torch.cuda.is_available())
-        if not is_capturing():
-            self._weights_host.copy_(torch.tensor([cfg.weight for _, cfg in self._terms]))
-            self._weights.copy_(self._weights_host, non_blocking=True)
-        return self._weights
+        """The term weights as a device tensor, copied again only when a config's weight changed.
 
-    def episode_log(self, finished: torch.Tensor) -> dict[str, torch.Tensor]:
-        """``Episode_Reward/<term>`` of the finished envs (a mask), as ``reset`` reports them."""
-        count = finished.sum().clamp(min=1)
-        means = (self._episode_sums * finished[:, None]).sum(dim=0) / count / self._env.max_episode_length_s
-        return {"Episode_Reward/" + name: means[i] for i, (name, _) in enumerate(self._terms)}
+        A step replayed as a graph does not run this Python: a curriculum that changes a weight
+        calls ``set_term_cfg`` (between steps), which refreshes the tensor the graph reads.
+        """
+        weights = tuple(float(cfg.weight) for _, cfg in self._terms)
+        if getattr(self, "_weights_of", None) != weights:
+            if not hasattr(self, "_weights"):
+                self._weights = torch.zeros(len(self._terms), device=self.device)
+            self._weights.copy_(torch.tensor(weights))
+            self._weights_of = weights
+        return self._weights
 
     def get_term_cfg(self, term_name: str) -> RewardTermCfg:
         for name, cfg in self._terms:

@@ -26,6 +26,7 @@ class TerminationManager(ManagerBase):
         self._term_dones = torch.zeros(n, len(self._terms), dtype=torch.bool, device=self.device)
         self._truncated_buf = torch.zeros(n, dtype=torch.bool, device=self.device)
         self._terminated_buf = torch.zeros_like(self._truncated_buf)
+        self._dones_buf = torch.zeros_like(self._truncated_buf)
         self._time_out_mask = [cfg.time_out for _, cfg in self._terms]
 
     def __str__(self) -> str:
@@ -70,20 +71,16 @@ class TerminationManager(ManagerBase):
         return [(name, [float(self._term_dones[env_idx, i])]) for i, (name, _) in enumerate(self._terms)]
 
     def reset(self, env_ids: Sequence[int] | torch.Tensor | None = None) -> dict[str, torch.Tensor]:
-        env = slice(None) if env_ids is None else env_ids
-        counts = self._term_dones[env].sum(dim=0)
+        """Log how many of the resetting envs each term ended."""
+        mask = self._mask(env_ids)
+        counts = (self._term_dones & mask[:, None]).sum(dim=0)
         extras = {"Episode_Termination/" + name: counts[i] for i, (name, _) in enumerate(self._terms)}
         for term in self._class_terms:
-            term.reset(env_ids)
+            term.reset(mask)
         return extras
 
-    def episode_log(self, finished: torch.Tensor) -> dict[str, torch.Tensor]:
-        """``Episode_Termination/<term>`` counts among the finished envs (a mask), as ``reset``."""
-        counts = (self._term_dones & finished[:, None]).sum(dim=0)
-        return {"Episode_Termination/" + name: counts[i] for i, (name, _) in enumerate(self._terms)}
-
     def compute(self) -> torch.Tensor:
-        """(num_envs,) bool: which envs are done after this step."""
+        """(num_envs,) bool: which envs are done after this step (the same tensor every call)."""
         self._truncated_buf.zero_()
         self._terminated_buf.zero_()
         for i, (_, cfg) in enumerate(self._terms):
@@ -93,7 +90,7 @@ class TerminationManager(ManagerBase):
                 self._truncated_buf |= value
             else:
                 self._terminated_buf |= value
-        return self._truncated_buf | self._terminated_buf
+        return torch.logical_or(self._truncated_buf, self._terminated_buf, out=self._dones_buf)
 
     def _prepare_terms(self) -> None:
         self._terms = self._checked_terms(TerminationTermCfg, min_argc=1)

@@ -18,6 +18,7 @@ import mujoco
 import torch
 
 from simlab.utils import configclass
+from simlab.utils.env_mask import env_mask, masked_copy_
 from simlab.utils.string import resolve_matching_names
 
 from .sensor_base import SensorBase, SensorBaseCfg
@@ -106,15 +107,13 @@ class ContactSensor(SensorBase):
     def reset(self, env_ids: Sequence[int] | torch.Tensor | None = None) -> None:
         if not self._is_initialized:
             return
-        env = slice(None) if env_ids is None else env_ids
+        mask = env_mask(env_ids, self.num_instances, self.device)
         d = self._data
-        d.net_forces_w[env] = 0.0
-        d.net_forces_w_history[env] = 0.0
+        buffers = [d.net_forces_w, d.net_forces_w_history]
         if self.cfg.track_air_time:
-            d.current_air_time[env] = 0.0
-            d.last_air_time[env] = 0.0
-            d.current_contact_time[env] = 0.0
-            d.last_contact_time[env] = 0.0
+            buffers += [d.current_air_time, d.last_air_time, d.current_contact_time, d.last_contact_time]
+        for buffer in buffers:
+            masked_copy_(buffer, mask, 0.0)
 
     def update(self, dt: float, force_recompute: bool = False) -> None:
         """Read this step's forces (called by the scene every physics step)."""

@@ -44,6 +44,8 @@ class SimulationContext:
         self.cfg = cfg if cfg is not None else SimulationCfg()
         self.device = resolve_device(self.cfg.device)
         self.cfg.device = self.device
+        if self.device.startswith("cuda"):
+            torch.cuda.set_device(self.device)  # torch's current device: where tensors and graphs go
         self.spec = self._new_spec()
         self.model: mujoco.MjModel | None = None
         self.backend: PhysicsBackend | None = None
@@ -126,6 +128,11 @@ class SimulationContext:
         """Rendering is offscreen and on demand (``env.render()``); nothing to do per step."""
 
     # -- simlab ---------------------------------------------------------------------------------
+
+    @property
+    def can_capture_steps(self) -> bool:
+        """Whether an env step on this simulation may be recorded once and replayed as a CUDA graph."""
+        return self.physics.can_capture_steps
 
     @property
     def physics(self) -> PhysicsBackend:

@@ -1,6 +1,10 @@
 """Event terms: ``func(env, env_ids, ...)``, for resets and domain randomization. Isaac Lab's names
 and meanings.
 
+Terms marked ``@takes_env_mask`` also accept a ``(num_envs,)`` bool mask as ``env_ids`` (draws for
+every env, written where the mask is set): the event manager passes them the mask, so an env step
+that uses only such terms has fixed shapes and replays as one CUDA graph. Other terms get ids.
+
 Randomizations of physical properties change per-world MuJoCo model fields through
 ``env.sim.physics.model_field(...)`` (masses, inertias, frictions, gravity), so each env can have
 its own. Distributions are ``"uniform"``, ``"log_uniform"`` or ``"gaussian"``; operations ``"add"``,
@@ -17,6 +21,7 @@ import torch
 import simlab.utils.math as math_utils
 from simlab.managers import SceneEntityCfg
 from simlab.managers.manager_base import ManagerTermBase
+from simlab.utils.env_mask import is_mask, takes_env_mask
 
 if TYPE_CHECKING:
     from simlab.envs import ManagerBasedEnv
@@ -30,6 +35,15 @@ def _ids(env: ManagerBasedEnv, env_ids) -> torch.Tensor:
     if env_ids is None:
         return torch.arange(env.num_envs, device=env.device)
     return torch.as_tensor(env_ids, dtype=torch.long, device=env.device)
+
+
+def _selection(env: ManagerBasedEnv, env_ids) -> tuple[torch.Tensor, torch.Tensor]:
+    """``(rows to compute, envs to write)``: for a bool mask, every row (draws for all envs, fixed
+    shapes) written where the mask is set; for ids, those rows written to those envs."""
+    if is_mask(env_ids):
+        return torch.arange(env.num_envs, device=env.device), env_ids
+    ids = _ids(env, env_ids)
+    return ids, ids
 
 
 def _rows(values: torch.Tensor, env_ids: torch.Tensor, cols) -> torch.Tensor:
@@ -78,6 +92,7 @@ def _cols(ids, count: int, device) -> torch.Tensor:
 # -- resets ----------------------------------------------------------------------------------------
 
 
+@takes_env_mask
 def reset_root_state_uniform(
     env: ManagerBasedEnv,
     env_ids: torch.Tensor,
@@ -87,7 +102,7 @@ def reset_root_state_uniform(
 ) -> None:
     """Default root state (at the env origin) plus uniform offsets of position, orientation
     (roll/pitch/yaw, composed after the default) and velocity (all in the world frame)."""
-    env_ids = _ids(env, env_ids)
+    env_ids, write_ids = _selection(env, env_ids)
     asset = env.scene[asset_cfg.name]
     root = asset.data.default_root_state[env_ids]
     ranges = _range_tensor(pose_range, env.device)
@@ -97,18 +112,19 @@ def reset_root_state_uniform(
     orientations = math_utils.quat_mul(root[:, 3:7], delta)
     ranges = _range_tensor(velocity_range, env.device)
     velocities = root[:, 7:13] + math_utils.sample_uniform(ranges[:, 0], ranges[:, 1], (len(env_ids), 6), env.device)
-    asset.write_root_pose_to_sim(torch.cat([positions, orientations], dim=-1), env_ids=env_ids)
-    asset.write_root_velocity_to_sim(velocities, env_ids=env_ids)
+    asset.write_root_pose_to_sim(torch.cat([positions, orientations], dim=-1), env_ids=write_ids)
+    asset.write_root_velocity_to_sim(velocities, env_ids=write_ids)
 
 
-def _write_joints(asset, env_ids: torch.Tensor, joint_ids, pos: torch.Tensor, vel: torch.Tensor) -> None:
+def _write_joints(asset, env_ids: torch.Tensor, write_ids, joint_ids, pos: torch.Tensor, vel: torch.Tensor) -> None:
     limits = _rows(asset.data.soft_joint_pos_limits, env_ids, joint_ids)
     pos = pos.clamp(limits[..., 0], limits[..., 1])
     vel_limits = _rows(asset.data.soft_joint_vel_limits, env_ids, joint_ids)
     vel = vel.clamp(-vel_limits, vel_limits)
-    asset.write_joint_state_to_sim(pos, vel, joint_ids=joint_ids, env_ids=env_ids)
+    asset.write_joint_state_to_sim(pos, vel, joint_ids=joint_ids, env_ids=write_ids)
 
 
+@takes_env_mask
 def reset_joints_by_scale(
     env: ManagerBasedEnv,
     env_ids: torch.Tensor,
@@ -117,16 +133,17 @@ def reset_joints_by_scale(
     asset_cfg: SceneEntityCfg = _ROBOT,
 ) -> None:
     """Default joint state multiplied by uniform factors, clamped to the soft limits."""
-    env_ids = _ids(env, env_ids)
+    env_ids, write_ids = _selection(env, env_ids)
     asset = env.scene[asset_cfg.name]
     ids = asset_cfg.joint_ids
     pos = _rows(asset.data.default_joint_pos, env_ids, ids)
     vel = _rows(asset.data.default_joint_vel, env_ids, ids)
     pos *= math_utils.sample_uniform(*position_range, tuple(pos.shape), env.device)
     vel *= math_utils.sample_uniform(*velocity_range, tuple(vel.shape), env.device)
-    _write_joints(asset, env_ids, ids, pos, vel)
+    _write_joints(asset, env_ids, write_ids, ids, pos, vel)
 
 
+@takes_env_mask
 def reset_joints_by_offset(
     env: ManagerBasedEnv,
     env_ids: torch.Tensor,
@@ -135,37 +152,39 @@ def reset_joints_by_offset(
     asset_cfg: SceneEntityCfg = _ROBOT,
 ) -> None:
     """Default joint state plus uniform offsets, clamped to the soft limits."""
-    env_ids = _ids(env, env_ids)
+    env_ids, write_ids = _selection(env, env_ids)
     asset = env.scene[asset_cfg.name]
     ids = asset_cfg.joint_ids
     pos = _rows(asset.data.default_joint_pos, env_ids, ids)
     vel = _rows(asset.data.default_joint_vel, env_ids, ids)
     pos += math_utils.sample_uniform(*position_range, tuple(pos.shape), env.device)
     vel += math_utils.sample_uniform(*velocity_range, tuple(vel.shape), env.device)
-    _write_joints(asset, env_ids, ids, pos, vel)
+    _write_joints(asset, env_ids, write_ids, ids, pos, vel)
 
 
+@takes_env_mask
 def reset_scene_to_default(env: ManagerBasedEnv, env_ids: torch.Tensor, reset_joint_targets: bool = False) -> None:
     """Every rigid object and articulation back to its default root (and joint) state."""
-    env_ids = _ids(env, env_ids)
+    env_ids, write_ids = _selection(env, env_ids)
     origins = env.scene.env_origins[env_ids]
     for asset in (*env.scene.rigid_objects.values(), *env.scene.articulations.values()):
         root = asset.data.default_root_state[env_ids]
         root[:, 0:3] += origins
-        asset.write_root_pose_to_sim(root[:, :7], env_ids=env_ids)
-        asset.write_root_velocity_to_sim(root[:, 7:], env_ids=env_ids)
+        asset.write_root_pose_to_sim(root[:, :7], env_ids=write_ids)
+        asset.write_root_velocity_to_sim(root[:, 7:], env_ids=write_ids)
     for asset in env.scene.articulations.values():
         pos = asset.data.default_joint_pos[env_ids]
         vel = asset.data.default_joint_vel[env_ids]
-        asset.write_joint_state_to_sim(pos, vel, env_ids=env_ids)
+        asset.write_joint_state_to_sim(pos, vel, env_ids=write_ids)
         if reset_joint_targets:
-            asset.set_joint_position_target(pos, env_ids=env_ids)
-            asset.set_joint_velocity_target(vel, env_ids=env_ids)
+            asset.set_joint_position_target(pos, env_ids=write_ids)
+            asset.set_joint_velocity_target(vel, env_ids=write_ids)
 
 
 # -- disturbances ----------------------------------------------------------------------------------
 
 
+@takes_env_mask
 def push_by_setting_velocity(
     env: ManagerBasedEnv,
     env_ids: torch.Tensor,
@@ -173,12 +192,12 @@ def push_by_setting_velocity(
     asset_cfg: SceneEntityCfg = _ROBOT,
 ) -> None:
     """Add uniform random linear/angular velocities (world frame) to the root: a push."""
-    env_ids = _ids(env, env_ids)
+    env_ids, write_ids = _selection(env, env_ids)
     asset = env.scene[asset_cfg.name]
     vel = asset.data.root_vel_w[env_ids]
     ranges = _range_tensor(velocity_range, env.device)
     vel += math_utils.sample_uniform(ranges[:, 0], ranges[:, 1], tuple(vel.shape), env.device)
-    asset.write_root_velocity_to_sim(vel, env_ids=env_ids)
+    asset.write_root_velocity_to_sim(vel, env_ids=write_ids)
 
 
 def apply_external_force_torque(

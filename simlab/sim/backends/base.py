@@ -48,6 +48,10 @@ class PhysicsBackend(ABC):
     # backend tracks staleness with one flag and forwards every world.
     forwards_all_worlds: bool = False
 
+    # Whether a whole env step (torch work and physics calls) may be recorded as one CUDA graph and
+    # replayed (simlab.envs.utils.cuda_graph); the backend's kernels then join that capture.
+    can_capture_steps: bool = False
+
     def __init__(self, model: mujoco.MjModel, num_envs: int, device: str):
         self.model = model
         self.num_envs = num_envs
@@ -99,6 +103,10 @@ class PhysicsBackend(ABC):
         """Note that the state of these worlds (all when ``None``) changed since their last forward."""
         if env_ids is None or self.forwards_all_worlds:
             self._stale_all = True
+        elif isinstance(env_ids, torch.Tensor) and env_ids.dtype == torch.bool:
+            mask = env_ids.cpu()  # a host backend: no device sync
+            self._stale |= mask
+            self._any_stale = self._any_stale or bool(mask.any())
         else:
             self._stale[self._ids_cpu(env_ids)] = True
             self._any_stale = True
@@ -135,6 +143,24 @@ class PhysicsBackend(ABC):
     @abstractmethod
     def _reset(self, env_ids: EnvIds) -> None:
         """Restore the initial state of the selected worlds, then forward them."""
+
+    # -- captured env steps ---------------------------------------------------------------------
+
+    def before_capture(self) -> None:
+        """Called before an env step is captured: what the replays may take as current.
+
+        The capture records a forward at the start of the step only where one was due then.
+        """
+        self._stale_at_capture = self.is_stale
+
+    def before_replay(self) -> None:
+        """Called before each replay: forward now if state was written since the last step and
+        the captured step does not forward at its start."""
+        if self.is_stale and not getattr(self, "_stale_at_capture", True):
+            self.ensure_forward()
+
+    def check_overflow(self) -> None:  # noqa: B027 - optional hook
+        """Raise if a buffer sized at construction overflowed (backends with fixed buffers)."""
 
     def bound_data(self) -> dict[str, torch.Tensor]:
         """The MjData fields handed out so far by ``data``, by name."""

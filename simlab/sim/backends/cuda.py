@@ -160,6 +160,7 @@ class CudaBackend(PhysicsBackend):
         self._wp, self._mjw = wp, mjw
         self._wp_device = wp.get_device(device)
         self._is_cuda = self._wp_device.is_cuda
+        self.can_capture_steps = self._is_cuda
         self.overflow_check_interval = overflow_check_interval
 
         # mj_forward on the host first: put_data copies this state and checks it fits the buffers
@@ -297,6 +298,8 @@ class CudaBackend(PhysicsBackend):
         """Reset the selected worlds (``mujoco_warp.reset_data`` with a mask), then forward all."""
         if env_ids is None:
             self._mask.fill_(True)
+        elif isinstance(env_ids, torch.Tensor) and env_ids.dtype == torch.bool:
+            self._mask.copy_(env_ids)  # a mask: no ids, no host read
         else:
             ids = self._ids_torch(env_ids)
             self._mask.fill_(False)

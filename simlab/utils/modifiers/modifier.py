@@ -6,6 +6,8 @@ from collections.abc import Sequence
 
 import torch
 
+from simlab.utils.env_mask import env_mask, masked_copy_
+
 
 def scale(data: torch.Tensor, multiplier: float) -> torch.Tensor:
     return data * multiplier
@@ -47,17 +49,18 @@ class DigitalFilter(ModifierBase):
         self.y_n = torch.zeros(*data_dim, len(cfg.A), device=device)
 
     def reset(self, env_ids=None) -> None:
-        env = slice(None) if env_ids is None else env_ids
-        self.x_n[env] = 0.0
-        self.y_n[env] = 0.0
+        mask = env_mask(env_ids, self.x_n.shape[0], self.x_n.device)
+        masked_copy_(self.x_n, mask, 0.0)
+        masked_copy_(self.y_n, mask, 0.0)
 
     def __call__(self, data: torch.Tensor) -> torch.Tensor:
-        self.x_n = torch.roll(self.x_n, shifts=1, dims=-1)
+        # State is updated in place: a graphed env step reads and writes fixed buffers.
+        self.x_n.copy_(torch.roll(self.x_n, shifts=1, dims=-1))
         self.x_n[..., 0] = data
         y = torch.sum(self.x_n * self.B, dim=-1)
         if len(self.A):
             y = y - torch.sum(self.y_n * self.A, dim=-1)
-            self.y_n = torch.roll(self.y_n, shifts=1, dims=-1)
+            self.y_n.copy_(torch.roll(self.y_n, shifts=1, dims=-1))
             self.y_n[..., 0] = y
         return y
 
@@ -71,9 +74,9 @@ class Integrator(ModifierBase):
         self.y_prev = torch.zeros(data_dim, device=device)
 
     def reset(self, env_ids=None) -> None:
-        env = slice(None) if env_ids is None else env_ids
-        self.integral[env] = 0.0
-        self.y_prev[env] = 0.0
+        mask = env_mask(env_ids, self.integral.shape[0], self.integral.device)
+        masked_copy_(self.integral, mask, 0.0)
+        masked_copy_(self.y_prev, mask, 0.0)
 
     def __call__(self, data: torch.Tensor) -> torch.Tensor:
         self.integral += (data + self.y_prev) / 2 * self._cfg.dt

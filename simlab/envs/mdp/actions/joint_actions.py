@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING
 import torch
 
 from simlab.managers.action_manager import ActionTerm
+from simlab.utils.env_mask import env_mask, masked_copy_
 from simlab.utils.string import resolve_matching_names_values
 
 if TYPE_CHECKING:
@@ -75,7 +76,7 @@ class JointAction(ActionTerm):
             self._processed_actions.clamp_(min=self._clip[..., 0], max=self._clip[..., 1])
 
     def reset(self, env_ids=None) -> None:
-        self._raw_actions[slice(None) if env_ids is None else env_ids] = 0.0
+        masked_copy_(self._raw_actions, env_mask(env_ids, self.num_envs, self.device), 0.0)
 
 
 class JointPositionAction(JointAction):

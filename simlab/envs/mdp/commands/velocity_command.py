@@ -9,6 +9,7 @@ import torch
 
 import simlab.utils.math as math_utils
 from simlab.managers.command_manager import CommandTerm
+from simlab.utils.env_mask import masked_copy_
 
 if TYPE_CHECKING:
     from simlab.envs import ManagerBasedRLEnv
@@ -22,6 +23,7 @@ class UniformVelocityCommand(CommandTerm):
     rate from a heading error: ``w_z = clip(heading_control_stiffness * wrap(heading - yaw))``."""
 
     cfg: UniformVelocityCommandCfg
+    resamples_by_mask = True
 
     def __init__(self, cfg: UniformVelocityCommandCfg, env: ManagerBasedRLEnv):
         super().__init__(cfg, env)
@@ -58,15 +60,18 @@ class UniformVelocityCommand(CommandTerm):
         self.metrics["error_vel_yaw"] += torch.abs(self.vel_command_b[:, 2] - data.root_ang_vel_b[:, 2]) / steps
 
     def _resample_command(self, env_ids: torch.Tensor) -> None:
-        r, n, dev = self.cfg.ranges, len(env_ids), self.device
-        sample = torch.empty(n, device=dev)
-        self.vel_command_b[env_ids, 0] = sample.uniform_(*r.lin_vel_x)
-        self.vel_command_b[env_ids, 1] = sample.uniform_(*r.lin_vel_y)
-        self.vel_command_b[env_ids, 2] = sample.uniform_(*r.ang_vel_z)
+        """New commands where the (num_envs,) mask ``env_ids`` is set (draws for all envs)."""
+        r, mask = self.cfg.ranges, env_ids
+
+        def draw(low: float, high: float) -> torch.Tensor:
+            return torch.empty(self.num_envs, device=self.device).uniform_(low, high)
+
+        for axis, bounds in enumerate((r.lin_vel_x, r.lin_vel_y, r.ang_vel_z)):
+            masked_copy_(self.vel_command_b[:, axis], mask, draw(*bounds))
         if self.cfg.heading_command:
-            self.heading_target[env_ids] = sample.uniform_(*r.heading)
-            self.is_heading_env[env_ids] = sample.uniform_(0.0, 1.0) <= self.cfg.rel_heading_envs
-        self.is_standing_env[env_ids] = sample.uniform_(0.0, 1.0) <= self.cfg.rel_standing_envs
+            masked_copy_(self.heading_target, mask, draw(*r.heading))
+            masked_copy_(self.is_heading_env, mask, draw(0.0, 1.0) <= self.cfg.rel_heading_envs)
+        masked_copy_(self.is_standing_env, mask, draw(0.0, 1.0) <= self.cfg.rel_standing_envs)
 
     def _update_command(self) -> None:
         if self.cfg.heading_command:

@@ -9,7 +9,6 @@ pole and the pendulum upright; the episode ends when the cart leaves +-3 m or th
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
 
 import torch
 
@@ -149,12 +148,10 @@ class CartDoublePendulumEnv(DirectMARLEnv):
         time_outs = {agent: time_out for agent in self.cfg.possible_agents}
         return terminated, time_outs
 
-    def _reset_idx(self, env_ids: Sequence[int] | None):
-        if env_ids is None:
-            env_ids = self.robot._ALL_INDICES
-        super()._reset_idx(env_ids)
-
-        joint_pos = self.robot.data.default_joint_pos[env_ids].clone()
+    def _reset_mask(self, env_mask: torch.Tensor):
+        super()._reset_mask(env_mask)
+        # Initial states are drawn for every env and written where env_mask is set.
+        joint_pos = self.robot.data.default_joint_pos.clone()
         joint_pos[:, self._pole_dof_idx] += sample_uniform(
             self.cfg.initial_pole_angle_range[0] * math.pi,
             self.cfg.initial_pole_angle_range[1] * math.pi,
@@ -167,13 +164,13 @@ class CartDoublePendulumEnv(DirectMARLEnv):
             joint_pos[:, self._pendulum_dof_idx].shape,
             joint_pos.device,
         )
-        joint_vel = self.robot.data.default_joint_vel[env_ids].clone()
-        default_root_state = self.robot.data.default_root_state[env_ids].clone()
-        default_root_state[:, :3] += self.scene.env_origins[env_ids]
+        joint_vel = self.robot.data.default_joint_vel.clone()
+        default_root_state = self.robot.data.default_root_state.clone()
+        default_root_state[:, :3] += self.scene.env_origins
 
-        self.robot.write_root_pose_to_sim(default_root_state[:, :7], env_ids)
-        self.robot.write_root_velocity_to_sim(default_root_state[:, 7:], env_ids)
-        self.robot.write_joint_state_to_sim(joint_pos, joint_vel, None, env_ids)
+        self.robot.write_root_pose_to_sim(default_root_state[:, :7], env_mask)
+        self.robot.write_root_velocity_to_sim(default_root_state[:, 7:], env_mask)
+        self.robot.write_joint_state_to_sim(joint_pos, joint_vel, None, env_mask)
 
 
 @torch.jit.script

@@ -8,7 +8,6 @@ falls past 90 degrees, or after 5 s.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
 
 import torch
 
@@ -108,25 +107,23 @@ class CartpoleEnv(DirectRLEnv):
         out_of_bounds = (torch.abs(cart_pos) > self.cfg.max_cart_pos) | (torch.abs(pole_pos) > math.pi / 2)
         return out_of_bounds, time_out
 
-    def _reset_idx(self, env_ids: Sequence[int] | None):
-        if env_ids is None:
-            env_ids = self.cartpole._ALL_INDICES
-        super()._reset_idx(env_ids)
-
-        joint_pos = self.cartpole.data.default_joint_pos[env_ids].clone()
+    def _reset_mask(self, env_mask: torch.Tensor):
+        super()._reset_mask(env_mask)
+        # Initial states are drawn for every env and written where env_mask is set.
+        joint_pos = self.cartpole.data.default_joint_pos.clone()
         joint_pos[:, self._pole_dof_idx] += sample_uniform(
             self.cfg.initial_pole_angle_range[0] * math.pi,
             self.cfg.initial_pole_angle_range[1] * math.pi,
             joint_pos[:, self._pole_dof_idx].shape,
             joint_pos.device,
         )
-        joint_vel = self.cartpole.data.default_joint_vel[env_ids].clone()
-        default_root_state = self.cartpole.data.default_root_state[env_ids].clone()
-        default_root_state[:, :3] += self.scene.env_origins[env_ids]
+        joint_vel = self.cartpole.data.default_joint_vel.clone()
+        default_root_state = self.cartpole.data.default_root_state.clone()
+        default_root_state[:, :3] += self.scene.env_origins
 
-        self.cartpole.write_root_pose_to_sim(default_root_state[:, :7], env_ids)
-        self.cartpole.write_root_velocity_to_sim(default_root_state[:, 7:], env_ids)
-        self.cartpole.write_joint_state_to_sim(joint_pos, joint_vel, None, env_ids)
+        self.cartpole.write_root_pose_to_sim(default_root_state[:, :7], env_mask)
+        self.cartpole.write_root_velocity_to_sim(default_root_state[:, 7:], env_mask)
+        self.cartpole.write_joint_state_to_sim(joint_pos, joint_vel, None, env_mask)
 
 
 @torch.jit.script

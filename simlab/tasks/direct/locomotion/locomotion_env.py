@@ -11,14 +11,13 @@ angular velocity, yaw, roll, angle to target, up and heading projections, joint 
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-
 import torch
 
 import simlab.sim as sim_utils
 from simlab.assets import Articulation
 from simlab.envs import DirectRLEnv, DirectRLEnvCfg
 from simlab.sim.spawners.from_files import spawn_ground_plane
+from simlab.utils.env_mask import masked_copy_
 from simlab.utils.math import (
     euler_xyz_from_quat,
     normalize,
@@ -160,24 +159,20 @@ class LocomotionEnv(DirectRLEnv):
         died = self.torso_position[:, 2] < self.cfg.termination_height
         return died, time_out
 
-    def _reset_idx(self, env_ids: Sequence[int] | torch.Tensor | None):
-        if env_ids is None or len(env_ids) == self.num_envs:
-            env_ids = self.robot._ALL_INDICES
-        self.robot.reset(env_ids)
-        super()._reset_idx(env_ids)
+    def _reset_mask(self, env_mask: torch.Tensor):
+        super()._reset_mask(env_mask)
+        # Initial states are computed for every env and written where env_mask is set.
+        data = self.robot.data
+        default_root_state = data.default_root_state.clone()
+        default_root_state[:, :3] += self.scene.env_origins
 
-        joint_pos = self.robot.data.default_joint_pos[env_ids].clone()
-        joint_vel = self.robot.data.default_joint_vel[env_ids].clone()
-        default_root_state = self.robot.data.default_root_state[env_ids].clone()
-        default_root_state[:, :3] += self.scene.env_origins[env_ids]
+        self.robot.write_root_pose_to_sim(default_root_state[:, :7], env_mask)
+        self.robot.write_root_velocity_to_sim(default_root_state[:, 7:], env_mask)
+        self.robot.write_joint_state_to_sim(data.default_joint_pos, data.default_joint_vel, None, env_mask)
 
-        self.robot.write_root_pose_to_sim(default_root_state[:, :7], env_ids)
-        self.robot.write_root_velocity_to_sim(default_root_state[:, 7:], env_ids)
-        self.robot.write_joint_state_to_sim(joint_pos, joint_vel, None, env_ids)
-
-        to_target = self.targets[env_ids] - default_root_state[:, :3]
+        to_target = self.targets - default_root_state[:, :3]
         to_target[:, 2] = 0.0
-        self.potentials[env_ids] = -torch.norm(to_target, p=2, dim=-1) / self.cfg.sim.dt
+        masked_copy_(self.potentials, env_mask, -torch.norm(to_target, p=2, dim=-1) / self.cfg.sim.dt)
 
         self._compute_intermediate_values()
 
