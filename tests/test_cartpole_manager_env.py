@@ -95,7 +95,7 @@ def test_time_out_truncates_at_max_episode_length():
     action = torch.zeros(NUM_ENVS, 1)
     for _ in range(env.max_episode_length - 1):
         _, _, term, trunc, extras = env.step(action)
-        assert not term.any() and not trunc.any() and "final_obs" not in extras
+        assert not term.any() and not trunc.any() and "final_obs" in extras  # every step (docs/env_step.md)
     _, _, term, trunc, extras = env.step(action)
     assert trunc.all() and not term.any()
     assert extras["time_outs"].all()
@@ -152,7 +152,7 @@ def test_bad_actions_are_rejected():
         env.step(torch.zeros(NUM_ENVS, 2))
     bad = torch.zeros(NUM_ENVS, 1)
     bad[2, 0] = float("nan")
-    with pytest.raises(ValueError, match=r"NaN or inf in env\(s\) \[2\]"):
+    with pytest.raises(ValueError, match=r"NaN or inf \(envs \[2\]\)"):
         env.step(bad)
     env.close()
 

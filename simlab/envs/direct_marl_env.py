@@ -120,9 +120,10 @@ class DirectMARLEnv(SimulatedEnv, gym.Env):
             agent: check_action(action, self.action_spaces[agent], self.num_envs, self.device)
             for agent, action in actions.items()
         }
-        obs, rewards, terminated, time_outs, final_obs, self.final_state_buf = self._stepper(actions)
+        # Host counters first: eager hooks (curricula, events) read them during the step.
         self._sim_step_counter += self.cfg.decimation
         self.common_step_counter += 1
+        obs, rewards, terminated, time_outs, final_obs, self.final_state_buf = self._stepper(actions)
         self.obs_dict, self.reward_dict = obs, rewards
         self.terminated_dict, self.time_out_dict = terminated, time_outs
         self.agents = [agent for agent in self.possible_agents if agent in self.obs_dict]
@@ -139,6 +140,7 @@ class DirectMARLEnv(SimulatedEnv, gym.Env):
         self.episode_length_buf += 1
         self._step_count += 1
         terminated, time_outs = self._get_dones()
+        self.terminated_dict, self.time_out_dict = terminated, time_outs  # tasks' rewards read them
         # an environment resets once all its agents are done
         torch.logical_or(all_agents(terminated), all_agents(time_outs), out=self.reset_buf)
         rewards = self._get_rewards()

@@ -107,9 +107,10 @@ class DirectRLEnv(SimulatedEnv, gym.Env):
     def step(self, action: torch.Tensor) -> tuple[dict, torch.Tensor, torch.Tensor, torch.Tensor, dict]:
         """Apply ``action`` (num_envs, ...) for ``decimation`` physics steps; see the module docstring."""
         action = check_action(action, self.single_action_space, self.num_envs, self.device)
-        obs, reward, terminated, truncated, final_obs = self._stepper(action)
+        # Host counters first: eager hooks (curricula, events) read them during the step.
         self._sim_step_counter += self.cfg.decimation
         self.common_step_counter += 1
+        obs, reward, terminated, truncated, final_obs = self._stepper(action)
         self.obs_buf, self.reward_buf = obs, reward
         self.extras["final_obs"] = final_obs
         self.extras["time_outs"] = truncated

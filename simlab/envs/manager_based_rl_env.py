@@ -91,9 +91,10 @@ class ManagerBasedRLEnv(ManagerBasedEnv, gym.Env):
 
     def step(self, action: torch.Tensor) -> VecEnvStepReturn:
         action = self.action_manager.check_action(action)
-        obs, reward, terminated, truncated, final_obs, log = self._stepper(action)
+        # Host counters first: eager hooks (curricula, events) read them during the step.
         self._sim_step_counter += self.cfg.decimation
         self.common_step_counter += 1
+        obs, reward, terminated, truncated, final_obs, log = self._stepper(action)
         self.obs_buf, self.reward_buf = obs, reward
         self.reset_terminated, self.reset_time_outs = terminated, truncated
         self.extras["final_obs"] = final_obs

@@ -64,7 +64,9 @@ class CurriculumManager(ManagerBase):
         mask = self._mask(env_ids)
         for name, cfg in self._terms:
             ids = term_env_ids(cfg.func, mask)  # the mask for terms that take one, else ids
-            value = cfg.func(self._env, ids if ids is not None else mask.nonzero().flatten(), **cfg.params)
+            if ids is None:
+                continue  # no env resets: as Isaac Lab, curricula run at resets only
+            value = cfg.func(self._env, ids, **cfg.params)
             if value is not None:
                 self._state[name] = value
 

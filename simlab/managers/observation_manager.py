@@ -124,7 +124,8 @@ class ObservationManager(ManagerBase):
         return {}
 
     def compute(self, update_history: bool = False) -> dict[str, torch.Tensor | dict[str, torch.Tensor]]:
-        """Every group's observation. ``update_history=False`` leaves the history buffers as they are."""
+        """Every group's observation. ``update_history=False`` leaves history buffers and stateful
+        modifiers as they are (the env step computes the pre-reset observation that way)."""
         return {group: self.compute_group(group, update_history) for group in self._group_terms}
 
     def compute_group(self, group_name: str, update_history: bool = False) -> torch.Tensor | dict[str, torch.Tensor]:
@@ -138,11 +139,10 @@ class ObservationManager(ManagerBase):
             value = term_cfg.func(env, **term_cfg.params).clone()
             if term_cfg.modifiers is not None:
                 for modifier in term_cfg.modifiers:
-                    value = (
-                        modifier.func(value)
-                        if isinstance(modifier.func, ModifierBase)
-                        else modifier.func(value, **modifier.params)
-                    )
+                    if isinstance(modifier.func, ModifierBase):
+                        value = modifier.func(value) if update_history else modifier.func.peek(value)
+                    else:
+                        value = modifier.func(value, **modifier.params)
             if term_cfg.noise is not None:
                 value = term_cfg.noise.func(value, term_cfg.noise)
             if term_cfg.clip is not None:

@@ -22,7 +22,9 @@ def bias(data: torch.Tensor, value: float) -> torch.Tensor:
 
 
 class ModifierBase:
-    """A modifier with per-env state: ``__call__(data)`` and ``reset(env_ids)``."""
+    """A modifier with per-env state: ``__call__(data)`` (advances the state), ``peek(data)`` (the
+    same output, state unchanged: an observation computed twice in a step advances it once) and
+    ``reset(env_ids)``."""
 
     def __init__(self, cfg, data_dim: tuple[int, ...], device: str):
         self._cfg = cfg
@@ -33,6 +35,9 @@ class ModifierBase:
         raise NotImplementedError
 
     def __call__(self, data: torch.Tensor) -> torch.Tensor:
+        raise NotImplementedError
+
+    def peek(self, data: torch.Tensor) -> torch.Tensor:
         raise NotImplementedError
 
 
@@ -54,15 +59,25 @@ class DigitalFilter(ModifierBase):
         masked_copy_(self.y_n, mask, 0.0)
 
     def __call__(self, data: torch.Tensor) -> torch.Tensor:
+        y, x_n, y_n = self._next(data)
         # State is updated in place: a graphed env step reads and writes fixed buffers.
-        self.x_n.copy_(torch.roll(self.x_n, shifts=1, dims=-1))
-        self.x_n[..., 0] = data
-        y = torch.sum(self.x_n * self.B, dim=-1)
+        self.x_n.copy_(x_n)
+        self.y_n.copy_(y_n)
+        return y
+
+    def peek(self, data: torch.Tensor) -> torch.Tensor:
+        return self._next(data)[0]
+
+    def _next(self, data: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
+        x_n = torch.roll(self.x_n, shifts=1, dims=-1)
+        x_n[..., 0] = data
+        y = torch.sum(x_n * self.B, dim=-1)
+        y_n = self.y_n
         if len(self.A):
             y = y - torch.sum(self.y_n * self.A, dim=-1)
-            self.y_n.copy_(torch.roll(self.y_n, shifts=1, dims=-1))
-            self.y_n[..., 0] = y
-        return y
+            y_n = torch.roll(self.y_n, shifts=1, dims=-1)
+            y_n[..., 0] = y
+        return y, x_n, y_n
 
 
 class Integrator(ModifierBase):
@@ -82,3 +97,6 @@ class Integrator(ModifierBase):
         self.integral += (data + self.y_prev) / 2 * self._cfg.dt
         self.y_prev[:] = data
         return self.integral.clone()
+
+    def peek(self, data: torch.Tensor) -> torch.Tensor:
+        return self.integral + (data + self.y_prev) / 2 * self._cfg.dt
