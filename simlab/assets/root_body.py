@@ -207,6 +207,7 @@ class RootedAsset(AssetBase):
         else:
             dst[env, cols] = values
 
+
 class RootedAssetData:
     """Live views of an asset's state. Read every step; nothing here is cached.
 

@@ -31,11 +31,11 @@ def make_env(task: str, num_envs: int, device: str, cuda_graph: bool = True):
 
 
 def _graph_state(env) -> str:
-    """'on' when the env step replays as a CUDA graph, 'off' when eager, 'failed' when it could not."""
-    graph = getattr(env, "_cuda_graph", None)
-    if graph is None:
-        return "off"
-    return "failed" if graph.failed else ("on" if graph.graph is not None else "pending")
+    """'on' when the env step replays as a CUDA graph, 'off' where graphs are not used (the CPU, or
+    turned off), else how it runs ('eager (why)' or 'warming up')."""
+    if env.step_is_graphed:
+        return "on"
+    return "off" if not (env.sim.can_capture_steps and env.cfg.sim.use_cuda_graph) else env.step_mode
 
 
 def _random_actions(env) -> torch.Tensor:

@@ -100,10 +100,9 @@ class _ProgressLogger(Logger):
 def make_runner(env: gym.Env, agent_cfg: RslRlOnPolicyRunnerCfg, log_dir: str | None) -> OnPolicyRunner:
     wrapped = RslRlVecEnvWrapper(env, clip_actions=agent_cfg.clip_actions)
     cfg = agent_cfg.to_rsl_rl_dict(list(wrapped.get_observations().keys()))
-    if getattr(env.unwrapped, "_cuda_graph", None) is not None:
-        # rsl_rl's NaN check reads three flags back per step (each a CPU-GPU sync); the graphed
-        # step accumulates the same check on the device and raises at its periodic check.
-        cfg["check_for_nan"] = False
+    # rsl_rl's NaN check reads three flags back per step (each a CPU-GPU sync); simlab's env step
+    # checks observations and rewards itself (simlab.envs.utils.cuda_graph).
+    cfg["check_for_nan"] = False
     with contextlib.redirect_stdout(io.StringIO()):  # it prints the models; params/agent.yaml has them
         runner = OnPolicyRunner(wrapped, cfg, log_dir=log_dir, device=agent_cfg.device)
     return runner

@@ -75,6 +75,13 @@ class EnvStepper:
         """Whether steps replay a captured graph (False before the capture and when eager)."""
         return self.graph is not None
 
+    @property
+    def mode(self) -> str:
+        """'graphed', 'warming up' (before the capture) or 'eager (<why>)'."""
+        if self.graph is not None:
+            return "graphed"
+        return "warming up" if self.eager_reason is None else f"eager ({self.eager_reason})"
+
     def __call__(self, action: torch.Tensor) -> Any:
         self._calls += 1
         if self.eager_reason is not None:
@@ -111,7 +118,7 @@ class EnvStepper:
         if bool(self._bad_obs):
             self._bad_obs.zero_()
             raise ValueError(
-                f"Observations contained NaN or inf in a step among the last {self.check_interval}: the "
+                f"Observations or rewards contained NaN or inf in a step among the last {self.check_interval}: the "
                 "simulation diverged (large actions or gains for the time step?) or a task term divides by zero"
             )
         self.env.sim.physics.check_overflow()
@@ -170,8 +177,8 @@ def check_finite_action(action: torch.Tensor | dict[str, torch.Tensor]) -> None:
 def check_finite_obs(observations: Any) -> None:
     if bool(_any_nonfinite(observations)):
         raise ValueError(
-            "Observations contain NaN or inf: the simulation diverged (large actions or gains for the time step?)"
-            " or a task term divides by zero"
+            "Observations or rewards contain NaN or inf: the simulation diverged (large actions or gains for"
+            " the time step?) or a task term divides by zero"
         )
 
 
@@ -181,7 +188,8 @@ def _any_nonfinite(value: Any) -> torch.Tensor:
 
 
 def _observations(outputs: Any) -> Any:
-    return outputs[0] if isinstance(outputs, tuple) else outputs
+    """The observations and rewards of a step's outputs (what a diverged simulation spoils)."""
+    return outputs[:2] if isinstance(outputs, tuple) else outputs
 
 
 def _write_back_rebound(env, before: dict[str, torch.Tensor]) -> None:
