@@ -207,37 +207,53 @@ def test_eager_step_refuses_nonfinite_actions_naming_the_envs():
 # -- on the GPU ----------------------------------------------------------------------------------
 
 
+def _rollout(task: str, use_cuda_graph: bool, steps: int = 300):
+    """``steps`` steps of ``task`` (256 envs) with seeded random actions: the outputs and final state."""
+    env = make_task(task, "cuda:0", 256, use_cuda_graph=use_cuda_graph)
+    env.reset(seed=4)  # seeds torch: both runs draw the same random initial states
+    generator = torch.Generator(device="cuda:0").manual_seed(0)
+    multi_agent = hasattr(env, "possible_agents")
+    outputs = []
+    for _ in range(steps):
+        spaces = (
+            {a: env.action_spaces[a] for a in env.possible_agents} if multi_agent else {"": env.single_action_space}
+        )
+        action = {
+            a: torch.rand(256, sp.shape[0], device="cuda:0", generator=generator) * 2 - 1 for a, sp in spaces.items()
+        }
+        out = env.step(action if multi_agent else action[""])
+        outputs.append([t.clone() for t in _flat(out[:4])] + [env.reset_buf.clone()])
+    state = physics_state(env)
+    mode, graphed = env.step_mode, env.step_is_graphed
+    env.close()
+    return outputs, state, mode, graphed
+
+
 @pytest.mark.gpu
 @gpu
 @pytest.mark.parametrize("task", sorted(t for t in gym.registry if t.startswith("simlab/")))
 def test_graphed_and_eager_steps_agree_for_every_task(task):
-    """The same body graphed and eager, from the same seed, for 300 steps with resets."""
-    graphed, eager = make_task(task, "cuda:0", 256), make_task(task, "cuda:0", 256, use_cuda_graph=False)
-    multi_agent = hasattr(graphed, "possible_agents")
-    for env in (graphed, eager):
-        env.reset(seed=4)
-    generator = torch.Generator(device="cuda:0").manual_seed(0)
+    """The same body graphed and eager, from the same seed, for 300 steps with resets.
+
+    The runs are made one after the other (both draw from torch's one CUDA generator). Dones and
+    the physics state must match exactly. Observations and rewards match to float rounding:
+    TorchScript's profiling executor (the tasks' ``@torch.jit.script`` functions) swaps in fused
+    kernels after its first runs, whose rounding differs in the last bits.
+    """
+    graphed, state_g, mode, is_graphed = _rollout(task, use_cuda_graph=True)
+    eager, state_e, _, _ = _rollout(task, use_cuda_graph=False)
+    assert is_graphed, mode
     resets = 0
-    for i in range(300):
-        if multi_agent:
-            action = {
-                a: torch.rand(256, graphed.action_spaces[a].shape[0], device="cuda:0", generator=generator) * 2 - 1
-                for a in graphed.possible_agents
-            }
-        else:
-            dim = graphed.single_action_space.shape[0]
-            action = torch.rand(256, dim, device="cuda:0", generator=generator) * 2 - 1
-        out_g, out_e = graphed.step(action), eager.step(action)
-        # Bit-identical: both run the same kernels on the same data in the same order.
-        for a, b in zip(_flat(out_g[:4]), _flat(out_e[:4])):
-            assert torch.equal(a, b), f"{task} step {i}"
-        done = out_g[2] | out_g[3] if not multi_agent else graphed.reset_buf
-        resets += int(done.sum())
-    assert graphed.step_is_graphed, graphed._stepper.eager_reason
-    assert not eager.step_is_graphed
+    for i, (out_g, out_e) in enumerate(zip(graphed, eager)):
+        for a, b in zip(out_g, out_e):
+            if a.dtype == torch.bool:
+                assert torch.equal(a, b), f"{task} step {i}: dones differ"
+            else:
+                torch.testing.assert_close(a, b, rtol=1e-5, atol=1e-5, msg=f"{task} step {i}")
+        resets += int(out_g[-1].sum())
+    for name in state_g:
+        assert torch.equal(state_g[name], state_e[name]), name
     assert resets > 0, "the comparison must cross resets"
-    graphed.close()
-    eager.close()
 
 
 class SyncingRewardCartpole(CartpoleEnv):
