@@ -222,7 +222,7 @@ def _rollout(task: str, use_cuda_graph: bool, steps: int = 300):
             a: torch.rand(256, sp.shape[0], device="cuda:0", generator=generator) * 2 - 1 for a, sp in spaces.items()
         }
         out = env.step(action if multi_agent else action[""])
-        outputs.append([t.clone() for t in _flat(out[:4])] + [env.reset_buf.clone()])
+        outputs.append([t.clone() for t in _flat(out[:4])] + [env.reset_buf.clone(), physics_state(env)["qpos"]])
     state = physics_state(env)
     mode, graphed = env.step_mode, env.step_is_graphed
     env.close()
@@ -236,9 +236,11 @@ def test_graphed_and_eager_steps_agree_for_every_task(task):
     """The same body graphed and eager, from the same seed, for 300 steps with resets.
 
     The runs are made one after the other (both draw from torch's one CUDA generator). Dones and
-    the physics state must match exactly. Observations and rewards match to float rounding:
-    TorchScript's profiling executor (the tasks' ``@torch.jit.script`` functions) swaps in fused
-    kernels after its first runs, whose rounding differs in the last bits.
+    the physics state (``qpos``, every step) must match exactly. Observations and rewards match to
+    float rounding: TorchScript's profiling executor (the tasks' ``@torch.jit.script`` functions)
+    swaps in fused kernels after its first runs, whose rounding differs in the last bits, and the
+    locomotion rewards difference potentials of about 1e5 (distance / dt), which scales that rounding
+    up to about 1e-3 absolute.
     """
     graphed, state_g, mode, is_graphed = _rollout(task, use_cuda_graph=True)
     eager, state_e, _, _ = _rollout(task, use_cuda_graph=False)
@@ -249,8 +251,9 @@ def test_graphed_and_eager_steps_agree_for_every_task(task):
             if a.dtype == torch.bool:
                 assert torch.equal(a, b), f"{task} step {i}: dones differ"
             else:
-                torch.testing.assert_close(a, b, rtol=1e-5, atol=1e-5, msg=f"{task} step {i}")
-        resets += int(out_g[-1].sum())
+                torch.testing.assert_close(a, b, rtol=1e-4, atol=2e-3, msg=lambda m, i=i: f"{task} step {i}: {m}")
+        assert torch.equal(out_g[-1], out_e[-1]), f"{task} step {i}: physics state differs"
+        resets += int(out_g[-2].sum())
     for name in state_g:
         assert torch.equal(state_g[name], state_e[name]), name
     assert resets > 0, "the comparison must cross resets"

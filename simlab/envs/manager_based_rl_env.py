@@ -189,8 +189,7 @@ class ManagerBasedRLEnv(ManagerBasedEnv, gym.Env):
         ):
             log.update(manager.reset(mask))
         masked_copy_(self.episode_length_buf, mask, 0)
-        self.scene.write_data_to_sim()
-        self.sim.physics.mark_stale(mask)
+        self.sim.physics.mark_stale(mask)  # the next physics step writes the scene's targets
         return log
 
     def _render_human(self) -> None:

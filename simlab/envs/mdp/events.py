@@ -37,17 +37,20 @@ def _ids(env: ManagerBasedEnv, env_ids) -> torch.Tensor:
     return torch.as_tensor(env_ids, dtype=torch.long, device=env.device)
 
 
-def _selection(env: ManagerBasedEnv, env_ids) -> tuple[torch.Tensor, torch.Tensor]:
+def _selection(env: ManagerBasedEnv, env_ids) -> tuple[torch.Tensor | slice, torch.Tensor]:
     """``(rows to compute, envs to write)``: for a bool mask, every row (draws for all envs, fixed
     shapes) written where the mask is set; for ids, those rows written to those envs."""
     if is_mask(env_ids):
-        return torch.arange(env.num_envs, device=env.device), env_ids
+        return slice(None), env_ids
     ids = _ids(env, env_ids)
     return ids, ids
 
 
-def _rows(values: torch.Tensor, env_ids: torch.Tensor, cols) -> torch.Tensor:
+def _rows(values: torch.Tensor, env_ids: torch.Tensor | slice, cols) -> torch.Tensor:
     """``values[env_ids][:, cols]`` as a fresh tensor, gathered in one kernel instead of two."""
+    if isinstance(env_ids, slice):
+        rows = values[env_ids, cols]
+        return rows.clone() if isinstance(cols, slice) else rows  # a slice of a slice is a view
     if isinstance(cols, slice):
         return values[env_ids, cols]
     return values[env_ids[:, None], cols]
@@ -106,12 +109,12 @@ def reset_root_state_uniform(
     asset = env.scene[asset_cfg.name]
     root = asset.data.default_root_state[env_ids]
     ranges = _range_tensor(pose_range, env.device)
-    pose = math_utils.sample_uniform(ranges[:, 0], ranges[:, 1], (len(env_ids), 6), env.device)
+    pose = math_utils.sample_uniform(ranges[:, 0], ranges[:, 1], (root.shape[0], 6), env.device)
     positions = root[:, 0:3] + env.scene.env_origins[env_ids] + pose[:, 0:3]
     delta = math_utils.quat_from_euler_xyz(pose[:, 3], pose[:, 4], pose[:, 5])
     orientations = math_utils.quat_mul(root[:, 3:7], delta)
     ranges = _range_tensor(velocity_range, env.device)
-    velocities = root[:, 7:13] + math_utils.sample_uniform(ranges[:, 0], ranges[:, 1], (len(env_ids), 6), env.device)
+    velocities = root[:, 7:13] + math_utils.sample_uniform(ranges[:, 0], ranges[:, 1], (root.shape[0], 6), env.device)
     asset.write_root_pose_to_sim(torch.cat([positions, orientations], dim=-1), env_ids=write_ids)
     asset.write_root_velocity_to_sim(velocities, env_ids=write_ids)
 
@@ -168,13 +171,13 @@ def reset_scene_to_default(env: ManagerBasedEnv, env_ids: torch.Tensor, reset_jo
     env_ids, write_ids = _selection(env, env_ids)
     origins = env.scene.env_origins[env_ids]
     for asset in (*env.scene.rigid_objects.values(), *env.scene.articulations.values()):
-        root = asset.data.default_root_state[env_ids]
+        root = asset.data.default_root_state[env_ids].clone()
         root[:, 0:3] += origins
         asset.write_root_pose_to_sim(root[:, :7], env_ids=write_ids)
         asset.write_root_velocity_to_sim(root[:, 7:], env_ids=write_ids)
     for asset in env.scene.articulations.values():
-        pos = asset.data.default_joint_pos[env_ids]
-        vel = asset.data.default_joint_vel[env_ids]
+        pos = asset.data.default_joint_pos[env_ids].clone()
+        vel = asset.data.default_joint_vel[env_ids].clone()
         asset.write_joint_state_to_sim(pos, vel, env_ids=write_ids)
         if reset_joint_targets:
             asset.set_joint_position_target(pos, env_ids=write_ids)
@@ -194,7 +197,7 @@ def push_by_setting_velocity(
     """Add uniform random linear/angular velocities (world frame) to the root: a push."""
     env_ids, write_ids = _selection(env, env_ids)
     asset = env.scene[asset_cfg.name]
-    vel = asset.data.root_vel_w[env_ids]
+    vel = asset.data.root_vel_w[env_ids].clone()
     ranges = _range_tensor(velocity_range, env.device)
     vel += math_utils.sample_uniform(ranges[:, 0], ranges[:, 1], tuple(vel.shape), env.device)
     asset.write_root_velocity_to_sim(vel, env_ids=write_ids)
