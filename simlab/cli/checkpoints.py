@@ -181,4 +181,3 @@ def check_checkpoint_fits(
         print(f"[simlab] WARNING (--force): {text}", file=sys.stderr)
         return
     raise CheckpointError(f"{text} Nothing was loaded or written. Pass --force to use it anyway.")
-

@@ -30,7 +30,7 @@ _LIBRARIES = {
 
 
 def require(module: str) -> ModuleType:
-    """Import ``module`` or raise an ``ImportError`` (:class:`MissingDependencyError`) that names the library and its install command."""
+    """Import ``module``, or raise a ``MissingDependencyError`` (an ``ImportError``) naming its pip install."""
     try:
         return importlib.import_module(module)
     except ImportError as e:

@@ -17,7 +17,7 @@ import yaml
 
 from simlab.utils.dict import MISSING_STR, _value_to_plain, class_to_dict
 
-__all__ = ["atomic_path", "dump_pickle", "dump_yaml", "load_pickle", "load_yaml", "write_text"]
+__all__ = ["atomic_path", "atomic_torch_saves", "dump_pickle", "dump_yaml", "load_pickle", "load_yaml", "write_text"]
 
 
 def _fsync_dir(folder: str) -> None:
@@ -59,6 +59,30 @@ def atomic_path(path: str | os.PathLike, suffix: str = "", durable: bool = True)
     finally:
         if os.path.exists(tmp):
             os.remove(tmp)
+
+
+@contextlib.contextmanager
+def atomic_torch_saves() -> Iterator[None]:
+    """Within the block, every ``torch.save`` to a file path writes atomically (see :func:`atomic_path`).
+
+    The RL libraries write their checkpoints with ``torch.save(obj, path)``; training runs inside
+    this block, so a checkpoint on disk is always complete, even if the process dies mid-write.
+    """
+    import torch
+
+    plain_save = torch.save
+
+    def save(obj: Any, f: Any, *args: Any, **kwargs: Any) -> None:
+        if not isinstance(f, (str, os.PathLike)):
+            return plain_save(obj, f, *args, **kwargs)
+        with atomic_path(f) as tmp:
+            plain_save(obj, tmp, *args, **kwargs)
+
+    torch.save = save
+    try:
+        yield
+    finally:
+        torch.save = plain_save
 
 
 def write_text(filename: str | os.PathLike, text: str) -> None:

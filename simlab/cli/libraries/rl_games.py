@@ -17,6 +17,7 @@ import torch.nn as nn
 from simlab.cli.libraries.progress import ProgressBar
 from simlab.cli.policy import Policy
 from simlab.rl.utils import require
+from simlab.utils.io import atomic_torch_saves
 
 require("rl_games")
 from rl_games.torch_runner import Runner  # noqa: E402
@@ -87,11 +88,12 @@ def train(env: gym.Env, agent_cfg: dict, run_dir: str, args: argparse.Namespace,
         print(f"[simlab] Resumed from {resume_path} at epoch {agent.epoch_num}")
     verbose = bool(getattr(args, "verbose", False))
     try:
-        with contextlib.nullcontext() if verbose else contextlib.redirect_stdout(io.StringIO()):
+        with atomic_torch_saves(), contextlib.nullcontext() if verbose else contextlib.redirect_stdout(io.StringIO()):
             agent.train()
     except KeyboardInterrupt:
         path = os.path.join(agent.nn_dir, f"last_{config['name']}_ep_{agent.epoch_num}_interrupted")
-        agent.save(path)
+        with atomic_torch_saves():
+            agent.save(path)
         print(f"\n[simlab] Interrupted: saved {path}.pth")
         raise
     finally:

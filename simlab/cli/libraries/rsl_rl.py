@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import contextlib
 import io
+import math
 import os
 import statistics
 from typing import Any
@@ -15,6 +16,8 @@ import torch
 from simlab.cli.libraries.progress import ProgressBar
 from simlab.cli.policy import ClampActions, Policy
 from simlab.rl.utils import require
+from simlab.utils.errors import TrainingDivergedError
+from simlab.utils.io import atomic_torch_saves
 
 require("rsl_rl")
 from rsl_rl.runners import OnPolicyRunner  # noqa: E402
@@ -131,14 +134,74 @@ def train(
     if resume_path:
         runner.load(resume_path, map_location=agent_cfg.device)
         print(f"[simlab] Resumed from {resume_path} at iteration {runner.current_learning_iteration}")
+    guard_divergence(runner, run_dir)
     try:
-        runner.learn(num_learning_iterations=agent_cfg.max_iterations, init_at_random_ep_len=True)
+        with atomic_torch_saves():
+            # random initial episode lengths spread out the first resets of a fresh run; on resume they
+            # would cut the first episodes short and log an untrained-looking return
+            runner.learn(num_learning_iterations=agent_cfg.max_iterations, init_at_random_ep_len=not resume_path)
     except KeyboardInterrupt:
         path = os.path.join(run_dir, f"model_{runner.current_learning_iteration}.pt")
-        runner.save(path)
+        with atomic_torch_saves():
+            runner.save(path)
         logger.stop_logging_writer()
         print(f"\n[simlab] Interrupted: saved {path}")
         raise
+    except TrainingDivergedError:
+        logger.stop_logging_writer()
+        raise
+
+
+def _detached(state: Any) -> Any:
+    """A copy of a (nested) state dict whose tensors no later optimizer step changes."""
+    if isinstance(state, torch.Tensor):
+        return state.detach().clone()
+    if isinstance(state, dict):
+        return {k: _detached(v) for k, v in state.items()}
+    if isinstance(state, (list, tuple)):
+        return type(state)(_detached(v) for v in state)
+    return state
+
+
+def _non_finite_weights(state: dict) -> list[str]:
+    """Names of the model state dicts in ``state`` with a NaN or infinite floating-point entry."""
+    bad = []
+    for name, sub in state.items():
+        if name.endswith("_state_dict") and "optimizer" not in name:
+            tensors = [t for t in sub.values() if isinstance(t, torch.Tensor) and t.is_floating_point()]
+            if tensors and not bool(torch.stack([t.isfinite().all() for t in tensors]).all()):
+                bad.append(name.removesuffix("_state_dict"))
+    return bad
+
+
+def guard_divergence(runner: OnPolicyRunner, run_dir: str) -> None:
+    """Stop training when an update makes the losses or weights non-finite; save the last good weights.
+
+    Before each update the learner's state is kept; if the update yields a NaN / infinite loss or
+    weights, that state is saved as ``model_<iteration>.pt`` and :class:`TrainingDivergedError`
+    says what happened, instead of rsl_rl failing later on a NaN action distribution.
+    """
+    update = runner.alg.update
+
+    def checked_update() -> dict[str, float]:
+        iteration = runner.current_learning_iteration
+        good = _detached(runner.alg.save())
+        losses = update()
+        bad_losses = [f"{k} = {v}" for k, v in losses.items() if not math.isfinite(v)]
+        bad_weights = _non_finite_weights(runner.alg.save())
+        if not bad_losses and not bad_weights:
+            return losses
+        path = os.path.join(run_dir, f"model_{iteration}.pt")
+        with atomic_torch_saves():
+            torch.save({**good, "iter": iteration, "infos": None}, path)
+        what = ", ".join(bad_losses + [f"non-finite {w} weights" for w in bad_weights])
+        raise TrainingDivergedError(
+            f"Training diverged in iteration {iteration + 1}: {what}. Saved the last good weights to {path}. "
+            f"Lower the learning rate (agent.algorithm.learning_rate, now {runner.alg.learning_rate:g}) "
+            "or check the rewards and observations for huge values."
+        )
+
+    runner.alg.update = checked_update
 
 
 def load_policy(env: gym.Env, agent_cfg: RslRlOnPolicyRunnerCfg, checkpoint: str) -> Policy:

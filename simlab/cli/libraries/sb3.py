@@ -15,6 +15,7 @@ import torch.nn as nn
 
 from simlab.cli.policy import ClampActions, Policy
 from simlab.rl.utils import require
+from simlab.utils.io import atomic_path
 
 require("stable_baselines3")
 from stable_baselines3 import PPO  # noqa: E402
@@ -95,6 +96,19 @@ def _vecnormalize_path(checkpoint: str) -> str:
     return os.path.join(folder, f"model_vecnormalize_{m.group(1)}_steps.pkl" if m else "model_vecnormalize.pkl")
 
 
+class _Checkpoints(CheckpointCallback):
+    """SB3's periodic checkpoints (same names), written through ``save`` (atomic model + statistics)."""
+
+    def __init__(self, save_freq: int, run_dir: str, save: Any):
+        super().__init__(save_freq, run_dir, name_prefix="model", save_vecnormalize=True, verbose=0)
+        self._save = save
+
+    def _on_step(self) -> bool:
+        if self.n_calls % self.save_freq == 0:
+            self._save(self._checkpoint_path(extension="zip"))
+        return True
+
+
 def train(env: gym.Env, agent_cfg: dict, run_dir: str, args: argparse.Namespace, resume_path: str | None) -> None:
     num_envs = env.unwrapped.num_envs
     kwargs, extra = _split_cfg(agent_cfg, num_envs)
@@ -109,18 +123,16 @@ def train(env: gym.Env, agent_cfg: dict, run_dir: str, args: argparse.Namespace,
     else:
         model = PPO(extra.get("policy", "MlpPolicy"), venv, verbose=0, seed=extra.get("seed"), **kwargs)
     model.set_logger(configure_logger(run_dir, ["tensorboard"]))
-    save_freq = max(1, kwargs.get("n_steps", 2048) * SAVE_EVERY_ROLLOUTS)
-    callbacks = CallbackList(
-        [
-            CheckpointCallback(save_freq, run_dir, name_prefix="model", save_vecnormalize=True, verbose=0),
-            _LogEnvExtras(),
-        ]
-    )
 
     def save(path: str) -> None:
-        model.save(path)
+        with atomic_path(path, suffix=".zip") as tmp:
+            model.save(tmp)
         if isinstance(venv, VecNormalize):
-            venv.save(_vecnormalize_path(path))
+            with atomic_path(_vecnormalize_path(path)) as tmp:
+                venv.save(tmp)
+
+    save_freq = max(1, kwargs.get("n_steps", 2048) * SAVE_EVERY_ROLLOUTS)
+    callbacks = CallbackList([_Checkpoints(save_freq, run_dir, save), _LogEnvExtras()])
 
     try:
         model.learn(

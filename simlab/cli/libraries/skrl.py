@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import copy
 import os
+import re
 from typing import Any
 
 import gymnasium as gym
@@ -14,6 +15,7 @@ import torch.nn as nn
 from simlab.cli.policy import Policy
 from simlab.rl.skrl import SkrlVecEnvWrapper
 from simlab.rl.utils import require
+from simlab.utils.io import atomic_torch_saves
 
 require("skrl")
 from skrl.utils.runner.torch import Runner  # noqa: E402
@@ -52,25 +54,47 @@ def make_runner(env: gym.Env, agent_cfg: dict, run_dir: str | None) -> Runner:
     return Runner(wrapped, cfg)
 
 
+def _continue_counting(agent: Any, start: int) -> None:
+    """Make the agent see timesteps ``start + t``: skrl's trainer always counts from 0, so without this
+    a resumed run would log from step 0 again and name its checkpoints as if it had just begun."""
+    for name in ("pre_interaction", "act", "record_transition", "post_interaction"):
+        method = getattr(agent, name)
+
+        def shifted(*args: Any, timestep: int, timesteps: int, _method: Any = method, **kwargs: Any) -> Any:
+            return _method(*args, timestep=timestep + start, timesteps=timesteps + start, **kwargs)
+
+        setattr(agent, name, shifted)
+
+
+def _timestep_of(checkpoint: str) -> int:
+    """The timestep in an ``agent_<timestep>.pt`` checkpoint name (0 for other names)."""
+    match = re.match(r"agent_(\d+)\.pt$", os.path.basename(checkpoint))
+    return int(match.group(1)) if match else 0
+
+
 def train(env: gym.Env, agent_cfg: dict, run_dir: str, args: argparse.Namespace, resume_path: str | None) -> None:
     runner = make_runner(env, agent_cfg, run_dir)
+    start = 0
     if resume_path:
         runner.agent.load(resume_path)
-        print(f"[simlab] Resumed weights, optimizer and normalizers from {resume_path}")
+        start = _timestep_of(resume_path)
+        _continue_counting(runner.agent, start)
+        print(f"[simlab] Resumed weights, optimizer and normalizers from {resume_path} at timestep {start}")
     checkpoints = os.path.join(run_dir, "checkpoints")
     steps = env.unwrapped.common_step_counter
     try:
-        runner.run("train")
+        with atomic_torch_saves():
+            runner.run("train")
     except KeyboardInterrupt:
-        os.makedirs(checkpoints, exist_ok=True)
-        path = os.path.join(checkpoints, f"agent_{env.unwrapped.common_step_counter - steps}.pt")
-        runner.agent.save(path)
+        path = os.path.join(checkpoints, f"agent_{start + env.unwrapped.common_step_counter - steps}.pt")
+        with atomic_torch_saves():
+            runner.agent.save(path)
         print(f"\n[simlab] Interrupted: saved {path}")
         raise
-    final = os.path.join(checkpoints, f"agent_{agent_cfg['trainer']['timesteps']}.pt")
+    final = os.path.join(checkpoints, f"agent_{start + agent_cfg['trainer']['timesteps']}.pt")
     if not os.path.isfile(final):
-        os.makedirs(checkpoints, exist_ok=True)
-        runner.agent.save(final)
+        with atomic_torch_saves():
+            runner.agent.save(final)
 
 
 class _SkrlActor(nn.Module):
