@@ -121,7 +121,8 @@ class Terminated(KeyboardInterrupt):
 # exit codes of a process stopped by SIGINT / SIGTERM (128 + signal number), as shells report them
 EXIT_INTERRUPTED = 130
 EXIT_TERMINATED = 143
-EXIT_ERROR = 2
+EXIT_ERROR = 2  # a wrong input or a state the user can fix; argparse uses 2 for wrong flags too
+EXIT_BUG = 1  # an unexpected exception, as Python exits on one
 
 
 def _raise_terminated(signum: int, frame: Any) -> None:
@@ -142,8 +143,11 @@ def _sigterm_as_interrupt() -> Iterator[None]:
 
 
 def _report(command: str, error: BaseException, debug: bool) -> int:
-    """The CLI's one place for errors: simlab's own as one line (exit 2), anything else with its traceback."""
-    if debug or not is_intended_error(error):
+    """The CLI's one place for errors: simlab's own as one line (exit 2), anything else with its traceback (1)."""
+    if not is_intended_error(error):
+        traceback.print_exception(error)
+        return EXIT_BUG
+    if debug:
         traceback.print_exception(error)
     else:
         text = str(error).strip() or type(error).__name__
