@@ -312,15 +312,40 @@ def test_error_family_keeps_builtin_bases():
     assert is_intended_error(info.value)
 
 
-def test_a_diverging_learner_stops_and_keeps_the_last_good_checkpoint(tmp_path, capsys):
-    argv = ["--max_iterations", "20", "agent.algorithm.learning_rate=1e6", "agent.save_interval=100"]
+def _floats(state):
+    if isinstance(state, torch.Tensor):
+        return [state] if state.is_floating_point() else []
+    if isinstance(state, dict):
+        return [t for v in state.values() for t in _floats(v)]
+    return []
+
+
+@pytest.mark.parametrize(
+    ("library", "learning_rate", "checkpoint"),
+    [
+        ("rsl_rl", "agent.algorithm.learning_rate", "model_*.pt"),
+        ("skrl", "agent.agent.learning_rate", "checkpoints/agent_*.pt"),
+        ("sb3", "agent.learning_rate", "model_*_steps.zip"),
+        ("rl_games", "agent.params.config.learning_rate", "nn/*_diverged.pth"),
+    ],
+)
+def test_a_diverging_learner_stops_and_keeps_the_last_good_checkpoint(
+    tmp_path, capsys, library, learning_rate, checkpoint
+):
+    argv = ["--library", library, "--max_iterations", "30", f"{learning_rate}=1e6"]
     assert _run(tmp_path, "train", *SMALL, *argv) == 2
     err = capsys.readouterr().err
-    assert "Training diverged" in err and "learning_rate" in err and "Traceback" not in err
-    (run,) = _runs(tmp_path)
-    saved = torch.load(glob.glob(os.path.join(run, "model_*.pt"))[-1], weights_only=False)
-    for state in (saved["actor_state_dict"], saved["critic_state_dict"]):
-        assert all(torch.isfinite(t).all() for t in state.values() if t.is_floating_point())
+    assert "Training diverged" in err and learning_rate in err and "Saved the last good weights" in err, err[-3000:]
+    assert "Traceback" not in err
+    (run,) = _runs(tmp_path, library)
+    (saved,) = glob.glob(os.path.join(run, checkpoint))
+    if library == "sb3":
+        from stable_baselines3 import PPO
+
+        weights = list(PPO.load(saved, device="cpu").policy.parameters())
+    else:
+        weights = _floats(torch.load(saved, weights_only=False))
+    assert weights and all(torch.isfinite(w).all() for w in weights)
 
 
 # --- item 11: failed starts and videos -----------------------------------------------------------

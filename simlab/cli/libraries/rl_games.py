@@ -14,9 +14,11 @@ import gymnasium as gym
 import torch
 import torch.nn as nn
 
+from simlab.cli.libraries.divergence import guard_optimizers
 from simlab.cli.libraries.progress import ProgressBar
 from simlab.cli.policy import Policy
 from simlab.rl.utils import require
+from simlab.utils.errors import TrainingDivergedError
 from simlab.utils.io import atomic_torch_saves
 
 require("rl_games")
@@ -86,6 +88,10 @@ def train(env: gym.Env, agent_cfg: dict, run_dir: str, args: argparse.Namespace,
     if resume_path:
         agent.restore(resume_path)
         print(f"[simlab] Resumed from {resume_path} at epoch {agent.epoch_num}")
+    optimizers = [agent.optimizer]
+    if getattr(agent, "has_central_value", False):
+        optimizers.append(agent.central_value_net.optimizer)
+    guard_optimizers(optimizers, "agent.params.config.learning_rate")
     verbose = bool(getattr(args, "verbose", False))
     try:
         with atomic_torch_saves(), contextlib.nullcontext() if verbose else contextlib.redirect_stdout(io.StringIO()):
@@ -96,6 +102,11 @@ def train(env: gym.Env, agent_cfg: dict, run_dir: str, args: argparse.Namespace,
             agent.save(path)
         print(f"\n[simlab] Interrupted: saved {path}.pth")
         raise
+    except TrainingDivergedError as e:
+        path = os.path.join(agent.nn_dir, f"last_{config['name']}_ep_{agent.epoch_num}_diverged")
+        with atomic_torch_saves():
+            agent.save(path)
+        raise TrainingDivergedError(f"{e} Saved the last good weights to {path}.pth.") from None
     finally:
         if "bar" in bar:
             bar["bar"].close()

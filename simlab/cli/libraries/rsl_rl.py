@@ -13,6 +13,7 @@ from typing import Any
 import gymnasium as gym
 import torch
 
+from simlab.cli.libraries.divergence import detached, non_finite
 from simlab.cli.libraries.progress import ProgressBar
 from simlab.cli.policy import ClampActions, Policy
 from simlab.rl.utils import require
@@ -152,28 +153,6 @@ def train(
         raise
 
 
-def _detached(state: Any) -> Any:
-    """A copy of a (nested) state dict whose tensors no later optimizer step changes."""
-    if isinstance(state, torch.Tensor):
-        return state.detach().clone()
-    if isinstance(state, dict):
-        return {k: _detached(v) for k, v in state.items()}
-    if isinstance(state, (list, tuple)):
-        return type(state)(_detached(v) for v in state)
-    return state
-
-
-def _non_finite_weights(state: dict) -> list[str]:
-    """Names of the model state dicts in ``state`` with a NaN or infinite floating-point entry."""
-    bad = []
-    for name, sub in state.items():
-        if name.endswith("_state_dict") and "optimizer" not in name:
-            tensors = [t for t in sub.values() if isinstance(t, torch.Tensor) and t.is_floating_point()]
-            if tensors and not bool(torch.stack([t.isfinite().all() for t in tensors]).all()):
-                bad.append(name.removesuffix("_state_dict"))
-    return bad
-
-
 def guard_divergence(runner: OnPolicyRunner, run_dir: str) -> None:
     """Stop training when an update makes the losses or weights non-finite; save the last good weights.
 
@@ -185,10 +164,12 @@ def guard_divergence(runner: OnPolicyRunner, run_dir: str) -> None:
 
     def checked_update() -> dict[str, float]:
         iteration = runner.current_learning_iteration
-        good = _detached(runner.alg.save())
+        good = detached(runner.alg.save())
         losses = update()
-        bad_losses = [f"{k} = {v}" for k, v in losses.items() if not math.isfinite(v)]
-        bad_weights = _non_finite_weights(runner.alg.save())
+        bad_losses = [f"the {k} loss is {v}" for k, v in losses.items() if not math.isfinite(v)]
+        state = runner.alg.save()
+        models = [k.removesuffix("_state_dict") for k in state if k.endswith("_state_dict") and "optimizer" not in k]
+        bad_weights = [m for m in models if non_finite(state[f"{m}_state_dict"].values())]
         if not bad_losses and not bad_weights:
             return losses
         path = os.path.join(run_dir, f"model_{iteration}.pt")

@@ -13,8 +13,10 @@ import numpy as np
 import torch
 import torch.nn as nn
 
+from simlab.cli.libraries.divergence import guard_optimizers
 from simlab.cli.policy import ClampActions, Policy
 from simlab.rl.utils import require
+from simlab.utils.errors import TrainingDivergedError
 from simlab.utils.io import atomic_path
 
 require("stable_baselines3")
@@ -131,6 +133,7 @@ def train(env: gym.Env, agent_cfg: dict, run_dir: str, args: argparse.Namespace,
             with atomic_path(_vecnormalize_path(path)) as tmp:
                 venv.save(tmp)
 
+    guard_optimizers([model.policy.optimizer], "agent.learning_rate")
     save_freq = max(1, kwargs.get("n_steps", 2048) * SAVE_EVERY_ROLLOUTS)
     callbacks = CallbackList([_Checkpoints(save_freq, run_dir, save), _LogEnvExtras()])
 
@@ -146,6 +149,10 @@ def train(env: gym.Env, agent_cfg: dict, run_dir: str, args: argparse.Namespace,
         save(path)
         print(f"\n[simlab] Interrupted: saved {path}")
         raise
+    except TrainingDivergedError as e:
+        path = os.path.join(run_dir, f"model_{model.num_timesteps}_steps.zip")
+        save(path)
+        raise TrainingDivergedError(f"{e} Saved the last good weights to {path}.") from None
     save(os.path.join(run_dir, f"model_{model.num_timesteps}_steps.zip"))
     save(os.path.join(run_dir, "model.zip"))
 

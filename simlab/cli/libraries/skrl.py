@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import copy
+import math
 import os
 import re
 from typing import Any
@@ -12,9 +13,11 @@ import gymnasium as gym
 import torch
 import torch.nn as nn
 
+from simlab.cli.libraries.divergence import detached, non_finite
 from simlab.cli.policy import Policy
 from simlab.rl.skrl import SkrlVecEnvWrapper
 from simlab.rl.utils import require
+from simlab.utils.errors import TrainingDivergedError
 from simlab.utils.io import atomic_torch_saves
 
 require("skrl")
@@ -72,6 +75,48 @@ def _timestep_of(checkpoint: str) -> int:
     return int(match.group(1)) if match else 0
 
 
+def _stateful_modules(modules: dict, prefix: str = "") -> dict[str, Any]:
+    """skrl's checkpoint modules (nested per agent for IPPO / MAPPO) that have a state dict, by dotted name."""
+    found = {}
+    for name, module in modules.items():
+        if isinstance(module, dict):
+            found.update(_stateful_modules(module, f"{prefix}{name}."))
+        elif hasattr(module, "state_dict"):
+            found[f"{prefix}{name}"] = module
+    return found
+
+
+def _guard_updates(agent: Any) -> None:
+    """Stop at the first update whose losses or weights are not finite, with the weights from before it.
+
+    A too-high learning rate shows in skrl as an infinite value loss (its gradient clipping keeps
+    the weights finite, but useless); the agent then keeps "training" on garbage.
+    """
+    modules = _stateful_modules(agent.checkpoint_modules)
+    update = agent.update
+
+    def checked_update(*, timestep: int, timesteps: int) -> None:
+        good = {name: detached(m.state_dict()) for name, m in modules.items()}
+        update(timestep=timestep, timesteps=timesteps)
+        bad = [
+            f"'{tag}' is {values[-1]}"
+            for tag, values in agent.tracking_data.items()
+            if tag.startswith("Loss") and values and not math.isfinite(values[-1])
+        ]
+        weights = [p for m in modules.values() if isinstance(m, nn.Module) for p in m.parameters()]
+        if not bad and not non_finite(weights):
+            return
+        for name, module in modules.items():
+            module.load_state_dict(good[name])
+        what = ", ".join(bad) or "the weights are not finite"
+        raise TrainingDivergedError(
+            f"Training diverged at timestep {timestep + 1}: {what}. "
+            "Lower the learning rate (agent.agent.learning_rate) or check the rewards and observations for huge values."
+        )
+
+    agent.update = checked_update
+
+
 def train(env: gym.Env, agent_cfg: dict, run_dir: str, args: argparse.Namespace, resume_path: str | None) -> None:
     runner = make_runner(env, agent_cfg, run_dir)
     start = 0
@@ -80,17 +125,25 @@ def train(env: gym.Env, agent_cfg: dict, run_dir: str, args: argparse.Namespace,
         start = _timestep_of(resume_path)
         _continue_counting(runner.agent, start)
         print(f"[simlab] Resumed weights, optimizer and normalizers from {resume_path} at timestep {start}")
+    agent = runner.agent
+    _guard_updates(agent)
     checkpoints = os.path.join(run_dir, "checkpoints")
     steps = env.unwrapped.common_step_counter
+
+    def save_now() -> str:
+        path = os.path.join(checkpoints, f"agent_{start + env.unwrapped.common_step_counter - steps}.pt")
+        with atomic_torch_saves():
+            agent.save(path)
+        return path
+
     try:
         with atomic_torch_saves():
             runner.run("train")
     except KeyboardInterrupt:
-        path = os.path.join(checkpoints, f"agent_{start + env.unwrapped.common_step_counter - steps}.pt")
-        with atomic_torch_saves():
-            runner.agent.save(path)
-        print(f"\n[simlab] Interrupted: saved {path}")
+        print(f"\n[simlab] Interrupted: saved {save_now()}")
         raise
+    except TrainingDivergedError as e:
+        raise TrainingDivergedError(f"{e} Saved the last good weights to {save_now()}.") from None
     final = os.path.join(checkpoints, f"agent_{start + agent_cfg['trainer']['timesteps']}.pt")
     if not os.path.isfile(final):
         with atomic_torch_saves():
