@@ -126,6 +126,7 @@ def test_play_refuses_a_checkpoint_of_another_library_or_task(tmp_path, capsys):
         (["train", "--video", "--video_length", "50", "--video_interval", "20"], "longer than --video_interval 20"),
         (["play", "--use_last_checkpoint", "--video", "--video_length", "0"], "--video_length must be at least 1"),
         (["play", "--use_last_checkpoint", "--steps", "0"], "--steps must be at least 1, got 0"),
+        (["random", "--steps", "-1"], "--steps must be at least 1, got -1"),
         (["train", "env.scene.num_envs=64.5"], "'env.scene.num_envs=64.5': this field is an integer (int), got 64.5"),
     ],
 )

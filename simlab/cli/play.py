@@ -11,7 +11,7 @@ import torch
 
 from simlab.cli.checkpoints import check_checkpoint_fits, env_sizes, find_last_checkpoint, resolve_checkpoint
 from simlab.cli.libraries import get_library
-from simlab.cli.runs import CHECKPOINT_LAYOUT
+from simlab.cli.runs import run_dir_of_checkpoint
 from simlab.cli.session import check_flags, load_configs, make_env
 from simlab.cli.train import uses_multi_agent_learner
 from simlab.utils.errors import CheckpointError, ConfigError, SimlabError
@@ -25,14 +25,6 @@ def locate_checkpoint(args: argparse.Namespace, experiment: str) -> str:
     if args.use_last_checkpoint:
         return find_last_checkpoint(args.log_root, args.library, experiment)
     raise ConfigError("play needs --checkpoint PATH or --use_last_checkpoint.")
-
-
-def run_dir_of_checkpoint(checkpoint: str, library: str) -> str:
-    """The run folder that holds ``checkpoint``."""
-    folder = os.path.dirname(os.path.abspath(checkpoint))
-    for _ in CHECKPOINT_LAYOUT[library][0]:
-        folder = os.path.dirname(folder)
-    return folder
 
 
 def _total(x: Any) -> torch.Tensor:

@@ -19,6 +19,8 @@ __all__ = [
     "find_run_info",
     "holds_checkpoint",
     "make_run_dir",
+    "remove_if_empty_run",
+    "run_dir_of_checkpoint",
     "write_run_info",
 ]
 
@@ -95,3 +97,11 @@ def remove_if_empty_run(run_dir: str, library: str) -> bool:
             return False
     shutil.rmtree(run_dir, ignore_errors=True)
     return True
+
+
+def run_dir_of_checkpoint(checkpoint: str, library: str) -> str:
+    """The run folder that holds ``checkpoint`` (checkpoint files of some libraries are in a sub-folder)."""
+    folder = os.path.dirname(os.path.abspath(checkpoint))
+    for _ in CHECKPOINT_LAYOUT[library][0]:
+        folder = os.path.dirname(folder)
+    return folder
