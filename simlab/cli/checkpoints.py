@@ -23,7 +23,8 @@ from simlab.rl.utils import is_multi_agent
 from simlab.utils.errors import CheckpointError, CheckpointNotFoundError
 
 __all__ = [
-    "check_checkpoint_fits",
+    "check_checkpoint_sizes",
+    "check_checkpoint_source",
     "checkpoint_library",
     "env_sizes",
     "find_last_checkpoint",
@@ -152,28 +153,36 @@ def env_sizes(env: gym.Env) -> dict[str, Any]:
     }
 
 
-def check_checkpoint_fits(
-    checkpoint: str, library: str, task: str, sizes: dict[str, Any] | None = None, force: bool = False
-) -> None:
-    """Refuse (``CheckpointError``) a checkpoint of another library, task, or observation/action sizes.
+def check_checkpoint_source(checkpoint: str, library: str, task: str, force: bool = False) -> None:
+    """Refuse (``CheckpointError``) a checkpoint written by another library or trained on another task.
 
-    ``sizes`` is :func:`env_sizes` of the env about to use it (None: check library and task only).
-    ``force`` turns each refusal into a warning.
+    The library is read from the file's contents, the task from its run's ``params/run.yaml``.
+    ``force`` turns the refusal into a warning.
     """
     problems: list[str] = []
     written_by = checkpoint_library(read_checkpoint(checkpoint))
     if written_by is not None and written_by != library:
         problems.append(f"it was written by {written_by}, not {library} (use --library {written_by})")
-    info = find_run_info(checkpoint)
-    if info is not None:
-        if info.get("library") not in (None, library) and written_by is None:
-            problems.append(f"its run was trained with {info['library']}, not {library}")
-        if info.get("task") not in (None, task):
-            problems.append(f"its run trained the task '{info['task']}', not '{task}' (use --task {info['task']})")
-        elif sizes is not None:
-            for what in ("observations", "actions"):
-                if what in info and info[what] != sizes[what]:
-                    problems.append(f"its {what} sizes are {info[what]}; this env's are {sizes[what]}")
+    info = find_run_info(checkpoint) or {}
+    if written_by is None and info.get("library") not in (None, library):
+        problems.append(f"its run was trained with {info['library']}, not {library}")
+    if info.get("task") not in (None, task):
+        problems.append(f"its run trained the task '{info['task']}', not '{task}' (use --task {info['task']})")
+    _refuse(checkpoint, problems, force)
+
+
+def check_checkpoint_sizes(checkpoint: str, sizes: dict[str, Any], force: bool = False) -> None:
+    """Refuse a checkpoint whose run had other observation or action sizes than :func:`env_sizes` ``sizes``."""
+    info = find_run_info(checkpoint) or {}
+    problems = [
+        f"its {what} sizes are {info[what]}; this env's are {sizes[what]}"
+        for what in ("observations", "actions")
+        if what in info and info[what] != sizes[what]
+    ]
+    _refuse(checkpoint, problems, force)
+
+
+def _refuse(checkpoint: str, problems: list[str], force: bool) -> None:
     if not problems:
         return
     text = f"Checkpoint '{checkpoint}' does not fit: " + "; ".join(problems) + "."

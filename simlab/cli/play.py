@@ -9,7 +9,13 @@ from typing import Any
 
 import torch
 
-from simlab.cli.checkpoints import check_checkpoint_fits, env_sizes, find_last_checkpoint, resolve_checkpoint
+from simlab.cli.checkpoints import (
+    check_checkpoint_sizes,
+    check_checkpoint_source,
+    env_sizes,
+    find_last_checkpoint,
+    resolve_checkpoint,
+)
 from simlab.cli.libraries import get_library
 from simlab.cli.runs import run_dir_of_checkpoint
 from simlab.cli.session import check_flags, load_configs, make_env
@@ -87,14 +93,14 @@ def run_play(
     lib.configure(agent_cfg, args, env_cfg)
     checkpoint = locate_checkpoint(args, lib.experiment_name(agent_cfg, args.task))
     force = getattr(args, "force", False)
-    check_checkpoint_fits(checkpoint, args.library, args.task, force=force)
+    check_checkpoint_source(checkpoint, args.library, args.task, force=force)
     run_dir = run_dir_of_checkpoint(checkpoint, args.library)
     args.video_interval = 10**12  # one video, from the first step
     env = make_env(
         args, env_cfg, os.path.join(run_dir, "videos", "play"), single_agent=not uses_multi_agent_learner(args)
     )
     try:
-        check_checkpoint_fits(checkpoint, args.library, args.task, env_sizes(env), force=force)
+        check_checkpoint_sizes(checkpoint, env_sizes(env), force=force)
         print(f"[simlab] Playing {checkpoint} on {env_cfg.sim.device}")
         try:
             policy = lib.load_policy(env, agent_cfg, checkpoint)

@@ -7,7 +7,7 @@ import os
 import time
 from typing import Any
 
-from simlab.cli.checkpoints import check_checkpoint_fits, env_sizes, resolve_checkpoint
+from simlab.cli.checkpoints import check_checkpoint_sizes, check_checkpoint_source, env_sizes, resolve_checkpoint
 from simlab.cli.libraries import get_library
 from simlab.cli.runs import dump_params, make_run_dir, remove_if_empty_run, write_run_info
 from simlab.cli.session import check_flags, load_configs, make_env, resolve_seed
@@ -33,7 +33,7 @@ def run_train(args: argparse.Namespace, overrides: list[str], argv: list[str] | 
     lib.configure(agent_cfg, args, env_cfg)
     resume = resolve_checkpoint(args.checkpoint, args.library) if args.checkpoint else None
     if resume:
-        check_checkpoint_fits(resume, args.library, args.task, force=getattr(args, "force", False))
+        check_checkpoint_source(resume, args.library, args.task, force=getattr(args, "force", False))
     run_dir = make_run_dir(args.log_root, args.library, lib.experiment_name(agent_cfg, args.task), args.run_name)
     try:
         startup, start = _train_in(run_dir, lib, args, env_cfg, agent_cfg, resume, argv)
@@ -63,7 +63,7 @@ def _train_in(
             raise ConfigError(f"--algorithm {args.algorithm} needs a multi-agent task; {args.task} has one agent.")
         sizes = env_sizes(env)
         if resume:
-            check_checkpoint_fits(resume, args.library, args.task, sizes, force=getattr(args, "force", False))
+            check_checkpoint_sizes(resume, sizes, force=getattr(args, "force", False))
         info = {"task": args.task, "library": args.library, "algorithm": args.algorithm or "PPO", **sizes}
         write_run_info(run_dir, info)
         print(
