@@ -121,6 +121,8 @@ def test_play_refuses_a_checkpoint_of_another_library_or_task(tmp_path, capsys):
     [
         (["train", "--max_iterations", "0"], "--max_iterations must be at least 1, got 0"),
         (["train", "--max_iterations", "-3"], "--max_iterations must be at least 1, got -3"),
+        (["train", "agent.max_iterations=0"], "agent.max_iterations must be at least 1 to train, got 0"),
+        (["train", "--library", "skrl", "agent.trainer.timesteps=0"], "agent.trainer.timesteps must be at least 1"),
         (["train", "--video", "--video_length", "0"], "--video_length must be at least 1, got 0"),
         (["train", "--video", "--video_length", "-5"], "--video_length must be at least 1, got -5"),
         (["train", "--video", "--video_length", "50", "--video_interval", "20"], "longer than --video_interval 20"),

@@ -13,7 +13,15 @@ from simlab.rl.utils import is_multi_agent
 from simlab.tasks.utils import apply_overrides, load_cfg_from_registry
 from simlab.utils.errors import ConfigError
 
-__all__ = ["LIBRARIES", "agent_entry_point", "check_flags", "load_configs", "make_env", "resolve_seed"]
+__all__ = [
+    "LIBRARIES",
+    "agent_entry_point",
+    "check_flags",
+    "check_training_length",
+    "load_configs",
+    "make_env",
+    "resolve_seed",
+]
 
 LIBRARIES = ("rsl_rl", "skrl", "sb3", "rl_games")
 SKRL_ALGORITHMS = ("PPO", "IPPO", "MAPPO")
@@ -51,6 +59,12 @@ def check_flags(args: argparse.Namespace) -> None:
                 f"--video_length {args.video_length} is longer than --video_interval {args.video_interval}: "
                 "each recording would be cut off by the next one. Use a video_length <= video_interval."
             )
+
+
+def check_training_length(args: argparse.Namespace, value: Any, key: str) -> None:
+    """When training, refuse an agent config that trains for less than one iteration (set by an override)."""
+    if hasattr(args, "max_iterations") and not (isinstance(value, (int, float)) and value >= 1):
+        raise ConfigError(f"{key} must be at least 1 to train, got {value!r}.")
 
 
 def resolve_seed(seed: int | None) -> int | None:

@@ -16,6 +16,7 @@ import torch
 from simlab.cli.libraries.divergence import detached, non_finite
 from simlab.cli.libraries.progress import ProgressBar
 from simlab.cli.policy import ClampActions, Policy
+from simlab.cli.session import check_training_length
 from simlab.rl.utils import require
 from simlab.utils.errors import TrainingDivergedError
 from simlab.utils.io import atomic_torch_saves
@@ -39,6 +40,7 @@ def configure(agent_cfg: RslRlOnPolicyRunnerCfg, args: argparse.Namespace, env_c
         agent_cfg.max_iterations = args.max_iterations
     if getattr(args, "run_name", None):
         agent_cfg.run_name = args.run_name
+    check_training_length(args, agent_cfg.max_iterations, "agent.max_iterations")
     env_cfg.seed = agent_cfg.seed
 
 

@@ -15,6 +15,7 @@ import torch.nn as nn
 
 from simlab.cli.libraries.divergence import detached, non_finite
 from simlab.cli.policy import Policy
+from simlab.cli.session import check_training_length
 from simlab.rl.skrl import SkrlVecEnvWrapper
 from simlab.rl.utils import require
 from simlab.utils.errors import TrainingDivergedError
@@ -34,6 +35,7 @@ def configure(agent_cfg: dict, args: argparse.Namespace, env_cfg: Any) -> None:
     if getattr(args, "max_iterations", None) is not None:
         agent_cfg["trainer"]["timesteps"] = args.max_iterations * agent_cfg["agent"]["rollouts"]
     agent_cfg["trainer"]["close_environment_at_exit"] = False
+    check_training_length(args, agent_cfg["trainer"]["timesteps"], "agent.trainer.timesteps")
     # skrl's "auto" intervals are timesteps/100 and /10, which is 0 (never) in short runs: keep them >= 1
     timesteps, rollouts = agent_cfg["trainer"]["timesteps"], agent_cfg["agent"]["rollouts"]
     exp = agent_cfg["agent"]["experiment"]
