@@ -8,6 +8,10 @@
 
 Overrides are Hydra-style ``env.<path>=value`` / ``agent.<path>=value`` words after the flags,
 e.g. ``env.actions.joint_effort.scale=10 agent.seed=2024``; ``null`` removes a term.
+
+A wrong input (flag, override, device, checkpoint) prints one line and exits with 2 (``--debug``
+adds the traceback); an unexpected error shows its traceback and exits with 1. Ctrl+C and SIGTERM
+stop training after saving a checkpoint (exit 130 / 143).
 """
 
 from __future__ import annotations
