@@ -376,3 +376,13 @@ def test_videos_no_false_warning_and_never_overwritten(tmp_path, capsys):
     both = sorted(glob.glob(os.path.join(run, "videos", "play", "*.mp4")))
     assert len(both) == 2 and first[0] in both
     assert not glob.glob(os.path.join(run, "videos", "**", ".*"), recursive=True)  # no temporary files left
+
+
+def test_multi_agent_runs_record_per_agent_sizes_and_play(tmp_path):
+    task = ["--task", "simlab/Cart-Double-Pendulum-Direct-v0", "--num_envs", "4", "--device", "cpu"]
+    ippo = ["--library", "skrl", "--algorithm", "IPPO"]
+    assert _run(tmp_path, "train", *task, *ippo, "--max_iterations", "1") == 0
+    (run,) = _runs(tmp_path, "skrl")
+    info = load_yaml(os.path.join(run, "params", "run.yaml"))
+    assert info["algorithm"] == "IPPO" and set(info["observations"]) == {"cart", "pendulum"}
+    assert _run(tmp_path, "play", *task, *ippo, "--use_last_checkpoint", "--steps", "2", "--no_export") == 0

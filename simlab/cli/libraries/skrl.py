@@ -97,9 +97,9 @@ def _guard_updates(agent: Any) -> None:
     modules = _stateful_modules(agent.checkpoint_modules)
     update = agent.update
 
-    def checked_update(*, timestep: int, timesteps: int) -> None:
+    def checked_update(*, timestep: int, timesteps: int, **kwargs: Any) -> None:  # IPPO / MAPPO add uid=
         good = {name: detached(m.state_dict()) for name, m in modules.items()}
-        update(timestep=timestep, timesteps=timesteps)
+        update(timestep=timestep, timesteps=timesteps, **kwargs)
         bad = [
             f"'{tag}' is {values[-1]}"
             for tag, values in agent.tracking_data.items()
