@@ -31,6 +31,8 @@ import sys
 import threading
 from typing import Any
 
+from simlab.utils.errors import ConfigError, DeviceError
+
 __all__ = ["AppLauncher", "SimulationApp", "resolve_device"]
 
 _DEVICE_RE = re.compile(r"^(cpu|cuda(:\d+)?)$")
@@ -58,26 +60,26 @@ def resolve_device(device: str | None) -> str:
         if device is None or device == "auto":
             return "cuda:0" if _gpu_backend_available() else "cpu"
     if not isinstance(device, str):
-        raise TypeError(f"device must be a string such as 'cpu' or 'cuda:0', got {type(device).__name__}.")
+        raise ConfigError(f"device must be a string such as 'cpu' or 'cuda:0', got {type(device).__name__}.")
     device = device.strip().lower()
     if not _DEVICE_RE.match(device):
-        raise ValueError(f"Invalid device '{device}'. Allowed: 'cpu', 'cuda', 'cuda:N' (N = GPU index), 'auto'.")
+        raise ConfigError(f"Invalid device '{device}'. Allowed: 'cpu', 'cuda', 'cuda:N' (N = GPU index), 'auto'.")
     if device == "cpu":
         return device
     if device == "cuda":
         device = "cuda:0"
     if importlib.util.find_spec("mujoco_warp") is None:
-        raise RuntimeError(
+        raise DeviceError(
             f"Device '{device}' needs MuJoCo Warp, which is not installed: pip install \"simlab[gpu]\" "
             "(or run on the CPU with --device cpu)."
         )
     if not _gpu_backend_available():
-        raise RuntimeError(f"Device '{device}' asked for, but torch sees no CUDA GPU here; use --device cpu.")
+        raise DeviceError(f"Device '{device}' asked for, but torch sees no CUDA GPU here; use --device cpu.")
     import torch
 
     index = int(device.split(":")[1])
     if index >= torch.cuda.device_count():
-        raise ValueError(f"Device '{device}' does not exist: {torch.cuda.device_count()} CUDA device(s) visible.")
+        raise DeviceError(f"Device '{device}' does not exist: {torch.cuda.device_count()} CUDA device(s) visible.")
     return device
 
 

@@ -8,19 +8,35 @@
 
 Overrides are Hydra-style ``env.<path>=value`` / ``agent.<path>=value`` words after the flags,
 e.g. ``env.actions.joint_effort.scale=10 agent.seed=2024``; ``null`` removes a term.
+
+A wrong input (flag, override, device, checkpoint) prints one line and exits with 2 (``--debug``
+adds the traceback); an unexpected error shows its traceback and exits with 1. Ctrl+C and SIGTERM
+stop training after saving a checkpoint (exit 130 / 143).
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
+import signal
 import sys
+import threading
+import traceback
+from collections.abc import Iterator
+from typing import Any
 
 from simlab.cli.session import LIBRARIES, SKRL_ALGORITHMS
+from simlab.utils.errors import is_intended_error
 
 __all__ = ["build_parser", "main"]
 
 
+def _add_debug(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--debug", action="store_true", help="Show the full traceback of every error.")
+
+
 def _add_common(p: argparse.ArgumentParser, video: bool = True) -> None:
+    _add_debug(p)
     p.add_argument("--task", required=True, help="Task id, e.g. simlab/Cartpole-v0 (see `simlab list`).")
     p.add_argument("--num_envs", type=int, default=None, help="Number of parallel envs (default: the task's).")
     p.add_argument(
@@ -47,6 +63,11 @@ def _add_agent(p: argparse.ArgumentParser) -> None:
         help="skrl algorithm: PPO (default), IPPO or MAPPO (multi-agent tasks).",
     )
     p.add_argument("--checkpoint", default=None, help="Checkpoint file (or run folder) to resume from / play.")
+    p.add_argument(
+        "--force",
+        action="store_true",
+        help="Use a checkpoint even if it was trained with another library, task or observation/action size.",
+    )
     p.add_argument("--distributed", action="store_true", help="Multi-GPU training (not yet supported).")
     p.add_argument("--verbose", action="store_true", help="Print the libraries' own per-iteration logs.")
 
@@ -86,6 +107,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("list", help="List the registered tasks.")
     p.add_argument("--keyword", default=None, help="Only tasks whose id contains this word.")
+    _add_debug(p)
 
     for name, text in (("random", "random actions"), ("zero", "zero actions")):
         p = sub.add_parser(name, help=f"Step a task with {text} (a quick check that it runs).")
@@ -94,6 +116,49 @@ def build_parser() -> argparse.ArgumentParser:
 
     sub.add_parser("bench", help="Benchmarks (simlab bench --help).", add_help=False)
     return parser
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM (what a cluster scheduler sends): handled like Ctrl+C, so training saves a checkpoint."""
+
+
+# exit codes of a process stopped by SIGINT / SIGTERM (128 + signal number), as shells report them
+EXIT_INTERRUPTED = 130
+EXIT_TERMINATED = 143
+EXIT_ERROR = 2  # a wrong input or a state the user can fix; argparse uses 2 for wrong flags too
+EXIT_BUG = 1  # an unexpected exception, as Python exits on one
+
+
+def _raise_terminated(signum: int, frame: Any) -> None:
+    raise Terminated
+
+
+@contextlib.contextmanager
+def _sigterm_as_interrupt() -> Iterator[None]:
+    """Within the block, SIGTERM raises :class:`Terminated` (a ``KeyboardInterrupt``)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGTERM, _raise_terminated)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
+def _report(command: str, error: BaseException, debug: bool) -> int:
+    """The CLI's one place for errors: simlab's own as one line (exit 2), anything else with its traceback (1)."""
+    if not is_intended_error(error):
+        traceback.print_exception(error)
+        return EXIT_BUG
+    if debug:
+        traceback.print_exception(error)
+    else:
+        text = str(error).strip() or type(error).__name__
+        if isinstance(error, KeyError) and len(error.args) == 1:
+            text = str(error.args[0])  # KeyError's str() adds quotes
+        print(f"simlab {command}: error: {text}", file=sys.stderr)
+    return EXIT_ERROR
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -108,31 +173,35 @@ def main(argv: list[str] | None = None) -> int:
     if bad:
         parser.error(f"unrecognized arguments: {' '.join(bad)} (overrides look like env.x.y=1 or agent.z=2)")
     try:
-        if args.command == "list":
-            from simlab.cli.list_tasks import list_tasks
-
-            return list_tasks(args.keyword)
-        if args.command in ("random", "zero"):
-            if rest:
-                parser.error("random/zero take no overrides")
-            from simlab.cli.random_agent import run_random
-
-            return run_random(args, zero=args.command == "zero")
-        if args.command == "train":
-            from simlab.cli.train import run_train
-
-            run_train(args, rest, argv=["simlab", *argv])
-            return 0
-        if args.command == "play":
-            from simlab.cli.play import run_play
-
-            run_play(args, rest)
-            return 0
+        with _sigterm_as_interrupt():
+            return _dispatch(parser, args, rest, argv)
+    except Terminated:
+        return EXIT_TERMINATED
     except KeyboardInterrupt:
-        return 130
-    except (ValueError, KeyError, FileNotFoundError, ImportError, NotImplementedError) as e:
-        print(f"simlab {args.command}: error: {e}", file=sys.stderr)
-        return 2
+        return EXIT_INTERRUPTED
+    except Exception as e:  # noqa: BLE001 - the one place that turns errors into messages
+        return _report(args.command, e, getattr(args, "debug", False))
+
+
+def _dispatch(parser: argparse.ArgumentParser, args: argparse.Namespace, rest: list[str], argv: list[str]) -> int:
+    if args.command == "list":
+        from simlab.cli.list_tasks import list_tasks
+
+        return list_tasks(args.keyword)
+    if args.command in ("random", "zero"):
+        if rest:
+            parser.error("random/zero take no overrides")
+        from simlab.cli.random_agent import run_random
+
+        return run_random(args, zero=args.command == "zero")
+    if args.command == "train":
+        from simlab.cli.train import run_train
+
+        run_train(args, rest, argv=["simlab", *argv])
+    elif args.command == "play":
+        from simlab.cli.play import run_play
+
+        run_play(args, rest)
     return 0
 
 

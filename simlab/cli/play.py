@@ -9,10 +9,18 @@ from typing import Any
 
 import torch
 
+from simlab.cli.checkpoints import (
+    check_checkpoint_sizes,
+    check_checkpoint_source,
+    env_sizes,
+    find_last_checkpoint,
+    resolve_checkpoint,
+)
 from simlab.cli.libraries import get_library
-from simlab.cli.runs import find_last_checkpoint, resolve_checkpoint, run_dir_of_checkpoint
-from simlab.cli.session import load_configs, make_env
+from simlab.cli.runs import run_dir_of_checkpoint
+from simlab.cli.session import check_flags, load_configs, make_env
 from simlab.cli.train import uses_multi_agent_learner
+from simlab.utils.errors import CheckpointError, ConfigError, SimlabError
 
 __all__ = ["locate_checkpoint", "rollout", "run_play"]
 
@@ -22,7 +30,7 @@ def locate_checkpoint(args: argparse.Namespace, experiment: str) -> str:
         return resolve_checkpoint(args.checkpoint, args.library)
     if args.use_last_checkpoint:
         return find_last_checkpoint(args.log_root, args.library, experiment)
-    raise ValueError("play needs --checkpoint PATH or --use_last_checkpoint.")
+    raise ConfigError("play needs --checkpoint PATH or --use_last_checkpoint.")
 
 
 def _total(x: Any) -> torch.Tensor:
@@ -79,18 +87,29 @@ def run_play(
     args: argparse.Namespace, overrides: list[str], on_step: Callable[[Any, Any, Any], None] | None = None
 ) -> dict[str, Any]:
     """Play ``args.task`` with a trained policy; returns the episode statistics and exported files."""
+    check_flags(args)
     lib = get_library(args.library)
     env_cfg, agent_cfg = load_configs(args, overrides)
     lib.configure(agent_cfg, args, env_cfg)
     checkpoint = locate_checkpoint(args, lib.experiment_name(agent_cfg, args.task))
+    force = getattr(args, "force", False)
+    check_checkpoint_source(checkpoint, args.library, args.task, force=force)
     run_dir = run_dir_of_checkpoint(checkpoint, args.library)
     args.video_interval = 10**12  # one video, from the first step
     env = make_env(
         args, env_cfg, os.path.join(run_dir, "videos", "play"), single_agent=not uses_multi_agent_learner(args)
     )
     try:
+        check_checkpoint_sizes(checkpoint, env_sizes(env), force=force)
         print(f"[simlab] Playing {checkpoint} on {env_cfg.sim.device}")
-        policy = lib.load_policy(env, agent_cfg, checkpoint)
+        try:
+            policy = lib.load_policy(env, agent_cfg, checkpoint)
+        except SimlabError:
+            raise
+        except (RuntimeError, KeyError, ValueError, TypeError) as e:  # e.g. a state dict of other shapes
+            raise CheckpointError(
+                f"Cannot load '{checkpoint}' as a {args.library} policy of {args.task}: {type(e).__name__}: {e}"
+            ) from e
         result: dict[str, Any] = {"checkpoint": checkpoint}
         if not args.no_export:
             folder = os.path.join(os.path.dirname(checkpoint), "exported")

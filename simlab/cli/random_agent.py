@@ -7,7 +7,7 @@ import argparse
 import gymnasium as gym
 import torch
 
-from simlab.cli.session import load_configs, make_env
+from simlab.cli.session import check_flags, load_configs, make_env
 
 __all__ = ["run_random"]
 
@@ -24,6 +24,7 @@ def _sample(space: gym.Space, n: int, device: str, zero: bool) -> torch.Tensor:
 
 def run_random(args: argparse.Namespace, zero: bool = False) -> int:
     """Step ``args.task`` with actions in [-1, 1] (within the action space) or zeros."""
+    check_flags(args)
     args.library, args.algorithm = "rsl_rl", None
     env_cfg, _ = load_configs(args, [], with_agent=False)
     if args.seed is not None:

@@ -4,14 +4,24 @@ from __future__ import annotations
 
 import argparse
 import os
+import warnings
 from typing import Any
 
 import gymnasium as gym
 
 from simlab.rl.utils import is_multi_agent
 from simlab.tasks.utils import apply_overrides, load_cfg_from_registry
+from simlab.utils.errors import ConfigError
 
-__all__ = ["LIBRARIES", "agent_entry_point", "load_configs", "make_env", "resolve_seed"]
+__all__ = [
+    "LIBRARIES",
+    "agent_entry_point",
+    "check_flags",
+    "check_training_length",
+    "load_configs",
+    "make_env",
+    "resolve_seed",
+]
 
 LIBRARIES = ("rsl_rl", "skrl", "sb3", "rl_games")
 SKRL_ALGORITHMS = ("PPO", "IPPO", "MAPPO")
@@ -20,15 +30,41 @@ SKRL_ALGORITHMS = ("PPO", "IPPO", "MAPPO")
 def agent_entry_point(library: str, algorithm: str | None) -> str:
     """The registry key of the agent config for ``library`` (and skrl's ``algorithm``)."""
     if library not in LIBRARIES:
-        raise ValueError(f"Unknown library '{library}'. Choose one of {list(LIBRARIES)}.")
+        raise ConfigError(f"Unknown library '{library}'. Choose one of {list(LIBRARIES)}.")
     algo = (algorithm or "PPO").upper()
     if library == "skrl":
         if algo not in SKRL_ALGORITHMS:
-            raise ValueError(f"--algorithm '{algorithm}' is not one of skrl's {list(SKRL_ALGORITHMS)}.")
+            raise ConfigError(f"--algorithm '{algorithm}' is not one of skrl's {list(SKRL_ALGORITHMS)}.")
         return "skrl_cfg_entry_point" if algo == "PPO" else f"skrl_{algo.lower()}_cfg_entry_point"
     if algo != "PPO":
-        raise ValueError(f"--algorithm {algorithm} is for skrl only; {library} trains PPO.")
+        raise ConfigError(f"--algorithm {algorithm} is for skrl only; {library} trains PPO.")
     return f"{library}_cfg_entry_point"
+
+
+def check_flags(args: argparse.Namespace) -> None:
+    """Refuse flag values that would run nothing or cut videos short, before anything is built or written."""
+
+    def at_least_one(flag: str) -> None:
+        value = getattr(args, flag, None)
+        if value is not None and value < 1:
+            raise ConfigError(f"--{flag} must be at least 1, got {value}.")
+
+    for flag in ("num_envs", "max_iterations", "steps"):
+        at_least_one(flag)
+    if getattr(args, "video", False):
+        at_least_one("video_length")
+        at_least_one("video_interval")
+        if args.command == "train" and args.video_length > args.video_interval:
+            raise ConfigError(
+                f"--video_length {args.video_length} is longer than --video_interval {args.video_interval}: "
+                "each recording would be cut off by the next one. Use a video_length <= video_interval."
+            )
+
+
+def check_training_length(args: argparse.Namespace, value: Any, key: str) -> None:
+    """When training, refuse an agent config that trains for less than one iteration (set by an override)."""
+    if hasattr(args, "max_iterations") and not (isinstance(value, (int, float)) and value >= 1):
+        raise ConfigError(f"{key} must be at least 1 to train, got {value!r}.")
 
 
 def resolve_seed(seed: int | None) -> int | None:
@@ -55,7 +91,7 @@ def load_configs(args: argparse.Namespace, overrides: list[str], with_agent: boo
     apply_overrides(env_cfg, agent_cfg, overrides)
     if getattr(args, "num_envs", None) is not None:
         if args.num_envs < 1:
-            raise ValueError(f"--num_envs must be at least 1, got {args.num_envs}.")
+            raise ConfigError(f"--num_envs must be at least 1, got {args.num_envs}.")
         env_cfg.scene.num_envs = args.num_envs
     if getattr(args, "device", None) is not None:
         env_cfg.sim.device = resolve_device(args.device)
@@ -73,14 +109,46 @@ def make_env(args: argparse.Namespace, env_cfg: Any, video_dir: str | None, sing
 
         env = multi_agent_to_single_agent(env)
     if video:
-        interval = max(1, int(getattr(args, "video_interval", 2000)))
-        os.makedirs(video_dir, exist_ok=True)
-        env = gym.wrappers.RecordVideo(
+        interval = int(getattr(args, "video_interval", 2000))
+        env = _RecordVideo(
             env,
             video_folder=video_dir,
             step_trigger=lambda step: step % interval == 0,
             video_length=args.video_length,
+            name_prefix=_free_video_prefix(video_dir, "rl-video"),
             disable_logger=True,
         )
         print(f"[simlab] Recording {args.video_length}-step videos every {interval} steps to {video_dir}")
     return env
+
+
+def _free_video_prefix(folder: str, base: str) -> str:
+    """``base``, or ``base-2``, ``base-3``, ... : a prefix no video in ``folder`` has (so none is overwritten)."""
+    names = os.listdir(folder) if os.path.isdir(folder) else []
+    prefix, n = base, 1
+    while any(name.startswith((f"{prefix}-step-", f"{prefix}-episode-")) for name in names):
+        n += 1
+        prefix = f"{base}-{n}"
+    return prefix
+
+
+class _RecordVideo(gym.wrappers.RecordVideo):
+    """Gymnasium's ``RecordVideo``, writing each clip atomically into a folder that may already hold clips.
+
+    Names never collide (:func:`_free_video_prefix`), so gymnasium's "Overwriting existing videos"
+    warning about an existing folder does not apply and is silenced.
+    """
+
+    def __init__(self, env: gym.Env, **kwargs: Any):
+        with warnings.catch_warnings():
+            warnings.filterwarnings("ignore", message=".*Overwriting existing videos")
+            super().__init__(env, **kwargs)
+
+    def stop_recording(self) -> None:
+        name = self._video_name
+        temp = f".{name}.{os.getpid()}.tmp"  # moviepy picks the codec from the .mp4 it appends below
+        self._video_name = temp
+        super().stop_recording()
+        written = os.path.join(self.video_folder, f"{temp}.mp4")
+        if os.path.isfile(written):
+            os.replace(written, os.path.join(self.video_folder, f"{name}.mp4"))

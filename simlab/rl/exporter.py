@@ -18,6 +18,8 @@ import warnings
 import torch
 import torch.nn as nn
 
+from simlab.utils.io import atomic_path
+
 __all__ = ["export_policy_as_jit", "export_policy_as_onnx", "PolicyWithNormalizer"]
 
 
@@ -63,7 +65,8 @@ def export_policy_as_jit(
         with torch.no_grad(), warnings.catch_warnings():
             warnings.simplefilter("ignore", DeprecationWarning)
             scripted = torch.jit.trace(module, torch.zeros(1, obs_dim), check_trace=False)
-    scripted.save(file)
+    with atomic_path(file) as tmp:  # a crash mid-write keeps the previous export
+        scripted.save(tmp)
     return file
 
 
@@ -86,13 +89,13 @@ def export_policy_as_onnx(
     level = onnx_log.level
     if not verbose:
         onnx_log.setLevel(logging.ERROR)  # e.g. "torchvision is not installed" notes
-    with sink, torch.no_grad(), warnings.catch_warnings():
+    with sink, torch.no_grad(), warnings.catch_warnings(), atomic_path(file, suffix=".onnx") as tmp:
         if not verbose:
             warnings.simplefilter("ignore", FutureWarning)
         torch.onnx.export(
             module,
             (torch.zeros(2, obs_dim),),
-            file,
+            tmp,
             input_names=["obs"],
             output_names=["actions"],
             dynamic_shapes=({0: batch},),

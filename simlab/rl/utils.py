@@ -8,6 +8,8 @@ from typing import Any
 
 import gymnasium as gym
 
+from simlab.utils.errors import MissingDependencyError
+
 __all__ = ["check_single_agent", "is_multi_agent", "require", "unwrapped_env"]
 
 # library module -> (pip distribution, simlab extra)
@@ -28,13 +30,13 @@ _LIBRARIES = {
 
 
 def require(module: str) -> ModuleType:
-    """Import ``module`` or raise an ``ImportError`` that names the library and its install command."""
+    """Import ``module``, or raise a ``MissingDependencyError`` (an ``ImportError``) naming its pip install."""
     try:
         return importlib.import_module(module)
     except ImportError as e:
         top = module.split(".")[0]
         dist, extra = _LIBRARIES.get(top, (top, "all"))
-        raise ImportError(
+        raise MissingDependencyError(
             f"This feature needs the '{dist}' library, which is not installed ({e}). "
             f'Install it with: pip install "simlab[{extra}]"'
         ) from e

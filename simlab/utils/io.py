@@ -1,17 +1,94 @@
-"""Reading and writing configs: yaml (human-readable) and pickle (exact python objects)."""
+"""Reading and writing configs: yaml (human-readable) and pickle (exact python objects).
+
+Every file is written atomically (:func:`atomic_path`): a crash or a full disk leaves the old file
+or none, never a torn one.
+"""
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import os
 import pickle
+from collections.abc import Iterator
 from typing import Any
 
 import yaml
 
 from simlab.utils.dict import MISSING_STR, _value_to_plain, class_to_dict
 
-__all__ = ["dump_pickle", "dump_yaml", "load_pickle", "load_yaml"]
+__all__ = ["atomic_path", "atomic_torch_saves", "dump_pickle", "dump_yaml", "load_pickle", "load_yaml", "write_text"]
+
+
+def _fsync_dir(folder: str) -> None:
+    try:
+        fd = os.open(folder, os.O_RDONLY)
+    except OSError:  # e.g. Windows: directories cannot be opened
+        return
+    try:
+        os.fsync(fd)
+    except OSError:
+        pass
+    finally:
+        os.close(fd)
+
+
+@contextlib.contextmanager
+def atomic_path(path: str | os.PathLike, suffix: str = "", durable: bool = True) -> Iterator[str]:
+    """Yield a temporary path next to ``path``; once the block has written it, it replaces ``path``.
+
+    The temporary name starts with a dot (checkpoint patterns do not match it) and ends with
+    ``suffix`` (for writers that insist on an extension, e.g. ``.zip``). ``durable`` flushes the
+    file and its folder to disk before and after the rename, so a power cut leaves the old file or
+    the new one. If the block fails, the temporary file is removed and ``path`` is untouched.
+    """
+    path = os.path.abspath(os.fspath(path))
+    folder, name = os.path.split(path)
+    os.makedirs(folder, exist_ok=True)
+    tmp = os.path.join(folder, f".{name}.{os.getpid()}.tmp{suffix}")
+    try:
+        yield tmp
+        if not os.path.isfile(tmp):
+            raise FileNotFoundError(f"atomic_path: nothing was written to '{tmp}' for '{path}'.")
+        if durable:
+            with open(tmp, "rb") as f:
+                os.fsync(f.fileno())
+        os.replace(tmp, path)
+        if durable:
+            _fsync_dir(folder)
+    finally:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+
+
+@contextlib.contextmanager
+def atomic_torch_saves() -> Iterator[None]:
+    """Within the block, every ``torch.save`` to a file path writes atomically (see :func:`atomic_path`).
+
+    The RL libraries write their checkpoints with ``torch.save(obj, path)``; training runs inside
+    this block, so a checkpoint on disk is always complete, even if the process dies mid-write.
+    """
+    import torch
+
+    plain_save = torch.save
+
+    def save(obj: Any, f: Any, *args: Any, **kwargs: Any) -> None:
+        if not isinstance(f, (str, os.PathLike)):
+            return plain_save(obj, f, *args, **kwargs)
+        with atomic_path(f) as tmp:
+            plain_save(obj, tmp, *args, **kwargs)
+
+    torch.save = save
+    try:
+        yield
+    finally:
+        torch.save = plain_save
+
+
+def write_text(filename: str | os.PathLike, text: str) -> None:
+    """Write ``text`` to ``filename`` atomically (parent folders are created)."""
+    with atomic_path(filename) as tmp, open(tmp, "w") as f:
+        f.write(text)
 
 
 def _to_yaml_ready(value: Any) -> Any:
@@ -47,7 +124,7 @@ def dump_yaml(filename: str | os.PathLike, data: Any, sort_keys: bool = False) -
     if not isinstance(data, dict):
         raise TypeError(f"dump_yaml expects a dict or a configclass instance, got {type(data).__name__}.")
     filename = _prepare_path(filename, ".yaml")
-    with open(filename, "w") as f:
+    with atomic_path(filename) as tmp, open(tmp, "w") as f:
         yaml.safe_dump(_to_yaml_ready(data), f, default_flow_style=False, sort_keys=sort_keys)
 
 
@@ -64,7 +141,7 @@ def load_yaml(filename: str | os.PathLike) -> dict:
 def dump_pickle(filename: str | os.PathLike, data: Any) -> None:
     """Pickle ``data`` to ``filename`` (``.pkl`` is appended if missing; parent dirs are created)."""
     filename = _prepare_path(filename, ".pkl")
-    with open(filename, "wb") as f:
+    with atomic_path(filename) as tmp, open(tmp, "wb") as f:
         pickle.dump(data, f)
 
 

@@ -14,9 +14,13 @@ import gymnasium as gym
 import torch
 import torch.nn as nn
 
+from simlab.cli.libraries.divergence import guard_optimizers
 from simlab.cli.libraries.progress import ProgressBar
 from simlab.cli.policy import Policy
+from simlab.cli.session import check_training_length
 from simlab.rl.utils import require
+from simlab.utils.errors import TrainingDivergedError
+from simlab.utils.io import atomic_torch_saves
 
 require("rl_games")
 from rl_games.torch_runner import Runner  # noqa: E402
@@ -38,6 +42,7 @@ def configure(agent_cfg: dict, args: argparse.Namespace, env_cfg: Any) -> None:
     config.setdefault("torch_compile", False)
     if getattr(args, "max_iterations", None) is not None:
         config["max_epochs"] = args.max_iterations
+    check_training_length(args, config["max_epochs"], "agent.params.config.max_epochs")
     num_envs = env_cfg.scene.num_envs
     config["num_actors"] = num_envs
     batch = config["horizon_length"] * num_envs
@@ -85,15 +90,25 @@ def train(env: gym.Env, agent_cfg: dict, run_dir: str, args: argparse.Namespace,
     if resume_path:
         agent.restore(resume_path)
         print(f"[simlab] Resumed from {resume_path} at epoch {agent.epoch_num}")
+    optimizers = [agent.optimizer]
+    if getattr(agent, "has_central_value", False):
+        optimizers.append(agent.central_value_net.optimizer)
+    guard_optimizers(optimizers, "agent.params.config.learning_rate")
     verbose = bool(getattr(args, "verbose", False))
     try:
-        with contextlib.nullcontext() if verbose else contextlib.redirect_stdout(io.StringIO()):
+        with atomic_torch_saves(), contextlib.nullcontext() if verbose else contextlib.redirect_stdout(io.StringIO()):
             agent.train()
     except KeyboardInterrupt:
         path = os.path.join(agent.nn_dir, f"last_{config['name']}_ep_{agent.epoch_num}_interrupted")
-        agent.save(path)
+        with atomic_torch_saves():
+            agent.save(path)
         print(f"\n[simlab] Interrupted: saved {path}.pth")
         raise
+    except TrainingDivergedError as e:
+        path = os.path.join(agent.nn_dir, f"last_{config['name']}_ep_{agent.epoch_num}_diverged")
+        with atomic_torch_saves():
+            agent.save(path)
+        raise TrainingDivergedError(f"{e} Saved the last good weights to {path}.pth.") from None
     finally:
         if "bar" in bar:
             bar["bar"].close()

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import contextlib
 import io
+import math
 import os
 import statistics
 from typing import Any
@@ -12,9 +13,13 @@ from typing import Any
 import gymnasium as gym
 import torch
 
+from simlab.cli.libraries.divergence import detached, non_finite
 from simlab.cli.libraries.progress import ProgressBar
 from simlab.cli.policy import ClampActions, Policy
+from simlab.cli.session import check_training_length
 from simlab.rl.utils import require
+from simlab.utils.errors import TrainingDivergedError
+from simlab.utils.io import atomic_torch_saves
 
 require("rsl_rl")
 from rsl_rl.runners import OnPolicyRunner  # noqa: E402
@@ -35,6 +40,7 @@ def configure(agent_cfg: RslRlOnPolicyRunnerCfg, args: argparse.Namespace, env_c
         agent_cfg.max_iterations = args.max_iterations
     if getattr(args, "run_name", None):
         agent_cfg.run_name = args.run_name
+    check_training_length(args, agent_cfg.max_iterations, "agent.max_iterations")
     env_cfg.seed = agent_cfg.seed
 
 
@@ -130,14 +136,54 @@ def train(
     if resume_path:
         runner.load(resume_path, map_location=agent_cfg.device)
         print(f"[simlab] Resumed from {resume_path} at iteration {runner.current_learning_iteration}")
+    guard_divergence(runner, run_dir)
     try:
-        runner.learn(num_learning_iterations=agent_cfg.max_iterations, init_at_random_ep_len=True)
+        with atomic_torch_saves():
+            # random initial episode lengths spread out the first resets of a fresh run; on resume they
+            # would cut the first episodes short and log an untrained-looking return
+            runner.learn(num_learning_iterations=agent_cfg.max_iterations, init_at_random_ep_len=not resume_path)
     except KeyboardInterrupt:
         path = os.path.join(run_dir, f"model_{runner.current_learning_iteration}.pt")
-        runner.save(path)
+        with atomic_torch_saves():
+            runner.save(path)
         logger.stop_logging_writer()
         print(f"\n[simlab] Interrupted: saved {path}")
         raise
+    except TrainingDivergedError:
+        logger.stop_logging_writer()
+        raise
+
+
+def guard_divergence(runner: OnPolicyRunner, run_dir: str) -> None:
+    """Stop training when an update makes the losses or weights non-finite; save the last good weights.
+
+    Before each update the learner's state is kept; if the update yields a NaN / infinite loss or
+    weights, that state is saved as ``model_<iteration>.pt`` and :class:`TrainingDivergedError`
+    says what happened, instead of rsl_rl failing later on a NaN action distribution.
+    """
+    update = runner.alg.update
+
+    def checked_update() -> dict[str, float]:
+        iteration = runner.current_learning_iteration
+        good = detached(runner.alg.save())
+        losses = update()
+        bad_losses = [f"the {k} loss is {v}" for k, v in losses.items() if not math.isfinite(v)]
+        state = runner.alg.save()
+        models = [k.removesuffix("_state_dict") for k in state if k.endswith("_state_dict") and "optimizer" not in k]
+        bad_weights = [m for m in models if non_finite(state[f"{m}_state_dict"].values())]
+        if not bad_losses and not bad_weights:
+            return losses
+        path = os.path.join(run_dir, f"model_{iteration}.pt")
+        with atomic_torch_saves():
+            torch.save({**good, "iter": iteration, "infos": None}, path)
+        what = ", ".join(bad_losses + [f"non-finite {w} weights" for w in bad_weights])
+        raise TrainingDivergedError(
+            f"Training diverged in iteration {iteration + 1}: {what}. Saved the last good weights to {path}. "
+            f"Lower the learning rate (agent.algorithm.learning_rate, now {runner.alg.learning_rate:g}) "
+            "or check the rewards and observations for huge values."
+        )
+
+    runner.alg.update = checked_update
 
 
 def load_policy(env: gym.Env, agent_cfg: RslRlOnPolicyRunnerCfg, checkpoint: str) -> Policy:

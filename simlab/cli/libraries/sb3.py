@@ -13,8 +13,12 @@ import numpy as np
 import torch
 import torch.nn as nn
 
+from simlab.cli.libraries.divergence import guard_optimizers
 from simlab.cli.policy import ClampActions, Policy
+from simlab.cli.session import check_training_length
 from simlab.rl.utils import require
+from simlab.utils.errors import TrainingDivergedError
+from simlab.utils.io import atomic_path
 
 require("stable_baselines3")
 from stable_baselines3 import PPO  # noqa: E402
@@ -39,6 +43,7 @@ def configure(agent_cfg: dict, args: argparse.Namespace, env_cfg: Any) -> None:
     agent_cfg["device"] = env_cfg.sim.device
     if getattr(args, "max_iterations", None) is not None:
         agent_cfg["n_timesteps"] = args.max_iterations * agent_cfg["n_steps"] * env_cfg.scene.num_envs
+    check_training_length(args, agent_cfg["n_timesteps"], "agent.n_timesteps")
     env_cfg.seed = agent_cfg["seed"]
 
 
@@ -95,6 +100,19 @@ def _vecnormalize_path(checkpoint: str) -> str:
     return os.path.join(folder, f"model_vecnormalize_{m.group(1)}_steps.pkl" if m else "model_vecnormalize.pkl")
 
 
+class _Checkpoints(CheckpointCallback):
+    """SB3's periodic checkpoints (same names), written through ``save`` (atomic model + statistics)."""
+
+    def __init__(self, save_freq: int, run_dir: str, save: Any):
+        super().__init__(save_freq, run_dir, name_prefix="model", save_vecnormalize=True, verbose=0)
+        self._save = save
+
+    def _on_step(self) -> bool:
+        if self.n_calls % self.save_freq == 0:
+            self._save(self._checkpoint_path(extension="zip"))
+        return True
+
+
 def train(env: gym.Env, agent_cfg: dict, run_dir: str, args: argparse.Namespace, resume_path: str | None) -> None:
     num_envs = env.unwrapped.num_envs
     kwargs, extra = _split_cfg(agent_cfg, num_envs)
@@ -109,18 +127,17 @@ def train(env: gym.Env, agent_cfg: dict, run_dir: str, args: argparse.Namespace,
     else:
         model = PPO(extra.get("policy", "MlpPolicy"), venv, verbose=0, seed=extra.get("seed"), **kwargs)
     model.set_logger(configure_logger(run_dir, ["tensorboard"]))
-    save_freq = max(1, kwargs.get("n_steps", 2048) * SAVE_EVERY_ROLLOUTS)
-    callbacks = CallbackList(
-        [
-            CheckpointCallback(save_freq, run_dir, name_prefix="model", save_vecnormalize=True, verbose=0),
-            _LogEnvExtras(),
-        ]
-    )
 
     def save(path: str) -> None:
-        model.save(path)
+        with atomic_path(path, suffix=".zip") as tmp:
+            model.save(tmp)
         if isinstance(venv, VecNormalize):
-            venv.save(_vecnormalize_path(path))
+            with atomic_path(_vecnormalize_path(path)) as tmp:
+                venv.save(tmp)
+
+    guard_optimizers([model.policy.optimizer], "agent.learning_rate")
+    save_freq = max(1, kwargs.get("n_steps", 2048) * SAVE_EVERY_ROLLOUTS)
+    callbacks = CallbackList([_Checkpoints(save_freq, run_dir, save), _LogEnvExtras()])
 
     try:
         model.learn(
@@ -134,6 +151,10 @@ def train(env: gym.Env, agent_cfg: dict, run_dir: str, args: argparse.Namespace,
         save(path)
         print(f"\n[simlab] Interrupted: saved {path}")
         raise
+    except TrainingDivergedError as e:
+        path = os.path.join(run_dir, f"model_{model.num_timesteps}_steps.zip")
+        save(path)
+        raise TrainingDivergedError(f"{e} Saved the last good weights to {path}.") from None
     save(os.path.join(run_dir, f"model_{model.num_timesteps}_steps.zip"))
     save(os.path.join(run_dir, "model.zip"))
 

@@ -4,16 +4,22 @@ from __future__ import annotations
 
 import argparse
 import copy
+import math
 import os
+import re
 from typing import Any
 
 import gymnasium as gym
 import torch
 import torch.nn as nn
 
+from simlab.cli.libraries.divergence import detached, non_finite
 from simlab.cli.policy import Policy
+from simlab.cli.session import check_training_length
 from simlab.rl.skrl import SkrlVecEnvWrapper
 from simlab.rl.utils import require
+from simlab.utils.errors import TrainingDivergedError
+from simlab.utils.io import atomic_torch_saves
 
 require("skrl")
 from skrl.utils.runner.torch import Runner  # noqa: E402
@@ -29,6 +35,7 @@ def configure(agent_cfg: dict, args: argparse.Namespace, env_cfg: Any) -> None:
     if getattr(args, "max_iterations", None) is not None:
         agent_cfg["trainer"]["timesteps"] = args.max_iterations * agent_cfg["agent"]["rollouts"]
     agent_cfg["trainer"]["close_environment_at_exit"] = False
+    check_training_length(args, agent_cfg["trainer"]["timesteps"], "agent.trainer.timesteps")
     # skrl's "auto" intervals are timesteps/100 and /10, which is 0 (never) in short runs: keep them >= 1
     timesteps, rollouts = agent_cfg["trainer"]["timesteps"], agent_cfg["agent"]["rollouts"]
     exp = agent_cfg["agent"]["experiment"]
@@ -52,25 +59,97 @@ def make_runner(env: gym.Env, agent_cfg: dict, run_dir: str | None) -> Runner:
     return Runner(wrapped, cfg)
 
 
+def _continue_counting(agent: Any, start: int) -> None:
+    """Make the agent see timesteps ``start + t``: skrl's trainer always counts from 0, so without this
+    a resumed run would log from step 0 again and name its checkpoints as if it had just begun."""
+    for name in ("pre_interaction", "act", "record_transition", "post_interaction"):
+        method = getattr(agent, name)
+
+        def shifted(*args: Any, timestep: int, timesteps: int, _method: Any = method, **kwargs: Any) -> Any:
+            return _method(*args, timestep=timestep + start, timesteps=timesteps + start, **kwargs)
+
+        setattr(agent, name, shifted)
+
+
+def _timestep_of(checkpoint: str) -> int:
+    """The timestep in an ``agent_<timestep>.pt`` checkpoint name (0 for other names)."""
+    match = re.match(r"agent_(\d+)\.pt$", os.path.basename(checkpoint))
+    return int(match.group(1)) if match else 0
+
+
+def _stateful_modules(modules: dict, prefix: str = "") -> dict[str, Any]:
+    """skrl's checkpoint modules (nested per agent for IPPO / MAPPO) that have a state dict, by dotted name."""
+    found = {}
+    for name, module in modules.items():
+        if isinstance(module, dict):
+            found.update(_stateful_modules(module, f"{prefix}{name}."))
+        elif hasattr(module, "state_dict"):
+            found[f"{prefix}{name}"] = module
+    return found
+
+
+def _guard_updates(agent: Any) -> None:
+    """Stop at the first update whose losses or weights are not finite, with the weights from before it.
+
+    A too-high learning rate shows in skrl as an infinite value loss (its gradient clipping keeps
+    the weights finite, but useless); the agent then keeps "training" on garbage.
+    """
+    modules = _stateful_modules(agent.checkpoint_modules)
+    update = agent.update
+
+    def checked_update(*, timestep: int, timesteps: int, **kwargs: Any) -> None:  # IPPO / MAPPO add uid=
+        good = {name: detached(m.state_dict()) for name, m in modules.items()}
+        update(timestep=timestep, timesteps=timesteps, **kwargs)
+        bad = [
+            f"'{tag}' is {values[-1]}"
+            for tag, values in agent.tracking_data.items()
+            if tag.startswith("Loss") and values and not math.isfinite(values[-1])
+        ]
+        weights = [p for m in modules.values() if isinstance(m, nn.Module) for p in m.parameters()]
+        if not bad and not non_finite(weights):
+            return
+        for name, module in modules.items():
+            module.load_state_dict(good[name])
+        what = ", ".join(bad) or "the weights are not finite"
+        raise TrainingDivergedError(
+            f"Training diverged at timestep {timestep + 1}: {what}. "
+            "Lower the learning rate (agent.agent.learning_rate) or check the rewards and observations for huge values."
+        )
+
+    agent.update = checked_update
+
+
 def train(env: gym.Env, agent_cfg: dict, run_dir: str, args: argparse.Namespace, resume_path: str | None) -> None:
     runner = make_runner(env, agent_cfg, run_dir)
+    start = 0
     if resume_path:
         runner.agent.load(resume_path)
-        print(f"[simlab] Resumed weights, optimizer and normalizers from {resume_path}")
+        start = _timestep_of(resume_path)
+        _continue_counting(runner.agent, start)
+        print(f"[simlab] Resumed weights, optimizer and normalizers from {resume_path} at timestep {start}")
+    agent = runner.agent
+    _guard_updates(agent)
     checkpoints = os.path.join(run_dir, "checkpoints")
     steps = env.unwrapped.common_step_counter
+
+    def save_now() -> str:
+        path = os.path.join(checkpoints, f"agent_{start + env.unwrapped.common_step_counter - steps}.pt")
+        with atomic_torch_saves():
+            agent.save(path)
+        return path
+
     try:
-        runner.run("train")
+        with atomic_torch_saves():
+            runner.run("train")
     except KeyboardInterrupt:
-        os.makedirs(checkpoints, exist_ok=True)
-        path = os.path.join(checkpoints, f"agent_{env.unwrapped.common_step_counter - steps}.pt")
-        runner.agent.save(path)
-        print(f"\n[simlab] Interrupted: saved {path}")
+        print(f"\n[simlab] Interrupted: saved {save_now()}")
         raise
-    final = os.path.join(checkpoints, f"agent_{agent_cfg['trainer']['timesteps']}.pt")
+    except TrainingDivergedError as e:
+        raise TrainingDivergedError(f"{e} Saved the last good weights to {save_now()}.") from None
+    final = os.path.join(checkpoints, f"agent_{start + agent_cfg['trainer']['timesteps']}.pt")
     if not os.path.isfile(final):
-        os.makedirs(checkpoints, exist_ok=True)
-        runner.agent.save(final)
+        with atomic_torch_saves():
+            runner.agent.save(final)
 
 
 class _SkrlActor(nn.Module):

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import re
 import sys
 from collections.abc import Callable, Sequence
 from typing import Any
@@ -23,14 +24,17 @@ from typing import Any
 import yaml
 
 from simlab.utils.dict import update_class_from_dict
+from simlab.utils.errors import ConfigError
 from simlab.utils.string import closest_matches
 
 __all__ = ["OverrideError", "apply_overrides", "hydra_task_config", "parse_override"]
 
 _ROOTS = ("env", "agent")
+# a number in exponent form without a dot ("1e9", "-2E-3"): YAML 1.1 reads it as a string
+_EXPONENT_NUMBER = re.compile(r"^[+-]?(\d+\.?\d*|\.\d+)[eE][+-]?\d+$")
 
 
-class OverrideError(ValueError):
+class OverrideError(ConfigError):
     """A command-line override that names a wrong key or gives a wrong value."""
 
 
@@ -55,6 +59,8 @@ def parse_override(text: str) -> tuple[list[str], Any, bool]:
         value = yaml.safe_load(raw) if raw.strip() else ""
     except yaml.YAMLError:
         value = raw  # not YAML: keep the text
+    if isinstance(value, str) and _EXPONENT_NUMBER.match(value.strip()):
+        value = float(value)
     return path, value, add
 
 
@@ -81,7 +87,19 @@ def _unknown_key(text: str, dotted: str, key: str, obj: Any) -> OverrideError:
     return OverrideError(f"'{text}': '{dotted}' has no key '{key}'.{hint} Valid keys: {valid}.")
 
 
-def _check_type(text: str, current: Any, value: Any) -> Any:
+def _declared_type(obj: Any, key: str) -> str | None:
+    """The annotation of config field ``key`` as written (``"int"``, ``"float | None"``), None for dicts."""
+    if not dataclasses.is_dataclass(obj):
+        return None
+    for f in dataclasses.fields(obj):
+        if f.name == key:
+            return f.type if isinstance(f.type, str) else getattr(f.type, "__name__", str(f.type))
+    return None
+
+
+def _check_type(text: str, current: Any, value: Any, declared: str | None = None) -> Any:
+    if declared == "int" and isinstance(value, float) and not value.is_integer():
+        raise OverrideError(f"'{text}': this field is an integer (int), got {value!r}.")
     if value is None or current is None or dataclasses.is_dataclass(current):
         return value
     if isinstance(current, bool):
@@ -118,7 +136,7 @@ def _apply_one(text: str, roots: dict[str, Any]) -> None:
         return
     if not _has(obj, leaf):
         raise _unknown_key(text, parent, leaf, obj)
-    value = _check_type(text, getattr(obj, leaf), value)
+    value = _check_type(text, getattr(obj, leaf), value, _declared_type(obj, leaf))
     try:
         # the configclass update resolves "module:function" strings, lists -> tuples, dicts -> configs
         update_class_from_dict(obj, {leaf: value}, _ns=parent)

@@ -11,6 +11,7 @@ from typing import Any
 import gymnasium as gym
 import yaml
 
+from simlab.utils.errors import ConfigError
 from simlab.utils.string import closest_matches
 
 __all__ = ["get_checkpoint_path", "load_cfg_from_registry", "parse_env_cfg", "registered_task_ids"]
@@ -31,13 +32,13 @@ def task_spec(task_name: str) -> gym.envs.registration.EnvSpec:
     import simlab.tasks  # noqa: F401
 
     if not isinstance(task_name, str) or not task_name:
-        raise ValueError(f"A task id is required, e.g. 'simlab/Cartpole-v0'; got {task_name!r}.")
+        raise ConfigError(f"A task id is required, e.g. 'simlab/Cartpole-v0'; got {task_name!r}.")
     name = task_name.split(":")[-1]
     if name not in gym.registry:
         ids = registered_task_ids()
         close = closest_matches(name, ids, n=3, cutoff=0.3)
         hint = f" Closest: {close}." if close else ""
-        raise ValueError(f"Unknown task '{task_name}'.{hint} Registered tasks: {ids} (see `simlab list`).")
+        raise ConfigError(f"Unknown task '{task_name}'.{hint} Registered tasks: {ids} (see `simlab list`).")
     return gym.spec(name)
 
 
@@ -77,7 +78,7 @@ def load_cfg_from_registry(task_name: str, entry_point_key: str) -> Any:
         keys = sorted(k for k in spec.kwargs if k.endswith("entry_point"))
         close = closest_matches(entry_point_key, keys, n=1)
         hint = f" Did you mean '{close[0]}'?" if close else ""
-        raise ValueError(f"Task '{task_name}' has no '{entry_point_key}'.{hint} It registers: {keys}.")
+        raise ConfigError(f"Task '{task_name}' has no '{entry_point_key}'.{hint} It registers: {keys}.")
     return _load_entry_point(entry_point, f"{task_name} {entry_point_key}")
 
 

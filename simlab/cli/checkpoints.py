@@ -1,0 +1,192 @@
+"""Checkpoints of runs: find the newest readable one, and check that it fits the task and library.
+
+A checkpoint is *readable* when its library's loader can open it (``torch.load`` for ``.pt`` /
+``.pth``, a complete zip archive for Stable-Baselines3). A torn or corrupt newest file is skipped
+with a warning that names the file used instead. A checkpoint *fits* when it was written by the
+same library for the same task with the same observation and action sizes (``params/run.yaml``
+of its run); ``--force`` uses it anyway.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import sys
+import zipfile
+from collections.abc import Iterator
+from typing import Any
+
+import gymnasium as gym
+
+from simlab.cli.runs import CHECKPOINT_LAYOUT, find_run_info
+from simlab.rl.utils import is_multi_agent
+from simlab.utils.errors import CheckpointError, CheckpointNotFoundError
+
+__all__ = [
+    "check_checkpoint_sizes",
+    "check_checkpoint_source",
+    "checkpoint_library",
+    "env_sizes",
+    "find_last_checkpoint",
+    "read_checkpoint",
+    "resolve_checkpoint",
+]
+
+
+def _natural_key(name: str) -> list:
+    return [int(t) if t.isdigit() else t for t in re.split(r"(\d+)", name)]
+
+
+def read_checkpoint(path: str) -> Any:
+    """Open ``path`` as its library would; a :class:`CheckpointError` says why it cannot be read.
+
+    Returns the loaded object (a dict for torch checkpoints, the zip's member names for SB3).
+    """
+    if not os.path.isfile(path):
+        raise CheckpointNotFoundError(f"Checkpoint '{path}' does not exist.")
+    if os.path.getsize(path) == 0:
+        raise CheckpointError(f"Checkpoint '{path}' is empty (0 bytes): its write was cut off.")
+    if path.endswith(".zip"):
+        try:
+            with zipfile.ZipFile(path) as z:
+                bad = z.testzip()
+                names = z.namelist()
+        except (zipfile.BadZipFile, OSError, EOFError) as e:
+            raise CheckpointError(f"Checkpoint '{path}' is not a complete zip archive ({e}).") from e
+        if bad is not None or "policy.pth" not in names:
+            raise CheckpointError(f"Checkpoint '{path}' is damaged or not a Stable-Baselines3 model.")
+        return names
+    import torch
+
+    try:
+        return torch.load(path, map_location="cpu", weights_only=False)
+    except Exception as e:  # noqa: BLE001 - whatever torch/pickle raise, the file cannot be used
+        raise CheckpointError(
+            f"Checkpoint '{path}' cannot be read ({type(e).__name__}: {str(e).strip().splitlines()[0]}): "
+            "it is truncated, corrupt or not a torch checkpoint."
+        ) from e
+
+
+def checkpoint_library(loaded: Any) -> str | None:
+    """The library that wrote a checkpoint (from :func:`read_checkpoint`'s result), None if unsure."""
+    if isinstance(loaded, list):
+        return "sb3"
+    if not isinstance(loaded, dict):
+        return None
+    if "iter" in loaded and any(k.endswith("_state_dict") for k in loaded):
+        return "rsl_rl"
+    if "model" in loaded and "epoch" in loaded:
+        return "rl_games"
+    if "policy" in loaded or all(isinstance(v, dict) and "policy" in v for v in loaded.values()):
+        return "skrl"  # PPO: {"policy": ..., "value": ...}; IPPO / MAPPO: {agent: {"policy": ...}}
+    return None
+
+
+def _candidates(run_dirs: list[str], library: str) -> Iterator[str]:
+    """Checkpoint files of ``run_dirs`` (given newest first), newest first within each run."""
+    sub, pattern = CHECKPOINT_LAYOUT[library]
+    for run in run_dirs:
+        folder = os.path.join(run, *sub)
+        if not os.path.isdir(folder):
+            continue
+        names = [f for f in os.listdir(folder) if re.match(pattern, f) and os.path.isfile(os.path.join(folder, f))]
+        for name in sorted(names, key=_natural_key, reverse=True):
+            yield os.path.join(folder, name)
+
+
+def _first_readable(candidates: Iterator[str], where: str) -> str:
+    skipped: list[str] = []
+    for path in candidates:
+        try:
+            read_checkpoint(path)
+        except CheckpointError as e:
+            skipped.append(str(e))
+            continue
+        for reason in skipped:
+            print(f"[simlab] WARNING: skipped an unreadable checkpoint: {reason}", file=sys.stderr)
+        if skipped:
+            print(f"[simlab] WARNING: using '{path}' instead.", file=sys.stderr)
+        return os.path.abspath(path)
+    if skipped:
+        raise CheckpointError(f"No readable checkpoint in {where}: " + " ".join(skipped))
+    raise CheckpointNotFoundError(f"No checkpoint in {where}.")
+
+
+def find_last_checkpoint(log_root: str, library: str, experiment: str) -> str:
+    """The newest readable checkpoint of the newest run of ``experiment`` that has one."""
+    log_path = os.path.abspath(os.path.join(log_root, library, experiment))
+    hint = f"Train first (simlab train --task ... --library {library}) or pass --checkpoint PATH."
+    if not os.path.isdir(log_path):
+        raise CheckpointNotFoundError(
+            f"No checkpoint of '{experiment}' trained with {library}: the folder '{log_path}' does not exist. {hint}"
+        )
+    runs = sorted((e.path for e in os.scandir(log_path) if e.is_dir()), key=_natural_key, reverse=True)
+    try:
+        return _first_readable(_candidates(runs, library), f"the runs of '{log_path}'")
+    except CheckpointNotFoundError as e:
+        raise CheckpointNotFoundError(f"No checkpoint of '{experiment}' trained with {library}: {e} {hint}") from e
+
+
+def resolve_checkpoint(path: str, library: str) -> str:
+    """``path`` if it is a readable checkpoint file; for a run folder, its newest readable checkpoint."""
+    if os.path.isfile(path):
+        read_checkpoint(path)
+        return os.path.abspath(path)
+    if os.path.isdir(path):
+        return _first_readable(_candidates([os.path.abspath(path)], library), f"the run folder '{path}'")
+    raise CheckpointNotFoundError(f"Checkpoint '{path}' does not exist (looked at '{os.path.abspath(path)}').")
+
+
+def env_sizes(env: gym.Env) -> dict[str, Any]:
+    """The observation and action sizes a policy of ``env`` sees: ``{"observations": {...}, "actions": ...}``."""
+    base = env.unwrapped
+    if is_multi_agent(base):
+        agents = list(base.possible_agents)
+        return {
+            "observations": {a: int(gym.spaces.flatdim(base.observation_spaces[a])) for a in agents},
+            "actions": {a: int(gym.spaces.flatdim(base.action_spaces[a])) for a in agents},
+        }
+    groups = base.single_observation_space
+    return {
+        "observations": {k: int(gym.spaces.flatdim(v)) for k, v in groups.spaces.items()},
+        "actions": int(gym.spaces.flatdim(base.single_action_space)),
+    }
+
+
+def check_checkpoint_source(checkpoint: str, library: str, task: str, force: bool = False) -> None:
+    """Refuse (``CheckpointError``) a checkpoint written by another library or trained on another task.
+
+    The library is read from the file's contents, the task from its run's ``params/run.yaml``.
+    ``force`` turns the refusal into a warning.
+    """
+    problems: list[str] = []
+    written_by = checkpoint_library(read_checkpoint(checkpoint))
+    if written_by is not None and written_by != library:
+        problems.append(f"it was written by {written_by}, not {library} (use --library {written_by})")
+    info = find_run_info(checkpoint) or {}
+    if written_by is None and info.get("library") not in (None, library):
+        problems.append(f"its run was trained with {info['library']}, not {library}")
+    if info.get("task") not in (None, task):
+        problems.append(f"its run trained the task '{info['task']}', not '{task}' (use --task {info['task']})")
+    _refuse(checkpoint, problems, force)
+
+
+def check_checkpoint_sizes(checkpoint: str, sizes: dict[str, Any], force: bool = False) -> None:
+    """Refuse a checkpoint whose run had other observation or action sizes than :func:`env_sizes` ``sizes``."""
+    info = find_run_info(checkpoint) or {}
+    problems = [
+        f"its {what} sizes are {info[what]}; this env's are {sizes[what]}"
+        for what in ("observations", "actions")
+        if what in info and info[what] != sizes[what]
+    ]
+    _refuse(checkpoint, problems, force)
+
+
+def _refuse(checkpoint: str, problems: list[str], force: bool) -> None:
+    if not problems:
+        return
+    text = f"Checkpoint '{checkpoint}' does not fit: " + "; ".join(problems) + "."
+    if force:
+        print(f"[simlab] WARNING (--force): {text}", file=sys.stderr)
+        return
+    raise CheckpointError(f"{text} Nothing was loaded or written. Pass --force to use it anyway.")
