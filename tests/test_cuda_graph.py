@@ -17,7 +17,7 @@ from simlab.envs import ManagerBasedRLEnv
 from simlab.envs.utils.cuda_graph import PackedOutputs
 from simlab.tasks.direct.cartpole.cartpole_env import CartpoleEnv, CartpoleEnvCfg
 from simlab.tasks.utils import parse_env_cfg
-from simlab.utils.env_mask import env_mask
+from simlab.utils.env_mask import env_mask, takes_env_mask
 
 gpu = pytest.mark.skipif(not cuda_available(), reason="needs an NVIDIA GPU and mujoco-warp")
 
@@ -128,6 +128,59 @@ def test_index_style_task_steps_like_the_mask_task():
         env.close()
 
 
+def cartpole_with_interval_kicks(device: str, num_envs: int, use_cuda_graph: bool = True) -> ManagerBasedRLEnv:
+    """The manager-based cartpole plus an interval event: each env's cart gets a random velocity
+    every 0.1-0.4 s, on its own timer."""
+    from simlab.envs import mdp
+    from simlab.managers import EventTermCfg, SceneEntityCfg
+    from simlab.tasks.manager_based.classic.cartpole.cartpole_env_cfg import CartpoleEnvCfg as ManagerCartpoleCfg
+
+    cfg = ManagerCartpoleCfg()
+    cfg.scene.num_envs = num_envs
+    cfg.sim.device = device
+    cfg.sim.use_cuda_graph = use_cuda_graph
+    cfg.seed = 11
+    cfg.events.kick_cart = EventTermCfg(
+        func=mdp.reset_joints_by_offset,
+        mode="interval",
+        interval_range_s=(0.1, 0.4),
+        params={
+            "asset_cfg": SceneEntityCfg("robot", joint_names=["slider_to_cart"]),
+            "position_range": (0.0, 0.0),
+            "velocity_range": (-2.0, 2.0),
+        },
+    )
+    return ManagerBasedRLEnv(cfg)
+
+
+@takes_env_mask
+def count_calls(env, env_ids):
+    env.calls_per_env += env_ids  # a (num_envs,) bool mask of the envs whose timer ran out
+
+
+def test_interval_events_keep_per_env_device_timers():
+    """Interval events fire per env on device timers, by mask: nothing keeps the step from a graph."""
+    from simlab.managers import EventTermCfg
+
+    env = cartpole_with_interval_kicks("cpu", 8)
+    env.event_manager.get_term_cfg("kick_cart").func = count_calls
+    env.event_manager.get_term_cfg("kick_cart").params = {}
+    assert isinstance(env.event_manager.get_term_cfg("kick_cart"), EventTermCfg)
+    assert env.graph_blockers() == []
+    env.calls_per_env = torch.zeros(8, dtype=torch.long)
+    timers = env.event_manager._interval_time_left["kick_cart"]
+    assert timers.shape == (8,) and len(set(timers.tolist())) == 8  # each env on its own timer
+    expected = torch.zeros(8, dtype=torch.long)
+    for _ in range(40):
+        due = timers - env.step_dt < 1e-6
+        env.step(torch.zeros(8, 1))
+        expected += due
+        assert torch.equal(env.calls_per_env, expected)
+        assert ((timers > 0) & (timers <= 0.4)).all()  # a fired timer restarts within the range
+    assert expected.min() >= 2  # every env fired several times, each on its own schedule
+    env.close()
+
+
 # -- the stepper (CPU) ---------------------------------------------------------------------------
 
 
@@ -209,7 +262,10 @@ def test_eager_step_refuses_nonfinite_actions_naming_the_envs():
 
 def _rollout(task: str, use_cuda_graph: bool, steps: int = 300):
     """``steps`` steps of ``task`` (256 envs) with seeded random actions: the outputs and final state."""
-    env = make_task(task, "cuda:0", 256, use_cuda_graph=use_cuda_graph)
+    if task == "interval-kicks":
+        env = cartpole_with_interval_kicks("cuda:0", 256, use_cuda_graph)
+    else:
+        env = make_task(task, "cuda:0", 256, use_cuda_graph=use_cuda_graph)
     env.reset(seed=4)  # seeds torch: both runs draw the same random initial states
     generator = torch.Generator(device="cuda:0").manual_seed(0)
     multi_agent = hasattr(env, "possible_agents")
@@ -231,7 +287,7 @@ def _rollout(task: str, use_cuda_graph: bool, steps: int = 300):
 
 @pytest.mark.gpu
 @gpu
-@pytest.mark.parametrize("task", sorted(t for t in gym.registry if t.startswith("simlab/")))
+@pytest.mark.parametrize("task", [*sorted(t for t in gym.registry if t.startswith("simlab/")), "interval-kicks"])
 def test_graphed_and_eager_steps_agree_for_every_task(task):
     """The same body graphed and eager, from the same seed, for 300 steps with resets.
 
