@@ -171,7 +171,7 @@ def test_interval_events_keep_per_env_device_timers():
     timers = env.event_manager._interval_time_left["kick_cart"]
     assert timers.shape == (8,) and len(set(timers.tolist())) == 8  # each env on its own timer
     expected = torch.zeros(8, dtype=torch.long)
-    for _ in range(40):
+    for _ in range(80):
         due = timers - env.step_dt < 1e-6
         env.step(torch.zeros(8, 1))
         expected += due
