@@ -96,7 +96,9 @@ def class_to_dict(obj: Any) -> dict[str, Any]:
 def _valid_keys(obj: Any) -> list[str]:
     if _is_config_instance(obj):
         return [f.name for f in dataclasses.fields(obj)]
-    return [k for k in vars(obj) if not k.startswith("__")]
+    # a plain object: its own attributes and its class's (Isaac Lab accepts any existing attribute)
+    keys = [k for k in vars(obj) if not k.startswith("__")]
+    return keys + [k for k in vars(type(obj)) if not k.startswith("__") and k not in keys]
 
 
 def _merge_value(current: Any, value: Any, path: str, field_default: Any = dataclasses.MISSING) -> Any:

@@ -131,7 +131,8 @@ class CircularBuffer:
             raise ValueError(f"CircularBuffer key must have one entry per row ({self._batch_size}), got {len(key)}.")
         if self._buffer is None:
             raise RuntimeError("The CircularBuffer is empty: append data before indexing it.")
-        steps_back = torch.clamp(torch.minimum(key.to(self._device), self._num_pushes - 1), min=0)
+        # at most the oldest entry held (a row never written reads its zeroed slot)
+        steps_back = torch.clamp(torch.minimum(key.to(self._device), self.current_length - 1), min=0)
         return self._buffer[(self._max_len - 1 - steps_back).long(), self._rows]
 
     def _allocate(self, data: torch.Tensor) -> None:
