@@ -9,7 +9,7 @@ from typing import Any, ClassVar
 __all__ = ["Timer", "TimerError"]
 
 
-class TimerError(Exception):
+class TimerError(RuntimeError):
     """A timer was used out of order (stopped before started, started twice, unknown name)."""
 
 

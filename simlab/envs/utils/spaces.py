@@ -110,7 +110,15 @@ def serialize_space(space: SpaceType) -> str:
             }
         )
     if isinstance(space, gym.spaces.MultiDiscrete):
-        return json.dumps({"type": "gymnasium", "space": "MultiDiscrete", "nvec": space.nvec.tolist()})
+        return json.dumps(
+            {
+                "type": "gymnasium",
+                "space": "MultiDiscrete",
+                "nvec": space.nvec.tolist(),
+                "start": space.start.tolist(),
+                "dtype": str(space.dtype),
+            }
+        )
     if isinstance(space, gym.spaces.Tuple):
         return json.dumps({"type": "gymnasium", "space": "Tuple", "spaces": [serialize_space(s) for s in space.spaces]})
     if isinstance(space, gym.spaces.Dict):
@@ -152,7 +160,9 @@ def deserialize_space(string: str) -> SpaceType:
             low, high = np.array(obj["low"], dtype=dtype), np.array(obj["high"], dtype=dtype)
             return gym.spaces.Box(low=low, high=high, shape=obj["shape"], dtype=dtype)
         if name == "MultiDiscrete":
-            return gym.spaces.MultiDiscrete(nvec=np.array(obj["nvec"]))
+            dtype = np.dtype(obj.get("dtype", "int64"))
+            start = np.array(obj.get("start", np.zeros(len(obj["nvec"]))), dtype=dtype)
+            return gym.spaces.MultiDiscrete(nvec=np.array(obj["nvec"], dtype=dtype), start=start, dtype=dtype)
         if name == "Tuple":
             return gym.spaces.Tuple(tuple(deserialize_space(s) for s in obj["spaces"]))
         if name == "Dict":
@@ -196,5 +206,7 @@ def replace_strings_with_env_cfg_spaces(env_cfg: object) -> object:
             setattr(env_cfg, attr, deserialize_space(getattr(env_cfg, attr)))
     for attr in _SPACE_DICT_FIELDS:
         if isinstance(getattr(env_cfg, attr, None), dict):
-            setattr(env_cfg, attr, {k: deserialize_space(v) for k, v in getattr(env_cfg, attr).items()})
+            # entries that were never serialized (not strings) are kept as they are
+            spaces = getattr(env_cfg, attr).items()
+            setattr(env_cfg, attr, {k: deserialize_space(v) if isinstance(v, str) else v for k, v in spaces})
     return env_cfg
