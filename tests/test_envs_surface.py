@@ -174,6 +174,8 @@ def test_marker_errors():
     )
     assert arrow.num_prototypes == 1
     markers = VisualizationMarkers(VisualizationMarkersCfg(prim_path="/V", markers={"s": SphereCfg(radius=0.1)}))
+    markers.visualize([[0.0, 0.0, 1.0], [1.0, 0.0, 1.0]], marker_indices=[0, 0])  # plain lists work too
+    assert markers.count == 2
     with pytest.raises(ValueError, match="shape \\(M, 3\\)"):
         markers.visualize(torch.zeros(4, 2))
     with pytest.raises(ValueError, match="marker_indices must be in \\[0, 0\\]"):

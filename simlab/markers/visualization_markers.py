@@ -140,41 +140,54 @@ class VisualizationMarkers:
     ) -> None:
         """Place the markers: positions (M, 3), quaternions (M, 4) ``(w, x, y, z)``, scales (M, 3) and
         the prototype index (M,) of each. What is not given keeps its last value (identity rotation,
-        unit scale and prototype 0 at first). Nothing is drawn while the markers are hidden.
+        unit scale and prototype 0 at first). Nothing is updated while the markers are hidden.
+
+        Device tensors are kept on their device (a copy, no host sync); they are read back only when
+        an image is rendered.
         """
         if not self._visible:
             return
         if translations is not None:
             self._translations = self._as_rows(translations, 3, "translations")
-        count = self.count
         for name, value, width in (("orientations", orientations, 4), ("scales", scales, 3)):
             if value is not None:
                 setattr(self, f"_{name}", self._as_rows(value, width, name))
         if marker_indices is not None:
-            indices = np.asarray(
-                marker_indices.detach().cpu() if isinstance(marker_indices, torch.Tensor) else marker_indices
-            ).reshape(-1)
-            if len(indices) and (indices.min() < 0 or indices.max() >= self.num_prototypes):
-                raise ValueError(
-                    f"marker_indices must be in [0, {self.num_prototypes - 1}] (prototypes {self._names}),"
-                    f" got values from {indices.min()} to {indices.max()}."
-                )
-            self._indices = indices.astype(np.int64)
+            indices = marker_indices
+            if isinstance(indices, torch.Tensor):
+                indices = indices.detach().reshape(-1).clone()
+            else:
+                indices = np.asarray(indices, dtype=np.int64).reshape(-1)
+                self._check_indices(indices)  # host data: check now (device data is checked when drawn)
+            self._indices = indices
         for name in ("_orientations", "_scales", "_indices"):
             value = getattr(self, name)
-            if value is not None and len(value) != count:
+            if value is not None and len(value) != self.count:
                 raise ValueError(
                     f"VisualizationMarkers('{self.prim_path}'): {name[1:]} has {len(value)} rows but there are"
-                    f" {count} markers; give all arrays for the same markers."
+                    f" {self.count} markers; give all arrays for the same markers."
                 )
 
+    def _check_indices(self, indices: np.ndarray) -> None:
+        if len(indices) and (indices.min() < 0 or indices.max() >= self.num_prototypes):
+            raise ValueError(
+                f"marker_indices must be in [0, {self.num_prototypes - 1}] (prototypes {self._names}),"
+                f" got values from {indices.min()} to {indices.max()}."
+            )
+
     @staticmethod
-    def _as_rows(value: torch.Tensor | np.ndarray, width: int, name: str) -> np.ndarray:
-        array = value.detach().to("cpu", torch.float64).numpy() if isinstance(value, torch.Tensor) else value
-        array = np.asarray(array, dtype=np.float64)
-        if array.ndim != 2 or array.shape[1] != width:
-            raise ValueError(f"{name} must have shape (M, {width}), got {tuple(array.shape)}.")
-        return array
+    def _as_rows(value: torch.Tensor | np.ndarray, width: int, name: str) -> torch.Tensor | np.ndarray:
+        if not isinstance(value, torch.Tensor):
+            value = np.array(value, dtype=np.float64)
+        if value.ndim != 2 or value.shape[1] != width:
+            raise ValueError(f"{name} must have shape (M, {width}), got {tuple(value.shape)}.")
+        return value.detach().clone() if isinstance(value, torch.Tensor) else value
+
+    @staticmethod
+    def _host(value: torch.Tensor | np.ndarray | None) -> np.ndarray | None:
+        if isinstance(value, torch.Tensor):
+            return value.to("cpu", torch.float64 if value.is_floating_point() else torch.int64).numpy()
+        return value
 
     # -- drawing (called by the renderer) ----------------------------------------------------------
 
@@ -182,7 +195,10 @@ class VisualizationMarkers:
         """Add this set's markers that belong to env ``env_index`` to ``scene``, in that env's frame."""
         if not self._visible or self.count == 0:
             return
-        positions = self._translations
+        positions = self._host(self._translations)
+        orientations, scales, indices = (self._host(v) for v in (self._orientations, self._scales, self._indices))
+        if indices is not None:
+            self._check_indices(indices)
         if env_origins is not None and len(env_origins) > 1:
             # each marker belongs to the env whose origin is nearest
             owner = np.argmin(((positions[:, None, :] - env_origins[None]) ** 2).sum(-1), axis=1)
@@ -191,11 +207,11 @@ class VisualizationMarkers:
             keep = np.arange(self.count)
         origin = env_origins[env_index] if env_origins is not None and len(env_origins) else np.zeros(3)
         for i in keep:
-            quat = self._orientations[i] if self._orientations is not None else np.array([1.0, 0.0, 0.0, 0.0])
+            quat = orientations[i] if orientations is not None else np.array([1.0, 0.0, 0.0, 0.0])
             rot = np.zeros(9)
             mujoco.mju_quat2Mat(rot, quat / max(np.linalg.norm(quat), 1e-12))
-            scale = self._scales[i] if self._scales is not None else np.ones(3)
-            kind, cfg = self._prototypes[int(self._indices[i]) if self._indices is not None else 0]
+            scale = scales[i] if scales is not None else np.ones(3)
+            kind, cfg = self._prototypes[int(indices[i]) if indices is not None else 0]
             _draw(scene, kind, cfg, positions[i] - origin, rot.reshape(3, 3), scale)
 
 
