@@ -203,3 +203,39 @@ def test_hdf5_round_trip_is_exact(tmp_path):
         reader.get_env_name()
     with pytest.raises(FileNotFoundError, match="not found"):
         HDF5DatasetFileHandler().open(str(tmp_path / "missing.hdf5"))
+
+
+# -- array, interpolation, names -------------------------------------------------------------------
+
+
+def test_convert_to_torch_and_top_level_names():
+    import simlab.utils as utils
+
+    assert utils.convert_to_torch(np.arange(3, dtype=np.uint32)).dtype == torch.int32
+    shared = np.zeros(2)
+    assert utils.convert_to_torch(shared).data_ptr() == shared.ctypes.data  # no copy
+    assert utils.convert_to_torch([1, 2], dtype=torch.int64).tolist() == [1, 2]
+    assert utils.TENSOR_TYPES["numpy"] is np.ndarray
+    assert utils.CircularBuffer is __import__("simlab.utils.buffers", fromlist=["x"]).CircularBuffer
+    assert utils.to_snake_case is string_utils.to_snake_case and utils.dict_to_md5_hash is dict_utils.dict_to_md5_hash
+
+
+def test_linear_interpolation_against_numpy():
+    from simlab.utils.interpolation import LinearInterpolation
+
+    x = torch.tensor([0.0, 0.5, 2.0, 3.0])
+    y = torch.tensor([1.0, -1.0, 4.0, 0.0])
+    q = torch.linspace(-1.0, 4.0, 101, dtype=torch.float64).reshape(101, 1)
+    out = LinearInterpolation(x, y, "cpu").compute(q)
+    assert out.shape == q.shape
+    np.testing.assert_allclose(out.numpy()[:, 0], np.interp(q.numpy()[:, 0], x.numpy(), y.numpy()), atol=1e-6)
+    with pytest.raises(ValueError, match="ascending"):
+        LinearInterpolation(torch.tensor([1.0, 0.0]), torch.zeros(2), "cpu")
+
+
+def test_unique_names_and_regex_roots():
+    taken = {"cam", "cam_1"}
+    assert string_utils.find_unique_string_name("cam", lambda s: s not in taken) == "cam_2"
+    assert string_utils.find_unique_string_name("imu", lambda s: s not in taken) == "imu"
+    assert string_utils.find_root_prim_path_from_regex("/World/envs/env_.*/Robot") == ("/World/envs", 3)
+    assert string_utils.find_root_prim_path_from_regex("/World/Robot") == ("/World/Robot", 2)

@@ -19,6 +19,8 @@ __all__ = [
     "callable_to_string",
     "clear_resolve_matching_names_cache",
     "closest_matches",
+    "find_root_prim_path_from_regex",
+    "find_unique_string_name",
     "is_lambda_expression",
     "resolve_matching_names",
     "resolve_matching_names_values",
@@ -341,3 +343,29 @@ def string_to_slice(s: str) -> slice:
     except ValueError as e:
         raise ValueError(f"Slice arguments must be integers or None, got {s!r}.") from e
     return slice(*values)
+
+
+# -- names -----------------------------------------------------------------------------------------
+
+
+def find_unique_string_name(initial_name: str, is_unique_fn: Callable[[str], bool]) -> str:
+    """``initial_name``, or ``initial_name_N`` with the smallest N >= 1 for which ``is_unique_fn`` holds."""
+    if is_unique_fn(initial_name):
+        return initial_name
+    n = 1
+    while not is_unique_fn(f"{initial_name}_{n}"):
+        n += 1
+    return f"{initial_name}_{n}"
+
+
+def find_root_prim_path_from_regex(prim_path_regex: str) -> tuple[str, int]:
+    """The path above the first regex element of a prim path, and that element's depth.
+
+    ``"/World/envs/env_.*/Robot"`` gives ``("/World/envs", 3)``; a path without a regex gives itself
+    and the depth of its last element.
+    """
+    parts = str(prim_path_regex).split("/")
+    for depth, part in enumerate(parts):
+        if any(c in part for c in "[]*|^"):
+            return "/".join(parts[:depth]), depth
+    return prim_path_regex, len(parts) - 1
