@@ -239,3 +239,26 @@ def test_unique_names_and_regex_roots():
     assert string_utils.find_unique_string_name("imu", lambda s: s not in taken) == "imu"
     assert string_utils.find_root_prim_path_from_regex("/World/envs/env_.*/Robot") == ("/World/envs", 3)
     assert string_utils.find_root_prim_path_from_regex("/World/Robot") == ("/World/Robot", 2)
+
+
+def test_modifier_chain_applies_functions_and_builds_stateful_modifiers_lazily():
+    from simlab.utils import modifiers
+
+    chain = modifiers.ModifierChain(
+        [
+            modifiers.ModifierCfg(func=modifiers.scale, params={"multiplier": 2.0}),
+            modifiers.ModifierCfg(func=lambda data, keep: data[..., :keep], params={"keep": 1}),
+            modifiers.IntegratorCfg(dt=0.5),
+        ],
+        "cpu",
+    )
+    x = torch.ones(4, 3)
+    first = chain(x)
+    assert first.shape == (4, 1) and chain._instances[0]._data_dim == (4, 1)
+    second = chain(x)
+    assert torch.all(second > first)  # the integrator accumulates
+    chain.reset([0])
+    assert torch.equal(chain(x)[0], first[0]) and torch.all(chain(x)[1:] > second[1:])
+    assert torch.equal(x, torch.ones(4, 3))  # the input is not modified
+    with pytest.raises(TypeError, match="ModifierCfg"):
+        modifiers.ModifierChain([modifiers.scale], "cpu")
