@@ -38,6 +38,13 @@ def test_build_simulation_context_takes_a_cfg_and_adds_ground_and_light():
         assert len(sim.spec.lights) == 1
 
 
+def test_an_explicit_device_overrides_the_cfg():
+    cfg = sim_utils.SimulationCfg(dt=0.002, gravity=(0.0, 0.0, -1.0), device="auto")
+    with sim_utils.build_simulation_context(sim_cfg=cfg, device="cpu", gravity_enabled=True, dt=0.5) as sim:
+        assert sim.cfg.device == "cpu" and sim.cfg.dt == 0.002 and sim.cfg.gravity == (0.0, 0.0, -1.0)
+        assert sim.stage is sim_utils.get_current_stage()
+
+
 def test_settings_are_stored_and_read_back():
     with sim_utils.build_simulation_context(device="cpu") as sim:
         assert sim.get_setting("/isaaclab/has_gui") is False

@@ -85,6 +85,11 @@ class SimulationContext:
         self.camera_eye = tuple(float(x) for x in eye)
         self.camera_target = tuple(float(x) for x in target)
 
+    @property
+    def stage(self) -> mujoco.MjSpec:
+        """The spec that spawners add to (Isaac Lab's USD stage; see ``simlab.sim.utils``)."""
+        return self.spec
+
     def set_setting(self, name: str, value: Any) -> None:
         """Store a setting under a carb-style path, e.g. ``"/isaaclab/render/rtx_sensors"``."""
         if not isinstance(name, str) or not name.startswith("/"):
@@ -198,7 +203,7 @@ _SETTINGS_DEFAULTS: dict[str, Any] = {
 def build_simulation_context(
     create_new_stage: bool = True,
     gravity_enabled: bool = True,
-    device: str = "cuda:0",
+    device: str | None = None,
     dt: float = 0.01,
     sim_cfg: SimulationCfg | None = None,
     add_ground_plane: bool = False,
@@ -207,9 +212,11 @@ def build_simulation_context(
 ) -> Iterator[SimulationContext]:
     """A fresh :class:`SimulationContext` for the ``with`` block, cleared when it ends (Isaac Lab's helper).
 
-    Without ``sim_cfg`` one is made from ``dt``, ``gravity_enabled`` and ``device``. The ground plane
-    goes to ``/World/defaultGroundPlane`` and the light to ``/World/defaultDomeLight`` (simlab has no
-    GUI, so ``auto_add_lighting`` adds nothing). Spawn the scene inside the block, then
+    Without ``sim_cfg`` one is made from ``dt``, ``gravity_enabled`` and ``device``; with it, only an
+    explicitly given ``device`` overrides the config's. ``device=None`` picks ``"cuda:0"`` when the GPU
+    backend is there and ``"cpu"`` otherwise (Isaac Lab's default is always ``"cuda:0"``). The ground
+    plane goes to ``/World/defaultGroundPlane`` and the light to ``/World/defaultDomeLight`` (simlab
+    has no GUI, so ``auto_add_lighting`` adds nothing). Spawn the scene inside the block, then
     ``sim.reset()`` and ``sim.step()``.
     """
     from .spawners import DomeLightCfg, GroundPlaneCfg
@@ -217,7 +224,10 @@ def build_simulation_context(
     if create_new_stage:
         SimulationContext.clear_instance()
     if sim_cfg is None:
-        sim_cfg = SimulationCfg(dt=dt, device=device, gravity=(0.0, 0.0, -9.81) if gravity_enabled else (0.0, 0.0, 0.0))
+        gravity = (0.0, 0.0, -9.81) if gravity_enabled else (0.0, 0.0, 0.0)
+        sim_cfg = SimulationCfg(dt=dt, device=device if device is not None else "auto", gravity=gravity)
+    elif device is not None:
+        sim_cfg.device = device
     sim = SimulationContext(sim_cfg)
     try:
         if add_ground_plane:
