@@ -201,12 +201,14 @@ def test_frame_transforms_round_trip():
 
 
 def test_wrap_to_pi():
-    a = torch.tensor([0.0, math.pi, -math.pi, 3 * math.pi, 2 * math.pi + 0.5, -0.5])
+    # MATLAB's wrapToPi: odd multiples of pi keep their sign
+    a = torch.tensor([0.0, math.pi, -math.pi, 3 * math.pi, -3 * math.pi, 2 * math.pi + 0.5, -0.5, 4 * math.pi])
     out = math_utils.wrap_to_pi(a)
-    assert torch.allclose(out, torch.tensor([0.0, math.pi, math.pi, math.pi, 0.5, -0.5]), atol=1e-6)
+    expected = torch.tensor([0.0, math.pi, -math.pi, math.pi, -math.pi, 0.5, -0.5, 0.0])
+    assert torch.allclose(out, expected, atol=1e-6)
     big = torch.linspace(-20, 20, 101)
     w = math_utils.wrap_to_pi(big)
-    assert (w > -math.pi).all() and (w <= math.pi + 1e-6).all()
+    assert (w >= -math.pi - 1e-6).all() and (w <= math.pi + 1e-6).all()
     assert torch.allclose(torch.sin(w), torch.sin(big), atol=1e-5)
 
 

@@ -107,11 +107,31 @@ def test_string_to_callable_errors():
         string_to_callable("os:sep")
 
 
-def test_callable_to_string_rejects_lambdas_and_values():
-    with pytest.raises(ValueError, match="lambda"):
-        callable_to_string(lambda x: x)
+def test_lambdas_round_trip_as_source_and_unsafe_ones_are_refused():
+    square = lambda x: x**2  # noqa: E731
+    assert callable_to_string(square) == "lambda x: x**2"
+    assert string_to_callable(callable_to_string(square))(3) == 9
+    assert string_to_callable("lambda x, y=2: max(x, y) if x else len([y])")(0) == 1
+    for unsafe in ('lambda x: __import__("os")', "lambda x: x.__class__", "lambda: open('f')", "lambda x: (y := x)"):
+        with pytest.raises(ValueError, match="Unsafe lambda expression"):
+            string_to_callable(unsafe)
     with pytest.raises(ValueError, match="callable"):
         callable_to_string(3)
+
+
+def _make_exported():
+    def exported():
+        return "ok"
+
+    return exported
+
+
+exported = _make_exported()
+
+
+def test_function_made_in_a_function_uses_its_exported_name():
+    assert callable_to_string(exported) == f"{__name__}:exported"
+    assert string_to_callable(callable_to_string(exported)) is exported
 
 
 def test_closest_matches():

@@ -98,6 +98,12 @@ class OffscreenRenderer:
         cam = self._camera
         cam.lookat[:], cam.distance, cam.azimuth, cam.elevation = look_at(eye, lookat)
         self._renderer.update_scene(self._data, camera=cam)
+        # debug markers (simlab.markers) are decor geoms added on top of the model's own
+        from simlab.markers.visualization_markers import add_markers_to_scene
+        from simlab.sim.simulation_context import SimulationContext
+
+        sim = SimulationContext.instance()
+        add_markers_to_scene(self._renderer.scene, env_index, sim.env_origins if sim is not None else None)
         return self._renderer.render()
 
     def close(self) -> None:

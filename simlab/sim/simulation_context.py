@@ -9,7 +9,9 @@ assets resolve their joints and bodies against it. From then on ``step()`` advan
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
+from typing import Any
 
 import mujoco
 import torch
@@ -57,6 +59,9 @@ class SimulationContext:
         self._on_compile: list[Callable[[mujoco.MjModel], None]] = []
         self._on_reset: list[Callable[[SimulationContext], None]] = []
         self._step_count = 0
+        # Isaac Lab's carb settings, as a plain store: what ported code sets, it reads back. simlab
+        # itself reads only the entries listed in _SETTINGS_DEFAULTS (facts about this runtime).
+        self._settings: dict[str, Any] = dict(_SETTINGS_DEFAULTS)
         SimulationContext._instance = self
 
     # -- Isaac Lab's API ------------------------------------------------------------------------
@@ -81,6 +86,24 @@ class SimulationContext:
         """Where the offscreen camera looks from and at (world frame)."""
         self.camera_eye = tuple(float(x) for x in eye)
         self.camera_target = tuple(float(x) for x in target)
+
+    @property
+    def stage(self) -> mujoco.MjSpec:
+        """The spec that spawners add to (Isaac Lab's USD stage; see ``simlab.sim.utils``)."""
+        return self.spec
+
+    def set_setting(self, name: str, value: Any) -> None:
+        """Store a setting under a carb-style path, e.g. ``"/isaaclab/render/rtx_sensors"``."""
+        if not isinstance(name, str) or not name.startswith("/"):
+            raise ValueError(f"Setting names are '/'-separated paths such as '/isaaclab/has_gui', got {name!r}.")
+        self._settings[name] = value
+
+    def get_setting(self, name: str) -> Any:
+        """The value stored under ``name``, or None if it was never set (as carb answers)."""
+        return self._settings.get(name)
+
+    def stop(self) -> None:
+        """Nothing runs in the background between steps, so there is nothing to stop (kept for Isaac Lab code)."""
 
     def is_playing(self) -> bool:
         return self.backend is not None
@@ -173,6 +196,58 @@ class SimulationContext:
         # A generous free camera distance so renders of spread-out scenes are not clipped.
         spec.visual.map.zfar = 200.0
         return spec
+
+
+# Settings whose values are facts about simlab's runtime: headless, offscreen rendering on demand.
+_SETTINGS_DEFAULTS: dict[str, Any] = {
+    "/isaaclab/has_gui": False,
+    "/isaaclab/render/offscreen": True,
+    "/physics/physxEngine": None,  # no PhysX here: MuJoCo (CPU) or MuJoCo Warp (GPU)
+}
+
+
+@contextmanager
+def build_simulation_context(
+    create_new_stage: bool = True,
+    gravity_enabled: bool = True,
+    device: str | None = None,
+    dt: float = 0.01,
+    sim_cfg: SimulationCfg | None = None,
+    add_ground_plane: bool = False,
+    add_lighting: bool = False,
+    auto_add_lighting: bool = False,
+) -> Iterator[SimulationContext]:
+    """A fresh :class:`SimulationContext` for the ``with`` block, cleared when it ends (Isaac Lab's helper).
+
+    Without ``sim_cfg`` one is made from ``dt``, ``gravity_enabled`` and ``device``; with it, only an
+    explicitly given ``device`` overrides the config's. ``device=None`` picks ``"cuda:0"`` when the GPU
+    backend is there and ``"cpu"`` otherwise (Isaac Lab's default is always ``"cuda:0"``). The ground
+    plane goes to ``/World/defaultGroundPlane`` and the light to ``/World/defaultDomeLight`` (simlab
+    has no GUI, so ``auto_add_lighting`` adds nothing). Spawn the scene inside the block, then
+    ``sim.reset()`` and ``sim.step()``.
+    """
+    from .spawners import DomeLightCfg, GroundPlaneCfg
+
+    if create_new_stage:
+        SimulationContext.clear_instance()
+    if sim_cfg is None:
+        gravity = (0.0, 0.0, -9.81) if gravity_enabled else (0.0, 0.0, 0.0)
+        sim_cfg = SimulationCfg(dt=dt, device=device if device is not None else "auto", gravity=gravity)
+    elif device is not None:
+        sim_cfg.device = device
+    sim = SimulationContext(sim_cfg)
+    try:
+        if add_ground_plane:
+            ground = GroundPlaneCfg()
+            ground.func("/World/defaultGroundPlane", ground)
+        if add_lighting or (auto_add_lighting and sim.get_setting("/isaaclab/has_gui")):
+            light = DomeLightCfg(color=(0.1, 0.1, 0.1), intensity=10000.0)
+            light.func("/World/defaultDomeLight", light, translation=(0.0, 0.0, 10.0))
+        yield sim
+    finally:
+        sim.stop()
+        if SimulationContext.instance() is sim:
+            SimulationContext.clear_instance()
 
 
 def current_spec() -> mujoco.MjSpec:

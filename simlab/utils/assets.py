@@ -1,11 +1,45 @@
-"""Locating asset files. simlab ships its models inside the package, so only local paths exist."""
+"""Locating asset files. simlab ships its models inside the package, so only local paths exist.
+
+Isaac Lab's Nucleus directory constants (``ISAACLAB_NUCLEUS_DIR`` and friends) exist so that ported
+configs import, but they name no server simlab can read: any path under them is refused with an
+error saying to use an MJCF (or URDF) file instead.
+"""
 
 from __future__ import annotations
 
+import io
 import os
 import shutil
 
-__all__ = ["check_file_path", "retrieve_file_path"]
+__all__ = [
+    "ISAACLAB_NUCLEUS_DIR",
+    "ISAAC_NUCLEUS_DIR",
+    "NUCLEUS_ASSET_ROOT_DIR",
+    "NVIDIA_NUCLEUS_DIR",
+    "check_file_path",
+    "read_file",
+    "retrieve_file_path",
+]
+
+NUCLEUS_ASSET_ROOT_DIR = "nucleus://Assets/Isaac/5.1"
+"""Stands for Isaac Lab's asset server root; simlab cannot read it (see the module docstring)."""
+
+NVIDIA_NUCLEUS_DIR = f"{NUCLEUS_ASSET_ROOT_DIR}/NVIDIA"
+ISAAC_NUCLEUS_DIR = f"{NUCLEUS_ASSET_ROOT_DIR}/Isaac"
+ISAACLAB_NUCLEUS_DIR = f"{ISAAC_NUCLEUS_DIR}/IsaacLab"
+
+# Remote locations Isaac Lab reads through omni.client; simlab has no client for them.
+_REMOTE_PREFIXES = ("nucleus://", "omniverse://", "http://", "https://", "s3://")
+
+
+def refuse_remote_path(path: str) -> None:
+    """Raise, naming what to use instead, if ``path`` is a Nucleus or other remote location."""
+    if str(path).startswith(_REMOTE_PREFIXES):
+        raise FileNotFoundError(
+            f"'{path}' is an Omniverse Nucleus / remote asset (Isaac Lab's USD files); simlab reads local MJCF"
+            " or URDF files only. Use the robot configs in simlab.robots (e.g. simlab.robots.CARTPOLE_CFG) or"
+            " sim_utils.MjcfFileCfg(asset_path='path/to/robot.xml')."
+        )
 
 
 def _expand(path: str | os.PathLike) -> str:
@@ -16,6 +50,8 @@ def _expand(path: str | os.PathLike) -> str:
 
 def check_file_path(path: str | os.PathLike) -> int:
     """0 if the file does not exist, 1 if it is a local file (Isaac Lab's 2, a Nucleus file, never occurs)."""
+    if str(path).startswith(_REMOTE_PREFIXES):
+        return 0
     return 1 if os.path.isfile(_expand(path)) else 0
 
 
@@ -23,8 +59,9 @@ def retrieve_file_path(path: str | os.PathLike, download_dir: str | None = None,
     """The absolute path of a local file (absolute, relative or ``~`` paths).
 
     With ``download_dir`` the file is copied there (overwriting only if ``force_download``) and the
-    copy's path is returned, as Isaac Lab does for remote files.
+    copy's path is returned, as Isaac Lab does for remote files. Remote (Nucleus) paths raise.
     """
+    refuse_remote_path(path)
     full = _expand(path)
     if not os.path.isfile(full):
         hint = " (it is a directory)" if os.path.isdir(full) else ""
@@ -36,3 +73,9 @@ def retrieve_file_path(path: str | os.PathLike, download_dir: str | None = None,
     if os.path.abspath(target) != full and (force_download or not os.path.isfile(target)):
         shutil.copy2(full, target)
     return target
+
+
+def read_file(path: str | os.PathLike) -> io.BytesIO:
+    """The bytes of a local file; remote (Nucleus) paths raise."""
+    with open(retrieve_file_path(path), "rb") as f:
+        return io.BytesIO(f.read())

@@ -3,13 +3,36 @@
 from __future__ import annotations
 
 import dataclasses
+import hashlib
+import json
 import re
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from typing import Any
 
-from simlab.utils.string import closest_matches, is_lambda_expression, string_to_callable
+import numpy as np
 
-__all__ = ["MISSING_STR", "class_to_dict", "print_dict", "update_class_from_dict", "update_dict"]
+from simlab.utils.string import (
+    ResolvableString,
+    callable_to_string,
+    closest_matches,
+    is_lambda_expression,
+    string_to_callable,
+    string_to_slice,
+)
+
+__all__ = [
+    "MISSING_STR",
+    "callable_to_string",
+    "class_to_dict",
+    "convert_dict_to_backend",
+    "dict_to_md5_hash",
+    "print_dict",
+    "replace_slices_with_strings",
+    "replace_strings_with_slices",
+    "string_to_callable",
+    "update_class_from_dict",
+    "update_dict",
+]
 
 # How a MISSING value is written to yaml (the same marker OmegaConf/Hydra use).
 MISSING_STR = "???"
@@ -73,7 +96,9 @@ def class_to_dict(obj: Any) -> dict[str, Any]:
 def _valid_keys(obj: Any) -> list[str]:
     if _is_config_instance(obj):
         return [f.name for f in dataclasses.fields(obj)]
-    return [k for k in vars(obj) if not k.startswith("__")]
+    # a plain object: its own attributes and its class's (Isaac Lab accepts any existing attribute)
+    keys = [k for k in vars(obj) if not k.startswith("__")]
+    return keys + [k for k in vars(type(obj)) if not k.startswith("__") and k not in keys]
 
 
 def _merge_value(current: Any, value: Any, path: str, field_default: Any = dataclasses.MISSING) -> Any:
@@ -111,6 +136,8 @@ def _merge_value(current: Any, value: Any, path: str, field_default: Any = datac
                 for i, (c, v) in enumerate(zip(current, value))
             ]
         return tuple(value) if isinstance(current, tuple) else list(value)
+    if isinstance(value, ResolvableString):
+        return value  # already a (lazy) callable reference: keep it as given
     if isinstance(value, str) and _CALLABLE_STR.match(value):
         leaf = path.rsplit(".", 1)[-1]
         unset = current is None or current is dataclasses.MISSING
@@ -176,3 +203,77 @@ def print_dict(val: Any, nesting: int = -4, start: bool = True) -> None:
         print(_callable_name(val))
     else:
         print(val)
+
+
+def dict_to_md5_hash(data: object) -> str:
+    """MD5 hex digest of a dict (or config, via :func:`class_to_dict`), independent of key order."""
+    plain = data if isinstance(data, dict) else class_to_dict(data)
+    return hashlib.md5(json.dumps(plain, sort_keys=True, default=str).encode()).hexdigest()
+
+
+def replace_slices_with_strings(data: Any) -> Any:
+    """A copy of ``data`` (nested dicts, lists, tuples) with every ``slice`` written as ``"slice(a, b, c)"``."""
+    if isinstance(data, dict):
+        return {k: replace_slices_with_strings(v) for k, v in data.items()}
+    if isinstance(data, (list, tuple)):
+        return type(data)(replace_slices_with_strings(v) for v in data)
+    if isinstance(data, slice):
+        return f"slice({data.start},{data.stop},{data.step})"
+    return data
+
+
+def replace_strings_with_slices(data: Any) -> Any:
+    """A copy of ``data`` with every ``"slice(a, b, c)"`` string turned back into a ``slice``."""
+    if isinstance(data, dict):
+        return {k: replace_strings_with_slices(v) for k, v in data.items()}
+    if isinstance(data, (list, tuple)):
+        return type(data)(replace_strings_with_slices(v) for v in data)
+    if isinstance(data, str) and data.startswith("slice(") and data.endswith(")"):
+        return string_to_slice(data)
+    return data
+
+
+def _array_kind(value: Any) -> str | None:
+    if isinstance(value, np.ndarray):
+        return "numpy"
+    module = type(value).__module__
+    if module.startswith("torch") and hasattr(value, "cpu"):
+        return "torch"
+    if module.startswith("warp"):
+        return "warp"
+    return None
+
+
+def convert_dict_to_backend(
+    data: dict,
+    backend: str = "numpy",
+    array_types: Iterable[str] = ("numpy", "torch", "warp"),
+) -> dict:
+    """A copy of a (nested) dict with its arrays of the given ``array_types`` turned into ``backend`` arrays.
+
+    ``backend`` is ``"numpy"`` or ``"torch"`` (warp arrays are read through their ``numpy()``).
+    Values that are not arrays are kept as they are.
+    """
+    if backend not in ("numpy", "torch"):
+        raise ValueError(f"convert_dict_to_backend: backend must be 'numpy' or 'torch', got {backend!r}.")
+    kinds = set(array_types)
+    unknown = kinds - {"numpy", "torch", "warp"}
+    if unknown:
+        raise ValueError(f"convert_dict_to_backend: unknown array types {sorted(unknown)}; use numpy, torch, warp.")
+
+    def convert(value: Any) -> Any:
+        if isinstance(value, dict):
+            return {k: convert(v) for k, v in value.items()}
+        kind = _array_kind(value)
+        if kind is None or kind not in kinds:
+            return value
+        array = (
+            value.detach().cpu().numpy() if kind == "torch" else np.asarray(value.numpy() if kind == "warp" else value)
+        )
+        if backend == "numpy":
+            return array
+        import torch
+
+        return value if kind == "torch" else torch.from_numpy(array)
+
+    return convert(data)

@@ -1,6 +1,7 @@
-"""Batched torch math for robotics: quaternions, frame transforms, sampling.
+"""Batched torch math for robotics: quaternions, frame transforms, camera projection, 4x4 poses, sampling.
 
-Quaternions are ``(w, x, y, z)``, scalar first, as in Isaac Lab and MuJoCo. Every function works on
+The names and signatures are Isaac Lab's ``isaaclab.utils.math``. Quaternions are ``(w, x, y, z)``,
+scalar first, as in Isaac Lab 2.x and MuJoCo. Every function works on
 tensors with any number of leading (batch) dimensions, e.g. ``(num_envs, 4)`` or
 ``(num_envs, num_bodies, 4)``, and broadcasts where shapes allow.
 """
@@ -8,20 +9,41 @@ tensors with any number of leading (batch) dimensions, e.g. ``(num_envs, 4)`` or
 from __future__ import annotations
 
 import math
+from typing import Literal
 
+import numpy as np
 import torch
 
 __all__ = [
+    "apply_delta_pose",
     "axis_angle_from_quat",
     "combine_frame_transforms",
+    "compute_pose_error",
+    "convert_camera_frame_orientation_convention",
     "convert_quat",
+    "copysign",
+    "create_rotation_matrix_from_view",
     "default_orientation",
     "euler_xyz_from_quat",
+    "generate_random_rotation",
+    "generate_random_transformation_matrix",
+    "generate_random_translation",
+    "interpolate_poses",
+    "interpolate_rotations",
+    "is_identity_pose",
+    "make_pose",
+    "matrix_from_euler",
     "matrix_from_quat",
     "normalize",
+    "orthogonalize_perspective_depth",
+    "pose_in_A_to_pose_in_B",
+    "pose_inv",
+    "project_points",
     "quat_apply",
     "quat_apply_inverse",
     "quat_apply_yaw",
+    "quat_box_minus",
+    "quat_box_plus",
     "quat_conjugate",
     "quat_error_magnitude",
     "quat_from_angle_axis",
@@ -31,15 +53,24 @@ __all__ = [
     "quat_mul",
     "quat_rotate",
     "quat_rotate_inverse",
+    "quat_slerp",
     "quat_unique",
     "random_orientation",
     "random_yaw_orientation",
+    "rigid_body_twist_transform",
+    "sample_cylinder",
     "sample_gaussian",
     "sample_log_uniform",
+    "sample_triangle",
     "sample_uniform",
     "saturate",
     "scale_transform",
+    "skew_symmetric_matrix",
     "subtract_frame_transforms",
+    "transform_points",
+    "transform_poses_from_frame_A_to_frame_B",
+    "unmake_pose",
+    "unproject_depth",
     "unscale_transform",
     "wrap_to_pi",
     "yaw_quat",
@@ -48,7 +79,7 @@ __all__ = [
 Device = str | torch.device | None
 
 
-def _check_last_dim(name: str, x: torch.Tensor, size: int) -> None:
+def _check_last_dim(name: str, x: torch.Tensor | np.ndarray, size: int) -> None:
     if x.shape[-1] != size:
         raise ValueError(f"{name} must have last dimension {size}, got shape {tuple(x.shape)}.")
 
@@ -62,9 +93,18 @@ def normalize(x: torch.Tensor, eps: float = 1e-9) -> torch.Tensor:
 
 
 def wrap_to_pi(angles: torch.Tensor) -> torch.Tensor:
-    """Wrap angles (radians) to ``(-pi, pi]``."""
-    wrapped = torch.remainder(angles, 2 * math.pi)
-    return torch.where(wrapped > math.pi, wrapped - 2 * math.pi, wrapped)
+    """Wrap angles (radians) to ``[-pi, pi]``, as MATLAB's ``wrapToPi``.
+
+    Odd positive multiples of pi map to ``pi`` and odd negative multiples to ``-pi`` (so ``pi`` and
+    ``-pi`` are kept as given); everything else lands in ``(-pi, pi)``.
+    """
+    wrapped = torch.remainder(angles + math.pi, 2 * math.pi)
+    return torch.where((wrapped == 0) & (angles > 0), math.pi, wrapped - math.pi)
+
+
+def copysign(mag: float, other: torch.Tensor) -> torch.Tensor:
+    """A tensor shaped like ``other`` holding ``|mag|`` with the sign of each element of ``other``."""
+    return torch.copysign(torch.full_like(other, abs(mag)), other)
 
 
 def saturate(x: torch.Tensor, lower: torch.Tensor | float, upper: torch.Tensor | float) -> torch.Tensor:
@@ -89,14 +129,21 @@ def unscale_transform(x: torch.Tensor, lower: torch.Tensor | float, upper: torch
 # -- quaternion algebra ----------------------------------------------------------------------------
 
 
-def convert_quat(quat: torch.Tensor, to: str = "xyzw") -> torch.Tensor:
-    """Reorder a quaternion between ``wxyz`` and ``xyzw`` (``to`` names the target order)."""
+def convert_quat(quat: torch.Tensor | np.ndarray, to: Literal["xyzw", "wxyz"] = "xyzw") -> torch.Tensor | np.ndarray:
+    """Reorder a quaternion between ``wxyz`` and ``xyzw`` (``to`` names the target order).
+
+    NumPy arrays stay NumPy arrays; anything else is made a torch tensor.
+    """
+    if to not in ("xyzw", "wxyz"):
+        raise ValueError(f"convert_quat: 'to' must be 'xyzw' or 'wxyz', got {to!r}.")
+    shift = -1 if to == "xyzw" else 1
+    if isinstance(quat, np.ndarray):
+        _check_last_dim("quat", quat, 4)
+        return np.roll(quat, shift, axis=-1)
+    if not isinstance(quat, torch.Tensor):
+        quat = torch.tensor(quat, dtype=torch.float64)
     _check_last_dim("quat", quat, 4)
-    if to == "xyzw":
-        return quat.roll(-1, dims=-1)
-    if to == "wxyz":
-        return quat.roll(1, dims=-1)
-    raise ValueError(f"convert_quat: 'to' must be 'xyzw' or 'wxyz', got {to!r}.")
+    return quat.roll(shift, dims=-1)
 
 
 def quat_mul(q1: torch.Tensor, q2: torch.Tensor) -> torch.Tensor:
@@ -185,12 +232,19 @@ def euler_xyz_from_quat(
     """``(roll, pitch, yaw)`` of a unit quaternion (inverse of :func:`quat_from_euler_xyz`).
 
     Angles are in ``(-pi, pi]`` (pitch in ``[-pi/2, pi/2]``), or in ``[0, 2 pi)`` with ``wrap_to_2pi``.
+    At gimbal lock (pitch = +-pi/2) only ``yaw -+ roll`` is defined: roll is then 0 and yaw carries it.
     """
     _check_last_dim("quat", quat, 4)
     w, x, y, z = quat.unbind(-1)
+    sin_pitch = (2.0 * (w * y - z * x)).clamp(-1.0, 1.0)
     roll = torch.atan2(2.0 * (w * x + y * z), 1.0 - 2.0 * (x * x + y * y))
-    pitch = torch.asin((2.0 * (w * y - z * x)).clamp(-1.0, 1.0))
+    pitch = torch.asin(sin_pitch)
     yaw = torch.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+    # At the lock both atan2 arguments are ~cos(pitch), i.e. round-off: take yaw from w and z alone
+    # (for roll = 0, q = qz(yaw) qy(+-pi/2) has w ~ cos(yaw/2), z ~ sin(yaw/2)).
+    locked = (1.0 - sin_pitch.abs()) < 2 * torch.finfo(quat.dtype).eps
+    roll = torch.where(locked, torch.zeros_like(roll), roll)
+    yaw = torch.where(locked, wrap_to_pi(2.0 * torch.atan2(z, w)), yaw)
     if wrap_to_2pi:
         two_pi = 2 * math.pi
         return roll % two_pi, pitch % two_pi, yaw % two_pi
@@ -221,6 +275,19 @@ def quat_error_magnitude(q1: torch.Tensor, q2: torch.Tensor) -> torch.Tensor:
     return axis_angle_from_quat(quat_mul(q1, quat_conjugate(q2))).norm(dim=-1)
 
 
+def quat_box_minus(q1: torch.Tensor, q2: torch.Tensor) -> torch.Tensor:
+    """``q1 [-] q2``: the rotation vector (..., 3) of ``q1 * q2^-1`` (the short way round)."""
+    return axis_angle_from_quat(quat_mul(q1, quat_conjugate(q2)))
+
+
+def quat_box_plus(q: torch.Tensor, delta: torch.Tensor, eps: float = 1.0e-6) -> torch.Tensor:
+    """``q [+] delta``: ``q`` turned by the rotation vector ``delta`` (..., 3) in the world frame, ``w >= 0``."""
+    _check_last_dim("delta", delta, 3)
+    angle = delta.norm(dim=-1, keepdim=True).clamp(min=eps)
+    delta_quat = quat_from_angle_axis(angle.squeeze(-1), delta / angle)
+    return quat_unique(quat_mul(delta_quat, q))
+
+
 def yaw_quat(quat: torch.Tensor) -> torch.Tensor:
     """The rotation about world z only (heading) of ``quat``."""
     _check_last_dim("quat", quat, 4)
@@ -230,9 +297,10 @@ def yaw_quat(quat: torch.Tensor) -> torch.Tensor:
     return torch.stack((torch.cos(yaw * 0.5), zeros, zeros, torch.sin(yaw * 0.5)), dim=-1)
 
 
-def matrix_from_quat(quat: torch.Tensor) -> torch.Tensor:
+def matrix_from_quat(quaternions: torch.Tensor) -> torch.Tensor:
     """Rotation matrix (..., 3, 3) of a quaternion (normalized on the way)."""
-    _check_last_dim("quat", quat, 4)
+    quat = quaternions
+    _check_last_dim("quaternions", quat, 4)
     w, x, y, z = quat.unbind(-1)
     two_s = 2.0 / (quat * quat).sum(dim=-1)
     m = torch.stack(
@@ -276,6 +344,48 @@ def quat_from_matrix(matrix: torch.Tensor) -> torch.Tensor:
     return normalize(quat)
 
 
+def _axis_rotation_matrix(axis: str, angle: torch.Tensor) -> torch.Tensor:
+    """Rotation matrices (..., 3, 3) about the principal axis ``"X"``, ``"Y"`` or ``"Z"``."""
+    cos, sin = torch.cos(angle), torch.sin(angle)
+    one, zero = torch.ones_like(angle), torch.zeros_like(angle)
+    if axis == "X":
+        flat = (one, zero, zero, zero, cos, -sin, zero, sin, cos)
+    elif axis == "Y":
+        flat = (cos, zero, sin, zero, one, zero, -sin, zero, cos)
+    elif axis == "Z":
+        flat = (cos, -sin, zero, sin, cos, zero, zero, zero, one)
+    else:
+        raise ValueError(f"axis must be 'X', 'Y' or 'Z', got {axis!r}.")
+    return torch.stack(flat, dim=-1).reshape(angle.shape + (3, 3))
+
+
+def matrix_from_euler(euler_angles: torch.Tensor, convention: str) -> torch.Tensor:
+    """Rotation matrices (..., 3, 3) from intrinsic Euler angles (..., 3) in radians.
+
+    ``convention`` is three letters from ``X``, ``Y``, ``Z`` with no axis repeated back to back, e.g.
+    ``"XYZ"``: turn about x, then about the new y, then about the newest z (``R = Rx Ry Rz``).
+    """
+    if euler_angles.dim() == 0 or euler_angles.shape[-1] != 3:
+        raise ValueError(f"euler_angles must have shape (..., 3), got {tuple(euler_angles.shape)}.")
+    if len(convention) != 3 or any(c not in "XYZ" for c in convention):
+        raise ValueError(f"convention must be three letters from 'X', 'Y', 'Z' (e.g. 'XYZ'), got {convention!r}.")
+    if convention[1] in (convention[0], convention[2]):
+        raise ValueError(f"convention {convention!r} repeats an axis back to back; e.g. 'XYZ' or 'ZYZ' are valid.")
+    first, second, third = (_axis_rotation_matrix(c, a) for c, a in zip(convention, euler_angles.unbind(-1)))
+    return first @ second @ third
+
+
+def skew_symmetric_matrix(vec: torch.Tensor) -> torch.Tensor:
+    """The matrix ``[v]x`` with ``[v]x @ u == v x u``: shape (..., 3, 3); a single (3,) vector gives (1, 3, 3)."""
+    _check_last_dim("vec", vec, 3)
+    if vec.dim() == 1:
+        vec = vec.unsqueeze(0)
+    x, y, z = vec.unbind(-1)
+    zero = torch.zeros_like(x)
+    rows = (zero, -z, y, z, zero, -x, -y, x, zero)
+    return torch.stack(rows, dim=-1).reshape(vec.shape[:-1] + (3, 3))
+
+
 # -- frame transforms ------------------------------------------------------------------------------
 
 
@@ -302,6 +412,92 @@ def subtract_frame_transforms(
     q12 = quat_mul(q10, q02) if q02 is not None else q10
     t12 = quat_apply(q10, t02 - t01) if t02 is not None else quat_apply(q10, -t01)
     return t12, q12
+
+
+def is_identity_pose(pos: torch.Tensor, rot: torch.Tensor) -> bool:
+    """Whether every position is (close to) zero and every quaternion (close to) ``(1, 0, 0, 0)``.
+
+    The quaternions are compared by value, so ``(-1, 0, 0, 0)`` does not count as identity.
+    """
+    identity = torch.zeros_like(rot)
+    identity[..., 0] = 1.0
+    return bool(torch.allclose(pos, torch.zeros_like(pos)) and torch.allclose(rot, identity))
+
+
+def rigid_body_twist_transform(
+    v0: torch.Tensor, w0: torch.Tensor, t01: torch.Tensor, q01: torch.Tensor
+) -> tuple[torch.Tensor, torch.Tensor]:
+    """The twist of a rigid body seen at frame 1, given its twist at frame 0 (both in their own frames).
+
+    ``(v0, w0)`` is the linear and angular velocity at the origin of frame 0, in frame 0; frame 1 sits
+    at ``t01`` with orientation ``q01`` in frame 0. Returns ``(v1, w1)`` in frame 1:
+    ``w1 = R01^T w0`` and ``v1 = R01^T (v0 + w0 x t01)``.
+    """
+    w1 = quat_apply_inverse(q01, w0)
+    v1 = quat_apply_inverse(q01, v0 + torch.linalg.cross(w0, t01, dim=-1))
+    return v1, w1
+
+
+def compute_pose_error(
+    t01: torch.Tensor,
+    q01: torch.Tensor,
+    t02: torch.Tensor,
+    q02: torch.Tensor,
+    rot_error_type: Literal["quat", "axis_angle"] = "axis_angle",
+) -> tuple[torch.Tensor, torch.Tensor]:
+    """Error from a source pose ``(t01, q01)`` to a target pose ``(t02, q02)``, both in frame 0.
+
+    Returns ``(t02 - t01, error)`` where the rotation error is ``q02 * q01^-1`` (world frame), as a
+    quaternion (``rot_error_type="quat"``) or a rotation vector (``"axis_angle"``).
+    """
+    if rot_error_type not in ("quat", "axis_angle"):
+        raise ValueError(f"rot_error_type must be 'quat' or 'axis_angle', got {rot_error_type!r}.")
+    quat_error = quat_mul(q02, quat_inv(q01))
+    pos_error = t02 - t01
+    if rot_error_type == "quat":
+        return pos_error, quat_error
+    return pos_error, axis_angle_from_quat(quat_error)
+
+
+def apply_delta_pose(
+    source_pos: torch.Tensor, source_rot: torch.Tensor, delta_pose: torch.Tensor, eps: float = 1.0e-6
+) -> tuple[torch.Tensor, torch.Tensor]:
+    """Displace poses by ``delta_pose`` (..., 6): a translation and a world-frame rotation vector.
+
+    Rotation vectors shorter than ``eps`` leave the orientation unchanged.
+    """
+    _check_last_dim("delta_pose", delta_pose, 6)
+    target_pos = source_pos + delta_pose[..., 0:3]
+    rot_vec = delta_pose[..., 3:6]
+    angle = rot_vec.norm(dim=-1)
+    delta_quat = quat_from_angle_axis(angle, rot_vec)  # normalize() keeps a zero axis at zero
+    identity = torch.zeros_like(delta_quat)
+    identity[..., 0] = 1.0
+    delta_quat = torch.where((angle > eps).unsqueeze(-1), delta_quat, identity)
+    return target_pos, quat_mul(delta_quat, source_rot)
+
+
+def transform_points(
+    points: torch.Tensor, pos: torch.Tensor | None = None, quat: torch.Tensor | None = None
+) -> torch.Tensor:
+    """``R(quat) p + pos`` for points (P, 3) or (N, P, 3); ``pos`` (3,) or (N, 3), ``quat`` (4,) or (N, 4).
+
+    A missing ``pos`` or ``quat`` is no translation or no rotation. The output has the points' shape.
+    """
+    if points.dim() not in (2, 3) or points.shape[-1] != 3:
+        raise ValueError(f"points must have shape (P, 3) or (N, P, 3), got {tuple(points.shape)}.")
+    if pos is not None and (pos.dim() not in (1, 2) or pos.shape[-1] != 3):
+        raise ValueError(f"pos must have shape (3,) or (N, 3), got {tuple(pos.shape)}.")
+    if quat is not None and (quat.dim() not in (1, 2) or quat.shape[-1] != 4):
+        raise ValueError(f"quat must have shape (4,) or (N, 4), got {tuple(quat.shape)}.")
+    batched = points.dim() == 3
+    out = points if batched else points.unsqueeze(0)
+    if quat is not None:
+        rot = matrix_from_quat(quat.reshape(-1, 4))  # (N or 1, 3, 3)
+        out = out @ rot.transpose(-1, -2)
+    if pos is not None:
+        out = out + pos.reshape(-1, 1, 3)
+    return out if batched else out.squeeze(0)
 
 
 # -- sampling --------------------------------------------------------------------------------------
@@ -378,3 +574,311 @@ def random_yaw_orientation(num: int, device: Device = None) -> torch.Tensor:
     axis = torch.zeros((num, 3), device=device)
     axis[:, 2] = 1.0
     return quat_from_angle_axis(yaw, axis)
+
+
+def sample_triangle(lower: float, upper: float, size: int | tuple[int, ...], device: Device = None) -> torch.Tensor:
+    """Samples of shape ``size`` from the symmetric triangular distribution on ``[lower, upper]``.
+
+    The density peaks at the midpoint and falls linearly to zero at both ends. (Isaac Lab's version
+    maps ``r -> sign(r) sqrt(|r|)``, whose density is highest at the ends; this one is the triangle
+    its docstring names.)
+    """
+    r = 2 * torch.rand(_size_tuple(size), device=device) - 1
+    # inverse CDF of the triangle on [-1, 1]: P(|x| < a) = 1 - (1 - a)^2
+    r = torch.sign(r) * (1.0 - torch.sqrt(1.0 - r.abs()))
+    return (upper - lower) * (r + 1.0) / 2.0 + lower
+
+
+def sample_cylinder(
+    radius: float, h_range: tuple[float, float], size: int | tuple[int, ...], device: Device = None
+) -> torch.Tensor:
+    """Points (*size, 3) uniform on the side of a z-aligned cylinder of ``radius``, height in ``h_range``."""
+    shape = _size_tuple(size)
+    angles = (torch.rand(shape, device=device) * 2 - 1) * math.pi
+    height = torch.empty(shape, device=device).uniform_(h_range[0], h_range[1])
+    return torch.stack((radius * torch.cos(angles), radius * torch.sin(angles), height), dim=-1)
+
+
+# -- camera projection -----------------------------------------------------------------------------
+
+
+def _depth_as_batch(depth: torch.Tensor) -> tuple[torch.Tensor, bool, bool]:
+    """``depth`` of shape (H, W), (H, W, 1), (N, H, W) or (N, H, W, 1) as (N, H, W).
+
+    Also returns whether it had a batch dimension and a trailing channel of one (a 3D input whose
+    last size is 1 is read as (H, W, 1), as Isaac Lab does).
+    """
+    has_channel = depth.dim() == 4 or (depth.dim() == 3 and depth.shape[-1] == 1)
+    if depth.dim() not in (2, 3, 4) or (depth.dim() == 4 and depth.shape[-1] != 1):
+        raise ValueError(
+            f"depth must have shape (H, W), (H, W, 1), (N, H, W) or (N, H, W, 1), got {tuple(depth.shape)}."
+        )
+    batch = depth.squeeze(-1) if has_channel else depth
+    is_batched = batch.dim() == 3
+    return (batch if is_batched else batch.unsqueeze(0)), is_batched, has_channel
+
+
+def _intrinsics_as_batch(intrinsics: torch.Tensor) -> torch.Tensor:
+    if intrinsics.shape[-2:] != (3, 3) or intrinsics.dim() not in (2, 3):
+        raise ValueError(f"intrinsics must have shape (3, 3) or (N, 3, 3), got {tuple(intrinsics.shape)}.")
+    return intrinsics if intrinsics.dim() == 3 else intrinsics.unsqueeze(0)
+
+
+def orthogonalize_perspective_depth(depth: torch.Tensor, intrinsics: torch.Tensor) -> torch.Tensor:
+    """Perspective depth (distance from the optical center) to orthogonal depth (from the image plane).
+
+    ``depth`` is (H, W), (H, W, 1), (N, H, W) or (N, H, W, 1); ``intrinsics`` (3, 3) or (N, 3, 3).
+    The output has the shape of ``depth``.
+    """
+    batch, is_batched, has_channel = _depth_as_batch(depth)
+    k = _intrinsics_as_batch(intrinsics).to(batch.dtype)
+    height, width = batch.shape[-2:]
+    v, u = torch.meshgrid(
+        torch.arange(height, device=batch.device, dtype=batch.dtype),
+        torch.arange(width, device=batch.device, dtype=batch.dtype),
+        indexing="ij",
+    )
+    fx, fy = k[:, 0, 0].view(-1, 1, 1), k[:, 1, 1].view(-1, 1, 1)
+    cx, cy = k[:, 0, 2].view(-1, 1, 1), k[:, 1, 2].view(-1, 1, 1)
+    # the ray through pixel (u, v) has direction ((u - cx) / fx, (v - cy) / fy, 1)
+    ortho = batch / torch.sqrt(1 + ((u - cx) / fx) ** 2 + ((v - cy) / fy) ** 2)
+    if has_channel:
+        ortho = ortho.unsqueeze(-1)
+    return ortho if is_batched else ortho.squeeze(0)
+
+
+def unproject_depth(depth: torch.Tensor, intrinsics: torch.Tensor, is_ortho: bool = True) -> torch.Tensor:
+    """Point cloud (P, 3) or (N, P, 3) in the camera frame from a depth image, ``P = H * W``.
+
+    ``p = K^-1 (u, v, 1) d`` with ``d`` the orthogonal depth (perspective depth is converted first
+    when ``is_ortho`` is False). Points are ordered column by column: index ``u * H + v``, as in
+    Isaac Lab.
+    """
+    if not is_ortho:
+        depth = orthogonalize_perspective_depth(depth, intrinsics)
+    batch, is_batched, _ = _depth_as_batch(depth)
+    k = _intrinsics_as_batch(intrinsics).to(batch.dtype)
+    height, width = batch.shape[-2:]
+    u, v = torch.meshgrid(
+        torch.arange(width, device=batch.device, dtype=batch.dtype),
+        torch.arange(height, device=batch.device, dtype=batch.dtype),
+        indexing="ij",
+    )
+    pixels = torch.stack((u.reshape(-1), v.reshape(-1), torch.ones(u.numel(), device=batch.device, dtype=batch.dtype)))
+    rays = torch.linalg.inv(k) @ pixels  # (N, 3, P)
+    rays = rays / rays[:, 2:3, :]
+    d = batch.transpose(1, 2).reshape(batch.shape[0], -1, 1)  # (N, W * H, 1), u-major like the rays
+    points = rays.transpose(1, 2) * d
+    return points if is_batched else points.squeeze(0)
+
+
+def project_points(points: torch.Tensor, intrinsics: torch.Tensor) -> torch.Tensor:
+    """Pinhole projection of camera-frame points (P, 3) or (N, P, 3) to ``(u, v, depth)``, same shape."""
+    if points.dim() not in (2, 3) or points.shape[-1] != 3:
+        raise ValueError(f"points must have shape (P, 3) or (N, P, 3), got {tuple(points.shape)}.")
+    batch = points if points.dim() == 3 else points.unsqueeze(0)
+    k = _intrinsics_as_batch(intrinsics).to(points.dtype)
+    pixels = batch @ k.transpose(-1, -2)  # (N, P, 3): K p for every point
+    projected = torch.cat((pixels[..., :2] / pixels[..., 2:3], batch[..., 2:3]), dim=-1)
+    return projected if points.dim() == 3 else projected.squeeze(0)
+
+
+# -- camera frame conventions ----------------------------------------------------------------------
+
+# ``M`` with ``R_opengl = R_convention @ M`` for a camera's world-from-camera rotation: ROS looks
+# along +z with +y down (a half turn about x from OpenGL); "world" looks along +x with +z up.
+_OPENGL_FROM_CONVENTION = {
+    "ros": ((1.0, 0.0, 0.0), (0.0, -1.0, 0.0), (0.0, 0.0, -1.0)),
+    "world": ((0.0, 0.0, -1.0), (-1.0, 0.0, 0.0), (0.0, 1.0, 0.0)),
+}
+
+
+def convert_camera_frame_orientation_convention(
+    orientation: torch.Tensor,
+    origin: Literal["opengl", "ros", "world"] = "opengl",
+    target: Literal["opengl", "ros", "world"] = "ros",
+) -> torch.Tensor:
+    """Re-express a camera orientation (..., 4) between the ``opengl``, ``ros`` and ``world`` conventions.
+
+    - ``opengl``: forward -z, up +y (USD cameras);
+    - ``ros``: forward +z, up -y;
+    - ``world``: forward +x, up +z.
+
+    The result's largest component is positive (the sign :func:`quat_from_matrix` gives).
+    """
+    for name, value in (("origin", origin), ("target", target)):
+        if value not in ("opengl", "ros", "world"):
+            raise ValueError(f"{name} must be 'opengl', 'ros' or 'world', got {value!r}.")
+    if origin == target:
+        return orientation.clone()
+    rot = matrix_from_quat(orientation)
+    if origin != "opengl":  # to OpenGL: R_gl = R_origin @ M
+        rot = rot @ _convention_offset(origin, rot)
+    if target != "opengl":  # from OpenGL: R_target = R_gl @ M^T
+        rot = rot @ _convention_offset(target, rot).transpose(-1, -2)
+    return quat_from_matrix(rot)
+
+
+def _convention_offset(convention: str, like: torch.Tensor) -> torch.Tensor:
+    return torch.tensor(_OPENGL_FROM_CONVENTION[convention], dtype=like.dtype, device=like.device)
+
+
+def create_rotation_matrix_from_view(
+    eyes: torch.Tensor,
+    targets: torch.Tensor,
+    up_axis: Literal["Y", "Z"] = "Z",
+    device: Device = "cpu",
+) -> torch.Tensor:
+    """World-from-camera rotations (N, 3, 3) of OpenGL cameras at ``eyes`` looking at ``targets`` (N, 3).
+
+    The camera's -z points at the target and its +y is as close to ``up_axis`` as possible.
+    """
+    if up_axis not in ("Y", "Z"):
+        raise ValueError(f"up_axis must be 'Y' or 'Z', got {up_axis!r}.")
+    eyes = torch.as_tensor(eyes, dtype=torch.float32, device=device).reshape(-1, 3)
+    targets = torch.as_tensor(targets, dtype=torch.float32, device=device).reshape(-1, 3)
+    eyes, targets = torch.broadcast_tensors(eyes, targets)
+    up = torch.zeros_like(eyes)
+    up[:, 1 if up_axis == "Y" else 2] = 1.0
+    z_axis = -torch.nn.functional.normalize(targets - eyes, eps=1e-5)
+    x_axis = torch.nn.functional.normalize(torch.linalg.cross(up, z_axis, dim=-1), eps=1e-5)
+    y_axis = torch.nn.functional.normalize(torch.linalg.cross(z_axis, x_axis, dim=-1), eps=1e-5)
+    # looking straight along the up axis leaves x undefined: take it from the camera's y instead
+    degenerate = torch.isclose(x_axis, torch.zeros_like(x_axis), atol=5e-3).all(dim=-1, keepdim=True)
+    if degenerate.any():
+        fallback = torch.nn.functional.normalize(torch.linalg.cross(y_axis, z_axis, dim=-1), eps=1e-5)
+        x_axis = torch.where(degenerate, fallback, x_axis)
+    return torch.stack((x_axis, y_axis, z_axis), dim=-1)
+
+
+# -- 4x4 homogeneous poses and interpolation -------------------------------------------------------
+
+
+def make_pose(pos: torch.Tensor, rot: torch.Tensor) -> torch.Tensor:
+    """Homogeneous transforms (..., 4, 4) from positions (..., 3) and rotation matrices (..., 3, 3)."""
+    if pos.shape[-1] != 3 or rot.shape[-2:] != (3, 3) or pos.shape[:-1] != rot.shape[:-2]:
+        raise ValueError(
+            f"make_pose needs pos (..., 3) and rot (..., 3, 3) with the same batch shape, "
+            f"got {tuple(pos.shape)} and {tuple(rot.shape)}."
+        )
+    pose = torch.zeros(pos.shape[:-1] + (4, 4), dtype=pos.dtype, device=pos.device)
+    pose[..., :3, :3] = rot
+    pose[..., :3, 3] = pos
+    pose[..., 3, 3] = 1.0
+    return pose
+
+
+def unmake_pose(pose: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
+    """Positions (..., 3) and rotation matrices (..., 3, 3) of homogeneous transforms (..., 4, 4)."""
+    return pose[..., :3, 3], pose[..., :3, :3]
+
+
+def pose_inv(pose: torch.Tensor) -> torch.Tensor:
+    """Inverse of rigid transforms (..., 4, 4): ``[R t; 0 1]^-1 = [R^T -R^T t; 0 1]``."""
+    pos, rot = unmake_pose(pose)
+    rot_t = rot.transpose(-1, -2)
+    return make_pose(-(rot_t @ pos.unsqueeze(-1)).squeeze(-1), rot_t)
+
+
+def pose_in_A_to_pose_in_B(pose_in_A: torch.Tensor, pose_A_in_B: torch.Tensor) -> torch.Tensor:
+    """A pose given in frame A, expressed in frame B (``T_B = T_AB @ T_A``)."""
+    return pose_A_in_B @ pose_in_A
+
+
+def transform_poses_from_frame_A_to_frame_B(
+    src_poses: torch.Tensor, frame_A: torch.Tensor, frame_B: torch.Tensor
+) -> torch.Tensor:
+    """Move a pose sequence (T, 4, 4) rigidly so that what was relative to ``frame_B`` is relative to ``frame_A``.
+
+    Each pose becomes ``frame_A @ frame_B^-1 @ pose``.
+    """
+    return frame_A[None] @ pose_inv(frame_B[None]) @ src_poses
+
+
+def quat_slerp(q1: torch.Tensor, q2: torch.Tensor, tau: float | torch.Tensor) -> torch.Tensor:
+    """Spherical linear interpolation from ``q1`` (tau = 0) to ``q2`` (tau = 1) the short way round.
+
+    Works on batches (..., 4) too; ``tau`` may be a float or a tensor broadcasting against (...,).
+    The component order does not matter (``wxyz`` or ``xyzw`` in, the same order out).
+    """
+    tau = torch.as_tensor(tau, dtype=q1.dtype, device=q1.device).unsqueeze(-1)
+    dot = (q1 * q2).sum(dim=-1, keepdim=True)
+    q2 = torch.where(dot < 0, -q2, q2)  # the other sign is the shorter arc
+    dot = dot.abs().clamp(max=1.0)
+    angle = torch.acos(dot)
+    sin_angle = torch.sin(angle)
+    nearly_equal = sin_angle < 4 * torch.finfo(q1.dtype).eps
+    safe_sin = torch.where(nearly_equal, torch.ones_like(sin_angle), sin_angle)
+    w1 = torch.where(nearly_equal, 1.0 - tau, torch.sin((1.0 - tau) * angle) / safe_sin)
+    w2 = torch.where(nearly_equal, tau, torch.sin(tau * angle) / safe_sin)
+    return w1 * q1 + w2 * q2
+
+
+def interpolate_rotations(R1: torch.Tensor, R2: torch.Tensor, num_steps: int, axis_angle: bool = True) -> torch.Tensor:
+    """``num_steps + 1`` rotation matrices (num_steps + 1, 3, 3) evenly spaced from ``R1`` to ``R2`` (both included).
+
+    ``axis_angle`` turns about the fixed axis of ``R2 R1^T``; otherwise quaternion slerp is used
+    (the two give the same geodesic).
+    """
+    if num_steps < 1:
+        raise ValueError(f"num_steps must be at least 1, got {num_steps}.")
+    taus = torch.arange(num_steps + 1, dtype=R1.dtype, device=R1.device) / num_steps
+    if axis_angle:
+        delta = axis_angle_from_quat(quat_from_matrix(R2 @ R1.transpose(-1, -2)))
+        steps = matrix_from_quat(quat_from_angle_axis(taus * delta.norm(), delta.expand(num_steps + 1, 3)))
+        rots = steps @ R1
+    else:
+        q1, q2 = quat_from_matrix(R1), quat_from_matrix(R2)
+        rots = matrix_from_quat(quat_slerp(q1.expand(num_steps + 1, 4), q2.expand(num_steps + 1, 4), taus))
+    rots[-1] = R2  # the end is exact
+    return rots
+
+
+def interpolate_poses(
+    pose_1: torch.Tensor,
+    pose_2: torch.Tensor,
+    num_steps: int | None = None,
+    step_size: float | None = None,
+    perturb: bool = False,
+) -> tuple[torch.Tensor, int]:
+    """A path of 4x4 poses from ``pose_1`` to ``pose_2`` with ``num_steps`` poses in between.
+
+    Give either ``num_steps`` or ``step_size`` (then ``num_steps = ceil(distance / step_size)``).
+    Positions are linear, rotations geodesic; ``perturb`` jitters the inner positions by up to half a
+    step. Returns the (num_steps + 2, 4, 4) path and ``num_steps``.
+    """
+    if (num_steps is None) == (step_size is None):
+        raise ValueError("interpolate_poses needs exactly one of num_steps and step_size.")
+    pos1, rot1 = unmake_pose(pose_1)
+    pos2, rot2 = unmake_pose(pose_2)
+    if num_steps is None:
+        distance = float((pos2 - pos1).norm())
+        if distance == 0.0:
+            raise ValueError("interpolate_poses with step_size needs two different positions.")
+        num_steps = math.ceil(distance / step_size)
+    if num_steps == 0:
+        return torch.stack((pose_1, pose_2)), 0
+    segments = num_steps + 1
+    grid = torch.arange(segments + 1, dtype=pos1.dtype, device=pos1.device)
+    if perturb:
+        grid[1:-1] += torch.rand(segments - 1, dtype=pos1.dtype, device=pos1.device) - 0.5
+    positions = pos1 + (grid / segments).unsqueeze(-1) * (pos2 - pos1)
+    positions[-1] = pos2
+    rotations = interpolate_rotations(rot1, rot2, segments, axis_angle=True)
+    return make_pose(positions, rotations), num_steps
+
+
+def generate_random_rotation(rot_boundary: float = 2 * math.pi) -> torch.Tensor:
+    """A random rotation matrix (3, 3): ``Rz Ry Rx`` with angles uniform in ``[0, rot_boundary)``."""
+    angles = torch.rand(3) * rot_boundary
+    return matrix_from_euler(angles.flip(0), "ZYX")
+
+
+def generate_random_translation(pos_boundary: float = 1) -> torch.Tensor:
+    """A random translation (3,) uniform in ``[-pos_boundary, pos_boundary)`` per axis."""
+    return torch.rand(3) * 2 * pos_boundary - pos_boundary
+
+
+def generate_random_transformation_matrix(pos_boundary: float = 1, rot_boundary: float = 2 * math.pi) -> torch.Tensor:
+    """A random 4x4 rigid transform from :func:`generate_random_rotation` and :func:`generate_random_translation`."""
+    return make_pose(generate_random_translation(pos_boundary), generate_random_rotation(rot_boundary))

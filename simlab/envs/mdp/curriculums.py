@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
@@ -24,12 +25,50 @@ def modify_reward_weight(
     return float(term_cfg.weight)
 
 
+_INDEXED_PART = re.compile(r"^(\w+)\[(\d+)\]$")
+
+
+def _split_address(address: str) -> list[str | int]:
+    """``"a.b[2].c"`` (or ``"a.b.2.c"``) as ``["a", "b", 2, "c"]``."""
+    parts: list[str | int] = []
+    for part in address.split("."):
+        indexed = _INDEXED_PART.match(part)
+        if indexed:
+            parts += [indexed.group(1), int(indexed.group(2))]
+        else:
+            parts.append(int(part) if part.isdigit() else part)
+    return parts
+
+
+def _child(obj: Any, part: str | int) -> Any:
+    if isinstance(obj, dict):
+        return obj[part]
+    if isinstance(part, int):
+        return obj[part]
+    return getattr(obj, part)
+
+
+def _set_child(obj: Any, part: str | int, value: Any) -> Any:
+    """Set ``part`` of ``obj`` to ``value``; returns ``obj``, or a new tuple when ``obj`` is a tuple."""
+    if isinstance(obj, tuple):
+        items = list(obj)
+        items[part] = value
+        return tuple(items)
+    if isinstance(obj, (dict, list)):
+        obj[part] = value
+    else:
+        setattr(obj, part, value)
+    return obj
+
+
 class modify_env_param(ManagerTermBase):  # noqa: N801 - Isaac Lab's name
     """Change any value reachable from the env by a dotted ``address`` (attributes, dict keys and
-    list indices), e.g. ``"event_manager.cfg.reset_pole.params.position_range"``.
+    list or tuple indices, as ``name[2]`` or ``name.2``), e.g.
+    ``"event_manager.cfg.reset_pole.params.position_range"``.
 
     ``modify_fn(env, env_ids, old_value, **modify_params)`` returns the new value, or
-    ``modify_env_param.NO_CHANGE`` to leave it.
+    ``modify_env_param.NO_CHANGE`` to leave it. A value inside a tuple is replaced by rebuilding
+    the tuple in its parent.
     """
 
     NO_CHANGE = object()
@@ -38,23 +77,26 @@ class modify_env_param(ManagerTermBase):  # noqa: N801 - Isaac Lab's name
         super().__init__(cfg, env)
         address = cfg.params.get("address")
         if not isinstance(address, str) or not address:
-            raise ValueError("modify_env_param needs params['address'], a dotted path from the env")
-        self._parts = address.split(".")
-        self._get(env, self._parts)  # fail now if the address does not exist
+            raise ValueError(f"{type(self).__name__} needs params['address'], a dotted path from the env")
+        self._address = self._full_address(address)
+        self._parts = _split_address(self._address)
+        self._path(env)  # fail now if the address does not exist
 
-    def _get(self, root: Any, parts: list[str]) -> Any:
-        obj = root
-        for i, part in enumerate(parts):
+    def _full_address(self, address: str) -> str:
+        return address
+
+    def _path(self, root: Any) -> list[Any]:
+        """The objects along the address: ``[root, child, ..., value]``."""
+        objs = [root]
+        for i, part in enumerate(self._parts):
             try:
-                if isinstance(obj, dict):
-                    obj = obj[part]
-                elif isinstance(obj, (list, tuple)) and part.isdigit():
-                    obj = obj[int(part)]
-                else:
-                    obj = getattr(obj, part)
-            except (AttributeError, KeyError, IndexError) as err:
-                raise ValueError(f"modify_env_param: '{'.'.join(parts[: i + 1])}' does not exist ({err!r})") from err
-        return obj
+                objs.append(_child(objs[-1], part))
+            except (AttributeError, KeyError, IndexError, TypeError) as err:
+                walked = ".".join(str(p) for p in self._parts[: i + 1])
+                raise ValueError(
+                    f"{type(self).__name__}: '{walked}' of address '{self._address}' does not exist ({err!r})"
+                ) from err
+        return objs
 
     def __call__(
         self,
@@ -64,16 +106,33 @@ class modify_env_param(ManagerTermBase):  # noqa: N801 - Isaac Lab's name
         modify_fn: Callable,
         modify_params: dict | None = None,
     ) -> Any:
-        parent = self._get(env, self._parts[:-1])
-        old = self._get(parent, self._parts[-1:])
-        new = modify_fn(env, env_ids, old, **(modify_params or {}))
+        objs = self._path(env)
+        new = modify_fn(env, env_ids, objs[-1], **(modify_params or {}))
         if new is self.NO_CHANGE:
             return None
-        last = self._parts[-1]
-        if isinstance(parent, dict):
-            parent[last] = new
-        elif isinstance(parent, list) and last.isdigit():
-            parent[int(last)] = new
-        else:
-            setattr(parent, last, new)
+        # write back; a tuple cannot change in place, so its rebuilt copy goes into its own parent
+        value = new
+        for depth in range(len(self._parts) - 1, -1, -1):
+            parent = objs[depth]
+            updated = _set_child(parent, self._parts[depth], value)
+            if updated is parent:
+                break
+            value = updated
         return new if isinstance(new, (int, float)) else None
+
+
+class modify_term_cfg(modify_env_param):  # noqa: N801 - Isaac Lab's name
+    """:class:`modify_env_param` with manager-config shorthand addresses.
+
+    ``"rewards.alive.weight"`` means ``"reward_manager.cfg.alive.weight"``, ``"events.push.params.x"``
+    means ``"event_manager.cfg.push.params.x"``, and likewise for observations, commands, actions,
+    terminations and curriculum: the first ``"s."`` of the address becomes ``"_manager.cfg."``.
+    """
+
+    def _full_address(self, address: str) -> str:
+        if "s." not in address:
+            raise ValueError(
+                f"modify_term_cfg address '{address}' must start with a manager's plural name, e.g."
+                " 'rewards.<term>.weight' or 'events.<term>.params.<name>'."
+            )
+        return address.replace("s.", "_manager.cfg.", 1)

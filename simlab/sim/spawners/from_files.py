@@ -14,6 +14,7 @@ from dataclasses import MISSING
 import mujoco
 
 from simlab.utils import configclass
+from simlab.utils.assets import refuse_remote_path
 
 from ..simulation_context import current_spec
 from .materials import PreviewSurfaceCfg, RigidBodyMaterialCfg
@@ -59,10 +60,17 @@ def attach_root_body(
     return body
 
 
+def _local_file(path: str, kind: str) -> str:
+    """The absolute path of a local robot file; a Nucleus/USD path gets an error naming what to use."""
+    refuse_remote_path(path)
+    full = os.path.expanduser(path)
+    if not os.path.isfile(full):
+        raise FileNotFoundError(f"{kind} file not found: '{full}'")
+    return full
+
+
 def spawn_from_mjcf(prim_path: str, cfg: MjcfFileCfg, translation=None, orientation=None) -> mujoco.MjsBody:
-    path = os.path.expanduser(cfg.asset_path)
-    if not os.path.isfile(path):
-        raise FileNotFoundError(f"MJCF file not found: '{path}'")
+    path = _local_file(cfg.asset_path, "MJCF")
     child = mujoco.MjSpec.from_file(path)
     # Actuators come from the asset's config (ArticulationCfg.actuators), not from the file.
     if cfg.drop_actuators:
@@ -73,9 +81,7 @@ def spawn_from_mjcf(prim_path: str, cfg: MjcfFileCfg, translation=None, orientat
 
 
 def spawn_from_urdf(prim_path: str, cfg: UrdfFileCfg, translation=None, orientation=None) -> mujoco.MjsBody:
-    path = os.path.expanduser(cfg.asset_path)
-    if not os.path.isfile(path):
-        raise FileNotFoundError(f"URDF file not found: '{path}'")
+    path = _local_file(cfg.asset_path, "URDF")
     child = mujoco.MjSpec.from_file(path)
     if not cfg.fix_base:
         child.worldbody.bodies[0].add_freejoint()

@@ -6,6 +6,7 @@ A ``ModifierCfg(func=..., params=...)`` calls ``func(data, **params)``; a ``Modi
 
 from .modifier import DigitalFilter, Integrator, ModifierBase, bias, clip, scale
 from .modifier_cfg import DigitalFilterCfg, IntegratorCfg, ModifierCfg
+from .modifier_chain import ModifierChain
 
 __all__ = [
     "DigitalFilter",
@@ -14,6 +15,7 @@ __all__ = [
     "IntegratorCfg",
     "ModifierBase",
     "ModifierCfg",
+    "ModifierChain",
     "bias",
     "clip",
     "scale",

@@ -1,0 +1,86 @@
+"""Isaac Lab's simulation helpers: build_simulation_context, settings, and the prim/stage helpers."""
+
+from __future__ import annotations
+
+import mujoco
+import pytest
+import torch
+
+import simlab.sim as sim_utils
+from simlab.sim import SimulationContext
+
+
+def test_build_simulation_context_makes_and_clears_a_simulation():
+    with sim_utils.build_simulation_context(
+        device="cpu", dt=0.005, gravity_enabled=False, add_ground_plane=True
+    ) as sim:
+        assert SimulationContext.instance() is sim
+        assert sim.get_physics_dt() == 0.005 and sim.cfg.gravity == (0.0, 0.0, 0.0)
+        cube = sim_utils.CuboidCfg(size=(0.2, 0.2, 0.2), rigid_props=sim_utils.RigidBodyPropertiesCfg())
+        cube.func("/World/Cube", cube, translation=(0.0, 0.0, 1.0))
+        sim.reset()
+        for _ in range(10):
+            sim.step()
+        sim.forward()
+        # no gravity: the free cube stays where it was put
+        body = mujoco.mj_name2id(sim.model, mujoco.mjtObj.mjOBJ_BODY, "Cube/body")
+        assert body > 0
+        assert torch.allclose(sim.physics.data("xpos")[0, body, 2].float(), torch.tensor(1.0), atol=1e-6)
+    assert SimulationContext.instance() is None
+
+
+def test_build_simulation_context_takes_a_cfg_and_adds_ground_and_light():
+    cfg = sim_utils.SimulationCfg(dt=0.01, device="cpu")
+    with sim_utils.build_simulation_context(sim_cfg=cfg, add_ground_plane=True, add_lighting=True) as sim:
+        assert sim.cfg is cfg
+        assert sim_utils.is_prim_path_valid("/World/defaultGroundPlane")
+        assert sim_utils.is_prim_path_valid("/World/defaultDomeLight")
+        assert len(sim.spec.lights) == 1
+
+
+def test_an_explicit_device_overrides_the_cfg():
+    cfg = sim_utils.SimulationCfg(dt=0.002, gravity=(0.0, 0.0, -1.0), device="auto")
+    with sim_utils.build_simulation_context(sim_cfg=cfg, device="cpu", gravity_enabled=True, dt=0.5) as sim:
+        assert sim.cfg.device == "cpu" and sim.cfg.dt == 0.002 and sim.cfg.gravity == (0.0, 0.0, -1.0)
+        assert sim.stage is sim_utils.get_current_stage()
+
+
+def test_settings_are_stored_and_read_back():
+    with sim_utils.build_simulation_context(device="cpu") as sim:
+        assert sim.get_setting("/isaaclab/has_gui") is False
+        assert sim.get_setting("/not/set") is None
+        sim.set_setting("/isaaclab/render/rtx_sensors", True)
+        assert sim.get_setting("/isaaclab/render/rtx_sensors") is True
+        with pytest.raises(ValueError, match="'/'-separated"):
+            sim.set_setting("no_slash", 1)
+
+
+def test_stage_helpers_work_on_the_spec():
+    with pytest.raises(RuntimeError, match="No stage"):
+        sim_utils.get_current_stage()
+    with sim_utils.build_simulation_context(device="cpu"):
+        stage = sim_utils.get_current_stage()
+        assert isinstance(stage, mujoco.MjSpec) and sim_utils.get_stage_up_axis() == "Z"
+        assert sim_utils.create_prim("/World/Objects", "Xform") == "/World/Objects"
+        sphere = sim_utils.SphereCfg(radius=0.1)
+        sphere.func("/World/Objects/Ball", sphere)
+        assert sim_utils.is_prim_path_valid("/World/Objects")
+        assert sim_utils.is_prim_path_valid("/World/Objects/Ball")
+        assert not sim_utils.is_prim_path_valid("/World/Objects/Bat")
+        sim_utils.clear_stage()
+        assert not sim_utils.is_prim_path_valid("/World/Objects/Ball")
+        assert sim_utils.get_current_stage() is not stage
+        with pytest.raises(NotImplementedError, match="CuboidCfg"):
+            sim_utils.create_prim("/World/Box", "Cube")
+        with pytest.raises(NotImplementedError, match="translation"):
+            sim_utils.create_prim("/World/Group", "Xform", translation=(1.0, 0.0, 0.0))
+    sim_utils.create_new_stage()
+    assert SimulationContext.instance() is None
+
+
+@pytest.mark.parametrize("name", ["get_prim_at_path", "bind_visual_material", "find_matching_prim_paths", "clone"])
+def test_usd_only_helpers_say_what_to_use(name):
+    helper = getattr(sim_utils, name)
+    assert helper is getattr(sim_utils.utils, name)
+    with pytest.raises(NotImplementedError, match="no USD. Instead: "):
+        helper("/World/Robot")
