@@ -15,6 +15,7 @@ from __future__ import annotations
 import argparse
 import sys
 
+from simlab.cli.distributed import add_launch_args
 from simlab.cli.session import LIBRARIES, SKRL_ALGORITHMS
 
 __all__ = ["build_parser", "main"]
@@ -47,7 +48,6 @@ def _add_agent(p: argparse.ArgumentParser) -> None:
         help="skrl algorithm: PPO (default), IPPO or MAPPO (multi-agent tasks).",
     )
     p.add_argument("--checkpoint", default=None, help="Checkpoint file (or run folder) to resume from / play.")
-    p.add_argument("--distributed", action="store_true", help="Multi-GPU training (not yet supported).")
     p.add_argument("--verbose", action="store_true", help="Print the libraries' own per-iteration logs.")
 
 
@@ -66,6 +66,19 @@ def build_parser() -> argparse.ArgumentParser:
     _add_agent(p)
     p.add_argument("--max_iterations", type=int, default=None, help="Training iterations (default: the agent's).")
     p.add_argument("--run_name", default="", help="Suffix of the run folder: <timestamp>_<run_name>.")
+    p.add_argument(
+        "--distributed",
+        action="store_true",
+        help="Train on several GPUs or nodes (torch.distributed; gloo on the CPU). Under torchrun each "
+        "process trains; without torchrun simlab launches it, one process per GPU (see the launch flags).",
+    )
+    p.add_argument(
+        "--ml_framework",
+        choices=("torch", "jax", "jax-numpy"),
+        default="torch",
+        help="skrl's backend: torch (default), jax or jax-numpy (needs simlab[jax]).",
+    )
+    add_launch_args(p)
 
     p = sub.add_parser("play", help="Run a trained policy; export it to ONNX and TorchScript.")
     _add_common(p)
@@ -119,7 +132,10 @@ def main(argv: list[str] | None = None) -> int:
 
             return run_random(args, zero=args.command == "zero")
         if args.command == "train":
-            from simlab.cli.train import run_train
+            from simlab.cli.train import launch_distributed, needs_launch, run_train
+
+            if needs_launch(args):
+                return launch_distributed(args, argv)
 
             run_train(args, rest, argv=["simlab", *argv])
             return 0

@@ -5,13 +5,15 @@ from __future__ import annotations
 import argparse
 import os
 import time
+from typing import Any
 
+from simlab.cli import distributed
 from simlab.cli.libraries import get_library
 from simlab.cli.runs import dump_params, make_run_dir, resolve_checkpoint
 from simlab.cli.session import load_configs, make_env, resolve_seed
 from simlab.rl.utils import is_multi_agent
 
-__all__ = ["run_train", "uses_multi_agent_learner"]
+__all__ = ["launch_distributed", "needs_launch", "run_train", "uses_multi_agent_learner"]
 
 
 def uses_multi_agent_learner(args: argparse.Namespace) -> bool:
@@ -19,29 +21,93 @@ def uses_multi_agent_learner(args: argparse.Namespace) -> bool:
     return args.library == "skrl" and (args.algorithm or "PPO") in ("IPPO", "MAPPO")
 
 
-def run_train(args: argparse.Namespace, overrides: list[str], argv: list[str] | None = None) -> str:
-    """Train ``args.task`` with ``args.library``; returns the run folder."""
-    if args.distributed:
-        raise NotImplementedError("--distributed (multi-GPU) training is not yet supported by simlab.")
-    lib = get_library(args.library)
+def _check_distributed_library(args: argparse.Namespace) -> None:
+    if args.library not in distributed.SUPPORTED_LIBRARIES:
+        raise ValueError(
+            f"--distributed is not available for {args.library} (Stable-Baselines3 trains in one process). "
+            f"Distributed training supports {list(distributed.SUPPORTED_LIBRARIES)}."
+        )
+
+
+def needs_launch(args: argparse.Namespace) -> bool:
+    """True for ``simlab train --distributed`` started outside torchrun: simlab launches torchrun."""
+    return bool(args.distributed) and distributed.torchrun_ranks() is None
+
+
+def launch_distributed(args: argparse.Namespace, argv: list[str]) -> int:
+    """Run this ``simlab train`` command under torchrun, one process per GPU (or ``--nproc_per_node``)."""
+    from simlab.app.app_launcher import resolve_device
+
+    _check_distributed_library(args)
+    return distributed.launch(args, argv, resolve_device(args.device))
+
+
+def _setup_ranks(args: argparse.Namespace, env_cfg: Any) -> distributed.Ranks:
+    """This process's ranks; for ``--distributed``, its device and (for rsl_rl and skrl) the process group."""
+    if not args.distributed:
+        return distributed.Ranks()
+    _check_distributed_library(args)
+    ranks = distributed.torchrun_ranks()
+    if ranks is None or ranks.world_size < 2:
+        raise ValueError(
+            "--distributed needs at least 2 processes (WORLD_SIZE >= 2 under torchrun); "
+            "start `simlab train --distributed` without torchrun to launch one process per GPU."
+        )
+    env_cfg.sim.device = distributed.process_device(env_cfg.sim.device, ranks)
+    if args.library != "rl_games":  # rl_games' multi_gpu mode starts its own (NCCL) group
+        distributed.init_process_group(env_cfg.sim.device, ranks)
+    return ranks
+
+
+def _settings_all_ranks_share(args: argparse.Namespace, overrides: list[str], env: Any) -> dict[str, Any]:
+    """What must be equal on every rank for the library's collectives to line up."""
+    unwrapped = env.unwrapped
+    return {
+        "task": args.task,
+        "library": args.library,
+        "algorithm": args.algorithm,
+        "num_envs": unwrapped.num_envs,
+        "max_iterations": args.max_iterations,
+        "checkpoint": args.checkpoint,
+        "overrides": sorted(overrides),
+        "observation_space": str(getattr(unwrapped, "single_observation_space", None)),
+        "action_space": str(getattr(unwrapped, "single_action_space", None)),
+    }
+
+
+def run_train(args: argparse.Namespace, overrides: list[str], argv: list[str] | None = None) -> str | None:
+    """Train ``args.task`` with ``args.library``; returns the run folder (None on ranks other than 0)."""
     args.seed = resolve_seed(args.seed)
     env_cfg, agent_cfg = load_configs(args, overrides)
+    ranks = _setup_ranks(args, env_cfg)
+    args.ranks = ranks
+    lib = get_library(args.library)
     lib.configure(agent_cfg, args, env_cfg)
+    # each rank simulates other episodes (the libraries offset their own seeds by the rank)
+    env_cfg.seed = None if env_cfg.seed is None else env_cfg.seed + ranks.rank
     resume = resolve_checkpoint(args.checkpoint, args.library) if args.checkpoint else None
-    run_dir = make_run_dir(args.log_root, args.library, lib.experiment_name(agent_cfg, args.task), args.run_name)
-    if hasattr(env_cfg, "log_dir"):
-        env_cfg.log_dir = run_dir
-    dump_params(run_dir, env_cfg, agent_cfg, argv)
+    run_dir = None
+    if ranks.is_main:  # only rank 0 writes the run folder
+        run_dir = make_run_dir(args.log_root, args.library, lib.experiment_name(agent_cfg, args.task), args.run_name)
+        if hasattr(env_cfg, "log_dir"):
+            env_cfg.log_dir = run_dir
+        dump_params(run_dir, env_cfg, agent_cfg, argv)
 
     multi = uses_multi_agent_learner(args)
-    env = make_env(args, env_cfg, os.path.join(run_dir, "videos", "train"), single_agent=not multi)
+    video_dir = os.path.join(run_dir, "videos", "train") if run_dir else None
+    env = make_env(args, env_cfg, video_dir, single_agent=not multi)
     if multi and not is_multi_agent(env):
         env.close()
         raise ValueError(f"--algorithm {args.algorithm} needs a multi-agent task; {args.task} has one agent.")
-    print(
-        f"[simlab] Training {args.task} with {args.library} on {env_cfg.sim.device}, "
-        f"{env.unwrapped.num_envs} envs. Run folder: {run_dir}"
-    )
+    args.shared_settings = _settings_all_ranks_share(args, overrides, env)
+    if ranks.world_size > 1 and args.library != "rl_games":  # rl_games checks once its agent started the group
+        distributed.check_same_settings(args.shared_settings)
+    if ranks.is_main:
+        spread = f" on each of {ranks.world_size} processes" if ranks.world_size > 1 else ""
+        print(
+            f"[simlab] Training {args.task} with {args.library} on {env_cfg.sim.device}, "
+            f"{env.unwrapped.num_envs} envs{spread}. Run folder: {run_dir}"
+        )
     startup = seconds_since_process_start()
     start = time.perf_counter()
     try:
@@ -49,10 +115,11 @@ def run_train(args: argparse.Namespace, overrides: list[str], argv: list[str] | 
     finally:
         env.close()
     took = time.perf_counter() - start
-    print(
-        f"[simlab] Training took {took:.1f} s after {startup:.1f} s of start-up "
-        f"({startup + took:.1f} s in all). Run folder: {run_dir}"
-    )
+    if ranks.is_main:
+        print(
+            f"[simlab] Training took {took:.1f} s after {startup:.1f} s of start-up "
+            f"({startup + took:.1f} s in all). Run folder: {run_dir}"
+        )
     return run_dir
 
 
