@@ -101,7 +101,11 @@ def run_train(args: argparse.Namespace, overrides: list[str], argv: list[str] | 
         raise ValueError(f"--algorithm {args.algorithm} needs a multi-agent task; {args.task} has one agent.")
     args.shared_settings = _settings_all_ranks_share(args, overrides, env)
     if ranks.world_size > 1 and args.library != "rl_games":  # rl_games checks once its agent started the group
-        distributed.check_same_settings(args.shared_settings)
+        try:
+            distributed.check_same_settings(args.shared_settings)
+        except ValueError:
+            env.close()
+            raise
     if ranks.is_main:
         spread = f" on each of {ranks.world_size} processes" if ranks.world_size > 1 else ""
         print(
