@@ -48,6 +48,11 @@ def _add_agent(p: argparse.ArgumentParser) -> None:
         help="skrl algorithm: PPO (default), IPPO or MAPPO (multi-agent tasks).",
     )
     p.add_argument("--checkpoint", default=None, help="Checkpoint file (or run folder) to resume from / play.")
+    p.add_argument(
+        "--agent",
+        default=None,
+        help="Registry key of the agent config (default: <library>_cfg_entry_point, or skrl's for --algorithm).",
+    )
     p.add_argument("--verbose", action="store_true", help="Print the libraries' own per-iteration logs.")
 
 
@@ -96,6 +101,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--eval", action="store_true", help="Report episode returns and lengths at the end.")
     p.add_argument("--no_export", action="store_true", help="Do not export the policy.")
+    p.add_argument("--real-time", action="store_true", help="Step no faster than simulated time (for watching).")
 
     p = sub.add_parser("list", help="List the registered tasks.")
     p.add_argument("--keyword", default=None, help="Only tasks whose id contains this word.")
@@ -140,9 +146,9 @@ def main(argv: list[str] | None = None) -> int:
             run_train(args, rest, argv=["simlab", *argv])
             return 0
         if args.command == "play":
-            from simlab.cli.play import run_play
+            from simlab.cli.play import RealTimePacer, run_play
 
-            run_play(args, rest)
+            run_play(args, rest, on_step=RealTimePacer() if args.real_time else None)
             return 0
     except KeyboardInterrupt:
         return 130

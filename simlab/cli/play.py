@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import time
 from collections.abc import Callable
 from typing import Any
 
@@ -14,7 +15,7 @@ from simlab.cli.runs import find_last_checkpoint, resolve_checkpoint, run_dir_of
 from simlab.cli.session import load_configs, make_env
 from simlab.cli.train import uses_multi_agent_learner
 
-__all__ = ["locate_checkpoint", "rollout", "run_play"]
+__all__ = ["RealTimePacer", "locate_checkpoint", "rollout", "run_play"]
 
 
 def locate_checkpoint(args: argparse.Namespace, experiment: str) -> str:
@@ -108,3 +109,18 @@ def run_play(
             f"mean return {result['mean_return']:.3f}, mean length {result['mean_length']:.1f} steps"
         )
     return result
+
+
+class RealTimePacer:
+    """An ``on_step`` hook that sleeps so that each env step takes at least the env's ``step_dt``."""
+
+    def __init__(self) -> None:
+        self._last: float | None = None
+
+    def __call__(self, env: Any, obs: Any, actions: Any) -> None:
+        now = time.perf_counter()
+        if self._last is not None:
+            wait = float(env.step_dt) - (now - self._last)
+            if wait > 0:
+                time.sleep(wait)
+        self._last = time.perf_counter()
