@@ -1,4 +1,4 @@
-"""Isaac Lab's ``scripts/reinforcement_learning/<library>/{train,play}.py`` run on simlab, as the tutorials write them."""
+"""Isaac Lab's ``scripts/reinforcement_learning/<library>/{train,play}.py`` on simlab, as the tutorials run them."""
 
 from __future__ import annotations
 
@@ -43,8 +43,9 @@ def test_rsl_rl_resume_flags_find_the_checkpoint(tmp_path):
     first = _script(tmp_path, "rsl_rl", "train", "--task", "simlab/Cartpole-v0", "--num_envs", "8", *CPU,
                     "--max_iterations", "2", "--run_name", "first", "agent.save_interval=1")  # fmt: skip
     assert first.returncode == 0, first.stdout[-2000:] + first.stderr[-2000:]
+    resume = ["--resume", "--load_run", ".*_first", "--checkpoint", "model_1.pt"]
     resumed = _script(tmp_path, "rsl_rl", "train", "--task", "simlab/Cartpole-v0", "--num_envs", "8", *CPU,
-                      "--max_iterations", "1", "--resume", "--load_run", ".*_first", "--checkpoint", "model_1.pt")  # fmt: skip
+                      "--max_iterations", "1", *resume)  # fmt: skip
     assert resumed.returncode == 0, resumed.stdout[-2000:] + resumed.stderr[-2000:]
     assert "_first/model_1.pt at iteration 1" in resumed.stdout
 
