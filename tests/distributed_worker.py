@@ -26,7 +26,8 @@ captured: dict = {}
 class _FirstStep(gym.Wrapper):
     def step(self, action):
         result = super().step(action)
-        captured.setdefault("first_obs", result[0]["policy"].clone())
+        obs = result[0]  # {"policy": ...}, or one entry per agent
+        captured.setdefault("first_obs", torch.cat([obs[k].reshape(obs[k].shape[0], -1) for k in sorted(obs)], -1))
         return result
 
 
@@ -58,7 +59,10 @@ if RANK == 1 and os.environ.get("SIMLAB_TEST_RANK1_NUM_ENVS"):
 code = main(argv)
 if code == 0:
     runner = captured["runner"]
-    policy = runner.alg.get_policy() if library == "rsl_rl" else runner.agent.policy
-    weights = {k: v.detach().cpu().clone() for k, v in policy.state_dict().items()}
+    if library == "rsl_rl":
+        policies = {"policy": runner.alg.get_policy()}
+    else:  # skrl: PPO's policy, or IPPO / MAPPO's one per agent
+        policies = getattr(runner.agent, "policies", None) or {"policy": runner.agent.policy}
+    weights = {f"{n}.{k}": v.detach().cpu().clone() for n, p in policies.items() for k, v in p.state_dict().items()}
     torch.save({"weights": weights, "first_obs": captured["first_obs"]}, os.path.join(out_dir, f"rank{RANK}.pt"))
 sys.exit(code)

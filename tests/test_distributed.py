@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import glob
 import os
+import signal
 import subprocess
 import sys
 import time
@@ -18,6 +19,7 @@ from simlab.cli.main import main
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 WORKER = os.path.join(REPO, "tests", "distributed_worker.py")
 SMALL = ["--task", "simlab/Cartpole-v0", "--num_envs", "8", "--headless", "--device", "cpu"]
+MARL_TASK = "simlab/Cart-Double-Pendulum-Direct-v0"
 
 
 def _env(**extra: str) -> dict[str, str]:
@@ -51,7 +53,13 @@ def _assert_in_sync(tmp_path) -> None:
     [
         ("rsl_rl", ["--max_iterations", "3", "agent.save_interval=1"], "model_1.pt"),
         ("skrl", ["--max_iterations", "3", "agent.agent.rollouts=8"], "checkpoints/agent_*.pt"),
+        (
+            "skrl",
+            ["--task", MARL_TASK, "--algorithm", "MAPPO", "--max_iterations", "2", "agent.agent.rollouts=8"],
+            "checkpoints/agent_*.pt",
+        ),
     ],
+    ids=["rsl_rl", "skrl", "skrl-mappo"],
 )
 def test_two_gloo_ranks_train_in_sync_and_resume(tmp_path, library, args, checkpoint_glob):
     done = _torchrun(tmp_path, "--library", library, *args)
@@ -59,6 +67,7 @@ def test_two_gloo_ranks_train_in_sync_and_resume(tmp_path, library, args, checkp
     _assert_in_sync(tmp_path)
     runs = _runs(tmp_path, library)
     assert len(runs) == 1, runs  # only rank 0 wrote a run folder
+    assert sorted(os.listdir(tmp_path)) == ["logs", "rank0.pt", "rank1.pt"]  # and nothing else
     assert glob.glob(os.path.join(runs[0], "**", "events.out.tfevents.*"), recursive=True)
     checkpoint = sorted(glob.glob(os.path.join(runs[0], checkpoint_glob)))[0]
 
@@ -98,6 +107,17 @@ def test_simlab_launches_torchrun_itself(tmp_path):
     assert len(_runs(tmp_path, "rsl_rl")) == 1
 
 
+def test_isaaclab_train_script_under_torchrun(tmp_path):
+    script = os.path.join(REPO, "scripts", "reinforcement_learning", "rsl_rl", "train.py")
+    cmd = [sys.executable, "-m", "torch.distributed.run", "--standalone", "--nproc_per_node=2", script]
+    cmd += ["--task", "Isaac-Cartpole-v0", "--num_envs", "8", "--headless", "--device", "cpu"]
+    cmd += ["--max_iterations", "2", "--distributed"]
+    done = subprocess.run(cmd, env=_env(), capture_output=True, text=True, timeout=300, cwd=tmp_path)
+    assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+    assert "8 envs on each of 2 processes" in done.stdout
+    assert len(_runs(tmp_path, "rsl_rl")) == 1
+
+
 def _launch_args(**values: str | None) -> argparse.Namespace:
     args = argparse.Namespace(**{name: None for name in distributed.LAUNCH_FLAGS})
     vars(args).update(values)
@@ -123,3 +143,24 @@ def test_distributed_errors_say_what_is_supported(tmp_path, capsys):
     assert "--nproc_per_node" in capsys.readouterr().err
     assert main(["train", *SMALL, "--distributed", "--nproc_per_node", "1", *log]) == 2
     assert "at least 2 processes" in capsys.readouterr().err
+
+
+def test_ctrl_c_on_the_launcher_saves_rank_0s_checkpoint(tmp_path):
+    cmd = [sys.executable, "-m", "simlab", "train", *SMALL, "--library", "rsl_rl", "--max_iterations", "100000"]
+    cmd += ["--log_root", str(tmp_path / "logs"), "--distributed", "--nproc_per_node", "2"]
+    with open(tmp_path / "out.txt", "w") as out:
+        launcher = subprocess.Popen(
+            cmd, env=_env(PYTHONUNBUFFERED="1"), stdout=out, stderr=out, cwd=tmp_path, start_new_session=True
+        )
+        deadline = time.time() + 120
+        while "Synchronizing parameters for rank 0" not in (tmp_path / "out.txt").read_text():
+            assert time.time() < deadline and launcher.poll() is None, (tmp_path / "out.txt").read_text()[-3000:]
+            time.sleep(0.5)
+        time.sleep(3)  # a few iterations
+        os.killpg(launcher.pid, signal.SIGINT)  # the terminal's Ctrl+C: the whole foreground group
+        assert launcher.wait(timeout=120) == 130
+    text = (tmp_path / "out.txt").read_text()
+    assert "Interrupted: saved" in text, text[-3000:]
+    (run,) = _runs(tmp_path, "rsl_rl")
+    saved = text.split("Interrupted: saved ")[1].split()[0]
+    assert os.path.dirname(saved) == run and torch.load(saved, weights_only=False)["iter"] > 0

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import signal
 import subprocess
 import sys
 from dataclasses import dataclass
@@ -35,6 +36,7 @@ __all__ = [
     "launch",
     "launch_command",
     "process_device",
+    "stop_once_on_signal",
     "torchrun_ranks",
 ]
 
@@ -144,11 +146,33 @@ def launch(args: argparse.Namespace, argv: list[str], device: str) -> int:
     env = dict(os.environ)
     env["NCCL_NVLS_ENABLE"] = "0"  # NVLink SHARP multicast: off, as on the machines this was tested on
     print(f"[simlab] Launching: {' '.join(cmd)}", flush=True)
-    try:
-        return subprocess.call(cmd, env=env)
-    except KeyboardInterrupt:
-        # the terminal's Ctrl+C reached the workers too: rank 0 saves its checkpoint; wait for torchrun to finish
-        return 130
+    torchrun = subprocess.Popen(cmd, env=env)
+    interrupted = False
+    while True:
+        try:
+            code = torchrun.wait()
+            break
+        except KeyboardInterrupt:
+            # the terminal's Ctrl+C reached torchrun and the workers too: rank 0 saves; wait for them
+            interrupted = True
+    return 130 if interrupted else code
+
+
+def stop_once_on_signal() -> None:
+    """Ctrl+C and torchrun's SIGTERM raise ``KeyboardInterrupt`` once; later ones wait for the save.
+
+    On Ctrl+C the terminal interrupts every worker and torchrun then sends them SIGTERM: the first
+    signal stops training (rank 0 saves its checkpoint), the second must not cut the save short.
+    """
+    stopping = {"raised": False}
+
+    def on_signal(signum: int, frame: Any) -> None:
+        if not stopping["raised"]:
+            stopping["raised"] = True
+            raise KeyboardInterrupt
+
+    signal.signal(signal.SIGINT, on_signal)
+    signal.signal(signal.SIGTERM, on_signal)
 
 
 def process_device(device: str, ranks: Ranks) -> str:

@@ -54,6 +54,7 @@ def _setup_ranks(args: argparse.Namespace, env_cfg: Any) -> distributed.Ranks:
             "start `simlab train --distributed` without torchrun to launch one process per GPU."
         )
     env_cfg.sim.device = distributed.process_device(env_cfg.sim.device, ranks)
+    distributed.stop_once_on_signal()
     if args.library != "rl_games":  # rl_games' multi_gpu mode starts its own (NCCL) group
         distributed.init_process_group(env_cfg.sim.device, ranks)
     return ranks
