@@ -32,10 +32,9 @@ __all__ = [
     "Ranks",
     "add_launch_args",
     "check_same_settings",
-    "init_process_group",
     "launch",
     "launch_command",
-    "process_device",
+    "setup_process",
     "stop_once_on_signal",
     "torchrun_ranks",
 ]
@@ -175,31 +174,31 @@ def stop_once_on_signal() -> None:
     signal.signal(signal.SIGTERM, on_signal)
 
 
-def process_device(device: str, ranks: Ranks) -> str:
-    """This process's device: ``cuda:<local_rank>`` for a GPU run (whatever index was asked), else the CPU."""
-    if not device.startswith("cuda"):
-        return device
-    import torch
+def setup_process(device: str, ranks: Ranks, start_group: bool = True) -> str:
+    """Prepare this torchrun process; returns its device (``cuda:<local_rank>`` for a GPU run, else the CPU).
 
-    if ranks.local_rank >= torch.cuda.device_count():
-        raise ValueError(
-            f"Local rank {ranks.local_rank} has no GPU: {torch.cuda.device_count()} visible on this node. "
-            "Start at most one process per GPU (--nproc_per_node)."
-        )
-    return f"cuda:{ranks.local_rank}"
-
-
-def init_process_group(device: str, ranks: Ranks) -> None:
-    """Start (or join) the default process group: NCCL for a GPU device, gloo for the CPU."""
+    Makes that GPU the current one, makes Ctrl+C / torchrun's SIGTERM stop training once, and
+    (``start_group``) starts the default process group: NCCL for GPUs, gloo for the CPU. rl_games
+    starts its group itself and passes ``start_group=False``.
+    """
     import torch
     import torch.distributed as dist
 
     if device.startswith("cuda"):
-        torch.cuda.set_device(device)
-    if dist.is_initialized():
-        return
-    backend = "nccl" if device.startswith("cuda") else "gloo"
-    dist.init_process_group(backend, rank=ranks.rank, world_size=ranks.world_size, timeout=COLLECTIVE_TIMEOUT)
+        if ranks.local_rank >= torch.cuda.device_count():
+            raise ValueError(
+                f"Local rank {ranks.local_rank} has no GPU: {torch.cuda.device_count()} visible on this node. "
+                "Start at most one process per GPU (--nproc_per_node)."
+            )
+        device = f"cuda:{ranks.local_rank}"
+        torch.cuda.set_device(device)  # NCCL collectives (and rl_games) use the current device
+        # NVLink SHARP multicast off unless asked for: the setting this was tested with (read at NCCL's start)
+        os.environ.setdefault("NCCL_NVLS_ENABLE", "0")
+    stop_once_on_signal()
+    if start_group and not dist.is_initialized():
+        backend = "nccl" if device.startswith("cuda") else "gloo"
+        dist.init_process_group(backend, rank=ranks.rank, world_size=ranks.world_size, timeout=COLLECTIVE_TIMEOUT)
+    return device
 
 
 def check_same_settings(settings: dict[str, Any]) -> None:

@@ -53,10 +53,8 @@ def _setup_ranks(args: argparse.Namespace, env_cfg: Any) -> distributed.Ranks:
             "--distributed needs at least 2 processes (WORLD_SIZE >= 2 under torchrun); "
             "start `simlab train --distributed` without torchrun to launch one process per GPU."
         )
-    env_cfg.sim.device = distributed.process_device(env_cfg.sim.device, ranks)
-    distributed.stop_once_on_signal()
-    if args.library != "rl_games":  # rl_games' multi_gpu mode starts its own (NCCL) group
-        distributed.init_process_group(env_cfg.sim.device, ranks)
+    # rl_games' multi_gpu mode starts its own (NCCL) group; rsl_rl and skrl join the one started here
+    env_cfg.sim.device = distributed.setup_process(env_cfg.sim.device, ranks, start_group=args.library != "rl_games")
     return ranks
 
 
@@ -81,10 +79,10 @@ def run_train(args: argparse.Namespace, overrides: list[str], argv: list[str] | 
     args.seed = resolve_seed(args.seed)
     env_cfg, agent_cfg = load_configs(args, overrides)
     ranks = _setup_ranks(args, env_cfg)
-    args.ranks = ranks
     lib = get_library(args.library)
     lib.configure(agent_cfg, args, env_cfg)
-    # each rank simulates other episodes (the libraries offset their own seeds by the rank)
+    # seed + rank: each rank simulates other episodes (the env seeds torch with it; skrl and rl_games
+    # add the rank to their own seeds themselves)
     env_cfg.seed = None if env_cfg.seed is None else env_cfg.seed + ranks.rank
     resume = resolve_checkpoint(args.checkpoint, args.library) if args.checkpoint else None
     run_dir = None

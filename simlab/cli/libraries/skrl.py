@@ -62,6 +62,8 @@ def _join_process_group() -> None:
 
 
 class _DropWarning(logging.Filter):
+    """Drops the log records that contain ``text``."""
+
     def __init__(self, text: str):
         super().__init__()
         self.text = text
@@ -97,7 +99,7 @@ def _wrap(env: gym.Env, ml_framework: str) -> Any:
         skrl_config.jax.device = device
     else:
         skrl_config.torch.device = device
-    if framework == "torch" or str(env.unwrapped.device).startswith("cuda"):
+    if framework == "torch" or device.startswith("cuda"):
         return SkrlVecEnvWrapper(env, ml_framework=framework, wrapper="isaaclab")
     drop = _DropWarning("runs on GPU, but there is no GPU backend for JAX")
     skrl_logger = logging.getLogger("skrl")
@@ -139,7 +141,7 @@ def make_runner(env: gym.Env, agent_cfg: dict, run_dir: str | None, ml_framework
     """skrl's Runner; ``run_dir`` None (playing, or ranks other than 0) writes nothing."""
     cfg = copy.deepcopy(agent_cfg)
     exp = cfg["agent"]["experiment"]
-    if run_dir is None:  # playing: write nothing
+    if run_dir is None:  # playing, or a rank other than 0: write nothing
         exp["write_interval"] = 0
         exp["checkpoint_interval"] = 0
         cfg["trainer"]["disable_progressbar"] = True
