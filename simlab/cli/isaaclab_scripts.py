@@ -123,7 +123,7 @@ def script_to_simlab_argv(library: str, mode: str, args: argparse.Namespace, ove
         value = getattr(args, name, None)
         if value is not None:
             argv += [f"--{name}", str(value)]
-    for name in ("headless", "video"):
+    for name in ("headless", "video", "verbose"):
         if getattr(args, name, False):
             argv.append(f"--{name}")
     if library == "skrl":
