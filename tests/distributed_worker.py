@@ -43,7 +43,7 @@ train_module.make_env = make_env
 
 library = argv[argv.index("--library") + 1]
 adapter = __import__(f"simlab.cli.libraries.{library}", fromlist=["make_runner"])
-original_make_runner = adapter.make_runner
+original_make_runner = getattr(adapter, "make_runner", None)
 
 
 def make_runner(*args, **kwargs):
@@ -51,18 +51,40 @@ def make_runner(*args, **kwargs):
     return captured["runner"]
 
 
-adapter.make_runner = make_runner
+if library == "rl_games":  # the agent is made inside training: keep it when rl_games' factory makes it
+    original_runner = adapter._runner
+
+    def _runner(*args, **kwargs):
+        runner, wrapped = original_runner(*args, **kwargs)
+        create = runner.algo_factory.create
+
+        def create_and_keep(*create_args, **create_kwargs):
+            captured["agent"] = create(*create_args, **create_kwargs)
+            return captured["agent"]
+
+        runner.algo_factory.create = create_and_keep
+        return runner, wrapped
+
+    adapter._runner = _runner
+else:
+    adapter.make_runner = make_runner
 
 if RANK == 1 and os.environ.get("SIMLAB_TEST_RANK1_NUM_ENVS"):
     argv[argv.index("--num_envs") + 1] = os.environ["SIMLAB_TEST_RANK1_NUM_ENVS"]
 
 code = main(argv)
 if code == 0:
-    runner = captured["runner"]
-    if library == "rsl_rl":
+    runner = captured.get("runner")
+    if library == "rl_games":
+        policies = {"model": captured["agent"].model}
+    elif library == "rsl_rl":
         policies = {"policy": runner.alg.get_policy()}
     else:  # skrl: PPO's policy, or IPPO / MAPPO's one per agent
         policies = getattr(runner.agent, "policies", None) or {"policy": runner.agent.policy}
-    weights = {f"{n}.{k}": v.detach().cpu().clone() for n, p in policies.items() for k, v in p.state_dict().items()}
+    weights = {}
+    for name, module in policies.items():
+        # rl_games keeps each rank's own observation statistics (its multi_gpu mode averages gradients only)
+        tensors = module.named_parameters() if library == "rl_games" else module.state_dict().items()
+        weights.update({f"{name}.{k}": v.detach().cpu().clone() for k, v in tensors})
     torch.save({"weights": weights, "first_obs": captured["first_obs"]}, os.path.join(out_dir, f"rank{RANK}.pt"))
 sys.exit(code)

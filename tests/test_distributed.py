@@ -29,9 +29,12 @@ def _env(**extra: str) -> dict[str, str]:
     return env
 
 
-def _torchrun(tmp_path, *argv: str, timeout: float = 300, **extra: str) -> subprocess.CompletedProcess:
+def _torchrun(
+    tmp_path, *argv: str, timeout: float = 300, device: str = "cpu", **extra: str
+) -> subprocess.CompletedProcess:
     cmd = [sys.executable, "-m", "torch.distributed.run", "--standalone", "--nproc_per_node=2", WORKER]
-    cmd += [str(tmp_path), "train", *SMALL, "--log_root", str(tmp_path / "logs"), "--distributed", *argv]
+    cmd += [str(tmp_path), "train", *SMALL, "--device", device, "--log_root", str(tmp_path / "logs")]
+    cmd += ["--distributed", *argv]
     return subprocess.run(cmd, env=_env(**extra), capture_output=True, text=True, timeout=timeout, cwd=tmp_path)
 
 
@@ -79,6 +82,18 @@ def test_two_gloo_ranks_train_in_sync_and_resume(tmp_path, library, args, checkp
     assert len(_runs(tmp_path, library)) == 2
     if library == "rsl_rl":  # the iterations go on from the checkpoint's
         assert torch.load(os.path.join(_runs(tmp_path, library)[1], "model_3.pt"), weights_only=False)["iter"] == 3
+
+
+@pytest.mark.gpu
+@pytest.mark.skipif(torch.cuda.device_count() < 2, reason="needs two GPUs")
+@pytest.mark.parametrize("library", ["rsl_rl", "skrl", "rl_games"])
+def test_two_gpus_train_in_sync(tmp_path, library):
+    """NCCL: one process per GPU, each simulating on cuda:<local_rank>."""
+    done = _torchrun(tmp_path, "--library", library, "--num_envs", "64", "--max_iterations", "3", device="cuda")
+    assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+    assert "on cuda:0, 64 envs on each of 2 processes" in done.stdout
+    _assert_in_sync(tmp_path)
+    assert len(_runs(tmp_path, library)) == 1
 
 
 def test_mismatched_ranks_are_reported(tmp_path):
@@ -143,6 +158,9 @@ def test_distributed_errors_say_what_is_supported(tmp_path, capsys):
     assert "--nproc_per_node" in capsys.readouterr().err
     assert main(["train", *SMALL, "--distributed", "--nproc_per_node", "1", *log]) == 2
     assert "at least 2 processes" in capsys.readouterr().err
+    assert main(["train", *SMALL, "--library", "rl_games", "--distributed", "--nproc_per_node", "2", *log]) == 2
+    assert "rl_games' multi_gpu mode runs on CUDA GPUs only" in capsys.readouterr().err
+    assert not os.path.exists(tmp_path / "logs")
 
 
 def test_ctrl_c_on_the_launcher_saves_rank_0s_checkpoint(tmp_path):

@@ -21,11 +21,16 @@ def uses_multi_agent_learner(args: argparse.Namespace) -> bool:
     return args.library == "skrl" and (args.algorithm or "PPO") in ("IPPO", "MAPPO")
 
 
-def _check_distributed_library(args: argparse.Namespace) -> None:
+def _check_distributed_library(args: argparse.Namespace, device: str) -> None:
     if args.library not in distributed.SUPPORTED_LIBRARIES:
         raise ValueError(
             f"--distributed is not available for {args.library} (Stable-Baselines3 trains in one process). "
             f"Distributed training supports {list(distributed.SUPPORTED_LIBRARIES)}."
+        )
+    if args.library == "rl_games" and not device.startswith("cuda"):
+        raise ValueError(
+            "rl_games' multi_gpu mode runs on CUDA GPUs only (it starts an NCCL group); "
+            "train on the CPU with --library rsl_rl or skrl."
         )
 
 
@@ -38,15 +43,16 @@ def launch_distributed(args: argparse.Namespace, argv: list[str]) -> int:
     """Run this ``simlab train`` command under torchrun, one process per GPU (or ``--nproc_per_node``)."""
     from simlab.app.app_launcher import resolve_device
 
-    _check_distributed_library(args)
-    return distributed.launch(args, argv, resolve_device(args.device))
+    device = resolve_device(args.device)
+    _check_distributed_library(args, device)
+    return distributed.launch(args, argv, device)
 
 
 def _setup_ranks(args: argparse.Namespace, env_cfg: Any) -> distributed.Ranks:
     """This process's ranks; for ``--distributed``, its device and (for rsl_rl and skrl) the process group."""
     if not args.distributed:
         return distributed.Ranks()
-    _check_distributed_library(args)
+    _check_distributed_library(args, env_cfg.sim.device)
     ranks = distributed.torchrun_ranks()
     if ranks is None or ranks.world_size < 2:
         raise ValueError(

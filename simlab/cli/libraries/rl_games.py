@@ -50,11 +50,6 @@ def configure(agent_cfg: dict, args: argparse.Namespace, env_cfg: Any) -> None:
             size -= 1
         config["minibatch_size"] = size
     if getattr(args, "distributed", False):
-        if not device.startswith("cuda"):
-            raise ValueError(
-                "rl_games' multi_gpu mode runs on CUDA GPUs only (it starts an NCCL group); "
-                "train on the CPU with --library rsl_rl or skrl."
-            )
         config["multi_gpu"] = True  # rl_games starts the group, averages gradients, and adds the rank to the seed
     env_cfg.seed = params["seed"]
 
