@@ -38,3 +38,9 @@ def test_skrl_on_jax_learns_the_cartpole(tmp_path, caplog, ml_framework):
     first, last = sum(lengths[:5]) / 5, sum(lengths[-5:]) / 5
     # a random policy drops the pole in ~25 steps; after 40 iterations it balances for 100+
     assert first < 50 and last > 100, (first, last)
+
+
+def test_ml_framework_is_for_skrl(tmp_path, capsys):
+    argv = ["train", "--task", "simlab/Cartpole-v0", "--device", "cpu", "--ml_framework", "jax"]
+    assert main([*argv, "--log_root", str(tmp_path / "logs")]) == 2
+    assert "--ml_framework jax is skrl's; rsl_rl trains on torch" in capsys.readouterr().err

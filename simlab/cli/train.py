@@ -82,6 +82,8 @@ def _settings_all_ranks_share(args: argparse.Namespace, overrides: list[str], en
 
 def run_train(args: argparse.Namespace, overrides: list[str], argv: list[str] | None = None) -> str | None:
     """Train ``args.task`` with ``args.library``; returns the run folder (None on ranks other than 0)."""
+    if getattr(args, "ml_framework", "torch") != "torch" and args.library != "skrl":
+        raise ValueError(f"--ml_framework {args.ml_framework} is skrl's; {args.library} trains on torch.")
     args.seed = resolve_seed(args.seed)
     env_cfg, agent_cfg = load_configs(args, overrides)
     ranks = _setup_ranks(args, env_cfg)
