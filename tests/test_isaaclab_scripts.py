@@ -58,8 +58,8 @@ def test_flags_map_to_simlab_and_unsupported_ones_say_so(capsys):
     assert argv[:3] == ["train", "--task", "simlab/Cartpole-v0"]
     assert {"--ml_framework", "jax", "--distributed", "--seed", "3"} <= set(argv) and argv[-1] == "agent.seed=1"
     args, rest = build_script_parser("skrl", "play").parse_known_args(["--task", "T", "--use_pretrained_checkpoint"])
-    with pytest.raises(ValueError, match="no pretrained checkpoints"):
-        script_to_simlab_argv("skrl", "play", args, rest)
+    argv = script_to_simlab_argv("skrl", "play", args, rest)
+    assert "--use_pretrained_checkpoint" in argv and "--use_last_checkpoint" not in argv
     args, rest = build_script_parser("skrl", "train").parse_known_args(["--task", "T", "--algorithm", "AMP"])
     with pytest.raises(ValueError, match="no AMP task"):
         script_to_simlab_argv("skrl", "train", args, rest)

@@ -160,11 +160,8 @@ def script_to_simlab_argv(library: str, mode: str, args: argparse.Namespace, ove
             print("[simlab] --export_io_descriptors: simlab does not write IO descriptors yet; training goes on.")
     else:
         if args.use_pretrained_checkpoint:
-            raise ValueError(
-                "--use_pretrained_checkpoint: simlab ships no pretrained checkpoints yet. Train first "
-                f"(scripts/reinforcement_learning/{library}/train.py --task {task}), then play the last checkpoint."
-            )
-        if not checkpoint:  # Isaac Lab's play scripts default to the newest checkpoint of the newest run
+            argv.append("--use_pretrained_checkpoint")
+        elif not checkpoint:  # Isaac Lab's play scripts default to the newest checkpoint of the newest run
             argv.append("--use_last_checkpoint")
         if args.max_app_steps is not None:  # the app loop's bound: as many env steps
             argv += ["--steps", str(args.max_app_steps)]

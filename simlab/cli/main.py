@@ -99,6 +99,11 @@ def build_parser() -> argparse.ArgumentParser:
         default=None,
         help="Env steps to run (default: one episode with --eval or --video, else until Ctrl+C).",
     )
+    p.add_argument(
+        "--use_pretrained_checkpoint",
+        action="store_true",
+        help="Play the policy shipped with simlab for this task and library (copied to <log_root>/.../pretrained).",
+    )
     p.add_argument("--eval", action="store_true", help="Report episode returns and lengths at the end.")
     p.add_argument("--no_export", action="store_true", help="Do not export the policy.")
     p.add_argument("--real-time", action="store_true", help="Step no faster than simulated time (for watching).")

@@ -23,7 +23,11 @@ def locate_checkpoint(args: argparse.Namespace, experiment: str) -> str:
         return resolve_checkpoint(args.checkpoint, args.library)
     if args.use_last_checkpoint:
         return find_last_checkpoint(args.log_root, args.library, experiment)
-    raise ValueError("play needs --checkpoint PATH or --use_last_checkpoint.")
+    if getattr(args, "use_pretrained_checkpoint", False):
+        from simlab.pretrained import copy_pretrained_run
+
+        return resolve_checkpoint(copy_pretrained_run(args.task, args.library, args.log_root, experiment), args.library)
+    raise ValueError("play needs --checkpoint PATH, --use_last_checkpoint or --use_pretrained_checkpoint.")
 
 
 def _total(x: Any) -> torch.Tensor:
