@@ -22,8 +22,6 @@ __all__ = ["build_script_parser", "play_main", "script_to_simlab_argv", "train_m
 # flags Isaac Lab's scripts take that change nothing here, and why
 _NO_EFFECT = {
     "disable_fabric": "simlab has no USD/Fabric layer",
-    "logger": "TensorBoard is simlab's logger (set agent.logger=... to use rsl_rl's others)",
-    "log_project_name": "it names a W&B / Neptune project, and simlab logs to TensorBoard",
     "keep_all_info": "simlab's SB3 wrapper keeps the env's info dicts it needs",
     "log_interval": "simlab shows a progress bar and logs every rollout to TensorBoard",
     "sigma": "rl_games' initial action noise is the agent config's (agent.params.config...)",
@@ -143,6 +141,11 @@ def script_to_simlab_argv(library: str, mode: str, args: argparse.Namespace, ove
         checkpoint = _rsl_rl_checkpoint(args, task, log_root)
         if args.experiment_name:
             overrides = [*overrides, f"agent.experiment_name={args.experiment_name}"]
+        if args.logger:  # rsl_rl's own writers: tensorboard, wandb or neptune
+            overrides = [*overrides, f"agent.logger={args.logger}"]
+        if args.log_project_name:
+            name = args.log_project_name
+            overrides = [*overrides, f"agent.wandb_project={name}", f"agent.neptune_project={name}"]
         if args.run_name and mode == "train":
             argv += ["--run_name", args.run_name]
     else:
