@@ -32,10 +32,13 @@ def test_pretrained_policy_balances_the_pole(tmp_path, task, library):
     argv += ["--device", "cpu", "--num_envs", "64", "--steps", "300", "--log_root", str(tmp_path / "logs")]
     on_step, counts = _pole_angle_counter()
     result = run_play(build_parser().parse_args(argv), [], on_step=on_step)
-    # the shipped files stay as they are: play copied the run to <log_root>/<library>/<experiment>/pretrained
-    assert result["checkpoint"].startswith(str(tmp_path / "logs" / library))
+    # the shipped files stay as they are: play copied the run to <log_root>/pretrained/<library>/<task name>
+    assert result["checkpoint"].startswith(str(tmp_path / "logs" / "pretrained" / library))
     assert os.path.isfile(os.path.join(os.path.dirname(result["checkpoint"]), "exported", "policy.onnx"))
     assert counts["inside"] / counts["total"] >= 0.95  # the criterion of scripts/benchmarks/cartpole_learns.py
+    argv[argv.index("--use_pretrained_checkpoint")] = "--use_last_checkpoint"
+    with pytest.raises(FileNotFoundError):  # the copy is not taken for a training run of the user's
+        run_play(build_parser().parse_args(argv), [])
 
 
 def test_a_task_without_a_pretrained_policy_says_what_is_shipped(tmp_path, capsys):

@@ -102,7 +102,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--use_pretrained_checkpoint",
         action="store_true",
-        help="Play the policy shipped with simlab for this task and library (copied to <log_root>/.../pretrained).",
+        help="Play the policy shipped with simlab for this task and library (copied to <log_root>/pretrained/).",
     )
     p.add_argument("--eval", action="store_true", help="Report episode returns and lengths at the end.")
     p.add_argument("--no_export", action="store_true", help="Do not export the policy.")

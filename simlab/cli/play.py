@@ -26,7 +26,7 @@ def locate_checkpoint(args: argparse.Namespace, experiment: str) -> str:
     if getattr(args, "use_pretrained_checkpoint", False):
         from simlab.pretrained import copy_pretrained_run
 
-        return resolve_checkpoint(copy_pretrained_run(args.task, args.library, args.log_root, experiment), args.library)
+        return resolve_checkpoint(copy_pretrained_run(args.task, args.library, args.log_root), args.library)
     raise ValueError("play needs --checkpoint PATH, --use_last_checkpoint or --use_pretrained_checkpoint.")
 
 

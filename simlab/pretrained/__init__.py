@@ -41,9 +41,10 @@ def pretrained_run_dir(task: str, library: str) -> str:
     return folder
 
 
-def copy_pretrained_run(task: str, library: str, log_root: str, experiment: str) -> str:
-    """Copy the shipped run into ``<log_root>/<library>/<experiment>/pretrained`` (where play writes
-    its exports and videos) and return that folder."""
-    target = os.path.abspath(os.path.join(log_root, library, experiment, "pretrained"))
+def copy_pretrained_run(task: str, library: str, log_root: str) -> str:
+    """Copy the shipped run into ``<log_root>/pretrained/<library>/<task name>`` (where play writes its
+    exports and videos; outside the training runs, so ``--use_last_checkpoint`` never picks it) and
+    return that folder."""
+    target = os.path.abspath(os.path.join(log_root, "pretrained", library, _task_folder(task)))
     shutil.copytree(pretrained_run_dir(task, library), target, dirs_exist_ok=True)
     return target
