@@ -23,4 +23,6 @@ fi
 .venv/bin/python -m pip install -q -c constraints.txt -e ".[$extras]"
 # rl_games pins psutil<6 and pulls pygame-ce: an optional extra, installed for the full setup.
 .venv/bin/python -m pip install -q -c constraints.txt -e ".[rl_games]" || echo "note: rl_games not installed"
+# skrl on JAX (CPU wheels): an optional extra, installed for the full setup.
+.venv/bin/python -m pip install -q -c constraints.txt -e ".[jax]" || echo "note: jax (skrl --ml_framework jax) not installed"
 echo "simlab installed in .venv"

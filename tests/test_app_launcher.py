@@ -156,3 +156,12 @@ def test_import_is_light():
     code = "import sys, simlab.app; print('torch' in sys.modules, 'mujoco' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.split() == ["False", "False"]
+
+
+def test_ranks_are_read_for_distributed_runs(monkeypatch, launchers):
+    monkeypatch.setenv("RANK", "3")
+    monkeypatch.setenv("LOCAL_RANK", "1")
+    launcher = launchers({"distributed": True, "device": "cpu"})
+    assert (launcher.local_rank, launcher.global_rank, launcher.device) == (1, 3, "cpu")
+    launcher = launchers({"device": "cpu"})  # not distributed: rank 0, as in Isaac Lab
+    assert (launcher.local_rank, launcher.global_rank) == (0, 0)

@@ -73,7 +73,7 @@ def test_errors_are_clear(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "No checkpoint" in err and "logs" in err
     assert _run(tmp_path, "train", *SMALL, "--distributed") == 2
-    assert "not yet supported" in capsys.readouterr().err
+    assert "--distributed on the CPU needs --nproc_per_node" in capsys.readouterr().err
     assert _run(tmp_path, "train", *SMALL, "env.actions.joint_efort.scale=1") == 2
     assert "joint_effort" in capsys.readouterr().err
     with pytest.raises(SystemExit):

@@ -163,6 +163,8 @@ class AppLauncher:
         "livestream": (-1, "Accepted for Isaac Lab compatibility and ignored (simlab has no livestreaming)."),
         "max_app_steps": (None, "Stop the app loop (is_running() -> False) after this many iterations."),
         "verbose": (False, "Print the resolved app settings."),
+        # set from the script's own --distributed flag (no app flag, as in Isaac Lab)
+        "distributed": (False, "One process per GPU under torchrun: simulate on cuda:<local_rank>."),
     }  # fmt: skip
 
     def __init__(self, launcher_args: argparse.Namespace | dict | None = None, **kwargs: Any):
@@ -205,9 +207,14 @@ class AppLauncher:
         self._verbose: bool = cfg["verbose"]
         self._max_app_steps: int | None = steps
         self._device: str = resolve_device(cfg["device"])
-        # ranks for multi-GPU training (set by torchrun)
-        self.local_rank = int(os.environ.get("LOCAL_RANK", 0))
-        self.global_rank = int(os.environ.get("RANK", 0))
+        # ranks of a distributed run (torchrun sets them; JAX_* for skrl's JAX launcher), 0 otherwise
+        self.local_rank = 0
+        self.global_rank = 0
+        if cfg["distributed"]:
+            self.local_rank = int(os.environ.get("LOCAL_RANK", "0")) + int(os.environ.get("JAX_LOCAL_RANK", "0"))
+            self.global_rank = int(os.environ.get("RANK", "0")) + int(os.environ.get("JAX_RANK", "0"))
+            if self._device.startswith("cuda"):
+                self._device = resolve_device(f"cuda:{self.local_rank}")
         self._app = SimulationApp(max_steps=steps)
         if self._verbose:
             print(

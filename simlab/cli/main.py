@@ -25,6 +25,7 @@ import traceback
 from collections.abc import Iterator
 from typing import Any
 
+from simlab.cli.distributed import add_launch_args
 from simlab.cli.session import LIBRARIES, SKRL_ALGORITHMS
 from simlab.utils.errors import is_intended_error
 
@@ -68,7 +69,11 @@ def _add_agent(p: argparse.ArgumentParser) -> None:
         action="store_true",
         help="Use a checkpoint even if it was trained with another library, task or observation/action size.",
     )
-    p.add_argument("--distributed", action="store_true", help="Multi-GPU training (not yet supported).")
+    p.add_argument(
+        "--agent",
+        default=None,
+        help="Registry key of the agent config (default: <library>_cfg_entry_point, or skrl's for --algorithm).",
+    )
     p.add_argument("--verbose", action="store_true", help="Print the libraries' own per-iteration logs.")
 
 
@@ -87,6 +92,19 @@ def build_parser() -> argparse.ArgumentParser:
     _add_agent(p)
     p.add_argument("--max_iterations", type=int, default=None, help="Training iterations (default: the agent's).")
     p.add_argument("--run_name", default="", help="Suffix of the run folder: <timestamp>_<run_name>.")
+    p.add_argument(
+        "--distributed",
+        action="store_true",
+        help="Train on several GPUs or nodes (torch.distributed; gloo on the CPU). Under torchrun each "
+        "process trains; without torchrun simlab launches it, one process per GPU (see the launch flags).",
+    )
+    p.add_argument(
+        "--ml_framework",
+        choices=("torch", "jax", "jax-numpy"),
+        default="torch",
+        help="skrl's backend: torch (default), jax or jax-numpy (needs simlab[jax]).",
+    )
+    add_launch_args(p)
 
     p = sub.add_parser("play", help="Run a trained policy; export it to ONNX and TorchScript.")
     _add_common(p)
@@ -102,8 +120,14 @@ def build_parser() -> argparse.ArgumentParser:
         default=None,
         help="Env steps to run (default: one episode with --eval or --video, else until Ctrl+C).",
     )
+    p.add_argument(
+        "--use_pretrained_checkpoint",
+        action="store_true",
+        help="Play the policy shipped with simlab for this task and library (copied to <log_root>/pretrained/).",
+    )
     p.add_argument("--eval", action="store_true", help="Report episode returns and lengths at the end.")
     p.add_argument("--no_export", action="store_true", help="Do not export the policy.")
+    p.add_argument("--real-time", action="store_true", help="Step no faster than simulated time (for watching).")
 
     p = sub.add_parser("list", help="List the registered tasks.")
     p.add_argument("--keyword", default=None, help="Only tasks whose id contains this word.")
@@ -195,13 +219,15 @@ def _dispatch(parser: argparse.ArgumentParser, args: argparse.Namespace, rest: l
 
         return run_random(args, zero=args.command == "zero")
     if args.command == "train":
-        from simlab.cli.train import run_train
+        from simlab.cli.train import launch_distributed, needs_launch, run_train
 
+        if needs_launch(args):
+            return launch_distributed(args, argv)
         run_train(args, rest, argv=["simlab", *argv])
     elif args.command == "play":
-        from simlab.cli.play import run_play
+        from simlab.cli.play import RealTimePacer, run_play
 
-        run_play(args, rest)
+        run_play(args, rest, on_step=RealTimePacer() if args.real_time else None)
     return 0
 
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import time
 from collections.abc import Callable
 from typing import Any
 
@@ -22,7 +23,7 @@ from simlab.cli.session import check_flags, load_configs, make_env
 from simlab.cli.train import uses_multi_agent_learner
 from simlab.utils.errors import CheckpointError, ConfigError, SimlabError
 
-__all__ = ["locate_checkpoint", "rollout", "run_play"]
+__all__ = ["RealTimePacer", "locate_checkpoint", "rollout", "run_play"]
 
 
 def locate_checkpoint(args: argparse.Namespace, experiment: str) -> str:
@@ -30,7 +31,11 @@ def locate_checkpoint(args: argparse.Namespace, experiment: str) -> str:
         return resolve_checkpoint(args.checkpoint, args.library)
     if args.use_last_checkpoint:
         return find_last_checkpoint(args.log_root, args.library, experiment)
-    raise ConfigError("play needs --checkpoint PATH or --use_last_checkpoint.")
+    if getattr(args, "use_pretrained_checkpoint", False):
+        from simlab.pretrained import copy_pretrained_run
+
+        return resolve_checkpoint(copy_pretrained_run(args.task, args.library, args.log_root), args.library)
+    raise ConfigError("play needs --checkpoint PATH, --use_last_checkpoint or --use_pretrained_checkpoint.")
 
 
 def _total(x: Any) -> torch.Tensor:
@@ -127,3 +132,18 @@ def run_play(
             f"mean return {result['mean_return']:.3f}, mean length {result['mean_length']:.1f} steps"
         )
     return result
+
+
+class RealTimePacer:
+    """An ``on_step`` hook that sleeps so that each env step takes at least the env's ``step_dt``."""
+
+    def __init__(self) -> None:
+        self._last: float | None = None
+
+    def __call__(self, env: Any, obs: Any, actions: Any) -> None:
+        now = time.perf_counter()
+        if self._last is not None:
+            wait = float(env.step_dt) - (now - self._last)
+            if wait > 0:
+                time.sleep(wait)
+        self._last = time.perf_counter()

@@ -87,7 +87,8 @@ def load_configs(args: argparse.Namespace, overrides: list[str], with_agent: boo
     env_cfg = load_cfg_from_registry(args.task, "env_cfg_entry_point")
     agent_cfg = None
     if with_agent:
-        agent_cfg = load_cfg_from_registry(args.task, agent_entry_point(args.library, args.algorithm))
+        entry_point = getattr(args, "agent", None) or agent_entry_point(args.library, args.algorithm)
+        agent_cfg = load_cfg_from_registry(args.task, entry_point)
     apply_overrides(env_cfg, agent_cfg, overrides)
     if getattr(args, "num_envs", None) is not None:
         if args.num_envs < 1:

@@ -7,6 +7,7 @@ import os
 import time
 from typing import Any
 
+from simlab.cli import distributed
 from simlab.cli.checkpoints import check_checkpoint_sizes, check_checkpoint_source, env_sizes, resolve_checkpoint
 from simlab.cli.libraries import get_library
 from simlab.cli.runs import dump_params, make_run_dir, remove_if_empty_run, write_run_info
@@ -14,7 +15,7 @@ from simlab.cli.session import check_flags, load_configs, make_env, resolve_seed
 from simlab.rl.utils import is_multi_agent
 from simlab.utils.errors import ConfigError
 
-__all__ = ["run_train", "uses_multi_agent_learner"]
+__all__ = ["launch_distributed", "needs_launch", "run_train", "uses_multi_agent_learner"]
 
 
 def uses_multi_agent_learner(args: argparse.Namespace) -> bool:
@@ -22,54 +23,136 @@ def uses_multi_agent_learner(args: argparse.Namespace) -> bool:
     return args.library == "skrl" and (args.algorithm or "PPO") in ("IPPO", "MAPPO")
 
 
-def run_train(args: argparse.Namespace, overrides: list[str], argv: list[str] | None = None) -> str:
-    """Train ``args.task`` with ``args.library``; returns the run folder."""
-    if args.distributed:
-        raise NotImplementedError("--distributed (multi-GPU) training is not yet supported by simlab.")
+def _check_distributed_library(args: argparse.Namespace, device: str) -> None:
+    if args.library not in distributed.SUPPORTED_LIBRARIES:
+        raise ValueError(
+            f"--distributed is not available for {args.library} (Stable-Baselines3 trains in one process). "
+            f"Distributed training supports {list(distributed.SUPPORTED_LIBRARIES)}."
+        )
+    if args.library == "rl_games" and not device.startswith("cuda"):
+        raise ValueError(
+            "rl_games' multi_gpu mode runs on CUDA GPUs only (it starts an NCCL group); "
+            "train on the CPU with --library rsl_rl or skrl."
+        )
+
+
+def needs_launch(args: argparse.Namespace) -> bool:
+    """True for ``simlab train --distributed`` started outside torchrun: simlab launches torchrun."""
+    return bool(args.distributed) and distributed.torchrun_ranks() is None
+
+
+def launch_distributed(args: argparse.Namespace, argv: list[str]) -> int:
+    """Run this ``simlab train`` command under torchrun, one process per GPU (or ``--nproc_per_node``)."""
+    from simlab.app.app_launcher import resolve_device
+
+    device = resolve_device(args.device)
+    _check_distributed_library(args, device)
+    return distributed.launch(args, argv, device)
+
+
+def _setup_ranks(args: argparse.Namespace, env_cfg: Any) -> distributed.Ranks:
+    """This process's ranks; for ``--distributed``, its device and (for rsl_rl and skrl) the process group."""
+    if not args.distributed:
+        return distributed.Ranks()
+    _check_distributed_library(args, env_cfg.sim.device)
+    ranks = distributed.torchrun_ranks()
+    if ranks is None or ranks.world_size < 2:
+        raise ValueError(
+            "--distributed needs at least 2 processes (WORLD_SIZE >= 2 under torchrun); "
+            "start `simlab train --distributed` without torchrun to launch one process per GPU."
+        )
+    # rl_games' multi_gpu mode starts its own (NCCL) group; rsl_rl and skrl join the one started here
+    env_cfg.sim.device = distributed.setup_process(env_cfg.sim.device, ranks, start_group=args.library != "rl_games")
+    return ranks
+
+
+def _settings_all_ranks_share(args: argparse.Namespace, overrides: list[str], env: Any) -> dict[str, Any]:
+    """What must be equal on every rank for the library's collectives to line up."""
+    unwrapped = env.unwrapped
+    return {
+        "task": args.task,
+        "library": args.library,
+        "algorithm": args.algorithm,
+        "num_envs": unwrapped.num_envs,
+        "max_iterations": args.max_iterations,
+        "checkpoint": args.checkpoint,
+        "overrides": sorted(overrides),
+        "observation_space": str(getattr(unwrapped, "single_observation_space", None)),
+        "action_space": str(getattr(unwrapped, "single_action_space", None)),
+    }
+
+
+def run_train(args: argparse.Namespace, overrides: list[str], argv: list[str] | None = None) -> str | None:
+    """Train ``args.task`` with ``args.library``; returns the run folder (None on ranks other than 0)."""
     check_flags(args)
-    lib = get_library(args.library)
+    if getattr(args, "ml_framework", "torch") != "torch" and args.library != "skrl":
+        raise ConfigError(f"--ml_framework {args.ml_framework} is skrl's; {args.library} trains on torch.")
     args.seed = resolve_seed(args.seed)
     env_cfg, agent_cfg = load_configs(args, overrides)
+    ranks = _setup_ranks(args, env_cfg)
+    lib = get_library(args.library)
     lib.configure(agent_cfg, args, env_cfg)
+    # seed + rank: each rank simulates other episodes (the env seeds torch with it; skrl and rl_games
+    # add the rank to their own seeds themselves)
+    env_cfg.seed = None if env_cfg.seed is None else env_cfg.seed + ranks.rank
     resume = resolve_checkpoint(args.checkpoint, args.library) if args.checkpoint else None
     if resume:
         check_checkpoint_source(resume, args.library, args.task, force=getattr(args, "force", False))
-    run_dir = make_run_dir(args.log_root, args.library, lib.experiment_name(agent_cfg, args.task), args.run_name)
+    run_dir = None
+    if ranks.is_main:  # only rank 0 writes the run folder
+        run_dir = make_run_dir(args.log_root, args.library, lib.experiment_name(agent_cfg, args.task), args.run_name)
     try:
-        startup, start = _train_in(run_dir, lib, args, env_cfg, agent_cfg, resume, argv)
+        startup, start = _train_in(run_dir, ranks, lib, args, overrides, env_cfg, agent_cfg, resume, argv)
     except BaseException:
-        if remove_if_empty_run(run_dir, args.library):
+        if run_dir is not None and remove_if_empty_run(run_dir, args.library):
             print(f"[simlab] Removed the run folder {run_dir}: the run stopped before its first checkpoint.")
         raise
     took = time.perf_counter() - start
-    print(
-        f"[simlab] Training took {took:.1f} s after {startup:.1f} s of start-up "
-        f"({startup + took:.1f} s in all). Run folder: {run_dir}"
-    )
+    if ranks.is_main:
+        print(
+            f"[simlab] Training took {took:.1f} s after {startup:.1f} s of start-up "
+            f"({startup + took:.1f} s in all). Run folder: {run_dir}"
+        )
     return run_dir
 
 
 def _train_in(
-    run_dir: str, lib: Any, args: argparse.Namespace, env_cfg: Any, agent_cfg: Any, resume: str | None, argv: Any
+    run_dir: str | None,
+    ranks: distributed.Ranks,
+    lib: Any,
+    args: argparse.Namespace,
+    overrides: list[str],
+    env_cfg: Any,
+    agent_cfg: Any,
+    resume: str | None,
+    argv: Any,
 ) -> tuple[float, float]:
-    """Write the run's params, build the env and train; returns the start-up time and when training began."""
-    if hasattr(env_cfg, "log_dir"):
-        env_cfg.log_dir = run_dir
-    dump_params(run_dir, env_cfg, agent_cfg, argv)
+    """Write the run's params (rank 0), build the env and train; returns the start-up time and when
+    training began."""
+    if run_dir is not None:
+        if hasattr(env_cfg, "log_dir"):
+            env_cfg.log_dir = run_dir
+        dump_params(run_dir, env_cfg, agent_cfg, argv)
     multi = uses_multi_agent_learner(args)
-    env = make_env(args, env_cfg, os.path.join(run_dir, "videos", "train"), single_agent=not multi)
+    video_dir = os.path.join(run_dir, "videos", "train") if run_dir else None
+    env = make_env(args, env_cfg, video_dir, single_agent=not multi)
     try:
         if multi and not is_multi_agent(env):
             raise ConfigError(f"--algorithm {args.algorithm} needs a multi-agent task; {args.task} has one agent.")
         sizes = env_sizes(env)
         if resume:
             check_checkpoint_sizes(resume, sizes, force=getattr(args, "force", False))
-        info = {"task": args.task, "library": args.library, "algorithm": args.algorithm or "PPO", **sizes}
-        write_run_info(run_dir, info)
-        print(
-            f"[simlab] Training {args.task} with {args.library} on {env_cfg.sim.device}, "
-            f"{env.unwrapped.num_envs} envs. Run folder: {run_dir}"
-        )
+        args.shared_settings = _settings_all_ranks_share(args, overrides, env)
+        if ranks.world_size > 1 and args.library != "rl_games":  # rl_games checks once its agent started the group
+            distributed.check_same_settings(args.shared_settings)
+        if run_dir is not None:
+            info = {"task": args.task, "library": args.library, "algorithm": args.algorithm or "PPO", **sizes}
+            write_run_info(run_dir, info)
+            spread = f" on each of {ranks.world_size} processes" if ranks.world_size > 1 else ""
+            print(
+                f"[simlab] Training {args.task} with {args.library} on {env_cfg.sim.device}, "
+                f"{env.unwrapped.num_envs} envs{spread}. Run folder: {run_dir}"
+            )
         startup = seconds_since_process_start()
         start = time.perf_counter()
         lib.train(env, agent_cfg, run_dir, args, resume)

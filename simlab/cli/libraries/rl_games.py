@@ -8,12 +8,14 @@ import copy
 import io
 import math
 import os
+import tempfile
 from typing import Any
 
 import gymnasium as gym
 import torch
 import torch.nn as nn
 
+from simlab.cli import distributed
 from simlab.cli.libraries.divergence import guard_optimizers
 from simlab.cli.libraries.progress import ProgressBar
 from simlab.cli.policy import Policy
@@ -52,6 +54,8 @@ def configure(agent_cfg: dict, args: argparse.Namespace, env_cfg: Any) -> None:
         while batch % size:
             size -= 1
         config["minibatch_size"] = size
+    if getattr(args, "distributed", False):
+        config["multi_gpu"] = True  # rl_games starts the group, averages gradients, and adds the rank to the seed
     env_cfg.seed = params["seed"]
 
 
@@ -71,14 +75,28 @@ def _runner(env: gym.Env, agent_cfg: dict, observer: Any = None) -> tuple[Runner
     return runner, wrapped
 
 
-def train(env: gym.Env, agent_cfg: dict, run_dir: str, args: argparse.Namespace, resume_path: str | None) -> None:
+def train(
+    env: gym.Env, agent_cfg: dict, run_dir: str | None, args: argparse.Namespace, resume_path: str | None
+) -> None:
+    """Train; ``run_dir`` None (ranks other than 0 of a distributed run) writes nothing that is kept."""
+    if run_dir is None:
+        # rl_games creates its folders on every rank (only rank 0 writes into them): give it a throwaway one
+        with tempfile.TemporaryDirectory(prefix="simlab_rl_games_rank_") as scratch:
+            return _train(env, agent_cfg, os.path.join(scratch, "run"), args, resume_path)
+    return _train(env, agent_cfg, run_dir, args, resume_path)
+
+
+def _train(env: gym.Env, agent_cfg: dict, run_dir: str, args: argparse.Namespace, resume_path: str | None) -> None:
     cfg = copy.deepcopy(agent_cfg)
     config = cfg["params"]["config"]
     config["train_dir"], config["full_experiment_name"] = os.path.split(run_dir)
     bar: dict[str, ProgressBar] = {}
-    steps_per_epoch = config["horizon_length"] * env.unwrapped.num_envs
+    world_size = int(os.environ.get("WORLD_SIZE", "1")) if config.get("multi_gpu") else 1
+    steps_per_epoch = config["horizon_length"] * env.unwrapped.num_envs * world_size  # all ranks' steps
 
     def on_epoch(frame: int, epoch: int, total_time: float) -> None:
+        if agent.global_rank != 0:
+            return
         if "bar" not in bar:
             bar["bar"] = ProgressBar(total=config["max_epochs"], initial=epoch - 1, desc="rl_games")
         rewards = getattr(agent, "game_rewards", None)
@@ -87,6 +105,8 @@ def train(env: gym.Env, agent_cfg: dict, run_dir: str, args: argparse.Namespace,
 
     runner, _ = _runner(env, cfg, SimlabAlgoObserver(on_epoch=on_epoch))
     agent = runner.algo_factory.create(runner.algo_name, base_name="run", params=runner.params)
+    if config.get("multi_gpu"):  # the agent has started the process group
+        distributed.check_same_settings(args.shared_settings)
     if resume_path:
         agent.restore(resume_path)
         print(f"[simlab] Resumed from {resume_path} at epoch {agent.epoch_num}")
@@ -99,10 +119,11 @@ def train(env: gym.Env, agent_cfg: dict, run_dir: str, args: argparse.Namespace,
         with atomic_torch_saves(), contextlib.nullcontext() if verbose else contextlib.redirect_stdout(io.StringIO()):
             agent.train()
     except KeyboardInterrupt:
-        path = os.path.join(agent.nn_dir, f"last_{config['name']}_ep_{agent.epoch_num}_interrupted")
-        with atomic_torch_saves():
-            agent.save(path)
-        print(f"\n[simlab] Interrupted: saved {path}.pth")
+        if agent.global_rank == 0:
+            path = os.path.join(agent.nn_dir, f"last_{config['name']}_ep_{agent.epoch_num}_interrupted")
+            with atomic_torch_saves():
+                agent.save(path)
+            print(f"\n[simlab] Interrupted: saved {path}.pth")
         raise
     except TrainingDivergedError as e:
         path = os.path.join(agent.nn_dir, f"last_{config['name']}_ep_{agent.epoch_num}_diverged")

@@ -55,6 +55,8 @@ class _ProgressLogger(Logger):
 
     def log(self, it: int, start_it: int, total_it: int, collect_time: float, learn_time: float, **kw: Any) -> None:
         self._flush_finished()
+        if self.writer is None:  # a rank other than 0 of a distributed run: rank 0 reports
+            return
         if not hasattr(self, "_bar"):
             self._bar = ProgressBar(total=total_it, initial=start_it, desc="rsl_rl")
         sink = contextlib.nullcontext() if self.verbose else contextlib.redirect_stdout(io.StringIO())
@@ -64,7 +66,7 @@ class _ProgressLogger(Logger):
             )
         reward = statistics.mean(self.rewbuffer) if self.rewbuffer else None
         length = statistics.mean(self.lenbuffer) if self.lenbuffer else None
-        steps = self.cfg["num_steps_per_env"] * self.num_envs
+        steps = self.cfg["num_steps_per_env"] * self.num_envs * self.gpu_world_size  # all ranks' steps
         self._bar.update(1, steps=steps, reward=reward, ep_len=length)
 
     def process_env_step(self, rewards, dones, extras, intrinsic_rewards=None) -> None:
@@ -103,6 +105,29 @@ class _ProgressLogger(Logger):
         super().stop_logging_writer()
 
 
+class _Runner(OnPolicyRunner):
+    """rsl_rl's runner, joining the process group simlab started for ``--distributed``.
+
+    rsl_rl would start an NCCL group itself, which the CPU lacks; in a group simlab started (NCCL on
+    GPUs, gloo on the CPU) it gets the same ``multi_gpu`` settings and averages gradients as usual.
+    """
+
+    def _configure_multi_gpu(self) -> None:
+        import torch.distributed as dist
+
+        if not (dist.is_available() and dist.is_initialized()):
+            return super()._configure_multi_gpu()
+        self.gpu_world_size = dist.get_world_size()
+        self.gpu_global_rank = dist.get_rank()
+        self.gpu_local_rank = int(os.environ.get("LOCAL_RANK", "0"))
+        self.is_distributed = self.gpu_world_size > 1
+        self.cfg["multi_gpu"] = (
+            {"global_rank": self.gpu_global_rank, "local_rank": self.gpu_local_rank, "world_size": self.gpu_world_size}
+            if self.is_distributed
+            else None
+        )
+
+
 def make_runner(env: gym.Env, agent_cfg: RslRlOnPolicyRunnerCfg, log_dir: str | None) -> OnPolicyRunner:
     wrapped = RslRlVecEnvWrapper(env, clip_actions=agent_cfg.clip_actions)
     cfg = agent_cfg.to_rsl_rl_dict(list(wrapped.get_observations().keys()))
@@ -110,13 +135,18 @@ def make_runner(env: gym.Env, agent_cfg: RslRlOnPolicyRunnerCfg, log_dir: str | 
     # checks observations and rewards itself (simlab.envs.utils.cuda_graph).
     cfg["check_for_nan"] = False
     with contextlib.redirect_stdout(io.StringIO()):  # it prints the models; params/agent.yaml has them
-        runner = OnPolicyRunner(wrapped, cfg, log_dir=log_dir, device=agent_cfg.device)
+        runner = _Runner(wrapped, cfg, log_dir=log_dir, device=agent_cfg.device)
     return runner
 
 
 def train(
-    env: gym.Env, agent_cfg: RslRlOnPolicyRunnerCfg, run_dir: str, args: argparse.Namespace, resume_path: str | None
+    env: gym.Env,
+    agent_cfg: RslRlOnPolicyRunnerCfg,
+    run_dir: str | None,
+    args: argparse.Namespace,
+    resume_path: str | None,
 ) -> None:
+    """Train; ``run_dir`` None (ranks other than 0 of a distributed run) writes nothing."""
     runner = make_runner(env, agent_cfg, run_dir)
     logger = _ProgressLogger(
         log_dir=run_dir,
@@ -143,11 +173,12 @@ def train(
             # would cut the first episodes short and log an untrained-looking return
             runner.learn(num_learning_iterations=agent_cfg.max_iterations, init_at_random_ep_len=not resume_path)
     except KeyboardInterrupt:
-        path = os.path.join(run_dir, f"model_{runner.current_learning_iteration}.pt")
-        with atomic_torch_saves():
-            runner.save(path)
-        logger.stop_logging_writer()
-        print(f"\n[simlab] Interrupted: saved {path}")
+        if run_dir is not None:
+            path = os.path.join(run_dir, f"model_{runner.current_learning_iteration}.pt")
+            with atomic_torch_saves():
+                runner.save(path)
+            logger.stop_logging_writer()
+            print(f"\n[simlab] Interrupted: saved {path}")
         raise
     except TrainingDivergedError:
         logger.stop_logging_writer()

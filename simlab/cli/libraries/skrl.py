@@ -1,12 +1,20 @@
-"""skrl adapter: skrl's ``Runner`` (PPO, IPPO, MAPPO) from the task's YAML, run folders, resume, Ctrl+C saves."""
+"""skrl adapter: skrl's ``Runner`` (PPO, IPPO, MAPPO) from the task's YAML, run folders, resume, Ctrl+C saves.
+
+skrl trains on torch (default) or JAX (``--ml_framework jax`` or ``jax-numpy``); ``--distributed``
+uses skrl's ``config.torch`` distributed mode in the process group simlab started.
+"""
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import copy
+import importlib
+import logging
 import math
 import os
 import re
+from collections.abc import Iterator
 from typing import Any
 
 import gymnasium as gym
@@ -21,8 +29,91 @@ from simlab.rl.utils import require
 from simlab.utils.errors import TrainingDivergedError
 from simlab.utils.io import atomic_torch_saves
 
-require("skrl")
-from skrl.utils.runner.torch import Runner  # noqa: E402
+ML_FRAMEWORKS = ("torch", "jax", "jax-numpy")
+
+
+@contextlib.contextmanager
+def _torchrun_hidden() -> Iterator[None]:
+    """Hide torchrun's WORLD_SIZE while skrl is imported.
+
+    skrl starts an NCCL process group when it is imported under torchrun, which fails on the CPU and
+    clashes with the group simlab starts; :func:`_join_process_group` hands skrl simlab's group instead.
+    """
+    world_size = os.environ.pop("WORLD_SIZE", None)
+    try:
+        yield
+    finally:
+        if world_size is not None:
+            os.environ["WORLD_SIZE"] = world_size
+
+
+with _torchrun_hidden():
+    require("skrl")
+    from skrl import config as skrl_config  # noqa: E402
+
+
+def _join_process_group() -> None:
+    """Put skrl's ``config.torch`` in distributed mode on the process group simlab started.
+
+    skrl reads its ranks once, at import, into these (read-only) attributes; its agents then
+    broadcast the initial weights, average the gradients and let only rank 0 write.
+    """
+    import torch.distributed as dist
+
+    torch_cfg = skrl_config.torch
+    torch_cfg._rank = dist.get_rank()
+    torch_cfg._world_size = dist.get_world_size()
+    torch_cfg._local_rank = int(os.environ.get("LOCAL_RANK", "0"))
+    torch_cfg._is_distributed = torch_cfg._world_size > 1
+
+
+class _DropWarning(logging.Filter):
+    """Drops the log records that contain ``text``."""
+
+    def __init__(self, text: str):
+        super().__init__()
+        self.text = text
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        return self.text not in record.getMessage()
+
+
+def _runner_class(ml_framework: str) -> type:
+    """skrl's ``Runner`` for ``ml_framework`` (torch, jax, or jax with numpy arrays)."""
+    if ml_framework not in ML_FRAMEWORKS:
+        raise ValueError(f"Unknown --ml_framework '{ml_framework}'. Allowed: {list(ML_FRAMEWORKS)}.")
+    if ml_framework == "torch":
+        return importlib.import_module("skrl.utils.runner.torch").Runner
+    require("jax")
+    require("flax")
+    require("optax")
+    skrl_config.jax.backend = "jax" if ml_framework == "jax" else "numpy"
+    return importlib.import_module("skrl.utils.runner.jax").Runner
+
+
+def _wrap(env: gym.Env, ml_framework: str) -> Any:
+    """The env in skrl's Isaac Lab wrapper for ``ml_framework``.
+
+    skrl's JAX wrapper warns at import that "Isaac Lab runs on GPU" when JAX has no GPU; a simlab env
+    on the CPU does not, so for CPU envs that warning is dropped (it stays where it is true). skrl is
+    also told the env's device, so it does not warn about its default ``cuda:0`` on a CPU machine.
+    """
+    framework = "jax" if ml_framework.startswith("jax") else "torch"
+    # skrl's default device is cuda:<local rank>; components built without a device take the env's
+    device = str(env.unwrapped.device)
+    if framework == "jax":
+        skrl_config.jax.device = device
+    else:
+        skrl_config.torch.device = device
+    if framework == "torch" or device.startswith("cuda"):
+        return SkrlVecEnvWrapper(env, ml_framework=framework, wrapper="isaaclab")
+    drop = _DropWarning("runs on GPU, but there is no GPU backend for JAX")
+    skrl_logger = logging.getLogger("skrl")
+    skrl_logger.addFilter(drop)
+    try:
+        return SkrlVecEnvWrapper(env, ml_framework=framework, wrapper="isaaclab")
+    finally:
+        skrl_logger.removeFilter(drop)
 
 
 def experiment_name(agent_cfg: dict, task: str) -> str:
@@ -34,6 +125,13 @@ def configure(agent_cfg: dict, args: argparse.Namespace, env_cfg: Any) -> None:
         agent_cfg["seed"] = args.seed
     if getattr(args, "max_iterations", None) is not None:
         agent_cfg["trainer"]["timesteps"] = args.max_iterations * agent_cfg["agent"]["rollouts"]
+    ml_framework = getattr(args, "ml_framework", None) or "torch"
+    if ml_framework not in ML_FRAMEWORKS:
+        raise ValueError(f"Unknown --ml_framework '{ml_framework}'. Allowed: {list(ML_FRAMEWORKS)}.")
+    if getattr(args, "distributed", False):
+        if ml_framework != "torch":
+            raise ValueError("--distributed trains skrl on torch; drop --ml_framework or use --ml_framework torch.")
+        _join_process_group()
     agent_cfg["trainer"]["close_environment_at_exit"] = False
     check_training_length(args, agent_cfg["trainer"]["timesteps"], "agent.trainer.timesteps")
     # skrl's "auto" intervals are timesteps/100 and /10, which is 0 (never) in short runs: keep them >= 1
@@ -46,17 +144,24 @@ def configure(agent_cfg: dict, args: argparse.Namespace, env_cfg: Any) -> None:
     env_cfg.seed = agent_cfg["seed"]
 
 
-def make_runner(env: gym.Env, agent_cfg: dict, run_dir: str | None) -> Runner:
+def make_runner(env: gym.Env, agent_cfg: dict, run_dir: str | None, ml_framework: str = "torch") -> Any:
+    """skrl's Runner; ``run_dir`` None (playing, or ranks other than 0) writes nothing."""
     cfg = copy.deepcopy(agent_cfg)
     exp = cfg["agent"]["experiment"]
-    if run_dir is None:  # playing: write nothing
+    if run_dir is None:  # playing, or a rank other than 0: write nothing
         exp["write_interval"] = 0
         exp["checkpoint_interval"] = 0
         cfg["trainer"]["disable_progressbar"] = True
     else:
         exp["directory"], exp["experiment_name"] = os.path.split(run_dir)
-    wrapped = SkrlVecEnvWrapper(env, ml_framework="torch", wrapper="isaaclab")
-    return Runner(wrapped, cfg)
+    runner_class = _runner_class(ml_framework)
+    # skrl's wrapper resets the env with the seed skrl holds when the wrapper is built (its PRNG key,
+    # the seed plus the rank): seed skrl first. The Runner then seeds again with the same value.
+    from skrl.utils import set_seed
+
+    rank = skrl_config.torch.rank if skrl_config.torch.is_distributed else 0
+    cfg["seed"] = set_seed(cfg.get("seed")) - rank
+    return runner_class(_wrap(env, ml_framework), cfg)
 
 
 def _continue_counting(agent: Any, start: int) -> None:
@@ -119,8 +224,12 @@ def _guard_updates(agent: Any) -> None:
     agent.update = checked_update
 
 
-def train(env: gym.Env, agent_cfg: dict, run_dir: str, args: argparse.Namespace, resume_path: str | None) -> None:
-    runner = make_runner(env, agent_cfg, run_dir)
+def train(
+    env: gym.Env, agent_cfg: dict, run_dir: str | None, args: argparse.Namespace, resume_path: str | None
+) -> None:
+    """Train; ``run_dir`` None (ranks other than 0 of a distributed run) writes nothing."""
+    ml_framework = getattr(args, "ml_framework", None) or "torch"
+    runner = make_runner(env, agent_cfg, run_dir, ml_framework)
     start = 0
     if resume_path:
         runner.agent.load(resume_path)
@@ -128,12 +237,14 @@ def train(env: gym.Env, agent_cfg: dict, run_dir: str, args: argparse.Namespace,
         _continue_counting(runner.agent, start)
         print(f"[simlab] Resumed weights, optimizer and normalizers from {resume_path} at timestep {start}")
     agent = runner.agent
-    _guard_updates(agent)
-    checkpoints = os.path.join(run_dir, "checkpoints")
+    if ml_framework == "torch":  # the guard reads torch modules' state
+        _guard_updates(agent)
+    checkpoints = os.path.join(run_dir, "checkpoints") if run_dir is not None else None
     steps = env.unwrapped.common_step_counter
 
     def save_now() -> str:
         path = os.path.join(checkpoints, f"agent_{start + env.unwrapped.common_step_counter - steps}.pt")
+        os.makedirs(checkpoints, exist_ok=True)
         with atomic_torch_saves():
             agent.save(path)
         return path
@@ -142,12 +253,18 @@ def train(env: gym.Env, agent_cfg: dict, run_dir: str, args: argparse.Namespace,
         with atomic_torch_saves():
             runner.run("train")
     except KeyboardInterrupt:
-        print(f"\n[simlab] Interrupted: saved {save_now()}")
+        if checkpoints is not None:
+            print(f"\n[simlab] Interrupted: saved {save_now()}")
         raise
     except TrainingDivergedError as e:
+        if checkpoints is None:
+            raise
         raise TrainingDivergedError(f"{e} Saved the last good weights to {save_now()}.") from None
+    if checkpoints is None:
+        return
     final = os.path.join(checkpoints, f"agent_{start + agent_cfg['trainer']['timesteps']}.pt")
     if not os.path.isfile(final):
+        os.makedirs(checkpoints, exist_ok=True)
         with atomic_torch_saves():
             runner.agent.save(final)
 
@@ -166,7 +283,7 @@ class _SkrlActor(nn.Module):
 
 
 def load_policy(env: gym.Env, agent_cfg: dict, checkpoint: str) -> Policy:
-    runner = make_runner(env, agent_cfg, None)
+    runner = make_runner(env, agent_cfg, None)  # torch models: play and export run on torch
     agent = runner.agent
     agent.load(checkpoint)
     agent.enable_training_mode(False)

@@ -1,0 +1,14 @@
+"""Play (and export) a policy trained with rl_games: Isaac Lab's ``rl_games/play.py``, on simlab.
+
+    python scripts/reinforcement_learning/rl_games/play.py --task simlab/Cartpole-v0 --headless [flags] [overrides]
+
+It takes Isaac Lab's flags for this script and runs ``simlab play --library rl_games`` with them
+(see simlab/cli/isaaclab_scripts.py); ``Isaac-*`` task ids are mapped to ``simlab/*``.
+"""
+
+import sys
+
+from simlab.cli.isaaclab_scripts import play_main
+
+if __name__ == "__main__":
+    sys.exit(play_main("rl_games"))

@@ -1,0 +1,14 @@
+"""Train an RL agent with sb3: Isaac Lab's ``sb3/train.py``, on simlab.
+
+    python scripts/reinforcement_learning/sb3/train.py --task simlab/Cartpole-v0 --headless [flags] [overrides]
+
+It takes Isaac Lab's flags for this script and runs ``simlab train --library sb3`` with them
+(see simlab/cli/isaaclab_scripts.py); ``Isaac-*`` task ids are mapped to ``simlab/*``.
+"""
+
+import sys
+
+from simlab.cli.isaaclab_scripts import train_main
+
+if __name__ == "__main__":
+    sys.exit(train_main("sb3"))

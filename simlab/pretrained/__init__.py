@@ -1,0 +1,50 @@
+"""Policies trained here and shipped with simlab: ``simlab play --use_pretrained_checkpoint``.
+
+Each is a run folder, ``simlab/pretrained/<task name>/<library>/``, as ``simlab train`` writes it
+(``params/``, the checkpoint, ``exported/policy.onnx`` and ``policy.pt``), plus ``record.txt``: the
+command that trained it and the evaluation it passed. ``scripts/make_pretrained.py`` makes them.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+
+__all__ = ["PRETRAINED_DIR", "copy_pretrained_run", "list_pretrained", "pretrained_run_dir"]
+
+PRETRAINED_DIR = os.path.dirname(os.path.abspath(__file__))
+
+
+def _task_folder(task: str) -> str:
+    return task.split("/")[-1]
+
+
+def list_pretrained() -> list[tuple[str, str]]:
+    """The shipped ``(task, library)`` pairs."""
+    pairs = []
+    for task in sorted(os.listdir(PRETRAINED_DIR)):
+        folder = os.path.join(PRETRAINED_DIR, task)
+        if os.path.isdir(folder) and not task.startswith("__"):
+            pairs += [(f"simlab/{task}", lib) for lib in sorted(os.listdir(folder))]
+    return pairs
+
+
+def pretrained_run_dir(task: str, library: str) -> str:
+    """The shipped run folder of ``task`` trained with ``library``; a clear error lists what is shipped."""
+    folder = os.path.join(PRETRAINED_DIR, _task_folder(task), library)
+    if not os.path.isdir(folder):
+        shipped = ", ".join(f"{t} ({lib})" for t, lib in list_pretrained()) or "none"
+        raise FileNotFoundError(
+            f"No pretrained {library} policy for {task}. Shipped: {shipped}. "
+            f"Train one with: simlab train --task {task} --library {library} --headless"
+        )
+    return folder
+
+
+def copy_pretrained_run(task: str, library: str, log_root: str) -> str:
+    """Copy the shipped run into ``<log_root>/pretrained/<library>/<task name>`` (where play writes its
+    exports and videos; outside the training runs, so ``--use_last_checkpoint`` never picks it) and
+    return that folder."""
+    target = os.path.abspath(os.path.join(log_root, "pretrained", library, _task_folder(task)))
+    shutil.copytree(pretrained_run_dir(task, library), target, dirs_exist_ok=True)
+    return target
