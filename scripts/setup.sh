@@ -8,7 +8,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 extras="train,rsl_rl,skrl,sb3,render"
 [ "${1:-}" = "dev" ] && extras="$extras,dev"
-# Offscreen rendering on a CPU host uses OSMesa (MUJOCO_GL=osmesa); install it where we can.
+# Offscreen rendering: simlab tries EGL (GPU drivers), then OSMesa (software); install OSMesa where we can.
 if ! ldconfig -p 2>/dev/null | grep -q libOSMesa; then
   if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
     (apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libosmesa6 >/dev/null) \

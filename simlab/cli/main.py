@@ -16,6 +16,7 @@ import argparse
 import sys
 
 from simlab.cli.session import LIBRARIES, SKRL_ALGORITHMS
+from simlab.utils.gl_backend import GLBackendError
 
 __all__ = ["build_parser", "main"]
 
@@ -130,7 +131,7 @@ def main(argv: list[str] | None = None) -> int:
             return 0
     except KeyboardInterrupt:
         return 130
-    except (ValueError, KeyError, FileNotFoundError, ImportError, NotImplementedError) as e:
+    except (ValueError, KeyError, FileNotFoundError, ImportError, NotImplementedError, GLBackendError) as e:
         print(f"simlab {args.command}: error: {e}", file=sys.stderr)
         return 2
     return 0

@@ -67,6 +67,10 @@ def load_configs(args: argparse.Namespace, overrides: list[str], with_agent: boo
 def make_env(args: argparse.Namespace, env_cfg: Any, video_dir: str | None, single_agent: bool) -> gym.Env:
     """``gym.make`` the task (rgb_array rendering with ``--video``), record videos, flatten multi-agent envs."""
     video = bool(getattr(args, "video", False)) and video_dir is not None
+    if video:
+        from simlab.utils.gl_backend import check_gl_backend
+
+        print(f"[simlab] Videos are rendered with MUJOCO_GL={check_gl_backend()}")  # fails before training
     env = gym.make(args.task, cfg=env_cfg, render_mode="rgb_array" if video else None)
     if single_agent and is_multi_agent(env):
         from simlab.envs import multi_agent_to_single_agent

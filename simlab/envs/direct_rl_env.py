@@ -36,7 +36,7 @@ from .common import SimulatedEnv
 from .direct_rl_env_cfg import DirectRLEnvCfg
 from .utils.cuda_graph import CudaGraphStep
 from .utils.spaces import sample_space, spec_to_gym_space
-from .utils.viewer import camera_pose, make_renderer, render_frame  # noqa: F401 - camera_pose re-exported
+from .utils.viewer import camera_pose, render_frame  # noqa: F401 - camera_pose re-exported
 
 logger = logging.getLogger(__name__)
 
@@ -166,9 +166,7 @@ class DirectRLEnv(SimulatedEnv, gym.Env):
         """
         if self.render_mode != "rgb_array":
             return None
-        if self._renderer is None:
-            self._renderer = make_renderer(self.sim.model, self.cfg.viewer)
-        return render_frame(self._renderer, self, self.cfg.viewer)
+        return render_frame(self, self.cfg.viewer)
 
     def close(self) -> None:
         """Release the simulation (the SimulationContext instance is cleared)."""

@@ -25,7 +25,7 @@ from simlab.utils.configclass import MissingFieldError
 
 from .common import SimulatedEnv, VecEnvObs
 from .manager_based_env_cfg import ManagerBasedEnvCfg
-from .utils.viewer import camera_pose, make_renderer, render_frame
+from .utils.viewer import camera_pose, render_frame
 
 
 class ManagerBasedEnv(SimulatedEnv):
@@ -157,6 +157,4 @@ class ManagerBasedEnv(SimulatedEnv):
         return camera_pose(self, self.cfg.viewer)
 
     def _render_rgb(self) -> np.ndarray:
-        if self._renderer is None:
-            self._renderer = make_renderer(self.sim.model, self.cfg.viewer)
-        return render_frame(self._renderer, self, self.cfg.viewer)
+        return render_frame(self, self.cfg.viewer)
