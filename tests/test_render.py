@@ -1,11 +1,10 @@
-"""Offscreen rendering of the cartpole: an image that is not blank and follows the pole."""
+"""Offscreen rendering: an image that follows the pole, several envs side by side, the viewer frames, the GL backend."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 import torch
-
 from conftest import rendering_available
 
 from simlab.envs import ManagerBasedRLEnv
@@ -104,7 +103,9 @@ def _floor_only(env, frame_envs, renderer_cls, resolution):
     model.geom_rgba[model.geom_type != mujoco.mjtGeom.mjGEOM_PLANE, 3] = 0.0
     renderer = renderer_cls(model, *resolution)
     try:
-        return renderer.render(env.sim.physics, frame_envs.env_ids, frame_envs.offsets, frame_envs.eye, frame_envs.lookat)
+        return renderer.render(
+            env.sim.physics, frame_envs.env_ids, frame_envs.offsets, frame_envs.eye, frame_envs.lookat
+        )
     finally:
         renderer.close()
 

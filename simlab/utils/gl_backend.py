@@ -27,7 +27,7 @@ OFFSCREEN_BACKENDS = ("egl", "osmesa")
 """Tried in this order when ``MUJOCO_GL`` is unset."""
 
 INSTALL_HINTS = {
-    "egl": "EGL needs a GPU driver with EGL (NVIDIA: the driver's libEGL_nvidia; Debian/Ubuntu: apt-get install libegl1)",
+    "egl": "EGL needs a GPU driver with EGL (Debian/Ubuntu: apt-get install libegl1, and the GPU's driver)",
     "osmesa": "OSMesa is software rendering (Debian/Ubuntu: apt-get install libosmesa6)",
     "glfw": "GLFW needs a display (set DISPLAY, or run under xvfb-run)",
     "glx": "GLX needs a display (set DISPLAY, or run under xvfb-run)",
