@@ -87,4 +87,16 @@ def make_env(args: argparse.Namespace, env_cfg: Any, video_dir: str | None, sing
             disable_logger=True,
         )
         print(f"[simlab] Recording {args.video_length}-step videos every {interval} steps to {video_dir}")
-    return env
+    return with_viewer(args, env)
+
+
+def with_viewer(args: argparse.Namespace, env: gym.Env) -> gym.Env:
+    """``env`` shown in the live viewer ``--viewer`` asks for (none with ``--headless``); play runs in
+    real time. A viewer that cannot open warns, and the run goes on without it."""
+    from simlab.viewer import ViewerWrapper, open_viewer, resolve_viewer_kind
+
+    kind = resolve_viewer_kind(getattr(args, "viewer", "none"), getattr(args, "headless", True))
+    viewer = open_viewer(
+        env.unwrapped, kind, getattr(args, "viewer_port", 8080), realtime=getattr(args, "command", None) == "play"
+    )
+    return env if viewer is None else ViewerWrapper(env, viewer)

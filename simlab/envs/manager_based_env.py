@@ -25,7 +25,7 @@ from simlab.utils.configclass import MissingFieldError
 
 from .common import SimulatedEnv, VecEnvObs
 from .manager_based_env_cfg import ManagerBasedEnvCfg
-from .utils.viewer import camera_pose, render_frame
+from .utils.viewer import camera_pose, close_renderer, render_frame
 
 
 class ManagerBasedEnv(SimulatedEnv):
@@ -128,12 +128,7 @@ class ManagerBasedEnv(SimulatedEnv):
     def close(self) -> None:
         if self._is_closed:
             return
-        if self._renderer is not None:
-            self._renderer.close()
-            self._renderer = None
-        if self._viewer is not None:
-            self._viewer.close()
-            self._viewer = None
+        close_renderer(self)
         if getattr(self, "_cuda_graph", None) is not None:  # the RL env's GPU fast path
             self._cuda_graph.release()
         if SimulationContext.instance() is getattr(self, "sim", None):

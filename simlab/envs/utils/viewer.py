@@ -14,7 +14,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["MAX_SHOWN_ENVS", "ViewFrame", "camera_pose", "close_renderer", "render_frame", "view_frame"]
+__all__ = [
+    "MAX_SHOWN_ENVS",
+    "ViewFrame",
+    "camera_pose",
+    "close_renderer",
+    "render_frame",
+    "show_in_viewer",
+    "view_frame",
+]
 
 MAX_SHOWN_ENVS = 16
 """How many envs a frame shows at most (the reference env and its nearest neighbours)."""
@@ -99,3 +107,29 @@ def close_renderer(env) -> None:
         if handle is not None:
             handle.close()
             setattr(env, name, None)
+
+
+def show_in_viewer(env) -> None:
+    """``render_mode="human"``: show ``env`` in the live viewer the app asked for (``AppLauncher``'s
+    ``--viewer``; else native with a display, web without), opened on the first call."""
+    viewer = getattr(env, "_viewer", None)
+    if viewer is None:
+        from simlab.viewer import app_viewer, open_viewer
+
+        kind, port = app_viewer()
+        viewer = env._viewer = open_viewer(env, kind, port)
+        if viewer is None:
+            env._viewer = _NO_VIEWER
+            return
+    if viewer is not _NO_VIEWER:
+        viewer.after_step()
+
+
+class _NoViewer:
+    """Stands for a viewer that could not open (warned once): ``render()`` then does nothing."""
+
+    def close(self) -> None:
+        pass
+
+
+_NO_VIEWER = _NoViewer()
