@@ -138,7 +138,7 @@ class LiveViewer:
     def _draw_loop(self) -> None:
         while True:
             snapshot = self._mailbox.get()
-            if snapshot is None or self.closed:
+            if snapshot is None:  # close()
                 return
             try:
                 self._draw(snapshot)
@@ -165,8 +165,9 @@ class LiveViewer:
         if self.closed:
             return
         self.closed = True
-        self._post(None)  # type: ignore[arg-type]
-        if self._worker.is_alive():
+        if self._worker.is_alive():  # the frame already posted is drawn, then the thread ends
+            with contextlib.suppress(queue.Full):
+                self._mailbox.put(None, timeout=5.0)
             self._worker.join(timeout=5.0)
         if not self.failed:
             self._close()
