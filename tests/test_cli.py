@@ -86,7 +86,17 @@ def test_list_random_zero(tmp_path, capsys):
     assert "simlab/Cartpole-v0" in out and "simlab/Ant-Direct-v0" not in out
     assert _run(tmp_path, "random", *SMALL, "--steps", "3") == 0
     assert (
-        _run(tmp_path, "zero", "--task", "simlab/Cart-Double-Pendulum-Direct-v0", "--num_envs", "2", "--steps", "3")
+        _run(
+            tmp_path,
+            "zero",
+            "--task",
+            "simlab/Cart-Double-Pendulum-Direct-v0",
+            "--num_envs",
+            "2",
+            "--steps",
+            "3",
+            "--headless",
+        )
         == 0
     )
 
@@ -108,6 +118,7 @@ def test_train_video(tmp_path):
             "5",
             "--video_interval",
             "8",
+            "--headless",
         )
         == 0
     )

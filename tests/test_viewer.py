@@ -61,10 +61,12 @@ def _coloured_pixels(image: np.ndarray) -> int:
 
 
 def _wait_for_line(proc: subprocess.Popen, text: str, timeout_s: float) -> list[str]:
+    """Read the command's output (stderr, or stdout where stderr is merged into it) up to ``text``."""
+    stream = proc.stderr if proc.stderr is not None else proc.stdout
     lines: list[str] = []
     deadline = time.monotonic() + timeout_s
     while time.monotonic() < deadline:
-        line = proc.stderr.readline()
+        line = stream.readline()
         if not line and proc.poll() is not None:
             break
         lines.append(line)
@@ -234,7 +236,57 @@ def test_render_mode_human_uses_the_apps_viewer():
         AppLauncher(viewer_port=0)
 
 
-@pytest.mark.skipif(os.environ.get("DISPLAY") is None, reason="no display: the native viewer is tested where one exists")
+def _read_xwd(path: str) -> np.ndarray:
+    """The RGB image of an Xvfb framebuffer file (XWD format, 32 bits per pixel)."""
+    import struct
+
+    with open(path, "rb") as f:
+        raw = f.read()
+    header = struct.unpack(">25I", raw[:100])
+    header_size, width, height, bytes_per_line, ncolors = header[0], header[4], header[5], header[12], header[19]
+    start = header_size + ncolors * 12
+    rows = np.frombuffer(raw[start : start + bytes_per_line * height], dtype=np.uint8).reshape(height, -1)
+    return rows[:, : width * 4].reshape(height, width, 4)[..., [2, 1, 0]].astype(int)
+
+
+def _cartpole_pixels(image: np.ndarray) -> int:
+    """Pixels of the cartpoles' orange rails and navy poles (MuJoCo's floor is a grey-blue checker)."""
+    r, b = image[..., 0], image[..., 2]
+    return int(((r - b > 60) | (b - r > 40)).sum())
+
+
+@pytest.mark.skipif(shutil.which("Xvfb") is None, reason="needs Debian's xvfb (scripts/setup.sh dev installs it)")
+def test_native_viewer_under_xvfb_shows_the_robots_moving(tmp_path):
+    display = next(n for n in range(90, 200) if not os.path.exists(f"/tmp/.X{n}-lock"))
+    xvfb = subprocess.Popen(["Xvfb", f":{display}", "-screen", "0", "800x600x24", "-fbdir", str(tmp_path)],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)  # fmt: skip
+    env = dict(os.environ, DISPLAY=f":{display}")
+    cmd = [sys.executable, "-m", "simlab", "random", "--task", "simlab/Cartpole-v0", "--num_envs", "9",
+           "--device", "cpu", "--viewer", "native"]  # fmt: skip
+    run = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    shots: list[np.ndarray] = []
+    try:
+        time.sleep(2.0)
+        _wait_for_line(run, "random actions", 120)
+        for _ in range(40):  # software OpenGL draws slowly: wait for two different pictures of the robots
+            time.sleep(1.0)
+            shot = _read_xwd(str(tmp_path / "Xvfb_screen0"))
+            if _cartpole_pixels(shot) > 200:
+                shots.append(shot)
+            if len(shots) >= 2 and (np.abs(shots[0] - shots[-1]).sum(axis=-1) > 60).sum() > 100:
+                break
+    finally:
+        run.kill()  # the pictures are what is tested here
+        run.wait(timeout=60)
+        xvfb.terminate()
+        xvfb.wait(timeout=30)
+    assert len(shots) >= 2, "the window never showed the cartpoles"
+    assert (np.abs(shots[0] - shots[-1]).sum(axis=-1) > 60).sum() > 100, "the picture does not change"
+
+
+@pytest.mark.skipif(
+    os.environ.get("DISPLAY") is None, reason="no display: the native viewer is tested where one exists"
+)
 def test_native_viewer_opens_with_a_display(cartpole_source):
     viewer = open_viewer(cartpole_source, "native")
     assert viewer is not None and viewer.kind == "native"

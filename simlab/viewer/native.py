@@ -34,7 +34,10 @@ class NativeViewer(LiveViewer):
         self._builder = EnvSceneBuilder(source.model)
         self._data = mujoco.MjData(source.model)
         try:
-            self._handle = mujoco.viewer.launch_passive(source.model, self._data, key_callback=self._on_key)
+            # MuJoCo's side panels (its own simulation controls) are hidden: Tab / Shift+Tab show them.
+            self._handle = mujoco.viewer.launch_passive(
+                source.model, self._data, key_callback=self._on_key, show_left_ui=False, show_right_ui=False
+            )
         except Exception as err:  # noqa: BLE001 - GLFW errors come in many types
             raise ViewerError(f"MuJoCo's viewer window did not open ({err}); use --viewer web instead") from err
         if source.eye_offset is not None:
@@ -65,15 +68,15 @@ class NativeViewer(LiveViewer):
             scene = self._handle.user_scn
             scene.ngeom = 0
             self._builder.add_neighbours(scene, snapshot.states, snapshot.offsets)
-            if snapshot.episode_length is not None:
-                self._handle.set_texts(
-                    (
-                        mujoco.mjtFontScale.mjFONTSCALE_150,
-                        mujoco.mjtGridPos.mjGRID_TOPLEFT,
-                        f"env {snapshot.env_ids[0]}\nreturn\nlength",
-                        f"\n{snapshot.episode_return:.2f}\n{snapshot.episode_length}",
-                    )
+        if snapshot.episode_length is not None:  # takes the viewer's lock itself
+            self._handle.set_texts(
+                (
+                    mujoco.mjtFontScale.mjFONTSCALE_150,
+                    mujoco.mjtGridPos.mjGRID_TOPLEFT,
+                    f"env {snapshot.env_ids[0]}\nreturn\nlength",
+                    f"\n{snapshot.episode_return:.2f}\n{snapshot.episode_length}",
                 )
+            )
         self._handle.sync()
 
     def _close(self) -> None:
