@@ -56,6 +56,7 @@ class WebViewer(LiveViewer):
         self._neighbour_fixed = self._add_neighbour_fixed_geometry()
         self._offsets_drawn: np.ndarray | None = None
         self._build_gui()
+        self.server.on_client_connect(lambda client: print("[simlab] Web viewer: a browser connected", file=sys.stderr))
         self.url = f"http://localhost:{port}"
         print(f"[simlab] Web viewer: {self.url}", file=sys.stderr, flush=True)
         self._start()
@@ -94,6 +95,8 @@ class WebViewer(LiveViewer):
         return handles
 
     def _draw(self, snapshot: EnvSnapshot) -> None:
+        if not self.server.get_clients():
+            return  # nobody is looking: no work (a page that connects later gets the next frame)
         xpos, xmat = self._kinematics.body_poses(snapshot)
         mocap_pos = mocap_quat = None
         if "mocap_pos" in snapshot.states:
