@@ -118,6 +118,11 @@ class SimulationApp:
         )
 
     @property
+    def viewer(self):
+        """The live viewer showing the current simulation, if the app has one open."""
+        return self._viewer
+
+    @property
     def interrupted(self) -> bool:
         """True once Ctrl+C was pressed."""
         return self._interrupted
