@@ -6,15 +6,24 @@
 # (on this project's CPU machines `pip install torch==2.13.0` takes a local CPU wheel).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-extras="train,rsl_rl,skrl,sb3,render"
+extras="train,rsl_rl,skrl,sb3,render,viewer"
 [ "${1:-}" = "dev" ] && extras="$extras,dev"
-# Offscreen rendering on a CPU host uses OSMesa (MUJOCO_GL=osmesa); install it where we can.
+# Offscreen rendering: simlab tries EGL (GPU drivers), then OSMesa (software); install OSMesa where we can.
 if ! ldconfig -p 2>/dev/null | grep -q libOSMesa; then
   if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
     (apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libosmesa6 >/dev/null) \
       || echo "note: could not install libosmesa6; rendering tests will be skipped"
   else
     echo "note: install libosmesa6 (Debian/Ubuntu) for offscreen rendering on the CPU"
+  fi
+fi
+# dev: the web viewer's tests drive Debian's headless Chromium, the native viewer's run under Xvfb.
+if [ "${1:-}" = "dev" ] && ! command -v chromium >/dev/null; then
+  if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
+    (apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium xvfb >/dev/null) \
+      || echo "note: could not install chromium and xvfb; the browser tests of the web viewer will be skipped"
+  else
+    echo "note: install chromium and xvfb (Debian/Ubuntu) to run the web and native viewer tests"
   fi
 fi
 [ -d .venv ] || python3 -m venv .venv

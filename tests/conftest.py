@@ -2,11 +2,7 @@
 
 from __future__ import annotations
 
-import os
-
 import pytest
-
-os.environ.setdefault("MUJOCO_GL", "osmesa")
 
 
 def cuda_available() -> bool:
@@ -20,14 +16,12 @@ def cuda_available() -> bool:
 
 
 def rendering_available() -> bool:
-    """Whether MuJoCo can render offscreen here (OSMesa on a CPU host: Debian's libosmesa6)."""
-    import mujoco
-
-    from simlab.sim.renderer import OffscreenRenderer
+    """Whether MuJoCo can render offscreen here (simlab tries EGL, then OSMesa: Debian's libosmesa6)."""
+    from simlab.utils.gl_backend import GLBackendError, check_gl_backend
 
     try:
-        OffscreenRenderer(mujoco.MjModel.from_xml_string("<mujoco/>"), 8, 8)
-    except RuntimeError:
+        check_gl_backend()
+    except GLBackendError:
         return False
     return True
 

@@ -86,12 +86,22 @@ def test_list_random_zero(tmp_path, capsys):
     assert "simlab/Cartpole-v0" in out and "simlab/Ant-Direct-v0" not in out
     assert _run(tmp_path, "random", *SMALL, "--steps", "3") == 0
     assert (
-        _run(tmp_path, "zero", "--task", "simlab/Cart-Double-Pendulum-Direct-v0", "--num_envs", "2", "--steps", "3")
+        _run(
+            tmp_path,
+            "zero",
+            "--task",
+            "simlab/Cart-Double-Pendulum-Direct-v0",
+            "--num_envs",
+            "2",
+            "--steps",
+            "3",
+            "--headless",
+        )
         == 0
     )
 
 
-@pytest.mark.skipif(not rendering_available(), reason="no offscreen OpenGL (install libosmesa6)")
+@pytest.mark.skipif(not rendering_available(), reason="no offscreen OpenGL (install libosmesa6 or an EGL driver)")
 def test_train_video(tmp_path):
     assert (
         _run(
@@ -100,7 +110,7 @@ def test_train_video(tmp_path):
             "--task",
             TASK,
             "--num_envs",
-            "4",
+            "64",  # env 0 lies far from the world origin the camera looks at
             "--max_iterations",
             "1",
             "--video",
@@ -108,11 +118,19 @@ def test_train_video(tmp_path):
             "5",
             "--video_interval",
             "8",
+            "--headless",
         )
         == 0
     )
     videos = glob.glob(os.path.join(_only_run(tmp_path, "rsl_rl"), "videos", "train", "*.mp4"))
     assert videos and os.path.getsize(videos[0]) > 0
+    import imageio.v3 as iio
+
+    frames = iio.imread(sorted(videos)[0])  # (T, H, W, 3)
+    assert len(frames) == 5
+    # the robots move: an empty floor (the old bug with num_envs > 1) gives identical frames
+    moved = np.abs(frames[0].astype(int) - frames[-1].astype(int)).sum(axis=-1) > 30
+    assert moved.mean() > 0.001
 
 
 def test_python_m_simlab_and_ctrl_c_saves(tmp_path):
@@ -139,3 +157,14 @@ def test_python_m_simlab_and_ctrl_c_saves(tmp_path):
     saved = [f for f in os.listdir(run) if f.startswith("model_") and f != "model_0.pt"]
     assert saved, out.decode()[-2000:]
     assert b"Interrupted: saved" in out
+
+
+def test_video_without_a_working_gl_backend_fails_before_training(tmp_path, capsys, monkeypatch):
+    from simlab.utils import gl_backend
+
+    monkeypatch.setenv("MUJOCO_GL", "bogus")
+    monkeypatch.setattr(gl_backend, "_checked", {})
+    assert _run(tmp_path, "train", *SMALL, "--max_iterations", "1", "--video") == 2
+    err = capsys.readouterr().err
+    assert "MUJOCO_GL=bogus" in err and "unset MUJOCO_GL" in err
+    assert not glob.glob(str(tmp_path / "logs" / "rsl_rl" / "*" / "*" / "model_*.pt"))  # nothing was trained

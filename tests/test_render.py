@@ -1,10 +1,11 @@
-"""Offscreen rendering of the cartpole: an image that is not blank and follows the pole."""
+"""Offscreen rendering: an image that follows the pole, several envs side by side, the viewer frames, the GL backend."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 import torch
+from conftest import rendering_available
 
 from simlab.envs import ManagerBasedRLEnv
 from simlab.sim.renderer import look_at
@@ -62,3 +63,131 @@ def test_render_needs_a_render_mode():
     with pytest.raises(RuntimeError, match="render_mode='rgb_array'"):
         env.render()
     env.close()
+
+
+# -- several envs in one frame, the viewer's origin types, the GL backend ---------------------------
+
+
+def _robot_mask(frame: np.ndarray, floor: np.ndarray) -> np.ndarray:
+    """Pixels where something stands on the floor."""
+    return np.abs(frame.astype(int) - floor.astype(int)).sum(axis=-1) > 40
+
+
+def _blobs(mask: np.ndarray, min_pixels: int = 4) -> int:
+    """Connected groups of True pixels (4-neighbour flood fill) with at least ``min_pixels``."""
+    seen = np.zeros_like(mask)
+    count = 0
+    for start in zip(*np.nonzero(mask)):
+        if seen[start]:
+            continue
+        stack, size = [start], 0
+        seen[start] = True
+        while stack:
+            r, c = stack.pop()
+            size += 1
+            for nr, nc in ((r + 1, c), (r - 1, c), (r, c + 1), (r, c - 1)):
+                if 0 <= nr < mask.shape[0] and 0 <= nc < mask.shape[1] and mask[nr, nc] and not seen[nr, nc]:
+                    seen[nr, nc] = True
+                    stack.append((nr, nc))
+        count += size >= min_pixels
+    return count
+
+
+def _floor_only(env, frame_envs, renderer_cls, resolution):
+    """The same view with every geom but the ground invisible: the empty scene."""
+    import copy
+
+    import mujoco
+
+    model = copy.deepcopy(env.sim.model)
+    model.geom_rgba[model.geom_type != mujoco.mjtGeom.mjGEOM_PLANE, 3] = 0.0
+    renderer = renderer_cls(model, *resolution)
+    try:
+        return renderer.render(
+            env.sim.physics, frame_envs.env_ids, frame_envs.offsets, frame_envs.eye, frame_envs.lookat
+        )
+    finally:
+        renderer.close()
+
+
+@pytest.fixture
+def ants():
+    import gymnasium as gym
+
+    import simlab.tasks  # noqa: F401 - registers the tasks
+    from simlab.tasks.utils import load_cfg_from_registry
+
+    if not rendering_available():
+        pytest.skip("no offscreen OpenGL backend (install libosmesa6 or an EGL driver)")
+    cfg = load_cfg_from_registry("simlab/Ant-Direct-v0", "env_cfg_entry_point")
+    cfg.scene.num_envs = 16
+    cfg.sim.device = "cpu"
+    cfg.seed = 0
+    cfg.viewer.resolution = (160, 120)
+    env = gym.make("simlab/Ant-Direct-v0", cfg=cfg, render_mode="rgb_array")
+    env.reset()
+    yield env.unwrapped
+    env.close()
+
+
+def test_frame_shows_the_robots_of_several_envs(ants):
+    from simlab.envs.utils.viewer import view_frame
+    from simlab.sim.renderer import OffscreenRenderer
+
+    frame = ants.render()
+    shown = view_frame(ants, ants.cfg.viewer)
+    assert len(shown.env_ids) == 16 and shown.env_ids[0] == ants.cfg.viewer.env_index
+    floor = _floor_only(ants, shown, OffscreenRenderer, ants.cfg.viewer.resolution)
+    robots = _robot_mask(frame, floor)
+    assert robots.mean() > 0.02, "the frame shows only the floor"
+    assert _blobs(robots) >= 6, "fewer than six robots are visible side by side"
+
+
+def test_origin_types_place_the_camera_as_isaac_lab_does(ants):
+    from simlab.envs.utils.viewer import camera_pose, view_frame
+
+    viewer = ants.cfg.viewer
+    origins = ants.scene.env_origins.numpy().astype(np.float64)
+    viewer.env_index, viewer.eye, viewer.lookat = 5, (3.0, 0.0, 2.0), (0.0, 0.0, 0.0)
+    viewer.origin_type = "world"  # world-frame points, seen from env 5's MuJoCo frame
+    eye, lookat = camera_pose(ants, viewer)
+    np.testing.assert_allclose(eye, np.array([3.0, 0.0, 2.0]) - origins[5])
+    np.testing.assert_allclose(lookat, -origins[5])
+    viewer.origin_type = "env"  # relative to env 5's origin
+    eye, lookat = camera_pose(ants, viewer)
+    np.testing.assert_allclose(eye, [3.0, 0.0, 2.0])
+    np.testing.assert_allclose(lookat, [0.0, 0.0, 0.0])
+    viewer.origin_type, viewer.asset_name = "asset_root", "robot"  # follows the ant's torso
+    root = ants.scene["robot"].data.root_pos_w[5].numpy().astype(np.float64)
+    eye, lookat = camera_pose(ants, viewer)
+    np.testing.assert_allclose(lookat, root - origins[5], atol=1e-6)
+    np.testing.assert_allclose(eye - lookat, [3.0, 0.0, 2.0], atol=1e-6)
+    shown = view_frame(ants, viewer, max_envs=4)
+    assert shown.env_ids[0] == 5 and len(shown.env_ids) == 4
+    np.testing.assert_allclose(shown.offsets, origins[shown.env_ids] - origins[5])
+    # the followed ant is in the middle of the image
+    frame = ants.render()
+    h, w = frame.shape[:2]
+    centre = frame[h // 2 - 5 : h // 2 + 5, w // 2 - 5 : w // 2 + 5].astype(int)
+    assert np.abs(centre - np.array([210, 90, 30])).sum(axis=-1).min() < 120  # the ant's orange
+    viewer.origin_type = "asset_rot"
+    with pytest.raises(ValueError, match="allowed: world, env, asset_root, asset_body"):
+        camera_pose(ants, viewer)
+
+
+def test_gl_backend_is_chosen_and_explained(monkeypatch):
+    from simlab.utils import gl_backend
+
+    monkeypatch.delenv("MUJOCO_GL", raising=False)
+    monkeypatch.setattr(gl_backend, "_checked", {})
+    if rendering_available():
+        assert gl_backend.choose_gl_backend() in gl_backend.OFFSCREEN_BACKENDS
+    monkeypatch.delenv("MUJOCO_GL", raising=False)
+    monkeypatch.setattr(gl_backend, "_checked", {"egl": "no EGL device", "osmesa": "libOSMesa.so: not found"})
+    with pytest.raises(gl_backend.GLBackendError, match="libosmesa6") as err:
+        gl_backend.choose_gl_backend()
+    assert "no EGL device" in str(err.value) and "libegl1" in str(err.value)
+    monkeypatch.setenv("MUJOCO_GL", "bogus")
+    monkeypatch.setattr(gl_backend, "_checked", {})
+    with pytest.raises(gl_backend.GLBackendError, match="MUJOCO_GL=bogus fails"):
+        gl_backend.check_gl_backend()

@@ -86,8 +86,18 @@ def resolve_device(device: str | None) -> str:
 class SimulationApp:
     """The app object scripts loop on: ``is_running()``, ``update()``, ``close()``."""
 
-    def __init__(self, max_steps: int | None = None, install_signal_handler: bool = True):
+    def __init__(
+        self,
+        max_steps: int | None = None,
+        install_signal_handler: bool = True,
+        viewer: str = "none",
+        viewer_port: int = 8080,
+    ):
         self.max_steps = max_steps
+        self._viewer_kind = viewer
+        self._viewer_port = viewer_port
+        self._viewer = None  # opened on the first poll that finds a simulation
+        self._viewer_sim = None
         self.num_polls = 0  # calls of is_running()
         self._interrupted = False
         self._closed = False
@@ -110,6 +120,11 @@ class SimulationApp:
         )
 
     @property
+    def viewer(self):
+        """The live viewer showing the current simulation, if the app has one open."""
+        return self._viewer
+
+    @property
     def interrupted(self) -> bool:
         """True once Ctrl+C was pressed."""
         return self._interrupted
@@ -119,7 +134,26 @@ class SimulationApp:
         if self._closed or self._interrupted:
             return False
         self.num_polls += 1
+        if self._viewer_kind != "none":
+            self._update_viewer()
         return self.max_steps is None or self.num_polls <= self.max_steps
+
+    def _update_viewer(self) -> None:
+        """Show the current simulation in the app's viewer: the app loop is where Isaac Sim renders."""
+        from simlab.sim import SimulationContext
+
+        sim = SimulationContext.instance()
+        if sim is not self._viewer_sim:  # a new simulation (or none): a new viewer
+            if self._viewer is not None:
+                self._viewer.close()
+            self._viewer = self._viewer_sim = None
+            if sim is not None and getattr(sim, "physics", None) is not None:  # built (sim.reset() ran)
+                from simlab.viewer import open_viewer
+
+                self._viewer_sim = sim
+                self._viewer = open_viewer(sim, self._viewer_kind, self._viewer_port)
+        if self._viewer is not None:
+            self._viewer.after_step()
 
     def is_exiting(self) -> bool:
         return not self.is_running()
@@ -132,6 +166,9 @@ class SimulationApp:
         if self._closed:
             return
         self._closed = True
+        if self._viewer is not None:
+            self._viewer.close()
+            self._viewer = None
         if self._handler_installed and threading.current_thread() is threading.main_thread():
             # only restore if nobody replaced our handler in the meantime
             if signal.getsignal(signal.SIGINT) == self._on_sigint:
@@ -156,7 +193,10 @@ class AppLauncher:
 
     # flag name -> (default, help)
     _ARGS: dict[str, tuple[Any, str]] = {
-        "headless": (False, "Run without a viewer window."),
+        "headless": (False, "Run without a viewer (same as --viewer none)."),
+        "viewer": ("auto", "Live viewer: native (MuJoCo's window, needs a display), web (in a browser) or none; "
+                   "auto: native with a display, else web."),
+        "viewer_port": (8080, "Port of the web viewer."),
         "device": (None, "Simulation device: 'cpu', 'cuda' or 'cuda:N'. Default: $SIMLAB_DEVICE, else "
                    "'cuda:0' if a GPU with mujoco_warp is available, else 'cpu'."),
         "enable_cameras": (False, "Enable camera sensors and offscreen rendering."),
@@ -202,7 +242,15 @@ class AppLauncher:
         if livestream > 0:
             print("[simlab] --livestream is ignored: simlab has no livestreaming (use the MuJoCo viewer).")
 
+        from simlab.viewer import resolve_viewer_kind, set_app_viewer
+
         self._headless: bool = cfg["headless"]
+        self._viewer: str = resolve_viewer_kind(cfg["viewer"], self._headless)
+        port = cfg["viewer_port"] if cfg["viewer_port"] is not None else 8080
+        if isinstance(port, bool) or not isinstance(port, int) or not 1 <= port <= 65535:
+            raise ValueError(f"AppLauncher: 'viewer_port' must be a TCP port (1..65535), got {port!r}.")
+        self._viewer_port: int = port
+        set_app_viewer(self._viewer, port)
         self._enable_cameras: bool = cfg["enable_cameras"]
         self._verbose: bool = cfg["verbose"]
         self._max_app_steps: int | None = steps
@@ -215,10 +263,10 @@ class AppLauncher:
             self.global_rank = int(os.environ.get("RANK", "0")) + int(os.environ.get("JAX_RANK", "0"))
             if self._device.startswith("cuda"):
                 self._device = resolve_device(f"cuda:{self.local_rank}")
-        self._app = SimulationApp(max_steps=steps)
+        self._app = SimulationApp(max_steps=steps, viewer=self._viewer, viewer_port=port)
         if self._verbose:
             print(
-                f"[simlab] AppLauncher: device={self._device} headless={self._headless} "
+                f"[simlab] AppLauncher: device={self._device} headless={self._headless} viewer={self._viewer} "
                 f"enable_cameras={self._enable_cameras} max_app_steps={steps}"
             )
 
@@ -231,6 +279,8 @@ class AppLauncher:
         group = parser.add_argument_group("app_launcher arguments", "simlab app settings.")
         specs: dict[str, dict[str, Any]] = {
             "headless": {"action": "store_true"},
+            "viewer": {"type": str.lower, "choices": ["auto", "native", "web", "none"]},
+            "viewer_port": {"type": int},
             "device": {"type": str},
             "enable_cameras": {"action": "store_true"},
             "livestream": {"type": int, "choices": [-1, 0, 1, 2]},
@@ -255,6 +305,15 @@ class AppLauncher:
     @property
     def headless(self) -> bool:
         return self._headless
+
+    @property
+    def viewer(self) -> str:
+        """The live viewer this app shows: ``native``, ``web`` or ``none``."""
+        return self._viewer
+
+    @property
+    def viewer_port(self) -> int:
+        return self._viewer_port
 
     @property
     def enable_cameras(self) -> bool:

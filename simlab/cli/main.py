@@ -28,6 +28,7 @@ from typing import Any
 from simlab.cli.distributed import add_launch_args
 from simlab.cli.session import LIBRARIES, SKRL_ALGORITHMS
 from simlab.utils.errors import is_intended_error
+from simlab.viewer import VIEWER_KINDS
 
 __all__ = ["build_parser", "main"]
 
@@ -46,7 +47,15 @@ def _add_common(p: argparse.ArgumentParser, video: bool = True) -> None:
         help="cpu, cuda or cuda:N (default: $SIMLAB_DEVICE, else the GPU if there is one, else cpu).",
     )
     p.add_argument("--seed", type=int, default=None, help="Seed (-1 draws one; default: the agent config's).")
-    p.add_argument("--headless", action="store_true", help="No viewer window (simlab never opens one).")
+    p.add_argument("--headless", action="store_true", help="No live viewer (same as --viewer none).")
+    p.add_argument(
+        "--viewer",
+        type=str.lower,
+        choices=VIEWER_KINDS,
+        default="auto",
+        help="Live viewer: native (MuJoCo's window), web (in a browser), none; auto: native with a display, else web.",
+    )
+    p.add_argument("--viewer_port", type=int, default=8080, help="Port of the web viewer (default: 8080).")
     if video:
         p.add_argument("--video", action="store_true", help="Record MP4 videos (rgb_array rendering).")
         p.add_argument("--video_length", type=int, default=200, help="Steps per recorded video.")

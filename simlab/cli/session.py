@@ -104,6 +104,10 @@ def load_configs(args: argparse.Namespace, overrides: list[str], with_agent: boo
 def make_env(args: argparse.Namespace, env_cfg: Any, video_dir: str | None, single_agent: bool) -> gym.Env:
     """``gym.make`` the task (rgb_array rendering with ``--video``), record videos, flatten multi-agent envs."""
     video = bool(getattr(args, "video", False)) and video_dir is not None
+    if video:
+        from simlab.utils.gl_backend import check_gl_backend
+
+        print(f"[simlab] Videos are rendered with MUJOCO_GL={check_gl_backend()}")  # fails before training
     env = gym.make(args.task, cfg=env_cfg, render_mode="rgb_array" if video else None)
     if single_agent and is_multi_agent(env):
         from simlab.envs import multi_agent_to_single_agent
@@ -120,7 +124,19 @@ def make_env(args: argparse.Namespace, env_cfg: Any, video_dir: str | None, sing
             disable_logger=True,
         )
         print(f"[simlab] Recording {args.video_length}-step videos every {interval} steps to {video_dir}")
-    return env
+    return with_viewer(args, env)
+
+
+def with_viewer(args: argparse.Namespace, env: gym.Env) -> gym.Env:
+    """``env`` shown in the live viewer ``--viewer`` asks for (none with ``--headless``); play runs in
+    real time. A viewer that cannot open warns, and the run goes on without it."""
+    from simlab.viewer import ViewerWrapper, open_viewer, resolve_viewer_kind
+
+    kind = resolve_viewer_kind(getattr(args, "viewer", "none"), getattr(args, "headless", True))
+    viewer = open_viewer(
+        env.unwrapped, kind, getattr(args, "viewer_port", 8080), realtime=getattr(args, "command", None) == "play"
+    )
+    return env if viewer is None else ViewerWrapper(env, viewer)
 
 
 def _free_video_prefix(folder: str, base: str) -> str:

@@ -43,7 +43,7 @@ from .common import SimulatedEnv
 from .direct_rl_env_cfg import DirectRLEnvCfg
 from .utils.cuda_graph import EnvStepper
 from .utils.spaces import sample_space, spec_to_gym_space
-from .utils.viewer import camera_pose, make_renderer, render_frame  # noqa: F401 - camera_pose re-exported
+from .utils.viewer import camera_pose, close_renderer, render_frame, show_in_viewer  # noqa: F401 - camera_pose re-exported
 
 logger = logging.getLogger(__name__)
 
@@ -170,23 +170,19 @@ class DirectRLEnv(SimulatedEnv, gym.Env):
         self.sim.physics.mark_stale(finished)  # body poses follow when read
 
     def render(self, recompute: bool = False) -> np.ndarray | None:
-        """An RGB frame (H, W, 3) of env ``cfg.viewer.env_index`` for ``render_mode="rgb_array"``.
-
-        ``"human"`` and None render nothing: simlab has no window.
-        """
+        """An RGB frame (H, W, 3) of env ``cfg.viewer.env_index`` for ``render_mode="rgb_array"``;
+        ``"human"`` shows the envs in the live viewer (``simlab.viewer``); None renders nothing."""
+        if self.render_mode == "human":
+            return show_in_viewer(self)
         if self.render_mode != "rgb_array":
             return None
-        if self._renderer is None:
-            self._renderer = make_renderer(self.sim.model, self.cfg.viewer)
-        return render_frame(self._renderer, self, self.cfg.viewer)
+        return render_frame(self, self.cfg.viewer)
 
     def close(self) -> None:
         """Release the simulation (the SimulationContext instance is cleared)."""
         if self._is_closed:
             return
-        if self._renderer is not None and hasattr(self._renderer, "close"):
-            self._renderer.close()
-        self._renderer = None
+        close_renderer(self)
         self.event_manager = None
         if getattr(self, "_stepper", None) is not None:  # the MARL env shares this close
             self._stepper.release()

@@ -26,7 +26,7 @@ from simlab.utils.env_mask import env_mask
 
 from .common import SimulatedEnv, VecEnvObs
 from .manager_based_env_cfg import ManagerBasedEnvCfg
-from .utils.viewer import camera_pose, make_renderer, render_frame
+from .utils.viewer import camera_pose, close_renderer, render_frame
 
 
 class ManagerBasedEnv(SimulatedEnv):
@@ -129,12 +129,7 @@ class ManagerBasedEnv(SimulatedEnv):
     def close(self) -> None:
         if self._is_closed:
             return
-        if self._renderer is not None:
-            self._renderer.close()
-            self._renderer = None
-        if self._viewer is not None:
-            self._viewer.close()
-            self._viewer = None
+        close_renderer(self)
         if getattr(self, "_stepper", None) is not None:  # the RL env's stepper
             self._stepper.release()
         if SimulationContext.instance() is getattr(self, "sim", None):
@@ -159,6 +154,4 @@ class ManagerBasedEnv(SimulatedEnv):
         return camera_pose(self, self.cfg.viewer)
 
     def _render_rgb(self) -> np.ndarray:
-        if self._renderer is None:
-            self._renderer = make_renderer(self.sim.model, self.cfg.viewer)
-        return render_frame(self._renderer, self, self.cfg.viewer)
+        return render_frame(self, self.cfg.viewer)

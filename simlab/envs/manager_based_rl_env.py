@@ -30,6 +30,7 @@ from .common import VecEnvObs, VecEnvStepReturn
 from .manager_based_env import ManagerBasedEnv
 from .manager_based_rl_env_cfg import ManagerBasedRLEnvCfg
 from .utils.cuda_graph import EnvStepper
+from .utils.viewer import show_in_viewer
 
 
 class ManagerBasedRLEnv(ManagerBasedEnv, gym.Env):
@@ -193,30 +194,4 @@ class ManagerBasedRLEnv(ManagerBasedEnv, gym.Env):
         return log
 
     def _render_human(self) -> None:
-        import mujoco
-
-        from simlab.sim.renderer import fill_host_data
-
-        if self._viewer is None:
-            import mujoco.viewer
-
-            self._viewer_data = mujoco.MjData(self.sim.model)
-            try:
-                self._viewer = mujoco.viewer.launch_passive(self.sim.model, self._viewer_data)
-            except Exception as err:  # noqa: BLE001 - no display, no GLFW
-                raise RuntimeError(
-                    f"render_mode='human' opens MuJoCo's viewer window, which failed ({err}). Without a display use"
-                    " render_mode='rgb_array' (offscreen, MUJOCO_GL=egl or osmesa)."
-                ) from err
-            eye, lookat = self._camera_pose()
-            _set_free_camera(self._viewer.cam, eye, lookat)
-        with self._viewer.lock():
-            fill_host_data(self.sim.model, self._viewer_data, self.sim.physics, self.cfg.viewer.env_index)
-            mujoco.mj_forward(self.sim.model, self._viewer_data)
-        self._viewer.sync()
-
-
-def _set_free_camera(cam, eye, lookat) -> None:
-    from simlab.sim.renderer import look_at
-
-    cam.lookat[:], cam.distance, cam.azimuth, cam.elevation = look_at(eye, lookat)
+        show_in_viewer(self)

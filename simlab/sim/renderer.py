@@ -1,31 +1,108 @@
-"""Offscreen rendering of one world with MuJoCo's renderer and a free camera.
+"""Drawing several envs of a batched simulation into one MuJoCo scene, and rendering it offscreen.
 
-The backends keep the state on the device; to render world ``env_index`` its state (qpos, qvel,
-mocap poses) is copied into a host ``MjData``, ``mj_forward`` places the bodies, and
-``mujoco.Renderer`` draws the scene from a free camera set from an eye and a look-at point.
+Every env is its own MuJoCo world centred on zero; Isaac Lab's world places env ``i`` at
+``scene.env_origins[i]``. To show neighbouring envs side by side as Isaac Lab does, the scene is
+built in the frame of one *reference* env: its world is drawn as MuJoCo draws it
+(``mjv_updateScene``), and each other shown env's geoms are appended (``mjv_addGeoms``) and moved
+by that env's origin relative to the reference's. Infinite planes (the ground) are drawn once.
 
-OpenGL: ``MUJOCO_GL`` picks the context. Unless already set, simlab uses ``egl`` when a CUDA device
-is there and ``osmesa`` (software, Debian/Ubuntu package ``libosmesa6``) otherwise. MuJoCo reads
-``MUJOCO_GL`` when it is first imported; if that happened before the variable was set here, the
-chosen context class is installed into MuJoCo's renderer module before the first renderer is made.
+The state of the shown envs only is copied from the backend's tensors (CPU or GPU) into one host
+``MjData``, one env after another, and ``mj_forward`` places their bodies.
 """
 
 from __future__ import annotations
 
+import copy
 import math
-import os
+from collections.abc import Sequence
 
 import mujoco
 import numpy as np
 import torch
 
-_GL_PACKAGES = {"osmesa": "libosmesa6 (apt-get install libosmesa6)", "egl": "libegl1 and a GPU driver with EGL",
-                "glfw": "a display and GLFW"}  # fmt: skip
+from simlab.utils.gl_backend import GLBackendError, choose_gl_backend
+
+__all__ = ["EnvSceneBuilder", "OffscreenRenderer", "gather_env_states", "look_at", "set_free_camera"]
+
+_STATE_FIELDS = ("qpos", "qvel", "mocap_pos", "mocap_quat")
 
 
-def default_gl_backend() -> str:
-    """``MUJOCO_GL`` if set, else ``egl`` with a CUDA device, else ``osmesa``."""
-    return os.environ.setdefault("MUJOCO_GL", "egl" if torch.cuda.is_available() else "osmesa").lower()
+def look_at(eye, lookat) -> tuple[np.ndarray, float, float, float]:
+    """MuJoCo free-camera parameters ``(lookat, distance, azimuth, elevation)`` (degrees) from an
+    eye position and a point to look at."""
+    eye, lookat = np.asarray(eye, dtype=np.float64), np.asarray(lookat, dtype=np.float64)
+    forward = lookat - eye
+    distance = float(np.linalg.norm(forward))
+    if distance < 1e-9:
+        raise ValueError(f"The camera eye {eye.tolist()} and look-at point {lookat.tolist()} coincide")
+    forward /= distance
+    azimuth = math.degrees(math.atan2(forward[1], forward[0]))
+    elevation = math.degrees(math.asin(float(np.clip(forward[2], -1.0, 1.0))))
+    return lookat, distance, azimuth, elevation
+
+
+def set_free_camera(cam: mujoco.MjvCamera, eye, lookat) -> None:
+    """Point MuJoCo free camera ``cam`` from ``eye`` at ``lookat``."""
+    cam.type = mujoco.mjtCamera.mjCAMERA_FREE
+    cam.lookat[:], cam.distance, cam.azimuth, cam.elevation = look_at(eye, lookat)
+
+
+def gather_env_states(physics, env_ids: Sequence[int]) -> dict[str, np.ndarray]:
+    """The state rows (qpos, qvel, mocap poses) of the envs ``env_ids``: one small copy per field."""
+    ids = torch.as_tensor(list(env_ids), dtype=torch.long)
+    states = {}
+    for name in _STATE_FIELDS:
+        if name.startswith("mocap") and physics.model.nmocap == 0:
+            continue
+        field = physics.data(name)
+        states[name] = field[ids.to(field.device)].detach().cpu().numpy()
+    return states
+
+
+def _without_infinite_planes(model: mujoco.MjModel) -> mujoco.MjModel:
+    """A copy of ``model`` whose infinite planes are invisible (MuJoCo skips geoms with alpha 0)."""
+    hidden = copy.deepcopy(model)
+    infinite_plane = (hidden.geom_type == mujoco.mjtGeom.mjGEOM_PLANE) & (hidden.geom_size[:, :2].min(axis=1) <= 0)
+    hidden.geom_rgba[infinite_plane, 3] = 0.0
+    return hidden
+
+
+class EnvSceneBuilder:
+    """Fills an ``MjvScene`` with a reference env and its neighbours, offset by their origins."""
+
+    def __init__(self, model: mujoco.MjModel):
+        self.model = model
+        self.neighbour_model = _without_infinite_planes(model)
+        self.data = mujoco.MjData(model)
+        self.option = mujoco.MjvOption()
+        self._perturb = mujoco.MjvPerturb()
+
+    def load(self, states: dict[str, np.ndarray], row: int) -> mujoco.MjData:
+        """Row ``row`` of ``states`` in the host ``MjData``, its bodies placed."""
+        for name, values in states.items():
+            getattr(self.data, name)[:] = values[row]
+        mujoco.mj_forward(self.model, self.data)
+        return self.data
+
+    def add_neighbours(self, scene: mujoco.MjvScene, states: dict[str, np.ndarray], offsets: np.ndarray) -> None:
+        """Append the geoms of rows 1.. of ``states``, each moved by its row of ``offsets`` (metres)."""
+        catmask = int(mujoco.mjtCatBit.mjCAT_ALL)
+        for row in range(1, len(offsets)):
+            data = self.load(states, row)
+            first = scene.ngeom
+            mujoco.mjv_addGeoms(self.neighbour_model, data, self.option, self._perturb, catmask, scene)
+            if scene.ngeom == scene.maxgeom:
+                break  # MuJoCo warns once; the scene shows the envs that fit
+            for geom in scene.geoms[first : scene.ngeom]:
+                geom.pos += offsets[row]
+
+    def build(self, scene: mujoco.MjvScene, states: dict[str, np.ndarray], offsets: np.ndarray, camera) -> None:
+        """The whole scene: row 0 is the reference env (offset 0), the others its neighbours."""
+        data = self.load(states, 0)
+        mujoco.mjv_updateScene(
+            self.model, data, self.option, self._perturb, camera, int(mujoco.mjtCatBit.mjCAT_ALL), scene
+        )
+        self.add_neighbours(scene, states, offsets)
 
 
 def _install_gl_context(backend: str) -> None:
@@ -43,67 +120,45 @@ def _install_gl_context(backend: str) -> None:
     gl_context.GLContext = GLContext
 
 
-def look_at(eye, lookat) -> tuple[np.ndarray, float, float, float]:
-    """MuJoCo free-camera parameters ``(lookat, distance, azimuth, elevation)`` (degrees) from an
-    eye position and a point to look at."""
-    eye, lookat = np.asarray(eye, dtype=np.float64), np.asarray(lookat, dtype=np.float64)
-    forward = lookat - eye
-    distance = float(np.linalg.norm(forward))
-    if distance < 1e-9:
-        raise ValueError(f"The camera eye {eye.tolist()} and look-at point {lookat.tolist()} coincide")
-    forward /= distance
-    azimuth = math.degrees(math.atan2(forward[1], forward[0]))
-    elevation = math.degrees(math.asin(float(np.clip(forward[2], -1.0, 1.0))))
-    return lookat, distance, azimuth, elevation
-
-
-def fill_host_data(model: mujoco.MjModel, data: mujoco.MjData, physics, env_index: int) -> None:
-    """Copy world ``env_index``'s state from the backend's tensors into a host ``MjData``."""
-    data.qpos[:] = physics.data("qpos")[env_index].detach().cpu().numpy()
-    data.qvel[:] = physics.data("qvel")[env_index].detach().cpu().numpy()
-    if model.nmocap:
-        data.mocap_pos[:] = physics.data("mocap_pos")[env_index].detach().cpu().numpy()
-        data.mocap_quat[:] = physics.data("mocap_quat")[env_index].detach().cpu().numpy()
-
-
 class OffscreenRenderer:
-    """Renders RGB images of one world of a batched simulation."""
+    """Renders RGB images of a few envs of a batched simulation, side by side."""
 
-    def __init__(self, model: mujoco.MjModel, width: int, height: int):
+    def __init__(self, model: mujoco.MjModel, width: int, height: int, max_envs: int = 16):
         if width < 1 or height < 1:
             raise ValueError(f"Render size must be positive, got {width}x{height}")
-        backend = default_gl_backend()
-        _install_gl_context(backend)
+        backend = choose_gl_backend()
         self.model = model
+        self.max_envs = max_envs
         # The offscreen buffer must hold the image; the model's default is 640x480.
         model.vis.global_.offwidth = max(model.vis.global_.offwidth, width)
         model.vis.global_.offheight = max(model.vis.global_.offheight, height)
+        maxgeom = max(1000, 2 * model.ngeom * max_envs)
         try:
-            self._renderer = mujoco.Renderer(model, height=height, width=width)
+            _install_gl_context(backend)
+            self._renderer = mujoco.Renderer(model, height=height, width=width, max_geom=maxgeom)
         except Exception as err:  # noqa: BLE001 - GL errors come in many types
-            need = _GL_PACKAGES.get(backend, "an OpenGL implementation")
-            raise RuntimeError(
-                f"Offscreen rendering with MUJOCO_GL={backend} failed: {err}. It needs {need}; or set MUJOCO_GL to"
-                " another of egl, osmesa, glfw before starting python."
+            raise GLBackendError(
+                f"Offscreen rendering with MUJOCO_GL={backend} failed: {err}. Unset MUJOCO_GL to let simlab"
+                " pick a working backend, or install one (Debian/Ubuntu: libosmesa6 for OSMesa, libegl1 for EGL)."
             ) from err
-        self._data = mujoco.MjData(model)
+        self._builder = EnvSceneBuilder(model)
         self._camera = mujoco.MjvCamera()
-        self._camera.type = mujoco.mjtCamera.mjCAMERA_FREE
 
-    def render(self, physics, env_index: int, eye, lookat) -> np.ndarray:
-        """An (H, W, 3) uint8 image of world ``env_index`` seen from ``eye`` towards ``lookat``
-        (both in that world's frame)."""
-        fill_host_data(self.model, self._data, physics, env_index)
-        mujoco.mj_forward(self.model, self._data)
-        cam = self._camera
-        cam.lookat[:], cam.distance, cam.azimuth, cam.elevation = look_at(eye, lookat)
-        self._renderer.update_scene(self._data, camera=cam)
+    def render(self, physics, env_ids: Sequence[int], offsets: np.ndarray, eye, lookat) -> np.ndarray:
+        """An (H, W, 3) uint8 image of the envs ``env_ids`` seen from ``eye`` towards ``lookat``.
+
+        ``env_ids[0]`` is the reference env: ``eye``, ``lookat`` and ``offsets`` (the env origins
+        minus the reference's, one row per env) are in its frame.
+        """
+        states = gather_env_states(physics, env_ids)
+        set_free_camera(self._camera, eye, lookat)
+        self._builder.build(self._renderer.scene, states, np.asarray(offsets, dtype=np.float32), self._camera)
         # debug markers (simlab.markers) are decor geoms added on top of the model's own
         from simlab.markers.visualization_markers import add_markers_to_scene
         from simlab.sim.simulation_context import SimulationContext
 
         sim = SimulationContext.instance()
-        add_markers_to_scene(self._renderer.scene, env_index, sim.env_origins if sim is not None else None)
+        add_markers_to_scene(self._renderer.scene, int(env_ids[0]), sim.env_origins if sim is not None else None)
         return self._renderer.render()
 
     def close(self) -> None:

@@ -1,50 +1,135 @@
-"""The viewer camera: where ``env.render()`` looks from, and the offscreen renderer it uses."""
+"""The viewer camera of an env (``cfg.viewer``): where ``env.render()`` and the viewers look from,
+which envs they show, and the offscreen renderer ``env.render()`` uses.
+
+As in Isaac Lab, ``ViewerCfg.eye`` / ``lookat`` are given in the frame named by ``origin_type``:
+the world (``"world"``), env ``env_index``'s origin (``"env"``), or the root / a body of asset
+``asset_name`` in env ``env_index`` (``"asset_root"`` / ``"asset_body"``, following it as it moves).
+Each env is its own MuJoCo world, so a frame is drawn in env ``env_index``'s world, with the
+neighbouring envs nearest the look-at point drawn beside it at their origins.
+"""
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
+__all__ = [
+    "MAX_SHOWN_ENVS",
+    "ViewFrame",
+    "camera_pose",
+    "close_renderer",
+    "render_frame",
+    "show_in_viewer",
+    "view_frame",
+]
 
-def make_renderer(model, viewer_cfg):
-    from simlab.sim.renderer import OffscreenRenderer
+MAX_SHOWN_ENVS = 16
+"""How many envs a frame shows at most (the reference env and its nearest neighbours)."""
 
-    width, height = viewer_cfg.resolution
-    return OffscreenRenderer(model, width, height)
-
-
-def render_frame(renderer, env, viewer_cfg) -> np.ndarray:
-    """Render env ``viewer_cfg.env_index`` from the viewer camera (same frames as the manager-based env)."""
-    eye, lookat = camera_pose(env, viewer_cfg)
-    return renderer.render(env.sim.physics, viewer_cfg.env_index, eye, lookat)
+ORIGIN_TYPES = ("world", "env", "asset_root", "asset_body")
 
 
-def camera_pose(env, viewer) -> tuple[np.ndarray, np.ndarray]:
-    """The viewer's eye and look-at point in the frame of the rendered MuJoCo world.
+@dataclass
+class ViewFrame:
+    """What to draw: envs (``env_ids[0]`` the reference), their origins relative to the reference's,
+    and the camera, all in the reference env's MuJoCo frame."""
 
-    Each env is its own MuJoCo world centred on zero, so world-frame points lose the env origin;
-    ``origin_type`` "env" / "asset_root" / "asset_body" places them relative to that env, asset or body.
-    """
+    env_ids: list[int]
+    offsets: np.ndarray  # (len(env_ids), 3)
+    eye: np.ndarray
+    lookat: np.ndarray
+
+
+def _frame_origin_w(env, viewer) -> np.ndarray:
+    """The world-frame origin of the frame ``viewer.origin_type`` names."""
     index = viewer.env_index
-    if not 0 <= index < env.num_envs:
-        raise ValueError(f"cfg.viewer.env_index is {index}, but there are {env.num_envs} envs")
-    eye, lookat = np.asarray(viewer.eye, dtype=np.float64), np.asarray(viewer.lookat, dtype=np.float64)
-    origin = env.scene.env_origins[index].cpu().numpy().astype(np.float64)
     if viewer.origin_type == "world":
-        offset = -origin
-    elif viewer.origin_type == "env":
-        offset = np.zeros(3)
-    elif viewer.origin_type in ("asset_root", "asset_body"):
+        return np.zeros(3)
+    if viewer.origin_type == "env":
+        return env.scene.env_origins[index].cpu().numpy().astype(np.float64)
+    if viewer.origin_type in ("asset_root", "asset_body"):
         if viewer.asset_name is None:
             raise ValueError(f"cfg.viewer.origin_type='{viewer.origin_type}' needs cfg.viewer.asset_name")
         asset = env.scene[viewer.asset_name]
         if viewer.origin_type == "asset_root":
             pos = asset.data.root_pos_w[index]
         else:
+            if viewer.body_name is None:
+                raise ValueError("cfg.viewer.origin_type='asset_body' needs cfg.viewer.body_name")
             body_ids, _ = asset.find_bodies(viewer.body_name)
             pos = asset.data.body_pos_w[index, body_ids[0]]
-        offset = pos.cpu().numpy().astype(np.float64) - origin
-    else:
-        raise ValueError(
-            f"Unknown cfg.viewer.origin_type '{viewer.origin_type}'; allowed: world, env, asset_root, asset_body"
-        )
-    return eye + offset, lookat + offset
+        return pos.detach().cpu().numpy().astype(np.float64)
+    raise ValueError(f"Unknown cfg.viewer.origin_type '{viewer.origin_type}'; allowed: {', '.join(ORIGIN_TYPES)}")
+
+
+def camera_pose(env, viewer) -> tuple[np.ndarray, np.ndarray]:
+    """The viewer's eye and look-at point in the MuJoCo frame of env ``viewer.env_index``."""
+    index = viewer.env_index
+    if not 0 <= index < env.num_envs:
+        raise ValueError(f"cfg.viewer.env_index is {index}, but there are {env.num_envs} envs")
+    origin_w = _frame_origin_w(env, viewer)
+    ref_origin = env.scene.env_origins[index].cpu().numpy().astype(np.float64)
+    eye = np.asarray(viewer.eye, dtype=np.float64) + origin_w - ref_origin
+    lookat = np.asarray(viewer.lookat, dtype=np.float64) + origin_w - ref_origin
+    return eye, lookat
+
+
+def view_frame(env, viewer, max_envs: int = MAX_SHOWN_ENVS) -> ViewFrame:
+    """The envs to draw and the camera: env ``viewer.env_index`` and the ``max_envs - 1`` envs
+    whose origins are nearest the look-at point."""
+    eye, lookat = camera_pose(env, viewer)
+    origins = env.scene.env_origins.detach().cpu().numpy().astype(np.float64)
+    ref = viewer.env_index
+    offsets = origins - origins[ref]
+    distance = np.linalg.norm(offsets[:, :2] - lookat[:2], axis=1)
+    distance[ref] = -1.0  # the reference env comes first
+    env_ids = np.argsort(distance, kind="stable")[: max(1, max_envs)].tolist()
+    return ViewFrame(env_ids, offsets[env_ids], eye, lookat)
+
+
+def render_frame(env, viewer) -> np.ndarray:
+    """An RGB frame (H, W, 3) of ``env`` from its viewer camera; the renderer is made on first use."""
+    renderer = getattr(env, "_renderer", None)
+    if renderer is None:
+        from simlab.sim.renderer import OffscreenRenderer
+
+        width, height = viewer.resolution
+        renderer = env._renderer = OffscreenRenderer(env.sim.model, width, height, MAX_SHOWN_ENVS)
+    frame = view_frame(env, viewer, renderer.max_envs)
+    return renderer.render(env.sim.physics, frame.env_ids, frame.offsets, frame.eye, frame.lookat)
+
+
+def close_renderer(env) -> None:
+    """Release ``env``'s offscreen renderer and viewer, if it has them."""
+    for name in ("_renderer", "_viewer"):
+        handle = getattr(env, name, None)
+        if handle is not None:
+            handle.close()
+            setattr(env, name, None)
+
+
+def show_in_viewer(env) -> None:
+    """``render_mode="human"``: show ``env`` in the live viewer the app asked for (``AppLauncher``'s
+    ``--viewer``; else native with a display, web without), opened on the first call."""
+    viewer = getattr(env, "_viewer", None)
+    if viewer is None:
+        from simlab.viewer import app_viewer, open_viewer
+
+        kind, port = app_viewer()
+        viewer = env._viewer = open_viewer(env, kind, port)
+        if viewer is None:
+            env._viewer = _NO_VIEWER
+            return
+    if viewer is not _NO_VIEWER:
+        viewer.after_step()
+
+
+class _NoViewer:
+    """Stands for a viewer that could not open (warned once): ``render()`` then does nothing."""
+
+    def close(self) -> None:
+        pass
+
+
+_NO_VIEWER = _NoViewer()

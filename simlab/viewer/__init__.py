@@ -1,0 +1,80 @@
+"""Live viewers: watch envs while they train or play.
+
+* ``native``: MuJoCo's own window, where there is a display.
+* ``web``: the scene in a browser (viser / mjviser), for remote machines without one.
+* ``auto``: native with a display, else web. ``none``: no viewer.
+
+``open_viewer`` opens one on an env (or a bare simulation); ``ViewerWrapper`` drives it from a
+gymnasium env's steps. A viewer that cannot open warns and returns None: runs never depend on it.
+``AppLauncher`` records the ``--viewer`` / ``--viewer_port`` flags here (``set_app_viewer``), so
+``render_mode="human"`` and the tutorial scripts' app loop use the same choice.
+"""
+
+from __future__ import annotations
+
+import importlib
+import sys
+from typing import Any
+
+from simlab.viewer.choice import (
+    DEFAULT_PORT,
+    VIEWER_KINDS,
+    app_viewer,
+    display_available,
+    resolve_viewer_kind,
+    set_app_viewer,
+)
+
+__all__ = [
+    "DEFAULT_PORT",
+    "VIEWER_KINDS",
+    "LiveViewer",
+    "SimSource",
+    "ViewerControls",
+    "ViewerError",
+    "ViewerWrapper",
+    "app_viewer",
+    "display_available",
+    "open_viewer",
+    "resolve_viewer_kind",
+    "set_app_viewer",
+]
+
+# Imported on first use: the flags above are read by every CLI command, the viewers need mujoco and torch.
+_LAZY = {
+    "LiveViewer": "simlab.viewer.live",
+    "ViewerControls": "simlab.viewer.live",
+    "ViewerError": "simlab.viewer.live",
+    "SimSource": "simlab.viewer.source",
+    "ViewerWrapper": "simlab.viewer.wrapper",
+}
+
+
+def __getattr__(name: str) -> Any:
+    if name in _LAZY:
+        return getattr(importlib.import_module(_LAZY[name]), name)
+    raise AttributeError(f"module 'simlab.viewer' has no attribute '{name}'")
+
+
+def open_viewer(source, kind: str = "auto", port: int = DEFAULT_PORT, realtime: bool = False, follow: int = 0):
+    """A live viewer on ``source`` (an env, a ``SimulationContext`` or a ``SimSource``), or None
+    (``kind="none"``, or it could not open: a warning says why)."""
+    from simlab.viewer.live import ViewerError
+    from simlab.viewer.source import SimSource
+
+    kind = resolve_viewer_kind(kind)
+    if kind == "none":
+        return None
+    if not isinstance(source, SimSource):
+        source = SimSource.of_env(source) if hasattr(source, "scene") else SimSource.of_sim(source)
+    try:
+        if kind == "native":
+            from simlab.viewer.native import NativeViewer
+
+            return NativeViewer(source, realtime=realtime, follow=follow)
+        from simlab.viewer.web import WebViewer
+
+        return WebViewer(source, port=port, realtime=realtime, follow=follow)
+    except ViewerError as err:
+        print(f"[simlab] WARNING: no {kind} viewer: {err}. Running without a viewer.", file=sys.stderr)
+        return None

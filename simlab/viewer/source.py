@@ -1,0 +1,102 @@
+"""What a live viewer reads from the simulation: the shown envs' state, copied at the viewer's pace.
+
+A viewer shows one followed env and its nearest neighbours, in the followed env's MuJoCo frame
+(each env is its own world; neighbours are drawn at their origins relative to it). Only those
+envs' ``qpos`` / ``qvel`` / mocap rows are copied from the backend's tensors (CPU or GPU), and the
+body poses are computed on the host from them (``mj_kinematics``), so the physics step is never
+touched: a CUDA-graphed GPU step stays graphed.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+import torch
+
+from simlab.sim.renderer import gather_env_states
+
+__all__ = ["EnvSnapshot", "SimSource"]
+
+
+@dataclass
+class EnvSnapshot:
+    """The shown envs at one instant (row 0: the followed env)."""
+
+    env_ids: list[int]
+    offsets: np.ndarray  # (n, 3) env origins relative to the followed env's
+    states: dict[str, np.ndarray]  # qpos, qvel, mocap rows, one per shown env
+    episode_return: float | None = None  # of the followed env's running episode
+    episode_length: int | None = None
+
+
+class SimSource:
+    """The batched simulation a viewer shows: its model, state tensors and env origins."""
+
+    def __init__(
+        self,
+        model: mujoco.MjModel,
+        physics,
+        env_origins: torch.Tensor,
+        step_dt: float,
+        eye_offset: np.ndarray | None = None,
+    ):
+        self.model = model
+        self.eye_offset = eye_offset  # where the camera starts, relative to what it looks at
+        self.physics = physics
+        self.env_origins = env_origins
+        self.num_envs = int(env_origins.shape[0])
+        self.step_dt = step_dt
+
+    @classmethod
+    def of_env(cls, env) -> SimSource:
+        viewer = env.cfg.viewer
+        eye_offset = np.asarray(viewer.eye, dtype=np.float64) - np.asarray(viewer.lookat, dtype=np.float64)
+        return cls(env.sim.model, env.sim.physics, env.scene.env_origins, float(env.step_dt), eye_offset)
+
+    @classmethod
+    def of_sim(cls, sim) -> SimSource:
+        return cls(sim.model, sim.physics, sim.env_origins, float(sim.get_physics_dt()))
+
+    def shown_envs(self, follow: int, max_envs: int) -> tuple[list[int], np.ndarray]:
+        """Env ``follow`` and the ``max_envs - 1`` envs whose origins are nearest it, with their
+        origins relative to ``follow``'s."""
+        if not 0 <= follow < self.num_envs:
+            raise ValueError(f"env {follow} does not exist: there are {self.num_envs} envs (0..{self.num_envs - 1})")
+        origins = self.env_origins.detach().cpu().numpy().astype(np.float64)
+        offsets = origins - origins[follow]
+        distance = np.linalg.norm(offsets[:, :2], axis=1)
+        distance[follow] = -1.0
+        ids = np.argsort(distance, kind="stable")[: max(1, max_envs)].tolist()
+        return ids, offsets[ids]
+
+    def snapshot(self, env_ids: list[int], offsets: np.ndarray) -> EnvSnapshot:
+        return EnvSnapshot(list(env_ids), offsets, gather_env_states(self.physics, env_ids))
+
+
+class HostKinematics:
+    """Body poses of snapshot rows, computed on the host from their joint state."""
+
+    def __init__(self, model: mujoco.MjModel):
+        self.model = model
+        self.data = mujoco.MjData(model)
+
+    def load(self, snapshot: EnvSnapshot, row: int, full: bool = False) -> mujoco.MjData:
+        """Row ``row`` in the host ``MjData``: kinematics only, or a full forward (``full``)."""
+        for name, values in snapshot.states.items():
+            getattr(self.data, name)[:] = values[row]
+        (mujoco.mj_forward if full else mujoco.mj_kinematics)(self.model, self.data)
+        return self.data
+
+    def body_poses(self, snapshot: EnvSnapshot) -> tuple[np.ndarray, np.ndarray]:
+        """``(xpos (n, nbody, 3), xmat (n, nbody, 3, 3))`` of the shown envs, neighbours moved
+        to their offsets."""
+        n = len(snapshot.env_ids)
+        xpos = np.empty((n, self.model.nbody, 3))
+        xmat = np.empty((n, self.model.nbody, 3, 3))
+        for row in range(n):
+            data = self.load(snapshot, row)
+            xpos[row] = data.xpos + snapshot.offsets[row]
+            xmat[row] = data.xmat.reshape(-1, 3, 3)
+        return xpos, xmat

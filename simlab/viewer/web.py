@@ -1,0 +1,201 @@
+"""The web viewer: the scene in a browser, through viser and mjviser (``pip install "simlab[viewer]"``).
+
+mjviser draws a MuJoCo model's bodies as batched meshes, several envs at once, from body poses
+(``ViserMujocoScene.update_from_arrays``); simlab gives it the shown envs' poses, computed on the
+host, and adds the controls a person needs while training: pause / single step, the followed env,
+how often to draw, and the followed env's episode return and length.
+"""
+
+from __future__ import annotations
+
+import socket
+import sys
+
+import mujoco
+import numpy as np
+
+from simlab.viewer.live import MAX_SHOWN_ENVS, LiveViewer, ViewerError
+from simlab.viewer.source import EnvSnapshot, HostKinematics, SimSource
+
+__all__ = ["WebViewer"]
+
+
+def _port_in_use(port: int) -> bool:
+    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as probe:
+        probe.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+        try:
+            probe.bind(("0.0.0.0", port))
+        except OSError:
+            return True
+    return False
+
+
+class WebViewer(LiveViewer):
+    """A viser server on ``port`` showing the followed env and its neighbours."""
+
+    kind = "web"
+
+    def __init__(self, source: SimSource, port: int = 8080, realtime: bool = False, follow: int = 0):
+        try:
+            import viser
+            from mjviser import ViserMujocoScene
+        except ImportError as err:
+            raise ViewerError(f'The web viewer needs viser and mjviser: pip install "simlab[viewer]" ({err})') from err
+        if not 1 <= port <= 65535:
+            raise ViewerError(f"--viewer_port must be a TCP port (1..65535), got {port}")
+        if _port_in_use(port):
+            raise ViewerError(f"Port {port} is in use: choose a free one with --viewer_port")
+        super().__init__(source, realtime=realtime, follow=follow)
+        self.port = port
+        self._kinematics = HostKinematics(source.model)
+        self.num_shown = min(MAX_SHOWN_ENVS, source.num_envs)
+        self.server = viser.ViserServer(host="0.0.0.0", port=port, verbose=False)
+        # mjviser edits visual scales of the model it is given; it gets its own copy.
+        self.scene = ViserMujocoScene(self.server, _copy_model(source.model), num_envs=self.num_shown)
+        self.scene.env_idx = 0  # row 0 is always the followed env
+        self._neighbour_fixed = self._add_neighbour_fixed_geometry()
+        self._offsets_drawn: np.ndarray | None = None
+        self._build_gui()
+        self.server.on_client_connect(lambda client: print("[simlab] Web viewer: a browser connected", file=sys.stderr))
+        self.url = f"http://localhost:{port}"
+        print(f"[simlab] Web viewer: {self.url}", file=sys.stderr, flush=True)
+        self._start()
+
+    # -- scene ----------------------------------------------------------------------------------
+
+    def _add_neighbour_fixed_geometry(self) -> list[tuple[object, np.ndarray]]:
+        """Geoms welded to the world (a cart's rail) for the neighbours: mjviser draws them once."""
+        from mjviser.conversions import is_fixed_body, merge_geoms
+
+        model = self.scene.mj_model
+        data = mujoco.MjData(model)
+        mujoco.mj_kinematics(model, data)
+        bodies: dict[int, list[int]] = {}
+        for geom in range(model.ngeom):
+            body = int(model.geom_bodyid[geom])
+            if (
+                is_fixed_body(model, body)
+                and model.geom_type[geom] != mujoco.mjtGeom.mjGEOM_PLANE
+                and model.geom_rgba[geom, 3] > 0
+                and model.geom_group[geom] < 3
+            ):
+                bodies.setdefault(body, []).append(geom)
+        handles = []
+        n = self.num_shown - 1
+        if n <= 0:
+            return handles
+        for body, geoms in bodies.items():
+            handle = self.server.scene.add_batched_meshes_trimesh(
+                f"/fixed_bodies/simlab_neighbours/body{body}",
+                merge_geoms(model, geoms),
+                batched_wxyzs=np.tile(data.xquat[body], (n, 1)),
+                batched_positions=np.tile(data.xpos[body], (n, 1)),
+            )
+            handles.append((handle, data.xpos[body].copy()))
+        return handles
+
+    def _draw(self, snapshot: EnvSnapshot) -> None:
+        if not self.server.get_clients():
+            return  # nobody is looking: no work (a page that connects later gets the next frame)
+        xpos, xmat = self._kinematics.body_poses(snapshot)
+        mocap_pos = mocap_quat = None
+        if "mocap_pos" in snapshot.states:
+            mocap_pos = snapshot.states["mocap_pos"] + snapshot.offsets[:, None]
+            mocap_quat = snapshot.states["mocap_quat"]
+        if self._offsets_drawn is None or not np.array_equal(self._offsets_drawn, snapshot.offsets):
+            for handle, body_pos in self._neighbour_fixed:
+                handle.batched_positions = body_pos + snapshot.offsets[1:]
+            self._offsets_drawn = snapshot.offsets
+        self.scene.update_from_arrays(xpos, xmat, mocap_pos, mocap_quat, env_idx=0)
+        self._status.content = self._status_text(snapshot)
+
+    def _status_text(self, snapshot: EnvSnapshot) -> str:
+        text = f"**Env {snapshot.env_ids[0]}** of {self.source.num_envs}"
+        if snapshot.episode_length is not None:
+            text += f"  \nEpisode: return {snapshot.episode_return:.2f}, length {snapshot.episode_length} steps"
+        return text + f"  \nEnv step {self._steps}"
+
+    # -- controls -------------------------------------------------------------------------------
+
+    def _build_gui(self) -> None:
+        gui, c = self.server.gui, self.controls
+        tabs = gui.add_tab_group()
+        with tabs.add_tab("Run"):
+            self._status = gui.add_markdown("Waiting for the first step")
+            pause = gui.add_button("Pause")
+            step = gui.add_button("Step", disabled=True, hint="One env step while paused")
+
+            @pause.on_click
+            def _(_) -> None:
+                c.paused = not c.paused
+                pause.label = "Resume" if c.paused else "Pause"
+                step.disabled = not c.paused
+
+            @step.on_click
+            def _(_) -> None:
+                c.steps_to_run += 1
+
+            follow = gui.add_number("Follow env", initial_value=c.follow, min=0, max=self.source.num_envs - 1, step=1)
+
+            @follow.on_update
+            def _(_) -> None:
+                c.follow = int(np.clip(follow.value, 0, self.source.num_envs - 1))
+
+            drawing = gui.add_checkbox("Draw", initial_value=True, hint="Off: training runs at full speed")
+
+            @drawing.on_update
+            def _(_) -> None:
+                c.rendering = drawing.value
+
+            every = gui.add_slider("Draw every k steps", min=1, max=100, step=1, initial_value=1)
+
+            @every.on_update
+            def _(_) -> None:
+                c.render_every = int(every.value)
+
+            if c.realtime_factor is not None:
+                speed = gui.add_slider("Real-time factor", min=0.1, max=4.0, step=0.1, initial_value=1.0)
+
+                @speed.on_update
+                def _(_) -> None:
+                    c.realtime_factor = float(speed.value)
+
+            bodies = [mujoco.mj_id2name(self.source.model, mujoco.mjtObj.mjOBJ_BODY, b) or f"body {b}"
+                      for b in range(self.source.model.nbody)]  # fmt: skip
+            tracked = self.scene._tracked_body_id  # mjviser's: the body the camera keeps centred
+            if tracked is not None:
+                track = gui.add_dropdown("Track body", options=bodies[1:], initial_value=bodies[tracked])
+
+                @track.on_update
+                def _(_) -> None:
+                    self.scene._tracked_body_id = bodies.index(track.value)
+                    self.scene.request_update()
+
+        with tabs.add_tab("Camera"):
+            # Row 0 is always the followed env: hide mjviser's own env slider (shown for num_envs > 1).
+            shown, self.scene.num_envs = self.scene.num_envs, 1
+            self.scene.create_scene_gui(*_camera_angles(self.source.eye_offset))
+            self.scene.num_envs = shown
+        with tabs.add_tab("Visualization"):
+            self.scene.create_overlay_gui()
+        with tabs.add_tab("Groups"):
+            self.scene.create_groups_gui()
+
+    def _close(self) -> None:
+        self.server.stop()
+
+
+def _camera_angles(eye_offset: np.ndarray | None) -> tuple[float, float, float]:
+    """mjviser's ``(distance, azimuth, elevation)`` of a camera at ``eye_offset`` from its target."""
+    if eye_offset is None or np.linalg.norm(eye_offset) < 1e-6:
+        return -1.0, 120.0, 20.0  # mjviser's defaults
+    distance = float(np.linalg.norm(eye_offset))
+    azimuth = float(np.degrees(np.arctan2(-eye_offset[1], -eye_offset[0])))
+    elevation = float(np.degrees(np.arcsin(eye_offset[2] / distance)))
+    return distance, azimuth, elevation
+
+
+def _copy_model(model: mujoco.MjModel) -> mujoco.MjModel:
+    import copy
+
+    return copy.deepcopy(model)

@@ -1,0 +1,303 @@
+"""Live viewers: the web viewer seen in headless Chromium, the controls, and runs that survive a viewer."""
+
+from __future__ import annotations
+
+import importlib.util
+import os
+import shutil
+import signal
+import socket
+import subprocess
+import sys
+import threading
+import time
+
+import mujoco
+import numpy as np
+import pytest
+import torch
+
+from simlab.cli.main import main
+from simlab.viewer import SimSource, open_viewer, resolve_viewer_kind
+from simlab.viewer.live import LiveViewer
+
+CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser") or shutil.which("google-chrome")
+HAVE_VISER = importlib.util.find_spec("viser") is not None and importlib.util.find_spec("mjviser") is not None
+needs_browser = pytest.mark.skipif(
+    CHROMIUM is None or not HAVE_VISER,
+    reason="needs Debian's chromium and simlab[viewer] (scripts/setup.sh dev installs both where apt-get works)",
+)
+WINDOW = (900, 650)
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def _screenshot(url: str, path: str) -> np.ndarray:
+    """The page as headless Chromium draws it (software WebGL), after its scripts ran for a while."""
+    import imageio.v3 as iio
+
+    subprocess.run(
+        [CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu", "--use-angle=swiftshader",
+         "--enable-unsafe-swiftshader", f"--window-size={WINDOW[0]},{WINDOW[1]}", "--virtual-time-budget=6000",
+         f"--screenshot={path}", url],
+        capture_output=True, timeout=120, check=True,
+    )  # fmt: skip
+    return iio.imread(path)[..., :3]
+
+
+def _scene(image: np.ndarray) -> np.ndarray:
+    """The 3D view: left of viser's control panel, below its notices, above its axes gizmo."""
+    return image[170:590, 60:540].astype(int)
+
+
+def _coloured_pixels(image: np.ndarray) -> int:
+    """Pixels of a colour (the cartpoles' navy poles, orange rails): viser's floor and grid are grey."""
+    scene = _scene(image)
+    return int((scene.max(axis=-1) - scene.min(axis=-1) > 40).sum())
+
+
+def _wait_for_line(proc: subprocess.Popen, text: str, timeout_s: float) -> list[str]:
+    """Read the command's output (stderr, or stdout where stderr is merged into it) up to ``text``."""
+    stream = proc.stderr if proc.stderr is not None else proc.stdout
+    lines: list[str] = []
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline:
+        line = stream.readline()
+        if not line and proc.poll() is not None:
+            break
+        lines.append(line)
+        if text in line:
+            return lines
+    raise AssertionError(f"no '{text}' from the command:\n{''.join(lines)}")
+
+
+class _StillPhysics:
+    """State tensors of worlds that never move: an empty scene (the ground only) to compare with."""
+
+    def __init__(self, model: mujoco.MjModel):
+        self.model = model
+
+    def data(self, name: str) -> torch.Tensor:
+        return torch.zeros(1, getattr(mujoco.MjData(self.model), name).shape[0])
+
+
+@needs_browser
+def test_web_viewer_shows_the_robots_moving_in_a_browser(tmp_path):
+    port = _free_port()
+    cmd = [sys.executable, "-m", "simlab", "random", "--task", "simlab/Cartpole-v0", "--num_envs", "4",
+           "--device", "cpu", "--viewer", "web", "--viewer_port", str(port)]  # fmt: skip
+    proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    try:
+        _wait_for_line(proc, f"Web viewer: http://localhost:{port}", 120)
+        url = f"http://127.0.0.1:{port}"
+        first = _screenshot(url, str(tmp_path / "first.png"))
+        for attempt in range(3):  # the first load of the page can take longer than the time budget
+            if _coloured_pixels(first) > 200:
+                break
+            first = _screenshot(url, str(tmp_path / f"first{attempt}.png"))
+        second = _screenshot(url, str(tmp_path / "second.png"))
+    finally:
+        proc.send_signal(signal.SIGINT)
+        proc.wait(timeout=60)
+
+    empty_port = _free_port()
+    ground = mujoco.MjModel.from_xml_string('<mujoco><worldbody><geom type="plane" size="0 0 1"/></worldbody></mujoco>')
+    viewer = open_viewer(SimSource(ground, _StillPhysics(ground), torch.zeros(1, 3), 0.02), "web", empty_port)
+    try:
+        viewer.after_step()
+        empty = _screenshot(f"http://127.0.0.1:{empty_port}", str(tmp_path / "empty.png"))
+    finally:
+        viewer.close()
+
+    assert _coloured_pixels(first) > max(200, 10 * _coloured_pixels(empty)), "the robots are not drawn"
+    moved = (np.abs(_scene(first) - _scene(second)).sum(axis=-1) > 60).sum()
+    assert moved > 100, "the picture does not change while the sim runs"
+
+
+class _CountingViewer(LiveViewer):
+    kind = "counting"
+
+    def __init__(self, source, fail: bool = False):
+        super().__init__(source, fps=1000.0)
+        self.drawn: list = []
+        self._fail_on_draw = fail
+        self._start()
+
+    def _draw(self, snapshot) -> None:
+        if self._fail_on_draw:
+            raise RuntimeError("the browser went away")
+        self.drawn.append(snapshot)
+
+
+@pytest.fixture
+def cartpole_source():
+    from simlab.envs import ManagerBasedRLEnv
+    from simlab.tasks.manager_based.classic.cartpole.cartpole_env_cfg import CartpoleEnvCfg
+
+    cfg = CartpoleEnvCfg()
+    cfg.scene.num_envs = 9
+    cfg.sim.device = "cpu"
+    env = ManagerBasedRLEnv(cfg)
+    env.reset()
+    yield env
+    env.close()
+
+
+def test_pause_holds_the_step_loop_and_step_releases_one(cartpole_source):
+    viewer = _CountingViewer(SimSource.of_env(cartpole_source))
+    viewer.controls.paused = True
+    stepper = threading.Thread(target=viewer.after_step)
+    stepper.start()
+    time.sleep(0.3)
+    assert stepper.is_alive(), "a paused viewer lets the step loop run"
+    viewer.controls.steps_to_run = 1
+    stepper.join(timeout=2.0)
+    assert not stepper.is_alive()
+    viewer.controls.paused = False
+    viewer.controls.follow = 4
+    time.sleep(0.01)
+    viewer.after_step(torch.ones(9), torch.zeros(9, dtype=torch.bool))
+    viewer.close()
+    last = viewer.drawn[-1]
+    assert last.env_ids[0] == 4 and len(last.env_ids) == 9  # the followed env first, its neighbours after
+    origins = cartpole_source.scene.env_origins.numpy()
+    np.testing.assert_allclose(last.offsets, origins[last.env_ids] - origins[4], atol=1e-6)
+    assert last.states["qpos"].shape == (9, cartpole_source.sim.model.nq)
+    assert last.episode_return == pytest.approx(1.0) and last.episode_length == 1
+
+
+def test_a_failing_viewer_leaves_the_run_going(cartpole_source, capsys):
+    viewer = _CountingViewer(SimSource.of_env(cartpole_source), fail=True)
+    for _ in range(3):
+        viewer.after_step()
+        time.sleep(0.05)
+    assert viewer.failed
+    assert "the browser went away" in capsys.readouterr().err
+    start = time.perf_counter()
+    viewer.after_step()  # a failed viewer costs nothing
+    assert time.perf_counter() - start < 0.01
+    viewer.close()
+
+
+@pytest.mark.skipif(not HAVE_VISER, reason="simlab[viewer] (viser, mjviser) is not installed")
+def test_viewer_problems_are_warnings_and_the_run_goes_on(tmp_path, capsys, monkeypatch):
+    small = ["--task", "simlab/Cartpole-v0", "--num_envs", "2", "--device", "cpu", "--steps", "3"]
+    with socket.socket() as taken:
+        taken.bind(("0.0.0.0", 0))
+        taken.listen()
+        port = taken.getsockname()[1]
+        assert main(["random", *small, "--viewer", "web", "--viewer_port", str(port)]) == 0
+    err = capsys.readouterr().err
+    assert f"Port {port} is in use" in err and "--viewer_port" in err
+    monkeypatch.delenv("DISPLAY", raising=False)
+    monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
+    assert main(["random", *small, "--viewer", "native"]) == 0
+    err = capsys.readouterr().err
+    assert "needs a display" in err and "--viewer web" in err
+    assert resolve_viewer_kind("auto") == "web"  # no display: the browser
+    assert resolve_viewer_kind("native", headless=True) == "none"
+    with pytest.raises(ValueError, match="allowed: auto, native, web, none"):
+        resolve_viewer_kind("window")
+
+
+@pytest.mark.skipif(not HAVE_VISER, reason="simlab[viewer] (viser, mjviser) is not installed")
+def test_render_mode_human_uses_the_apps_viewer():
+    import gymnasium as gym
+
+    import simlab.tasks  # noqa: F401 - registers the tasks
+    from simlab.app import AppLauncher
+    from simlab.tasks.utils import load_cfg_from_registry
+    from simlab.viewer.web import WebViewer
+
+    port = _free_port()
+    launcher = AppLauncher(viewer="web", viewer_port=port)
+    assert launcher.viewer == "web" and launcher.viewer_port == port
+    for task in ("simlab/Cartpole-v0", "simlab/Cartpole-Direct-v0"):
+        cfg = load_cfg_from_registry(task, "env_cfg_entry_point")
+        cfg.scene.num_envs, cfg.sim.device = 2, "cpu"
+        env = gym.make(task, cfg=cfg, render_mode="human")
+        env.reset()
+        env.render()
+        viewer = env.unwrapped._viewer
+        assert isinstance(viewer, WebViewer) and viewer.port == port
+        deadline = time.monotonic() + 10
+        while viewer.frames_drawn == 0 and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert viewer.frames_drawn >= 1
+        env.close()
+        assert viewer.closed
+    launcher.app.close()
+    assert AppLauncher(headless=True).viewer == "none"
+    with pytest.raises(ValueError, match="viewer_port"):
+        AppLauncher(viewer_port=0)
+
+
+def _read_xwd(path: str) -> np.ndarray:
+    """The RGB image of an Xvfb framebuffer file (XWD format, 32 bits per pixel)."""
+    import struct
+
+    with open(path, "rb") as f:
+        raw = f.read()
+    header = struct.unpack(">25I", raw[:100])
+    header_size, width, height, bytes_per_line, ncolors = header[0], header[4], header[5], header[12], header[19]
+    start = header_size + ncolors * 12
+    rows = np.frombuffer(raw[start : start + bytes_per_line * height], dtype=np.uint8).reshape(height, -1)
+    return rows[:, : width * 4].reshape(height, width, 4)[..., [2, 1, 0]].astype(int)
+
+
+def _cartpole_pixels(image: np.ndarray) -> int:
+    """Pixels of the cartpoles' orange rails and navy poles (MuJoCo's floor is a grey-blue checker)."""
+    r, b = image[..., 0], image[..., 2]
+    return int(((r - b > 60) | (b - r > 40)).sum())
+
+
+@pytest.mark.skipif(shutil.which("Xvfb") is None, reason="needs Debian's xvfb (scripts/setup.sh dev installs it)")
+def test_native_viewer_under_xvfb_shows_the_robots_moving(tmp_path):
+    display = next(n for n in range(90, 200) if not os.path.exists(f"/tmp/.X{n}-lock"))
+    xvfb = subprocess.Popen(["Xvfb", f":{display}", "-screen", "0", "800x600x24", "-fbdir", str(tmp_path)],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)  # fmt: skip
+    env = dict(os.environ, DISPLAY=f":{display}")
+    cmd = [sys.executable, "-m", "simlab", "random", "--task", "simlab/Cartpole-v0", "--num_envs", "9",
+           "--device", "cpu", "--viewer", "native"]  # fmt: skip
+    run = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    shots: list[np.ndarray] = []
+    try:
+        time.sleep(2.0)
+        _wait_for_line(run, "random actions", 120)
+        for _ in range(40):  # software OpenGL draws slowly: wait for two different pictures of the robots
+            time.sleep(1.0)
+            shot = _read_xwd(str(tmp_path / "Xvfb_screen0"))
+            if _cartpole_pixels(shot) > 200:
+                shots.append(shot)
+            if len(shots) >= 2 and (np.abs(shots[0] - shots[-1]).sum(axis=-1) > 60).sum() > 100:
+                break
+    finally:
+        run.kill()  # the pictures are what is tested here
+        run.wait(timeout=60)
+        xvfb.terminate()
+        xvfb.wait(timeout=30)
+    assert len(shots) >= 2, "the window never showed the cartpoles"
+    assert (np.abs(shots[0] - shots[-1]).sum(axis=-1) > 60).sum() > 100, "the picture does not change"
+
+
+@pytest.mark.skipif(not HAVE_VISER, reason="simlab[viewer] (viser, mjviser) is not installed")
+def test_the_app_loop_shows_the_simulation(cartpole_source):
+    """Tutorial scripts poll ``simulation_app.is_running()``: that is where the app's viewer draws."""
+    from simlab.app import AppLauncher
+    from simlab.viewer.web import WebViewer
+
+    launcher = AppLauncher(viewer="web", viewer_port=_free_port())
+    app = launcher.app
+    try:
+        for _ in range(3):
+            assert app.is_running()
+            cartpole_source.step(torch.zeros(9, 1))
+        assert isinstance(app.viewer, WebViewer) and app.viewer.source.num_envs == 9
+    finally:
+        app.close()
+        AppLauncher(headless=True).app.close()
+    assert app.viewer is None
