@@ -280,7 +280,7 @@ class CudaBackend(PhysicsBackend):
         # Sticky record of overflows: reset() clears Data.overflow in the worlds it resets.
         self._overflow_seen.bitwise_or_(self._overflow)
         if is_capturing():
-            return  # a captured env step checks between replays (CudaGraphStep.check)
+            return  # a captured env step checks between replays (EnvStepper.check)
         self._calls_since_check += 1
         if self.overflow_check_interval and self._calls_since_check >= self.overflow_check_interval:
             self.check_overflow()
