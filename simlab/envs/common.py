@@ -66,6 +66,13 @@ class SimulatedEnv:
             self.sim.step(render=False)
             self.scene.update(dt=self.physics_dt)
 
+    def _restart_diverged(self) -> torch.Tensor:
+        """The worlds whose physics blew up in this step (``PhysicsBackend.take_diverged``), put back
+        to the model's initial state; the step ends their episodes (terminated)."""
+        diverged = self.sim.physics.take_diverged()
+        self.sim.physics.restart(diverged)
+        return diverged
+
     @property
     def step_dt(self) -> float:
         """Seconds of simulation per env step: ``sim.dt * decimation``."""

@@ -137,9 +137,11 @@ class DirectMARLEnv(SimulatedEnv, gym.Env):
         """The step, as the single-agent env's (fixed shapes: eager or replayed as a graph)."""
         self._pre_physics_step(actions)
         self._physics_steps(self._apply_action)
+        diverged = self._restart_diverged()
         self.episode_length_buf += 1
         self._step_count += 1
         terminated, time_outs = self._get_dones()
+        terminated = {agent: done | diverged for agent, done in terminated.items()}
         self.terminated_dict, self.time_out_dict = terminated, time_outs  # tasks' rewards read them
         # an environment resets once all its agents are done
         torch.logical_or(all_agents(terminated), all_agents(time_outs), out=self.reset_buf)

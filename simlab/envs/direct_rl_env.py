@@ -110,10 +110,11 @@ class DirectRLEnv(SimulatedEnv, gym.Env):
         # Host counters first: eager hooks (curricula, events) read them during the step.
         self._sim_step_counter += self.cfg.decimation
         self.common_step_counter += 1
-        obs, reward, terminated, truncated, final_obs = self._stepper(action)
+        obs, reward, terminated, truncated, final_obs, diverged = self._stepper(action)
         self.obs_buf, self.reward_buf = obs, reward
         self.extras["final_obs"] = final_obs
         self.extras["time_outs"] = truncated
+        self.extras.setdefault("log", {})["Physics/diverged"] = diverged
         return obs, reward, terminated, truncated, self.extras
 
     @property
@@ -142,10 +143,11 @@ class DirectRLEnv(SimulatedEnv, gym.Env):
         """The step (Isaac Lab's order), with fixed shapes: run eagerly or replayed as a graph."""
         self._pre_physics_step(action)
         self._physics_steps(self._apply_action)
+        diverged = self._restart_diverged()
         self.episode_length_buf += 1
         self._step_count += 1
         terminated, time_outs = self._get_dones()
-        self.reset_terminated.copy_(terminated)
+        torch.logical_or(terminated, diverged, out=self.reset_terminated)
         self.reset_time_outs.copy_(time_outs)
         torch.logical_or(self.reset_terminated, self.reset_time_outs, out=self.reset_buf)
         reward = self._get_rewards()
@@ -153,7 +155,8 @@ class DirectRLEnv(SimulatedEnv, gym.Env):
         self._reset_finished(self.reset_buf)
         if self.event_manager is not None and "interval" in self.event_manager.available_modes:
             self.event_manager.apply(mode="interval", dt=self.step_dt)
-        return self._observations(), reward, self.reset_terminated, self.reset_time_outs, final_obs
+        obs = self._observations()
+        return obs, reward, self.reset_terminated, self.reset_time_outs, final_obs, diverged.sum()
 
     @property
     def _resets_by_mask(self) -> bool:

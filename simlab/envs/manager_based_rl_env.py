@@ -128,14 +128,18 @@ class ManagerBasedRLEnv(ManagerBasedEnv, gym.Env):
         """The step, with fixed shapes: run eagerly or replayed as one CUDA graph."""
         self.action_manager.process_action(action)
         self._physics_steps(self.action_manager.apply_action)
+        diverged = self._restart_diverged()
         self.episode_length_buf += 1
         self._step_count += 1
         self.reset_buf = self.termination_manager.compute()
         terminated, truncated = self.termination_manager.terminated, self.termination_manager.time_outs
+        terminated |= diverged  # the managers' own buffers: the reset and the logs see it
+        self.reset_buf |= diverged
         reward = self.reward_manager.compute(dt=self.step_dt)
         # The observation the finished episodes ended in, before their reset (for bootstrapping).
         final_obs = self.observation_manager.compute(update_history=False)
         log = self._reset_envs(self.reset_buf)
+        log["Physics/diverged"] = diverged.sum()
         self.command_manager.compute(dt=self.step_dt)
         if "interval" in self.event_manager.available_modes:
             self.event_manager.apply(mode="interval", dt=self.step_dt)

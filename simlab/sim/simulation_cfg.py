@@ -46,4 +46,8 @@ class SimulationCfg:
     use_cuda_graph: bool = True
     """On the GPU, replay each whole env step as one CUDA graph when the task allows it
     (``simlab.envs.utils.cuda_graph``); False steps eagerly, kernel by kernel."""
+    on_divergence: Literal["reset", "raise"] = "reset"
+    """A world whose state blows up (non-finite, or restarted by MuJoCo as unstable): ``"reset"`` ends
+    its episode (terminated) and counts it in ``extras["log"]["Physics/diverged"]``; ``"raise"`` stops
+    with an error."""
     seed: int | None = None

@@ -17,6 +17,7 @@ import mujoco
 import torch
 
 from simlab.app.app_launcher import resolve_device
+from simlab.utils.errors import ConfigError
 
 from .backends import PhysicsBackend, make_backend
 from .simulation_cfg import SimulationCfg
@@ -151,6 +152,17 @@ class SimulationContext:
         """Rendering is offscreen and on demand (``env.render()``); nothing to do per step."""
 
     # -- simlab ---------------------------------------------------------------------------------
+
+    @property
+    def on_divergence(self) -> str:
+        """What a blown-up world does: ``"reset"`` (its episode ends, counted) or ``"raise"``."""
+        return self.cfg.on_divergence
+
+    @on_divergence.setter
+    def on_divergence(self, value: str) -> None:
+        if value not in ("reset", "raise"):
+            raise ConfigError(f"on_divergence must be 'reset' or 'raise', got {value!r}")
+        self.cfg.on_divergence = value
 
     @property
     def can_capture_steps(self) -> bool:

@@ -41,6 +41,12 @@ import torch
 from torch.overrides import TorchFunctionMode
 
 from simlab.utils.cuda import gc_paused
+from simlab.utils.errors import SimlabError
+
+
+class SimulationDivergedError(SimlabError, RuntimeError):
+    """A world's physics blew up and ``sim.on_divergence`` is ``"raise"``."""
+
 
 logger = logging.getLogger(__name__)
 
@@ -88,6 +94,7 @@ class EnvStepper:
             check_finite_action(action)
             outputs = self.body(action)
             check_finite_obs(_observations(outputs))
+            self._check_divergence()
             return outputs
         self._bad_action |= _any_nonfinite(action)
         if self.graph is None and self._calls > self.warmup:
@@ -122,6 +129,18 @@ class EnvStepper:
                 "simulation diverged (large actions or gains for the time step?) or a task term divides by zero"
             )
         self.env.sim.physics.check_overflow()
+        self._check_divergence()
+
+    def _check_divergence(self) -> None:
+        """With ``sim.on_divergence == "raise"``, raise if a world blew up (a host read of a count)."""
+        count = getattr(self.env.sim.physics, "diverged_count", None)
+        if self.env.sim.on_divergence == "raise" and count is not None and bool(count > 0):
+            n = int(count)
+            count.zero_()
+            raise SimulationDivergedError(
+                f"{n} world(s) diverged (non-finite or unstable physics state): lower the actions' scale or the "
+                "gains, or the time step (sim.dt). With sim.on_divergence='reset' such worlds end their episode."
+            )
 
     def release(self) -> None:
         """Drop the graph and its buffers now (``env.close()``), not whenever garbage collection runs."""

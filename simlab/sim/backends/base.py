@@ -36,6 +36,8 @@ from collections.abc import Sequence
 import mujoco
 import torch
 
+from simlab.utils.env_mask import masked_copy_
+
 EnvIds = Sequence[int] | torch.Tensor | None
 
 
@@ -161,6 +163,39 @@ class PhysicsBackend(ABC):
 
     def check_overflow(self) -> None:  # noqa: B027 - optional hook
         """Raise if a buffer sized at construction overflowed (backends with fixed buffers)."""
+
+    # -- divergence ----------------------------------------------------------------------------
+
+    def take_diverged(self) -> torch.Tensor:
+        """(num_envs,) bool: the worlds whose state blew up since the last call; also counted in
+        ``diverged_count``. Fixed shape, no host read: an env step calls it after its physics.
+
+        A blown-up world has a non-finite ``qpos`` or ``qvel`` (what MuJoCo Warp leaves), or was
+        restarted by the simulator itself (``_restarted_by_simulator``: MuJoCo C resets a world whose
+        state or acceleration is non-finite or huge, with only a console warning).
+        """
+        finite = torch.isfinite(self.data("qpos")).all(dim=1) & torch.isfinite(self.data("qvel")).all(dim=1)
+        diverged = ~finite | self._restarted_by_simulator()
+        if not hasattr(self, "diverged_count"):
+            self.diverged_count = torch.zeros((), dtype=torch.long, device=self.device)
+        self.diverged_count += diverged.sum()
+        return diverged
+
+    def restart(self, mask: torch.Tensor) -> None:
+        """Put the masked worlds back to the model's initial state (``qpos0``, at rest), by mask (no
+        host read), so that no non-finite value survives in them; marks them stale."""
+        if not hasattr(self, "_qpos0"):
+            self._qpos0 = torch.as_tensor(self.model.qpos0, dtype=torch.float32, device=self.device)
+        masked_copy_(self.data("qpos"), mask, self._qpos0.expand(self.num_envs, -1))
+        for name in ("qvel", "act", "qacc_warmstart", "ctrl", "qfrc_applied", "xfrc_applied"):
+            tensor = self.data(name)
+            if tensor.numel():
+                masked_copy_(tensor, mask, 0.0)
+        self.mark_stale(mask)
+
+    def _restarted_by_simulator(self) -> torch.Tensor:
+        """(num_envs,) bool: worlds the simulator restarted itself since the last call (none here)."""
+        return torch.zeros(self.num_envs, dtype=torch.bool, device=self.device)
 
     def bound_data(self) -> dict[str, torch.Tensor]:
         """The MjData fields handed out so far by ``data``, by name."""

@@ -73,9 +73,30 @@ class CpuBackend(PhysicsBackend):
         return self._model[key]
 
     def _step(self, nstep: int, forward: bool) -> None:
+        # MuJoCo restarts a world whose state blew up (mj_resetData, then goes on): its time then
+        # falls back instead of advancing by nstep * dt. Noted here, reported by take_diverged.
+        # MuJoCo's own tests on what a step starts from (mj_checkPos / mj_checkVel restart the world,
+        # a control above 1e10 is zeroed; both with a console warning only) catch what time cannot
+        # show (a world at time 0).
+        time = self._time()
+        before = time.clone()
+        self._restarted |= _blown_up(self.data("qpos")) | _blown_up(self.data("qvel")) | _blown_up(self.data("ctrl"))
         self.batch.step(nstep=nstep)
+        self._restarted |= time < before + 0.5 * nstep * self.model.opt.timestep
         if forward:
             self.batch.forward()
+
+    def _time(self) -> torch.Tensor:
+        if not hasattr(self, "_time_view"):
+            self._time_view = torch.from_numpy(self.batch.bind("time", np.float64))
+            self._restarted = torch.zeros(self.num_envs, dtype=torch.bool)
+        return self._time_view
+
+    def _restarted_by_simulator(self) -> torch.Tensor:
+        self._time()
+        restarted = self._restarted.clone()
+        self._restarted.zero_()
+        return restarted
 
     def _forward(self, env_ids: EnvIds) -> None:
         self.batch.forward(self._ids_numpy(env_ids))
@@ -85,3 +106,8 @@ class CpuBackend(PhysicsBackend):
 
     def set_const(self, env_ids: EnvIds = None) -> None:
         self.batch.set_const(self._ids_numpy(env_ids))
+
+
+def _blown_up(state: torch.Tensor) -> torch.Tensor:
+    """(num_envs,) bool: rows MuJoCo would restart (a value non-finite or above mjMAXVAL, 1e10)."""
+    return ~(state.abs() <= 1e10).all(dim=1)  # NaN compares False
