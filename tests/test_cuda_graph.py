@@ -14,7 +14,7 @@ from conftest import cuda_available
 
 import simlab.tasks  # noqa: F401 - registers the tasks
 from simlab.envs import ManagerBasedRLEnv
-from simlab.envs.utils.cuda_graph import PackedOutputs
+from simlab.envs.utils.cuda_graph import PackedOutputs, SimulationDivergedError
 from simlab.tasks.direct.cartpole.cartpole_env import CartpoleEnv, CartpoleEnvCfg
 from simlab.tasks.utils import parse_env_cfg
 from simlab.utils.env_mask import env_mask, takes_env_mask
@@ -285,34 +285,44 @@ def _rollout(task: str, use_cuda_graph: bool, steps: int = 300):
     return outputs, state, mode, graphed
 
 
+def _qpos_deviation(run_a, run_b) -> list[float]:
+    return [float((a[-1] - b[-1]).abs().max()) for a, b in zip(run_a, run_b)]
+
+
 @pytest.mark.gpu
 @gpu
 @pytest.mark.parametrize("task", [*sorted(t for t in gym.registry if t.startswith("simlab/")), "interval-kicks"])
 def test_graphed_and_eager_steps_agree_for_every_task(task):
     """The same body graphed and eager, from the same seed, for 300 steps with resets.
 
-    The runs are made one after the other (both draw from torch's one CUDA generator). Dones and
-    the physics state (``qpos``, every step) must match exactly. Observations and rewards match to
-    float rounding: TorchScript's profiling executor (the tasks' ``@torch.jit.script`` functions)
-    swaps in fused kernels after its first runs, whose rounding differs in the last bits, and the
-    locomotion rewards difference potentials of about 1e5 (distance / dt), which scales that rounding
-    up to about 1e-3 absolute.
+    The runs are made one after the other (both draw from torch's one CUDA generator). Where the
+    physics itself repeats bit for bit (two eager runs agree: the tasks without contacts), dones and
+    the physics state (``qpos``, every step) must match exactly. With contacts MuJoCo Warp's
+    collision kernels order contacts by atomics, so two eager runs already drift apart; there the
+    graphed run may drift from an eager one no more than a second eager run does.
+
+    Observations and rewards match to float rounding: TorchScript's profiling executor (the tasks'
+    ``@torch.jit.script`` functions) swaps in fused kernels after its first runs, whose rounding
+    differs in the last bits, and the locomotion rewards difference potentials of about 1e5
+    (distance / dt), which scales that rounding up to about 1e-3 absolute.
     """
-    graphed, state_g, mode, is_graphed = _rollout(task, use_cuda_graph=True)
-    eager, state_e, _, _ = _rollout(task, use_cuda_graph=False)
+    graphed, _, mode, is_graphed = _rollout(task, use_cuda_graph=True)
+    eager, _, _, _ = _rollout(task, use_cuda_graph=False)
     assert is_graphed, mode
-    resets = 0
-    for i, (out_g, out_e) in enumerate(zip(graphed, eager)):
-        for a, b in zip(out_g, out_e):
-            if a.dtype == torch.bool:
-                assert torch.equal(a, b), f"{task} step {i}: dones differ"
-            else:
-                torch.testing.assert_close(a, b, rtol=1e-4, atol=2e-3, msg=lambda m, i=i: f"{task} step {i}: {m}")
-        assert torch.equal(out_g[-1], out_e[-1]), f"{task} step {i}: physics state differs"
-        resets += int(out_g[-2].sum())
-    for name in state_g:
-        assert torch.equal(state_g[name], state_e[name]), name
-    assert resets > 0, "the comparison must cross resets"
+    assert sum(int(out[-2].sum()) for out in graphed) > 0, "the comparison must cross resets"
+    noise = _qpos_deviation(eager, _rollout(task, use_cuda_graph=False)[0])
+    if max(noise) == 0.0:  # deterministic physics: everything must agree
+        for i, (out_g, out_e) in enumerate(zip(graphed, eager)):
+            for a, b in zip(out_g, out_e):
+                if a.dtype == torch.bool:
+                    assert torch.equal(a, b), f"{task} step {i}: dones differ"
+                else:
+                    torch.testing.assert_close(a, b, rtol=1e-4, atol=2e-3, msg=lambda m, i=i: f"{task} step {i}: {m}")
+            assert torch.equal(out_g[-1], out_e[-1]), f"{task} step {i}: physics state differs"
+    else:
+        drift = _qpos_deviation(graphed, eager)
+        for i, (d, n) in enumerate(zip(drift, noise)):
+            assert d <= 10 * max(noise[: i + 1]) + 1e-5, f"{task} step {i}: graphed drifts {d}, eager runs {n}"
 
 
 class SyncingRewardCartpole(CartpoleEnv):
@@ -341,16 +351,21 @@ def test_a_hook_that_syncs_steps_eagerly_and_says_which():
 
 @pytest.mark.gpu
 @gpu
-def test_diverged_state_is_reported_at_the_periodic_check():
+def test_a_diverged_world_is_reset_or_reported_when_graphed():
     env = make_env("cuda:0", 64)
     env.reset()
     actions = torch.zeros(64, 1, device="cuda:0")
     for _ in range(4):  # warm-up steps and the capture
         env.step(actions)
     assert env.step_is_graphed, env._stepper.eager_reason
-    env._stepper.check_interval = 2
     env.scene["cartpole"]._qvel[3] = float("nan")
-    with pytest.raises(ValueError, match="NaN or inf"):
+    obs, _, terminated, _, extras = env.step(actions)
+    assert terminated[3] and int(extras["log"]["Physics/diverged"]) == 1
+    assert torch.isfinite(obs["policy"]).all()
+    env.sim.on_divergence = "raise"
+    env._stepper.check_interval = 2
+    env.scene["cartpole"]._qvel[5] = float("nan")
+    with pytest.raises(SimulationDivergedError):
         for _ in range(4):
             env.step(actions)
     env.close()

@@ -44,7 +44,7 @@ def _screenshot(url: str, path: str) -> np.ndarray:
         [CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu", "--use-angle=swiftshader",
          "--enable-unsafe-swiftshader", f"--window-size={WINDOW[0]},{WINDOW[1]}", "--virtual-time-budget=6000",
          f"--screenshot={path}", url],
-        capture_output=True, timeout=120, check=True,
+        capture_output=True, timeout=300, check=True,
     )  # fmt: skip
     return iio.imread(path)[..., :3]
 

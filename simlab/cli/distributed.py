@@ -201,6 +201,15 @@ def setup_process(device: str, ranks: Ranks, start_group: bool = True) -> str:
     return device
 
 
+def shutdown() -> None:
+    """End this process's part in the process group (every rank, once training is over), so no
+    collective thread outlives the interpreter."""
+    import torch.distributed as dist
+
+    if dist.is_available() and dist.is_initialized():
+        dist.destroy_process_group()
+
+
 def check_same_settings(settings: dict[str, Any]) -> None:
     """Fail on every rank, naming the ranks and settings, when the ranks were not started alike.
 

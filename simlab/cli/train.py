@@ -107,6 +107,8 @@ def run_train(args: argparse.Namespace, overrides: list[str], argv: list[str] | 
         if run_dir is not None and remove_if_empty_run(run_dir, args.library):
             print(f"[simlab] Removed the run folder {run_dir}: the run stopped before its first checkpoint.")
         raise
+    finally:
+        distributed.shutdown()
     took = time.perf_counter() - start
     if ranks.is_main:
         print(

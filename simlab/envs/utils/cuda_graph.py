@@ -173,7 +173,11 @@ class EnvStepper:
         except Exception as err:  # noqa: BLE001 - any capture failure means: stay eager
             while err.__context__ is not None:  # the first error, not the failed end of the capture
                 err = err.__context__
-            frames = [f for f in traceback.extract_tb(err.__traceback__) if "site-packages" not in f.filename]
+            frames = [
+                f
+                for f in traceback.extract_tb(err.__traceback__)
+                if "site-packages" not in f.filename and f.filename != __file__  # the hook, not this module
+            ]
             where = f" at {frames[-1].filename}:{frames[-1].lineno}" if frames else ""
             self.eager_reason = f"capture failed: {type(err).__name__}: {str(err).splitlines()[0]}{where}"
             self.failed_traceback = traceback.format_exc()
