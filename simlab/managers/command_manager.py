@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING
 import torch
 
 from simlab.utils.env_mask import env_mask, masked_copy_, rows
+from simlab.utils.unsupported import refuse_unless_default
 
 from .manager_base import ManagerBase, ManagerTermBase, cfg_items, format_table
 from .manager_term_cfg import CommandTermCfg
@@ -32,6 +33,15 @@ class CommandTerm(ManagerTermBase):
 
     def __init__(self, cfg: CommandTermCfg, env: ManagerBasedRLEnv):
         super().__init__(cfg, env)
+        refuse_unless_default(
+            type(cfg).__name__,
+            "debug_vis",
+            cfg.debug_vis,
+            False,
+            "simlab's command terms draw no debug visualization",
+            "Set debug_vis=False (override: env.commands.<term>.debug_vis=false); to see the command, draw it with"
+            " simlab.markers.VisualizationMarkers (shown in env.render() and --video).",
+        )
         self.metrics: dict[str, torch.Tensor] = {}
         self.time_left = torch.zeros(self.num_envs, device=self.device)
         self.command_counter = torch.zeros(self.num_envs, dtype=torch.long, device=self.device)

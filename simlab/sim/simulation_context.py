@@ -18,6 +18,7 @@ import torch
 
 from simlab.app.app_launcher import resolve_device
 from simlab.utils.errors import ConfigError
+from simlab.utils.unsupported import refuse_unless_default
 
 from .backends import PhysicsBackend, make_backend
 from .simulation_cfg import SimulationCfg
@@ -45,6 +46,14 @@ class SimulationContext:
 
     def __init__(self, cfg: SimulationCfg | None = None):
         self.cfg = cfg if cfg is not None else SimulationCfg()
+        refuse_unless_default(
+            "SimulationCfg",
+            "seed",
+            self.cfg.seed,
+            None,
+            "MuJoCo's physics draws no random numbers, so there is nothing in the simulation to seed",
+            "Seed the environment instead: env_cfg.seed, the override env.seed=N or `simlab train --seed N`.",
+        )
         self.device = resolve_device(self.cfg.device)
         self.cfg.device = self.device
         if self.device.startswith("cuda"):
