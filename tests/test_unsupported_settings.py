@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import pytest
 import torch
-from conftest import DEVICES
+from conftest import DEVICES, rendering_available
 
 import simlab.envs.mdp as mdp
 import simlab.sim as sim_utils
@@ -97,7 +97,7 @@ def _cartpole_env_cfg() -> CartpoleEnvCfg:
     return cfg
 
 
-def test_debug_vis_on_action_and_command_terms_is_refused():
+def test_debug_vis_on_action_terms_and_undrawn_commands_is_refused():
     cfg = _cartpole_env_cfg()
     cfg.actions.joint_effort.debug_vis = True
     with pytest.raises(ConfigError, match=r"JointEffortActionCfg.debug_vis=True .*env.actions.<term>.debug_vis=false"):
@@ -106,17 +106,48 @@ def test_debug_vis_on_action_and_command_terms_is_refused():
 
     @configclass
     class Commands:
-        base_velocity = mdp.UniformVelocityCommandCfg(
-            asset_name="robot",
-            resampling_time_range=(1.0, 1.0),
-            debug_vis=True,
-            ranges=mdp.UniformVelocityCommandCfg.Ranges(lin_vel_x=(0, 1), lin_vel_y=(0, 0), ang_vel_z=(0, 0)),
-        )
+        nothing = mdp.NullCommandCfg(debug_vis=True)
 
     cfg = _cartpole_env_cfg()
     cfg.commands = Commands()
-    with pytest.raises(ConfigError, match=r"UniformVelocityCommandCfg.debug_vis=True .*command terms draw no"):
+    with pytest.raises(ConfigError, match=r"NullCommandCfg.debug_vis=True .*NullCommand draws no debug"):
         ManagerBasedRLEnv(cfg)
+
+
+@configclass
+class _SidewaysCommand:
+    base_velocity = mdp.UniformVelocityCommandCfg(
+        asset_name="robot",
+        resampling_time_range=(10.0, 10.0),
+        debug_vis=True,
+        ranges=mdp.UniformVelocityCommandCfg.Ranges(lin_vel_x=(0.0, 0.0), lin_vel_y=(1.0, 1.0), ang_vel_z=(0, 0)),
+    )
+
+
+def _green_pixels(debug_vis: bool) -> int:
+    cfg = _cartpole_env_cfg()
+    cfg.scene.num_envs = 1
+    cfg.commands = _SidewaysCommand()
+    cfg.commands.base_velocity.debug_vis = debug_vis
+    env = ManagerBasedRLEnv(cfg, render_mode="rgb_array")
+    try:
+        env.reset()
+        env.step(torch.zeros(1, 1))
+        assert env.command_manager.has_debug_vis_implementation
+        image = env.render().astype(int)
+    finally:
+        env.close()
+    red, green, blue = image[..., 0], image[..., 1], image[..., 2]
+    return int(((green > 120) & (red < 100) & (blue < 100)).sum())
+
+
+def test_velocity_command_debug_vis_draws_the_commanded_velocity():
+    """As in Isaac Lab's locomotion configs: debug_vis=True draws the command as a green arrow above the robot."""
+    if not rendering_available():
+        pytest.skip("no offscreen OpenGL backend (install libosmesa6 or an EGL driver)")
+    assert _green_pixels(debug_vis=False) == 0
+    assert _green_pixels(debug_vis=True) > 30  # a 1.5 m arrow seen from the side
+    assert _green_pixels(debug_vis=False) == 0  # a closed env's arrows are gone
 
 
 # -- InteractiveSceneCfg ------------------------------------------------------------------------------

@@ -68,6 +68,7 @@ class SimulationContext:
         """(num_envs, 3) offsets of the environments in the world frame, set by the scene."""
         self._on_compile: list[Callable[[mujoco.MjModel], None]] = []
         self._on_reset: list[Callable[[SimulationContext], None]] = []
+        self._on_render: list[Callable[[], None]] = []
         self._step_count = 0
         # Isaac Lab's carb settings, as a plain store: what ported code sets, it reads back. simlab
         # itself reads only the entries listed in _SETTINGS_DEFAULTS (facts about this runtime).
@@ -195,6 +196,14 @@ class SimulationContext:
         self._on_reset.append(callback)
         if self.backend is not None:
             callback(self)
+
+    def add_render_callback(self, callback: Callable[[], None]) -> None:
+        """Run ``callback()`` before every offscreen image (debug visualization places its markers then)."""
+        self._on_render.append(callback)
+
+    def run_render_callbacks(self) -> None:
+        for callback in self._on_render:
+            callback()
 
     def _new_spec(self) -> mujoco.MjSpec:
         cfg, opts = self.cfg, self.cfg.mujoco
