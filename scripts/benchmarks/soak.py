@@ -17,7 +17,9 @@ of 64 envs for 5 s).
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import glob
+import json
 import os
 import re
 import shutil
@@ -214,6 +216,7 @@ def main() -> int:
     parser.add_argument("--eval_seconds", type=float, default=5.0)
     parser.add_argument("--threshold", type=float, default=0.2, help="Pole angle bound [rad].")
     parser.add_argument("--fraction", type=float, default=0.95, help="Required fraction of steps inside.")
+    parser.add_argument("--json", default=None, help="Also write the cycles, memory samples and criterion here.")
     args = parser.parse_args()
     if args.cycles < 1 or args.duration <= 0:
         parser.error("--cycles must be at least 1 and --duration positive")
@@ -231,7 +234,12 @@ def main() -> int:
             break  # nothing to resume from
     last = cycles[-1]
     criterion = evaluate(last.run_dir, args) if last.checkpoints else None
-    return 0 if report(cycles, args, criterion) else 1
+    passed = report(cycles, args, criterion)
+    if args.json:
+        result = {"args": vars(args), "cycles": [dataclasses.asdict(c) for c in cycles], "criterion": criterion}
+        with open(args.json, "w") as out:
+            json.dump({**result, "passed": passed}, out, indent=1)
+    return 0 if passed else 1
 
 
 if __name__ == "__main__":
