@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
 import torch
 
+from simlab.utils.errors import ConfigError
 from simlab.utils.string import resolve_matching_names_values
 
 if TYPE_CHECKING:
@@ -33,11 +35,15 @@ class ActuatorBase:
         self.device = device
         self.num_joints = len(joint_names)
         effort = cfg.effort_limit_sim if cfg.effort_limit_sim is not None else cfg.effort_limit
-        velocity = cfg.velocity_limit_sim if cfg.velocity_limit_sim is not None else cfg.velocity_limit
         self.stiffness = self._per_joint(cfg.stiffness, 0.0)
         self.damping = self._per_joint(cfg.damping, 0.0)
         self.effort_limit = self._per_joint(effort, float("inf"))
-        self.velocity_limit = self._per_joint(velocity, float("inf"))
+        # As in Isaac Lab: ``velocity_limit_sim`` caps the joint speed in the simulation (see
+        # ``Articulation.write_data_to_sim``); ``velocity_limit`` is the motor model's own (a DC motor's
+        # no-load speed), falling back to the sim limit when unset.
+        self.velocity_limit_sim = self._per_joint(cfg.velocity_limit_sim, float("inf"))
+        model_velocity = cfg.velocity_limit if cfg.velocity_limit is not None else cfg.velocity_limit_sim
+        self.velocity_limit = self._per_joint(model_velocity, float("inf"))
         self.armature = self._per_joint(cfg.armature, 0.0)
         self.friction = self._per_joint(cfg.friction, 0.0)
 
@@ -68,6 +74,10 @@ class ImplicitActuator(ActuatorBase):
     """The PD law runs inside MuJoCo (bias terms of the actuator); see ``actuator_cfg``."""
 
     is_implicit_model = True
+
+    def __init__(self, cfg, joint_names, joint_ids, num_envs, device):
+        check_implicit_velocity_limit(cfg, joint_names)
+        super().__init__(cfg, joint_names, joint_ids, num_envs, device)
 
 
 class IdealPDActuator(ActuatorBase):
@@ -106,6 +116,30 @@ class DCMotor(IdealPDActuator):
         max_effort = torch.minimum(torch.clamp(self.saturation_effort * (1.0 - speed_ratio), min=0.0), effort_limit)
         min_effort = torch.maximum(torch.clamp(self.saturation_effort * (-1.0 - speed_ratio), max=0.0), -effort_limit)
         return torch.clamp(effort, min_effort, max_effort)
+
+
+def check_implicit_velocity_limit(cfg: ActuatorBaseCfg, joint_names: list[str]) -> None:
+    """Isaac Lab's rule for implicit drives: only ``velocity_limit_sim`` limits the simulation.
+
+    A ``velocity_limit`` alone was never applied by Isaac Lab's implicit actuators, which keep
+    ignoring it (with a warning) so that old configs simulate as before; simlab does the same and
+    says so. Both set to different values is refused.
+    """
+    if cfg.velocity_limit is None:
+        return
+    if cfg.velocity_limit_sim is None:
+        warnings.warn(
+            f"ImplicitActuatorCfg for {joint_names}: 'velocity_limit' does not limit an implicit drive (as in"
+            " Isaac Lab); set 'velocity_limit_sim' to cap the joint speed in the simulation.",
+            UserWarning,
+            stacklevel=3,
+        )
+    elif cfg.velocity_limit != cfg.velocity_limit_sim:
+        raise ConfigError(
+            f"ImplicitActuatorCfg for {joint_names} sets velocity_limit={cfg.velocity_limit} and"
+            f" velocity_limit_sim={cfg.velocity_limit_sim}: an implicit drive has one limit, set only"
+            " 'velocity_limit_sim'."
+        )
 
 
 def per_joint_values(value, joint_names: list[str], default):

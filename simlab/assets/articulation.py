@@ -135,11 +135,13 @@ class Articulation(RootedAsset):
             data.joint_stiffness[:, ids] = actuator.stiffness
             data.joint_damping[:, ids] = actuator.damping
             data.joint_effort_limits[:, ids] = actuator.effort_limit
-            data.joint_velocity_limits[:, ids] = actuator.velocity_limit
+            data.joint_velocity_limits[:, ids] = actuator.velocity_limit_sim
             actuated += ids
             ctrl_cols += [model.actuator(self.prefix + name).id for name in names]
             if not actuator.is_implicit_model:
                 self._explicit.append(actuator)
+        # a host-side flag, so that the step of a robot without speed limits does no clamping
+        self._speed_capped = bool(torch.isfinite(data.joint_velocity_limits).any())
         order = sorted(range(len(actuated)), key=lambda k: actuated[k])
         self._actuated = contiguous([actuated[k] for k in order], dev)
         self._ctrl_cols = contiguous([ctrl_cols[k] for k in order], dev)
@@ -201,6 +203,8 @@ class Articulation(RootedAsset):
     def write_data_to_sim(self) -> None:
         """Turn joint targets into MuJoCo controls and apply external wrenches."""
         super().write_data_to_sim()
+        if self._speed_capped:
+            self._cap_joint_speed()
         if not self._num_actuated:
             return
         d = self.data
@@ -218,7 +222,7 @@ class Articulation(RootedAsset):
                 d.joint_stiffness[:, j],
                 d.joint_damping[:, j],
                 d.joint_effort_limits[:, j],
-                d.joint_velocity_limits[:, j],
+                actuator.velocity_limit,
             )
             ctrl[:, j] = torque
             d._explicit_torque[:, j] = torque
@@ -268,7 +272,19 @@ class Articulation(RootedAsset):
         forcerange[env, self._ctrl_cols] = torch.stack([-limit, limit], dim=-1)
 
     def write_joint_velocity_limit_to_sim(self, limits, joint_ids=None, env_ids: EnvIds = None) -> None:
+        """The joint speed cap of the simulation (PhysX's max joint velocity), applied before every physics step."""
         self._write_cols(self.data.joint_velocity_limits, self._joint_index(joint_ids), env_ids, limits)
+        self._speed_capped = True
+
+    def _cap_joint_speed(self) -> None:
+        """Clip joint velocities to ``joint_velocity_limits`` before the physics step.
+
+        MuJoCo has no joint speed limit; PhysX clamps a joint's velocity to its max joint velocity in
+        the solver. Clipping the state before each step is the closest MuJoCo-side equivalent: the
+        step then starts within the limit (the step itself recomputes everything from qpos and qvel).
+        """
+        limit = self.data.joint_velocity_limits
+        self._qvel[:, self._dof_cols] = torch.maximum(torch.minimum(self._qvel[:, self._dof_cols], limit), -limit)
 
     def write_joint_armature_to_sim(self, armature, joint_ids=None, env_ids: EnvIds = None) -> None:
         self._write_cols(self.data.joint_armature, self._joint_index(joint_ids), env_ids, armature)

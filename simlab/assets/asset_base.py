@@ -15,6 +15,8 @@ import torch
 from simlab.sim import SimulationContext
 from simlab.sim.spawners import SpawnerCfg, entity_name
 from simlab.utils import configclass
+from simlab.utils.errors import ConfigError
+from simlab.utils.unsupported import refuse_unless_default
 
 
 @configclass
@@ -31,10 +33,42 @@ class AssetBaseCfg:
     spawn: SpawnerCfg | None = None
     init_state: InitialStateCfg = InitialStateCfg()
     collision_group: int = 0
+    """Isaac Lab's ``0`` (collides within its env) or ``-1`` (collides with every env). simlab's envs are
+    separate worlds: a global asset (``/World/...``) is in every world, so ``-1`` holds for it and is
+    refused for a per-env asset; see :func:`check_asset_cfg`."""
     debug_vis: bool = False
+    """Refused unless False: simlab's assets draw no debug visualization."""
 
 
 EnvIds = Sequence[int] | torch.Tensor | slice | None
+
+_PER_ENV_PREFIXES = ("{ENV_REGEX_NS}", "/World/envs/")
+
+
+def check_asset_cfg(cfg: AssetBaseCfg) -> None:
+    """Refuse the asset settings simlab would otherwise accept and ignore (``collision_group``, ``debug_vis``)."""
+    owner = f"{type(cfg).__name__}('{cfg.prim_path}')"
+    if cfg.collision_group not in (0, -1):
+        raise ConfigError(
+            f"{owner}.collision_group={cfg.collision_group!r}: use 0 (collides within its env) or -1"
+            " (collides with every env, for assets under /World such as the ground), as in Isaac Lab."
+        )
+    per_env = str(cfg.prim_path).startswith(_PER_ENV_PREFIXES)
+    if cfg.collision_group == -1 and per_env:
+        raise ConfigError(
+            f"{owner}.collision_group=-1 is not supported by simlab: every env is its own MuJoCo world, so an"
+            " asset inside an env cannot touch the others. Leave collision_group=0, or put an asset that every"
+            " env shares under /World (e.g. /World/ground): it is then in every world."
+        )
+    refuse_unless_default(
+        owner,
+        "debug_vis",
+        cfg.debug_vis,
+        False,
+        "simlab's assets draw no debug visualization",
+        "Leave debug_vis=False; to draw frames or arrows, place simlab.markers.VisualizationMarkers yourself"
+        " (they appear in env.render() and --video).",
+    )
 
 
 class AssetBase:
@@ -42,6 +76,7 @@ class AssetBase:
 
     def __init__(self, cfg: AssetBaseCfg):
         cfg.validate()
+        check_asset_cfg(cfg)
         self.cfg = cfg
         self.name = entity_name(cfg.prim_path)
         self.prefix = f"{self.name}/"

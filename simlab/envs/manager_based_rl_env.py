@@ -167,6 +167,8 @@ class ManagerBasedRLEnv(ManagerBasedEnv, gym.Env):
 
     def close(self) -> None:
         if not self._is_closed:
+            if getattr(self, "command_manager", None) is not None:
+                self.command_manager.set_debug_vis(False)  # else its arrows show in a later env's renders
             super().close()
 
     # -- helpers -------------------------------------------------------------------------------------

@@ -13,6 +13,7 @@ import numpy as np
 import torch
 
 from simlab.utils.env_mask import PerEnvState
+from simlab.utils.unsupported import refuse_unless_default
 
 from .manager_base import ManagerBase, ManagerTermBase, cfg_items, format_table
 from .manager_term_cfg import ActionTermCfg
@@ -26,6 +27,15 @@ class ActionTerm(ManagerTermBase):
 
     def __init__(self, cfg: ActionTermCfg, env: ManagerBasedEnv):
         super().__init__(cfg, env)
+        refuse_unless_default(
+            type(cfg).__name__,
+            "debug_vis",
+            cfg.debug_vis,
+            False,
+            "simlab's action terms draw no debug visualization",
+            "Set debug_vis=False (override: env.actions.<term>.debug_vis=false); to see the action, draw it with"
+            " simlab.markers.VisualizationMarkers (shown in env.render() and --video).",
+        )
         if cfg.asset_name not in env.scene:
             raise ValueError(f"asset_name '{cfg.asset_name}' is not in the scene; entities: {env.scene.keys()}")
         self._asset = env.scene[cfg.asset_name]

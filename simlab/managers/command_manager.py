@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING
 import torch
 
 from simlab.utils.env_mask import env_mask, masked_copy_, rows
+from simlab.utils.errors import ConfigError
 
 from .manager_base import ManagerBase, ManagerTermBase, cfg_items, format_table
 from .manager_term_cfg import CommandTermCfg
@@ -32,9 +33,18 @@ class CommandTerm(ManagerTermBase):
 
     def __init__(self, cfg: CommandTermCfg, env: ManagerBasedRLEnv):
         super().__init__(cfg, env)
+        if cfg.debug_vis and not self.has_debug_vis_implementation:
+            raise ConfigError(
+                f"{type(cfg).__name__}.debug_vis=True is not supported by simlab: {type(self).__name__} draws no"
+                " debug visualization. Set debug_vis=False (override: env.commands.<term>.debug_vis=false), or"
+                " implement _set_debug_vis_impl and _debug_vis_callback in the term (simlab.markers)."
+            )
+        self._debug_vis = False
+        self._debug_vis_hooked = False
         self.metrics: dict[str, torch.Tensor] = {}
         self.time_left = torch.zeros(self.num_envs, device=self.device)
         self.command_counter = torch.zeros(self.num_envs, dtype=torch.long, device=self.device)
+        self.set_debug_vis(cfg.debug_vis)
 
     @property
     def command(self) -> torch.Tensor:
@@ -78,8 +88,36 @@ class CommandTerm(ManagerTermBase):
     def _update_metrics(self) -> None:
         raise NotImplementedError
 
+    @property
+    def has_debug_vis_implementation(self) -> bool:
+        """Whether the term draws itself (overrides ``_set_debug_vis_impl``)."""
+        return type(self)._set_debug_vis_impl is not CommandTerm._set_debug_vis_impl
+
     def set_debug_vis(self, debug_vis: bool) -> bool:
-        return False
+        """Show or hide the term's markers in offscreen renders; False when the term draws nothing.
+
+        As in Isaac Lab, ``_set_debug_vis_impl`` creates or hides the markers and
+        ``_debug_vis_callback`` places them; simlab calls it before each rendered image, so the step
+        itself does no drawing work.
+        """
+        if not self.has_debug_vis_implementation:
+            return False
+        self._debug_vis = bool(debug_vis)
+        self._set_debug_vis_impl(self._debug_vis)
+        if self._debug_vis and not self._debug_vis_hooked:
+            self._env.sim.add_render_callback(self._draw_debug_vis)
+            self._debug_vis_hooked = True
+        return True
+
+    def _draw_debug_vis(self) -> None:
+        if self._debug_vis:
+            self._debug_vis_callback(None)
+
+    def _set_debug_vis_impl(self, debug_vis: bool) -> None:
+        raise NotImplementedError(f"Debug visualization is not implemented for {type(self).__name__}.")
+
+    def _debug_vis_callback(self, event) -> None:
+        raise NotImplementedError(f"Debug visualization is not implemented for {type(self).__name__}.")
 
 
 class CommandManager(ManagerBase):
@@ -98,7 +136,12 @@ class CommandManager(ManagerBase):
 
     @property
     def has_debug_vis_implementation(self) -> bool:
-        return False
+        return any(term.has_debug_vis_implementation for term in self._terms.values())
+
+    def set_debug_vis(self, debug_vis: bool) -> bool:
+        """Show or hide the markers of every term that draws itself; False when none does."""
+        drawn = [term.set_debug_vis(debug_vis) for term in self._terms.values()]
+        return any(drawn)
 
     def get_command(self, name: str) -> torch.Tensor:
         return self.get_term(name).command

@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Any
 import torch
 
 from simlab.utils.env_mask import env_mask
+from simlab.utils.errors import ConfigError
 from simlab.utils.string import closest_matches, resolve_matching_names, string_to_callable
 
 from .manager_term_cfg import ManagerTermBaseCfg
@@ -175,8 +176,8 @@ class ManagerBase:
                 class_terms.append(term_cfg.func)
         return class_terms
 
-    def _term_error(self, name: str, message: str) -> ValueError:
-        return ValueError(f"{type(self).__name__}: term '{name}': {message}")
+    def _term_error(self, name: str, message: str) -> ConfigError:
+        return ConfigError(f"{type(self).__name__}: term '{name}': {message}")
 
     def _resolve_common_term_cfg(self, name: str, term_cfg: ManagerTermBaseCfg, min_argc: int = 1) -> None:
         """Check a term's function and parameters against its signature (no scene needed)."""

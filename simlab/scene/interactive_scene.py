@@ -14,9 +14,11 @@ from dataclasses import fields
 import torch
 
 from simlab.assets import Articulation, ArticulationCfg, AssetBaseCfg, RigidObject, RigidObjectCfg
+from simlab.assets.asset_base import check_asset_cfg
 from simlab.sensors import SensorBase, SensorBaseCfg
 from simlab.sim import SimulationContext
 from simlab.utils.string import closest_matches
+from simlab.utils.unsupported import refuse_unless_default
 
 from .interactive_scene_cfg import InteractiveSceneCfg
 
@@ -35,11 +37,35 @@ def grid_origins(num_envs: int, spacing: float, device) -> torch.Tensor:
     return origins
 
 
+def check_scene_cfg(cfg: InteractiveSceneCfg) -> None:
+    """Refuse the scene settings simlab cannot honour (``lazy_sensor_update`` and ``clone_in_fabric``
+    change only speed in Isaac Lab and are accepted with either value)."""
+    owner = type(cfg).__name__
+    refuse_unless_default(
+        owner,
+        "replicate_physics",
+        cfg.replicate_physics,
+        True,
+        "every simlab env is a copy of one compiled MuJoCo model, so envs cannot hold different assets",
+        "Leave replicate_physics=True; vary masses, frictions, gains or scales per env with randomization events"
+        " (EventTermCfg, e.g. mdp.randomize_rigid_body_mass).",
+    )
+    refuse_unless_default(
+        owner,
+        "filter_collisions",
+        cfg.filter_collisions,
+        True,
+        "simlab's envs are separate MuJoCo worlds and cannot collide with each other",
+        "Leave filter_collisions=True; to make objects interact, put them in the same env.",
+    )
+
+
 class InteractiveScene:
     def __init__(self, cfg: InteractiveSceneCfg):
         cfg.validate()
         if cfg.num_envs < 1:
             raise ValueError(f"InteractiveSceneCfg.num_envs must be at least 1, got {cfg.num_envs}")
+        check_scene_cfg(cfg)
         self.cfg = cfg
         sim = SimulationContext.instance()
         if sim is None:
@@ -145,6 +171,7 @@ class InteractiveScene:
             elif isinstance(value, SensorBaseCfg):
                 self.sensors[f.name] = value.class_type(value, self)
             else:
+                check_asset_cfg(value)
                 if value.spawn is not None:
                     value.spawn.func(
                         value.prim_path, value.spawn, translation=value.init_state.pos, orientation=value.init_state.rot

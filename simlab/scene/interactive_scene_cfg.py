@@ -20,6 +20,11 @@ class InteractiveSceneCfg:
     env_spacing: float = MISSING
     """Distance between environment origins on the grid [m]."""
     lazy_sensor_update: bool = True
+    """Either value: simlab updates sensors after every physics step, and in Isaac Lab the two values give
+    the same sensor data (lazy updates only postpone the work until the data is read)."""
     replicate_physics: bool = True
+    """Only True: every simlab world is a copy of one compiled model (per-env values come from events)."""
     filter_collisions: bool = True
+    """Only True: simlab's envs are separate MuJoCo worlds and never collide with each other."""
     clone_in_fabric: bool = False
+    """Either value: where Isaac Lab keeps the cloned prims (speed only); simlab has no Fabric stage."""

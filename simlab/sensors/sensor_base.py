@@ -8,6 +8,7 @@ import torch
 
 from simlab.sim import SimulationContext
 from simlab.utils import configclass
+from simlab.utils.unsupported import refuse_unless_default
 
 
 @configclass
@@ -18,11 +19,21 @@ class SensorBaseCfg:
     """Seconds between updates; 0 updates every physics step."""
     history_length: int = 0
     debug_vis: bool = False
+    """Refused unless False: simlab's sensors draw no debug visualization."""
 
 
 class SensorBase:
     def __init__(self, cfg: SensorBaseCfg, scene=None):
         cfg.validate()
+        refuse_unless_default(
+            f"{type(cfg).__name__}('{cfg.prim_path}')",
+            "debug_vis",
+            cfg.debug_vis,
+            False,
+            "simlab's sensors draw no debug visualization",
+            "Leave debug_vis=False; read the sensor's data, or draw it with simlab.markers.VisualizationMarkers"
+            " (shown in env.render() and --video).",
+        )
         self.cfg = cfg
         self._scene = scene
         self._sim = SimulationContext.instance()

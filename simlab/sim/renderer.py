@@ -158,6 +158,8 @@ class OffscreenRenderer:
         from simlab.sim.simulation_context import SimulationContext
 
         sim = SimulationContext.instance()
+        if sim is not None:
+            sim.run_render_callbacks()  # debug visualization (e.g. command arrows) places its markers
         add_markers_to_scene(self._renderer.scene, int(env_ids[0]), sim.env_origins if sim is not None else None)
         return self._renderer.render()
 

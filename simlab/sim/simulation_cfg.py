@@ -51,3 +51,4 @@ class SimulationCfg:
     its episode (terminated) and counts it in ``extras["log"]["Physics/diverged"]``; ``"raise"`` stops
     with an error."""
     seed: int | None = None
+    """Refused unless None: MuJoCo's physics has no random numbers. Seed the env (``env_cfg.seed``)."""

@@ -18,6 +18,7 @@ import torch
 
 from simlab.app.app_launcher import resolve_device
 from simlab.utils.errors import ConfigError
+from simlab.utils.unsupported import refuse_unless_default
 
 from .backends import PhysicsBackend, make_backend
 from .simulation_cfg import SimulationCfg
@@ -45,6 +46,14 @@ class SimulationContext:
 
     def __init__(self, cfg: SimulationCfg | None = None):
         self.cfg = cfg if cfg is not None else SimulationCfg()
+        refuse_unless_default(
+            "SimulationCfg",
+            "seed",
+            self.cfg.seed,
+            None,
+            "MuJoCo's physics draws no random numbers, so there is nothing in the simulation to seed",
+            "Seed the environment instead: env_cfg.seed, the override env.seed=N or `simlab train --seed N`.",
+        )
         self.device = resolve_device(self.cfg.device)
         self.cfg.device = self.device
         if self.device.startswith("cuda"):
@@ -59,6 +68,7 @@ class SimulationContext:
         """(num_envs, 3) offsets of the environments in the world frame, set by the scene."""
         self._on_compile: list[Callable[[mujoco.MjModel], None]] = []
         self._on_reset: list[Callable[[SimulationContext], None]] = []
+        self._on_render: list[Callable[[], None]] = []
         self._step_count = 0
         # Isaac Lab's carb settings, as a plain store: what ported code sets, it reads back. simlab
         # itself reads only the entries listed in _SETTINGS_DEFAULTS (facts about this runtime).
@@ -186,6 +196,14 @@ class SimulationContext:
         self._on_reset.append(callback)
         if self.backend is not None:
             callback(self)
+
+    def add_render_callback(self, callback: Callable[[], None]) -> None:
+        """Run ``callback()`` before every offscreen image (debug visualization places its markers then)."""
+        self._on_render.append(callback)
+
+    def run_render_callbacks(self) -> None:
+        for callback in self._on_render:
+            callback()
 
     def _new_spec(self) -> mujoco.MjSpec:
         cfg, opts = self.cfg, self.cfg.mujoco

@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import MISSING
 
 from simlab.managers.manager_term_cfg import CommandTermCfg
+from simlab.markers import BLUE_ARROW_X_MARKER_CFG, GREEN_ARROW_X_MARKER_CFG, VisualizationMarkersCfg
 from simlab.utils import configclass
 
 from .null_command import NullCommand
@@ -40,3 +41,12 @@ class UniformVelocityCommandCfg(CommandTermCfg):
         heading: tuple[float, float] | None = None
 
     ranges: Ranges = MISSING
+
+    goal_vel_visualizer_cfg: VisualizationMarkersCfg = GREEN_ARROW_X_MARKER_CFG.replace(
+        prim_path="/Visuals/Command/velocity_goal"
+    )
+    """The arrow of the commanded velocity (with ``debug_vis``), drawn above the robot in renders."""
+    current_vel_visualizer_cfg: VisualizationMarkersCfg = BLUE_ARROW_X_MARKER_CFG.replace(
+        prim_path="/Visuals/Command/velocity_current"
+    )
+    """The arrow of the robot's current velocity (with ``debug_vis``)."""

@@ -9,6 +9,7 @@ import torch
 
 import simlab.utils.math as math_utils
 from simlab.managers.command_manager import CommandTerm
+from simlab.markers import VisualizationMarkers
 from simlab.utils.env_mask import masked_copy_
 
 if TYPE_CHECKING:
@@ -79,3 +80,33 @@ class UniformVelocityCommand(CommandTerm):
             yaw_rate = (self.cfg.heading_control_stiffness * error).clip(*self.cfg.ranges.ang_vel_z)
             self.vel_command_b[:, 2] = torch.where(self.is_heading_env, yaw_rate, self.vel_command_b[:, 2])
         self.vel_command_b.masked_fill_(self.is_standing_env[:, None], 0.0)
+
+    # -- debug visualization: arrows of the commanded (green) and current (blue) planar velocity ----
+
+    def _set_debug_vis_impl(self, debug_vis: bool) -> None:
+        if debug_vis and not hasattr(self, "goal_vel_visualizer"):
+            self.goal_vel_visualizer = VisualizationMarkers(self.cfg.goal_vel_visualizer_cfg)
+            self.current_vel_visualizer = VisualizationMarkers(self.cfg.current_vel_visualizer_cfg)
+        if hasattr(self, "goal_vel_visualizer"):
+            self.goal_vel_visualizer.set_visibility(debug_vis)
+            self.current_vel_visualizer.set_visibility(debug_vis)
+
+    def _debug_vis_callback(self, event) -> None:
+        if not self.robot.is_initialized:
+            return
+        above_base = self.robot.data.root_pos_w.clone()
+        above_base[:, 2] += 0.5
+        goal_scale, goal_quat = self._arrow_of(self.command[:, :2])
+        current_scale, current_quat = self._arrow_of(self.robot.data.root_lin_vel_b[:, :2])
+        self.goal_vel_visualizer.visualize(above_base, goal_quat, goal_scale)
+        self.current_vel_visualizer.visualize(above_base, current_quat, current_scale)
+
+    def _arrow_of(self, xy_velocity_b: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
+        """Scales and world orientations of arrows pointing along root-frame planar velocities,
+        1.5 m long per m/s."""
+        scale = torch.ones(self.num_envs, 3, device=self.device)
+        scale[:, 0] = torch.linalg.norm(xy_velocity_b, dim=1) * 1.5
+        zeros = torch.zeros(self.num_envs, device=self.device)
+        heading_b = torch.atan2(xy_velocity_b[:, 1], xy_velocity_b[:, 0])
+        quat_b = math_utils.quat_from_euler_xyz(zeros, zeros, heading_b)
+        return scale, math_utils.quat_mul(self.robot.data.root_quat_w, quat_b)
