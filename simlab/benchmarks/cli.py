@@ -70,7 +70,7 @@ TRAIN_COLUMNS = [
 SOLVE_COLUMNS = [
     ("task", "task", ""),
     ("device", "device", ""),
-    ("envs", "num_envs", ""),
+    ("envs", "num_envs", "d"),
     ("seed", "seed", "d"),
     ("solved", "solved", ""),
     ("iteration", "iteration", "d"),

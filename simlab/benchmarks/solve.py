@@ -23,6 +23,7 @@ import torch
 
 from simlab.benchmarks.criteria import criterion_for
 from simlab.cli.train import seconds_since_process_start
+from simlab.utils.io import load_yaml
 
 SUPPORTED_LIBRARIES = ("rsl_rl",)
 
@@ -52,8 +53,16 @@ def _own_simulation_and_rng(sim: Any | None, device: str):
 class CheckpointJudge:
     """The ``on_checkpoint`` hook: plays each new checkpoint and records the timeline of the run."""
 
-    def __init__(self, task: str, library: str, device: str, eval_envs: int, eval_seconds: float, seed: int,
-                 reward_threshold: float | None = None):
+    def __init__(
+        self,
+        task: str,
+        library: str,
+        device: str,
+        eval_envs: int,
+        eval_seconds: float,
+        seed: int,
+        reward_threshold: float | None = None,
+    ):
         self.task, self.library, self.device = task, library, device
         self.eval_envs, self.eval_seconds, self.seed = eval_envs, eval_seconds, seed
         self.criterion = criterion_for(task, reward_threshold)
@@ -162,9 +171,11 @@ def time_to_policy(
     judge = CheckpointJudge(task, library, device, eval_envs, eval_seconds, seed, reward_threshold)
     args.on_checkpoint = judge
     try:
-        run_train(args, overrides)
+        run_dir = run_train(args, overrides)
     finally:
         judge.close()
+    if num_envs is None:  # the task's own count, as the run recorded it
+        num_envs = load_yaml(os.path.join(run_dir, "params", "env.yaml"))["scene"]["num_envs"]
     wall = seconds_since_process_start()
     last = judge.solved or (judge.evaluations[-1] if judge.evaluations else None)
     if last is None:
@@ -185,6 +196,7 @@ def time_to_policy(
         "num_envs": num_envs,
         "seed": seed,
         "criterion": judge.criterion.description,
+        "run_dir": run_dir,
         "solved": judge.solved is not None,
         "iteration": last["iteration"],
         "score": last["score"],

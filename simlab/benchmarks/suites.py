@@ -68,6 +68,19 @@ def train(device: str, num_envs: list[int], tasks: list[str] | None, iterations:
     return rows
 
 
+# `simlab bench` flags of the solve suite, named as time_to_policy's parameters
+SOLVE_FLAGS = (
+    "library",
+    "max_iterations",
+    "eval_every",
+    "seed",
+    "eval_envs",
+    "eval_seconds",
+    "reward_threshold",
+    "log_root",
+)
+
+
 def solve(device: str, num_envs: list[int | None], tasks: list[str] | None, solve_args, **_) -> list[dict]:
     """Time to a solved task: one row per task and env count (``None``: the task's own).
 
@@ -84,10 +97,7 @@ def solve(device: str, num_envs: list[int | None], tasks: list[str] | None, solv
     _guarded(
         rows,
         {"task": task, "device": device, "num_envs": n},
-        lambda: time_to_policy(
-            task, a.library, device, n, a.max_iterations, a.eval_every, a.seed, a.eval_envs, a.eval_seconds,
-            a.reward_threshold, a.log_root,
-        ),
+        lambda: time_to_policy(task, device=device, num_envs=n, **{flag: getattr(a, flag) for flag in SOLVE_FLAGS}),
     )
     return rows
 
@@ -101,8 +111,7 @@ def _solve_in_child(task: str, num_envs: int | None, device: str, a) -> dict:
     with tempfile.TemporaryDirectory() as tmp:
         out = os.path.join(tmp, "solve.json")
         argv = [sys.executable, "-m", "simlab", "bench", "solve", "--tasks", task, "--device", device, "--json", out]
-        for flag in ("library", "max_iterations", "eval_every", "seed", "eval_envs", "eval_seconds",
-                     "reward_threshold", "log_root"):
+        for flag in SOLVE_FLAGS:
             if getattr(a, flag) is not None:
                 argv += [f"--{flag}", str(getattr(a, flag))]
         if num_envs is not None:
