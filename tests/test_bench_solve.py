@@ -31,6 +31,7 @@ def test_every_checkpoint_is_played_and_training_is_what_simlab_train_does(tmp_p
     for column in ("time to policy s", "start-up s", "rollout s", "update s", "evaluation s", "wall s"):
         assert column in printed
     assert printed.count("[solve] model_") == 3  # iterations 0, 1, 2; the final save of model_2 is not played twice
+    assert "not solved in 3 iterations; of " in printed and "start-up " in printed and "evaluation " in printed
 
     (row,) = json.loads(out.read_text())["results"]["solve"]
     assert "error" not in row

@@ -189,6 +189,15 @@ def time_to_policy(
         "evaluation_s": judge.evaluation_seconds,
     }
     shares["other_s"] = last["saved_at_s"] + last["evaluation_s"] - sum(shares.values())
+    measured = sum(shares.values())  # process start to the end of the last evaluation
+    verdict = (
+        f"solved at iteration {last['iteration']}: {last['time_to_checkpoint_s']:.1f} s to the policy"
+        if judge.solved
+        else f"not solved in {last['iteration'] + 1} iterations"
+    )
+    names = {"startup_s": "start-up", "rollout_s": "rollout", "update_s": "update", "evaluation_s": "evaluation"}
+    split = ", ".join(f"{names.get(k, 'other')} {v / measured:.0%}" for k, v in shares.items())
+    print(f"[solve] {task}: {verdict}; of {measured:.1f} s: {split}", flush=True)
     return {
         "task": task,
         "library": library,
