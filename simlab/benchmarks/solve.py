@@ -7,7 +7,8 @@ checkpoint that passes. The time to policy is when that checkpoint was written, 
 evaluating the earlier ones: what ``simlab train`` alone would have taken to write it.
 
 The evaluation runs with its own random streams and leaves training's untouched, so a run here
-trains as ``simlab train`` with the same seed does.
+trains as ``simlab train`` with the same seed does; every checkpoint is played from the same
+initial states (the seed's).
 """
 
 from __future__ import annotations
@@ -101,6 +102,7 @@ class CheckpointJudge:
                 self._sim = SimulationContext._instance
             policy = get_library(self.library).load_policy(self._env, self._agent_cfg, path)
             hook, state = self.criterion.make_hook()
+            torch.manual_seed(self.seed)  # every checkpoint starts from the same initial states
             result = rollout(self._env, policy, self._steps, hook)
             score, passed = self.criterion.judge(result, state)
         took = time.perf_counter() - start
