@@ -6,43 +6,22 @@ then play the policy over 64 envs for 5 s and check that |pole angle| < 0.2 rad 
 
 Training runs as ``simlab train --task simlab/Cartpole-v0 --library <lib> --headless`` in a child
 process (its wall time is reported); the evaluation loads the newest checkpoint of that run.
+``simlab bench solve`` measures the time to the first checkpoint that passes the same criterion.
 """
 
 from __future__ import annotations
 
 import argparse
-import math
 import os
 import subprocess
 import sys
 import time
 
-import torch
-
+from simlab.benchmarks.criteria import pole_angle_tracker
 from simlab.cli.main import build_parser
 from simlab.cli.play import run_play
 
 LIBRARIES = ("rsl_rl", "skrl", "sb3", "rl_games")
-
-
-def pole_angle_tracker(threshold: float):
-    """An ``on_step`` hook counting env-steps with |pole angle| below ``threshold``."""
-    counts = {"inside": 0, "total": 0}
-    joint: dict = {}
-
-    def on_step(env, obs, actions) -> None:
-        if not joint:
-            for asset in env.scene.articulations.values():
-                if "cart_to_pole" in asset.joint_names:
-                    joint["asset"], joint["id"] = asset, asset.joint_names.index("cart_to_pole")
-            if not joint:
-                raise RuntimeError("No articulation with a 'cart_to_pole' joint in this task.")
-        angle = joint["asset"].data.joint_pos[:, joint["id"]]
-        angle = torch.remainder(angle + math.pi, 2 * math.pi) - math.pi
-        counts["inside"] += int((angle.abs() < threshold).sum())
-        counts["total"] += angle.numel()
-
-    return on_step, counts
 
 
 def main() -> int:

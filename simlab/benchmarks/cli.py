@@ -1,7 +1,8 @@
 """``simlab bench``: measure and print throughput tables; optionally write them as JSON.
 
     simlab bench physics --robots cartpole --num_envs 1024 4096 --device cpu
-    simlab bench --device cuda:0 --json bench.json       # every suite
+    simlab bench --device cuda:0 --json bench.json       # every suite but solve
+    simlab bench solve --tasks simlab/Cartpole-v0 --device cpu   # time to a policy that solves the task
 
 Figures are measured on the machine at hand. Ratios compare variants measured in alternating
 rounds within the same run, which is what holds up on a noisy machine.
@@ -15,7 +16,8 @@ import os
 import platform
 from collections.abc import Callable
 
-SUITES = ("physics", "env", "inference", "train")
+SUITES = ("physics", "env", "inference", "train", "solve")
+DEFAULT_SUITES = ("physics", "env", "inference", "train")  # solve trains to the end: asked for by name
 
 
 def _print_table(rows: list[dict], columns: list[tuple[str, str, str]]) -> None:
@@ -65,6 +67,22 @@ TRAIN_COLUMNS = [
     ("iterations", "iterations", "d"),
     ("GPU MB", "gpu_memory_mb", ".0f"),
 ]
+SOLVE_COLUMNS = [
+    ("task", "task", ""),
+    ("device", "device", ""),
+    ("envs", "num_envs", "d"),
+    ("seed", "seed", "d"),
+    ("solved", "solved", ""),
+    ("iteration", "iteration", "d"),
+    ("score", "score", ".3f"),
+    ("time to policy s", "time_to_policy_s", ".1f"),
+    ("start-up s", "startup_s", ".1f"),
+    ("rollout s", "rollout_s", ".1f"),
+    ("update s", "update_s", ".1f"),
+    ("evaluation s", "evaluation_s", ".1f"),
+    ("other s", "other_s", ".1f"),
+    ("wall s", "wall_s", ".1f"),
+]
 
 
 def _suite_functions() -> dict[str, tuple[Callable[..., list[dict]], list]]:
@@ -75,6 +93,7 @@ def _suite_functions() -> dict[str, tuple[Callable[..., list[dict]], list]]:
         "env": (suites.env_step, ENV_COLUMNS),
         "inference": (suites.env_step_with_policy, ENV_COLUMNS),
         "train": (suites.train, TRAIN_COLUMNS),
+        "solve": (suites.solve, SOLVE_COLUMNS),
     }
 
 
@@ -83,7 +102,7 @@ def main(argv: list[str] | None = None) -> int:
         prog="simlab bench", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
     )
     parser.add_argument(
-        "suites", nargs="*", choices=[[], *SUITES], default=[], help=f"suites to run (default: all of {SUITES})"
+        "suites", nargs="*", choices=[[], *SUITES], default=[], help=f"suites to run (default: {DEFAULT_SUITES})"
     )
     parser.add_argument("--device", default=None, help="cpu or cuda:N (default: the GPU when there is one)")
     parser.add_argument("--num_envs", type=int, nargs="+", default=None, help="env counts (default: by device)")
@@ -91,6 +110,15 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--tasks", nargs="+", default=None, help="env/train suite tasks (Gymnasium ids)")
     parser.add_argument("--steps", type=int, default=None, help="timed steps per round")
     parser.add_argument("--iterations", type=int, default=10, help="timed training iterations")
+    solve = parser.add_argument_group("solve suite")
+    solve.add_argument("--library", default="rsl_rl", help="RL library that trains (rsl_rl)")
+    solve.add_argument("--max_iterations", type=int, default=None, help="give up after (default: the agent's)")
+    solve.add_argument("--eval_every", type=int, default=None, help="iterations between evaluated checkpoints")
+    solve.add_argument("--seed", type=int, default=42, help="training seed")
+    solve.add_argument("--eval_envs", type=int, default=64, help="envs that play each checkpoint")
+    solve.add_argument("--eval_seconds", type=float, default=5.0, help="seconds of play per checkpoint")
+    solve.add_argument("--reward_threshold", type=float, default=None, help="solved at this mean reward per step")
+    solve.add_argument("--log_root", default="logs", help="where the training runs go")
     parser.add_argument(
         "--cuda_graph",
         choices=["on", "off", "both"],
@@ -104,9 +132,10 @@ def main(argv: list[str] | None = None) -> int:
 
     device = resolve_device(args.device)
     gpu = device.startswith("cuda")
-    num_envs = args.num_envs or ([1024, 4096, 16384, 65536] if gpu else [256, 1024])
+    default_envs = [None] if args.suites == ["solve"] else [1024, 4096, 16384, 65536] if gpu else [256, 1024]
+    num_envs = args.num_envs or default_envs
     steps = args.steps or (200 if gpu else 50)
-    chosen = args.suites or list(SUITES)
+    chosen = args.suites or list(DEFAULT_SUITES)
     functions = _suite_functions()
     results: dict[str, list[dict]] = {}
     for name in chosen:
@@ -120,6 +149,7 @@ def main(argv: list[str] | None = None) -> int:
             tasks=args.tasks,
             iterations=args.iterations,
             graphs={"on": [True], "off": [False], "both": [True, False]}[args.cuda_graph],
+            solve_args=args,
         )
         _print_table(rows, columns)
         results[name] = rows

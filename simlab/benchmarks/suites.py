@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import traceback
 
 from .physics import bench_physics
@@ -65,3 +66,58 @@ def train(device: str, num_envs: list[int], tasks: list[str] | None, iterations:
                     lambda task=task, n=n, graph=graph: bench_train(task, n, device, iterations, graph),
                 )
     return rows
+
+
+# `simlab bench` flags of the solve suite, named as time_to_policy's parameters
+SOLVE_FLAGS = (
+    "library",
+    "max_iterations",
+    "eval_every",
+    "seed",
+    "eval_envs",
+    "eval_seconds",
+    "reward_threshold",
+    "log_root",
+)
+
+
+def solve(device: str, num_envs: list[int | None], tasks: list[str] | None, solve_args, **_) -> list[dict]:
+    """Time to a solved task: one row per task and env count (``None``: the task's own).
+
+    Its start-up share counts from the process start, so one measurement runs here and more than
+    one run each in a fresh process.
+    """
+    from .solve import time_to_policy
+
+    a = solve_args
+    runs = [(task, n) for task in tasks or ["simlab/Cartpole-v0"] for n in num_envs]
+    if len(runs) > 1:
+        return [_solve_in_child(task, n, device, a) for task, n in runs]
+    (task, n), rows = runs[0], []
+    _guarded(
+        rows,
+        {"task": task, "device": device, "num_envs": n},
+        lambda: time_to_policy(task, device=device, num_envs=n, **{flag: getattr(a, flag) for flag in SOLVE_FLAGS}),
+    )
+    return rows
+
+
+def _solve_in_child(task: str, num_envs: int | None, device: str, a) -> dict:
+    import json
+    import subprocess
+    import sys
+    import tempfile
+
+    with tempfile.TemporaryDirectory() as tmp:
+        out = os.path.join(tmp, "solve.json")
+        argv = [sys.executable, "-m", "simlab", "bench", "solve", "--tasks", task, "--device", device, "--json", out]
+        for flag in SOLVE_FLAGS:
+            if getattr(a, flag) is not None:
+                argv += [f"--{flag}", str(getattr(a, flag))]
+        if num_envs is not None:
+            argv += ["--num_envs", str(num_envs)]
+        proc = subprocess.run(argv)
+        if proc.returncode != 0 or not os.path.isfile(out):
+            return {"task": task, "device": device, "num_envs": num_envs, "error": f"exit code {proc.returncode}"}
+        with open(out) as f:
+            return json.load(f)["results"]["solve"][0]

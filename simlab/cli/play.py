@@ -54,11 +54,13 @@ def _any(x: Any) -> torch.Tensor:
 def rollout(
     env: Any, policy: Callable, steps: int | None, on_step: Callable[[Any, Any, Any], None] | None = None
 ) -> dict[str, float]:
-    """Step ``env`` with ``policy`` for ``steps`` (None: until Ctrl+C); episode statistics of the run."""
+    """Step ``env`` with ``policy`` for ``steps`` (None: until Ctrl+C); episode statistics of the run
+    and the mean reward per env-step."""
     obs, _ = env.reset()
     base = env.unwrapped
     returns = torch.zeros(base.num_envs, device=base.device)
     lengths = torch.zeros(base.num_envs, device=base.device)
+    reward_sum = torch.zeros((), device=base.device)  # over all env-steps, on the device until the end
     done_returns: list[float] = []
     done_lengths: list[float] = []
     step = 0
@@ -68,7 +70,9 @@ def rollout(
             obs, rew, terminated, truncated, _ = env.step(actions)
             if on_step is not None:
                 on_step(base, obs, actions)
-            returns += _total(rew).reshape(-1).to(returns.device)
+            reward = _total(rew).reshape(-1).to(returns.device)
+            returns += reward
+            reward_sum += reward.sum()
             lengths += 1
             done = (_any(terminated) | _any(truncated)).reshape(-1).to(returns.device)
             if done.any():
@@ -85,6 +89,7 @@ def rollout(
         "episodes": n,
         "mean_return": sum(done_returns) / n if n else float(returns.mean()),
         "mean_length": sum(done_lengths) / n if n else float(lengths.mean()),
+        "mean_reward": float(reward_sum) / (step * base.num_envs) if step else float("nan"),  # per env-step
     }
 
 

@@ -8,6 +8,7 @@ import io
 import math
 import os
 import statistics
+from collections.abc import Callable
 from typing import Any
 
 import gymnasium as gym
@@ -52,8 +53,12 @@ class _ProgressLogger(Logger):
     def __init__(self, *args: Any, **kwargs: Any):
         super().__init__(*args, **kwargs)
         self._finished: list[tuple[torch.Tensor, torch.Tensor, torch.Tensor]] = []
+        self.rollout_seconds = 0.0  # rsl_rl's collect_time, summed over the iterations
+        self.update_seconds = 0.0  # rsl_rl's learn_time, summed
 
     def log(self, it: int, start_it: int, total_it: int, collect_time: float, learn_time: float, **kw: Any) -> None:
+        self.rollout_seconds += collect_time
+        self.update_seconds += learn_time
         self._flush_finished()
         if self.writer is None:  # a rank other than 0 of a distributed run: rank 0 reports
             return
@@ -167,11 +172,16 @@ def train(
         runner.load(resume_path, map_location=agent_cfg.device)
         print(f"[simlab] Resumed from {resume_path} at iteration {runner.current_learning_iteration}")
     guard_divergence(runner, run_dir)
+    on_checkpoint = getattr(args, "on_checkpoint", None)
+    if on_checkpoint is not None:
+        call_after_saves(runner, on_checkpoint)
     try:
         with atomic_torch_saves():
             # random initial episode lengths spread out the first resets of a fresh run; on resume they
             # would cut the first episodes short and log an untrained-looking return
             runner.learn(num_learning_iterations=agent_cfg.max_iterations, init_at_random_ep_len=not resume_path)
+    except _StopTraining:
+        logger.stop_logging_writer()
     except KeyboardInterrupt:
         if run_dir is not None:
             path = os.path.join(run_dir, f"model_{runner.current_learning_iteration}.pt")
@@ -183,6 +193,25 @@ def train(
     except TrainingDivergedError:
         logger.stop_logging_writer()
         raise
+
+
+class _StopTraining(Exception):
+    """Raised after a checkpoint save whose ``on_checkpoint`` hook asked training to stop."""
+
+
+def call_after_saves(runner: OnPolicyRunner, on_checkpoint: Callable[[str, int, dict[str, float]], bool]) -> None:
+    """Call ``on_checkpoint(path, iteration, seconds)`` after each checkpoint the runner saves;
+    ``seconds`` holds the rollout and update time so far. The hook returning True ends training there
+    (``simlab bench solve`` stops at the first checkpoint that solves the task)."""
+    save = runner.save
+
+    def save_then_call(path: str, infos: dict | None = None) -> None:
+        save(path, infos)
+        seconds = {"rollout": runner.logger.rollout_seconds, "update": runner.logger.update_seconds}
+        if on_checkpoint(path, runner.current_learning_iteration, seconds):
+            raise _StopTraining
+
+    runner.save = save_then_call
 
 
 def guard_divergence(runner: OnPolicyRunner, run_dir: str) -> None:
