@@ -257,3 +257,53 @@ def test_rough_terrain_renders(tmp_path):
     # terrain fills the view: many distinct shades, no empty background band in the middle
     assert len(np.unique(image.reshape(-1, 3), axis=0)) > 500
     assert image[120:200].std() > 10
+
+
+class VelocityCommands:
+    """The one piece of a command manager that terrain_levels_vel reads."""
+
+    def __init__(self, commands: torch.Tensor):
+        self.commands = commands
+
+    def get_command(self, name: str) -> torch.Tensor:
+        assert name == "base_velocity"
+        return self.commands
+
+
+def test_terrain_levels_vel_moves_envs_between_rows():
+    from types import SimpleNamespace
+
+    from simlab.envs.mdp import terrain_levels_vel
+
+    cfg = small_terrain().replace(num_rows=4, num_cols=1)
+    cfg.sub_terrains = {"flat": MeshPlaneTerrainCfg()}
+
+    @configclass
+    class SceneCfg(InteractiveSceneCfg):
+        terrain = TerrainImporterCfg(prim_path="/World/ground", terrain_generator=cfg, max_init_terrain_level=0)
+        robot = RigidObjectCfg(
+            prim_path="{ENV_REGEX_NS}/Robot",
+            spawn=sim_utils.SphereCfg(radius=0.1, rigid_props=sim_utils.RigidBodyPropertiesCfg()),
+        )
+
+    sim = sim_utils.SimulationContext(sim_utils.SimulationCfg(dt=0.005, device="cpu"))
+    scene = InteractiveScene(SceneCfg(num_envs=4, env_spacing=2.0))
+    sim.reset()
+    terrain = scene.terrain
+    terrain.terrain_levels[:] = torch.tensor([1, 1, 1, 1])
+    terrain.update_env_origins(None, torch.zeros(4, dtype=torch.bool), torch.zeros(4, dtype=torch.bool))
+    # env 0 walked 2 m (> half a 3 m tile); env 1 stayed although told to walk 1 m/s; env 2 walked
+    # 1 m as told to walk 0.1 m/s; env 3 walked out too but did not finish its episode
+    walked = torch.tensor([[2.0, 0.0], [0.0, 0.0], [0.0, 1.0], [2.0, 0.0]])
+    pose = scene["robot"].data.default_root_state[:, :7].clone()
+    pose[:, :3] = scene.env_origins + torch.cat([walked, torch.full((4, 1), 0.1)], dim=1)
+    scene["robot"].write_root_pose_to_sim(pose)
+    commands = torch.tensor([[1.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.1, 0.0, 0.0], [0.0, 0.0, 0.0]])
+    env = SimpleNamespace(
+        scene=scene, command_manager=VelocityCommands(commands), max_episode_length_s=10.0, num_envs=4, device="cpu"
+    )
+    finished = torch.tensor([True, True, True, False])
+    mean_level = terrain_levels_vel(env, finished)
+    assert terrain.terrain_levels.tolist() == [2, 0, 1, 1]
+    assert float(mean_level) == pytest.approx(1.0)
+    assert torch.equal(scene.env_origins, terrain.terrain_origins[terrain.terrain_levels, 0])
