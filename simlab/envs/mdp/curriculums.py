@@ -27,9 +27,12 @@ def modify_reward_weight(
     return float(term_cfg.weight)
 
 
+_ROBOT = SceneEntityCfg("robot")
+
+
 @takes_env_mask
 def terrain_levels_vel(
-    env: ManagerBasedRLEnv, env_ids: torch.Tensor, asset_cfg: SceneEntityCfg = SceneEntityCfg("robot")
+    env: ManagerBasedRLEnv, env_ids: torch.Tensor, asset_cfg: SceneEntityCfg = _ROBOT
 ) -> torch.Tensor:
     """Isaac Lab's terrain curriculum: an env whose robot walked out of its tile (farther than half a
     tile from its origin) moves one row (difficulty level) up; one that walked less than half the
@@ -38,7 +41,9 @@ def terrain_levels_vel(
     asset = env.scene[asset_cfg.name]
     terrain = env.scene.terrain
     if terrain is None or terrain.terrain_origins is None:
-        raise ValueError("terrain_levels_vel needs a scene 'terrain' of TerrainImporterCfg with terrain_type='generator'")
+        raise ValueError(
+            "terrain_levels_vel needs a scene 'terrain' of TerrainImporterCfg with terrain_type='generator'"
+        )
     command = env.command_manager.get_command("base_velocity")
     # computed for every env (fixed shapes), applied where the mask is set
     distance = torch.norm(asset.data.root_pos_w[:, :2] - env.scene.env_origins[:, :2], dim=1)
