@@ -307,3 +307,42 @@ def test_terrain_levels_vel_moves_envs_between_rows():
     assert terrain.terrain_levels.tolist() == [2, 0, 1, 1]
     assert float(mean_level) == pytest.approx(1.0)
     assert torch.equal(scene.env_origins, terrain.terrain_origins[terrain.terrain_levels, 0])
+
+
+def test_isaac_lab_velocity_scene_terrain_config():
+    """The terrain field of Isaac Lab's LocomotionVelocityRoughEnvCfg scene, as written there."""
+    from simlab.terrains.config.rough import ROUGH_TERRAINS_CFG as PRESET
+    from simlab.utils.assets import ISAACLAB_NUCLEUS_DIR
+
+    @configclass
+    class MySceneCfg(InteractiveSceneCfg):
+        terrain = TerrainImporterCfg(
+            prim_path="/World/ground",
+            terrain_type="generator",
+            terrain_generator=PRESET.replace(seed=5),
+            max_init_terrain_level=5,
+            collision_group=-1,
+            physics_material=sim_utils.RigidBodyMaterialCfg(
+                friction_combine_mode="multiply",
+                restitution_combine_mode="multiply",
+                static_friction=1.0,
+                dynamic_friction=1.0,
+            ),
+            visual_material=sim_utils.MdlFileCfg(
+                mdl_path=f"{ISAACLAB_NUCLEUS_DIR}/Materials/TilesMarbleSpiderWhiteBrickBondHoned.mdl",
+                project_uvw=True,
+                texture_scale=(0.25, 0.25),
+            ),
+            debug_vis=False,
+        )
+
+    sim = sim_utils.SimulationContext(sim_utils.SimulationCfg(dt=0.005, device="cpu"))
+    scene = InteractiveScene(MySceneCfg(num_envs=40, env_spacing=2.5))
+    sim.reset()
+    terrain = scene.terrain
+    assert terrain.terrain_origins.shape == (10, 20, 3)
+    assert int(terrain.terrain_levels.max()) <= 5
+    assert sorted(set(terrain.terrain_types.tolist())) == list(range(20))  # two envs per column
+    assert sim.model.nhfield > 0 and np.allclose(sim.model.geom_friction[:, 0], 1.0)
+    # the 20 m border around the 80 m x 160 m grid is flat ground
+    assert ground_height(sim.model, 0.0, 80.0 + 10.0) == pytest.approx(0.0, abs=1e-6)

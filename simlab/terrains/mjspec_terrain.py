@@ -6,7 +6,7 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
-from simlab.sim.spawners.materials import PreviewSurfaceCfg, RigidBodyMaterialCfg
+from simlab.sim.spawners.materials import MdlFileCfg, PreviewSurfaceCfg, RigidBodyMaterialCfg
 
 from .terrain_generator import TerrainGenerator
 
@@ -35,7 +35,7 @@ def add_terrain_to_spec(
     terrain: TerrainGenerator,
     name: str,
     physics_material: RigidBodyMaterialCfg,
-    visual_material: PreviewSurfaceCfg | None,
+    visual_material: PreviewSurfaceCfg | MdlFileCfg | None,
 ) -> list[mujoco.MjsGeom]:
     rgba = visual_material.rgba() if visual_material is not None else [0.55, 0.55, 0.5, 1.0]
     material = spec.add_material(name=f"{name}/material", rgba=rgba, specular=0.2, shininess=0.2)

@@ -54,7 +54,7 @@ class TerrainImporter:
         else:
             ground = GroundPlaneCfg(physics_material=cfg.physics_material)
             if cfg.visual_material is not None:
-                ground.color = cfg.visual_material.diffuse_color
+                ground.color = tuple(cfg.visual_material.rgba()[:3])
             ground.func(cfg.prim_path, ground)
         self.state = PerEnvState(cfg.num_envs, device)
         if self.terrain_origins is not None:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from dataclasses import MISSING
 
-from simlab.sim.spawners.materials import PreviewSurfaceCfg, RigidBodyMaterialCfg
+from simlab.sim.spawners.materials import MdlFileCfg, PreviewSurfaceCfg, RigidBodyMaterialCfg
 from simlab.utils import configclass
 
 from .terrain_generator_cfg import TerrainGeneratorCfg
@@ -26,7 +26,8 @@ class TerrainImporterCfg:
     usd_path: str | None = None
     env_spacing: float | None = None
     """Grid spacing of the env origins for a plane; set by the scene from its own ``env_spacing``."""
-    visual_material: PreviewSurfaceCfg | None = None
+    visual_material: PreviewSurfaceCfg | MdlFileCfg | None = None
+    """Colour of the terrain (with the generator's ``color_scheme`` "none")."""
     physics_material: RigidBodyMaterialCfg = RigidBodyMaterialCfg()
     use_terrain_origins: bool = True
     """Place envs on the tiles' origins (False: on a grid ``env_spacing`` apart, over the tiles)."""
