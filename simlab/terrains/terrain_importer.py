@@ -100,11 +100,22 @@ class TerrainImporter:
         n = self.cfg.num_envs
         mask = env_mask(env_ids, n, self.device)
         if is_mask(env_ids):
+            if move_up.shape != (n,) or move_down.shape != (n,):
+                raise ValueError(
+                    f"update_env_origins with an env mask takes move_up and move_down for every env, shape ({n},);"
+                    f" got {tuple(move_up.shape)} and {tuple(move_down.shape)}"
+                )
             up, down = move_up.to(self.device), move_down.to(self.device)
         else:
+            # ids: move_up/down are in the order of env_ids
+            all_ids = torch.arange(n, device=self.device)
+            if env_ids is None or isinstance(env_ids, slice):
+                ids = all_ids if env_ids is None else all_ids[env_ids]
+            else:
+                ids = torch.as_tensor(env_ids, dtype=torch.long, device=self.device)
             up = torch.zeros(n, dtype=torch.bool, device=self.device)
             down = torch.zeros_like(up)
-            up[mask], down[mask] = move_up.to(self.device).bool(), move_down.to(self.device).bool()
+            up[ids], down[ids] = move_up.to(self.device).bool(), move_down.to(self.device).bool()
         levels = self.terrain_levels + up.long() - down.long()
         random_levels = torch.randint(0, self.max_terrain_level, (n,), device=self.device)
         levels = torch.where(levels >= self.max_terrain_level, random_levels, levels.clamp(min=0))
