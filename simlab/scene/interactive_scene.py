@@ -72,7 +72,14 @@ class InteractiveScene:
             raise RuntimeError("Create a SimulationContext before the InteractiveScene.")
         self.sim = sim
         sim.num_envs = cfg.num_envs
-        sim.env_origins = grid_origins(cfg.num_envs, cfg.env_spacing, sim.device)
+        self._terrain = self._import_terrain()
+        if self._terrain is None:
+            sim.env_origins = grid_origins(cfg.num_envs, cfg.env_spacing, sim.device)
+        elif self._terrain.shares_world_frame:
+            # every world holds the whole terrain: the worlds share the scene's frame
+            sim.env_origins = torch.zeros(cfg.num_envs, 3, device=sim.device)
+        else:
+            sim.env_origins = self._terrain.env_origins
         self.articulations: dict[str, Articulation] = {}
         self.rigid_objects: dict[str, RigidObject] = {}
         self.sensors: dict[str, SensorBase] = {}
@@ -91,8 +98,14 @@ class InteractiveScene:
 
     @property
     def env_origins(self) -> torch.Tensor:
-        """(num_envs, 3) positions of the environments in the world frame."""
-        return self.sim.env_origins
+        """(num_envs, 3) positions of the environments in the world frame (on the terrain's tiles
+        when the scene has a generated terrain)."""
+        return self.sim.env_origins if self._terrain is None else self._terrain.env_origins
+
+    @property
+    def terrain(self):
+        """The scene's ``TerrainImporter`` (None without a ``terrain`` field)."""
+        return self._terrain
 
     @property
     def physics_dt(self) -> float:
@@ -125,9 +138,12 @@ class InteractiveScene:
             entity.update(dt)
 
     def keys(self) -> list[str]:
-        return [*self.articulations, *self.rigid_objects, *self.sensors, *self.extras]
+        terrain = [self._terrain_name] if self._terrain is not None else []
+        return [*terrain, *self.articulations, *self.rigid_objects, *self.sensors, *self.extras]
 
     def __getitem__(self, key: str):
+        if self._terrain is not None and key == self._terrain_name:
+            return self._terrain
         for group in (self.articulations, self.rigid_objects, self.sensors, self.extras):
             if key in group:
                 return group[key]
@@ -154,6 +170,25 @@ class InteractiveScene:
 
     def _entities(self):
         return (*self.articulations.values(), *self.rigid_objects.values(), *self.sensors.values())
+
+    def _import_terrain(self):
+        """The terrain importer of the config's TerrainImporterCfg field, built first (as Isaac Lab
+        does) because the env origins come from it."""
+        from simlab.terrains import TerrainImporterCfg
+
+        terrains = [(f.name, getattr(self.cfg, f.name)) for f in fields(self.cfg)]
+        terrains = [(name, value) for name, value in terrains if isinstance(value, TerrainImporterCfg)]
+        if len(terrains) > 1:
+            raise ValueError(
+                f"A scene takes one TerrainImporterCfg; {self.cfg.__class__.__name__} has {[n for n, _ in terrains]}"
+            )
+        if not terrains:
+            return None
+        name, cfg = terrains[0]
+        cfg = cfg.replace(num_envs=self.cfg.num_envs, env_spacing=self.cfg.env_spacing)
+        terrain = cfg.class_type(cfg, device=self.sim.device)
+        self._terrain_name = name
+        return terrain
 
     def _add_entities_from_cfg(self) -> None:
         base_fields = {f.name for f in fields(InteractiveSceneCfg)}

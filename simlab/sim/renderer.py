@@ -59,11 +59,15 @@ def gather_env_states(physics, env_ids: Sequence[int]) -> dict[str, np.ndarray]:
     return states
 
 
-def _without_infinite_planes(model: mujoco.MjModel) -> mujoco.MjModel:
-    """A copy of ``model`` whose infinite planes are invisible (MuJoCo skips geoms with alpha 0)."""
+def _without_infinite_planes(model: mujoco.MjModel, world_geoms: bool = False) -> mujoco.MjModel:
+    """A copy of ``model`` whose infinite planes (and, with ``world_geoms``, all static geoms of the
+    world body) are invisible (MuJoCo skips geoms with alpha 0)."""
     hidden = copy.deepcopy(model)
     infinite_plane = (hidden.geom_type == mujoco.mjtGeom.mjGEOM_PLANE) & (hidden.geom_size[:, :2].min(axis=1) <= 0)
     hidden.geom_rgba[infinite_plane, 3] = 0.0
+    if world_geoms:
+        hidden.geom_rgba[hidden.geom_bodyid == 0, 3] = 0.0
+        hidden.geom_matid[hidden.geom_bodyid == 0] = -1  # a material's alpha would override the geom's
     return hidden
 
 
@@ -73,6 +77,8 @@ class EnvSceneBuilder:
     def __init__(self, model: mujoco.MjModel):
         self.model = model
         self.neighbour_model = _without_infinite_planes(model)
+        # a neighbour drawn where it is (a shared terrain) would draw the terrain again on the reference's
+        self.same_frame_neighbour_model = _without_infinite_planes(model, world_geoms=True)
         self.data = mujoco.MjData(model)
         self.option = mujoco.MjvOption()
         self._perturb = mujoco.MjvPerturb()
@@ -90,7 +96,8 @@ class EnvSceneBuilder:
         for row in range(1, len(offsets)):
             data = self.load(states, row)
             first = scene.ngeom
-            mujoco.mjv_addGeoms(self.neighbour_model, data, self.option, self._perturb, catmask, scene)
+            model = self.same_frame_neighbour_model if not offsets[row].any() else self.neighbour_model
+            mujoco.mjv_addGeoms(model, data, self.option, self._perturb, catmask, scene)
             if scene.ngeom == scene.maxgeom:
                 break  # MuJoCo warns once; the scene shows the envs that fit
             for geom in scene.geoms[first : scene.ngeom]:

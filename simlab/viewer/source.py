@@ -53,7 +53,8 @@ class SimSource:
     def of_env(cls, env) -> SimSource:
         viewer = env.cfg.viewer
         eye_offset = np.asarray(viewer.eye, dtype=np.float64) - np.asarray(viewer.lookat, dtype=np.float64)
-        return cls(env.sim.model, env.sim.physics, env.scene.env_origins, float(env.step_dt), eye_offset)
+        # the worlds' frame offsets (zero on a shared terrain), which is how far their geoms are moved
+        return cls(env.sim.model, env.sim.physics, env.sim.env_origins, float(env.step_dt), eye_offset)
 
     @classmethod
     def of_sim(cls, sim) -> SimSource:

@@ -9,6 +9,8 @@ from typing import TYPE_CHECKING, Any
 import torch
 
 from simlab.managers.manager_base import ManagerTermBase
+from simlab.managers.scene_entity_cfg import SceneEntityCfg
+from simlab.utils.env_mask import env_mask, takes_env_mask
 
 if TYPE_CHECKING:
     from simlab.envs import ManagerBasedRLEnv
@@ -23,6 +25,33 @@ def modify_reward_weight(
         term_cfg.weight = weight
         env.reward_manager.set_term_cfg(term_name, term_cfg)
     return float(term_cfg.weight)
+
+
+_ROBOT = SceneEntityCfg("robot")
+
+
+@takes_env_mask
+def terrain_levels_vel(
+    env: ManagerBasedRLEnv, env_ids: torch.Tensor, asset_cfg: SceneEntityCfg = _ROBOT
+) -> torch.Tensor:
+    """Isaac Lab's terrain curriculum: an env whose robot walked out of its tile (farther than half a
+    tile from its origin) moves one row (difficulty level) up; one that walked less than half the
+    distance its ``base_velocity`` command asked for over an episode moves one row down.
+    Returns the mean terrain level."""
+    asset = env.scene[asset_cfg.name]
+    terrain = env.scene.terrain
+    if terrain is None or terrain.terrain_origins is None:
+        raise ValueError(
+            "terrain_levels_vel needs a scene 'terrain' of TerrainImporterCfg with terrain_type='generator'"
+        )
+    command = env.command_manager.get_command("base_velocity")
+    # computed for every env (fixed shapes), applied where the mask is set
+    distance = torch.norm(asset.data.root_pos_w[:, :2] - env.scene.env_origins[:, :2], dim=1)
+    move_up = distance > terrain.cfg.terrain_generator.size[0] / 2
+    move_down = distance < torch.norm(command[:, :2], dim=1) * env.max_episode_length_s * 0.5
+    move_down &= ~move_up
+    terrain.update_env_origins(env_mask(env_ids, env.num_envs, env.device), move_up, move_down)
+    return torch.mean(terrain.terrain_levels.float())
 
 
 _INDEXED_PART = re.compile(r"^(\w+)\[(\d+)\]$")

@@ -69,7 +69,8 @@ def camera_pose(env, viewer) -> tuple[np.ndarray, np.ndarray]:
     if not 0 <= index < env.num_envs:
         raise ValueError(f"cfg.viewer.env_index is {index}, but there are {env.num_envs} envs")
     origin_w = _frame_origin_w(env, viewer)
-    ref_origin = env.scene.env_origins[index].cpu().numpy().astype(np.float64)
+    # MuJoCo frame of env ``index``: the world shifted by its world's offset (zero on a shared terrain)
+    ref_origin = env.sim.env_origins[index].cpu().numpy().astype(np.float64)
     eye = np.asarray(viewer.eye, dtype=np.float64) + origin_w - ref_origin
     lookat = np.asarray(viewer.lookat, dtype=np.float64) + origin_w - ref_origin
     return eye, lookat
@@ -79,10 +80,11 @@ def view_frame(env, viewer, max_envs: int = MAX_SHOWN_ENVS) -> ViewFrame:
     """The envs to draw and the camera: env ``viewer.env_index`` and the ``max_envs - 1`` envs
     whose origins are nearest the look-at point."""
     eye, lookat = camera_pose(env, viewer)
+    frame_offsets = env.sim.env_origins.detach().cpu().numpy().astype(np.float64)
     origins = env.scene.env_origins.detach().cpu().numpy().astype(np.float64)
     ref = viewer.env_index
-    offsets = origins - origins[ref]
-    distance = np.linalg.norm(offsets[:, :2] - lookat[:2], axis=1)
+    offsets = frame_offsets - frame_offsets[ref]  # how far each world's geoms are moved when drawn
+    distance = np.linalg.norm(origins[:, :2] - frame_offsets[ref, :2] - lookat[:2], axis=1)
     distance[ref] = -1.0  # the reference env comes first
     env_ids = np.argsort(distance, kind="stable")[: max(1, max_envs)].tolist()
     return ViewFrame(env_ids, offsets[env_ids], eye, lookat)

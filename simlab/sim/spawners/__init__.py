@@ -11,7 +11,7 @@ from .from_files import (
     spawn_ground_plane,
 )
 from .lights import DistantLightCfg, DomeLightCfg, LightCfg, spawn_light
-from .materials import PreviewSurfaceCfg, RigidBodyMaterialCfg
+from .materials import MdlFileCfg, PreviewSurfaceCfg, RigidBodyMaterialCfg
 from .shapes import CapsuleCfg, CuboidCfg, CylinderCfg, ShapeCfg, SphereCfg, spawn_shape
 from .spawner_cfg import (
     ArticulationRootPropertiesCfg,

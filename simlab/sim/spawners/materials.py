@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from dataclasses import MISSING
+
 from simlab.utils import configclass
 
 
@@ -15,6 +17,21 @@ class PreviewSurfaceCfg:
 
     def rgba(self) -> list[float]:
         return [*self.diffuse_color, self.opacity]
+
+
+@configclass
+class MdlFileCfg:
+    """Isaac Lab's material from an MDL shader file (e.g. the terrain's marble tiles). MuJoCo cannot
+    read MDL, so geoms given one are drawn in the plain ``fallback_color``."""
+
+    mdl_path: str = MISSING
+    project_uvw: bool | None = None
+    albedo_brightness: float | None = None
+    texture_scale: tuple[float, float] | None = None
+    fallback_color: tuple[float, float, float] = (0.55, 0.55, 0.5)
+
+    def rgba(self) -> list[float]:
+        return [*self.fallback_color, 1.0]
 
 
 @configclass

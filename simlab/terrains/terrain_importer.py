@@ -1,0 +1,129 @@
+"""The terrain importer: adds the ground to the model and places the env origins on it.
+
+With a generated terrain every MuJoCo world holds the whole terrain, so the worlds share one frame
+(the simulation's per-world offsets are zero) and the env origins are points on the tiles. With a
+plane each world has its own ground and the env origins are a grid, as for a scene without terrain.
+
+Per-env state: ``terrain_levels`` and ``env_origins`` persist across episodes; only the curriculum
+(``update_env_origins``) changes them, by mask or ids, so they are not reset when an episode ends.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import torch
+
+from simlab.utils.env_mask import EnvIds, PerEnvState, env_mask, is_mask, masked_copy_
+
+if TYPE_CHECKING:
+    from .terrain_importer_cfg import TerrainImporterCfg
+
+TERRAIN_TYPES = ("plane", "generator")
+
+
+class TerrainImporter:
+    def __init__(self, cfg: TerrainImporterCfg, device: str = "cpu"):
+        from simlab.scene.interactive_scene import grid_origins
+        from simlab.sim.simulation_context import current_spec
+        from simlab.sim.spawners.from_files import GroundPlaneCfg, entity_name
+
+        cfg.validate()
+        if cfg.terrain_type not in TERRAIN_TYPES:
+            raise ValueError(
+                f"TerrainImporterCfg.terrain_type='{cfg.terrain_type}' is not supported; use one of {TERRAIN_TYPES}"
+            )
+        self.cfg = cfg
+        self.device = device
+        self.name = entity_name(cfg.prim_path)
+        self.terrain_origins: torch.Tensor | None = None
+        self.terrain_generator = None
+        if cfg.terrain_type == "generator":
+            if cfg.terrain_generator is None:
+                raise ValueError("TerrainImporterCfg.terrain_type='generator' needs a terrain_generator config")
+            from .mjspec_terrain import add_terrain_to_spec
+            from .terrain_generator import generate_terrain
+
+            self.terrain_generator = generate_terrain(cfg.terrain_generator)
+            add_terrain_to_spec(
+                current_spec(), self.terrain_generator, self.name, cfg.physics_material, cfg.visual_material
+            )
+            if cfg.use_terrain_origins:
+                origins = torch.as_tensor(self.terrain_generator.terrain_origins, dtype=torch.float32, device=device)
+                self.terrain_origins = origins
+        else:
+            ground = GroundPlaneCfg(physics_material=cfg.physics_material)
+            if cfg.visual_material is not None:
+                ground.color = tuple(cfg.visual_material.rgba()[:3])
+            ground.func(cfg.prim_path, ground)
+        self.state = PerEnvState(cfg.num_envs, device)
+        if self.terrain_origins is not None:
+            self._configure_curriculum_origins()
+        else:
+            if cfg.env_spacing is None:
+                raise ValueError("TerrainImporterCfg.env_spacing must be set to place envs on a grid")
+            self.env_origins = self.state.add(
+                "env_origins", grid_origins(cfg.num_envs, cfg.env_spacing, device), reset=None
+            )
+
+    @property
+    def shares_world_frame(self) -> bool:
+        """True when every world holds the whole terrain (envs are placed by their origins in it)."""
+        return self.cfg.terrain_type == "generator"
+
+    def _configure_curriculum_origins(self) -> None:
+        """Isaac Lab's rule: each env starts on a random row up to ``max_init_terrain_level``; the
+        columns (kinds) are split evenly between the envs."""
+        num_rows, num_cols = self.terrain_origins.shape[:2]
+        n = self.cfg.num_envs
+        max_init = num_rows - 1 if self.cfg.max_init_terrain_level is None else self.cfg.max_init_terrain_level
+        max_init = min(max(max_init, 0), num_rows - 1)
+        self.max_terrain_level = num_rows
+        levels = torch.randint(0, max_init + 1, (n,), device=self.device)
+        types = torch.div(torch.arange(n, device=self.device), n / num_cols, rounding_mode="floor").long()
+        self.terrain_levels = self.state.add("terrain_levels", levels, reset=None)
+        self.terrain_types = self.state.add("terrain_types", types, reset=None)
+        self.env_origins = self.state.add("env_origins", self.terrain_origins[levels, types].clone(), reset=None)
+
+    def configure_env_origins(self, origins=None) -> None:
+        """Isaac Lab's entry point: re-place the envs (on the tiles, or on a grid)."""
+        if origins is not None:
+            self.terrain_origins = torch.as_tensor(origins, dtype=torch.float32, device=self.device)
+            self.state = PerEnvState(self.cfg.num_envs, self.device)
+            self._configure_curriculum_origins()
+
+    def update_env_origins(self, env_ids: EnvIds, move_up: torch.Tensor, move_down: torch.Tensor) -> None:
+        """Move the envs ``env_ids`` (ids, or a (num_envs,) bool mask with ``move_up``/``move_down`` for
+        every env) one row up or down; an env past the hardest row goes to a random row (Isaac Lab's rule)."""
+        if self.terrain_origins is None:
+            return
+        n = self.cfg.num_envs
+        mask = env_mask(env_ids, n, self.device)
+        if is_mask(env_ids):
+            if move_up.shape != (n,) or move_down.shape != (n,):
+                raise ValueError(
+                    f"update_env_origins with an env mask takes move_up and move_down for every env, shape ({n},);"
+                    f" got {tuple(move_up.shape)} and {tuple(move_down.shape)}"
+                )
+            up, down = move_up.to(self.device), move_down.to(self.device)
+        else:
+            # ids: move_up/down are in the order of env_ids
+            all_ids = torch.arange(n, device=self.device)
+            if env_ids is None or isinstance(env_ids, slice):
+                ids = all_ids if env_ids is None else all_ids[env_ids]
+            else:
+                ids = torch.as_tensor(env_ids, dtype=torch.long, device=self.device)
+            up = torch.zeros(n, dtype=torch.bool, device=self.device)
+            down = torch.zeros_like(up)
+            up[ids], down[ids] = move_up.to(self.device).bool(), move_down.to(self.device).bool()
+        levels = self.terrain_levels + up.long() - down.long()
+        random_levels = torch.randint(0, self.max_terrain_level, (n,), device=self.device)
+        levels = torch.where(levels >= self.max_terrain_level, random_levels, levels.clamp(min=0))
+        masked_copy_(self.terrain_levels, mask, levels)
+        masked_copy_(self.env_origins, mask, self.terrain_origins[self.terrain_levels, self.terrain_types])
+
+    def reset(self, env_ids: EnvIds = None) -> None:
+        """Nothing: terrain levels persist across episodes (see the module docstring)."""
+
+    def set_debug_vis(self, debug_vis: bool) -> bool:
+        return False
