@@ -66,6 +66,16 @@ class SimulatedEnv:
             self.sim.step(render=False)
             self.scene.update(dt=self.physics_dt)
 
+    @property
+    def step_is_graphed(self) -> bool:
+        """Whether ``step`` replays one captured CUDA graph (see ``simlab.envs.utils.cuda_graph``)."""
+        return self._stepper.is_graphed
+
+    @property
+    def step_mode(self) -> str:
+        """How ``step`` runs: 'graphed', 'warming up' (before the capture) or 'eager (<why>)'."""
+        return self._stepper.mode
+
     def _restart_diverged(self) -> torch.Tensor:
         """The worlds whose physics blew up in this step (``PhysicsBackend.take_diverged``), put back
         to the model's initial state; the step ends their episodes (terminated)."""

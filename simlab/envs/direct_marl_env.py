@@ -200,8 +200,6 @@ class DirectMARLEnv(SimulatedEnv, gym.Env):
     _reset_finished = DirectRLEnv._reset_finished
     _resets_by_mask = DirectRLEnv._resets_by_mask
     graph_blockers = DirectRLEnv.graph_blockers
-    step_is_graphed = DirectRLEnv.step_is_graphed
-    step_mode = DirectRLEnv.step_mode
 
     # -- the task's hooks -------------------------------------------------------------------------
 

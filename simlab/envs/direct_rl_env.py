@@ -117,16 +117,6 @@ class DirectRLEnv(SimulatedEnv, gym.Env):
         self.extras.setdefault("log", {})["Physics/diverged"] = diverged
         return obs, reward, terminated, truncated, self.extras
 
-    @property
-    def step_is_graphed(self) -> bool:
-        """Whether ``step`` replays one captured CUDA graph (see ``simlab.envs.utils.cuda_graph``)."""
-        return self._stepper.is_graphed
-
-    @property
-    def step_mode(self) -> str:
-        """How ``step`` runs: 'graphed', 'warming up' (before the capture) or 'eager (<why>)'."""
-        return self._stepper.mode
-
     def graph_blockers(self) -> list[str]:
         """What makes this env's step select envs by ids (so it cannot be captured as a graph)."""
         blockers = []
