@@ -69,12 +69,14 @@ class SimulatedEnv:
     @property
     def step_is_graphed(self) -> bool:
         """Whether ``step`` replays one captured CUDA graph (see ``simlab.envs.utils.cuda_graph``)."""
-        return self._stepper.is_graphed
+        stepper = getattr(self, "_stepper", None)  # the RL envs run their step through one
+        return stepper is not None and stepper.is_graphed
 
     @property
     def step_mode(self) -> str:
         """How ``step`` runs: 'graphed', 'warming up' (before the capture) or 'eager (<why>)'."""
-        return self._stepper.mode
+        stepper = getattr(self, "_stepper", None)
+        return stepper.mode if stepper is not None else "eager (ManagerBasedEnv steps eagerly)"
 
     def _restart_diverged(self) -> torch.Tensor:
         """The worlds whose physics blew up in this step (``PhysicsBackend.take_diverged``), put back
