@@ -72,3 +72,18 @@ def test_a_control_mujoco_would_zero_counts_as_divergence():
     _, _, terminated, _, extras = env.step(action)
     assert terminated[4] and int(extras["log"]["Physics/diverged"]) == 1
     env.close()
+
+
+def test_check_finite_actions_false_skips_the_action_check():
+    """The manager-based cfg's ``check_finite_actions`` still turns the action check off."""
+    cfg = ManagerCartpoleCfg()
+    cfg.scene.num_envs = 4
+    cfg.sim.device = "cpu"
+    cfg.check_finite_actions = False
+    env = ManagerBasedRLEnv(cfg)
+    env.reset(seed=0)
+    action = torch.zeros(4, 1)
+    action[0] = float("nan")
+    env.step(action)  # no ValueError about the action: the user turned the check off
+    assert env._stepper._check_actions is False
+    env.close()

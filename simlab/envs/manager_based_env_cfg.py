@@ -39,4 +39,5 @@ class ManagerBasedEnvCfg:
     export_io_descriptors: bool = False
     log_dir: str | None = None
     check_finite_actions: bool = True
-    """Raise on NaN/inf actions (one host sync per step on the GPU; turn off for top speed there)."""
+    """Raise on NaN/inf actions: at once in an eager step (a host read), at the periodic check of a
+    graphed one (``simlab.envs.utils.cuda_graph``). False skips the check."""

@@ -50,7 +50,6 @@ class ManagerBasedRLEnv(ManagerBasedEnv, gym.Env):
         super().__init__(cfg)
         self.episode_length_buf = torch.zeros(self.num_envs, dtype=torch.long, device=self.device)
         self.metadata = dict(self.metadata, render_fps=1.0 / self.step_dt)
-        self._all_env_ids = torch.arange(self.num_envs, dtype=torch.long, device=self.device)
         self._stepper = EnvStepper(self, self._step_body)
         print("[INFO]: Completed setting up the environment...")
 

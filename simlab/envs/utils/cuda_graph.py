@@ -73,6 +73,7 @@ class EnvStepper:
         self._index_cache: dict[tuple[int, ...], torch.Tensor] = {}
         self._static_action: torch.Tensor | None = None
         self._packed: PackedOutputs | None = None
+        self._check_actions = bool(getattr(env.cfg, "check_finite_actions", True))
         self._bad_action = torch.zeros((), dtype=torch.bool, device=env.device)
         self._bad_obs = torch.zeros((), dtype=torch.bool, device=env.device)
 
@@ -91,12 +92,14 @@ class EnvStepper:
     def __call__(self, action: torch.Tensor) -> Any:
         self._calls += 1
         if self.eager_reason is not None:
-            check_finite_action(action)
+            if self._check_actions:
+                check_finite_action(action)
             outputs = self.body(action)
             check_finite_obs(_observations(outputs))
             self._check_divergence()
             return outputs
-        self._bad_action |= _any_nonfinite(action)
+        if self._check_actions:
+            self._bad_action |= _any_nonfinite(action)
         if self.graph is None and self._calls > self.warmup:
             self._capture(action)
         if self.graph is not None:
