@@ -136,8 +136,8 @@ class EnvStepper:
 
     def _check_divergence(self) -> None:
         """With ``sim.on_divergence == "raise"``, raise if a world blew up (a host read of a count)."""
-        count = getattr(self.env.sim.physics, "diverged_count", None)
-        if self.env.sim.on_divergence == "raise" and count is not None and bool(count > 0):
+        count = self.env.sim.physics.diverged_count
+        if self.env.sim.on_divergence == "raise" and bool(count > 0):
             n = int(count)
             count.zero_()
             raise SimulationDivergedError(

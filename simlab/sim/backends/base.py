@@ -61,6 +61,9 @@ class PhysicsBackend(ABC):
         self._stale_all = False
         self._stale = torch.zeros(num_envs, dtype=torch.bool)  # per world, when not forwards_all_worlds
         self._any_stale = False
+        self.diverged_count = torch.zeros((), dtype=torch.long, device=self.device)
+        """Worlds found blown up so far (``take_diverged``), on the device."""
+        self._qpos0 = torch.as_tensor(model.qpos0, dtype=torch.float32, device=self.device)
 
     @abstractmethod
     def data(self, name: str) -> torch.Tensor:
@@ -175,17 +178,16 @@ class PhysicsBackend(ABC):
         state or acceleration is non-finite or huge, with only a console warning).
         """
         finite = torch.isfinite(self.data("qpos")).all(dim=1) & torch.isfinite(self.data("qvel")).all(dim=1)
-        diverged = ~finite | self._restarted_by_simulator()
-        if not hasattr(self, "diverged_count"):
-            self.diverged_count = torch.zeros((), dtype=torch.long, device=self.device)
+        diverged = ~finite
+        restarted = self._restarted_by_simulator()
+        if restarted is not None:
+            diverged |= restarted
         self.diverged_count += diverged.sum()
         return diverged
 
     def restart(self, mask: torch.Tensor) -> None:
         """Put the masked worlds back to the model's initial state (``qpos0``, at rest), by mask (no
         host read), so that no non-finite value survives in them; marks them stale."""
-        if not hasattr(self, "_qpos0"):
-            self._qpos0 = torch.as_tensor(self.model.qpos0, dtype=torch.float32, device=self.device)
         masked_copy_(self.data("qpos"), mask, self._qpos0.expand(self.num_envs, -1))
         for name in ("qvel", "act", "qacc_warmstart", "ctrl", "qfrc_applied", "xfrc_applied"):
             tensor = self.data(name)
@@ -193,9 +195,10 @@ class PhysicsBackend(ABC):
                 masked_copy_(tensor, mask, 0.0)
         self.mark_stale(mask)
 
-    def _restarted_by_simulator(self) -> torch.Tensor:
-        """(num_envs,) bool: worlds the simulator restarted itself since the last call (none here)."""
-        return torch.zeros(self.num_envs, dtype=torch.bool, device=self.device)
+    def _restarted_by_simulator(self) -> torch.Tensor | None:
+        """(num_envs,) bool: worlds the simulator restarted itself since the last call; None for a
+        simulator that never does (MuJoCo Warp leaves the non-finite state in place)."""
+        return None
 
     def bound_data(self) -> dict[str, torch.Tensor]:
         """The MjData fields handed out so far by ``data``, by name."""

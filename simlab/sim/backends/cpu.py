@@ -41,6 +41,9 @@ class CpuBackend(PhysicsBackend):
         self._probe = mujoco.MjData(model)  # for field dtypes: a binding's dtype is fixed at first bind
         self._data: dict[str, torch.Tensor] = {}
         self._model: dict[str, torch.Tensor] = {}
+        # Each world's time, to see MuJoCo restart a world (see _step), and the worlds it restarted.
+        self._time_view = torch.from_numpy(self.batch.bind("time", np.float64))
+        self._restarted = torch.zeros(num_envs, dtype=torch.bool)
 
     @property
     def num_threads(self) -> int:
@@ -78,7 +81,7 @@ class CpuBackend(PhysicsBackend):
         # MuJoCo's own tests on what a step starts from (mj_checkPos / mj_checkVel restart the world,
         # a control above 1e10 is zeroed; both with a console warning only) catch what time cannot
         # show (a world at time 0).
-        time = self._time()
+        time = self._time_view
         before = time.clone()
         self._restarted |= _blown_up(self.data("qpos")) | _blown_up(self.data("qvel")) | _blown_up(self.data("ctrl"))
         self.batch.step(nstep=nstep)
@@ -86,14 +89,7 @@ class CpuBackend(PhysicsBackend):
         if forward:
             self.batch.forward()
 
-    def _time(self) -> torch.Tensor:
-        if not hasattr(self, "_time_view"):
-            self._time_view = torch.from_numpy(self.batch.bind("time", np.float64))
-            self._restarted = torch.zeros(self.num_envs, dtype=torch.bool)
-        return self._time_view
-
     def _restarted_by_simulator(self) -> torch.Tensor:
-        self._time()
         restarted = self._restarted.clone()
         self._restarted.zero_()
         return restarted
