@@ -108,6 +108,11 @@ def build_parser() -> argparse.ArgumentParser:
         "process trains; without torchrun simlab launches it, one process per GPU (see the launch flags).",
     )
     p.add_argument(
+        "--export_io_descriptors",
+        action="store_true",
+        help="Write the policy's inputs and outputs to <run>/io_descriptors/IO_descriptors.yaml (manager-based tasks).",
+    )
+    p.add_argument(
         "--ml_framework",
         choices=("torch", "jax", "jax-numpy"),
         default="torch",

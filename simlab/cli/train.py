@@ -134,6 +134,14 @@ def _train_in(
     if run_dir is not None:
         if hasattr(env_cfg, "log_dir"):
             env_cfg.log_dir = run_dir
+        if getattr(args, "export_io_descriptors", False):
+            if hasattr(env_cfg, "export_io_descriptors"):
+                env_cfg.export_io_descriptors = True  # written by the env once its managers exist
+            else:
+                print(
+                    f"[simlab] --export_io_descriptors: {args.task} is a direct task; its observations are computed"
+                    " in one method, with no terms to describe. Only manager-based tasks export IO descriptors."
+                )
         dump_params(run_dir, env_cfg, agent_cfg, argv)
     multi = uses_multi_agent_learner(args)
     video_dir = os.path.join(run_dir, "videos", "train") if run_dir else None

@@ -12,6 +12,7 @@ steps applies it, writes the scene to the simulation, steps, and updates the sce
 from __future__ import annotations
 
 import contextlib
+import os
 from collections.abc import Sequence
 from typing import Any
 
@@ -26,6 +27,7 @@ from simlab.utils.env_mask import env_mask
 
 from .common import SimulatedEnv, VecEnvObs
 from .manager_based_env_cfg import ManagerBasedEnvCfg
+from .utils import io_descriptors
 from .utils.viewer import camera_pose, close_renderer, render_frame
 
 
@@ -76,6 +78,8 @@ class ManagerBasedEnv(SimulatedEnv):
         self.load_managers()
         print("[INFO]: Event Manager:", self.event_manager)
         self.obs_buf: VecEnvObs = {}
+        if cfg.export_io_descriptors:
+            self.export_IO_descriptors()
 
     def __del__(self):
         with contextlib.suppress(Exception):  # at interpreter shutdown modules may be gone
@@ -86,6 +90,24 @@ class ManagerBasedEnv(SimulatedEnv):
     @property
     def unwrapped(self) -> ManagerBasedEnv:
         return self
+
+    @property
+    def get_IO_descriptors(self) -> dict[str, Any]:  # noqa: N802 - Isaac Lab's name
+        """The policy's inputs and outputs (observations, actions), the articulations and time steps."""
+        return io_descriptors.io_descriptors(self)
+
+    def export_IO_descriptors(self, output_dir: str | None = None) -> str:  # noqa: N802 - Isaac Lab's name
+        """Write ``IO_descriptors.yaml`` into ``output_dir`` (default: ``<cfg.log_dir>/io_descriptors``)."""
+        if output_dir is None:
+            if self.cfg.log_dir is None:
+                raise ValueError(
+                    "export_IO_descriptors: no output folder. Pass output_dir, or set env_cfg.log_dir"
+                    " (simlab train sets it to the run folder)."
+                )
+            output_dir = os.path.join(self.cfg.log_dir, "io_descriptors")
+        path = io_descriptors.export_io_descriptors(self, output_dir)
+        print(f"[INFO]: Exported IO descriptors to {path}")
+        return path
 
     # -- building ----------------------------------------------------------------------------------
 

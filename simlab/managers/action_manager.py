@@ -58,6 +58,28 @@ class ActionTerm(ManagerTermBase):
     def apply_actions(self) -> None:
         raise NotImplementedError
 
+    @property
+    def IO_descriptor(self):  # noqa: N802 - Isaac Lab's name
+        """What this term's slice of the action means: its type, size, and the joints, scale, offset
+        and clip of joint terms (read from the term where it has them)."""
+        from simlab.envs.utils.io_descriptors import GenericActionIODescriptor
+
+        desc = GenericActionIODescriptor(
+            full_path=f"{type(self).__module__}.{type(self).__qualname__}",
+            description=" ".join((type(self).__doc__ or "").split()) or None,
+            shape=(self.action_dim,),
+            dtype=str(self.raw_actions.dtype),
+            action_type=type(self).__name__,
+        )
+        desc.extras = {"asset_name": self.cfg.asset_name}
+        for name in ("joint_names", "_scale", "_offset", "_clip"):
+            value = getattr(self, name, None)
+            if isinstance(value, torch.Tensor) and value.dim() > 1:
+                value = value[0]  # per env: every env has the same
+            if value is not None:
+                desc.extras[name.lstrip("_")] = value
+        return desc
+
 
 class ActionManager(ManagerBase):
     """Splits the action among its terms, in declaration order."""

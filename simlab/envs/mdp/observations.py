@@ -11,6 +11,12 @@ from typing import TYPE_CHECKING
 import torch
 
 import simlab.utils.math as math_utils
+from simlab.envs.utils.io_descriptors import (
+    generic_io_descriptor,
+    record_joint_names,
+    record_joint_pos_offsets,
+    record_joint_vel_offsets,
+)
 from simlab.managers import SceneEntityCfg
 
 if TYPE_CHECKING:
@@ -70,6 +76,7 @@ def joint_pos(env: ManagerBasedEnv, asset_cfg: SceneEntityCfg = _ROBOT) -> torch
     return env.scene[asset_cfg.name].data.joint_pos[:, asset_cfg.joint_ids]
 
 
+@generic_io_descriptor(observation_type="JointState", on_inspect=[record_joint_names, record_joint_pos_offsets])
 def joint_pos_rel(env: ManagerBasedEnv, asset_cfg: SceneEntityCfg = _ROBOT) -> torch.Tensor:
     """Joint positions minus the default joint positions."""
     data = env.scene[asset_cfg.name].data
@@ -87,6 +94,7 @@ def joint_vel(env: ManagerBasedEnv, asset_cfg: SceneEntityCfg = _ROBOT) -> torch
     return env.scene[asset_cfg.name].data.joint_vel[:, asset_cfg.joint_ids]
 
 
+@generic_io_descriptor(observation_type="JointState", on_inspect=[record_joint_names, record_joint_vel_offsets])
 def joint_vel_rel(env: ManagerBasedEnv, asset_cfg: SceneEntityCfg = _ROBOT) -> torch.Tensor:
     """Joint velocities minus the default joint velocities."""
     data = env.scene[asset_cfg.name].data
