@@ -34,4 +34,8 @@ fi
 .venv/bin/python -m pip install -q -c constraints.txt -e ".[rl_games]" || echo "note: rl_games not installed"
 # skrl on JAX (CPU wheels): an optional extra, installed for the full setup.
 .venv/bin/python -m pip install -q -c constraints.txt -e ".[jax]" || echo "note: jax (skrl --ml_framework jax) not installed"
+# dev: MuJoCo Warp and Warp (CPU wheels here): tests run the GPU path's code on Warp's CPU device.
+if [ "${1:-}" = "dev" ]; then
+  .venv/bin/python -m pip install -q -c constraints.txt -e ".[gpu]" || echo "note: mujoco-warp not installed; its CPU-device tests will be skipped"
+fi
 echo "simlab installed in .venv"

@@ -41,6 +41,10 @@ class SimulationCfg:
     device: str = "auto"
     """``"cpu"`` (MuJoCo through mjbatch), ``"cuda"`` / ``"cuda:N"`` (MuJoCo Warp), or ``"auto"``
     (the GPU when one and mujoco-warp are available, else the CPU)."""
+    engine: Literal["auto", "mujoco", "mujoco_warp"] = "auto"
+    """What steps the worlds: ``"auto"`` is MuJoCo (C, batched by mjbatch) on the CPU and MuJoCo Warp
+    on the GPU. ``"mujoco_warp"`` on device ``"cpu"`` runs MuJoCo Warp's kernels on Warp's CPU device:
+    many times slower, for checking what the GPU path computes on a machine without one."""
     gravity: tuple[float, float, float] = (0.0, 0.0, -9.81)
     mujoco: MujocoCfg = MujocoCfg()
     use_cuda_graph: bool = True

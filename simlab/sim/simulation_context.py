@@ -135,9 +135,14 @@ class SimulationContext:
                 self.env_origins = torch.zeros(self.num_envs, 3, device=self.device)
             opts = self.cfg.mujoco
             # each backend takes its own options: a thread pool on the cpu, buffer sizes on the gpu
-            options = {"num_threads": opts.num_threads} if self.device == "cpu" else {}
             self.backend = make_backend(
-                self.model, self.num_envs, self.device, nconmax=opts.nconmax, njmax=opts.njmax, **options
+                self.model,
+                self.num_envs,
+                self.device,
+                engine=self.cfg.engine,
+                num_threads=opts.num_threads,
+                nconmax=opts.nconmax,
+                njmax=opts.njmax,
             )
             for callback in self._on_reset:
                 callback(self)

@@ -20,22 +20,40 @@ if TYPE_CHECKING:
 __all__ = ["CpuBackend", "CudaBackend", "EnvIds", "PhysicsBackend", "make_backend"]
 
 _CUDA_DEVICE = re.compile(r"cuda(:\d+)?")
+ENGINES = ("auto", "mujoco", "mujoco_warp")
 
 
-def make_backend(model: mujoco.MjModel, num_envs: int, device: str, **options: Any) -> PhysicsBackend:
-    """The backend for ``device``: ``"cpu"`` (mjbatch), ``"cuda"`` or ``"cuda:N"`` (MuJoCo Warp).
+def make_backend(
+    model: mujoco.MjModel,
+    num_envs: int,
+    device: str,
+    engine: str = "auto",
+    num_threads: int = 0,
+    nconmax: int | None = None,
+    njmax: int | None = None,
+) -> PhysicsBackend:
+    """The backend for ``device`` and ``engine`` (``SimulationCfg.engine``).
 
-    ``options`` go to the backend's constructor (``num_threads`` for cpu; ``nconmax``, ``njmax``,
-    ``overflow_check_interval`` for cuda).
+    ``"cpu"`` runs MuJoCo through mjbatch (``num_threads`` workers), ``"cuda"`` / ``"cuda:N"`` runs
+    MuJoCo Warp (``nconmax`` / ``njmax`` contact and constraint buffers per world); engine
+    ``"mujoco_warp"`` with ``"cpu"`` runs MuJoCo Warp on Warp's CPU device.
     """
-    if device == "cpu":
-        return CpuBackend(model, num_envs, device="cpu", **options)
-    if _CUDA_DEVICE.fullmatch(device):
-        from .cuda import CudaBackend, require_cuda_backend
+    if engine not in ENGINES:
+        raise ValueError(f"unknown physics engine '{engine}': expected one of {ENGINES}")
+    cuda = bool(_CUDA_DEVICE.fullmatch(device))
+    if device != "cpu" and not cuda:
+        raise ValueError(f"unknown physics device '{device}': expected 'cpu', 'cuda' or 'cuda:N'")
+    if cuda and engine == "mujoco":
+        raise ValueError(
+            f"engine 'mujoco' (MuJoCo C through mjbatch) runs on the CPU only, not on '{device}':"
+            " use device 'cpu', or engine 'auto' / 'mujoco_warp' on the GPU"
+        )
+    if device == "cpu" and engine != "mujoco_warp":
+        return CpuBackend(model, num_envs, device="cpu", num_threads=num_threads)
+    from .cuda import CudaBackend, require_cuda_backend
 
-        require_cuda_backend(device)  # clear RuntimeError with the install hint
-        return CudaBackend(model, num_envs, device=device, **options)
-    raise ValueError(f"unknown physics device '{device}': expected 'cpu', 'cuda' or 'cuda:N'")
+    require_cuda_backend(device)  # clear RuntimeError with the install hint
+    return CudaBackend(model, num_envs, device=device, nconmax=nconmax, njmax=njmax)
 
 
 def __getattr__(name: str) -> Any:
