@@ -104,10 +104,14 @@ def load_configs(args: argparse.Namespace, overrides: list[str], with_agent: boo
 def make_env(args: argparse.Namespace, env_cfg: Any, video_dir: str | None, single_agent: bool) -> gym.Env:
     """``gym.make`` the task (rgb_array rendering with ``--video``), record videos, flatten multi-agent envs."""
     video = bool(getattr(args, "video", False)) and video_dir is not None
-    if video:
-        from simlab.utils.gl_backend import check_gl_backend
+    if video:  # the renderer is checked before training starts, not when the first clip is due
+        from simlab.envs.utils.viewer import renderer_kind
 
-        print(f"[simlab] Videos are rendered with MUJOCO_GL={check_gl_backend()}")  # fails before training
+        warp = env_cfg.sim.device.startswith("cuda") or getattr(env_cfg.sim, "engine", "auto") == "mujoco_warp"
+        if renderer_kind(uses_mujoco_warp=warp) == "warp":
+            print("[simlab] Videos are rendered with MuJoCo Warp's ray tracer")
+        else:
+            print(f"[simlab] Videos are rendered with MUJOCO_GL={os.environ.get('MUJOCO_GL')}")
     env = gym.make(args.task, cfg=env_cfg, render_mode="rgb_array" if video else None)
     if single_agent and is_multi_agent(env):
         from simlab.envs import multi_agent_to_single_agent

@@ -10,6 +10,7 @@ neighbouring envs nearest the look-at point drawn beside it at their origins.
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass
 
 import numpy as np
@@ -20,6 +21,7 @@ __all__ = [
     "camera_pose",
     "close_renderer",
     "render_frame",
+    "renderer_kind",
     "show_in_viewer",
     "view_frame",
 ]
@@ -28,6 +30,7 @@ MAX_SHOWN_ENVS = 16
 """How many envs a frame shows at most (the reference env and its nearest neighbours)."""
 
 ORIGIN_TYPES = ("world", "env", "asset_root", "asset_body")
+RENDERERS = ("auto", "opengl", "warp")
 
 
 @dataclass
@@ -90,14 +93,54 @@ def view_frame(env, viewer, max_envs: int = MAX_SHOWN_ENVS) -> ViewFrame:
     return ViewFrame(env_ids, offsets[env_ids], eye, lookat)
 
 
+def renderer_kind(uses_mujoco_warp: bool) -> str:
+    """``"opengl"`` (MuJoCo's renderer; it also draws debug markers) where an OpenGL backend works,
+    else ``"warp"`` (MuJoCo Warp's ray tracer) for a simulation on MuJoCo Warp. ``SIMLAB_RENDERER``
+    = ``opengl`` / ``warp`` picks one; without either, the OpenGL error says what to install."""
+    from simlab.utils.gl_backend import GLBackendError, check_gl_backend
+
+    asked = os.environ.get("SIMLAB_RENDERER", "auto").lower()
+    if asked not in RENDERERS:
+        raise ValueError(f"SIMLAB_RENDERER={asked!r} is not one of {RENDERERS}")
+    if asked == "warp" or (asked == "auto" and uses_mujoco_warp and not _gl_works()):
+        if not uses_mujoco_warp:
+            raise ValueError("SIMLAB_RENDERER=warp renders MuJoCo Warp simulations only (device cuda)")
+        return "warp"
+    try:
+        check_gl_backend()
+    except GLBackendError as err:
+        raise GLBackendError(f"{err} On a GPU, simlab renders with MuJoCo Warp instead (device cuda).") from err
+    return "opengl"
+
+
+def _gl_works() -> bool:
+    from simlab.utils.gl_backend import GLBackendError, check_gl_backend
+
+    try:
+        check_gl_backend()
+    except GLBackendError:
+        return False
+    return True
+
+
+def uses_mujoco_warp(env) -> bool:
+    return hasattr(env.sim.physics, "wp_data")
+
+
 def render_frame(env, viewer) -> np.ndarray:
     """An RGB frame (H, W, 3) of ``env`` from its viewer camera; the renderer is made on first use."""
     renderer = getattr(env, "_renderer", None)
     if renderer is None:
-        from simlab.sim.renderer import OffscreenRenderer
-
         width, height = viewer.resolution
-        renderer = env._renderer = OffscreenRenderer(env.sim.model, width, height, MAX_SHOWN_ENVS)
+        if renderer_kind(uses_mujoco_warp(env)) == "warp":
+            from simlab.sim.warp_renderer import WarpRenderer
+
+            renderer = WarpRenderer(env.sim.spec, env.sim.physics, width, height, MAX_SHOWN_ENVS)
+        else:
+            from simlab.sim.renderer import OffscreenRenderer
+
+            renderer = OffscreenRenderer(env.sim.model, width, height, MAX_SHOWN_ENVS)
+        env._renderer = renderer
     frame = view_frame(env, viewer, renderer.max_envs)
     return renderer.render(env.sim.physics, frame.env_ids, frame.offsets, frame.eye, frame.lookat)
 
