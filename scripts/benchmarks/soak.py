@@ -95,6 +95,10 @@ def iteration_of(checkpoint: str) -> int | None:
     return int(match.group(1)) if match else None
 
 
+def _hear_sigint() -> None:
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def run_cycle(cycle: Cycle, args: argparse.Namespace, previous: Cycle | None, start: float) -> None:
     """One ``simlab train`` child: run it for ``args.duration / args.cycles`` seconds, then SIGINT."""
     run_name = f"soak{cycle.index}"
@@ -110,7 +114,14 @@ def run_cycle(cycle: Cycle, args: argparse.Namespace, previous: Cycle | None, st
     print(f"\n=== cycle {cycle.index}: {' '.join(cmd[1:])}", flush=True)
     share = args.duration / args.cycles
     with open(log_path, "w") as log:
-        child = subprocess.Popen(cmd, stdout=log, stderr=subprocess.STDOUT, env={**os.environ, "PYTHONUNBUFFERED": "1"})
+        child = subprocess.Popen(
+            cmd,
+            stdout=log,
+            stderr=subprocess.STDOUT,
+            env={**os.environ, "PYTHONUNBUFFERED": "1"},
+            # a soak started in the background (`cmd &`) inherits an ignored SIGINT; the child must hear it
+            preexec_fn=_hear_sigint,
+        )
         began = time.time()
         next_sample = began + args.sample_interval  # not at 0 s: the child has not imported anything yet
         while child.poll() is None and time.time() - began < share:
