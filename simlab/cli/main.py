@@ -70,7 +70,7 @@ def _add_agent(p: argparse.ArgumentParser) -> None:
         type=str.upper,
         choices=SKRL_ALGORITHMS,
         default=None,
-        help="skrl algorithm: PPO (default), IPPO or MAPPO (multi-agent tasks).",
+        help="skrl algorithm: PPO (default), AMP (AMP tasks), IPPO or MAPPO (multi-agent tasks).",
     )
     p.add_argument("--checkpoint", default=None, help="Checkpoint file (or run folder) to resume from / play.")
     p.add_argument(

@@ -24,7 +24,7 @@ __all__ = [
 ]
 
 LIBRARIES = ("rsl_rl", "skrl", "sb3", "rl_games")
-SKRL_ALGORITHMS = ("PPO", "IPPO", "MAPPO")
+SKRL_ALGORITHMS = ("PPO", "AMP", "IPPO", "MAPPO")
 
 
 def agent_entry_point(library: str, algorithm: str | None) -> str:
