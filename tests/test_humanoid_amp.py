@@ -139,7 +139,9 @@ def test_reference_state_init_puts_the_humanoid_in_the_clips_pose():
         expected_pos = motion.body_positions[0, torso] + base.scene.env_origins
         expected_pos[:, 2] += base.cfg.reference_lift
         torch.testing.assert_close(robot.data.root_pos_w, expected_pos, atol=1e-5, rtol=0)
-        torch.testing.assert_close(robot.data.root_quat_w, motion.body_rotations[0, torso].expand(3, -1), atol=1e-5, rtol=0)
+        torch.testing.assert_close(
+            robot.data.root_quat_w, motion.body_rotations[0, torso].expand(3, -1), atol=1e-5, rtol=0
+        )
         # the sim's frame (forward kinematics of the written state) is the clip's frame: same key-body
         # positions, velocities and orientation; only the torso height differs, by the lift
         frame = base._get_observations()["policy"]
@@ -149,7 +151,9 @@ def test_reference_state_init_puts_the_humanoid_in_the_clips_pose():
         keep = [i for i in range(frame.shape[1]) if i != height]
         torch.testing.assert_close(frame[:, keep], reference[:, keep], atol=2e-3, rtol=0)
         # the AMP history of a reset env is the clip's: no jump from a stale state into the first transition
-        torch.testing.assert_close(base.amp_observation_buffer.flatten(1), base.collect_reference_motions(3, torch.zeros(3)))
+        torch.testing.assert_close(
+            base.amp_observation_buffer.flatten(1), base.collect_reference_motions(3, torch.zeros(3))
+        )
     finally:
         env.close()
 
@@ -178,7 +182,19 @@ def test_a_motion_for_another_skeleton_is_refused_naming_the_joints(tmp_path):
 
 def test_train_and_play_amp_with_skrl(tmp_path):
     logs = ["--log_root", str(tmp_path / "logs")]
-    small = ["--task", TASK, "--num_envs", "2", "--headless", "--device", "cpu", "--library", "skrl", "--algorithm", "AMP"]
+    small = [
+        "--task",
+        TASK,
+        "--num_envs",
+        "2",
+        "--headless",
+        "--device",
+        "cpu",
+        "--library",
+        "skrl",
+        "--algorithm",
+        "AMP",
+    ]
     assert main(["train", *small, "--max_iterations", "2", *logs, *SMALL_MEMORIES]) == 0
     (run,) = glob.glob(str(tmp_path / "logs" / "skrl" / "humanoid_amp_walk" / "*"))
     assert os.path.isfile(os.path.join(run, "checkpoints", "agent_32.pt"))  # 2 iterations x 16 rollouts

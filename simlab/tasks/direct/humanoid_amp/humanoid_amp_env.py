@@ -220,4 +220,3 @@ def compute_obs(
     return torch.cat(
         [joint_pos, joint_vel, root_pos[:, 2:3], x_axis, z_axis, root_lin_vel, root_ang_vel, key_body_rel], dim=-1
     )
-

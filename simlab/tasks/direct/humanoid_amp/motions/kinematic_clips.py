@@ -171,7 +171,7 @@ def make_clip(spec: ClipSpec, fps: float = 60.0, xml_path: str = HUMANOID_XML) -
     dof_positions = np.zeros((num_frames, len(joints)))
     body_positions = np.zeros((num_frames, len(body_names), 3))
     body_rotations = np.zeros((num_frames, len(body_names), 4))
-    root_x, previous_stance = 0.0, None
+    root_x, previous_stance, previous_feet = 0.0, None, {}
     for f in range(num_frames):
         angles = spec.joint_angles(2 * math.pi * f / frames_per_cycle)
         unknown = set(angles) - set(dof_names)
