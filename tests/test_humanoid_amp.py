@@ -209,3 +209,13 @@ def test_train_and_play_amp_with_skrl(tmp_path):
     assert len(style) >= 1 and all(math.isfinite(v) and v >= 0 for v in style)
     assert main(["play", *small, "--use_last_checkpoint", "--steps", "3", *logs]) == 0
     assert os.path.isfile(os.path.join(run, "checkpoints", "exported", "policy.onnx"))
+
+
+@pytest.mark.parametrize("motion", ["Walk", "Run", "Dance"])
+def test_amp_tasks_register_skrl_amp_configs(motion):
+    task = f"simlab/Humanoid-AMP-{motion}-Direct-v0"
+    agent = load_cfg_from_registry(task, "skrl_amp_cfg_entry_point")
+    assert agent["agent"]["class"] == "AMP" and set(agent["models"]) >= {"policy", "value", "discriminator"}
+    assert agent["agent"]["experiment"]["directory"] == f"humanoid_amp_{motion.lower()}"
+    env_cfg = load_cfg_from_registry(task, "env_cfg_entry_point")
+    assert os.path.isfile(env_cfg.motion_file) and env_cfg.motion_file.endswith(f"humanoid_{motion.lower()}.npz")

@@ -82,7 +82,8 @@ class GaitRecorder:
         motion = env._motion_loader
         self._clip_poses = motion.dof_positions[:, env.motion_dof_indexes]  # (frames, joints) in robot order
         torso = motion.get_body_index([env.cfg.reference_body])[0]
-        self.clip_speed = float((motion.body_positions[-1, torso, 0] - motion.body_positions[0, torso, 0]) / motion.duration)
+        advance = motion.body_positions[-1, torso, 0] - motion.body_positions[0, torso, 0]
+        self.clip_speed = float(advance / motion.duration)
         self.zero_pose_rms = float(self._nearest_squared_error(torch.zeros(1, self._clip_poses.shape[1])).sqrt())
         self.step_dt = env.step_dt
 
@@ -152,7 +153,8 @@ def main() -> int:
     experiment = load_cfg_from_registry(task, "skrl_amp_cfg_entry_point")["agent"]["experiment"]["directory"]
     runs = sorted(glob.glob(os.path.join(args.log_root, "skrl", experiment, "*_amp_learn")))
     if not runs:
-        print(f"No amp_learn run of {task} under {args.log_root}/skrl/{experiment}; train first (drop --skip_training).")
+        where = os.path.join(args.log_root, "skrl", experiment)
+        print(f"No amp_learn run of {task} under {where}; train first (drop --skip_training).")
         return 1
     run_dir = runs[-1]
     checkpoints = glob.glob(os.path.join(run_dir, "checkpoints", "agent_*.pt"))
