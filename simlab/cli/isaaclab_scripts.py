@@ -158,7 +158,7 @@ def script_to_simlab_argv(library: str, mode: str, args: argparse.Namespace, ove
         if getattr(args, "distributed", False):
             argv.append("--distributed")
         if args.export_io_descriptors:
-            print("[simlab] --export_io_descriptors: simlab does not write IO descriptors yet; training goes on.")
+            argv.append("--export_io_descriptors")
     else:
         if args.use_pretrained_checkpoint:
             argv.append("--use_pretrained_checkpoint")

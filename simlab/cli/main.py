@@ -102,6 +102,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--max_iterations", type=int, default=None, help="Training iterations (default: the agent's).")
     p.add_argument("--run_name", default="", help="Suffix of the run folder: <timestamp>_<run_name>.")
     p.add_argument(
+        "--export_io_descriptors",
+        action="store_true",
+        help="Write the policy's observation and action terms to <run>/io_descriptors/IO_descriptors.yaml "
+        "(manager-based tasks).",
+    )
+    p.add_argument(
         "--distributed",
         action="store_true",
         help="Train on several GPUs or nodes (torch.distributed; gloo on the CPU). Under torchrun each "

@@ -26,6 +26,7 @@ from simlab.utils.env_mask import env_mask
 
 from .common import SimulatedEnv, VecEnvObs
 from .manager_based_env_cfg import ManagerBasedEnvCfg
+from .utils.io_descriptors import export_io_descriptors, io_descriptors
 from .utils.viewer import camera_pose, close_renderer, render_frame
 
 
@@ -76,6 +77,8 @@ class ManagerBasedEnv(SimulatedEnv):
         self.load_managers()
         print("[INFO]: Event Manager:", self.event_manager)
         self.obs_buf: VecEnvObs = {}
+        if cfg.export_io_descriptors:
+            self.export_IO_descriptors()
 
     def __del__(self):
         with contextlib.suppress(Exception):  # at interpreter shutdown modules may be gone
@@ -86,6 +89,16 @@ class ManagerBasedEnv(SimulatedEnv):
     @property
     def unwrapped(self) -> ManagerBasedEnv:
         return self
+
+    @property
+    def get_IO_descriptors(self) -> dict[str, Any]:  # noqa: N802 - Isaac Lab's name
+        """The policy's observation terms, the action terms, the articulations and the time steps
+        (Isaac Lab's IO descriptors; see :mod:`simlab.envs.utils.io_descriptors`)."""
+        return io_descriptors(self)
+
+    def export_IO_descriptors(self, output_dir: str | None = None) -> str:  # noqa: N802 - Isaac Lab's name
+        """Write ``IO_descriptors.yaml`` to ``output_dir`` (default ``<cfg.log_dir>/io_descriptors``)."""
+        return export_io_descriptors(self, output_dir)
 
     # -- building ----------------------------------------------------------------------------------
 
