@@ -65,6 +65,8 @@ def test_flags_map_to_simlab_and_unsupported_ones_say_so(capsys):
     )
     argv = script_to_simlab_argv("skrl", "train", args, rest)
     assert argv[2] == "simlab/Humanoid-AMP-Walk-Direct-v0" and argv[argv.index("--algorithm") + 1] == "AMP"
+    args, rest = build_script_parser("rsl_rl", "train").parse_known_args(["--task", "T", "--export_io_descriptors"])
+    assert "--export_io_descriptors" in script_to_simlab_argv("rsl_rl", "train", args, rest)
     args, rest = build_script_parser("rl_games", "train").parse_known_args(["--task", "T", "--sigma", "0.5"])
     script_to_simlab_argv("rl_games", "train", args, rest)
     assert "--sigma has no effect" in capsys.readouterr().out
