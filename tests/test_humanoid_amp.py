@@ -220,3 +220,26 @@ def test_amp_tasks_register_skrl_amp_configs(motion):
     assert agent["agent"]["experiment"]["directory"] == f"humanoid_amp_{motion.lower()}"
     env_cfg = load_cfg_from_registry(task, "env_cfg_entry_point")
     assert os.path.isfile(env_cfg.motion_file) and env_cfg.motion_file.endswith(f"humanoid_{motion.lower()}.npz")
+
+
+def test_default_reset_starts_the_history_afresh():
+    env = _make_env(2, reset_strategy="default")
+    try:
+        base = env.unwrapped
+        env.reset()
+        torch.testing.assert_close(base.robot.data.joint_pos, base.robot.data.default_joint_pos)
+        _, _, _, _, extras = env.step(torch.zeros(2, 21))
+        frames = extras["amp_obs"].view(2, base.cfg.num_amp_observations, -1)
+        torch.testing.assert_close(frames[:, 0], frames[:, 1])  # no stale frame from before the reset
+        _, _, _, _, extras = env.step(torch.zeros(2, 21))
+        frames = extras["amp_obs"].view(2, base.cfg.num_amp_observations, -1)
+        assert not torch.allclose(frames[:, 0], frames[:, 1])  # then the frames advance
+    finally:
+        env.close()
+
+
+def test_unknown_reset_strategy_is_refused():
+    with pytest.raises(
+        ValueError, match=r"Unknown reset_strategy 'randon'. Allowed: \['default', 'random', 'random-start'\]"
+    ):
+        _make_env(1, reset_strategy="randon")
