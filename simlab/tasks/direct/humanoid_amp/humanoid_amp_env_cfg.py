@@ -14,7 +14,7 @@ from dataclasses import MISSING
 import simlab.sim as sim_utils
 from simlab.actuators import ImplicitActuatorCfg
 from simlab.assets import ArticulationCfg
-from simlab.envs import DirectRLEnvCfg
+from simlab.envs import DirectRLEnvCfg, ViewerCfg
 from simlab.robots.humanoid import HUMANOID_CFG
 from simlab.scene import InteractiveSceneCfg
 from simlab.sim import MujocoCfg, SimulationCfg
@@ -101,6 +101,11 @@ class HumanoidAmpEnvCfg(DirectRLEnvCfg):
     sim: SimulationCfg = SimulationCfg(dt=1 / 120, render_interval=decimation, mujoco=MujocoCfg(nconmax=64, njmax=320))
     terrain = GroundPlaneCfg(
         physics_material=sim_utils.RigidBodyMaterialCfg(static_friction=1.0, dynamic_friction=1.0, restitution=0.0)
+    )
+
+    # videos follow env 0's humanoid from its left side
+    viewer: ViewerCfg = ViewerCfg(
+        eye=(0.0, -4.0, 0.3), lookat=(0.0, 0.0, -0.3), origin_type="asset_root", asset_name="robot"
     )
 
     # scene
