@@ -243,3 +243,10 @@ def test_unknown_reset_strategy_is_refused():
         ValueError, match=r"Unknown reset_strategy 'randon'. Allowed: \['default', 'random', 'random-start'\]"
     ):
         _make_env(1, reset_strategy="randon")
+
+
+def test_amp_on_jax_is_refused_before_anything_is_built(tmp_path, capsys):
+    argv = ["train", "--task", TASK, "--library", "skrl", "--ml_framework", "jax", "--headless"]
+    assert main([*argv, "--log_root", str(tmp_path / "logs")]) == 2
+    assert "skrl's AMP agent exists for torch only" in capsys.readouterr().err
+    assert not (tmp_path / "logs").exists()

@@ -128,6 +128,10 @@ def configure(agent_cfg: dict, args: argparse.Namespace, env_cfg: Any) -> None:
     ml_framework = getattr(args, "ml_framework", None) or "torch"
     if ml_framework not in ML_FRAMEWORKS:
         raise ValueError(f"Unknown --ml_framework '{ml_framework}'. Allowed: {list(ML_FRAMEWORKS)}.")
+    if ml_framework != "torch" and str(agent_cfg["agent"].get("class", "")).upper() == "AMP":
+        raise ValueError(
+            f"skrl's AMP agent exists for torch only; drop --ml_framework {ml_framework} (torch is the default)."
+        )
     if getattr(args, "distributed", False):
         if ml_framework != "torch":
             raise ValueError("--distributed trains skrl on torch; drop --ml_framework or use --ml_framework torch.")
