@@ -9,10 +9,11 @@ Training runs as ``simlab train --task simlab/Humanoid-AMP-<Motion>-Direct-v0 --
 --algorithm AMP --headless`` in a child process (extra arguments are passed on as Hydra overrides).
 Reported:
 
-* the discriminator (style) reward per rollout, from the run's TensorBoard log
-  (``Reward / Style reward (mean)``): its first and last fifths and a few points between;
+* the discriminator (style) reward of the rollouts, from the run's TensorBoard log
+  (``Reward / Style reward (mean)``, one point per write interval): its first and last fifths and
+  every tenth point;
   it rises as the policy's transitions become harder to tell from the clip's;
-* the episode length per rollout (falls end episodes early);
+* the mean episode length, from the same log (falls end episodes early);
 * from a played policy (its mean actions; ``--eval_envs`` envs, ``--eval_seconds``), counting only
   steps at least ``--settle_seconds`` into an episode: the joint-angle RMS error to the clip's
   nearest frame (AMP imitates a style, not a clock, so each played pose is compared with the clip
@@ -185,8 +186,8 @@ def main() -> int:
     print(f"\n{task}: {run_dir}")
     if style:
         print(
-            f"style reward per rollout: first fifth {style['first_fifth_mean']:.3f} -> last fifth "
-            f"{style['last_fifth_mean']:.3f} ({style['count']} rollouts; points {style['points']})"
+            f"style reward (TensorBoard points): first fifth {style['first_fifth_mean']:.3f} -> last fifth "
+            f"{style['last_fifth_mean']:.3f} ({style['count']} points; every tenth: {style['points']})"
         )
     if episodes:
         print(f"episode length [steps]: {episodes['first_fifth_mean']:.1f} -> {episodes['last_fifth_mean']:.1f}")
