@@ -109,6 +109,11 @@ def _description(obj: Any) -> str | None:
     return " ".join(doc.split("\n\n")[0].split()) if doc else None
 
 
+def _callable_name(func: Any) -> str:
+    """A term function's name, or a class term's class name."""
+    return func.__name__ if inspect.isfunction(func) else type(func).__name__
+
+
 def _full_path(func: Any) -> str:
     target = func if inspect.isfunction(func) else type(func)
     return f"{target.__module__}.{target.__qualname__}"
@@ -123,7 +128,7 @@ def _observation_descriptors(env: Any, groups: tuple[str, ...]) -> dict[str, lis
         entries = []
         for (term_name, cfg), dim in zip(terms, manager.group_obs_term_dim[group]):
             func = cfg.func
-            func_name = func.__name__ if inspect.isfunction(func) else type(func).__name__
+            func_name = _callable_name(func)
             value = func(env, **cfg.params)
             observation_type, units = OBSERVATION_TYPES.get(func_name, (None, None))
             entry: dict[str, Any] = {
@@ -137,14 +142,7 @@ def _observation_descriptors(env: Any, groups: tuple[str, ...]) -> dict[str, lis
                 "extras": {
                     "description": _description(func),
                     "units": units,
-                    "modifiers": _plain(
-                        [
-                            type(m.func).__name__ if not inspect.isfunction(m.func) else m.func.__name__
-                            for m in cfg.modifiers
-                        ]
-                    )
-                    if cfg.modifiers
-                    else None,
+                    "modifiers": [_callable_name(m.func) for m in cfg.modifiers] if cfg.modifiers else None,
                 },
                 "mdp_type": "Observation",
                 "term_name": term_name,
