@@ -60,9 +60,13 @@ def test_flags_map_to_simlab_and_unsupported_ones_say_so(capsys):
     args, rest = build_script_parser("skrl", "play").parse_known_args(["--task", "T", "--use_pretrained_checkpoint"])
     argv = script_to_simlab_argv("skrl", "play", args, rest)
     assert "--use_pretrained_checkpoint" in argv and "--use_last_checkpoint" not in argv
-    args, rest = build_script_parser("skrl", "train").parse_known_args(["--task", "T", "--algorithm", "AMP"])
-    with pytest.raises(ValueError, match="no AMP task"):
-        script_to_simlab_argv("skrl", "train", args, rest)
+    args, rest = build_script_parser("skrl", "train").parse_known_args(
+        ["--task", "Isaac-Humanoid-AMP-Walk-Direct-v0", "--algorithm", "AMP"]
+    )
+    argv = script_to_simlab_argv("skrl", "train", args, rest)
+    assert argv[2] == "simlab/Humanoid-AMP-Walk-Direct-v0" and argv[argv.index("--algorithm") + 1] == "AMP"
+    args, rest = build_script_parser("rsl_rl", "train").parse_known_args(["--task", "T", "--export_io_descriptors"])
+    assert "--export_io_descriptors" in script_to_simlab_argv("rsl_rl", "train", args, rest)
     args, rest = build_script_parser("rl_games", "train").parse_known_args(["--task", "T", "--sigma", "0.5"])
     script_to_simlab_argv("rl_games", "train", args, rest)
     assert "--sigma has no effect" in capsys.readouterr().out

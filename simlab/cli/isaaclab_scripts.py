@@ -126,8 +126,6 @@ def script_to_simlab_argv(library: str, mode: str, args: argparse.Namespace, ove
             argv.append(f"--{name}")
     if library == "skrl":
         algorithm = args.algorithm.upper()
-        if algorithm == "AMP":
-            raise ValueError("--algorithm AMP: simlab has no AMP task yet; skrl trains PPO, IPPO or MAPPO here.")
         argv += ["--algorithm", algorithm]
         if mode == "train":
             argv += ["--ml_framework", args.ml_framework]

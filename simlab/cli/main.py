@@ -70,7 +70,7 @@ def _add_agent(p: argparse.ArgumentParser) -> None:
         type=str.upper,
         choices=SKRL_ALGORITHMS,
         default=None,
-        help="skrl algorithm: PPO (default), IPPO or MAPPO (multi-agent tasks).",
+        help="skrl algorithm: PPO (default), AMP (AMP tasks), IPPO or MAPPO (multi-agent tasks).",
     )
     p.add_argument("--checkpoint", default=None, help="Checkpoint file (or run folder) to resume from / play.")
     p.add_argument(
@@ -102,15 +102,16 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--max_iterations", type=int, default=None, help="Training iterations (default: the agent's).")
     p.add_argument("--run_name", default="", help="Suffix of the run folder: <timestamp>_<run_name>.")
     p.add_argument(
+        "--export_io_descriptors",
+        action="store_true",
+        help="Write the policy's observation and action terms to <run>/io_descriptors/IO_descriptors.yaml "
+        "(manager-based tasks).",
+    )
+    p.add_argument(
         "--distributed",
         action="store_true",
         help="Train on several GPUs or nodes (torch.distributed; gloo on the CPU). Under torchrun each "
         "process trains; without torchrun simlab launches it, one process per GPU (see the launch flags).",
-    )
-    p.add_argument(
-        "--export_io_descriptors",
-        action="store_true",
-        help="Write the policy's inputs and outputs to <run>/io_descriptors/IO_descriptors.yaml (manager-based tasks).",
     )
     p.add_argument(
         "--ml_framework",

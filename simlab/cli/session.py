@@ -24,7 +24,7 @@ __all__ = [
 ]
 
 LIBRARIES = ("rsl_rl", "skrl", "sb3", "rl_games")
-SKRL_ALGORITHMS = ("PPO", "IPPO", "MAPPO")
+SKRL_ALGORITHMS = ("PPO", "AMP", "IPPO", "MAPPO")
 
 
 def agent_entry_point(library: str, algorithm: str | None) -> str:
@@ -76,6 +76,19 @@ def resolve_seed(seed: int | None) -> int | None:
     return set_seed(seed) if seed == -1 else seed
 
 
+def _default_to_amp(args: argparse.Namespace) -> None:
+    """skrl without ``--algorithm`` on a task that registers only an AMP agent (the AMP humanoids) trains AMP."""
+    if args.library != "skrl" or getattr(args, "algorithm", None) or getattr(args, "agent", None):
+        return
+    try:
+        kwargs = gym.spec(args.task).kwargs
+    except gym.error.Error:
+        return  # load_cfg_from_registry names the unknown task
+    if "skrl_cfg_entry_point" not in kwargs and "skrl_amp_cfg_entry_point" in kwargs:
+        print(f"[simlab] {args.task} registers skrl's AMP agent only: --algorithm AMP")
+        args.algorithm = "AMP"
+
+
 def load_configs(args: argparse.Namespace, overrides: list[str], with_agent: bool = True) -> tuple[Any, Any]:
     """The env and agent configs of ``args.task``: registry defaults, then overrides, then flags.
 
@@ -87,6 +100,7 @@ def load_configs(args: argparse.Namespace, overrides: list[str], with_agent: boo
     env_cfg = load_cfg_from_registry(args.task, "env_cfg_entry_point")
     agent_cfg = None
     if with_agent:
+        _default_to_amp(args)
         entry_point = getattr(args, "agent", None) or agent_entry_point(args.library, args.algorithm)
         agent_cfg = load_cfg_from_registry(args.task, entry_point)
     apply_overrides(env_cfg, agent_cfg, overrides)

@@ -66,6 +66,19 @@ def _setup_ranks(args: argparse.Namespace, env_cfg: Any) -> distributed.Ranks:
     return ranks
 
 
+def _ask_for_io_descriptors(args: argparse.Namespace, env_cfg: Any) -> None:
+    """``--export_io_descriptors``: manager-based envs write them into the run folder when built."""
+    if not getattr(args, "export_io_descriptors", False):
+        return
+    if hasattr(env_cfg, "export_io_descriptors"):
+        env_cfg.export_io_descriptors = True
+    else:
+        print(
+            f"[simlab] --export_io_descriptors: {args.task} is a direct task, which has no observation or action "
+            "terms to describe; IO descriptors exist for manager-based tasks only. Training goes on without them."
+        )
+
+
 def _settings_all_ranks_share(args: argparse.Namespace, overrides: list[str], env: Any) -> dict[str, Any]:
     """What must be equal on every rank for the library's collectives to line up."""
     unwrapped = env.unwrapped
@@ -89,6 +102,7 @@ def run_train(args: argparse.Namespace, overrides: list[str], argv: list[str] | 
         raise ConfigError(f"--ml_framework {args.ml_framework} is skrl's; {args.library} trains on torch.")
     args.seed = resolve_seed(args.seed)
     env_cfg, agent_cfg = load_configs(args, overrides)
+    _ask_for_io_descriptors(args, env_cfg)
     ranks = _setup_ranks(args, env_cfg)
     lib = get_library(args.library)
     lib.configure(agent_cfg, args, env_cfg)
@@ -134,15 +148,9 @@ def _train_in(
     if run_dir is not None:
         if hasattr(env_cfg, "log_dir"):
             env_cfg.log_dir = run_dir
-        if getattr(args, "export_io_descriptors", False):
-            if hasattr(env_cfg, "export_io_descriptors"):
-                env_cfg.export_io_descriptors = True  # written by the env once its managers exist
-            else:
-                print(
-                    f"[simlab] --export_io_descriptors: {args.task} is a direct task; its observations are computed"
-                    " in one method, with no terms to describe. Only manager-based tasks export IO descriptors."
-                )
         dump_params(run_dir, env_cfg, agent_cfg, argv)
+    elif getattr(env_cfg, "export_io_descriptors", False):
+        env_cfg.export_io_descriptors = False  # rank 0 writes them, into its run folder
     multi = uses_multi_agent_learner(args)
     video_dir = os.path.join(run_dir, "videos", "train") if run_dir else None
     env = make_env(args, env_cfg, video_dir, single_agent=not multi)

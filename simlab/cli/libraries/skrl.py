@@ -1,4 +1,4 @@
-"""skrl adapter: skrl's ``Runner`` (PPO, IPPO, MAPPO) from the task's YAML, run folders, resume, Ctrl+C saves.
+"""skrl adapter: skrl's ``Runner`` (PPO, AMP, IPPO, MAPPO) from the task's YAML, run folders, resume, Ctrl+C saves.
 
 skrl trains on torch (default) or JAX (``--ml_framework jax`` or ``jax-numpy``); ``--distributed``
 uses skrl's ``config.torch`` distributed mode in the process group simlab started.
@@ -128,6 +128,10 @@ def configure(agent_cfg: dict, args: argparse.Namespace, env_cfg: Any) -> None:
     ml_framework = getattr(args, "ml_framework", None) or "torch"
     if ml_framework not in ML_FRAMEWORKS:
         raise ValueError(f"Unknown --ml_framework '{ml_framework}'. Allowed: {list(ML_FRAMEWORKS)}.")
+    if ml_framework != "torch" and str(agent_cfg["agent"].get("class", "")).upper() == "AMP":
+        raise ValueError(
+            f"skrl's AMP agent exists for torch only; drop --ml_framework {ml_framework} (torch is the default)."
+        )
     if getattr(args, "distributed", False):
         if ml_framework != "torch":
             raise ValueError("--distributed trains skrl on torch; drop --ml_framework or use --ml_framework torch.")
@@ -224,6 +228,31 @@ def _guard_updates(agent: Any) -> None:
     agent.update = checked_update
 
 
+STYLE_REWARD_TAG = "Reward / Style reward (mean)"
+
+
+def _track_style_reward(agent: Any) -> None:
+    """Log the discriminator's reward of each rollout as ``STYLE_REWARD_TAG`` (skrl's AMP logs only losses).
+
+    It is skrl's style reward, ``-log(max(1 - sigmoid(D(amp_obs)), 1e-4))``, before
+    ``style_reward_scale``, judged by the discriminator of that rollout (before its update): it
+    rises as the policy's motion becomes harder to tell from the reference clip's.
+    """
+    update = agent.update
+
+    def update_and_track(*, timestep: int, timesteps: int, **kwargs: Any) -> None:
+        amp_obs = agent.memory.get_tensor_by_name("amp_observations")
+        with torch.no_grad():
+            logits, _ = agent.discriminator.act(
+                {"observations": agent._amp_observation_preprocessor(amp_obs)}, role="discriminator"
+            )
+            reward = -torch.log(torch.clamp(1.0 - torch.sigmoid(logits), min=1e-4))
+        agent.track_data(STYLE_REWARD_TAG, reward.mean().item())
+        update(timestep=timestep, timesteps=timesteps, **kwargs)
+
+    agent.update = update_and_track
+
+
 def train(
     env: gym.Env, agent_cfg: dict, run_dir: str | None, args: argparse.Namespace, resume_path: str | None
 ) -> None:
@@ -239,6 +268,8 @@ def train(
     agent = runner.agent
     if ml_framework == "torch":  # the guard reads torch modules' state
         _guard_updates(agent)
+        if getattr(agent, "discriminator", None) is not None:
+            _track_style_reward(agent)
     checkpoints = os.path.join(run_dir, "checkpoints") if run_dir is not None else None
     steps = env.unwrapped.common_step_counter
 
@@ -283,6 +314,10 @@ class _SkrlActor(nn.Module):
 
 
 def load_policy(env: gym.Env, agent_cfg: dict, checkpoint: str) -> Policy:
+    agent_cfg = copy.deepcopy(agent_cfg)
+    for memory in ("motion_dataset", "reply_buffer"):  # AMP's training memories: playing fills none
+        if memory in agent_cfg:
+            agent_cfg[memory]["memory_size"] = agent_cfg["agent"].get("amp_batch_size", 512)
     runner = make_runner(env, agent_cfg, None)  # torch models: play and export run on torch
     agent = runner.agent
     agent.load(checkpoint)

@@ -1,0 +1,207 @@
+"""Does skrl's AMP learn the humanoid's reference motion? Train, then play the policy and compare with the clip.
+
+    python scripts/benchmarks/amp_learn.py                                   # walk, the task's defaults
+    python scripts/benchmarks/amp_learn.py --motion run --max_iterations 2000 --video
+    python scripts/benchmarks/amp_learn.py --num_envs 4 --max_iterations 3 --device cpu \\
+        agent.motion_dataset.memory_size=2048 agent.reply_buffer.memory_size=2048   # a CPU smoke run
+
+Training runs as ``simlab train --task simlab/Humanoid-AMP-<Motion>-Direct-v0 --library skrl
+--algorithm AMP --headless`` in a child process (extra arguments are passed on as Hydra overrides).
+Reported:
+
+* the discriminator (style) reward of the rollouts, from the run's TensorBoard log
+  (``Reward / Style reward (mean)``, one point per write interval): its first and last fifths and
+  every tenth point;
+  it rises as the policy's transitions become harder to tell from the clip's;
+* the mean episode length, from the same log (falls end episodes early);
+* from a played policy (its mean actions; ``--eval_envs`` envs, ``--eval_seconds``), counting only
+  steps at least ``--settle_seconds`` into an episode: the joint-angle RMS error to the clip's
+  nearest frame (AMP imitates a style, not a clock, so each played pose is compared with the clip
+  pose closest to it; the same number for the standing zero pose is given for scale), the forward
+  speed (world x, the clip's direction) and the horizontal speed beside the clip's, and the falls
+  per env-minute.
+"""
+
+from __future__ import annotations
+
+import argparse
+import glob
+import json
+import os
+import subprocess
+import sys
+import time
+
+import torch
+
+from simlab.cli.libraries.skrl import STYLE_REWARD_TAG
+from simlab.cli.main import build_parser
+from simlab.cli.play import run_play
+from simlab.tasks.utils import load_cfg_from_registry
+
+MOTIONS = ("walk", "run", "dance")
+
+
+def scalars(run_dir: str, tag: str) -> list[float]:
+    from tensorboard.backend.event_processing.event_accumulator import EventAccumulator
+
+    events = EventAccumulator(run_dir, size_guidance={"scalars": 0})
+    events.Reload()
+    return [s.value for s in events.Scalars(tag)] if tag in events.Tags()["scalars"] else []
+
+
+def trend(values: list[float]) -> dict[str, float | list[float]]:
+    """First and last fifth means and up to 10 evenly spaced points."""
+    if not values:
+        return {}
+    fifth = max(1, len(values) // 5)
+    step = max(1, len(values) // 10)
+    return {
+        "first_fifth_mean": sum(values[:fifth]) / fifth,
+        "last_fifth_mean": sum(values[-fifth:]) / fifth,
+        "points": [round(v, 4) for v in values[::step]],
+        "count": len(values),
+    }
+
+
+class GaitRecorder:
+    """An ``on_step`` hook for :func:`simlab.cli.play.run_play`: the played humanoid against its clip."""
+
+    def __init__(self, settle_seconds: float):
+        self.settle_seconds = settle_seconds
+        self.squared_errors: list[torch.Tensor] = []
+        self.forward: list[torch.Tensor] = []
+        self.horizontal: list[torch.Tensor] = []
+        self.falls = 0
+        self.env_steps = 0
+        self.step_dt = float("nan")
+        self.clip_speed = float("nan")
+        self.zero_pose_rms = float("nan")
+        self._clip_poses: torch.Tensor | None = None
+
+    def _setup(self, env) -> None:
+        motion = env._motion_loader
+        self._clip_poses = motion.dof_positions[:, env.motion_dof_indexes]  # (frames, joints) in robot order
+        torso = motion.get_body_index([env.cfg.reference_body])[0]
+        advance = motion.body_positions[-1, torso, 0] - motion.body_positions[0, torso, 0]
+        self.clip_speed = float(advance / motion.duration)
+        self.zero_pose_rms = float(self._nearest_squared_error(torch.zeros(1, self._clip_poses.shape[1])).sqrt())
+        self.step_dt = env.step_dt
+
+    def _nearest_squared_error(self, joint_pos: torch.Tensor) -> torch.Tensor:
+        """Mean over joints of the squared error to the nearest clip frame, per env."""
+        poses = self._clip_poses.to(joint_pos.device)
+        return torch.cdist(joint_pos, poses).min(dim=1).values ** 2 / poses.shape[1]
+
+    def __call__(self, env, obs, actions) -> None:
+        if self._clip_poses is None:
+            self._setup(env)
+        self.env_steps += env.num_envs
+        self.falls += int(env.reset_terminated.sum())
+        settled = env.episode_length_buf * env.step_dt >= self.settle_seconds
+        if not bool(settled.any()):
+            return
+        data = env.robot.data
+        self.squared_errors.append(self._nearest_squared_error(data.joint_pos[settled]).cpu())
+        velocity = data.root_lin_vel_w[settled]
+        self.forward.append(velocity[:, 0].cpu())
+        self.horizontal.append(velocity[:, :2].norm(dim=-1).cpu())
+
+    def summary(self) -> dict[str, float]:
+        def mean(chunks: list[torch.Tensor]) -> float:
+            return float(torch.cat(chunks).mean()) if chunks else float("nan")
+
+        return {
+            "joint_rms_error_rad": mean(self.squared_errors) ** 0.5,
+            "zero_pose_joint_rms_error_rad": self.zero_pose_rms,
+            "forward_speed_m_s": mean(self.forward),
+            "horizontal_speed_m_s": mean(self.horizontal),
+            "clip_forward_speed_m_s": self.clip_speed,
+            "falls_per_env_minute": self.falls / max(1, self.env_steps) * 60.0 / self.step_dt,
+        }
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--motion", choices=MOTIONS, default="walk")
+    parser.add_argument("--num_envs", type=int, default=None, help="Training envs (default: the task's).")
+    parser.add_argument("--max_iterations", type=int, default=None, help="Default: the agent config's.")
+    parser.add_argument("--device", default=None)
+    parser.add_argument("--log_root", default="logs")
+    parser.add_argument("--eval_envs", type=int, default=64)
+    parser.add_argument("--eval_seconds", type=float, default=10.0)
+    parser.add_argument("--settle_seconds", type=float, default=0.5, help="Skip this much of each episode.")
+    parser.add_argument("--video", action="store_true", help="Record a play video (in the run's videos/play).")
+    parser.add_argument("--skip_training", action="store_true", help="Evaluate the newest amp_learn run only.")
+    parser.add_argument("--json", default=None, help="Also write the results to this JSON file.")
+    args, overrides = parser.parse_known_args()
+    task = f"simlab/Humanoid-AMP-{args.motion.capitalize()}-Direct-v0"
+
+    wall = float("nan")
+    if not args.skip_training:
+        cmd = [sys.executable, "-m", "simlab", "train", "--task", task, "--library", "skrl", "--algorithm", "AMP"]
+        cmd += ["--headless", "--log_root", args.log_root, "--run_name", "amp_learn"]
+        for flag in ("num_envs", "max_iterations", "device"):
+            if getattr(args, flag) is not None:
+                cmd += [f"--{flag}", str(getattr(args, flag))]
+        cmd += overrides
+        print(f"=== {' '.join(cmd[2:])}", flush=True)
+        start = time.time()
+        if subprocess.run(cmd, env={**os.environ, "PYTHONUNBUFFERED": "1"}).returncode != 0:
+            return 1
+        wall = time.time() - start
+
+    experiment = load_cfg_from_registry(task, "skrl_amp_cfg_entry_point")["agent"]["experiment"]["directory"]
+    runs = sorted(glob.glob(os.path.join(args.log_root, "skrl", experiment, "*_amp_learn")))
+    if not runs:
+        where = os.path.join(args.log_root, "skrl", experiment)
+        print(f"No amp_learn run of {task} under {where}; train first (drop --skip_training).")
+        return 1
+    run_dir = runs[-1]
+    checkpoints = glob.glob(os.path.join(run_dir, "checkpoints", "agent_*.pt"))
+    checkpoint = max(checkpoints, key=lambda p: int(os.path.basename(p)[len("agent_") : -len(".pt")]))
+
+    env_cfg = load_cfg_from_registry(task, "env_cfg_entry_point")
+    steps = round(args.eval_seconds / (env_cfg.sim.dt * env_cfg.decimation))
+    play_argv = ["play", "--task", task, "--library", "skrl", "--algorithm", "AMP", "--checkpoint", checkpoint]
+    play_argv += ["--headless", "--num_envs", str(args.eval_envs), "--steps", str(steps), "--no_export"]
+    play_argv += ["--log_root", args.log_root]
+    if args.device:
+        play_argv += ["--device", args.device]
+    if args.video:
+        play_argv += ["--video", "--video_length", str(min(steps, 300))]
+    recorder = GaitRecorder(args.settle_seconds)
+    run_play(build_parser().parse_args(play_argv), [], on_step=recorder)
+
+    results = {
+        "task": task,
+        "run_dir": run_dir,
+        "checkpoint": checkpoint,
+        "train_wall_s": wall,
+        "style_reward": trend(scalars(run_dir, STYLE_REWARD_TAG)),
+        "episode_length_steps": trend(scalars(run_dir, "Episode / Total timesteps (mean)")),
+        "play": {"envs": args.eval_envs, "seconds": args.eval_seconds, **recorder.summary()},
+    }
+    style, episodes, play = results["style_reward"], results["episode_length_steps"], results["play"]
+    print(f"\n{task}: {run_dir}")
+    if style:
+        print(
+            f"style reward (TensorBoard points): first fifth {style['first_fifth_mean']:.3f} -> last fifth "
+            f"{style['last_fifth_mean']:.3f} ({style['count']} points; every tenth: {style['points']})"
+        )
+    if episodes:
+        print(f"episode length [steps]: {episodes['first_fifth_mean']:.1f} -> {episodes['last_fifth_mean']:.1f}")
+    print(
+        f"played ({args.eval_envs} envs, {args.eval_seconds} s): joint RMS error to the nearest clip frame "
+        f"{play['joint_rms_error_rad']:.3f} rad (standing zero pose: {play['zero_pose_joint_rms_error_rad']:.3f}); "
+        f"forward speed {play['forward_speed_m_s']:.3f} m/s (horizontal {play['horizontal_speed_m_s']:.3f}, "
+        f"clip {play['clip_forward_speed_m_s']:.3f}); {play['falls_per_env_minute']:.2f} falls per env-minute"
+    )
+    if args.json:
+        with open(args.json, "w") as f:
+            json.dump(results, f, indent=2)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,230 @@
+"""Walk, run and dance clips for simlab's humanoid, made by a kinematic gait generator.
+
+Isaac Lab's AMP clips are motion capture that cannot be shipped, so simlab makes its own. Each clip
+is a periodic pattern of joint angles (sinusoids of the gait phase: hips swing, knees flex in the
+swing phase, ankles keep the feet level, arms swing against the legs, the waist counter-rotates).
+The body poses come from MuJoCo's forward kinematics (``mj_kinematics``) of
+``simlab/robots/assets/humanoid.xml``; the torso is placed so that the lower foot touches the ground
+and does not slide (the torso advances by what the stance foot moves back), so the forward speed
+follows from the leg motion. Velocities are finite differences. ``python scripts/tools/make_motion_clips.py``
+writes the clips shipped in this folder.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+from simlab.robots.humanoid import ASSETS_DIR
+
+from .motion_file import write_motion_file
+
+__all__ = ["CLIPS", "ClipSpec", "make_clip", "write_clips"]
+
+HUMANOID_XML = os.path.join(ASSETS_DIR, "humanoid.xml")
+FOOT_GEOMS = {
+    "right_foot": ("right_right_foot", "left_right_foot"),
+    "left_foot": ("left_left_foot", "right_left_foot"),
+}
+
+
+@dataclass(frozen=True)
+class ClipSpec:
+    """A periodic motion: joint angles as a function of the gait phase (radians, 0..2 pi)."""
+
+    name: str
+    cadence_hz: float  # gait cycles (two steps) per second
+    cycles: int  # cycles in the clip
+    torso_pitch: float  # forward lean of the torso [rad]
+    joint_angles: Callable[[float], dict[str, float]]
+
+
+def _legs(
+    phase: float,
+    hip_swing: float,
+    hip_bias: float,
+    knee_rest: float,
+    knee_swing: float,
+    lean: float,
+    march: bool = False,
+) -> dict[str, float]:
+    """Both legs: the right leg swings forward while cos(phase) > 0, the left half a cycle later.
+
+    ``march`` lifts the knees in place instead: the thigh moves only in the swing phase, so the
+    stance foot stays under the body and the torso does not advance.
+    """
+    angles = {}
+    for side, shift in (("right", 0.0), ("left", math.pi)):
+        p = phase + shift
+        if march:
+            hip = hip_bias - hip_swing * max(0.0, math.cos(p)) ** 2
+        else:
+            hip = -hip_swing * math.sin(p) + hip_bias  # negative: the thigh swings forward
+        knee = -(knee_rest + knee_swing * max(0.0, math.cos(p)) ** 2)  # negative: the knee bends
+        angles[f"{side}_thigh:1"] = hip
+        angles[f"{side}_shin"] = knee
+        angles[f"{side}_foot:0"] = 0.8 * (knee - hip - lean)  # keep the sole roughly level
+    return angles
+
+
+def _walk(phase: float) -> dict[str, float]:
+    angles = _legs(phase, hip_swing=0.40, hip_bias=-0.10, knee_rest=0.10, knee_swing=0.90, lean=0.05)
+    angles["right_upper_arm:2"] = -0.35 * math.sin(phase)  # arms swing against the legs
+    angles["left_upper_arm:2"] = 0.35 * math.sin(phase)
+    angles["right_upper_arm:0"] = angles["left_upper_arm:0"] = 0.35  # arms closer to the body
+    angles["right_lower_arm"] = angles["left_lower_arm"] = -0.40
+    angles["lower_waist:0"] = 0.10 * math.sin(phase)  # the waist counter-rotates
+    angles["pelvis"] = 0.05 * math.cos(phase)
+    return angles
+
+
+def _run(phase: float) -> dict[str, float]:
+    angles = _legs(phase, hip_swing=0.70, hip_bias=-0.25, knee_rest=0.30, knee_swing=1.50, lean=0.15)
+    angles["right_upper_arm:2"] = -0.60 * math.sin(phase)
+    angles["left_upper_arm:2"] = 0.60 * math.sin(phase)
+    angles["right_upper_arm:0"] = angles["left_upper_arm:0"] = 0.40
+    angles["right_lower_arm"] = angles["left_lower_arm"] = -1.20  # elbows bent
+    angles["lower_waist:0"] = 0.20 * math.sin(phase)
+    angles["lower_waist:1"] = 0.10  # leaning into the run
+    angles["pelvis"] = 0.08 * math.cos(phase)
+    return angles
+
+
+def _dance(phase: float) -> dict[str, float]:
+    # marching in place with high knees, the torso twisting, the arms raised and waving
+    angles = _legs(phase, hip_swing=0.90, hip_bias=-0.05, knee_rest=0.10, knee_swing=1.30, lean=0.0, march=True)
+    angles["lower_waist:0"] = 0.45 * math.sin(phase)
+    angles["pelvis"] = 0.20 * math.sin(phase)
+    angles["right_upper_arm:0"] = -0.90 + 0.40 * math.sin(2 * phase)
+    angles["left_upper_arm:0"] = -0.90 - 0.40 * math.sin(2 * phase)
+    angles["right_upper_arm:2"] = 0.50 * math.cos(phase)
+    angles["left_upper_arm:2"] = -0.50 * math.cos(phase)
+    angles["right_lower_arm"] = -0.80 + 0.50 * math.sin(2 * phase)
+    angles["left_lower_arm"] = -0.80 - 0.50 * math.sin(2 * phase)
+    return angles
+
+
+CLIPS = {
+    "walk": ClipSpec("walk", cadence_hz=0.9, cycles=4, torso_pitch=0.05, joint_angles=_walk),
+    "run": ClipSpec("run", cadence_hz=1.4, cycles=6, torso_pitch=0.15, joint_angles=_run),
+    "dance": ClipSpec("dance", cadence_hz=0.75, cycles=3, torso_pitch=0.0, joint_angles=_dance),
+}
+"""The shipped clips: cadence in gait cycles per second (two steps each)."""
+
+
+def _quat_multiply(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Hamilton products of (..., 4) quaternions (w, x, y, z)."""
+    aw, ax, ay, az = np.moveaxis(a, -1, 0)
+    bw, bx, by, bz = np.moveaxis(b, -1, 0)
+    return np.stack(
+        [
+            aw * bw - ax * bx - ay * by - az * bz,
+            aw * bx + ax * bw + ay * bz - az * by,
+            aw * by - ax * bz + ay * bw + az * bx,
+            aw * bz + ax * by - ay * bx + az * bw,
+        ],
+        axis=-1,
+    )
+
+
+def _angular_velocities(quats: np.ndarray, dt: float) -> np.ndarray:
+    """World-frame angular velocities (F, B, 3) of quaternion tracks (F, B, 4): 2 dq/dt q^-1."""
+    quats = quats.copy()
+    for f in range(1, len(quats)):  # one sign along each track, so differences are small
+        flip = (quats[f] * quats[f - 1]).sum(-1) < 0
+        quats[f, flip] *= -1
+    dq = np.gradient(quats, dt, axis=0)
+    conj = quats * np.array([1.0, -1.0, -1.0, -1.0])
+    return 2.0 * _quat_multiply(dq, conj)[..., 1:]
+
+
+def _lowest_point(model: mujoco.MjModel, data: mujoco.MjData, geom_names: tuple[str, ...]) -> np.ndarray:
+    """The lowest point (3,) of the capsules ``geom_names`` in the current pose."""
+    best = None
+    for name in geom_names:
+        g = model.geom(name).id
+        axis = data.geom_xmat[g].reshape(3, 3)[:, 2] * model.geom_size[g, 1]
+        for end in (data.geom_xpos[g] + axis, data.geom_xpos[g] - axis):
+            point = end - np.array([0.0, 0.0, model.geom_size[g, 0]])
+            if best is None or point[2] < best[2]:
+                best = point
+    return best
+
+
+def make_clip(spec: ClipSpec, fps: float = 60.0, xml_path: str = HUMANOID_XML) -> tuple[dict, dict]:
+    """The clip of ``spec`` as motion-file arrays, and its measured forward speed and cadence."""
+    model = mujoco.MjModel.from_xml_path(xml_path)
+    data = mujoco.MjData(model)
+    joints = [model.joint(j) for j in range(model.njnt) if model.jnt_type[j] == mujoco.mjtJoint.mjJNT_HINGE]
+    dof_names = [j.name for j in joints]
+    body_names = [model.body(b).name for b in range(1, model.nbody)]
+    frames_per_cycle = round(fps / spec.cadence_hz)
+    cadence = fps / frames_per_cycle  # a whole number of frames per cycle, so the clip loops
+    num_frames = spec.cycles * frames_per_cycle + 1
+    torso_quat = np.array([math.cos(spec.torso_pitch / 2), 0.0, math.sin(spec.torso_pitch / 2), 0.0])
+
+    dof_positions = np.zeros((num_frames, len(joints)))
+    body_positions = np.zeros((num_frames, len(body_names), 3))
+    body_rotations = np.zeros((num_frames, len(body_names), 4))
+    root_x, previous_stance, previous_feet = 0.0, None, {}
+    for f in range(num_frames):
+        angles = spec.joint_angles(2 * math.pi * f / frames_per_cycle)
+        unknown = set(angles) - set(dof_names)
+        if unknown:
+            raise ValueError(f"Clip '{spec.name}' sets unknown joints {sorted(unknown)}; joints: {dof_names}")
+        data.qpos[:] = 0.0
+        data.qpos[3:7] = torso_quat
+        for j, joint in enumerate(joints):
+            low, high = model.jnt_range[joint.id]
+            angle = float(np.clip(angles.get(joint.name, 0.0), low, high))
+            data.qpos[model.jnt_qposadr[joint.id]] = angle
+            dof_positions[f, j] = angle
+        mujoco.mj_kinematics(model, data)
+        feet = {name: _lowest_point(model, data, geoms) for name, geoms in FOOT_GEOMS.items()}
+        stance = min(feet, key=lambda name: feet[name][2])
+        # the torso advances by what the stance foot (the lower one) moved back since the last frame
+        if previous_stance is not None:
+            root_x -= feet[previous_stance][0] - previous_feet[previous_stance][0]
+        previous_stance, previous_feet = stance, feet
+        offset = np.array([root_x, 0.0, -feet[stance][2]])  # lower foot on the ground
+        body_positions[f] = data.xpos[1:] + offset
+        body_rotations[f] = data.xquat[1:]
+
+    dt = 1.0 / fps
+    clip = {
+        "fps": fps,
+        "dof_names": dof_names,
+        "body_names": body_names,
+        "dof_positions": dof_positions,
+        "dof_velocities": np.gradient(dof_positions, dt, axis=0),
+        "body_positions": body_positions,
+        "body_rotations": body_rotations,
+        "body_linear_velocities": np.gradient(body_positions, dt, axis=0),
+        "body_angular_velocities": _angular_velocities(body_rotations, dt),
+    }
+    torso = body_names.index("torso")
+    duration = dt * (num_frames - 1)
+    stats = {
+        "duration_s": duration,
+        "cadence_hz": cadence,
+        "forward_speed_m_s": (body_positions[-1, torso, 0] - body_positions[0, torso, 0]) / duration,
+        "mean_torso_height_m": float(body_positions[:, torso, 2].mean()),
+    }
+    return clip, stats
+
+
+def write_clips(folder: str, names: list[str] | None = None, fps: float = 60.0) -> dict[str, dict]:
+    """Write ``humanoid_<name>.npz`` for each clip into ``folder``; returns each clip's stats."""
+    all_stats = {}
+    for name in names or list(CLIPS):
+        if name not in CLIPS:
+            raise ValueError(f"Unknown clip '{name}'. Clips: {list(CLIPS)}")
+        clip, stats = make_clip(CLIPS[name], fps)
+        write_motion_file(os.path.join(folder, f"humanoid_{name}.npz"), **clip)
+        all_stats[name] = stats
+    return all_stats

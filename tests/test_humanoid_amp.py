@@ -1,0 +1,252 @@
+"""The AMP humanoid: motion files, the clip generator, reference-state initialisation, AMP observations,
+and ``simlab train/play --library skrl --algorithm AMP`` end to end."""
+
+from __future__ import annotations
+
+import glob
+import math
+import os
+
+import gymnasium as gym
+import numpy as np
+import pytest
+import torch
+
+import simlab.tasks  # noqa: F401 - registers the tasks
+from simlab.cli.main import main
+from simlab.tasks.direct.humanoid_amp.motions import MOTIONS_DIR
+from simlab.tasks.direct.humanoid_amp.motions.kinematic_clips import CLIPS, make_clip
+from simlab.tasks.direct.humanoid_amp.motions.motion_file import MOTION_KEYS, write_motion_file
+from simlab.tasks.direct.humanoid_amp.motions.motion_loader import MotionLoader
+from simlab.tasks.utils import load_cfg_from_registry
+
+TASK = "simlab/Humanoid-AMP-Walk-Direct-v0"
+# tiny AMP memories: the configs' 200k / 1M-sample memories take seconds and 0.5 GB to allocate
+SMALL_MEMORIES = ["agent.motion_dataset.memory_size=1024", "agent.reply_buffer.memory_size=1024"]
+
+
+def _two_joint_clip(path: str) -> None:
+    """Three frames at 10 fps: joint a goes 0, 1, 3; body b turns 0, 90, 90 degrees about z."""
+    quarter = [math.cos(math.pi / 4), 0.0, 0.0, math.sin(math.pi / 4)]
+    identity = [1.0, 0.0, 0.0, 0.0]
+    write_motion_file(
+        path,
+        fps=10.0,
+        dof_names=["a", "b"],
+        body_names=["root", "b"],
+        dof_positions=[[0.0, 0.0], [1.0, -1.0], [3.0, -3.0]],
+        dof_velocities=np.zeros((3, 2)),
+        body_positions=np.arange(18, dtype=float).reshape(3, 2, 3),
+        body_rotations=[[identity, identity], [identity, quarter], [identity, quarter]],
+        body_linear_velocities=np.zeros((3, 2, 3)),
+        body_angular_velocities=np.zeros((3, 2, 3)),
+    )
+
+
+def test_a_users_motion_file_loads_and_is_sampled_with_interpolation(tmp_path):
+    path = str(tmp_path / "mine.npz")
+    _two_joint_clip(path)
+    motion = MotionLoader(path, "cpu")
+    assert (motion.num_frames, motion.duration, motion.dof_names) == (3, pytest.approx(0.2), ["a", "b"])
+    dof_pos, _, body_pos, body_rot, _, _ = motion.sample(4, times=np.array([0.05, 0.15, 0.2, 7.0]))
+    # halfway between frames 0 and 1, then 1 and 2; the end and beyond it clamp to the last frame
+    np.testing.assert_allclose(dof_pos[:, 0], [0.5, 2.0, 3.0, 3.0], atol=1e-5)
+    np.testing.assert_allclose(body_pos[0, 1], [6.0, 7.0, 8.0], atol=1e-5)  # frames: 3 4 5, 9 10 11
+    half = [math.cos(math.pi / 8), 0.0, 0.0, math.sin(math.pi / 8)]  # slerp: 45 degrees about z
+    np.testing.assert_allclose(body_rot[0, 1], half, atol=1e-5)
+    assert motion.get_dof_index(["b", "a"]) == [1, 0]
+    with pytest.raises(ValueError, match=r"no joint named \['knee'\]"):
+        motion.get_dof_index(["knee"])
+    times = motion.sample_times(1000)
+    assert float(times.min()) >= 0.0 and float(times.max()) <= motion.duration
+
+
+def test_bad_motion_files_say_what_is_wrong(tmp_path):
+    path = str(tmp_path / "partial.npz")
+    np.savez(path, fps=30.0, dof_names=np.array(["a"]))
+    with pytest.raises(ValueError, match="lacks") as e:
+        MotionLoader(path, "cpu")
+    assert all(key in str(e.value) for key in MOTION_KEYS[3:])
+    with pytest.raises(ValueError, match=r"dof_velocities has shape \(2, 3\); expected \(2, 1\)"):
+        write_motion_file(
+            str(tmp_path / "bad.npz"),
+            fps=30.0,
+            dof_names=["a"],
+            body_names=["root"],
+            dof_positions=np.zeros((2, 1)),
+            dof_velocities=np.zeros((2, 3)),
+            body_positions=np.zeros((2, 1, 3)),
+            body_rotations=np.zeros((2, 1, 4)),
+            body_linear_velocities=np.zeros((2, 1, 3)),
+            body_angular_velocities=np.zeros((2, 1, 3)),
+        )
+    with pytest.raises(FileNotFoundError):
+        MotionLoader(str(tmp_path / "missing.npz"), "cpu")
+
+
+def test_shipped_clips_are_what_the_generator_makes():
+    for name, spec in CLIPS.items():
+        clip, stats = make_clip(spec)
+        shipped = np.load(os.path.join(MOTIONS_DIR, f"humanoid_{name}.npz"))
+        for key in MOTION_KEYS[3:]:
+            np.testing.assert_allclose(shipped[key], clip[key], atol=1e-5, err_msg=f"{name}: {key}")
+        assert shipped["dof_names"].tolist() == clip["dof_names"]
+    walk, run = make_clip(CLIPS["walk"])[1], make_clip(CLIPS["run"])[1]
+    assert 0.4 < walk["forward_speed_m_s"] < run["forward_speed_m_s"]
+
+
+def _make_env(num_envs: int = 3, **cfg_fields):
+    cfg = load_cfg_from_registry(TASK, "env_cfg_entry_point")
+    cfg.scene.num_envs = num_envs
+    cfg.sim.device = "cpu"
+    cfg.seed = 0
+    for key, value in cfg_fields.items():
+        setattr(cfg, key, value)
+    return gym.make(TASK, cfg=cfg)
+
+
+def test_env_steps_and_amp_observations_match_their_space():
+    env = _make_env(3)
+    try:
+        base = env.unwrapped
+        obs, _ = env.reset()
+        size = base.amp_observation_space.shape[0]
+        assert size == base.cfg.num_amp_observations * base.cfg.amp_observation_space == 134
+        assert obs["policy"].shape == (3, base.cfg.observation_space)
+        for _ in range(5):
+            obs, reward, terminated, truncated, extras = env.step(0.1 * torch.randn(3, 21))
+        assert extras["amp_obs"].shape == (3, size) and torch.isfinite(extras["amp_obs"]).all()
+        # the newest frame of the history is the state the step ended in (final_obs)
+        torch.testing.assert_close(extras["amp_obs"][:, : size // 2], extras["final_obs"]["policy"])
+        reference = base.collect_reference_motions(7)
+        assert reference.shape == (7, size) and torch.isfinite(reference).all()
+        assert torch.equal(reward, torch.ones(3))
+        assert base.graph_blockers() == []  # resets by mask: the step can replay as a CUDA graph
+    finally:
+        env.close()
+
+
+def test_reference_state_init_puts_the_humanoid_in_the_clips_pose():
+    env = _make_env(3, reset_strategy="random-start")
+    try:
+        base = env.unwrapped
+        env.reset()
+        motion = base._motion_loader
+        robot = base.robot
+        first = motion.dof_positions[0, base.motion_dof_indexes]
+        torch.testing.assert_close(robot.data.joint_pos, first.expand(3, -1), atol=1e-6, rtol=0)
+        torso = motion.get_body_index(["torso"])[0]
+        expected_pos = motion.body_positions[0, torso] + base.scene.env_origins
+        expected_pos[:, 2] += base.cfg.reference_lift
+        torch.testing.assert_close(robot.data.root_pos_w, expected_pos, atol=1e-5, rtol=0)
+        torch.testing.assert_close(
+            robot.data.root_quat_w, motion.body_rotations[0, torso].expand(3, -1), atol=1e-5, rtol=0
+        )
+        # the sim's frame (forward kinematics of the written state) is the clip's frame: same key-body
+        # positions, velocities and orientation; only the torso height differs, by the lift
+        frame = base._get_observations()["policy"]
+        reference = base.collect_reference_motions(3, torch.zeros(3))[:, : frame.shape[1]]
+        height = 2 * robot.num_joints
+        torch.testing.assert_close(frame[:, height] - reference[:, height], torch.full((3,), 0.05), atol=1e-5, rtol=0)
+        keep = [i for i in range(frame.shape[1]) if i != height]
+        torch.testing.assert_close(frame[:, keep], reference[:, keep], atol=2e-3, rtol=0)
+        # the AMP history of a reset env is the clip's: no jump from a stale state into the first transition
+        torch.testing.assert_close(
+            base.amp_observation_buffer.flatten(1), base.collect_reference_motions(3, torch.zeros(3))
+        )
+    finally:
+        env.close()
+
+
+def test_random_reference_states_are_the_clip_at_random_times():
+    env = _make_env(4, reset_strategy="random")
+    try:
+        base = env.unwrapped
+        env.reset()
+        motion = base._motion_loader
+        dense = motion.sample(2001, times=torch.linspace(0, motion.duration, 2001))[0][:, base.motion_dof_indexes]
+        joint_pos = base.robot.data.joint_pos
+        nearest = torch.cdist(joint_pos, dense).min(dim=1).values
+        assert (nearest < 0.02).all(), nearest  # each env is on the clip...
+        assert torch.cdist(joint_pos, joint_pos).fill_diagonal_(1.0).min() > 0.01  # ...at its own time
+    finally:
+        env.close()
+
+
+def test_a_motion_for_another_skeleton_is_refused_naming_the_joints(tmp_path):
+    path = str(tmp_path / "other.npz")
+    _two_joint_clip(path)
+    with pytest.raises(ValueError, match="has no joint named.*lower_waist:0"):
+        _make_env(2, motion_file=path)
+
+
+def test_train_and_play_amp_with_skrl(tmp_path):
+    logs = ["--log_root", str(tmp_path / "logs")]
+    small = [
+        "--task",
+        TASK,
+        "--num_envs",
+        "2",
+        "--headless",
+        "--device",
+        "cpu",
+        "--library",
+        "skrl",
+        "--algorithm",
+        "AMP",
+    ]
+    assert main(["train", *small, "--max_iterations", "2", *logs, *SMALL_MEMORIES]) == 0
+    (run,) = glob.glob(str(tmp_path / "logs" / "skrl" / "humanoid_amp_walk" / "*"))
+    assert os.path.isfile(os.path.join(run, "checkpoints", "agent_32.pt"))  # 2 iterations x 16 rollouts
+
+    from tensorboard.backend.event_processing.event_accumulator import EventAccumulator
+
+    from simlab.cli.libraries.skrl import STYLE_REWARD_TAG
+
+    events = EventAccumulator(run)
+    events.Reload()
+    style = [s.value for s in events.Scalars(STYLE_REWARD_TAG)]
+    assert len(style) >= 1 and all(math.isfinite(v) and v >= 0 for v in style)
+    # without --algorithm, skrl plays the task's only agent: AMP
+    assert main(["play", *small[:-2], "--use_last_checkpoint", "--steps", "3", *logs]) == 0
+    assert os.path.isfile(os.path.join(run, "checkpoints", "exported", "policy.onnx"))
+
+
+@pytest.mark.parametrize("motion", ["Walk", "Run", "Dance"])
+def test_amp_tasks_register_skrl_amp_configs(motion):
+    task = f"simlab/Humanoid-AMP-{motion}-Direct-v0"
+    agent = load_cfg_from_registry(task, "skrl_amp_cfg_entry_point")
+    assert agent["agent"]["class"] == "AMP" and set(agent["models"]) >= {"policy", "value", "discriminator"}
+    assert agent["agent"]["experiment"]["directory"] == f"humanoid_amp_{motion.lower()}"
+    env_cfg = load_cfg_from_registry(task, "env_cfg_entry_point")
+    assert os.path.isfile(env_cfg.motion_file) and env_cfg.motion_file.endswith(f"humanoid_{motion.lower()}.npz")
+
+
+def test_default_reset_starts_the_history_afresh():
+    env = _make_env(2, reset_strategy="default")
+    try:
+        base = env.unwrapped
+        env.reset()
+        torch.testing.assert_close(base.robot.data.joint_pos, base.robot.data.default_joint_pos)
+        _, _, _, _, extras = env.step(torch.zeros(2, 21))
+        frames = extras["amp_obs"].view(2, base.cfg.num_amp_observations, -1)
+        torch.testing.assert_close(frames[:, 0], frames[:, 1])  # no stale frame from before the reset
+        _, _, _, _, extras = env.step(torch.zeros(2, 21))
+        frames = extras["amp_obs"].view(2, base.cfg.num_amp_observations, -1)
+        assert not torch.allclose(frames[:, 0], frames[:, 1])  # then the frames advance
+    finally:
+        env.close()
+
+
+def test_unknown_reset_strategy_is_refused():
+    with pytest.raises(
+        ValueError, match=r"Unknown reset_strategy 'randon'. Allowed: \['default', 'random', 'random-start'\]"
+    ):
+        _make_env(1, reset_strategy="randon")
+
+
+def test_amp_on_jax_is_refused_before_anything_is_built(tmp_path, capsys):
+    argv = ["train", "--task", TASK, "--library", "skrl", "--ml_framework", "jax", "--headless"]
+    assert main([*argv, "--log_root", str(tmp_path / "logs")]) == 2
+    assert "skrl's AMP agent exists for torch only" in capsys.readouterr().err
+    assert not (tmp_path / "logs").exists()
