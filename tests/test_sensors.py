@@ -17,6 +17,7 @@ from simlab.assets import AssetBaseCfg, RigidObjectCfg
 from simlab.scene import InteractiveScene, InteractiveSceneCfg
 from simlab.sensors import ContactSensorCfg, ImuCfg, RayCasterCfg, patterns
 from simlab.terrains import TerrainImporterCfg
+from simlab.terrains.box_terrains import boxes_to_heights
 from simlab.terrains.terrain_generator import TerrainGenerator
 from simlab.utils import configclass
 from simlab.utils.math import quat_apply_yaw, quat_from_euler_xyz
@@ -169,23 +170,29 @@ def hfield_height(heights: np.ndarray, size: tuple[float, float], x: float, y: f
 
 
 def reference_height(terrain: TerrainGenerator, x: float, y: float) -> float:
-    """The highest terrain surface over (x, y), from the generator's heights and boxes (brute force)."""
+    """The highest terrain surface over (x, y), from the generator's heights and boxes (brute force);
+    tiles of several boxes are height fields of their sampled tops unless built as boxes."""
     top = -math.inf
     boxes = [(c, s) for c, s in terrain.border_boxes]
     for tile in terrain.tiles:
         shift = np.array([*tile.corner, 0.0])
-        boxes += [(c + shift, s) for c, s in tile.geometry.boxes]
+        heights = tile.geometry.heights
+        if len(tile.geometry.boxes) > 1 and terrain.cfg.box_tiles_as == "height_field":
+            heights = boxes_to_heights(tile.geometry.boxes, terrain.cfg.size, terrain.cfg.horizontal_scale)
+        else:
+            boxes += [(c + shift, s) for c, s in tile.geometry.boxes]
         lx, ly = x - tile.corner[0], y - tile.corner[1]
-        if tile.geometry.heights is not None and 0 <= lx <= terrain.cfg.size[0] and 0 <= ly <= terrain.cfg.size[1]:
-            top = max(top, hfield_height(tile.geometry.heights, terrain.cfg.size, lx, ly))
+        if heights is not None and 0 <= lx <= terrain.cfg.size[0] and 0 <= ly <= terrain.cfg.size[1]:
+            top = max(top, hfield_height(heights, terrain.cfg.size, lx, ly))
     for centre, size in boxes:
         if abs(x - centre[0]) <= size[0] / 2 and abs(y - centre[1]) <= size[1] / 2:
             top = max(top, centre[2] + size[2] / 2)
     return top
 
 
+@pytest.mark.parametrize("box_tiles_as", ["height_field", "boxes"])
 @pytest.mark.parametrize("device", DEVICES)
-def test_height_scan_on_generated_terrain_matches_brute_force(device):
+def test_height_scan_on_generated_terrain_matches_brute_force(device, box_tiles_as):
     """Robots at random places and headings over every sub-terrain kind (stairs, boxes, rough,
     slopes): each hit lies on the terrain surface computed from the generator's own data."""
     n = 16
@@ -193,7 +200,9 @@ def test_height_scan_on_generated_terrain_matches_brute_force(device):
     @configclass
     class SceneCfg(InteractiveSceneCfg):
         terrain = TerrainImporterCfg(
-            prim_path="/World/ground", terrain_type="generator", terrain_generator=small_terrain()
+            prim_path="/World/ground",
+            terrain_type="generator",
+            terrain_generator=small_terrain(box_tiles_as=box_tiles_as),
         )
         robot = box_cfg("{ENV_REGEX_NS}/Robot", z=2.0)
         height_scanner = scanner_cfg(pattern_cfg=patterns.GridPatternCfg(resolution=0.15, size=(1.2, 0.9)))
