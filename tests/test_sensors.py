@@ -371,3 +371,43 @@ def test_contact_sensor_counts_air_then_contact_time_and_resets_by_mask():
     scene.reset(torch.tensor([True, False]))
     assert d.current_contact_time[0] == 0 and d.current_contact_time[1] > 0
     assert (d.net_forces_w_history[0] == 0).all() and (d.net_forces_w_history[1] != 0).any()
+
+
+def test_contact_sensor_selects_bodies_by_regex_and_names_missing_ones():
+    from simlab.robots.ant import ANT_CFG
+
+    @configclass
+    class SceneCfg(InteractiveSceneCfg):
+        ground = AssetBaseCfg(prim_path="/World/ground", spawn=sim_utils.GroundPlaneCfg())
+        robot = ANT_CFG.replace(prim_path="{ENV_REGEX_NS}/Robot")
+        feet = ContactSensorCfg(prim_path="{ENV_REGEX_NS}/Robot/.*_foot", track_pose=True)
+
+    sim, scene = make_scene(SceneCfg(num_envs=2, env_spacing=3.0))
+    feet = scene["feet"]
+    assert feet.body_names == ["front_left_foot", "front_right_foot", "left_back_foot", "right_back_foot"]
+    assert feet.find_bodies("front_.*")[1] == ["front_left_foot", "front_right_foot"]
+    scene.update(DT)
+    assert feet.data.net_forces_w.shape == (2, 4, 3) and feet.data.pos_w.shape == (2, 4, 3)
+    robot = scene["robot"]
+    ids, _ = robot.find_bodies(".*_foot")
+    torch.testing.assert_close(feet.data.pos_w, robot.data.body_pos_w[:, ids])
+    for path, error in [
+        ("{ENV_REGEX_NS}/Robot/.*_toe", r"matches no body of the model; bodies in the model: \['Robot/torso'"),
+        ("{ENV_REGEX_NS}/Dog/.*", r"matches no body"),
+    ]:
+        sim_utils.SimulationContext.clear_instance()
+
+        @configclass
+        class BadCfg(SceneCfg):
+            feet = ContactSensorCfg(prim_path=path)
+
+        with pytest.raises(ValueError, match=error):
+            make_scene(BadCfg(num_envs=1, env_spacing=3.0))
+    sim_utils.SimulationContext.clear_instance()
+
+    @configclass
+    class FilteredCfg(SceneCfg):
+        feet = ContactSensorCfg(prim_path="{ENV_REGEX_NS}/Robot/.*_foot", filter_prim_paths_expr=["/World/ground"])
+
+    with pytest.raises(ValueError, match="filter_prim_paths_expr"):
+        make_scene(FilteredCfg(num_envs=1, env_spacing=3.0))
