@@ -14,6 +14,13 @@ from test_terrains import small_terrain
 
 import simlab.sim as sim_utils
 from simlab.assets import AssetBaseCfg, RigidObjectCfg
+from simlab.envs import ManagerBasedRLEnv, ManagerBasedRLEnvCfg, mdp
+from simlab.managers import EventTermCfg, SceneEntityCfg
+from simlab.managers import ObservationGroupCfg as ObsGroup
+from simlab.managers import ObservationTermCfg as ObsTerm
+from simlab.managers import RewardTermCfg as RewTerm
+from simlab.managers import TerminationTermCfg as DoneTerm
+from simlab.robots.ant import ANT_CFG
 from simlab.scene import InteractiveScene, InteractiveSceneCfg
 from simlab.sensors import ContactSensorCfg, ImuCfg, RayCasterCfg, patterns
 from simlab.terrains import TerrainImporterCfg
@@ -258,6 +265,12 @@ def test_ray_caster_drift_is_drawn_per_env_and_reset_by_mask():
     torch.testing.assert_close(hit_z, (PLANE_HEIGHT + z_drift).unsqueeze(1).expand_as(hit_z), atol=1e-4, rtol=0)
     scene.reset(torch.tensor([False, True, False, True]))
     assert torch.equal(sensor.drift[[0, 2]], drift[[0, 2]]) and not torch.equal(sensor.drift[[1, 3]], drift[[1, 3]])
+    # the next read casts again (as Isaac Lab's outdated buffers): the new drifts show without an update
+    new_z = (PLANE_HEIGHT + sensor.ray_cast_drift[:, 2]).unsqueeze(1).expand_as(hit_z)
+    torch.testing.assert_close(sensor.data.ray_hits_w[..., 2], new_z, atol=1e-4, rtol=0)
+    torch.testing.assert_close(
+        sensor.data.pos_w[:, :2], scene.env_origins[:, :2] + sensor.drift[:, :2], atol=1e-4, rtol=0
+    )
 
 
 # -- IMU --------------------------------------------------------------------------------------------
@@ -285,6 +298,7 @@ def test_imu_in_free_fall_and_at_rest(device):
     for _ in range(400):  # lands and settles
         sim.step()
         scene.update(DT)
+    d = imu.data  # read after the updates: computed now (Isaac Lab's lazy data)
     torch.testing.assert_close(d.lin_acc_b.cpu(), torch.tensor([[0.0, 0, 9.81]] * 2), atol=0.05, rtol=0)
     torch.testing.assert_close(d.lin_vel_b.cpu(), torch.zeros(2, 3), atol=1e-3, rtol=0)
 
@@ -374,8 +388,6 @@ def test_contact_sensor_counts_air_then_contact_time_and_resets_by_mask():
 
 
 def test_contact_sensor_selects_bodies_by_regex_and_names_missing_ones():
-    from simlab.robots.ant import ANT_CFG
-
     @configclass
     class SceneCfg(InteractiveSceneCfg):
         ground = AssetBaseCfg(prim_path="/World/ground", spawn=sim_utils.GroundPlaneCfg())
@@ -411,3 +423,92 @@ def test_contact_sensor_selects_bodies_by_regex_and_names_missing_ones():
 
     with pytest.raises(ValueError, match="filter_prim_paths_expr"):
         make_scene(FilteredCfg(num_envs=1, env_spacing=3.0))
+
+
+# -- in an env step ---------------------------------------------------------------------------------
+
+
+def scan_obs(env, sensor_cfg, offset: float = 0.5):
+    """Isaac Lab's height_scan observation, as written there."""
+    sensor = env.scene.sensors[sensor_cfg.name]
+    return sensor.data.pos_w[:, 2].unsqueeze(1) - sensor.data.ray_hits_w[..., 2] - offset
+
+
+@pytest.mark.parametrize("device", DEVICES)
+def test_height_scan_in_env_steps_follows_resets(device):
+    """A manager-based env on a generated terrain with the height scanner of Isaac Lab's rough
+    tasks (update_period = decimation * dt): the observation a step returns is the scan at the
+    robot's pose then, also for envs just reset to a new place (the scan is cast after the reset)."""
+
+    @configclass
+    class SceneCfg(InteractiveSceneCfg):
+        terrain = TerrainImporterCfg(
+            prim_path="/World/ground", terrain_type="generator", terrain_generator=small_terrain()
+        )
+        robot = ANT_CFG.replace(prim_path="{ENV_REGEX_NS}/Robot")
+        height_scanner = scanner_cfg(prim_path="{ENV_REGEX_NS}/Robot/torso")
+        contact_forces = ContactSensorCfg(prim_path="{ENV_REGEX_NS}/Robot/.*", history_length=3, track_air_time=True)
+
+    @configclass
+    class ObservationsCfg:
+        @configclass
+        class PolicyCfg(ObsGroup):
+            height_scan = ObsTerm(func=scan_obs, params={"sensor_cfg": SceneEntityCfg("height_scanner")})
+
+        policy: PolicyCfg = PolicyCfg()
+
+    @configclass
+    class EventsCfg:
+        reset_base = EventTermCfg(
+            func=mdp.reset_root_state_uniform,
+            mode="reset",
+            params={"pose_range": {"x": (-0.5, 0.5), "y": (-0.5, 0.5), "yaw": (-3.14, 3.14)}, "velocity_range": {}},
+        )
+
+    @configclass
+    class ActionsCfg:
+        joints = mdp.JointEffortActionCfg(asset_name="robot", joint_names=[".*"], scale=5.0)
+
+    @configclass
+    class RewardsCfg:
+        alive = RewTerm(func=mdp.is_alive, weight=1.0)
+
+    @configclass
+    class TerminationsCfg:
+        time_out = DoneTerm(func=mdp.time_out, time_out=True)
+
+    @configclass
+    class EnvCfg(ManagerBasedRLEnvCfg):
+        scene = SceneCfg(num_envs=4, env_spacing=2.0)
+        observations = ObservationsCfg()
+        actions = ActionsCfg()
+        rewards = RewardsCfg()
+        terminations = TerminationsCfg()
+        events = EventsCfg()
+
+        def __post_init__(self):
+            self.decimation = 4
+            self.episode_length_s = 6 * 4 * 0.005  # every env ends at step 6
+            self.sim.dt = 0.005
+            self.sim.device = device
+            self.seed = 0
+            self.scene.height_scanner.update_period = self.decimation * self.sim.dt
+
+    cfg = EnvCfg()
+    env = ManagerBasedRLEnv(cfg)
+    try:
+        env.reset()
+        sensor, robot = env.scene["height_scanner"], env.scene["robot"]
+        for step in range(1, 9):
+            obs, _, _, truncated, extras = env.step(torch.zeros(4, 8, device=env.device))
+            scan = obs["policy"]
+            assert scan.shape == (4, 187) and torch.isfinite(scan).all()
+            # the scan was cast at the robot's pose now (after this step's resets)
+            torch.testing.assert_close(sensor.data.pos_w, robot.data.root_pos_w, atol=1e-4, rtol=0)
+            torch.testing.assert_close(scan, scan_obs(env, SceneEntityCfg("height_scanner")), atol=1e-5, rtol=0)
+            if step == 6:
+                assert truncated.all()
+                before = extras["final_obs"]["policy"]
+                assert not torch.allclose(before, scan)  # each env scans the ground of its new place
+    finally:
+        env.close()
