@@ -512,3 +512,32 @@ def test_height_scan_in_env_steps_follows_resets(device):
                 assert not torch.allclose(before, scan)  # each env scans the ground of its new place
     finally:
         env.close()
+
+
+def test_binned_ray_casts_agree_with_casts_against_every_geom():
+    """The CPU caster casts vertical rays against the targets of their xy bin only: the distances
+    equal mj_ray's against every target geom, for vertical and oblique rays, inside and outside
+    the terrain."""
+    from simlab.sensors.ray_caster.ray_targets import _mjbatch_rays, _MujocoCaster, find_target_geoms, target_model
+
+    @configclass
+    class SceneCfg(InteractiveSceneCfg):
+        terrain = TerrainImporterCfg(
+            prim_path="/World/ground", terrain_type="generator", terrain_generator=small_terrain(box_tiles_as="boxes")
+        )
+
+    sim, _ = make_scene(SceneCfg(num_envs=1, env_spacing=2.0))
+    model = target_model(sim.model, find_target_geoms(sim.model, ["/World/ground"], "test"))
+    n = 4000
+    g = torch.Generator().manual_seed(0)
+    starts = (torch.rand(n, 3, generator=g) - 0.5) * torch.tensor([12.0, 26.0, 2.0]) + torch.tensor([0.0, 0.0, 2.0])
+    directions = torch.zeros(n, 3)
+    directions[:, 2] = -1.0
+    oblique = torch.rand(n, generator=g) < 0.25
+    directions[oblique] = torch.nn.functional.normalize(torch.randn(int(oblique.sum()), 3, generator=g), dim=-1)
+    caster = _MujocoCaster(model, n, num_threads=2)
+    assert len(caster.bins) > 1
+    binned = caster.cast(starts, directions)
+    every_geom = _mjbatch_rays(caster.full, starts, directions)
+    assert (binned >= 0).sum() > n / 2
+    torch.testing.assert_close(binned, every_geom, atol=1e-5, rtol=0)
