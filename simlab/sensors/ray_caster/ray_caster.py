@@ -67,7 +67,7 @@ class RayCaster(SensorBase):
     @property
     def data(self) -> RayCasterData:
         """The hits, cast now if the body moved (an update was due) or envs were reset since the last cast."""
-        if self._outdated:
+        if self._outdated and self._is_initialized:
             self._cast()
         return self._data
 
