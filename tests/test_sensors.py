@@ -382,8 +382,20 @@ def test_contact_sensor_counts_air_then_contact_time_and_resets_by_mask():
     torch.testing.assert_close(d.net_forces_w[..., 2], torch.full((2, 1), 9.81), atol=0.05, rtol=0)
     assert d.net_forces_w_history.shape == (2, 3, 1, 3)
     torch.testing.assert_close(d.net_forces_w_history[:, 0], d.net_forces_w)
+    # lifted off the ground: the contact phase ends, its length is kept, the flight starts
+    contact_time = d.current_contact_time.clone()
+    box = scene["robot"]
+    pose = box.data.root_state_w[:, :7].clone()
+    pose[:, 2] += 0.5
+    box.write_root_pose_to_sim(pose)
+    box.write_root_velocity_to_sim(torch.zeros(2, 6))
+    sim.step()
+    scene.update(DT)
+    assert sensor.compute_first_air(DT).all() and not sensor.compute_first_contact(DT).any()
+    torch.testing.assert_close(d.last_contact_time, contact_time + DT)
+    torch.testing.assert_close(d.current_air_time, torch.full((2, 1), DT))
     scene.reset(torch.tensor([True, False]))
-    assert d.current_contact_time[0] == 0 and d.current_contact_time[1] > 0
+    assert d.current_air_time[0] == 0 and d.current_air_time[1] > 0 and d.last_contact_time[0] == 0
     assert (d.net_forces_w_history[0] == 0).all() and (d.net_forces_w_history[1] != 0).any()
 
 
