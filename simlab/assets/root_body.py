@@ -25,6 +25,20 @@ def contiguous(ids: list[int], device) -> slice | torch.Tensor:
     return torch.tensor(ids, dtype=torch.long, device=device)
 
 
+def breadth_first(model: mujoco.MjModel, ids: list[int], body_of) -> list[int]:
+    """``ids`` (of bodies or joints) ordered as Isaac Lab orders an articulation's links and
+    joints: by depth in the kinematic tree, then in model order (for a quadruped: the four hips,
+    then the four thighs, then the four knees). MuJoCo's own order is depth first."""
+
+    def depth(body: int) -> int:
+        level = 0
+        while body != 0:
+            body, level = int(model.body_parentid[body]), level + 1
+        return level
+
+    return sorted(ids, key=lambda i: (depth(body_of(i)), i))
+
+
 class RootedAsset(AssetBase):
     """Bodies named ``<Name>/...`` in the model, the first one being the root."""
 
@@ -34,7 +48,9 @@ class RootedAsset(AssetBase):
         super()._initialize(sim)
         model, physics = sim.model, sim.physics
         self._physics = physics
-        body_ids = [b for b in range(model.nbody) if model.body(b).name.startswith(self.prefix)]
+        body_ids = breadth_first(
+            model, [b for b in range(model.nbody) if model.body(b).name.startswith(self.prefix)], lambda b: b
+        )
         if not body_ids:
             raise RuntimeError(f"'{self.cfg.prim_path}' has no bodies named '{self.prefix}...' in the model")
         self._body_ids = body_ids
