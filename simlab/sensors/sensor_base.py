@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import re
 from dataclasses import MISSING
 
+import mujoco
 import torch
 
 from simlab.sim import SimulationContext
@@ -66,3 +68,43 @@ class SensorBase:
 
     def update(self, dt: float, force_recompute: bool = False) -> None:
         pass
+
+
+_ENV_PREFIXES = ("{ENV_REGEX_NS}/", "/World/envs/env_.*/", "/World/envs/env_0/", "/World/")
+
+
+def prim_path_in_model(prim_path: str) -> str:
+    """``{ENV_REGEX_NS}/Robot/base`` or ``/World/envs/env_.*/Robot/base`` -> ``Robot/base`` (a regex
+    over the model's names: every env is its own MuJoCo world, so the env part names nothing)."""
+    for prefix in _ENV_PREFIXES:
+        if prim_path.startswith(prefix):
+            return prim_path[len(prefix) :]
+    return prim_path.lstrip("/")
+
+
+def model_body_names(model: mujoco.MjModel) -> list[str]:
+    return [model.body(b).name for b in range(1, model.nbody)]
+
+
+def find_sensor_bodies(model: mujoco.MjModel, prim_path: str, owner: str) -> tuple[list[int], list[str]]:
+    """Ids and names of the bodies that ``prim_path`` selects (``{ENV_REGEX_NS}/Robot/.*``); an
+    asset's own path (``{ENV_REGEX_NS}/Robot``) selects its root body. Raises naming the bodies there are."""
+    path = prim_path_in_model(prim_path)
+    entity, _, bodies = path.partition("/")
+    ids: list[int] = []
+    if bodies:
+        pattern = re.compile(re.escape(entity) + "/" + bodies)
+        ids = [b for b in range(1, model.nbody) if pattern.fullmatch(model.body(b).name)]
+    else:  # the asset itself: its root body (a child of the world)
+        ids = [
+            b
+            for b in range(1, model.nbody)
+            if model.body_parentid[b] == 0 and model.body(b).name.startswith(entity + "/")
+        ]
+    if not ids:
+        raise ValueError(
+            f"{owner} prim_path '{prim_path}' matches no body of the model; bodies in the model:"
+            f" {model_body_names(model)}. Write the path as '{{ENV_REGEX_NS}}/<asset>/<body regex>',"
+            " e.g. '{ENV_REGEX_NS}/Robot/base'."
+        )
+    return ids, [model.body(b).name for b in ids]

@@ -66,6 +66,7 @@ class SimulationContext:
         self.camera_target: tuple[float, float, float] = (0.0, 0.0, 0.0)
         self.env_origins: torch.Tensor | None = None
         """(num_envs, 3) offsets of the environments in the world frame, set by the scene."""
+        self._on_build: list[Callable[[mujoco.MjSpec], None]] = []
         self._on_compile: list[Callable[[mujoco.MjModel], None]] = []
         self._on_reset: list[Callable[[SimulationContext], None]] = []
         self._on_render: list[Callable[[], None]] = []
@@ -128,6 +129,8 @@ class SimulationContext:
     def reset(self, soft: bool = False) -> None:
         """Compile the spec (first call), start the backend, and reset every world."""
         if self.backend is None:
+            for build in self._on_build:
+                build(self.spec)
             self.model = self.spec.compile()
             geometry_qpos0 = self.model.qpos0.copy()
             for callback in self._on_compile:
@@ -190,6 +193,13 @@ class SimulationContext:
         if self.backend is None:
             raise RuntimeError("The simulation is not started yet: call sim.reset() after building the scene.")
         return self.backend
+
+    def add_build_callback(self, callback: Callable[[mujoco.MjSpec], None]) -> None:
+        """Run ``callback(spec)`` right before compiling, once every entity is in the spec (sensors
+        add their sites to bodies of assets declared after them)."""
+        if self.model is not None:
+            raise RuntimeError("The simulation is already compiled: create sensors before sim.reset().")
+        self._on_build.append(callback)
 
     def add_compile_callback(self, callback: Callable[[mujoco.MjModel], None]) -> None:
         """Run ``callback(model)`` right after compiling, before the backend copies the model."""

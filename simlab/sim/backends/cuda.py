@@ -370,6 +370,12 @@ class CudaBackend(PhysicsBackend):
     def close(self) -> None:
         self._graphs.clear()
 
+    def run_warp(self, key: Any, body: Callable[[], None]) -> None:
+        """Run Warp launches ``body`` on torch's stream as the physics calls run: replayed from a
+        graph captured on first use under ``key``, or recorded into an env step being captured
+        (sensors use it for their MuJoCo Warp calls, e.g. ray casts)."""
+        self._run(key, body)
+
     # -- helpers -------------------------------------------------------------------------------
 
     def _scope(self):

@@ -1,0 +1,183 @@
+"""The static geometry rays are cast against, as a MuJoCo model of its own.
+
+Isaac Lab's ray caster casts against static meshes named by ``mesh_prim_paths``. simlab copies the
+geoms those paths name (static geoms of the world body: the terrain's height fields and boxes, a
+ground plane) into a small MuJoCo model that holds nothing else, so a ray never hits the robot
+carrying the sensor, and casting costs only the target geoms. Every MuJoCo world holds the same
+static geometry in its own frame (a generated terrain is shared; a ground plane sits at the same
+place in every world), so one copy serves all envs: rays go in in each world's frame.
+
+Casting uses MuJoCo's own ray functions: ``mj_ray`` on the CPU (``mjbatch.Batch.rays``, on its
+thread pool), ``mujoco_warp.rays`` on the GPU. Both return the distance along each ray to the
+first surface, -1 where the ray hits nothing.
+"""
+
+from __future__ import annotations
+
+import re
+from typing import Any
+
+import mujoco
+import numpy as np
+import torch
+
+from simlab.sensors.sensor_base import prim_path_in_model
+
+
+def find_target_geoms(model: mujoco.MjModel, mesh_prim_paths: list[str], owner: str) -> list[int]:
+    """Ids of the geoms the paths name: ``/World/ground`` names the geom ``ground`` and every geom
+    ``ground/...`` (a terrain's tiles); a path may be a regex. They must be static (world body)."""
+    if not mesh_prim_paths:
+        raise ValueError(
+            f"{owner}.mesh_prim_paths is empty: name the geometry to cast against, e.g. ['/World/ground']"
+            " (the scene's terrain)"
+        )
+    names = [model.geom(g).name for g in range(model.ngeom)]
+    ids: list[int] = []
+    for path in mesh_prim_paths:
+        entity = prim_path_in_model(path)
+        pattern = re.compile(f"{entity}(/.*)?")
+        matched = [g for g, name in enumerate(names) if name and pattern.fullmatch(name)]
+        if not matched:
+            static = sorted({n.split("/")[0] for g, n in enumerate(names) if n and _is_static(model, g)})
+            raise ValueError(
+                f"{owner}.mesh_prim_paths entry '{path}' names no geom of the model; static geometry there:"
+                f" {['/World/' + s for s in static]}"
+            )
+        moving = [names[g] for g in matched if not _is_static(model, g)]
+        if moving:
+            raise ValueError(
+                f"{owner}.mesh_prim_paths entry '{path}' names geoms of moving bodies {moving[:5]}; the ray"
+                " caster casts against static geometry only (as Isaac Lab's RayCaster): name the terrain"
+                " or other fixed geometry"
+            )
+        ids += [g for g in matched if g not in ids]
+    return ids
+
+
+def _is_static(model: mujoco.MjModel, geom: int) -> bool:
+    return model.body_weldid[model.geom_bodyid[geom]] == 0
+
+
+def target_model(model: mujoco.MjModel, geom_ids: list[int]) -> mujoco.MjModel:
+    """A model holding only the geoms ``geom_ids`` of ``model`` (static, at their world poses)."""
+    data = mujoco.MjData(model)
+    mujoco.mj_kinematics(model, data)
+    spec = mujoco.MjSpec()
+    spec.modelname = "simlab_ray_targets"
+    for g in geom_ids:
+        geom_type = int(model.geom_type[g])
+        if geom_type == mujoco.mjtGeom.mjGEOM_MESH:
+            raise ValueError(
+                f"ray caster target geom '{model.geom(g).name}' is a mesh; simlab casts against planes,"
+                " height fields and primitive shapes"
+            )
+        quat = np.zeros(4)
+        mujoco.mju_mat2Quat(quat, data.geom_xmat[g])
+        geom = spec.worldbody.add_geom(
+            name=model.geom(g).name,
+            type=mujoco.mjtGeom(geom_type),
+            size=model.geom_size[g].tolist(),
+            pos=data.geom_xpos[g].tolist(),
+            quat=quat.tolist(),
+            rgba=[1.0, 1.0, 1.0, 1.0],  # mj_ray skips invisible geoms
+        )
+        if geom_type == mujoco.mjtGeom.mjGEOM_HFIELD:
+            h = model.geom_dataid[g]
+            nrow, ncol, adr = int(model.hfield_nrow[h]), int(model.hfield_ncol[h]), int(model.hfield_adr[h])
+            name = f"hfield_{g}"
+            spec.add_hfield(
+                name=name,
+                size=model.hfield_size[h].tolist(),
+                nrow=nrow,
+                ncol=ncol,
+                userdata=model.hfield_data[adr : adr + nrow * ncol].tolist(),
+            )
+            geom.hfieldname = name
+    return spec.compile()
+
+
+class RayTargets:
+    """Casts ``num_rays`` rays (a fixed count) against the target model, on the simulation's backend."""
+
+    def __init__(self, model: mujoco.MjModel, num_rays: int, physics: Any, device: str):
+        self.model = model
+        self.num_rays = num_rays
+        self.device = torch.device(device)
+        if self.device.type == "cpu":
+            self._caster = _MujocoCaster(model, num_rays, getattr(physics, "num_threads", 1))
+        else:
+            self._caster = _WarpCaster(model, num_rays, physics, device)
+
+    def cast(self, starts: torch.Tensor, directions: torch.Tensor) -> torch.Tensor:
+        """(num_rays,) distance along each unit direction to the first hit; -1 where none."""
+        return self._caster.cast(starts.reshape(-1, 3), directions.reshape(-1, 3))
+
+
+class _MujocoCaster:
+    """``mj_ray`` per ray on mjbatch's thread pool: the rays are split over one copy per thread."""
+
+    def __init__(self, model: mujoco.MjModel, num_rays: int, num_threads: int):
+        import mjbatch
+
+        self.copies = max(1, min(num_threads, num_rays))
+        per_copy = -(-num_rays // self.copies)
+        self.num_rays = num_rays
+        self.batch = mjbatch.Batch(model, self.copies, num_threads=self.copies, forward=False)
+        self.batch.forward()  # places the static geoms (geom_xpos, geom_xmat)
+        self._pnt = np.zeros((self.copies, per_copy, 3), np.float32)
+        self._vec = np.zeros((self.copies, per_copy, 3), np.float32)
+        self._vec[..., 2] = -1.0  # padding rays: any valid direction
+        self._dist = np.zeros((self.copies, per_copy), np.float32)
+        self._pnt_t = torch.from_numpy(self._pnt).view(-1, 3)
+        self._vec_t = torch.from_numpy(self._vec).view(-1, 3)
+        self._dist_t = torch.from_numpy(self._dist).view(-1)
+
+    def cast(self, starts: torch.Tensor, directions: torch.Tensor) -> torch.Tensor:
+        n = self.num_rays
+        self._pnt_t[:n].copy_(starts)
+        self._vec_t[:n].copy_(directions)
+        self.batch.rays(self._pnt, self._vec, self._dist)
+        return self._dist_t[:n]
+
+
+class _WarpCaster:
+    """``mujoco_warp.rays`` over one world of the target model, all rays in one launch, recorded
+    into the env step's CUDA graph like the physics (through the backend's ``run_warp``)."""
+
+    def __init__(self, model: mujoco.MjModel, num_rays: int, physics: Any, device: str):
+        from simlab.sim.backends.cuda import require_cuda_backend
+
+        wp, mjw = require_cuda_backend(device)
+        from mujoco_warp._src.types import vec6
+
+        self._wp, self._mjw, self._physics = wp, mjw, physics
+        data = mujoco.MjData(model)
+        mujoco.mj_forward(model, data)  # static geom poses, copied by put_data
+        with wp.ScopedDevice(wp.get_device(device)):
+            self._m = mjw.put_model(model)
+            self._d = mjw.put_data(model, data, nworld=1, nconmax=0, njmax=0)
+            self._bodyexclude = wp.full(num_rays, -1, dtype=int)
+        wp.synchronize_device(wp.get_device(device))
+        self._pnt = torch.zeros(1, num_rays, 3, device=device)
+        self._vec = torch.zeros(1, num_rays, 3, device=device)
+        self._dist = torch.zeros(1, num_rays, device=device)
+        self._geomid = torch.zeros(1, num_rays, dtype=torch.int32, device=device)
+        self._normal = torch.zeros(1, num_rays, 3, device=device)
+        self._args = (
+            wp.from_torch(self._pnt, dtype=wp.vec3),
+            wp.from_torch(self._vec, dtype=wp.vec3),
+            vec6(-1, -1, -1, -1, -1, -1),  # every geom group
+            True,  # the targets are static geoms
+            self._bodyexclude,
+            wp.from_torch(self._dist),
+            wp.from_torch(self._geomid),
+            wp.from_torch(self._normal, dtype=wp.vec3),
+        )
+        self._key = ("simlab_rays", id(self))
+
+    def cast(self, starts: torch.Tensor, directions: torch.Tensor) -> torch.Tensor:
+        self._pnt[0].copy_(starts)
+        self._vec[0].copy_(directions)
+        self._physics.run_warp(self._key, lambda: self._mjw.rays(self._m, self._d, *self._args))
+        return self._dist[0]
