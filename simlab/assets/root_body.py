@@ -187,6 +187,10 @@ class RootedAsset(AssetBase):
             forces, torques = math_utils.quat_apply_inverse(quat, forces), math_utils.quat_apply_inverse(quat, torques)
         self._write_cols(self._ext_force_b, bodies, env, forces)
         self._write_cols(self._ext_torque_b, bodies, env, torques)
+        if is_mask(env):
+            # inside an env step: no host read; applying zero wrenches is harmless
+            self._has_external_wrench = True
+            return
         self._has_external_wrench = bool(self._ext_force_b.any() or self._ext_torque_b.any())
         if not self._has_external_wrench:
             self._xfrc_applied[:, self._body_index] = 0.0
