@@ -36,7 +36,6 @@ class AnymalCRoughPPORunnerCfg(RslRlOnPolicyRunnerCfg):
 @configclass
 class AnymalCFlatPPORunnerCfg(AnymalCRoughPPORunnerCfg):
     def __post_init__(self):
-        super().__post_init__()
         self.max_iterations = 300
         self.experiment_name = "anymal_c_flat"
         self.actor.hidden_dims = [128, 128, 128]

@@ -36,7 +36,6 @@ class UnitreeGo2RoughPPORunnerCfg(RslRlOnPolicyRunnerCfg):
 @configclass
 class UnitreeGo2FlatPPORunnerCfg(UnitreeGo2RoughPPORunnerCfg):
     def __post_init__(self):
-        super().__post_init__()
         self.max_iterations = 300
         self.experiment_name = "unitree_go2_flat"
         self.actor.hidden_dims = [128, 128, 128]
