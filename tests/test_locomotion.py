@@ -295,3 +295,55 @@ def test_terminations_of_a_tilted_or_low_base(go2):
     assert mdp.root_height_below_minimum(go2, minimum_height=0.2).tolist() == [False, True, False, True]
     torch.testing.assert_close(mdp.flat_orientation_l2(go2), torch.sin(tilt) ** 2)
     go2.reset()
+
+
+# -- porting ---------------------------------------------------------------------------------------
+
+ISAACLAB_STYLE_GO2_TASK = """
+import isaaclab_tasks.manager_based.locomotion.velocity.mdp as mdp
+from isaaclab.managers import RewardTermCfg as RewTerm
+from isaaclab.managers import SceneEntityCfg
+from isaaclab.utils import configclass
+from isaaclab_assets.robots.unitree import UNITREE_GO2_CFG
+from isaaclab_tasks.manager_based.locomotion.velocity.velocity_env_cfg import LocomotionVelocityRoughEnvCfg
+
+
+@configclass
+class MyGo2FlatEnvCfg(LocomotionVelocityRoughEnvCfg):
+    def __post_init__(self):
+        super().__post_init__()
+        self.scene.robot = UNITREE_GO2_CFG.replace(prim_path="{ENV_REGEX_NS}/Robot")
+        self.scene.terrain.terrain_type = "plane"
+        self.scene.terrain.terrain_generator = None
+        self.scene.height_scanner = None
+        self.observations.policy.height_scan = None
+        self.curriculum.terrain_levels = None
+        self.rewards.feet_air_time.params["sensor_cfg"].body_names = ".*_foot"
+        self.rewards.undesired_contacts.params["sensor_cfg"].body_names = ".*_thigh"
+        self.rewards.feet_slide = RewTerm(
+            func=mdp.feet_slide,
+            weight=-0.25,
+            params={
+                "sensor_cfg": SceneEntityCfg("contact_forces", body_names=".*_foot"),
+                "asset_cfg": SceneEntityCfg("robot", body_names=".*_foot"),
+            },
+        )
+"""
+
+
+def test_isaac_lab_style_velocity_task_runs_after_the_import_mapping():
+    from test_porting import port
+
+    namespace: dict = {}
+    exec(compile(port(ISAACLAB_STYLE_GO2_TASK), "my_go2_env_cfg.py", "exec"), namespace)
+    cfg = namespace["MyGo2FlatEnvCfg"]()
+    cfg.scene.num_envs, cfg.sim.device, cfg.seed = N, "cpu", 0
+    from simlab.envs import ManagerBasedRLEnv
+
+    env = ManagerBasedRLEnv(cfg)
+    obs, _ = env.reset()
+    assert obs["policy"].shape == (N, 48)
+    for _ in range(3):
+        _, reward, *_ = env.step(torch.zeros(N, 12))
+    assert torch.isfinite(reward).all() and "feet_slide" in env.reward_manager.active_terms
+    env.close()
