@@ -278,7 +278,7 @@ def test_cuda_contact_buffers_and_overflow() -> None:
 
     small = make("cuda", model, 8, nconmax=1, overflow_check_interval=0)
     small.step(100)
-    with pytest.raises(RuntimeError, match="nconmax"):
+    with pytest.raises(RuntimeError, match=r"raise SimulationCfg\.mujoco\.nconmax"):
         small.check_overflow()
 
 

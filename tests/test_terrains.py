@@ -97,11 +97,13 @@ def design_centre_height(kind: str, difficulty: float) -> float:
     raise KeyError(kind)
 
 
-def test_generated_terrain_compiles_with_the_designed_heights():
-    terrain = TerrainGenerator(small_terrain())
-    sim, scene = compiled(small_terrain())
+@pytest.mark.parametrize("box_tiles_as", ["height_field", "boxes"])
+def test_generated_terrain_compiles_with_the_designed_heights(box_tiles_as):
+    terrain = TerrainGenerator(small_terrain(box_tiles_as=box_tiles_as))
+    sim, scene = compiled(small_terrain(box_tiles_as=box_tiles_as))
     model = sim.model
-    assert model.nhfield == 2 * 3  # rough, slope, slope_inv in two rows
+    # rough, slope, slope_inv in two rows; stairs, inverted stairs and box grids too unless built as boxes
+    assert model.nhfield == 2 * (6 if box_tiles_as == "height_field" else 3)
     kinds = {t.kind for t in terrain.tiles}
     assert kinds == set(small_terrain().sub_terrains)
     for tile in terrain.tiles:

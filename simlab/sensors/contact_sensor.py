@@ -11,7 +11,6 @@ forces, where a model has them, are included).
 
 from __future__ import annotations
 
-import re
 from collections.abc import Sequence
 
 import mujoco
@@ -21,7 +20,7 @@ from simlab.utils import configclass
 from simlab.utils.env_mask import env_mask, masked_copy_
 from simlab.utils.string import resolve_matching_names
 
-from .sensor_base import SensorBase, SensorBaseCfg
+from .sensor_base import SensorBase, SensorBaseCfg, find_sensor_bodies
 
 _TRIGGER_SITE = "simlab/contact_forces"
 
@@ -58,7 +57,6 @@ class ContactSensor(SensorBase):
                 "ContactSensorCfg.filter_prim_paths_expr (per-partner force matrix) is not supported by simlab;"
                 " leave it empty"
             )
-        self._body_regex = _body_regex(cfg.prim_path)
         # An acceleration-stage sensor makes MuJoCo's forward pass compute cfrc_ext.
         spec = self._sim.spec
         if spec.site(_TRIGGER_SITE) is None:
@@ -130,33 +128,25 @@ class ContactSensor(SensorBase):
         if d.net_forces_w_history.shape[1] > 1:
             d.net_forces_w_history.copy_(torch.roll(d.net_forces_w_history, 1, dims=1))
         d.net_forces_w_history[:, 0] = external
+        # every buffer is written in place: a step replayed as a CUDA graph reads and writes the
+        # same tensors at each replay (a rebound attribute would leave the graph reading the old one)
         if self.cfg.track_pose:
-            d.pos_w = self._xpos[:, self._body_ids] + self._sim.env_origins[:, None]
-            d.quat_w = self._xquat[:, self._body_ids]
+            d.pos_w.copy_(self._xpos[:, self._body_ids] + self._sim.env_origins[:, None])
+            d.quat_w.copy_(self._xquat[:, self._body_ids])
         if self.cfg.track_air_time:
             in_contact = torch.norm(external, dim=-1) > self.cfg.force_threshold
-            was_air = d.current_air_time > 0.0
-            was_contact = d.current_contact_time > 0.0
-            first_contact = was_air & in_contact
-            first_air = was_contact & ~in_contact
-            d.last_air_time = torch.where(first_contact, d.current_air_time + elapsed, d.last_air_time)
-            d.current_air_time = torch.where(in_contact, 0.0, d.current_air_time + elapsed)
-            d.last_contact_time = torch.where(first_air, d.current_contact_time + elapsed, d.last_contact_time)
-            d.current_contact_time = torch.where(in_contact, d.current_contact_time + elapsed, 0.0)
+            first_contact = (d.current_air_time > 0.0) & in_contact
+            first_air = (d.current_contact_time > 0.0) & ~in_contact
+            d.last_air_time.copy_(torch.where(first_contact, d.current_air_time + elapsed, d.last_air_time))
+            d.current_air_time.copy_(torch.where(in_contact, 0.0, d.current_air_time + elapsed))
+            d.last_contact_time.copy_(torch.where(first_air, d.current_contact_time + elapsed, d.last_contact_time))
+            d.current_contact_time.copy_(torch.where(in_contact, d.current_contact_time + elapsed, 0.0))
 
     # -- building -------------------------------------------------------------------------------
 
     def _initialize(self, sim) -> None:
-        model = sim.model
-        ids, names = [], []
-        for b in range(model.nbody):
-            name = model.body(b).name
-            if name and self._body_regex.fullmatch(name):
-                ids.append(b)
-                names.append(name.split("/", 1)[1] if "/" in name else name)
-        if not ids:
-            bodies = [model.body(b).name for b in range(1, model.nbody)]
-            raise ValueError(f"ContactSensor '{self.cfg.prim_path}' matches no body; bodies in the model: {bodies}")
+        ids, names = find_sensor_bodies(sim.model, self.cfg.prim_path, f"ContactSensorCfg('{self.cfg.prim_path}')")
+        names = [name.split("/", 1)[1] for name in names]  # "Robot/foot" -> "foot", as Isaac Lab names them
         self._body_ids = torch.tensor(ids, dtype=torch.long, device=self.device)
         self._body_names = names
         physics = sim.physics
@@ -179,22 +169,6 @@ class ContactSensor(SensorBase):
     def _need_air_time(self, what: str) -> None:
         if not self.cfg.track_air_time:
             raise RuntimeError(f"ContactSensor.{what} needs track_air_time=True in the ContactSensorCfg")
-
-
-def _body_regex(prim_path: str) -> re.Pattern:
-    """``/World/envs/env_.*/Robot/.*`` -> the model body names ``Robot/...`` it selects."""
-    path = prim_path
-    for prefix in ("{ENV_REGEX_NS}/", "/World/envs/env_.*/", "/World/envs/env_0/", "/World/"):
-        if path.startswith(prefix):
-            path = path[len(prefix) :]
-            break
-    if "/" not in path:
-        raise ValueError(
-            f"ContactSensor prim_path '{prim_path}' must name bodies of an asset, e.g. '{{ENV_REGEX_NS}}/Robot/.*'"
-            " or '{ENV_REGEX_NS}/Robot/(left|right)_foot'"
-        )
-    entity, bodies = path.split("/", 1)
-    return re.compile(re.escape(entity) + "/" + bodies)
 
 
 @configclass

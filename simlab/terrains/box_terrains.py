@@ -34,6 +34,27 @@ def ring(cx: float, cy: float, outer_x: float, outer_y: float, width: float, top
     ]
 
 
+def boxes_to_heights(
+    boxes: list[tuple[np.ndarray, np.ndarray]], size: tuple[float, float], spacing: float
+) -> np.ndarray:
+    """(nx, ny) heights [m], indexed [x, y], of the top surface of ``boxes`` sampled every ``spacing``
+    metres over a tile (a sample on the edge between two boxes takes the higher top, so a step's
+    tread keeps its full depth and the riser becomes a slope ``spacing`` wide on the lower side)."""
+    nx, ny = int(round(size[0] / spacing)) + 1, int(round(size[1] / spacing)) + 1
+    xs, ys = np.linspace(0.0, size[0], nx), np.linspace(0.0, size[1], ny)
+    heights = np.full((nx, ny), -np.inf)
+    tol = 1e-6 * spacing
+    for centre, full in boxes:
+        in_x = np.abs(xs - centre[0]) <= full[0] / 2 + tol
+        in_y = np.abs(ys - centre[1]) <= full[1] / 2 + tol
+        if in_x.any() and in_y.any():
+            block = np.ix_(in_x, in_y)
+            heights[block] = np.maximum(heights[block], centre[2] + full[2] / 2)
+    if np.isinf(heights).any():
+        raise ValueError("the boxes of a tile leave part of it uncovered; every sample needs a box under it")
+    return heights
+
+
 def flat_terrain(difficulty: float, cfg: MeshPlaneTerrainCfg, rng: np.random.Generator) -> TileGeometry:
     cx, cy = cfg.size[0] / 2, cfg.size[1] / 2
     return TileGeometry(origin=np.array([cx, cy, 0.0]), boxes=[column(cx, cy, *cfg.size, 0.0, -BOX_DEPTH)])

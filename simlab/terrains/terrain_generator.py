@@ -120,12 +120,20 @@ def validate(cfg: TerrainGeneratorCfg) -> None:
         raise ValueError(
             "TerrainGeneratorCfg.sub_terrains' proportions sum to 0; give at least one a positive proportion"
         )
+    if cfg.box_tiles_as not in BOX_TILES_AS:
+        raise ValueError(f"TerrainGeneratorCfg.box_tiles_as='{cfg.box_tiles_as}' is not one of {BOX_TILES_AS}")
+    if cfg.box_height_field_scale is not None and cfg.box_height_field_scale <= 0:
+        raise ValueError(
+            f"TerrainGeneratorCfg.box_height_field_scale must be > 0 [m] or None, got {cfg.box_height_field_scale}"
+        )
     if cfg.horizontal_scale <= 0 or cfg.vertical_scale <= 0:
         raise ValueError(
             f"TerrainGeneratorCfg.horizontal_scale and vertical_scale must be > 0, got"
             f" {cfg.horizontal_scale}, {cfg.vertical_scale}"
         )
 
+
+BOX_TILES_AS = ("height_field", "boxes")
 
 _CACHE: dict[str, TerrainGenerator] = {}
 

@@ -34,6 +34,12 @@ class TerrainGeneratorCfg:
     """Height resolution of height fields [m]."""
     slope_threshold: float | None = 0.75
     sub_terrains: dict[str, SubTerrainBaseCfg] = MISSING
+    box_tiles_as: str = "height_field"
+    """simlab's: how tiles made of boxes (stairs, box grids) enter the model: "height_field" (their
+    top surface sampled every ``box_height_field_scale`` m; a riser becomes a slope one sample
+    wide) or "boxes" (one box geom per box: exact vertical faces, slower collision; see docs/terrains.md)."""
+    box_height_field_scale: float | None = None
+    """simlab's: sample spacing of box tiles built as height fields [m]; None: ``horizontal_scale``."""
     difficulty_range: tuple[float, float] = (0.0, 1.0)
     use_cache: bool = False
     """Generated terrains are always cached in memory by config (with a seed); kept for Isaac Lab's configs."""

@@ -60,6 +60,7 @@ class Imu(SensorBase):
         self._site = f"simlab/imu/{prim_path_in_model(cfg.prim_path)}"
         self._data = ImuData()
         self._timestamp = 0.0
+        self._outdated = True
         self._sim.add_build_callback(self._add_to_spec)
 
     def __str__(self) -> str:
@@ -67,18 +68,31 @@ class Imu(SensorBase):
 
     @property
     def data(self) -> ImuData:
+        """The readings, computed now if the state changed (an update was due) or envs were reset
+        since they were last computed."""
+        if self._outdated:
+            self._read()
         return self._data
 
     def reset(self, env_ids: EnvIds = None) -> None:
-        """Nothing to reset: every reading is computed from the state at each update."""
+        """Nothing is kept between readings; the next read computes them from the new state."""
+        self._outdated = True
 
     def update(self, dt: float, force_recompute: bool = False) -> None:
+        """Called by the scene every physics step: marks the readings outdated every
+        ``update_period``; they are computed when read (Isaac Lab's lazy update)."""
         if not self._is_initialized:
             return
         self._timestamp += dt
         if self.cfg.update_period > 0.0 and self._timestamp + 1e-9 < self.cfg.update_period and not force_recompute:
             return
         self._timestamp = 0.0
+        self._outdated = True
+        if force_recompute:
+            self._read()
+
+    def _read(self) -> None:
+        self._outdated = False
         self._sim.physics.ensure_forward()
         d, n = self._data, self.num_instances
         quat_w = quat_from_matrix(self._site_xmat[:, self._site_id].view(n, 3, 3))

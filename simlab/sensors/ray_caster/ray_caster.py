@@ -54,6 +54,7 @@ class RayCaster(SensorBase):
         self._owner = owner
         self._data = RayCasterData()
         self._timestamp = 0.0
+        self._outdated = True
 
     def __str__(self) -> str:
         return (
@@ -65,19 +66,34 @@ class RayCaster(SensorBase):
 
     @property
     def data(self) -> RayCasterData:
+        """The hits, cast now if the body moved (an update was due) or envs were reset since the last cast."""
+        if self._outdated:
+            self._cast()
         return self._data
 
     def reset(self, env_ids: EnvIds = None) -> None:
+        """Draw new drifts for the envs ``env_ids`` (ids or a bool mask); the next read casts again
+        (the reset envs' bodies are placed after the sensors are reset, as in Isaac Lab)."""
         if self._is_initialized:
             self.state.reset(env_mask(env_ids, self.num_instances, self.device))
+            self._outdated = True
 
     def update(self, dt: float, force_recompute: bool = False) -> None:
+        """Called by the scene every physics step: marks the hits outdated every ``update_period``;
+        they are cast when read (Isaac Lab's lazy update: a height scan read once per env step is
+        cast once, not at every physics substep)."""
         if not self._is_initialized:
             return
         self._timestamp += dt
         if self.cfg.update_period > 0.0 and self._timestamp + 1e-9 < self.cfg.update_period and not force_recompute:
             return
         self._timestamp = 0.0
+        self._outdated = True
+        if force_recompute:
+            self._cast()
+
+    def _cast(self) -> None:
+        self._outdated = False
         self._sim.physics.ensure_forward()
         origins = self._sim.env_origins
         pos_w = self._xpos[:, self._body_id] + origins + self.drift

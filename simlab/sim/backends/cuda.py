@@ -355,7 +355,7 @@ class CudaBackend(PhysicsBackend):
         bits = torch.tensor(list(_OVERFLOW_SETTINGS), dtype=self._overflow_seen.dtype, device=self.device)
         hit = ((self._overflow_seen.unsqueeze(-1) & bits) != 0).any(dim=0).tolist()  # the one sync
         problems = [
-            f"{what}; raise {setting} (now {getattr(self, setting)})"
+            f"{what}; raise SimulationCfg.mujoco.{setting} (now {getattr(self, setting)} per world)"
             for (what, setting), flag in zip(_OVERFLOW_SETTINGS.values(), hit)
             if flag
         ]
@@ -364,7 +364,9 @@ class CudaBackend(PhysicsBackend):
             raise RuntimeError(
                 "MuJoCo Warp buffer overflow: "
                 + "; ".join(problems)
-                + ". Pass larger values to the cuda backend: make_backend(..., nconmax=..., njmax=...)."
+                + ". Contacts or constraints beyond the buffers are dropped, so the physics is wrong: set"
+                " env_cfg.sim.mujoco.nconmax / njmax (override sim.mujoco.nconmax=N) or pass them to"
+                " make_backend(..., nconmax=..., njmax=...)."
             )
 
     def close(self) -> None:
