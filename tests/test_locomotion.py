@@ -182,20 +182,23 @@ def test_feet_air_time_rewards_each_touchdown_after_a_long_flight(go2):
     sensor = go2.scene["contact_forces"]
     feet = resolved(go2, SceneEntityCfg("contact_forces", body_names=".*_foot"))
     data = sensor.data
-    saved = [t.clone() for t in (data.current_contact_time, data.current_air_time, data.last_air_time)]
-    contact, air, last_air = torch.zeros(N, sensor.num_bodies), torch.zeros(N, sensor.num_bodies), saved[2].clone()
+    buffers = (data.current_contact_time, data.current_air_time, data.last_air_time)
+    saved = [t.clone() for t in buffers]
+    contact, air, last_air = (t.clone() for t in buffers)
     # foot 0 touched down 0.01 s ago after 0.7 s in the air; foot 1 has stood for 0.5 s;
     # foot 2 is in the air; foot 3 just touched down after 0.3 s (a short step: it costs)
     contact[:, feet.body_ids] = torch.tensor([0.01, 0.5, 0.0, 0.005])
     air[:, feet.body_ids] = torch.tensor([0.0, 0.0, 0.2, 0.0])
     last_air[:, feet.body_ids] = torch.tensor([0.7, 0.7, 0.7, 0.3])
-    data.current_contact_time, data.current_air_time, data.last_air_time = contact, air, last_air
+    for buffer, value in zip(buffers, (contact, air, last_air)):
+        buffer.copy_(value)
     set_command(go2, (0.5, 0.0, 0.0))
     reward = mdp.feet_air_time(go2, command_name="base_velocity", sensor_cfg=feet, threshold=0.5)
     torch.testing.assert_close(reward, torch.full((N,), (0.7 - 0.5) + (0.3 - 0.5)))
     set_command(go2, (0.05, 0.05, 1.0))  # planar command under 0.1 m/s: no stepping asked for
     assert not mdp.feet_air_time(go2, command_name="base_velocity", sensor_cfg=feet, threshold=0.5).any()
-    data.current_contact_time, data.current_air_time, data.last_air_time = saved
+    for buffer, value in zip(buffers, saved):
+        buffer.copy_(value)
 
 
 def test_feet_slide_is_the_speed_of_the_feet_that_touch(go2):
