@@ -11,6 +11,7 @@ import torch
 import simlab.envs.mdp as mdp
 import simlab.sim as sim_utils
 import simlab.tasks  # noqa: F401 - registers the tasks
+import simlab.utils.math as math_utils
 from simlab.assets import ArticulationCfg, AssetBaseCfg
 from simlab.managers import SceneEntityCfg
 from simlab.robots.anymal import ANYMAL_C_CFG
@@ -350,3 +351,34 @@ def test_isaac_lab_style_velocity_task_runs_after_the_import_mapping():
         _, reward, *_ = env.step(torch.zeros(N, 12))
     assert torch.isfinite(reward).all() and "feet_slide" in env.reward_manager.active_terms
     env.close()
+
+
+def test_yaw_frame_and_world_frame_tracking_rewards(go2):
+    robot = go2.scene["robot"]
+    state = robot.data.root_state_w.clone()
+    # yawed 90 deg left and pitched 0.5 rad, moving along world +y at 1 m/s and turning about world z
+    yaw = torch.tensor([math.cos(math.pi / 4), 0.0, 0.0, math.sin(math.pi / 4)])
+    pitch = torch.tensor([math.cos(0.25), 0.0, math.sin(0.25), 0.0])
+    state[:, 3:7] = math_utils.quat_mul(yaw, pitch).expand(N, 4)
+    state[:, 7:13] = torch.tensor([0.0, 1.0, 0.0, 0.0, 0.0, 0.5])
+    robot.write_root_state_to_sim(state)
+    set_command(go2, (1.0, 0.0, 0.5))
+    # in the yaw-aligned frame the robot moves straight ahead: the command is met exactly
+    torch.testing.assert_close(
+        mdp.track_lin_vel_xy_yaw_frame_exp(go2, std=0.5, command_name="base_velocity"), torch.ones(N)
+    )
+    torch.testing.assert_close(mdp.track_ang_vel_z_world_exp(go2, command_name="base_velocity", std=0.5), torch.ones(N))
+    # in the pitched base frame the forward speed reads cos(0.5) and the yaw rate 0.5 cos(0.5)
+    forward_error = (1.0 - math.cos(0.5)) ** 2
+    side = robot.data.root_lin_vel_b[:, 1]
+    torch.testing.assert_close(side, torch.zeros(N), atol=1e-5, rtol=0.0)
+    torch.testing.assert_close(
+        mdp.track_lin_vel_xy_exp(go2, std=0.5, command_name="base_velocity"),
+        torch.full((N,), math.exp(-forward_error / 0.25)),
+    )
+    yaw_error = (0.5 - 0.5 * math.cos(0.5)) ** 2
+    torch.testing.assert_close(
+        mdp.track_ang_vel_z_exp(go2, std=0.5, command_name="base_velocity"),
+        torch.full((N,), math.exp(-yaw_error / 0.25)),
+    )
+    go2.reset()
