@@ -382,3 +382,19 @@ def test_yaw_frame_and_world_frame_tracking_rewards(go2):
         torch.full((N,), math.exp(-yaw_error / 0.25)),
     )
     go2.reset()
+
+
+def test_randomize_rigid_body_com_moves_the_base_com(go2):
+    base = resolved(go2, SceneEntityCfg("robot", body_names="base"))
+    robot = go2.scene["robot"]
+    body = robot._body_ids[base.body_ids[0]]
+    model_com = torch.as_tensor(go2.sim.model.body_ipos[body], dtype=torch.float32)
+    mdp.randomize_rigid_body_com(go2, torch.tensor([1, 2]), {"x": (0.05, 0.05), "z": (-0.01, 0.01)}, asset_cfg=base)
+    com = go2.sim.physics.model_field("body_ipos")[:, body]
+    torch.testing.assert_close(com[[0, 3]], model_com.expand(2, 3))
+    torch.testing.assert_close(com[[1, 2], 0], model_com[0] + torch.full((2,), 0.05))
+    torch.testing.assert_close(com[[1, 2], 1], model_com[1].expand(2))
+    assert ((com[[1, 2], 2] - model_com[2]).abs() <= 0.01 + 1e-6).all()
+    with pytest.raises(ValueError, match="unknown com_range key"):
+        mdp.randomize_rigid_body_com(go2, None, {"roll": (0.0, 0.1)}, asset_cfg=base)
+    mdp.randomize_rigid_body_com(go2, None, {}, asset_cfg=base)  # back to the model's

@@ -260,6 +260,28 @@ def randomize_rigid_body_mass(
     _set_const(env, env_ids)
 
 
+def randomize_rigid_body_com(
+    env: ManagerBasedEnv,
+    env_ids: torch.Tensor | None,
+    com_range: dict[str, tuple[float, float]],
+    asset_cfg: SceneEntityCfg,
+) -> None:
+    """Per-env centre of mass of the selected bodies: the model's, moved by a uniform offset
+    (``com_range`` keys ``x``, ``y``, ``z``, body frame), the same offset for every selected body
+    of an env."""
+    unknown = [k for k in com_range if k not in ("x", "y", "z")]
+    if unknown:
+        raise ValueError(f"randomize_rigid_body_com: unknown com_range key(s) {unknown}; allowed: x, y, z")
+    env_ids = _ids(env, env_ids)
+    asset = env.scene[asset_cfg.name]
+    bodies = asset._body_index[_cols(asset_cfg.body_ids, asset.num_bodies, env.device)]
+    ranges = torch.tensor([com_range.get(k, (0.0, 0.0)) for k in ("x", "y", "z")], device=env.device)
+    offset = math_utils.sample_uniform(ranges[:, 0], ranges[:, 1], (len(env_ids), 3), env.device)
+    default = torch.as_tensor(env.sim.model.body_ipos, dtype=torch.float32, device=env.device)[bodies]
+    env.sim.physics.model_field("body_ipos")[env_ids[:, None], bodies] = default + offset[:, None, :]
+    _set_const(env, env_ids)
+
+
 class randomize_rigid_body_material(ManagerTermBase):  # noqa: N801 - Isaac Lab's name
     """Per-env friction of the asset's geoms, drawn from ``num_buckets`` sampled materials.
 
