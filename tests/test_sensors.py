@@ -382,8 +382,20 @@ def test_contact_sensor_counts_air_then_contact_time_and_resets_by_mask():
     torch.testing.assert_close(d.net_forces_w[..., 2], torch.full((2, 1), 9.81), atol=0.05, rtol=0)
     assert d.net_forces_w_history.shape == (2, 3, 1, 3)
     torch.testing.assert_close(d.net_forces_w_history[:, 0], d.net_forces_w)
+    # lifted off the ground: the contact phase ends, its length is kept, the flight starts
+    contact_time = d.current_contact_time.clone()
+    box = scene["robot"]
+    pose = box.data.root_state_w[:, :7].clone()
+    pose[:, 2] += 0.5
+    box.write_root_pose_to_sim(pose)
+    box.write_root_velocity_to_sim(torch.zeros(2, 6))
+    sim.step()
+    scene.update(DT)
+    assert sensor.compute_first_air(DT).all() and not sensor.compute_first_contact(DT).any()
+    torch.testing.assert_close(d.last_contact_time, contact_time + DT)
+    torch.testing.assert_close(d.current_air_time, torch.full((2, 1), DT))
     scene.reset(torch.tensor([True, False]))
-    assert d.current_contact_time[0] == 0 and d.current_contact_time[1] > 0
+    assert d.current_air_time[0] == 0 and d.current_air_time[1] > 0 and d.last_contact_time[0] == 0
     assert (d.net_forces_w_history[0] == 0).all() and (d.net_forces_w_history[1] != 0).any()
 
 
@@ -512,3 +524,32 @@ def test_height_scan_in_env_steps_follows_resets(device):
                 assert not torch.allclose(before, scan)  # each env scans the ground of its new place
     finally:
         env.close()
+
+
+def test_binned_ray_casts_agree_with_casts_against_every_geom():
+    """The CPU caster casts vertical rays against the targets of their xy bin only: the distances
+    equal mj_ray's against every target geom, for vertical and oblique rays, inside and outside
+    the terrain."""
+    from simlab.sensors.ray_caster.ray_targets import _mjbatch_rays, _MujocoCaster, find_target_geoms, target_model
+
+    @configclass
+    class SceneCfg(InteractiveSceneCfg):
+        terrain = TerrainImporterCfg(
+            prim_path="/World/ground", terrain_type="generator", terrain_generator=small_terrain(box_tiles_as="boxes")
+        )
+
+    sim, _ = make_scene(SceneCfg(num_envs=1, env_spacing=2.0))
+    model = target_model(sim.model, find_target_geoms(sim.model, ["/World/ground"], "test"))
+    n = 4000
+    g = torch.Generator().manual_seed(0)
+    starts = (torch.rand(n, 3, generator=g) - 0.5) * torch.tensor([12.0, 26.0, 2.0]) + torch.tensor([0.0, 0.0, 2.0])
+    directions = torch.zeros(n, 3)
+    directions[:, 2] = -1.0
+    oblique = torch.rand(n, generator=g) < 0.25
+    directions[oblique] = torch.nn.functional.normalize(torch.randn(int(oblique.sum()), 3, generator=g), dim=-1)
+    caster = _MujocoCaster(model, n, num_threads=2)
+    assert len(caster.bins) > 1
+    binned = caster.cast(starts, directions)
+    every_geom = _mjbatch_rays(caster.full, starts, directions)
+    assert (binned >= 0).sum() > n / 2
+    torch.testing.assert_close(binned, every_geom, atol=1e-5, rtol=0)

@@ -7,6 +7,12 @@ adds one accelerometer on a world site to the model (both MuJoCo C and MuJoCo Wa
 ``cfrc_ext`` at every step) and reads the force part, minus the forces applied through
 ``xfrc_applied``, so that what remains is the contact force on the body (equality-constraint
 forces, where a model has them, are included).
+
+The forces read are those of the physics step just taken: ``mj_step`` computes them from the state
+it starts from and they drive it to the next state (what PhysX reports for its step too), so the
+sensor needs no extra forward pass per physics step (one per substep would cost about half a step
+more). The scene updates the sensor right after each physics step, before anything recomputes
+derived quantities.
 """
 
 from __future__ import annotations
@@ -122,7 +128,6 @@ class ContactSensor(SensorBase):
             return
         elapsed, self._timestamp = self._timestamp, 0.0
         d = self._data
-        self._sim.physics.ensure_forward()  # contact forces of the current state
         external = self._cfrc_ext[:, self._body_ids, 3:6] - self._xfrc[:, self._body_ids, 0:3]
         d.net_forces_w.copy_(external)
         if d.net_forces_w_history.shape[1] > 1:
@@ -131,6 +136,7 @@ class ContactSensor(SensorBase):
         # every buffer is written in place: a step replayed as a CUDA graph reads and writes the
         # same tensors at each replay (a rebound attribute would leave the graph reading the old one)
         if self.cfg.track_pose:
+            self._sim.physics.ensure_forward()  # body poses of the current state
             d.pos_w.copy_(self._xpos[:, self._body_ids] + self._sim.env_origins[:, None])
             d.quat_w.copy_(self._xquat[:, self._body_ids])
         if self.cfg.track_air_time:

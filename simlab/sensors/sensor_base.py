@@ -66,6 +66,14 @@ class SensorBase:
     def reset(self, env_ids: torch.Tensor | None = None) -> None:
         pass
 
+    @property
+    def has_debug_vis_implementation(self) -> bool:
+        return False
+
+    def set_debug_vis(self, debug_vis: bool) -> bool:
+        """Isaac Lab's switch for debug drawing; simlab's sensors draw none (returns False)."""
+        return False
+
     def update(self, dt: float, force_recompute: bool = False) -> None:
         pass
 

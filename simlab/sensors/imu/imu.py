@@ -70,7 +70,7 @@ class Imu(SensorBase):
     def data(self) -> ImuData:
         """The readings, computed now if the state changed (an update was due) or envs were reset
         since they were last computed."""
-        if self._outdated:
+        if self._outdated and self._is_initialized:
             self._read()
         return self._data
 

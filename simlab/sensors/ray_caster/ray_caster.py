@@ -11,9 +11,9 @@ kept where a reset's mask is set.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, ClassVar
+import weakref
+from typing import TYPE_CHECKING
 
-import mujoco
 import torch
 
 from simlab.utils.env_mask import EnvIds, PerEnvState, env_mask
@@ -26,12 +26,12 @@ from .ray_targets import RayTargets, find_target_geoms, target_model
 if TYPE_CHECKING:
     from .ray_caster_cfg import RayCasterCfg
 
+# Target models by simulation and geom ids: sensors casting at the same geometry share one.
+_TARGET_MODELS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
 
 class RayCaster(SensorBase):
     cfg: RayCasterCfg
-
-    # Target models by (compiled model, geom ids): sensors casting at the same geometry share one.
-    _target_models: ClassVar[dict[tuple[int, tuple[int, ...]], mujoco.MjModel]] = {}
 
     def __init__(self, cfg: RayCasterCfg, scene=None):
         from .ray_caster_cfg import RAY_ALIGNMENTS
@@ -67,7 +67,7 @@ class RayCaster(SensorBase):
     @property
     def data(self) -> RayCasterData:
         """The hits, cast now if the body moved (an update was due) or envs were reset since the last cast."""
-        if self._outdated:
+        if self._outdated and self._is_initialized:
             self._cast()
         return self._data
 
@@ -117,16 +117,17 @@ class RayCaster(SensorBase):
             raise ValueError(f"{self._owner} must select one body per env, it matches {names}")
         self._body_id = ids[0]
         geoms = find_target_geoms(model, list(self.cfg.mesh_prim_paths), self._owner)
-        key = (id(model), tuple(geoms))
-        if key not in RayCaster._target_models:
-            RayCaster._target_models[key] = target_model(model, geoms)
+        shared = _TARGET_MODELS.setdefault(sim, {})
+        key = tuple(geoms)
+        if key not in shared:
+            shared[key] = target_model(model, geoms)
         starts, directions = self.cfg.pattern_cfg.func(self.cfg.pattern_cfg, device)
         offset_rot = torch.tensor(self.cfg.offset.rot, dtype=torch.float32, device=device)
         self.ray_starts = starts + torch.tensor(self.cfg.offset.pos, dtype=torch.float32, device=device)
         self.ray_directions = quat_apply(offset_rot.expand(len(directions), 4), directions)
         self.num_rays = len(self.ray_starts)
         self._xy = torch.tensor([1.0, 1.0, 0.0], device=device)  # drift in the plane only
-        self._targets = RayTargets(RayCaster._target_models[key], n * self.num_rays, sim.physics, device)
+        self._targets = RayTargets(shared[key], n * self.num_rays, sim.physics, device)
         self._xpos, self._xquat = sim.physics.data("xpos"), sim.physics.data("xquat")
         d = self._data
         d.pos_w = torch.zeros(n, 3, device=device)

@@ -1,0 +1,82 @@
+"""Cost of one height scan (Isaac Lab's locomotion scanner: 187 rays per env) on ROUGH_TERRAINS_CFG.
+
+The ant stands on its env origin in each of ``--num_envs`` envs; the scan is cast with the CPU
+caster (vertical rays against the geoms of their bin) and against every target geom, in
+alternating rounds, next to one physics step of all envs for scale.
+
+    PYTHONPATH=$PWD python scripts/benchmarks/ray_cast_cost.py --num_envs 64
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import time
+
+import simlab.sim as sim_utils
+from simlab.robots.ant import ANT_CFG
+from simlab.scene import InteractiveScene, InteractiveSceneCfg
+from simlab.sensors import RayCasterCfg, patterns
+from simlab.sensors.ray_caster.ray_targets import _mjbatch_rays
+from simlab.terrains import ROUGH_TERRAINS_CFG, TerrainImporterCfg
+from simlab.utils import configclass
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--num_envs", type=int, default=64)
+    parser.add_argument("--box_tiles_as", default="height_field")
+    parser.add_argument("--rounds", type=int, default=5)
+    parser.add_argument("--casts", type=int, default=20, help="casts per round")
+    args = parser.parse_args()
+
+    @configclass
+    class SceneCfg(InteractiveSceneCfg):
+        terrain = TerrainImporterCfg(
+            prim_path="/World/ground",
+            terrain_type="generator",
+            terrain_generator=ROUGH_TERRAINS_CFG.replace(seed=0, box_tiles_as=args.box_tiles_as),
+        )
+        robot = ANT_CFG.replace(prim_path="{ENV_REGEX_NS}/Robot")
+        height_scanner = RayCasterCfg(
+            prim_path="{ENV_REGEX_NS}/Robot/torso",
+            offset=RayCasterCfg.OffsetCfg(pos=(0.0, 0.0, 20.0)),
+            ray_alignment="yaw",
+            pattern_cfg=patterns.GridPatternCfg(resolution=0.1, size=(1.6, 1.0)),
+            mesh_prim_paths=["/World/ground"],
+        )
+
+    sim = sim_utils.SimulationContext(sim_utils.SimulationCfg(dt=0.005, device="cpu"))
+    scene = InteractiveScene(SceneCfg(num_envs=args.num_envs, env_spacing=2.0))
+    sim.reset()
+    sensor = scene["height_scanner"]
+    caster = sensor._targets._caster
+    sensor._cast()
+    origins = sim.env_origins
+    starts, directions = sensor._rays_w(sensor.data.pos_w, sensor.data.quat_w)
+    starts, directions = (starts - origins[:, None]).reshape(-1, 3), directions.reshape(-1, 3)
+
+    def binned() -> None:
+        caster.cast(starts, directions)
+
+    def every_geom() -> None:
+        _mjbatch_rays(caster.full, starts, directions)
+
+    def physics() -> None:
+        sim.step()
+
+    times: dict[str, list[float]] = {"binned cast": [], "cast against every geom": [], "physics step": []}
+    for _ in range(args.rounds):
+        for name, run in zip(times, (binned, every_geom, physics), strict=True):
+            start = time.perf_counter()
+            for _ in range(args.casts):
+                run()
+            times[name].append((time.perf_counter() - start) / args.casts * 1e3)
+    rays = args.num_envs * sensor.num_rays
+    print(f"{args.num_envs} envs, {rays} rays, {len(caster.bins)} bin models, {sim.physics.num_threads} threads")
+    for name, ms in times.items():
+        print(f"  {name:24s} {statistics.median(ms):8.2f} ms (rounds {[round(t, 2) for t in ms]})")
+
+
+if __name__ == "__main__":
+    main()
