@@ -192,7 +192,8 @@ def test_ant_observations_and_rewards_of_the_spawn_pose():
     assert not obs[:, 1:7].any()  # torso-frame velocities
     assert obs[:, 10].tolist() == pytest.approx([1.0, 1.0]) and obs[:, 11].tolist() == pytest.approx([1.0, 1.0])
     # joint positions scaled by their limits: the front-left ankle at 45 deg in [30, 100] deg
-    assert obs[0, 12 + 1].item() == pytest.approx((2 * 45 - 130) / 70, abs=1e-4)
+    ankle = env.robot.joint_names.index("front_left_foot")
+    assert obs[0, 12 + ankle].item() == pytest.approx((2 * 45 - 130) / 70, abs=1e-4)
     # standing still, upright, facing the target: alive + up + heading, no progress, no costs
     env.reset_terminated[:] = False
     reward = env._get_rewards()

@@ -97,12 +97,17 @@ HUMANOID_GEARS = {
     "left_lower_arm": 45.0,
 }
 
+GO2_JOINTS = [f"{leg}_{part}_joint" for leg in ("FL", "FR", "RL", "RR") for part in ("hip", "thigh", "calf")]
+ANYMAL_C_JOINTS = [f"{leg}_{part}" for leg in ("LF", "LH", "RF", "RH") for part in ("HAA", "HFE", "KFE")]
+
 MODELS = {
     # file: (root body, free base?, hinge/slide joints in depth-first order)
     "cartpole.xml": ("slider", False, CARTPOLE_JOINTS),
     "cart_double_pendulum.xml": ("slider", False, CART_DOUBLE_PENDULUM_JOINTS),
     "ant.xml": ("torso", True, ANT_JOINTS),
     "humanoid.xml": ("torso", True, HUMANOID_JOINTS),
+    "unitree_go2.xml": ("base", True, GO2_JOINTS),
+    "anybotics_anymal_c.xml": ("base", True, ANYMAL_C_JOINTS),
 }
 
 PREFIX = "robot/"
@@ -183,11 +188,11 @@ def test_structure(name):
         assert model.body(root).dofnum[0] == 0, "fixed base"
     # every geom is named (contact sensors and debugging refer to them)
     assert all(model.geom(i).name for i in range(model.ngeom))
-    # joint ranges in radians: nothing wider than a full turn
+    # joint ranges in radians: nothing wider than 1.5 turns (ANYmal's HFE/KFE: +-3 pi, as in its URDF)
     for i in range(model.njnt):
         if model.jnt_limited[i] and model.jnt_type[i] == mujoco.mjtJoint.mjJNT_HINGE:
             lo, hi = model.jnt_range[i]
-            assert -2 * math.pi <= lo < hi <= 2 * math.pi
+            assert -3 * math.pi - 1e-3 <= lo < hi <= 3 * math.pi + 1e-3
 
 
 def test_cartpole_facts():
@@ -300,7 +305,14 @@ def test_humanoid_facts():
 
 @pytest.mark.parametrize("name", sorted(MODELS))
 def test_stable_above_ground(name):
-    height = {"cartpole.xml": 2.0, "cart_double_pendulum.xml": 2.0, "ant.xml": 0.5, "humanoid.xml": 1.34}[name]
+    height = {
+        "cartpole.xml": 2.0,
+        "cart_double_pendulum.xml": 2.0,
+        "ant.xml": 0.5,
+        "humanoid.xml": 1.34,
+        "unitree_go2.xml": 0.5,  # above its straight legs
+        "anybotics_anymal_c.xml": 0.7,
+    }[name]
     model, data = in_scene(name, height)
     assert model.nu == 0
     if name.startswith("cart"):

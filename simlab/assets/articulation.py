@@ -21,7 +21,7 @@ from simlab.actuators.actuator_pd import per_joint_values
 from simlab.utils.string import resolve_matching_names, resolve_matching_names_values
 
 from .asset_base import EnvIds
-from .root_body import RootedAsset, RootedAssetData, contiguous
+from .root_body import RootedAsset, RootedAssetData, breadth_first, contiguous
 
 
 class Articulation(RootedAsset):
@@ -103,7 +103,7 @@ class Articulation(RootedAsset):
                     f"Joint '{model.joint(j).name}' is a ball joint; articulations take hinge and slide joints"
                 )
             ids.append(j)
-        return ids
+        return breadth_first(model, ids, lambda j: int(model.jnt_bodyid[j]))
 
     def _initialize(self, sim) -> None:
         super()._initialize(sim)

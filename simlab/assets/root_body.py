@@ -25,6 +25,20 @@ def contiguous(ids: list[int], device) -> slice | torch.Tensor:
     return torch.tensor(ids, dtype=torch.long, device=device)
 
 
+def breadth_first(model: mujoco.MjModel, ids: list[int], body_of) -> list[int]:
+    """``ids`` (of bodies or joints) ordered as Isaac Lab orders an articulation's links and
+    joints: by depth in the kinematic tree, then in model order (for a quadruped: the four hips,
+    then the four thighs, then the four knees). MuJoCo's own order is depth first."""
+
+    def depth(body: int) -> int:
+        level = 0
+        while body != 0:
+            body, level = int(model.body_parentid[body]), level + 1
+        return level
+
+    return sorted(ids, key=lambda i: (depth(body_of(i)), i))
+
+
 class RootedAsset(AssetBase):
     """Bodies named ``<Name>/...`` in the model, the first one being the root."""
 
@@ -34,7 +48,9 @@ class RootedAsset(AssetBase):
         super()._initialize(sim)
         model, physics = sim.model, sim.physics
         self._physics = physics
-        body_ids = [b for b in range(model.nbody) if model.body(b).name.startswith(self.prefix)]
+        body_ids = breadth_first(
+            model, [b for b in range(model.nbody) if model.body(b).name.startswith(self.prefix)], lambda b: b
+        )
         if not body_ids:
             raise RuntimeError(f"'{self.cfg.prim_path}' has no bodies named '{self.prefix}...' in the model")
         self._body_ids = body_ids
@@ -171,6 +187,10 @@ class RootedAsset(AssetBase):
             forces, torques = math_utils.quat_apply_inverse(quat, forces), math_utils.quat_apply_inverse(quat, torques)
         self._write_cols(self._ext_force_b, bodies, env, forces)
         self._write_cols(self._ext_torque_b, bodies, env, torques)
+        if is_mask(env):
+            # inside an env step: no host read; applying zero wrenches is harmless
+            self._has_external_wrench = True
+            return
         self._has_external_wrench = bool(self._ext_force_b.any() or self._ext_torque_b.any())
         if not self._has_external_wrench:
             self._xfrc_applied[:, self._body_index] = 0.0

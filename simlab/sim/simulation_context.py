@@ -132,8 +132,13 @@ class SimulationContext:
             for build in self._on_build:
                 build(self.spec)
             self.model = self.spec.compile()
+            geometry_qpos0 = self.model.qpos0.copy()
             for callback in self._on_compile:
-                callback(self.model)
+                callback(self.model)  # articulations put their default joint positions in qpos0
+            # ... which is where the worlds start, but MuJoCo turns hinges by qpos - qpos0: the
+            # model keeps the qpos0 its geometry is written in, the backend the initial state.
+            initial_qpos = self.model.qpos0.copy()
+            self.model.qpos0[:] = geometry_qpos0
             if self.env_origins is None:
                 self.env_origins = torch.zeros(self.num_envs, 3, device=self.device)
             opts = self.cfg.mujoco
@@ -147,6 +152,7 @@ class SimulationContext:
                 nconmax=opts.nconmax,
                 njmax=opts.njmax,
             )
+            self.backend.set_initial_qpos(initial_qpos)
             for callback in self._on_reset:
                 callback(self)
         if not soft:

@@ -203,6 +203,7 @@ def push_by_setting_velocity(
     asset.write_root_velocity_to_sim(vel, env_ids=write_ids)
 
 
+@takes_env_mask
 def apply_external_force_torque(
     env: ManagerBasedEnv,
     env_ids: torch.Tensor,
@@ -211,14 +212,17 @@ def apply_external_force_torque(
     asset_cfg: SceneEntityCfg = _ROBOT,
 ) -> None:
     """Uniform random forces and torques (body frame) on the selected bodies, held until changed."""
-    env_ids = _ids(env, env_ids)
     asset = env.scene[asset_cfg.name]
+    if is_mask(env_ids) and not asset._has_external_wrench and not any((*force_range, *torque_range)):
+        return  # zero wrenches on a robot that has none: nothing changes (Isaac Lab's default ranges)
+    env_ids, write_ids = _selection(env, env_ids)
+    num_rows = env.num_envs if isinstance(env_ids, slice) else len(env_ids)
     num_bodies = len(asset_cfg.body_ids) if isinstance(asset_cfg.body_ids, list) else asset.num_bodies
-    size = (len(env_ids), num_bodies, 3)
+    size = (num_rows, num_bodies, 3)
     forces = math_utils.sample_uniform(*force_range, size, env.device)
     torques = math_utils.sample_uniform(*torque_range, size, env.device)
     body_ids = None if isinstance(asset_cfg.body_ids, slice) else asset_cfg.body_ids
-    asset.set_external_force_and_torque(forces, torques, body_ids=body_ids, env_ids=env_ids)
+    asset.set_external_force_and_torque(forces, torques, body_ids=body_ids, env_ids=write_ids)
 
 
 # -- physical properties ---------------------------------------------------------------------------
@@ -253,6 +257,28 @@ def randomize_rigid_body_mass(
         ratio = masses / default.clamp(min=1e-9)
         inertia = _rows(asset.data.default_inertia, env_ids, local) * ratio[..., None]
         physics.model_field("body_inertia")[env_ids[:, None], bodies] = inertia
+    _set_const(env, env_ids)
+
+
+def randomize_rigid_body_com(
+    env: ManagerBasedEnv,
+    env_ids: torch.Tensor | None,
+    com_range: dict[str, tuple[float, float]],
+    asset_cfg: SceneEntityCfg,
+) -> None:
+    """Per-env centre of mass of the selected bodies: the model's, moved by a uniform offset
+    (``com_range`` keys ``x``, ``y``, ``z``, body frame), the same offset for every selected body
+    of an env."""
+    unknown = [k for k in com_range if k not in ("x", "y", "z")]
+    if unknown:
+        raise ValueError(f"randomize_rigid_body_com: unknown com_range key(s) {unknown}; allowed: x, y, z")
+    env_ids = _ids(env, env_ids)
+    asset = env.scene[asset_cfg.name]
+    bodies = asset._body_index[_cols(asset_cfg.body_ids, asset.num_bodies, env.device)]
+    ranges = torch.tensor([com_range.get(k, (0.0, 0.0)) for k in ("x", "y", "z")], device=env.device)
+    offset = math_utils.sample_uniform(ranges[:, 0], ranges[:, 1], (len(env_ids), 3), env.device)
+    default = torch.as_tensor(env.sim.model.body_ipos, dtype=torch.float32, device=env.device)[bodies]
+    env.sim.physics.model_field("body_ipos")[env_ids[:, None], bodies] = default + offset[:, None, :]
     _set_const(env, env_ids)
 
 

@@ -118,3 +118,13 @@ def last_action(env: ManagerBasedEnv, action_name: str | None = None) -> torch.T
 
 def generated_commands(env: ManagerBasedRLEnv, command_name: str) -> torch.Tensor:
     return env.command_manager.get_command(command_name)
+
+
+# -- sensors ---------------------------------------------------------------------------------------
+
+
+def height_scan(env: ManagerBasedEnv, sensor_cfg: SceneEntityCfg, offset: float = 0.5) -> torch.Tensor:
+    """Height of the scanner above each ray's hit, minus ``offset`` (N, rays): about 0 on flat
+    ground when the scanner is ``offset`` metres up."""
+    sensor = env.scene.sensors[sensor_cfg.name]
+    return sensor.data.pos_w[:, 2].unsqueeze(1) - sensor.data.ray_hits_w[..., 2] - offset

@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING
 
 import torch
 
+import simlab.utils.math as math_utils
 from simlab.managers import SceneEntityCfg
 from simlab.managers.manager_base import ManagerTermBase
 
@@ -67,12 +68,12 @@ def base_height_l2(
     asset_cfg: SceneEntityCfg = _ROBOT,
     sensor_cfg: SceneEntityCfg | None = None,
 ) -> torch.Tensor:
-    """Squared difference of the root height (world z) from ``target_height``."""
+    """Squared difference of the root height from ``target_height``: above z = 0, or with a height
+    scanner ``sensor_cfg``, above the mean height of the ground its rays hit."""
+    target = target_height
     if sensor_cfg is not None:
-        raise ValueError(
-            "base_height_l2: height sensors (ray casters) are not available in simlab yet; use sensor_cfg=None"
-        )
-    return torch.square(env.scene[asset_cfg.name].data.root_pos_w[:, 2] - target_height)
+        target = target_height + torch.mean(env.scene.sensors[sensor_cfg.name].data.ray_hits_w[..., 2], dim=1)
+    return torch.square(env.scene[asset_cfg.name].data.root_pos_w[:, 2] - target)
 
 
 # -- joint penalties -------------------------------------------------------------------------------
@@ -158,6 +159,28 @@ def contact_forces(env: ManagerBasedRLEnv, threshold: float, sensor_cfg: SceneEn
     return torch.sum((_peak_contact_force(env, sensor_cfg) - threshold).clip(min=0.0), dim=1)
 
 
+def feet_air_time(
+    env: ManagerBasedRLEnv, command_name: str, sensor_cfg: SceneEntityCfg, threshold: float
+) -> torch.Tensor:
+    """At each touchdown, the flight time just ended minus ``threshold`` seconds, summed over the
+    selected feet (long steps earn, short ones cost); 0 while the command's planar speed is below
+    0.1 m/s."""
+    sensor = env.scene.sensors[sensor_cfg.name]
+    first_contact = sensor.compute_first_contact(env.step_dt)[:, sensor_cfg.body_ids]
+    last_air_time = sensor.data.last_air_time[:, sensor_cfg.body_ids]
+    reward = torch.sum((last_air_time - threshold) * first_contact, dim=1)
+    moving = torch.linalg.norm(env.command_manager.get_command(command_name)[:, :2], dim=1) > 0.1
+    return reward * moving
+
+
+def feet_slide(env: ManagerBasedRLEnv, sensor_cfg: SceneEntityCfg, asset_cfg: SceneEntityCfg = _ROBOT) -> torch.Tensor:
+    """Planar speed of the selected feet while they touch (more than 1 N in the sensor's
+    history), summed. ``asset_cfg`` selects the same feet as bodies of the robot."""
+    contacts = _peak_contact_force(env, sensor_cfg) > 1.0
+    body_vel = env.scene[asset_cfg.name].data.body_lin_vel_w[:, asset_cfg.body_ids, :2]
+    return torch.sum(body_vel.norm(dim=-1) * contacts, dim=1)
+
+
 # -- velocity tracking -----------------------------------------------------------------------------
 
 
@@ -178,4 +201,24 @@ def track_ang_vel_z_exp(
     """``exp(-(w_z_cmd - w_z)^2 / std^2)`` with the yaw rate in the root frame."""
     data = env.scene[asset_cfg.name].data
     error = torch.square(env.command_manager.get_command(command_name)[:, 2] - data.root_ang_vel_b[:, 2])
+    return torch.exp(-error / std**2)
+
+
+def track_lin_vel_xy_yaw_frame_exp(
+    env: ManagerBasedRLEnv, std: float, command_name: str, asset_cfg: SceneEntityCfg = _ROBOT
+) -> torch.Tensor:
+    """As ``track_lin_vel_xy_exp`` with the velocity in the yaw-aligned (gravity-aligned) root frame."""
+    data = env.scene[asset_cfg.name].data
+    vel_yaw = math_utils.quat_apply_inverse(math_utils.yaw_quat(data.root_quat_w), data.root_lin_vel_w)
+    error = torch.sum(torch.square(env.command_manager.get_command(command_name)[:, :2] - vel_yaw[:, :2]), dim=1)
+    return torch.exp(-error / std**2)
+
+
+def track_ang_vel_z_world_exp(
+    env: ManagerBasedRLEnv, command_name: str, std: float, asset_cfg: SceneEntityCfg = _ROBOT
+) -> torch.Tensor:
+    """As ``track_ang_vel_z_exp`` with the yaw rate in the world frame."""
+    error = torch.square(
+        env.command_manager.get_command(command_name)[:, 2] - env.scene[asset_cfg.name].data.root_ang_vel_w[:, 2]
+    )
     return torch.exp(-error / std**2)

@@ -14,8 +14,11 @@ Simulation semantics shared by all backends:
   forces and model fields currently in the tensors, then runs ``mj_forward`` once so that
   derived quantities (``xpos``, ``xquat``, ``cvel``, ``sensordata``, ...) agree with the new
   ``qpos``/``qvel``. Without that final forward, MuJoCo leaves them one substep behind.
-* ``reset(env_ids)`` restores the model's initial state (``qpos0``, zero velocities, zero
-  controls and applied forces) in the selected worlds, then runs forward there.
+* ``reset(env_ids)`` restores the initial state (``initial_qpos``, zero velocities, zero
+  controls and applied forces) in the selected worlds, then runs forward there. ``initial_qpos``
+  is the model's ``qpos0`` unless ``set_initial_qpos`` gave another (the assets' default joint
+  positions): ``qpos0`` itself stays the configuration the model's geometry is written in,
+  because MuJoCo turns a hinge by ``qpos - qpos0``.
 * ``forward(env_ids)`` recomputes derived quantities from ``qpos``/``qvel`` after a state write.
 
 Derived quantities are computed when first read, as Isaac Lab's lazy data buffers are. A step
@@ -64,6 +67,7 @@ class PhysicsBackend(ABC):
         self.diverged_count = torch.zeros((), dtype=torch.long, device=self.device)
         """Worlds found blown up so far (``take_diverged``), on the device."""
         self._qpos0 = torch.as_tensor(model.qpos0, dtype=torch.float32, device=self.device)
+        self._moves_from_qpos0 = False  # set_initial_qpos gave a start other than qpos0
 
     @abstractmethod
     def data(self, name: str) -> torch.Tensor:
@@ -96,11 +100,25 @@ class PhysicsBackend(ABC):
         if env_ids is None or self.forwards_all_worlds:
             self._clear_stale()
 
+    def set_initial_qpos(self, qpos) -> None:
+        """The joint positions ``reset`` and ``restart`` put the worlds in (``nq`` values)."""
+        self._qpos0 = torch.as_tensor(qpos, dtype=torch.float32, device=self.device).clone()
+        self._moves_from_qpos0 = bool((self._qpos0.cpu() != torch.as_tensor(self.model.qpos0).float()).any())
+
     def reset(self, env_ids: EnvIds = None) -> None:
         """Restore the initial state of the selected worlds (all when ``None``), then forward."""
         self._reset(env_ids)
         if env_ids is None or self.forwards_all_worlds:
             self._clear_stale()
+        if self._moves_from_qpos0:
+            qpos = self.data("qpos")
+            if env_ids is None:
+                qpos.copy_(self._qpos0.expand(self.num_envs, -1))
+            elif isinstance(env_ids, torch.Tensor) and env_ids.dtype == torch.bool:
+                masked_copy_(qpos, env_ids.to(self.device), self._qpos0.expand(self.num_envs, -1))
+            else:
+                qpos[torch.as_tensor(env_ids, dtype=torch.long, device=self.device)] = self._qpos0
+            self.mark_stale(env_ids)
 
     # -- lazy derived quantities -----------------------------------------------------------------
 

@@ -38,7 +38,7 @@ class LocomotionEnv(DirectRLEnv):
     """Needs in its config: ``robot``, ``terrain`` (a ground plane cfg), ``action_scale``, ``joint_gears``
     and the reward weights of ``compute_rewards``.
 
-    ``joint_gears`` is either a list in the robot's joint order (MuJoCo's depth-first order) or a dict
+    ``joint_gears`` is either a list in the robot's joint order (Isaac Lab's: by depth in the tree) or a dict
     ``{joint name or regex: gear}``, which does not depend on the order.
     """
 

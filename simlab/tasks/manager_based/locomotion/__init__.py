@@ -1,0 +1,1 @@
+"""Legged locomotion tasks (Isaac Lab's ``isaaclab_tasks.manager_based.locomotion``)."""

@@ -1,0 +1,1 @@
+"""Velocity tracking on flat and rough terrain (Isaac Lab's ``Isaac-Velocity-*`` tasks)."""
