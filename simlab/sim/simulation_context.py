@@ -66,6 +66,7 @@ class SimulationContext:
         self.camera_target: tuple[float, float, float] = (0.0, 0.0, 0.0)
         self.env_origins: torch.Tensor | None = None
         """(num_envs, 3) offsets of the environments in the world frame, set by the scene."""
+        self._before_compile: list[Callable[[mujoco.MjSpec], None]] = []
         self._on_compile: list[Callable[[mujoco.MjModel], None]] = []
         self._on_reset: list[Callable[[SimulationContext], None]] = []
         self._on_render: list[Callable[[], None]] = []
@@ -128,6 +129,8 @@ class SimulationContext:
     def reset(self, soft: bool = False) -> None:
         """Compile the spec (first call), start the backend, and reset every world."""
         if self.backend is None:
+            for callback in self._before_compile:
+                callback(self.spec)
             self.model = self.spec.compile()
             for callback in self._on_compile:
                 callback(self.model)
@@ -184,6 +187,13 @@ class SimulationContext:
         if self.backend is None:
             raise RuntimeError("The simulation is not started yet: call sim.reset() after building the scene.")
         return self.backend
+
+    def add_before_compile_callback(self, callback: Callable[[mujoco.MjSpec], None]) -> None:
+        """Run ``callback(spec)`` just before the spec compiles, once every entity has added itself
+        (a camera on a robot's body is added then, whatever order the scene declares them in)."""
+        if self.model is not None:
+            raise RuntimeError("The simulation is already compiled: create sensors before sim.reset().")
+        self._before_compile.append(callback)
 
     def add_compile_callback(self, callback: Callable[[mujoco.MjModel], None]) -> None:
         """Run ``callback(model)`` right after compiling, before the backend copies the model."""

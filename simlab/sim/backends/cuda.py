@@ -370,6 +370,19 @@ class CudaBackend(PhysicsBackend):
     def close(self) -> None:
         self._graphs.clear()
 
+    # -- other kernels on the same worlds ------------------------------------------------------
+
+    @property
+    def wp_device(self) -> Any:
+        """The Warp device the worlds live on."""
+        return self._wp_device
+
+    def run_kernels(self, key: Any, body: Callable[[], None]) -> None:
+        """Run Warp work on the worlds (e.g. a camera render) the way physics calls run: replayed as
+        a CUDA graph captured on first use, or recorded into a captured env step, on torch's stream.
+        ``key`` names the graph; ``body`` must launch the same kernels every call."""
+        self._run(key, body)
+
     # -- helpers -------------------------------------------------------------------------------
 
     def _scope(self):
