@@ -146,6 +146,13 @@ def build_parser() -> argparse.ArgumentParser:
         p = sub.add_parser(name, help=f"Step a task with {text} (a quick check that it runs).")
         _add_common(p, video=False)
         p.add_argument("--steps", type=int, default=None, help="Env steps to run (default: until Ctrl+C).")
+        p.add_argument(
+            "--save_camera_frames",
+            metavar="DIR",
+            default=None,
+            help="Write each camera's images of up to 16 envs as one tiled PNG to DIR, after the reset and at the end.",
+        )
+        p.add_argument("--enable_cameras", action="store_true", help="Accepted as in Isaac Lab (cameras always render).")
 
     sub.add_parser("bench", help="Benchmarks (simlab bench --help).", add_help=False)
     return parser
