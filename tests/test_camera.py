@@ -1,0 +1,281 @@
+"""Cameras: the API, images of the cartpole on the CPU renderer, the camera tasks, bad input, and
+the GPU renderer (MuJoCo Warp) against the CPU one on the same state."""
+
+from __future__ import annotations
+
+import math
+
+import gymnasium as gym
+import numpy as np
+import pytest
+import torch
+from conftest import rendering_available
+
+import simlab.sim as sim_utils
+import simlab.tasks  # noqa: F401 - registers the tasks
+from simlab.assets import ArticulationCfg
+from simlab.robots.cartpole import CARTPOLE_CFG
+from simlab.scene import InteractiveScene, InteractiveSceneCfg
+from simlab.sensors import TiledCameraCfg
+from simlab.sensors.camera.camera import camera_memory_bytes, check_gpu_memory
+from simlab.sim import SimulationCfg, SimulationContext
+from simlab.tasks.utils.parse_cfg import load_cfg_from_registry
+from simlab.utils import configclass
+
+pytestmark = pytest.mark.skipif(not rendering_available(), reason="no offscreen OpenGL backend (libosmesa6 or EGL)")
+
+RGB_TASK = "simlab/Cartpole-RGB-Camera-Direct-v0"
+DEPTH_TASK = "simlab/Cartpole-Depth-Camera-Direct-v0"
+CART_COLOUR = (0.3, 0.5, 0.7)  # the cart's rgba in simlab's cartpole MJCF
+
+
+def front_camera(data_types, prim_path="{ENV_REGEX_NS}/Camera", **changes) -> TiledCameraCfg:
+    """The camera of the cartpole camera tasks: 5 m in front of the rail, looking along +x."""
+    cfg = TiledCameraCfg(
+        prim_path=prim_path,
+        offset=TiledCameraCfg.OffsetCfg(pos=(-5.0, 0.0, 2.0), rot=(1.0, 0.0, 0.0, 0.0), convention="world"),
+        data_types=data_types,
+        spawn=sim_utils.PinholeCameraCfg(focal_length=24.0, horizontal_aperture=20.955, clipping_range=(0.1, 20.0)),
+        width=64,
+        height=48,
+    )
+    return cfg.replace(**changes)
+
+
+def cartpole_scene(camera: TiledCameraCfg, num_envs: int = 2):
+    @configclass
+    class SceneCfg(InteractiveSceneCfg):
+        robot: ArticulationCfg = CARTPOLE_CFG.replace(prim_path="{ENV_REGEX_NS}/Robot")
+        camera: TiledCameraCfg = None
+
+    sim = SimulationContext(SimulationCfg(device="cpu"))
+    scene = InteractiveScene(SceneCfg(num_envs=num_envs, env_spacing=20.0, camera=camera))
+    sim.reset()
+    scene.update(sim.get_physics_dt())
+    return sim, scene
+
+
+def set_pole(scene, angles) -> None:
+    robot = scene["robot"]
+    pos = robot.data.default_joint_pos.clone()
+    pole, _ = robot.find_joints("cart_to_pole")
+    pos[:, pole[0]] = torch.as_tensor(angles, dtype=pos.dtype)
+    robot.write_joint_state_to_sim(pos, torch.zeros_like(pos))
+    scene["camera"].reset()
+
+
+def test_camera_outputs_poses_and_intrinsics():
+    kinds = ["rgb", "rgba", "depth", "distance_to_image_plane", "distance_to_camera", "semantic_segmentation"]
+    sim, scene = cartpole_scene(front_camera(kinds))
+    data = scene["camera"].data
+    assert data.image_shape == (48, 64)
+    shapes = {name: (tuple(image.shape), image.dtype) for name, image in data.output.items()}
+    assert shapes == {
+        "rgb": ((2, 48, 64, 3), torch.uint8),
+        "rgba": ((2, 48, 64, 4), torch.uint8),
+        "depth": ((2, 48, 64, 1), torch.float32),
+        "distance_to_image_plane": ((2, 48, 64, 1), torch.float32),
+        "distance_to_camera": ((2, 48, 64, 1), torch.float32),
+        "semantic_segmentation": ((2, 48, 64, 4), torch.uint8),
+    }
+    depth, distance = data.output["depth"], data.output["distance_to_camera"]
+    hit = torch.isfinite(depth)
+    assert hit.any() and not hit.all()  # the cart in front of empty space
+    # the cart's front face is 0.1 m before the rail, 5 m from the camera; rays off the axis are longer
+    assert abs(depth[hit].min().item() - 4.9) < 0.02
+    assert torch.all(distance[hit] >= depth[hit]) and torch.all(torch.isinf(distance[~hit]))
+    assert torch.equal(data.output["rgba"][..., :3], data.output["rgb"]) and (data.output["rgba"][..., 3] == 255).all()
+    # poses: each env's camera at its origin + offset, facing +x (world convention's identity)
+    origins = scene.env_origins
+    torch.testing.assert_close(data.pos_w, origins + torch.tensor([-5.0, 0.0, 2.0]))
+    torch.testing.assert_close(data.quat_w_world, torch.tensor([[1.0, 0.0, 0.0, 0.0]] * 2), atol=1e-6, rtol=0)
+    # ros: +z forward (= world +x), so its rotation maps z to x
+    from simlab.utils.math import matrix_from_quat
+
+    ros = matrix_from_quat(data.quat_w_ros)
+    torch.testing.assert_close(ros[:, :, 2], torch.tensor([[1.0, 0.0, 0.0]] * 2), atol=1e-6, rtol=0)
+    fx = 64 * 24.0 / 20.955
+    torch.testing.assert_close(data.intrinsic_matrices[0], torch.tensor([[fx, 0, 32.0], [0, fx, 24.0], [0, 0, 1.0]]))
+
+
+def test_segmentation_ids_name_bodies():
+    camera = front_camera(["semantic_segmentation"], colorize_semantic_segmentation=False, width=160, height=120)
+    _, scene = cartpole_scene(camera)
+    data = scene["camera"].data
+    ids = data.output["semantic_segmentation"]
+    assert ids.dtype == torch.int32 and ids.shape == (2, 120, 160, 1)
+    labels = data.info["semantic_segmentation"]["idToLabels"]
+    seen = {labels[int(i)] for i in ids.unique() if i >= 0}
+    assert {"Robot/cart", "Robot/pole"} <= seen <= {"Robot/cart", "Robot/pole", "Robot/slider"}
+    assert (ids == -1).any()
+
+
+def is_cart_coloured(rgb: torch.Tensor) -> torch.Tensor:
+    """(..., 3) uint8 pixels of the cart's light steel blue (blue > green > red, as its rgba 0.3 0.5 0.7;
+    the pole is dark blue with red = green, the rail orange): shading changes brightness, not that order."""
+    r, g, b = rgb.int().unbind(-1)
+    return (b > g + 10) & (g > r + 10) & (b > 80)
+
+
+def test_image_shows_the_cart_and_follows_the_pole():
+    _, scene = cartpole_scene(front_camera(["rgb"], width=100, height=100))
+    camera = scene["camera"]
+    set_pole(scene, [0.0, 0.0])
+    upright = camera.data.output["rgb"].clone()
+    set_pole(scene, [0.0, 1.0])
+    tipped = camera.data.output["rgb"].clone()
+    image = upright[0].float() / 255
+    assert image.std() > 0.02  # not a uniform picture
+    cart = is_cart_coloured(upright[0])
+    assert cart.sum() > 10  # the cart's colour is there ...
+    rows, cols = cart.nonzero(as_tuple=True)
+    assert abs(cols.float().mean().item() - 50) < 3 and abs(rows.float().mean().item() - 50) < 3  # ... in the middle
+    torch.testing.assert_close(tipped[0], upright[0])  # env 0 did not move
+    changed = (tipped[1].int() - upright[1].int()).abs().amax(dim=-1) > 30
+    assert changed.sum() > 20  # env 1's pole moved
+
+
+def test_camera_on_a_body_rides_with_it():
+    cfg = front_camera(["depth"], prim_path="{ENV_REGEX_NS}/Robot/cart/cart_cam")
+    cfg = cfg.replace(offset=TiledCameraCfg.OffsetCfg(pos=(-2.0, 0.0, 0.5), rot=(1.0, 0.0, 0.0, 0.0), convention="world"))
+    _, scene = cartpole_scene(cfg)
+    robot, camera = scene["robot"], scene["camera"]
+    pos = robot.data.default_joint_pos.clone()
+    cart, _ = robot.find_joints("slider_to_cart")
+    pos[:, cart[0]] = torch.tensor([0.0, 1.5])
+    robot.write_joint_state_to_sim(pos, torch.zeros_like(pos))
+    camera.reset()
+    moved = camera.data.pos_w - scene.env_origins
+    torch.testing.assert_close(moved, torch.tensor([[-2.0, 0.0, 2.5], [-2.0, 1.5, 2.5]]), atol=1e-5, rtol=0)
+    # the cart stays centred in both images, 2 m - 0.1 m in front
+    depth = camera.data.output["depth"]
+    for env in range(2):
+        assert abs(depth[env][torch.isfinite(depth[env])].min().item() - 1.9) < 0.02
+
+
+@pytest.mark.parametrize("task", [RGB_TASK, DEPTH_TASK])
+def test_camera_tasks_step_with_image_observations(task):
+    cfg = load_cfg_from_registry(task, "env_cfg_entry_point")
+    cfg.scene.num_envs = 2
+    cfg.sim.device = "cpu"
+    cfg.seed = 3
+    env = gym.make(task, cfg=cfg)
+    try:
+        obs, _ = env.reset()
+        channels = 3 if task == RGB_TASK else 1
+        assert obs["policy"].shape == (2, 100, 100, channels) and obs["policy"].dtype == torch.float32
+        assert env.unwrapped.single_observation_space["policy"].shape == (100, 100, channels)
+        first = obs["policy"].clone()
+        for _ in range(5):
+            obs, reward, terminated, truncated, extras = env.step(torch.ones(2, 1))
+        policy = obs["policy"]
+        assert policy.shape == (2, 100, 100, channels) and torch.isfinite(policy).all()
+        assert extras["final_obs"]["policy"].shape == policy.shape
+        assert not torch.equal(policy, first)  # the cart was pushed: the picture changed
+        if task == RGB_TASK:  # each image minus its mean colour
+            assert policy.mean(dim=(1, 2)).abs().max() < 1e-5
+        else:  # metres, 0 where nothing is hit
+            assert ((policy == 0) | ((policy > 4.0) & (policy < 6.0))).all() and (policy > 0).any()
+        assert reward.shape == (2,)
+    finally:
+        env.close()
+
+
+def test_save_camera_frames_writes_a_tiled_png(tmp_path):
+    import imageio.v3 as iio
+
+    from simlab.cli.main import main
+
+    folder = tmp_path / "frames"
+    code = main(["random", "--task", RGB_TASK, "--num_envs", "4", "--device", "cpu", "--headless", "--steps", "2",
+                 "--save_camera_frames", str(folder)])  # fmt: skip
+    assert code == 0
+    picture = iio.imread(folder / "tiled_camera_rgb_step000002.png")
+    assert picture.shape == (2 * 100 + 2, 2 * 100 + 2, 3)  # 4 envs as 2 x 2 tiles, 2 px apart
+    assert (folder / "tiled_camera_rgb_reset.png").is_file()
+    for tile in (picture[:100, :100], picture[102:, 102:]):
+        assert tile.std() > 5  # each env's tile shows something on the dark background
+
+
+def test_save_camera_frames_needs_a_camera(tmp_path, capsys):
+    from simlab.cli.main import main
+
+    code = main(["random", "--task", "simlab/Cartpole-Direct-v0", "--num_envs", "2", "--device", "cpu", "--headless",
+                 "--steps", "1", "--save_camera_frames", str(tmp_path)])  # fmt: skip
+    assert code == 2
+    assert "has no camera" in capsys.readouterr().err
+
+
+# -- bad input ---------------------------------------------------------------------------------
+
+
+def test_unknown_data_type_says_what_is_allowed():
+    SimulationContext(SimulationCfg(device="cpu"))
+    with pytest.raises(ValueError, match=r"unknown types \['normals'\]; allowed \(a list of any of them\).*'distance_to_camera'"):
+        front_camera(["rgb", "normals"]).class_type(front_camera(["rgb", "normals"]))
+
+
+def test_camera_on_a_missing_body_lists_the_bodies():
+    with pytest.raises(ValueError, match=r"body 'Robot/wheel'.*bodies in the model: \['Robot/slider', 'Robot/cart'"):
+        cartpole_scene(front_camera(["rgb"], prim_path="{ENV_REGEX_NS}/Robot/wheel/cam"))
+
+
+def test_resolution_beyond_gpu_memory_says_how_much_is_needed():
+    needed = camera_memory_bytes(4096, 1920, 1080, ["rgb", "depth"], gpu=True)
+    # outputs 3 + 4, unpacked 3 + 4, MuJoCo Warp's 4 + 4 bytes per pixel
+    assert needed == 4096 * 1920 * 1080 * 22
+    with pytest.raises(MemoryError, match=r"4096 envs of 1920x1080 images need about 174\.\d\d GiB.*10\.00 GiB are free"):
+        check_gpu_memory("Camera", needed, 10 * 1024**3, 4096, 1920, 1080)
+    check_gpu_memory("Camera", camera_memory_bytes(1024, 100, 100, ["rgb"], gpu=True), 10 * 1024**3, 1024, 100, 100)
+
+
+def test_bad_lens_and_resolution():
+    SimulationContext(SimulationCfg(device="cpu"))
+    with pytest.raises(ValueError, match="width must be a positive number of pixels"):
+        front_camera(["rgb"], width=0).class_type(front_camera(["rgb"], width=0))
+    bad_lens = front_camera(["rgb"], spawn=sim_utils.PinholeCameraCfg(clipping_range=(1.0, 0.5)))
+    with pytest.raises(ValueError, match="0 < near < far"):
+        bad_lens.class_type(bad_lens)
+
+
+# -- the GPU renderer against the CPU one ------------------------------------------------------
+
+WARP_DEVICES = [
+    pytest.param("cpu", id="warp-cpu"),  # MuJoCo Warp's CPU device: runs wherever mujoco_warp is installed
+    pytest.param("cuda:0", id="warp-cuda", marks=[pytest.mark.gpu]),
+]
+
+
+@pytest.mark.parametrize("warp_device", WARP_DEVICES)
+def test_warp_renderer_matches_mujoco_renderer(warp_device):
+    pytest.importorskip("mujoco_warp")
+    from simlab.sensors.camera.mujoco_renderer import MujocoCameraRenderer
+    from simlab.sensors.camera.warp_renderer import WarpCameraRenderer
+    from simlab.sim.backends.cuda import CudaBackend
+
+    sim, scene = cartpole_scene(front_camera(["rgb"]).replace(width=80, height=60))
+    set_pole(scene, [0.3, -0.8])
+    physics, model, camera_id = sim.physics, sim.model, scene["camera"]._camera_id
+    physics.ensure_forward()
+    cpu = MujocoCameraRenderer(physics, model, camera_id, 80, 60, True, True, True)
+    cpu.render()
+    warp_physics = CudaBackend(model, 2, device=warp_device)
+    warp_physics.data("qpos").copy_(physics.data("qpos").to(warp_physics.device))
+    warp_physics.forward()
+    gpu = WarpCameraRenderer(warp_physics, model, camera_id, 80, 60, True, True, True)
+    gpu.render()
+    depth_cpu, depth_gpu = cpu.depth.numpy(), gpu.depth.cpu().numpy()
+    # the same pixels hit something, at the same planar depth
+    assert np.array_equal(np.isfinite(depth_cpu), np.isfinite(depth_gpu)) and np.isfinite(depth_cpu).sum() > 50
+    hit = np.isfinite(depth_cpu)
+    np.testing.assert_allclose(depth_gpu[hit], depth_cpu[hit], atol=1e-3)
+    assert (gpu.geom_ids.cpu() == cpu.geom_ids).float().mean() > 0.99
+    # RGB structurally: the same pixels are lit, and the cart has its colour in both
+    lit_cpu = cpu.rgb.int().amax(dim=-1) > 20
+    lit_gpu = gpu.rgb.cpu().int().amax(dim=-1) > 20
+    objects = torch.from_numpy(hit)
+    assert (lit_gpu == objects).float().mean() > 0.99  # the ray tracer draws exactly the hit pixels
+    assert (lit_cpu & objects).sum() >= 0.95 * objects.sum()  # OpenGL draws them too (and antialiased edges)
+    for rgb in (cpu.rgb, gpu.rgb.cpu()):
+        assert is_cart_coloured(rgb).sum() > 10
+    assert math.isclose(float(cpu.depth[torch.isfinite(cpu.depth)].min()), 4.9, abs_tol=0.02)
