@@ -126,6 +126,9 @@ class Camera(SensorBase):
         self._data_types = [cfg.data_types] if isinstance(cfg.data_types, str) else list(cfg.data_types)
         self._body, self._name = camera_parent(cfg.prim_path)
         self._sim.add_before_compile_callback(self._add_to_spec)
+        # MuJoCo's GL renderer must be closed, not collected: freeing its GL objects when collected would
+        # delete objects of whatever other context is current then (another camera's)
+        self._sim.add_clear_callback(self.close)
         self._data = CameraData()
         self._renderer = None
         self._needs_render = True
@@ -228,6 +231,10 @@ class Camera(SensorBase):
             self._palette = _palette(model.nbody, dev)
             d.info["semantic_segmentation"] = {"idToLabels": {b: model.body(b).name for b in range(model.nbody)}}
         self._cam_xpos, self._cam_xmat = physics.data("cam_xpos"), physics.data("cam_xmat")
+        # rotations from OpenGL camera axes to ROS / world ones (made here: no host copies while rendering)
+        identity = torch.eye(3, device=dev)
+        self._ros_from_opengl = _rotation(convert_camera_frame_orientation_convention, identity, "ros")
+        self._world_from_opengl = _rotation(convert_camera_frame_orientation_convention, identity, "world")
         for name in ("pos_w", "quat_w_world", "quat_w_ros", "quat_w_opengl"):
             setattr(d, name, torch.zeros(n, 3 if name == "pos_w" else 4, device=dev))
         self._frame = torch.zeros(n, dtype=torch.long, device=dev)
@@ -300,16 +307,24 @@ class Camera(SensorBase):
     def _update_poses(self) -> None:
         d = self._data
         d.pos_w.copy_(self._cam_xpos[:, self._camera_id] + self._sim.env_origins)
-        opengl = quat_from_matrix(self._cam_xmat[:, self._camera_id].reshape(-1, 3, 3))
-        d.quat_w_opengl.copy_(opengl)
-        d.quat_w_ros.copy_(convert_camera_frame_orientation_convention(opengl, "opengl", "ros"))
-        d.quat_w_world.copy_(convert_camera_frame_orientation_convention(opengl, "opengl", "world"))
+        opengl = self._cam_xmat[:, self._camera_id].reshape(-1, 3, 3)  # MuJoCo's camera frame is OpenGL's
+        d.quat_w_opengl.copy_(quat_from_matrix(opengl))
+        # R_convention = R_opengl @ (convention from OpenGL); the constant matrices live on the device
+        d.quat_w_ros.copy_(quat_from_matrix(opengl @ self._ros_from_opengl))
+        d.quat_w_world.copy_(quat_from_matrix(opengl @ self._world_from_opengl))
 
 
 class TiledCamera(Camera):
     """Isaac Lab's ``TiledCamera``: simlab's cameras render every env in one batch already."""
 
     cfg: TiledCameraCfg
+
+
+def _rotation(convert, identity: torch.Tensor, target: str) -> torch.Tensor:
+    """The constant (3, 3) that turns an OpenGL camera rotation into a ``target`` one (right-multiplied)."""
+    from simlab.utils.math import matrix_from_quat
+
+    return matrix_from_quat(convert(quat_from_matrix(identity), "opengl", target))
 
 
 def _palette(num_bodies: int, device) -> torch.Tensor:

@@ -8,6 +8,10 @@ rendered from it. Fit for small env counts; the GPU renders all envs in one call
 
 from __future__ import annotations
 
+import gc
+from collections.abc import Iterator
+from contextlib import contextmanager
+
 import mujoco
 import numpy as np
 import torch
@@ -26,6 +30,19 @@ def geoms_only_option() -> mujoco.MjvOption:
     option.geomgroup[:] = 0
     option.geomgroup[:3] = 1
     return option
+
+
+@contextmanager
+def _no_garbage_collection() -> Iterator[None]:
+    """No cyclic garbage collection in the block: collecting an unclosed MuJoCo renderer (of an env nobody
+    closed) frees its GL objects by id in whatever context is current, which mid-frame is this one's."""
+    enabled = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if enabled:
+            gc.enable()
 
 
 class MujocoCameraRenderer:
@@ -60,6 +77,10 @@ class MujocoCameraRenderer:
         self.geom_ids = torch.full((n, height, width), -1, dtype=torch.int32) if segmentation else None
 
     def render(self) -> None:
+        with _no_garbage_collection():
+            self._render_all()
+
+    def _render_all(self) -> None:
         model, data, renderer = self._model, self._data, self._renderer
         states = gather_env_states(self._physics, range(self._physics.num_envs))
         for env in range(self._physics.num_envs):

@@ -98,7 +98,7 @@ class WarpCameraRenderer:
         n, h, w = self._physics.num_envs, self._height, self._width
         if self.rgb is not None:
             bgra = self._packed_rgb.view(torch.uint8).view(n, h, w, 4)  # little-endian bytes of 0xAARRGGBB
-            self.rgb.copy_(bgra[..., [2, 1, 0]])
+            self.rgb.copy_(bgra[..., :3].flip(-1))  # b, g, r -> r, g, b (no index tensor: graph-capturable)
         if self.depth is not None:
             depth = self._raw_depth.view(n, h, w)
             self.depth.copy_(torch.where(depth > 0.0, depth, math.inf))
