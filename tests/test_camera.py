@@ -137,7 +137,9 @@ def test_image_shows_the_cart_and_follows_the_pole():
 
 def test_camera_on_a_body_rides_with_it():
     cfg = front_camera(["depth"], prim_path="{ENV_REGEX_NS}/Robot/cart/cart_cam")
-    cfg = cfg.replace(offset=TiledCameraCfg.OffsetCfg(pos=(-2.0, 0.0, 0.5), rot=(1.0, 0.0, 0.0, 0.0), convention="world"))
+    cfg = cfg.replace(
+        offset=TiledCameraCfg.OffsetCfg(pos=(-2.0, 0.0, 0.5), rot=(1.0, 0.0, 0.0, 0.0), convention="world")
+    )
     _, scene = cartpole_scene(cfg)
     robot, camera = scene["robot"], scene["camera"]
     pos = robot.data.default_joint_pos.clone()
@@ -211,7 +213,9 @@ def test_save_camera_frames_needs_a_camera(tmp_path, capsys):
 
 def test_unknown_data_type_says_what_is_allowed():
     SimulationContext(SimulationCfg(device="cpu"))
-    with pytest.raises(ValueError, match=r"unknown types \['normals'\]; allowed \(a list of any of them\).*'distance_to_camera'"):
+    with pytest.raises(
+        ValueError, match=r"unknown types \['normals'\]; allowed \(a list of any of them\).*'distance_to_camera'"
+    ):
         front_camera(["rgb", "normals"]).class_type(front_camera(["rgb", "normals"]))
 
 
@@ -224,7 +228,9 @@ def test_resolution_beyond_gpu_memory_says_how_much_is_needed():
     needed = camera_memory_bytes(4096, 1920, 1080, ["rgb", "depth"], gpu=True)
     # outputs 3 + 4, unpacked 3 + 4, MuJoCo Warp's 4 + 4 bytes per pixel
     assert needed == 4096 * 1920 * 1080 * 22
-    with pytest.raises(MemoryError, match=r"4096 envs of 1920x1080 images need about 174\.\d\d GiB.*10\.00 GiB are free"):
+    with pytest.raises(
+        MemoryError, match=r"4096 envs of 1920x1080 images need about 174\.\d\d GiB.*10\.00 GiB are free"
+    ):
         check_gpu_memory("Camera", needed, 10 * 1024**3, 4096, 1920, 1080)
     check_gpu_memory("Camera", camera_memory_bytes(1024, 100, 100, ["rgb"], gpu=True), 10 * 1024**3, 1024, 100, 100)
 
@@ -279,3 +285,18 @@ def test_warp_renderer_matches_mujoco_renderer(warp_device):
     for rgb in (cpu.rgb, gpu.rgb.cpu()):
         assert is_cart_coloured(rgb).sum() > 10
     assert math.isclose(float(cpu.depth[torch.isfinite(cpu.depth)].min()), 4.9, abs_tol=0.02)
+
+
+def test_bench_env_measures_the_render_share(tmp_path):
+    import json
+
+    from simlab.benchmarks.cli import main
+
+    out = tmp_path / "bench.json"
+    args = ["env", "inference", "--device", "cpu", "--tasks", RGB_TASK, "--num_envs", "2", "--steps", "2"]
+    assert main([*args, "--json", str(out)]) == 0
+    results = json.loads(out.read_text())["results"]
+    for row in (results["env"][0], results["inference"][0]):  # inference: the CNN actor on the images
+        assert "error" not in row
+        assert row["renders_per_step"] == 2  # the finished envs' last images, then the new ones
+        assert row["render_ms"] > 0 and 0 < row["render_share"] < 1.5

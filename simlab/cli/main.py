@@ -152,7 +152,9 @@ def build_parser() -> argparse.ArgumentParser:
             default=None,
             help="Write each camera's images of up to 16 envs as one tiled PNG to DIR, after the reset and at the end.",
         )
-        p.add_argument("--enable_cameras", action="store_true", help="Accepted as in Isaac Lab (cameras always render).")
+        p.add_argument(
+            "--enable_cameras", action="store_true", help="Accepted as in Isaac Lab (cameras always render)."
+        )
 
     sub.add_parser("bench", help="Benchmarks (simlab bench --help).", add_help=False)
     return parser

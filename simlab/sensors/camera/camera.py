@@ -168,6 +168,16 @@ class Camera(SensorBase):
             self._timestamp = 0.0
             self._needs_render = True
 
+    def device_memory_bytes(self) -> int:
+        """GPU bytes of the renderer's own buffers (MuJoCo Warp allocates them outside torch); 0 on the CPU."""
+        renderer = self._renderer
+        if renderer is None or self._sim.physics.name != "cuda":
+            return 0
+        n, w, h = self.num_instances, self.cfg.width, self.cfg.height
+        return warp_context_bytes(
+            n, w, h, renderer.rgb is not None, renderer.depth is not None, renderer.geom_ids is not None
+        )
+
     def close(self) -> None:
         if self._renderer is not None:
             self._renderer.close()
