@@ -300,3 +300,18 @@ def test_bench_env_measures_the_render_share(tmp_path):
         assert "error" not in row
         assert row["renders_per_step"] == 2  # the finished envs' last images, then the new ones
         assert row["render_ms"] > 0 and 0 < row["render_share"] < 1.5
+
+
+def test_rsl_rl_cnn_actor_trains_plays_and_exports(tmp_path):
+    from simlab.cli.main import main
+
+    common = ["--task", RGB_TASK, "--library", "rsl_rl", "--device", "cpu", "--headless", "--log_root", str(tmp_path)]
+    small = ["agent.num_steps_per_env=4", "agent.algorithm.num_mini_batches=1"]
+    assert main(["train", *common, "--num_envs", "2", "--max_iterations", "1", *small]) == 0
+    assert main(["play", *common, "--num_envs", "2", "--use_last_checkpoint", "--steps", "2"]) == 0
+    (exported,) = list(tmp_path.glob("rsl_rl/cartpole_camera_direct/*/exported"))
+    policy = torch.jit.load(str(exported / "policy.pt"))
+    images = torch.rand(3, 100, 100, 3) - 0.5  # (N, H, W, C), as the env gives them
+    actions = policy(images)
+    assert actions.shape == (3, 1) and torch.isfinite(actions).all()
+    assert (exported / "policy.onnx").is_file()
