@@ -315,3 +315,34 @@ def test_rsl_rl_cnn_actor_trains_plays_and_exports(tmp_path):
     actions = policy(images)
     assert actions.shape == (3, 1) and torch.isfinite(actions).all()
     assert (exported / "policy.onnx").is_file()
+
+
+def test_camera_task_steps_on_the_mujoco_warp_backend(monkeypatch):
+    """The GPU code path (MuJoCo Warp physics and renderer) through whole env steps, on MuJoCo Warp's
+    CPU device: runs wherever mujoco_warp is installed."""
+    pytest.importorskip("mujoco_warp")
+    import simlab.sim.simulation_context as simulation_context
+    from simlab.sensors.camera.warp_renderer import WarpCameraRenderer
+    from simlab.sim.backends.cuda import CudaBackend
+
+    def warp_on_cpu(model, num_envs, device, **options):
+        return CudaBackend(model, num_envs, device="cpu", nconmax=options.get("nconmax"), njmax=options.get("njmax"))
+
+    monkeypatch.setattr(simulation_context, "make_backend", warp_on_cpu)
+    cfg = load_cfg_from_registry(DEPTH_TASK, "env_cfg_entry_point")
+    cfg.scene.num_envs = 2
+    cfg.sim.device = "cpu"
+    env = gym.make(DEPTH_TASK, cfg=cfg)
+    try:
+        camera = env.unwrapped._tiled_camera
+        assert isinstance(camera._renderer, WarpCameraRenderer)
+        obs, _ = env.reset()
+        for _ in range(3):
+            obs, *_ = env.step(torch.ones(2, 1))
+        depth = obs["policy"]
+        assert depth.shape == (2, 100, 100, 1)
+        hit = depth[depth > 0]
+        assert hit.numel() > 50 and abs(hit.min().item() - 4.9) < 0.05
+        assert int(camera.frame[0]) == 1 + 2 * 3  # the reset, then two renders per step
+    finally:
+        env.close()
