@@ -190,7 +190,7 @@ def test_save_camera_frames_writes_a_tiled_png(tmp_path):
 
     folder = tmp_path / "frames"
     code = main(["random", "--task", RGB_TASK, "--num_envs", "4", "--device", "cpu", "--headless", "--steps", "2",
-                 "--save_camera_frames", str(folder)])  # fmt: skip
+                 "--enable_cameras", "--save_camera_frames", str(folder)])  # fmt: skip
     assert code == 0
     picture = iio.imread(folder / "tiled_camera_rgb_step000002.png")
     assert picture.shape == (2 * 100 + 2, 2 * 100 + 2, 3)  # 4 envs as 2 x 2 tiles, 2 px apart
@@ -307,7 +307,7 @@ def test_rsl_rl_cnn_actor_trains_plays_and_exports(tmp_path):
 
     common = ["--task", RGB_TASK, "--library", "rsl_rl", "--device", "cpu", "--headless", "--log_root", str(tmp_path)]
     small = ["agent.num_steps_per_env=4", "agent.algorithm.num_mini_batches=1"]
-    assert main(["train", *common, "--num_envs", "2", "--max_iterations", "1", *small]) == 0
+    assert main(["train", *common, "--enable_cameras", "--num_envs", "2", "--max_iterations", "1", *small]) == 0
     assert main(["play", *common, "--num_envs", "2", "--use_last_checkpoint", "--steps", "2"]) == 0
     (exported,) = list(tmp_path.glob("rsl_rl/cartpole_camera_direct/*/exported"))
     policy = torch.jit.load(str(exported / "policy.pt"))

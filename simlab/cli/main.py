@@ -56,6 +56,9 @@ def _add_common(p: argparse.ArgumentParser, video: bool = True) -> None:
         help="Live viewer: native (MuJoCo's window), web (in a browser), none; auto: native with a display, else web.",
     )
     p.add_argument("--viewer_port", type=int, default=8080, help="Port of the web viewer (default: 8080).")
+    p.add_argument(
+        "--enable_cameras", action="store_true", help="Accepted as in Isaac Lab: simlab's cameras always render."
+    )
     if video:
         p.add_argument("--video", action="store_true", help="Record MP4 videos (rgb_array rendering).")
         p.add_argument("--video_length", type=int, default=200, help="Steps per recorded video.")
@@ -151,9 +154,6 @@ def build_parser() -> argparse.ArgumentParser:
             metavar="DIR",
             default=None,
             help="Write each camera's images of up to 16 envs as one tiled PNG to DIR, after the reset and at the end.",
-        )
-        p.add_argument(
-            "--enable_cameras", action="store_true", help="Accepted as in Isaac Lab (cameras always render)."
         )
 
     sub.add_parser("bench", help="Benchmarks (simlab bench --help).", add_help=False)
