@@ -22,7 +22,8 @@ from simlab.sim import SimulationCfg, SimulationContext
 from simlab.tasks.utils.parse_cfg import load_cfg_from_registry
 from simlab.utils import configclass
 
-pytestmark = pytest.mark.skipif(not rendering_available(), reason="no offscreen OpenGL backend (libosmesa6 or EGL)")
+# MuJoCo's OpenGL renderer draws the CPU backend's images; MuJoCo Warp's needs no GL
+needs_gl = pytest.mark.skipif(not rendering_available(), reason="no offscreen OpenGL backend (libosmesa6 or EGL)")
 
 RGB_TASK = "simlab/Cartpole-RGB-Camera-Direct-v0"
 DEPTH_TASK = "simlab/Cartpole-Depth-Camera-Direct-v0"
@@ -64,6 +65,7 @@ def set_pole(scene, angles) -> None:
     scene["camera"].reset()
 
 
+@needs_gl
 def test_camera_outputs_poses_and_intrinsics():
     kinds = ["rgb", "rgba", "depth", "distance_to_image_plane", "distance_to_camera", "semantic_segmentation"]
     sim, scene = cartpole_scene(front_camera(kinds))
@@ -98,6 +100,7 @@ def test_camera_outputs_poses_and_intrinsics():
     torch.testing.assert_close(data.intrinsic_matrices[0], torch.tensor([[fx, 0, 32.0], [0, fx, 24.0], [0, 0, 1.0]]))
 
 
+@needs_gl
 def test_segmentation_ids_name_bodies():
     camera = front_camera(["semantic_segmentation"], colorize_semantic_segmentation=False, width=160, height=120)
     _, scene = cartpole_scene(camera)
@@ -117,6 +120,7 @@ def is_cart_coloured(rgb: torch.Tensor) -> torch.Tensor:
     return (b > g + 10) & (g > r + 10) & (b > 80)
 
 
+@needs_gl
 def test_image_shows_the_cart_and_follows_the_pole():
     _, scene = cartpole_scene(front_camera(["rgb"], width=100, height=100))
     camera = scene["camera"]
@@ -135,6 +139,7 @@ def test_image_shows_the_cart_and_follows_the_pole():
     assert changed.sum() > 20  # env 1's pole moved
 
 
+@needs_gl
 def test_camera_on_a_body_rides_with_it():
     cfg = front_camera(["depth"], prim_path="{ENV_REGEX_NS}/Robot/cart/cart_cam")
     cfg = cfg.replace(
@@ -155,6 +160,7 @@ def test_camera_on_a_body_rides_with_it():
         assert abs(depth[env][torch.isfinite(depth[env])].min().item() - 1.9) < 0.02
 
 
+@needs_gl
 @pytest.mark.parametrize("task", [RGB_TASK, DEPTH_TASK])
 def test_camera_tasks_step_with_image_observations(task):
     cfg = load_cfg_from_registry(task, "env_cfg_entry_point")
@@ -183,6 +189,7 @@ def test_camera_tasks_step_with_image_observations(task):
         env.close()
 
 
+@needs_gl
 def test_save_camera_frames_writes_a_tiled_png(tmp_path):
     import imageio.v3 as iio
 
@@ -252,6 +259,7 @@ WARP_DEVICES = [
 ]
 
 
+@needs_gl
 @pytest.mark.parametrize("warp_device", WARP_DEVICES)
 def test_warp_renderer_matches_mujoco_renderer(warp_device):
     pytest.importorskip("mujoco_warp")
@@ -287,6 +295,7 @@ def test_warp_renderer_matches_mujoco_renderer(warp_device):
     assert math.isclose(float(cpu.depth[torch.isfinite(cpu.depth)].min()), 4.9, abs_tol=0.02)
 
 
+@needs_gl
 def test_bench_env_measures_the_render_share(tmp_path):
     import json
 
@@ -302,6 +311,7 @@ def test_bench_env_measures_the_render_share(tmp_path):
         assert row["render_ms"] > 0 and 0 < row["render_share"] < 1.5
 
 
+@needs_gl
 def test_rsl_rl_cnn_actor_trains_plays_and_exports(tmp_path):
     from simlab.cli.main import main
 
@@ -346,3 +356,28 @@ def test_camera_task_steps_on_the_mujoco_warp_backend(monkeypatch):
         assert int(camera.frame[0]) == 1 + 2 * 3  # the reset, then two renders per step
     finally:
         env.close()
+
+
+@pytest.mark.gpu
+def test_camera_step_replays_as_a_cuda_graph_and_matches_eager_steps():
+    """On the GPU the render is recorded into the env step's CUDA graph; its images equal eager steps'."""
+    observations = {}
+    for graphed in (True, False):
+        cfg = load_cfg_from_registry(DEPTH_TASK, "env_cfg_entry_point")
+        cfg.scene.num_envs = 64
+        cfg.sim.device = "cuda:0"
+        cfg.sim.use_cuda_graph = graphed
+        cfg.seed = 11
+        env = gym.make(DEPTH_TASK, cfg=cfg)
+        try:
+            env.reset()
+            actions = torch.linspace(-1, 1, 64, device="cuda:0").unsqueeze(-1)
+            for _ in range(8):
+                obs, *_ = env.step(actions)
+            assert env.unwrapped.step_mode == ("graphed" if graphed else "eager (cfg.sim.use_cuda_graph is False)")
+            observations[graphed] = obs["policy"].cpu()
+        finally:
+            env.close()
+    depth = observations[True]
+    assert depth.shape == (64, 100, 100, 1) and (depth > 0).sum() > 64 * 50
+    torch.testing.assert_close(depth, observations[False], atol=1e-3, rtol=0)
