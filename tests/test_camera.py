@@ -249,6 +249,9 @@ def test_bad_lens_and_resolution():
     bad_lens = front_camera(["rgb"], spawn=sim_utils.PinholeCameraCfg(clipping_range=(1.0, 0.5)))
     with pytest.raises(ValueError, match="0 < near < far"):
         bad_lens.class_type(bad_lens)
+    blurred = front_camera(["rgb"], spawn=sim_utils.PinholeCameraCfg(f_stop=2.8))
+    with pytest.raises(ValueError, match="depth of field"):
+        blurred.class_type(blurred)
 
 
 # -- the GPU renderer against the CPU one ------------------------------------------------------

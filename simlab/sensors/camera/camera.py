@@ -63,6 +63,11 @@ def check_camera_cfg(cfg: CameraCfg) -> None:
             " give a lens, e.g. spawn=sim_utils.PinholeCameraCfg()"
         )
     check_pinhole_cfg(cfg.spawn)
+    if cfg.semantic_filter not in ("*:*", ["*:*"]):
+        raise ValueError(
+            f"{type(cfg).__name__}.semantic_filter={cfg.semantic_filter!r}: MuJoCo models have no semantic labels;"
+            " simlab's semantic_segmentation labels every body (leave semantic_filter='*:*')"
+        )
     if cfg.offset.convention not in ("opengl", "ros", "world"):
         raise ValueError(
             f"CameraCfg.OffsetCfg.convention must be 'opengl', 'ros' or 'world', got {cfg.offset.convention!r}"

@@ -77,6 +77,11 @@ def check_pinhole_cfg(cfg: PinholeCameraCfg) -> None:
         raise ValueError(
             f"PinholeCameraCfg.clipping_range must be (near, far) with 0 < near < far, got {cfg.clipping_range}"
         )
+    if cfg.f_stop:
+        raise ValueError(
+            f"PinholeCameraCfg.f_stop={cfg.f_stop} asks for depth of field, which simlab's renderers do not draw"
+            " (everything is in focus); leave f_stop at 0"
+        )
     if cfg.horizontal_aperture_offset or cfg.vertical_aperture_offset:
         raise ValueError(
             "PinholeCameraCfg aperture offsets (an off-centre principal point) are not supported by simlab's"
@@ -96,6 +101,7 @@ class PinholeCameraCfg(SpawnerCfg):
     focus_distance: float = 400.0
     """Accepted; MuJoCo's renderers draw everything in focus (no depth of field)."""
     f_stop: float = 0.0
+    """0 (no depth of field): other values are refused."""
     horizontal_aperture: float = 20.955
     vertical_aperture: float | None = None
     """None: the horizontal aperture times height / width (square pixels)."""
