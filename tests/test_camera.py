@@ -384,3 +384,23 @@ def test_camera_step_replays_as_a_cuda_graph_and_matches_eager_steps():
     depth = observations[True]
     assert depth.shape == (64, 100, 100, 1) and (depth > 0).sum() > 64 * 50
     torch.testing.assert_close(depth, observations[False], atol=1e-3, rtol=0)
+
+
+@needs_gl
+def test_image_observation_term():
+    from types import SimpleNamespace
+
+    from simlab.envs import mdp
+    from simlab.managers import SceneEntityCfg
+
+    camera = front_camera(["rgb", "distance_to_camera", "distance_to_image_plane"])
+    _, scene = cartpole_scene(camera)
+    env = SimpleNamespace(scene=scene)
+    rgb = mdp.image(env, SceneEntityCfg("camera"), "rgb")
+    assert rgb.shape == (2, 48, 64, 3) and rgb.dtype == torch.float32
+    assert rgb.mean(dim=(1, 2)).abs().max() < 1e-5  # each image minus its mean colour
+    planar = mdp.image(env, SceneEntityCfg("camera"), "distance_to_camera", convert_perspective_to_orthogonal=True)
+    expected = mdp.image(env, SceneEntityCfg("camera"), "distance_to_image_plane")
+    # Isaac Lab's conversion takes rays through pixel corners, the renderers through pixel centres: ~1 mm at 5 m
+    torch.testing.assert_close(planar, expected, atol=2e-3, rtol=0)
+    assert (expected == 0).any() and (expected > 4.8).any()  # nothing hit: 0; the cart about 4.9 m away
