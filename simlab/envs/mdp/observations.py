@@ -114,10 +114,12 @@ def generated_commands(env: ManagerBasedRLEnv, command_name: str) -> torch.Tenso
 
 # -- sensors ---------------------------------------------------------------------------------------
 
+_TILED_CAMERA = SceneEntityCfg("tiled_camera")
+
 
 def image(
     env: ManagerBasedEnv,
-    sensor_cfg: SceneEntityCfg = SceneEntityCfg("tiled_camera"),
+    sensor_cfg: SceneEntityCfg = _TILED_CAMERA,
     data_type: str = "rgb",
     convert_perspective_to_orthogonal: bool = False,
     normalize: bool = True,
