@@ -55,6 +55,9 @@ ENV_COLUMNS = [
     ("env ms", "env_ms_per_step", ".3f"),
     ("raw physics steps/s", "raw_physics_steps_per_s", ",.0f"),
     ("env/raw", "ratio", ".2f"),
+    ("render ms", "render_ms", ".3f"),
+    ("renders/step", "renders_per_step", "d"),
+    ("render share", "render_share", ".0%"),
     ("graph", "cuda_graph", ""),
     ("GPU MB", "gpu_memory_mb", ".0f"),
 ]

@@ -75,6 +75,72 @@ def _raw_fn(env):
     return raw
 
 
+def _mlp_policy(obs_dim: int, act_dim: int) -> torch.nn.Module:
+    """rsl_rl's default actor for the state tasks: an MLP of three ELU layers."""
+    return torch.nn.Sequential(
+        torch.nn.Linear(obs_dim, 256),
+        torch.nn.ELU(),
+        torch.nn.Linear(256, 128),
+        torch.nn.ELU(),
+        torch.nn.Linear(128, 64),
+        torch.nn.ELU(),
+        torch.nn.Linear(64, act_dim),
+    )
+
+
+class _ChannelsFirst(torch.nn.Module):
+    def forward(self, images: torch.Tensor) -> torch.Tensor:
+        return images.permute(0, 3, 1, 2)
+
+
+def _image_policy(obs_shape: tuple[int, int, int], act_dim: int) -> torch.nn.Module:
+    """The camera tasks' actor (their rl_games / skrl configs): three convolutions, then 512 ELU units."""
+    height, width, channels = obs_shape
+    features = torch.nn.Sequential(
+        _ChannelsFirst(),
+        torch.nn.Conv2d(channels, 32, 8, stride=4),
+        torch.nn.ReLU(),
+        torch.nn.Conv2d(32, 64, 4, stride=2),
+        torch.nn.ReLU(),
+        torch.nn.Conv2d(64, 64, 3, stride=1),
+        torch.nn.ReLU(),
+        torch.nn.Flatten(),
+    )
+    with torch.no_grad():
+        size = features(torch.zeros(1, height, width, channels)).shape[1]
+    return torch.nn.Sequential(features, torch.nn.Linear(size, 512), torch.nn.ELU(), torch.nn.Linear(512, act_dim))
+
+
+def _cameras(env) -> list:
+    from simlab.sensors import Camera
+
+    return [sensor for sensor in env.scene.sensors.values() if isinstance(sensor, Camera)]
+
+
+def _render_fn(cameras):
+    """One render of every camera (what a step does when its observations read the images)."""
+
+    def render() -> None:
+        for camera in cameras:
+            camera.update(0.0, force_recompute=True)
+            camera.data  # noqa: B018 - reading the data renders
+
+    return render
+
+
+def _renders_per_step(cameras, step) -> int | None:
+    """How many times one env step renders the cameras (the final and the new observations: 2)."""
+    if not cameras:
+        return None
+    before = int(cameras[0].frame[0])
+    step()
+    return int(cameras[0].frame[0]) - before
+
+
+def _plus(value: float | None, extra: float) -> float | None:
+    return None if value is None else value + extra
+
+
 def bench_env(
     task: str, num_envs: int, device: str, steps: int, with_policy: bool = False, cuda_graph: bool = True
 ) -> dict:
@@ -83,27 +149,26 @@ def bench_env(
     env.reset()
     policy = None
     if with_policy:
-        obs_dim = env.single_observation_space["policy"].shape[0]
+        obs_shape = env.single_observation_space["policy"].shape
         act_dim = _random_actions(env).shape[1]
-        # rsl_rl's default actor for these tasks: an MLP of three ELU layers.
-        policy = torch.nn.Sequential(
-            torch.nn.Linear(obs_dim, 256),
-            torch.nn.ELU(),
-            torch.nn.Linear(256, 128),
-            torch.nn.ELU(),
-            torch.nn.Linear(128, 64),
-            torch.nn.ELU(),
-            torch.nn.Linear(64, act_dim),
-        ).to(env.device)
+        policy = (_image_policy(obs_shape, act_dim) if len(obs_shape) == 3 else _mlp_policy(obs_shape[0], act_dim)).to(
+            env.device
+        )
     step, raw = _step_fn(env, policy), _raw_fn(env)
+    variants = {"env": step, "raw": raw}
+    cameras = _cameras(env)
+    if cameras:
+        variants["render"] = _render_fn(cameras)
     decimation = env.cfg.decimation
-    for fn in (step, raw):
+    for fn in variants.values():
         for _ in range(10):
             fn()
+    renders_per_step = _renders_per_step(cameras, step)
     # raw steps one physics step per call; run it `decimation` times per env step's worth.
-    seconds = interleaved({"env": step, "raw": raw}, steps, device)
+    seconds = interleaved(variants, steps, device)
     env_rate = num_envs / seconds["env"]
     raw_rate = num_envs / seconds["raw"]
+    camera_bytes = sum(camera.device_memory_bytes() for camera in cameras)
     row = {
         "task": task,
         "device": str(env.device),
@@ -113,7 +178,10 @@ def bench_env(
         "env_ms_per_step": seconds["env"] * 1e3,
         "raw_physics_steps_per_s": raw_rate,
         "ratio": env_rate * decimation / raw_rate,
-        "gpu_memory_mb": gpu_memory_mb(env.device, env.sim.physics),
+        "gpu_memory_mb": _plus(gpu_memory_mb(env.device, env.sim.physics), camera_bytes / 2**20),
+        "render_ms": seconds["render"] * 1e3 if cameras else None,
+        "renders_per_step": renders_per_step,
+        "render_share": renders_per_step * seconds["render"] / seconds["env"] if cameras else None,
         "policy": with_policy,
         "cuda_graph": _graph_state(env),
     }

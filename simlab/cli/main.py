@@ -56,6 +56,9 @@ def _add_common(p: argparse.ArgumentParser, video: bool = True) -> None:
         help="Live viewer: native (MuJoCo's window), web (in a browser), none; auto: native with a display, else web.",
     )
     p.add_argument("--viewer_port", type=int, default=8080, help="Port of the web viewer (default: 8080).")
+    p.add_argument(
+        "--enable_cameras", action="store_true", help="Accepted as in Isaac Lab: simlab's cameras always render."
+    )
     if video:
         p.add_argument("--video", action="store_true", help="Record MP4 videos (rgb_array rendering).")
         p.add_argument("--video_length", type=int, default=200, help="Steps per recorded video.")
@@ -152,6 +155,12 @@ def build_parser() -> argparse.ArgumentParser:
         p = sub.add_parser(name, help=f"Step a task with {text} (a quick check that it runs).")
         _add_common(p, video=False)
         p.add_argument("--steps", type=int, default=None, help="Env steps to run (default: until Ctrl+C).")
+        p.add_argument(
+            "--save_camera_frames",
+            metavar="DIR",
+            default=None,
+            help="Write each camera's images of up to 16 envs as one tiled PNG to DIR, after the reset and at the end.",
+        )
 
     sub.add_parser("bench", help="Benchmarks (simlab bench --help).", add_help=False)
     return parser

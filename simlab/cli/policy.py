@@ -39,13 +39,13 @@ class Policy:
     Attributes:
         modules: ``{"policy": module}`` for one agent, ``{agent: module}`` for multi-agent policies.
         inputs: maps the env's observation (dict of groups or of agents) to each module's flat input.
-        obs_dims: each module's input size (for export).
+        obs_dims: each module's input size, or an image input's (H, W, C) (for export).
         device: where the modules run.
     """
 
     modules: dict[str, nn.Module]
     inputs: Callable[[dict], dict[str, torch.Tensor]]
-    obs_dims: dict[str, int]
+    obs_dims: dict[str, int | tuple[int, ...]]
     device: str = "cpu"
 
     def __post_init__(self):

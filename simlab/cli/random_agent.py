@@ -3,13 +3,16 @@
 from __future__ import annotations
 
 import argparse
+import os
 
 import gymnasium as gym
 import torch
 
 from simlab.cli.session import check_flags, load_configs, make_env
 
-__all__ = ["run_random"]
+__all__ = ["run_random", "save_camera_frames"]
+
+MAX_TILED_ENVS = 16
 
 
 def _sample(space: gym.Space, n: int, device: str, zero: bool) -> torch.Tensor:
@@ -34,6 +37,10 @@ def run_random(args: argparse.Namespace, zero: bool = False) -> int:
     spaces = getattr(base, "action_spaces", None)
     print(f"[simlab] {args.task}: {base.num_envs} envs on {base.device}, {'zero' if zero else 'random'} actions")
     env.reset()
+    frames_dir = getattr(args, "save_camera_frames", None)
+    if frames_dir is not None:
+        for path in save_camera_frames(base, frames_dir, "reset"):
+            print(f"[simlab] Camera images after the reset: {path}")
     step = 0
     try:
         while args.steps is None or step < args.steps:
@@ -46,6 +53,30 @@ def run_random(args: argparse.Namespace, zero: bool = False) -> int:
     except KeyboardInterrupt:
         pass
     finally:
+        if frames_dir is not None:
+            for path in save_camera_frames(base, frames_dir, f"step{step:06d}"):
+                print(f"[simlab] Camera images after {step} steps: {path}")
         env.close()
     print(f"[simlab] {step} steps done")
     return 0
+
+
+def save_camera_frames(env, folder: str, label: str) -> list[str]:
+    """Write one tiled PNG per camera sensor and image type of ``env`` (its first envs) to ``folder``;
+    returns the paths written."""
+    from simlab.sensors import Camera, save_images_to_file
+    from simlab.utils.errors import ConfigError
+
+    cameras = {name: sensor for name, sensor in env.scene.sensors.items() if isinstance(sensor, Camera)}
+    if not cameras:
+        raise ConfigError(
+            f"--save_camera_frames: the task's scene has no camera (its sensors: {list(env.scene.sensors)});"
+            " use a camera task such as simlab/Cartpole-RGB-Camera-Direct-v0"
+        )
+    paths = []
+    for name, camera in cameras.items():
+        for data_type, images in camera.data.output.items():
+            path = os.path.join(folder, f"{name}_{data_type}_{label}.png")
+            save_images_to_file(images[:MAX_TILED_ENVS], path)
+            paths.append(path)
+    return paths

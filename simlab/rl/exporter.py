@@ -45,7 +45,7 @@ def export_policy_as_jit(
     path: str,
     filename: str = "policy.pt",
     normalizer: nn.Module | None = None,
-    obs_dim: int | None = None,
+    obs_dim: int | tuple[int, ...] | None = None,
 ) -> str:
     """Write ``policy`` (with an optional observation ``normalizer``) as TorchScript; return the file path.
 
@@ -64,7 +64,7 @@ def export_policy_as_jit(
             raise RuntimeError(f"Cannot script {type(policy).__name__} ({e}); pass obs_dim to trace it.") from e
         with torch.no_grad(), warnings.catch_warnings():
             warnings.simplefilter("ignore", DeprecationWarning)
-            scripted = torch.jit.trace(module, torch.zeros(1, obs_dim), check_trace=False)
+            scripted = torch.jit.trace(module, torch.zeros(1, *_shape(obs_dim)), check_trace=False)
     with atomic_path(file) as tmp:  # a crash mid-write keeps the previous export
         scripted.save(tmp)
     return file
@@ -73,7 +73,7 @@ def export_policy_as_jit(
 def export_policy_as_onnx(
     policy: nn.Module,
     path: str,
-    obs_dim: int,
+    obs_dim: int | tuple[int, ...],
     filename: str = "policy.onnx",
     normalizer: nn.Module | None = None,
     verbose: bool = False,
@@ -94,7 +94,7 @@ def export_policy_as_onnx(
             warnings.simplefilter("ignore", FutureWarning)
         torch.onnx.export(
             module,
-            (torch.zeros(2, obs_dim),),
+            (torch.zeros(2, *_shape(obs_dim)),),
             tmp,
             input_names=["obs"],
             output_names=["actions"],
@@ -105,3 +105,8 @@ def export_policy_as_onnx(
         )
     onnx_log.setLevel(level)
     return file
+
+
+def _shape(obs_dim: int | tuple[int, ...]) -> tuple[int, ...]:
+    """One observation's shape: a flat size, or an image's (H, W, C)."""
+    return (obs_dim,) if isinstance(obs_dim, int) else tuple(obs_dim)

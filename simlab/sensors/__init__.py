@@ -1,11 +1,25 @@
-"""Sensors read from the simulation each step: contact forces, ray casts (height scans), IMUs."""
+"""Sensors read from the simulation each step: contact forces, ray casts (height scans), IMUs, cameras."""
 
+from .camera import (
+    DATA_TYPES,
+    Camera,
+    CameraCfg,
+    CameraData,
+    TiledCamera,
+    TiledCameraCfg,
+    save_images_to_file,
+    tile_images,
+)
 from .contact_sensor import ContactSensor, ContactSensorCfg, ContactSensorData
 from .imu import Imu, ImuCfg, ImuData
 from .ray_caster import RayCaster, RayCasterCfg, RayCasterData, patterns
 from .sensor_base import SensorBase, SensorBaseCfg
 
 __all__ = [
+    "DATA_TYPES",
+    "Camera",
+    "CameraCfg",
+    "CameraData",
     "ContactSensor",
     "ContactSensorCfg",
     "ContactSensorData",
@@ -17,5 +31,9 @@ __all__ = [
     "RayCasterData",
     "SensorBase",
     "SensorBaseCfg",
+    "TiledCamera",
+    "TiledCameraCfg",
     "patterns",
+    "save_images_to_file",
+    "tile_images",
 ]

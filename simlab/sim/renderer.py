@@ -22,7 +22,14 @@ import torch
 
 from simlab.utils.gl_backend import GLBackendError, choose_gl_backend
 
-__all__ = ["EnvSceneBuilder", "OffscreenRenderer", "gather_env_states", "look_at", "set_free_camera"]
+__all__ = [
+    "EnvSceneBuilder",
+    "OffscreenRenderer",
+    "gather_env_states",
+    "look_at",
+    "open_mujoco_renderer",
+    "set_free_camera",
+]
 
 _STATE_FIELDS = ("qpos", "qvel", "mocap_pos", "mocap_quat")
 
@@ -127,27 +134,35 @@ def _install_gl_context(backend: str) -> None:
     gl_context.GLContext = GLContext
 
 
+def open_mujoco_renderer(model: mujoco.MjModel, width: int, height: int, max_geom: int = 1000) -> mujoco.Renderer:
+    """MuJoCo's offscreen ``Renderer`` on the GL backend simlab chooses (EGL, else OSMesa).
+
+    Raises:
+        GLBackendError: no backend renders here, or the chosen one fails; the message says what to install.
+    """
+    backend = choose_gl_backend()
+    # The offscreen buffer must hold the image; the model's default is 640x480.
+    model.vis.global_.offwidth = max(model.vis.global_.offwidth, width)
+    model.vis.global_.offheight = max(model.vis.global_.offheight, height)
+    try:
+        _install_gl_context(backend)
+        return mujoco.Renderer(model, height=height, width=width, max_geom=max_geom)
+    except Exception as err:  # noqa: BLE001 - GL errors come in many types
+        raise GLBackendError(
+            f"Offscreen rendering with MUJOCO_GL={backend} failed: {err}. Unset MUJOCO_GL to let simlab"
+            " pick a working backend, or install one (Debian/Ubuntu: libosmesa6 for OSMesa, libegl1 for EGL)."
+        ) from err
+
+
 class OffscreenRenderer:
     """Renders RGB images of a few envs of a batched simulation, side by side."""
 
     def __init__(self, model: mujoco.MjModel, width: int, height: int, max_envs: int = 16):
         if width < 1 or height < 1:
             raise ValueError(f"Render size must be positive, got {width}x{height}")
-        backend = choose_gl_backend()
         self.model = model
         self.max_envs = max_envs
-        # The offscreen buffer must hold the image; the model's default is 640x480.
-        model.vis.global_.offwidth = max(model.vis.global_.offwidth, width)
-        model.vis.global_.offheight = max(model.vis.global_.offheight, height)
-        maxgeom = max(1000, 2 * model.ngeom * max_envs)
-        try:
-            _install_gl_context(backend)
-            self._renderer = mujoco.Renderer(model, height=height, width=width, max_geom=maxgeom)
-        except Exception as err:  # noqa: BLE001 - GL errors come in many types
-            raise GLBackendError(
-                f"Offscreen rendering with MUJOCO_GL={backend} failed: {err}. Unset MUJOCO_GL to let simlab"
-                " pick a working backend, or install one (Debian/Ubuntu: libosmesa6 for OSMesa, libegl1 for EGL)."
-            ) from err
+        self._renderer = open_mujoco_renderer(model, width, height, max_geom=max(1000, 2 * model.ngeom * max_envs))
         self._builder = EnvSceneBuilder(model)
         self._camera = mujoco.MjvCamera()
 

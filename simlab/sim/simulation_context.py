@@ -70,6 +70,7 @@ class SimulationContext:
         self._on_compile: list[Callable[[mujoco.MjModel], None]] = []
         self._on_reset: list[Callable[[SimulationContext], None]] = []
         self._on_render: list[Callable[[], None]] = []
+        self._on_clear: list[Callable[[], None]] = []
         self._step_count = 0
         # Isaac Lab's carb settings, as a plain store: what ported code sets, it reads back. simlab
         # itself reads only the entries listed in _SETTINGS_DEFAULTS (facts about this runtime).
@@ -84,8 +85,12 @@ class SimulationContext:
 
     @classmethod
     def clear_instance(cls) -> None:
-        if cls._instance is not None and cls._instance.backend is not None:
-            cls._instance.backend.close()
+        if cls._instance is not None:
+            for callback in cls._instance._on_clear:
+                callback()
+            cls._instance._on_clear.clear()
+            if cls._instance.backend is not None:
+                cls._instance.backend.close()
         cls._instance = None
 
     def get_physics_dt(self) -> float:
@@ -217,6 +222,11 @@ class SimulationContext:
         self._on_reset.append(callback)
         if self.backend is not None:
             callback(self)
+
+    def add_clear_callback(self, callback: Callable[[], None]) -> None:
+        """Run ``callback()`` when this simulation is cleared (``clear_instance``, an env's ``close``):
+        to release what must not outlive it, e.g. a camera's GL context."""
+        self._on_clear.append(callback)
 
     def add_render_callback(self, callback: Callable[[], None]) -> None:
         """Run ``callback()`` before every offscreen image (debug visualization places its markers then)."""

@@ -19,7 +19,7 @@ from simlab.cli.libraries.progress import ProgressBar
 from simlab.cli.policy import ClampActions, Policy
 from simlab.cli.session import check_training_length
 from simlab.rl.utils import require
-from simlab.utils.errors import TrainingDivergedError
+from simlab.utils.errors import ConfigError, TrainingDivergedError
 from simlab.utils.io import atomic_torch_saves
 
 require("rsl_rl")
@@ -250,12 +250,37 @@ def load_policy(env: gym.Env, agent_cfg: RslRlOnPolicyRunnerCfg, checkpoint: str
     runner = make_runner(env, agent_cfg, None)
     runner.load(checkpoint, load_cfg={"actor": True}, map_location=agent_cfg.device)
     actor = runner.alg.get_policy()
-    module = actor.as_jit()
+    groups = runner.cfg["obs_groups"]["actor"]
+    if getattr(actor, "obs_groups_2d", None):  # a CNN actor: it reads one image group
+        module, obs_shape = _image_actor(actor, groups)
+    else:
+        module, obs_shape = actor.as_jit(), actor.obs_dim
     if agent_cfg.clip_actions is not None:
         module = ClampActions(module, -agent_cfg.clip_actions, agent_cfg.clip_actions)
-    groups = runner.cfg["obs_groups"]["actor"]
 
     def inputs(obs: dict) -> dict[str, torch.Tensor]:
+        if len(groups) == 1 and obs[groups[0]].ndim == 4:
+            return {"policy": obs[groups[0]]}  # (N, H, W, C), as the env gives it
         return {"policy": torch.cat([obs[g].reshape(obs[g].shape[0], -1) for g in groups], dim=-1)}
 
-    return Policy({"policy": module}, inputs, {"policy": actor.obs_dim}, device=agent_cfg.device)
+    return Policy({"policy": module}, inputs, {"policy": obs_shape}, device=agent_cfg.device)
+
+
+class _ImageActor(torch.nn.Module):
+    """An rsl_rl CNN actor as an ``images -> actions`` module: (N, H, W, C) images, as the env gives them."""
+
+    def __init__(self, model: torch.nn.Module):
+        super().__init__()
+        self.model = model  # rsl_rl's export form: forward(obs_1d, *obs_2d) with (N, C, H, W) images
+
+    def forward(self, images: torch.Tensor) -> torch.Tensor:
+        return self.model(images.new_zeros(images.shape[0], 0), images.permute(0, 3, 1, 2))
+
+
+def _image_actor(actor, groups: list[str]) -> tuple[torch.nn.Module, tuple[int, ...]]:
+    if len(groups) != 1 or actor.obs_dim != 0:
+        raise ConfigError(
+            f"Playing an rsl_rl CNN actor needs one image observation group and nothing else; its groups are {groups}."
+        )
+    (height, width), channels = actor.obs_dims_2d[0], actor.obs_channels_2d[0]
+    return _ImageActor(actor.as_onnx()), (int(height), int(width), int(channels))

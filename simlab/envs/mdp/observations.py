@@ -128,3 +128,28 @@ def height_scan(env: ManagerBasedEnv, sensor_cfg: SceneEntityCfg, offset: float 
     ground when the scanner is ``offset`` metres up."""
     sensor = env.scene.sensors[sensor_cfg.name]
     return sensor.data.pos_w[:, 2].unsqueeze(1) - sensor.data.ray_hits_w[..., 2] - offset
+
+_TILED_CAMERA = SceneEntityCfg("tiled_camera")
+
+
+def image(
+    env: ManagerBasedEnv,
+    sensor_cfg: SceneEntityCfg = _TILED_CAMERA,
+    data_type: str = "rgb",
+    convert_perspective_to_orthogonal: bool = False,
+    normalize: bool = True,
+) -> torch.Tensor:
+    """A camera's images (N, H, W, C) as float32. ``normalize``: RGB to [0, 1] minus each image's mean
+    colour; depths with 0 where nothing is hit (inf). ``convert_perspective_to_orthogonal`` turns
+    ``distance_to_camera`` into distance to the image plane."""
+    camera = env.scene.sensors[sensor_cfg.name]
+    images = camera.data.output[data_type]
+    if data_type == "distance_to_camera" and convert_perspective_to_orthogonal:
+        images = math_utils.orthogonalize_perspective_depth(images, camera.data.intrinsic_matrices)
+    images = images.float()
+    if normalize and data_type in ("rgb", "rgba"):
+        images = images / 255.0
+        images = images - images.mean(dim=(1, 2), keepdim=True)
+    elif normalize and data_type in ("depth", "distance_to_image_plane", "distance_to_camera"):
+        images = torch.where(torch.isinf(images), 0.0, images)
+    return images.clone()

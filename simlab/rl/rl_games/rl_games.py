@@ -74,15 +74,19 @@ class RlGamesVecEnvWrapper(IVecEnv):
             if missing:
                 raise ValueError(f"obs_groups['{key}'] names {missing}, not groups of the env: {available}.")
         self.obs_groups = {k: list(v) for k, v in obs_groups.items()}
-        self._dims = {k: self._group_dim(groups_space, v) for k, v in self.obs_groups.items()}
+        self._shapes = {k: self._group_shape(groups_space, v) for k, v in self.obs_groups.items()}
 
     # -- spaces ----------------------------------------------------------------------------------
 
     @staticmethod
-    def _group_dim(space: gym.Space, groups: list[str]) -> int:
+    def _group_shape(space: gym.Space, groups: list[str]) -> tuple[int, ...]:
+        """What rl_games sees of these groups: one image group keeps its (H, W, C) shape (for its CNNs,
+        which take channels last); anything else is flattened and concatenated."""
         if not isinstance(space, gym.spaces.Dict):
-            return gym.spaces.flatdim(space)
-        return sum(gym.spaces.flatdim(space[g]) for g in groups)
+            return (gym.spaces.flatdim(space),)
+        if len(groups) == 1 and isinstance(space[groups[0]], gym.spaces.Box) and len(space[groups[0]].shape) == 3:
+            return tuple(space[groups[0]].shape)
+        return (sum(gym.spaces.flatdim(space[g]) for g in groups),)
 
     @property
     def unwrapped(self) -> Any:
@@ -99,14 +103,14 @@ class RlGamesVecEnvWrapper(IVecEnv):
     @property
     def observation_space(self) -> gym.spaces.Box:
         c = self._clip_obs
-        return gym.spaces.Box(-c, c, shape=(self._dims["obs"],))
+        return gym.spaces.Box(-c, c, shape=self._shapes["obs"])
 
     @property
     def state_space(self) -> gym.spaces.Box | None:
-        if "states" not in self._dims:
+        if "states" not in self._shapes:
             return None
         c = self._clip_obs
-        return gym.spaces.Box(-c, c, shape=(self._dims["states"],))
+        return gym.spaces.Box(-c, c, shape=self._shapes["states"])
 
     @property
     def action_space(self) -> gym.spaces.Box:
@@ -144,19 +148,19 @@ class RlGamesVecEnvWrapper(IVecEnv):
     def close(self) -> None:
         self.env.close()
 
-    def _cat(self, obs: Any, groups: list[str]) -> torch.Tensor:
+    def _cat(self, obs: Any, groups: list[str], shape: tuple[int, ...]) -> torch.Tensor:
         if not isinstance(obs, dict):
             x = obs
         else:
-            x = torch.cat([obs[g].reshape(self.num_envs, -1) for g in groups], dim=-1)
+            x = torch.cat([obs[g].reshape(self.num_envs, -1) for g in groups], dim=-1).view(self.num_envs, *shape)
         x = torch.clamp(x, -self._clip_obs, self._clip_obs)
         return x.to(device=self._rl_device).clone()
 
     def _process_obs(self, obs: Any) -> torch.Tensor | dict[str, torch.Tensor]:
-        actor = self._cat(obs, self.obs_groups["obs"])
+        actor = self._cat(obs, self.obs_groups["obs"], self._shapes["obs"])
         if "states" not in self.obs_groups:
             return actor
-        return {"obs": actor, "states": self._cat(obs, self.obs_groups["states"])}
+        return {"obs": actor, "states": self._cat(obs, self.obs_groups["states"], self._shapes["states"])}
 
 
 class RlGamesGpuEnv(IVecEnv):

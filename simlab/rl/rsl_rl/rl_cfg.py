@@ -15,6 +15,7 @@ from typing import Any, Literal
 from simlab.utils import configclass
 
 __all__ = [
+    "RslRlCNNModelCfg",
     "RslRlMLPModelCfg",
     "RslRlOnPolicyRunnerCfg",
     "RslRlPpoActorCriticCfg",
@@ -51,6 +52,32 @@ class RslRlMLPModelCfg:
     """Normalize the model's input with running mean and variance."""
     distribution_cfg: GaussianDistributionCfg | None = None
     """Output distribution (the actor's); None gives a deterministic output (the critic)."""
+
+
+@configclass
+class RslRlCNNModelCfg(RslRlMLPModelCfg):
+    """A CNN model (rsl_rl ``CNNModel``): convolutions over each image observation group, then the MLP.
+
+    simlab's rsl_rl wrapper hands image groups to rsl_rl channels first, (N, C, H, W), as its CNNs take them.
+    """
+
+    @configclass
+    class CNNCfg:
+        """Keyword arguments of ``rsl_rl.modules.CNN`` (one value, or one per layer)."""
+
+        output_channels: list[int] = MISSING
+        kernel_size: int | list[int] = MISSING
+        stride: int | list[int] = 1
+        dilation: int | list[int] = 1
+        padding: Literal["none", "zeros", "reflect", "replicate", "circular"] = "none"
+        norm: str | list[str] = "none"
+        activation: str = "elu"
+        max_pool: bool | list[bool] = False
+        global_pool: Literal["none", "max", "avg"] = "none"
+        flatten: bool = True
+
+    class_name: str = "CNNModel"
+    cnn_cfg: CNNCfg = MISSING
 
 
 @configclass

@@ -114,7 +114,9 @@ class RslRlVecEnvWrapper(VecEnv):
     def _to_tensordict(self, obs: dict[str, torch.Tensor] | torch.Tensor) -> TensorDict:
         if isinstance(obs, torch.Tensor):
             obs = {"policy": obs}
-        return TensorDict(dict(obs), batch_size=[self.num_envs])
+        # image groups come as (N, H, W, C) (Isaac Lab's layout); rsl_rl's CNNs take (N, C, H, W)
+        groups = {name: value.permute(0, 3, 1, 2) if value.ndim == 4 else value for name, value in obs.items()}
+        return TensorDict(groups, batch_size=[self.num_envs])
 
     def _set_action_bounds(self, base: Any, clip: float) -> None:
         # tell the env (and the video/metadata wrappers reading it) the actions it can now receive

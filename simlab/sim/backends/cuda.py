@@ -372,6 +372,11 @@ class CudaBackend(PhysicsBackend):
     def close(self) -> None:
         self._graphs.clear()
 
+    @property
+    def wp_device(self) -> Any:
+        """The Warp device the worlds live on."""
+        return self._wp_device
+
     def run_warp(self, key: Any, body: Callable[[], None]) -> None:
         """Run Warp launches ``body`` on torch's stream as the physics calls run: replayed from a
         graph captured on first use under ``key``, or recorded into an env step being captured

@@ -12,6 +12,7 @@ from .from_files import (
 )
 from .lights import DistantLightCfg, DomeLightCfg, LightCfg, spawn_light
 from .materials import MdlFileCfg, PreviewSurfaceCfg, RigidBodyMaterialCfg
+from .sensors import PinholeCameraCfg, spawn_camera
 from .shapes import CapsuleCfg, CuboidCfg, CylinderCfg, ShapeCfg, SphereCfg, spawn_shape
 from .spawner_cfg import (
     ArticulationRootPropertiesCfg,

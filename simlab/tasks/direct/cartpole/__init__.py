@@ -16,3 +16,16 @@ gym.register(
         "rl_games_cfg_entry_point": f"{agents.__name__}:rl_games_ppo_cfg.yaml",
     },
 )
+
+for _kind in ("RGB", "Depth"):
+    gym.register(
+        id=f"simlab/Cartpole-{_kind}-Camera-Direct-v0",
+        entry_point="simlab.tasks.direct.cartpole.cartpole_camera_env:CartpoleCameraEnv",
+        disable_env_checker=True,
+        kwargs={
+            "env_cfg_entry_point": f"simlab.tasks.direct.cartpole.cartpole_camera_env:Cartpole{_kind}CameraEnvCfg",
+            "rl_games_cfg_entry_point": f"{agents.__name__}:rl_games_camera_ppo_cfg.yaml",
+            "skrl_cfg_entry_point": f"{agents.__name__}:skrl_camera_ppo_cfg.yaml",
+            "rsl_rl_cfg_entry_point": f"{agents.__name__}.rsl_rl_camera_ppo_cfg:CartpoleCameraPPORunnerCfg",
+        },
+    )

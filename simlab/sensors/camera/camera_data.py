@@ -1,0 +1,30 @@
+"""What a camera holds after rendering (Isaac Lab's ``CameraData``)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import torch
+
+
+@dataclass
+class CameraData:
+    """Images and poses of one camera in every env; N envs, H x W pixels."""
+
+    output: dict[str, torch.Tensor] = field(default_factory=dict)
+    """Images by data type, each (N, H, W, C) on the env's device: uint8 ``rgb`` (C=3) and ``rgba`` (C=4);
+    float32 ``depth`` / ``distance_to_image_plane`` / ``distance_to_camera`` (C=1, metres);
+    ``semantic_segmentation`` uint8 RGBA (C=4) or int32 ids (C=1)."""
+    info: dict[str, Any] = field(default_factory=dict)
+    """Per data type: ``semantic_segmentation`` has ``idToLabels`` (body id -> body name)."""
+    intrinsic_matrices: torch.Tensor | None = None
+    """(N, 3, 3) pinhole intrinsics [[fx, 0, cx], [0, fy, cy], [0, 0, 1]] in pixels."""
+    pos_w: torch.Tensor | None = None
+    """(N, 3) camera positions in the world frame (env origins included)."""
+    quat_w_world: torch.Tensor | None = None
+    """(N, 4) (w, x, y, z) orientations, world convention (forward +x, up +z)."""
+    quat_w_ros: torch.Tensor | None = None
+    quat_w_opengl: torch.Tensor | None = None
+    image_shape: tuple[int, int] = (0, 0)
+    """(height, width)."""

@@ -1,0 +1,176 @@
+"""Cartpole from pixels, direct workflow (Isaac Lab's ``Isaac-Cartpole-RGB-Camera-Direct-v0`` and
+``Isaac-Cartpole-Depth-Camera-Direct-v0``).
+
+The same cart, pole, actions, rewards and terminations as :mod:`.cartpole_env`; the policy sees only
+a 100 x 100 image of its env from a camera 5 m in front of the rail: RGB scaled to [0, 1] minus each
+image's mean colour, or depth in metres (0 where nothing is hit). Envs stand 20 m apart, as in
+Isaac Lab, so that no camera sees a neighbour.
+"""
+
+from __future__ import annotations
+
+import math
+
+import torch
+
+import simlab.sim as sim_utils
+from simlab.assets import Articulation, ArticulationCfg
+from simlab.envs import DirectRLEnv, DirectRLEnvCfg
+from simlab.envs.common import ViewerCfg
+from simlab.robots.cartpole import CARTPOLE_CFG
+from simlab.scene import InteractiveSceneCfg
+from simlab.sensors import TiledCamera, TiledCameraCfg
+from simlab.sim import SimulationCfg
+from simlab.utils import configclass
+from simlab.utils.math import sample_uniform
+
+from .cartpole_env import compute_rewards
+
+
+def _camera_cfg(data_type: str) -> TiledCameraCfg:
+    return TiledCameraCfg(
+        prim_path="/World/envs/env_.*/Camera",
+        # 5 m in front of the rail, looking along +x at the cart (world convention: forward +x, up +z)
+        offset=TiledCameraCfg.OffsetCfg(pos=(-5.0, 0.0, 2.0), rot=(1.0, 0.0, 0.0, 0.0), convention="world"),
+        data_types=[data_type],
+        spawn=sim_utils.PinholeCameraCfg(
+            focal_length=24.0, focus_distance=400.0, horizontal_aperture=20.955, clipping_range=(0.1, 20.0)
+        ),
+        width=100,
+        height=100,
+    )
+
+
+@configclass
+class CartpoleRGBCameraEnvCfg(DirectRLEnvCfg):
+    # env
+    decimation = 2
+    episode_length_s = 5.0
+    action_scale = 100.0  # [N]
+
+    # simulation
+    sim: SimulationCfg = SimulationCfg(dt=1 / 120, render_interval=decimation)
+
+    # robot
+    robot_cfg: ArticulationCfg = CARTPOLE_CFG.replace(prim_path="/World/envs/env_.*/Robot")
+    cart_dof_name = "slider_to_cart"
+    pole_dof_name = "cart_to_pole"
+
+    # camera
+    tiled_camera: TiledCameraCfg = _camera_cfg("rgb")
+    write_image_to_file = False
+
+    # spaces
+    action_space = 1
+    state_space = 0
+    observation_space = [tiled_camera.height, tiled_camera.width, 3]
+
+    viewer = ViewerCfg(eye=(20.0, 20.0, 20.0))
+
+    # scene
+    scene: InteractiveSceneCfg = InteractiveSceneCfg(num_envs=512, env_spacing=20.0, replicate_physics=True)
+
+    # reset
+    max_cart_pos = 3.0  # the cart is reset beyond this position [m]
+    initial_pole_angle_range = [-0.125, 0.125]  # pole angle at reset, in units of pi [rad / pi]
+
+    # reward scales
+    rew_scale_alive = 1.0
+    rew_scale_terminated = -2.0
+    rew_scale_pole_pos = -1.0
+    rew_scale_cart_vel = -0.01
+    rew_scale_pole_vel = -0.005
+
+
+@configclass
+class CartpoleDepthCameraEnvCfg(CartpoleRGBCameraEnvCfg):
+    tiled_camera: TiledCameraCfg = _camera_cfg("depth")
+    observation_space = [tiled_camera.height, tiled_camera.width, 1]
+
+
+class CartpoleCameraEnv(DirectRLEnv):
+    cfg: CartpoleRGBCameraEnvCfg | CartpoleDepthCameraEnvCfg
+
+    def __init__(self, cfg: CartpoleRGBCameraEnvCfg, render_mode: str | None = None, **kwargs):
+        super().__init__(cfg, render_mode, **kwargs)
+        self._cart_dof_idx, _ = self._cartpole.find_joints(self.cfg.cart_dof_name)
+        self._pole_dof_idx, _ = self._cartpole.find_joints(self.cfg.pole_dof_name)
+        self.action_scale = self.cfg.action_scale
+        if len(self.cfg.tiled_camera.data_types) != 1:
+            raise ValueError(
+                "The cartpole camera task observes one image type at a time, got"
+                f" {self.cfg.tiled_camera.data_types}; use ['rgb'] or ['depth']"
+            )
+
+    def _setup_scene(self):
+        self._cartpole = Articulation(self.cfg.robot_cfg)
+        self._tiled_camera = TiledCamera(self.cfg.tiled_camera)
+        self.scene.articulations["cartpole"] = self._cartpole
+        self.scene.sensors["tiled_camera"] = self._tiled_camera
+        light_cfg = sim_utils.DomeLightCfg(intensity=2000.0, color=(0.75, 0.75, 0.75))
+        light_cfg.func("/World/Light", light_cfg)
+
+    def _pre_physics_step(self, actions: torch.Tensor) -> None:
+        self.actions = self.action_scale * actions.clone()
+
+    def _apply_action(self) -> None:
+        self._cartpole.set_joint_effort_target(self.actions, joint_ids=self._cart_dof_idx)
+
+    def _get_observations(self) -> dict:
+        data_type = self.cfg.tiled_camera.data_types[0]
+        image = self._tiled_camera.data.output[data_type]
+        if data_type == "rgb":
+            pixels = image / 255.0
+            # each image minus its mean colour: the policy sees where things are, not the lighting
+            pixels = pixels - pixels.mean(dim=(1, 2), keepdim=True)
+        else:
+            pixels = torch.where(torch.isinf(image), 0.0, image)
+        if self.cfg.write_image_to_file:
+            from simlab.sensors import save_images_to_file
+
+            save_images_to_file(image, f"cartpole_{data_type}.png")
+        return {"policy": pixels}
+
+    def _joint_states(self) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor, torch.Tensor]:
+        """Pole angle, pole velocity, cart position, cart velocity; each (num_envs,)."""
+        joint_pos, joint_vel = self._cartpole.data.joint_pos, self._cartpole.data.joint_vel
+        pole, cart = self._pole_dof_idx[0], self._cart_dof_idx[0]
+        return joint_pos[:, pole], joint_vel[:, pole], joint_pos[:, cart], joint_vel[:, cart]
+
+    def _get_rewards(self) -> torch.Tensor:
+        pole_pos, pole_vel, cart_pos, cart_vel = self._joint_states()
+        return compute_rewards(
+            self.cfg.rew_scale_alive,
+            self.cfg.rew_scale_terminated,
+            self.cfg.rew_scale_pole_pos,
+            self.cfg.rew_scale_cart_vel,
+            self.cfg.rew_scale_pole_vel,
+            pole_pos,
+            pole_vel,
+            cart_pos,
+            cart_vel,
+            self.reset_terminated,
+        )
+
+    def _get_dones(self) -> tuple[torch.Tensor, torch.Tensor]:
+        pole_pos, _, cart_pos, _ = self._joint_states()
+        time_out = self.episode_length_buf >= self.max_episode_length - 1
+        out_of_bounds = (torch.abs(cart_pos) > self.cfg.max_cart_pos) | (torch.abs(pole_pos) > math.pi / 2)
+        return out_of_bounds, time_out
+
+    def _reset_mask(self, env_mask: torch.Tensor):
+        super()._reset_mask(env_mask)
+        # initial states drawn for every env, written where env_mask is set
+        joint_pos = self._cartpole.data.default_joint_pos.clone()
+        joint_pos[:, self._pole_dof_idx] += sample_uniform(
+            self.cfg.initial_pole_angle_range[0] * math.pi,
+            self.cfg.initial_pole_angle_range[1] * math.pi,
+            joint_pos[:, self._pole_dof_idx].shape,
+            joint_pos.device,
+        )
+        joint_vel = self._cartpole.data.default_joint_vel.clone()
+        default_root_state = self._cartpole.data.default_root_state.clone()
+        default_root_state[:, :3] += self.scene.env_origins
+        self._cartpole.write_root_pose_to_sim(default_root_state[:, :7], env_mask)
+        self._cartpole.write_root_velocity_to_sim(default_root_state[:, 7:], env_mask)
+        self._cartpole.write_joint_state_to_sim(joint_pos, joint_vel, None, env_mask)
