@@ -129,8 +129,15 @@ class SimulationContext:
         """Compile the spec (first call), start the backend, and reset every world."""
         if self.backend is None:
             self.model = self.spec.compile()
+            # MuJoCo measures hinge and slide angles from qpos0 (the joints' reference, where the
+            # bodies sit as the file places them). Compile callbacks set qpos0 to the assets'
+            # initial joint positions; the backend starts and resets the worlds there, while the
+            # model keeps the reference so that the kinematics stay the file's.
+            reference_qpos = self.model.qpos0.copy()
             for callback in self._on_compile:
                 callback(self.model)
+            initial_qpos = self.model.qpos0.copy()
+            self.model.qpos0[:] = reference_qpos
             if self.env_origins is None:
                 self.env_origins = torch.zeros(self.num_envs, 3, device=self.device)
             opts = self.cfg.mujoco
@@ -139,6 +146,7 @@ class SimulationContext:
             self.backend = make_backend(
                 self.model, self.num_envs, self.device, nconmax=opts.nconmax, njmax=opts.njmax, **options
             )
+            self.backend.set_initial_qpos(initial_qpos)
             for callback in self._on_reset:
                 callback(self)
         if not soft:

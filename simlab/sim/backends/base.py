@@ -14,7 +14,7 @@ Simulation semantics shared by all backends:
   forces and model fields currently in the tensors, then runs ``mj_forward`` once so that
   derived quantities (``xpos``, ``xquat``, ``cvel``, ``sensordata``, ...) agree with the new
   ``qpos``/``qvel``. Without that final forward, MuJoCo leaves them one substep behind.
-* ``reset(env_ids)`` restores the model's initial state (``qpos0``, zero velocities, zero
+* ``reset(env_ids)`` restores the initial state (``set_initial_qpos``, zero velocities, zero
   controls and applied forces) in the selected worlds, then runs forward there.
 * ``forward(env_ids)`` recomputes derived quantities from ``qpos``/``qvel`` after a state write.
 
@@ -64,6 +64,15 @@ class PhysicsBackend(ABC):
         self.diverged_count = torch.zeros((), dtype=torch.long, device=self.device)
         """Worlds found blown up so far (``take_diverged``), on the device."""
         self._qpos0 = torch.as_tensor(model.qpos0, dtype=torch.float32, device=self.device)
+        """Where the worlds start and restart (``set_initial_qpos``); the model's qpos0 by default."""
+        self._initial_is_not_reference = False
+
+    def set_initial_qpos(self, qpos) -> None:
+        """Start (``reset``) and restart (``restart``) the worlds at ``qpos`` instead of the model's
+        ``qpos0``, which MuJoCo also uses as the joints' kinematic reference and so must not move."""
+        self._qpos0 = torch.as_tensor(qpos, dtype=torch.float32, device=self.device).clone()
+        reference = torch.as_tensor(self.model.qpos0, dtype=torch.float32, device=self.device)
+        self._initial_is_not_reference = not torch.equal(self._qpos0, reference)
 
     @abstractmethod
     def data(self, name: str) -> torch.Tensor:
@@ -99,6 +108,16 @@ class PhysicsBackend(ABC):
     def reset(self, env_ids: EnvIds = None) -> None:
         """Restore the initial state of the selected worlds (all when ``None``), then forward."""
         self._reset(env_ids)
+        if self._initial_is_not_reference:
+            # MuJoCo resets to the joints' reference (qpos0); the initial pose is written on top
+            qpos = self.data("qpos")
+            if env_ids is None:
+                qpos.copy_(self._qpos0.expand_as(qpos))
+            else:
+                mask = torch.zeros(self.num_envs, dtype=torch.bool, device=qpos.device)
+                mask[self._ids_cpu(env_ids).to(qpos.device)] = True
+                masked_copy_(qpos, mask, self._qpos0.expand_as(qpos))
+            self._forward(env_ids)
         if env_ids is None or self.forwards_all_worlds:
             self._clear_stale()
 
