@@ -136,7 +136,9 @@ def test_operational_space_control_tracks_a_setpoint_under_gravity(device):
     )
     assert osc.action_dim == 7
     start, quat, _, _ = arm_state(robot, hand, arm)
-    target = torch.cat([start + torch.tensor([[0.08, -0.05, 0.06], [-0.05, 0.1, -0.04]], device=start.device), quat], -1)
+    target = torch.cat(
+        [start + torch.tensor([[0.08, -0.05, 0.06], [-0.05, 0.1, -0.04]], device=start.device), quat], -1
+    )
     osc.set_command(target)
     view = robot.root_physx_view
     posture = robot.data.default_joint_pos[:, arm]

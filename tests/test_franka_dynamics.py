@@ -13,7 +13,7 @@ import torch
 from conftest import DEVICES
 
 import simlab.sim as sim_utils
-from simlab.assets import ArticulationCfg, AssetBaseCfg, RigidObjectCfg
+from simlab.assets import ArticulationCfg, AssetBaseCfg
 from simlab.robots.franka import FRANKA_PANDA_CFG, FRANKA_PANDA_HIGH_PD_CFG
 from simlab.scene import InteractiveScene, InteractiveSceneCfg
 from simlab.utils import configclass
@@ -112,7 +112,7 @@ def test_jacobian_matches_finite_differences(device):
         robot.write_joint_position_to_sim(q + dq)
         pos1, quat1 = robot.data.body_pos_w[:, hand], robot.data.body_quat_w[:, hand]
         lin = (pos1 - pos0) / eps
-        from simlab.utils.math import axis_angle_from_quat, quat_mul, quat_conjugate
+        from simlab.utils.math import axis_angle_from_quat, quat_conjugate, quat_mul
 
         ang = axis_angle_from_quat(quat_mul(quat1, quat_conjugate(quat0))) / eps
         torch.testing.assert_close(jac[:, hand - 1, :3, j], lin, atol=2e-3, rtol=0)
@@ -154,9 +154,13 @@ def test_jacobian_mass_matrix_and_bias_match_mujoco():
 
 def test_floating_base_jacobian_uses_world_frame_root_dofs():
     """A floating root: PhysX's first 6 dofs are the root's world-frame linear and angular velocity."""
-    sim, scene = make_scene("cpu", num_envs=1, robot_cfg=FRANKA_PANDA_CFG.replace(
-        spawn=FRANKA_PANDA_CFG.spawn.replace(asset_path=_floating_franka()),
-    ))
+    sim, scene = make_scene(
+        "cpu",
+        num_envs=1,
+        robot_cfg=FRANKA_PANDA_CFG.replace(
+            spawn=FRANKA_PANDA_CFG.spawn.replace(asset_path=_floating_franka()),
+        ),
+    )
     robot = scene["robot"]
     assert not robot.is_fixed_base
     root_state = robot.data.default_root_state.clone()

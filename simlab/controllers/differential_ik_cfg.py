@@ -35,10 +35,14 @@ class DifferentialIKControllerCfg:
 
     def __post_init__(self):
         if self.command_type is not MISSING and self.command_type not in COMMAND_TYPES:
-            raise ValueError(f"Unsupported inverse-kinematics command_type {self.command_type!r}; use one of {COMMAND_TYPES}")
+            raise ValueError(
+                f"Unsupported inverse-kinematics command_type {self.command_type!r}; use one of {COMMAND_TYPES}"
+            )
         if self.ik_method is not MISSING:
             if self.ik_method not in IK_METHODS:
-                raise ValueError(f"Unsupported inverse-kinematics ik_method {self.ik_method!r}; use one of {IK_METHODS}")
+                raise ValueError(
+                    f"Unsupported inverse-kinematics ik_method {self.ik_method!r}; use one of {IK_METHODS}"
+                )
             params = dict(_DEFAULT_IK_PARAMS[self.ik_method])
             unknown = set(self.ik_params or {}) - set(params)
             if unknown:

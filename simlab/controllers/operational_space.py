@@ -92,7 +92,9 @@ class OperationalSpaceController:
             elif target == "pose_rel":
                 if current_ee_pose_b is None:
                     raise ValueError("set_command needs current_ee_pose_b for 'pose_rel' targets")
-                pos, quat = apply_delta_pose(current_ee_pose_b[:, :3], current_ee_pose_b[:, 3:], command[:, start : start + 6])
+                pos, quat = apply_delta_pose(
+                    current_ee_pose_b[:, :3], current_ee_pose_b[:, 3:], command[:, start : start + 6]
+                )
                 start += 6
                 self.desired_ee_pose_b[:] = torch.cat([pos, quat], dim=-1)
             else:

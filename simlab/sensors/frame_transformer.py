@@ -88,7 +88,9 @@ class _Frames:
         self.body_index = torch.tensor(body_ids, dtype=torch.long, device=device)
         self.offset_pos = torch.tensor([o.pos for o in offsets], dtype=torch.float32, device=device)
         self.offset_quat = torch.tensor([o.rot for o in offsets], dtype=torch.float32, device=device)
-        self.has_offset = bool(self.offset_pos.any() or (self.offset_quat != self.offset_quat.new_tensor([1, 0, 0, 0])).any())
+        self.has_offset = bool(
+            self.offset_pos.any() or (self.offset_quat != self.offset_quat.new_tensor([1, 0, 0, 0])).any()
+        )
 
 
 class FrameTransformer(SensorBase):

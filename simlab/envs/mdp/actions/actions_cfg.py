@@ -4,10 +4,9 @@ from __future__ import annotations
 
 from dataclasses import MISSING
 
+from simlab.controllers import DifferentialIKControllerCfg, OperationalSpaceControllerCfg
 from simlab.managers.manager_term_cfg import ActionTermCfg
 from simlab.utils import configclass
-
-from simlab.controllers import DifferentialIKControllerCfg, OperationalSpaceControllerCfg
 
 from . import binary_joint_actions, joint_actions, task_space_actions
 

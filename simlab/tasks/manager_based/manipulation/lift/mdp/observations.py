@@ -14,11 +14,14 @@ if TYPE_CHECKING:
 
 __all__ = ["object_position_in_robot_root_frame"]
 
+_ROBOT = SceneEntityCfg("robot")
+_OBJECT = SceneEntityCfg("object")
+
 
 def object_position_in_robot_root_frame(
     env: ManagerBasedRLEnv,
-    robot_cfg: SceneEntityCfg = SceneEntityCfg("robot"),
-    object_cfg: SceneEntityCfg = SceneEntityCfg("object"),
+    robot_cfg: SceneEntityCfg = _ROBOT,
+    object_cfg: SceneEntityCfg = _OBJECT,
 ) -> torch.Tensor:
     """(num_envs, 3) the object's position in the robot's root frame."""
     robot, obj = env.scene[robot_cfg.name], env.scene[object_cfg.name]

@@ -14,9 +14,13 @@ if TYPE_CHECKING:
 
 __all__ = ["object_ee_distance", "object_goal_distance", "object_is_lifted"]
 
+_ROBOT = SceneEntityCfg("robot")
+_OBJECT = SceneEntityCfg("object")
+_EE_FRAME = SceneEntityCfg("ee_frame")
+
 
 def object_is_lifted(
-    env: ManagerBasedRLEnv, minimal_height: float, object_cfg: SceneEntityCfg = SceneEntityCfg("object")
+    env: ManagerBasedRLEnv, minimal_height: float, object_cfg: SceneEntityCfg = _OBJECT
 ) -> torch.Tensor:
     """1 where the object's centre is above ``minimal_height`` (world z), else 0."""
     return (env.scene[object_cfg.name].data.root_pos_w[:, 2] > minimal_height).float()
@@ -25,8 +29,8 @@ def object_is_lifted(
 def object_ee_distance(
     env: ManagerBasedRLEnv,
     std: float,
-    object_cfg: SceneEntityCfg = SceneEntityCfg("object"),
-    ee_frame_cfg: SceneEntityCfg = SceneEntityCfg("ee_frame"),
+    object_cfg: SceneEntityCfg = _OBJECT,
+    ee_frame_cfg: SceneEntityCfg = _EE_FRAME,
 ) -> torch.Tensor:
     """``1 - tanh(d / std)`` of the distance from the end-effector frame to the object."""
     cube_pos_w = env.scene[object_cfg.name].data.root_pos_w
@@ -39,8 +43,8 @@ def object_goal_distance(
     std: float,
     minimal_height: float,
     command_name: str,
-    robot_cfg: SceneEntityCfg = SceneEntityCfg("robot"),
-    object_cfg: SceneEntityCfg = SceneEntityCfg("object"),
+    robot_cfg: SceneEntityCfg = _ROBOT,
+    object_cfg: SceneEntityCfg = _OBJECT,
 ) -> torch.Tensor:
     """``1 - tanh(d / std)`` of the object's distance to the commanded position, once lifted."""
     robot, obj = env.scene[robot_cfg.name], env.scene[object_cfg.name]

@@ -14,13 +14,16 @@ if TYPE_CHECKING:
 
 __all__ = ["object_reached_goal"]
 
+_ROBOT = SceneEntityCfg("robot")
+_OBJECT = SceneEntityCfg("object")
+
 
 def object_reached_goal(
     env: ManagerBasedRLEnv,
     command_name: str = "object_pose",
     threshold: float = 0.02,
-    robot_cfg: SceneEntityCfg = SceneEntityCfg("robot"),
-    object_cfg: SceneEntityCfg = SceneEntityCfg("object"),
+    robot_cfg: SceneEntityCfg = _ROBOT,
+    object_cfg: SceneEntityCfg = _OBJECT,
 ) -> torch.Tensor:
     """The object is within ``threshold`` metres of the commanded position."""
     robot, obj = env.scene[robot_cfg.name], env.scene[object_cfg.name]
