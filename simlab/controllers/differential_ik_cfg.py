@@ -47,7 +47,8 @@ class DifferentialIKControllerCfg:
             unknown = set(self.ik_params or {}) - set(params)
             if unknown:
                 raise ValueError(
-                    f"ik_params {sorted(unknown)} do not apply to ik_method {self.ik_method!r}; it takes {sorted(params)}"
+                    f"ik_params {sorted(unknown)} do not apply to ik_method {self.ik_method!r};"
+                    f" it takes {sorted(params)}"
                 )
             params.update(self.ik_params or {})
             self.ik_params = params
