@@ -25,6 +25,7 @@ from simlab.tasks.manager_based.manipulation.lift.config.franka.joint_pos_env_cf
 from simlab.tasks.manager_based.manipulation.reach import mdp as reach_mdp
 from simlab.tasks.manager_based.manipulation.reach.config.franka import ik_abs_env_cfg as reach_ik_abs
 from simlab.tasks.manager_based.manipulation.reach.config.franka import joint_pos_env_cfg as reach_joint_pos
+from simlab.tasks.manager_based.manipulation.reach.config.franka import osc_env_cfg as reach_osc
 from simlab.tasks.utils.parse_cfg import parse_env_cfg
 from simlab.utils import configclass
 
@@ -33,6 +34,7 @@ TASKS = [
     "simlab/Reach-Franka-Play-v0",
     "simlab/Reach-Franka-IK-Abs-v0",
     "simlab/Reach-Franka-IK-Rel-v0",
+    "simlab/Reach-Franka-OSC-v0",
     "simlab/Lift-Cube-Franka-v0",
     "simlab/Lift-Cube-Franka-Play-v0",
     "simlab/Lift-Cube-Franka-IK-Abs-v0",
@@ -279,6 +281,23 @@ def test_a_scripted_ik_grasp_lifts_the_cube():
     env.close()
 
 
+def test_operational_space_action_tracks_the_commanded_pose():
+    env = make_env(reach_osc.FrankaReachEnvCfg, num_envs=2)
+    env.reset()
+    term = env.action_manager.get_term("arm_action")
+    assert term.action_dim == 13
+    pos, quat = term._ee_pose_b()
+    target = torch.cat([pos + torch.tensor([[0.08, -0.05, -0.06], [-0.05, 0.08, 0.05]]), quat], dim=-1)
+    stiffness = torch.full((2, 6), 1.5)  # x stiffness_scale 100: 150, inside the limits (50, 200)
+    for _ in range(100):  # 3.3 s
+        env.step(torch.cat([target, stiffness], dim=-1))
+    pos, quat = term._ee_pose_b()
+    assert (pos - target[:, :3]).norm(dim=-1).max() < 5e-3
+    assert math_utils.quat_error_magnitude(quat, target[:, 3:]).max() < 0.02
+    torch.testing.assert_close(term._osc._kp, torch.full((2, 6), 150.0))
+    env.close()
+
+
 # -- the registered tasks ------------------------------------------------------------------------
 
 
@@ -294,7 +313,7 @@ def test_task_steps_on_the_cpu(task):
         assert torch.isfinite(obs["policy"]).all() and torch.isfinite(reward).all()
     assert obs["policy"].shape[0] == 4 and reward.shape == (4,)
     # arm: 7 joints, an absolute pose (7) or a relative one (6); lift adds the gripper's one
-    arm = 6 if "IK-Rel" in task else 7
+    arm = 6 if "IK-Rel" in task else 13 if "OSC" in task else 7  # OSC: pose and 6 stiffnesses
     assert dim == arm + ("Lift" in task)
     # only Isaac Lab's reward-weight curriculum (changed on the host between steps) keeps the step eager
     assert all("curriculum term" in b for b in u.graph_blockers())
