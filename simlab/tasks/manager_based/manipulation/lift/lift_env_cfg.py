@@ -6,7 +6,7 @@ with action-rate and joint-speed penalties raised by a curriculum after 10000 st
 ends when the cube falls off the table. The robot, cube and end-effector frame come from ``config/``.
 
 simlab's scene: Isaac Lab's table is a USD prop; here it is a static box whose top is at z = 0,
-where the table's top is in Isaac Lab's scene (the robot's base stands at that height).
+where the table's top is in Isaac Lab's scene; it reaches under the robot's base, which stands on it.
 """
 
 from dataclasses import MISSING
@@ -37,9 +37,9 @@ class ObjectTableSceneCfg(InteractiveSceneCfg):
     object: RigidObjectCfg = MISSING
     table = AssetBaseCfg(
         prim_path="{ENV_REGEX_NS}/Table",
-        init_state=AssetBaseCfg.InitialStateCfg(pos=(0.5, 0.0, -0.5)),
+        init_state=AssetBaseCfg.InitialStateCfg(pos=(0.35, 0.0, -0.5)),
         spawn=sim_utils.CuboidCfg(
-            size=(0.8, 1.2, 1.0), visual_material=sim_utils.PreviewSurfaceCfg(diffuse_color=(0.55, 0.45, 0.35))
+            size=(1.2, 1.2, 1.0), visual_material=sim_utils.PreviewSurfaceCfg(diffuse_color=(0.55, 0.45, 0.35))
         ),
     )
     plane = AssetBaseCfg(
