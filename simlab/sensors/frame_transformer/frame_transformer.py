@@ -11,74 +11,19 @@ from __future__ import annotations
 
 import re
 from collections.abc import Sequence
-from dataclasses import MISSING
+from typing import TYPE_CHECKING
 
 import torch
 
 import simlab.utils.math as math_utils
-from simlab.utils import configclass
 
-from .sensor_base import SensorBase, SensorBaseCfg
+from ..sensor_base import SensorBase
+from .frame_transformer_data import FrameTransformerData
+
+if TYPE_CHECKING:
+    from .frame_transformer_cfg import FrameTransformerCfg, OffsetCfg
 
 _ENV_PREFIX = re.compile(r"^(\{ENV_REGEX_NS\}|/World/envs/env_(\.\*|\d+))/")
-
-
-@configclass
-class OffsetCfg:
-    """A fixed transform from a body's frame to the frame wanted."""
-
-    pos: tuple[float, float, float] = (0.0, 0.0, 0.0)
-    rot: tuple[float, float, float, float] = (1.0, 0.0, 0.0, 0.0)
-    """Quaternion (w, x, y, z)."""
-
-
-class FrameTransformerData:
-    """Poses of the source frame (world) and of the target frames (world, and in the source frame).
-
-    Shapes use N envs and M target frames; quaternions are ``(w, x, y, z)``.
-    """
-
-    def __init__(self, sensor: FrameTransformer):
-        self._sensor = sensor
-        self.target_frame_names: list[str] = sensor._target_names
-
-    @property
-    def source_pos_w(self) -> torch.Tensor:
-        """(N, 3)"""
-        return self._sensor._frames_w(self._sensor._source)[0][:, 0]
-
-    @property
-    def source_quat_w(self) -> torch.Tensor:
-        """(N, 4)"""
-        return self._sensor._frames_w(self._sensor._source)[1][:, 0]
-
-    @property
-    def target_pos_w(self) -> torch.Tensor:
-        """(N, M, 3)"""
-        return self._sensor._frames_w(self._sensor._targets)[0]
-
-    @property
-    def target_quat_w(self) -> torch.Tensor:
-        """(N, M, 4)"""
-        return self._sensor._frames_w(self._sensor._targets)[1]
-
-    @property
-    def target_pos_source(self) -> torch.Tensor:
-        """(N, M, 3) target positions in the source frame."""
-        return self._in_source()[0]
-
-    @property
-    def target_quat_source(self) -> torch.Tensor:
-        """(N, M, 4) target orientations relative to the source frame."""
-        return self._in_source()[1]
-
-    def _in_source(self) -> tuple[torch.Tensor, torch.Tensor]:
-        src_pos, src_quat = self._sensor._frames_w(self._sensor._source)
-        tgt_pos, tgt_quat = self._sensor._frames_w(self._sensor._targets)
-        m = tgt_pos.shape[1]
-        return math_utils.subtract_frame_transforms(
-            src_pos.expand(-1, m, -1), src_quat.expand(-1, m, -1), tgt_pos, tgt_quat
-        )
 
 
 class _Frames:
@@ -171,20 +116,3 @@ def _bodies_of(prim_path: str, body_names: Sequence[str], what: str) -> tuple[li
             f" {[n[len(entity) + 1 :] for _, n in owned]}"
         )
     return [i for i, _ in matched], [n for _, n in matched]
-
-
-@configclass
-class FrameTransformerCfg(SensorBaseCfg):
-    @configclass
-    class FrameCfg:
-        prim_path: str = MISSING
-        """The body (``{ENV_REGEX_NS}/Robot/panda_hand``), an entity's root body, or a regex over bodies."""
-        name: str | None = None
-        """The frame's name in ``data.target_frame_names`` (default: the body's name)."""
-        offset: OffsetCfg = OffsetCfg()
-
-    class_type: type = FrameTransformer
-    source_frame_offset: OffsetCfg = OffsetCfg()
-    target_frames: list[FrameCfg] = MISSING
-    visualizer_cfg: object | None = None
-    """Isaac Lab's frame markers (drawn with ``debug_vis``, which simlab refuses); accepted and unused."""
