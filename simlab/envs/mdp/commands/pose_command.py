@@ -57,8 +57,9 @@ class UniformPoseCommand(CommandTerm):
         pos_err, rot_err = math_utils.compute_pose_error(
             pos_w, quat_w, data.body_pos_w[:, self.body_idx], data.body_quat_w[:, self.body_idx]
         )
-        self.metrics["position_error"] = torch.norm(pos_err, dim=-1)
-        self.metrics["orientation_error"] = torch.norm(rot_err, dim=-1)
+        # in place: a captured step's metrics stay the tensors the manager holds
+        torch.norm(pos_err, dim=-1, out=self.metrics["position_error"])
+        torch.norm(rot_err, dim=-1, out=self.metrics["orientation_error"])
 
     def _resample_command(self, env_ids: torch.Tensor) -> None:
         """New poses where the (num_envs,) mask ``env_ids`` is set (draws for every env)."""
