@@ -217,3 +217,19 @@ def test_bad_controller_configs_name_the_choices():
         DifferentialIKControllerCfg(command_type="pose", ik_method="dls", ik_params={"k_val": 2.0})
     with pytest.raises(ValueError, match="each must be one of"):
         OperationalSpaceControllerCfg(target_types=["pose"])
+
+
+def test_small_spd_solves_match_torch():
+    from simlab.controllers.linalg import inverse_spd, solve_spd
+
+    gen = torch.Generator().manual_seed(0)
+    for n in (3, 6, 7):
+        m = torch.randn(16, n, n, generator=gen, dtype=torch.float64)
+        a = m @ m.transpose(-1, -2) + 0.1 * torch.eye(n, dtype=torch.float64)
+        b = torch.randn(16, n, 2, generator=gen, dtype=torch.float64)
+        torch.testing.assert_close(solve_spd(a, b), torch.linalg.solve(a, b))
+        torch.testing.assert_close(inverse_spd(a), torch.linalg.inv(a))
+    # singular: finite
+    singular = torch.zeros(2, 6, 6)
+    singular[:, 0, 0] = 1.0
+    assert torch.isfinite(solve_spd(singular, torch.ones(2, 6, 1))).all()

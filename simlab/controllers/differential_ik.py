@@ -2,8 +2,9 @@
 
 ``q_des = q + J^+ dx`` with ``dx`` the task-space error (position, and orientation as an axis-angle
 vector) and ``J^+`` an inverse of the body's Jacobian by one of four methods. Everything is torch
-over a batch of envs; the ``dls`` and ``trans`` methods read nothing back to the host, so a step
-that uses them can be captured as a CUDA graph (``pinv`` and ``svd`` use an SVD, which may sync).
+over a batch of envs; the ``dls`` and ``trans`` methods use plain elementwise torch ops
+(``simlab.controllers.linalg``), so a step that uses them can be captured as a CUDA graph
+(``pinv`` and ``svd`` call torch's SVD, which may synchronize).
 """
 
 from __future__ import annotations
@@ -13,6 +14,8 @@ from typing import TYPE_CHECKING
 import torch
 
 from simlab.utils.math import apply_delta_pose, compute_pose_error
+
+from .linalg import solve_spd
 
 if TYPE_CHECKING:
     from .differential_ik_cfg import DifferentialIKControllerCfg
@@ -119,10 +122,10 @@ class DifferentialIKController:
             step = params["k_val"] * inverse @ dx
         elif method == "trans":
             step = params["k_val"] * jacobian.transpose(-1, -2) @ dx
-        else:  # dls: J^T (J J^T + lambda^2 I)^-1 dx, solved without a host-side error check
+        else:  # dls: J^T (J J^T + lambda^2 I)^-1 dx
             rows = jacobian.shape[1]
             damping = (params["lambda_val"] ** 2) * torch.eye(rows, device=jacobian.device, dtype=jacobian.dtype)
-            solution, _ = torch.linalg.solve_ex(jacobian @ jacobian.transpose(-1, -2) + damping, dx)
+            solution = solve_spd(jacobian @ jacobian.transpose(-1, -2) + damping, dx)
             step = jacobian.transpose(-1, -2) @ solution
         return step.squeeze(-1)
 

@@ -5,8 +5,9 @@
 with ``e`` the pose error (position, axis-angle), ``v`` the body velocity, ``Lambda = (J M^-1 J^T)^-1``
 the task-space mass matrix (with inertial decoupling; else the identity), ``g`` the gravity torques,
 ``Jbar = M^-1 J^T Lambda`` the dynamically consistent inverse and ``F`` an open-loop wrench target.
-Damping gains are ``2 sqrt(kp) * damping_ratio``. All torch over a batch of envs; matrix inverses
-use ``inv_ex`` (no host-side check), so the step can be captured as a CUDA graph.
+Damping gains are ``2 sqrt(kp) * damping_ratio``. All torch over a batch of envs; the matrix inverses
+are unrolled Cholesky solves in elementwise ops (``simlab.controllers.linalg``), so the step can be
+captured as a CUDA graph.
 """
 
 from __future__ import annotations
@@ -16,6 +17,8 @@ from typing import TYPE_CHECKING
 import torch
 
 from simlab.utils.math import apply_delta_pose, combine_frame_transforms, compute_pose_error
+
+from .linalg import inverse_spd
 
 if TYPE_CHECKING:
     from .operational_space_cfg import OperationalSpaceControllerCfg
@@ -127,7 +130,7 @@ class OperationalSpaceController:
         decouple = cfg.inertial_dynamics_decoupling or cfg.nullspace_control == "position"
         if decouple and mass_matrix is None:
             raise ValueError("compute needs mass_matrix for inertial_dynamics_decoupling / nullspace_control")
-        mass_inv = torch.linalg.inv_ex(mass_matrix)[0] if decouple else None
+        mass_inv = inverse_spd(mass_matrix) if decouple else None
         jac_t = jacobian_b.transpose(-1, -2)
 
         if self._motion:
@@ -165,7 +168,7 @@ class OperationalSpaceController:
             kd_n = 2.0 * kp_n**0.5 * cfg.nullspace_damping_ratio
             joint_acc = kp_n * (target - current_joint_pos) - kd_n * current_joint_vel
             torque = (mass_matrix @ joint_acc[..., None])[..., 0]
-            task_mass = torch.linalg.inv_ex(jacobian_b @ mass_inv @ jac_t)[0]
+            task_mass = inverse_spd(jacobian_b @ mass_inv @ jac_t)
             jbar = mass_inv @ jac_t @ task_mass  # dynamically consistent inverse
             eye = torch.eye(num_joints, device=jacobian_b.device)
             efforts += ((eye - jac_t @ jbar.transpose(-1, -2)) @ torque[..., None])[..., 0]
@@ -174,11 +177,11 @@ class OperationalSpaceController:
     def _task_mass_matrix(self, jacobian: torch.Tensor, mass_inv: torch.Tensor) -> torch.Tensor:
         """Lambda = (J M^-1 J^T)^-1, or its translation and rotation blocks alone (partial)."""
         if not self.cfg.partial_inertial_dynamics_decoupling:
-            return torch.linalg.inv_ex(jacobian @ mass_inv @ jacobian.transpose(-1, -2))[0]
+            return inverse_spd(jacobian @ mass_inv @ jacobian.transpose(-1, -2))
         out = torch.zeros(jacobian.shape[0], 6, 6, device=jacobian.device)
         for rows in (slice(0, 3), slice(3, 6)):
             j = jacobian[:, rows]
-            out[:, rows, rows] = torch.linalg.inv_ex(j @ mass_inv @ j.transpose(-1, -2))[0]
+            out[:, rows, rows] = inverse_spd(j @ mass_inv @ j.transpose(-1, -2))
         return out
 
 
