@@ -128,6 +128,10 @@ def test_frame_transformer_errors_name_what_exists():
     )
     with pytest.raises(ValueError, match="matches 2 bodies"):
         frame_scene(ee_frame=named_regex)
+    sim_utils.SimulationContext.clear_instance()
+    bad_entity = FrameTransformerCfg(prim_path="{ENV_REGEX_NS}/Gripper/hand", target_frames=[])
+    with pytest.raises(ValueError, match=r"no entity 'Gripper'; entities: \['Object', 'Robot'\]"):
+        frame_scene(ee_frame=bad_entity)
 
 
 # -- commands, rewards, observations -----------------------------------------------------------------

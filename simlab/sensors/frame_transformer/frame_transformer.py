@@ -76,7 +76,7 @@ class FrameTransformer(SensorBase):
                 )
             target_ids += ids
             offsets += [frame.offset] * len(ids)
-            names += [frame.name] if frame.name is not None else [n.split("/", 1)[-1] for n in matched]
+            names += [frame.name] if frame.name is not None else matched
         if not target_ids:
             raise ValueError("FrameTransformerCfg.target_frames is empty: add at least one FrameCfg")
         self._targets = _Frames(target_ids, offsets, self.device)
@@ -97,7 +97,8 @@ class FrameTransformer(SensorBase):
 
 
 def _bodies_of(prim_path: str, body_names: Sequence[str], what: str) -> tuple[list[int], list[str]]:
-    """Model bodies a prim path names: ``<env>/<Entity>`` (its root body) or ``<env>/<Entity>/<body regex>``."""
+    """Model bodies a prim path names, ``<env>/<Entity>`` (its root body, named after the entity, as the
+    prim is in Isaac Lab) or ``<env>/<Entity>/<body regex>``, and their names."""
     rest = _ENV_PREFIX.sub("", prim_path)
     if rest == prim_path and prim_path.startswith("/World/"):
         rest = prim_path[len("/World/") :]
@@ -107,7 +108,7 @@ def _bodies_of(prim_path: str, body_names: Sequence[str], what: str) -> tuple[li
         entities = sorted({n.split("/")[0] for n in body_names if "/" in n})
         raise ValueError(f"{what} '{prim_path}': the scene has no entity '{entity}'; entities: {entities}")
     if not body:
-        return [owned[0][0]], [owned[0][1]]
+        return [owned[0][0]], [entity]
     pattern = re.compile(body)
     matched = [(i, n) for i, n in owned if pattern.fullmatch(n[len(entity) + 1 :])]
     if not matched:
@@ -115,4 +116,4 @@ def _bodies_of(prim_path: str, body_names: Sequence[str], what: str) -> tuple[li
             f"{what} '{prim_path}': no body of '{entity}' matches '{body}'; its bodies:"
             f" {[n[len(entity) + 1 :] for _, n in owned]}"
         )
-    return [i for i, _ in matched], [n for _, n in matched]
+    return [i for i, _ in matched], [n[len(entity) + 1 :] for _, n in matched]
