@@ -265,7 +265,13 @@ def _rollout(task: str, use_cuda_graph: bool, steps: int = 300):
     if task == "interval-kicks":
         env = cartpole_with_interval_kicks("cuda:0", 256, use_cuda_graph)
     else:
-        env = make_task(task, "cuda:0", 256, use_cuda_graph=use_cuda_graph)
+        cfg = parse_env_cfg(task, device="cuda:0", num_envs=256)
+        cfg.sim.use_cuda_graph = use_cuda_graph
+        cfg.seed = 11
+        # episodes that end within the rollout (reach's 12 s would not), so that it crosses resets
+        step_dt = cfg.sim.dt * cfg.decimation
+        cfg.episode_length_s = min(cfg.episode_length_s, 0.8 * steps * step_dt)
+        env = gym.make(task, cfg=cfg).unwrapped
     env.reset(seed=4)  # seeds torch: both runs draw the same random initial states
     generator = torch.Generator(device="cuda:0").manual_seed(0)
     multi_agent = hasattr(env, "possible_agents")

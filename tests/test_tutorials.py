@@ -40,3 +40,12 @@ def test_env_tutorials_run(script):
     out = run_script(script, "--num_envs", "4", "--max_app_steps", "310")
     assert out.count("[INFO]: Resetting environment...") == 2  # at steps 0 and 300
     assert out.count("[Env 0]: Pole joint: ") == 310
+
+
+def test_diff_ik_tutorial_reaches_each_goal():
+    out = run_script("scripts/tutorials/05_controllers/run_diff_ik.py", "--num_envs", "2", "--max_app_steps", "310")
+    errors = [line for line in out.splitlines() if line.startswith("[INFO]: goal")]
+    assert len(errors) == 2, out[-2000:]  # the first two of the three goals
+    for line in errors:  # "[INFO]: goal 0: position error 0.0003 m, orientation error 0.0017 rad"
+        words = line.replace(",", "").split()
+        assert float(words[5]) < 2e-3 and float(words[9]) < 1e-2, line

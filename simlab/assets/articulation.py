@@ -16,6 +16,7 @@ from collections.abc import Sequence
 import mujoco
 import torch
 
+import simlab.utils.math as math_utils
 from simlab.actuators import ActuatorBase
 from simlab.actuators.actuator_pd import per_joint_values
 from simlab.utils.string import resolve_matching_names, resolve_matching_names_values
@@ -84,7 +85,7 @@ class Articulation(RootedAsset):
                     act.forcerange = [-effort[i], effort[i]]
 
     def _on_compile(self, model: mujoco.MjModel) -> None:
-        """Start every world at the configured joint positions (MuJoCo resets to ``qpos0``)."""
+        """Start every world at the configured joint positions (the simulation resets the worlds there)."""
         ids = self._model_joint_ids(model)
         names = [model.joint(j).name[len(self.prefix) :] for j in ids]
         if not names:
@@ -187,6 +188,15 @@ class Articulation(RootedAsset):
     @property
     def num_fixed_tendons(self) -> int:
         return 0
+
+    @property
+    def root_physx_view(self) -> ArticulationDynamicsView:
+        """Isaac Lab's PhysX articulation view, for what task-space controllers read from it:
+        ``get_jacobians``, ``get_generalized_mass_matrices``, the gravity and Coriolis forces."""
+        view = self.__dict__.get("_dynamics_view")
+        if view is None:
+            view = self.__dict__["_dynamics_view"] = ArticulationDynamicsView(self)
+        return view
 
     def find_joints(
         self, name_keys: str | Sequence[str], joint_subset: list[str] | None = None, preserve_order: bool = False
@@ -354,6 +364,80 @@ class Articulation(RootedAsset):
             target[:, self._dof_index] = values
         else:
             target[env[:, None], self._dof_index] = values[env]
+
+
+class ArticulationDynamicsView:
+    """The parts of PhysX's ``ArticulationView`` that controllers use, from MuJoCo's forward pass.
+
+    Shapes follow PhysX: Jacobians are ``(num_envs, num_bodies, 6, num_dofs)`` with rows
+    ``[linear; angular]`` velocity of each body's frame origin in the world frame; for a fixed base
+    the root body is left out (body ``i`` of the articulation is row ``i - 1``) and the dofs are the
+    joints; a floating base has 6 more dofs first (root linear then angular velocity, world frame).
+    """
+
+    def __init__(self, articulation: Articulation):
+        from simlab.sim.dynamics import TreeDynamics
+
+        a = articulation
+        model = a._sim.model
+        self._fixed = a.is_fixed_base
+        bodies = a._body_ids[1:] if self._fixed else a._body_ids
+        dofs = [int(model.jnt_dofadr[j]) for j in a._joint_model_ids]
+        self._root_quat = None
+        if not self._fixed:
+            root_dof = int(a._root_lin_cols.start)
+            dofs = list(range(root_dof, root_dof + 6)) + dofs
+            self._root_quat = lambda: a._qpos[:, a._root_quat_cols]
+        self._tree = TreeDynamics(a._physics, model, bodies, dofs)
+        self.count = a.num_instances
+        self.max_dofs = len(dofs)
+        self.max_links = len(bodies) + int(self._fixed)
+
+    def get_jacobians(self) -> torch.Tensor:
+        jac = self._tree.jacobians()
+        if self._root_quat is not None:
+            # MuJoCo's free joint turns at a body-frame angular velocity; PhysX's at a world-frame one.
+            rot = math_utils.matrix_from_quat(self._root_quat())
+            jac = jac.clone()
+            jac[..., 3:6] = jac[..., 3:6] @ rot.transpose(-1, -2)[:, None]
+        return jac
+
+    def get_generalized_mass_matrices(self) -> torch.Tensor:
+        mass = self._tree.mass_matrix()
+        if self._root_quat is not None:
+            rot = self._free_rotation()
+            mass = rot.transpose(-1, -2) @ mass @ rot
+        return mass
+
+    def get_gravity_compensation_forces(self) -> torch.Tensor:
+        return self._to_world_dofs(self._tree.gravity_forces())
+
+    def get_coriolis_and_centrifugal_compensation_forces(self) -> torch.Tensor:
+        return self._to_world_dofs(self._tree.coriolis_and_centrifugal_forces())
+
+    # older PhysX names
+    get_mass_matrices = get_generalized_mass_matrices
+    get_generalized_gravity_forces = get_gravity_compensation_forces
+    get_coriolis_and_centrifugal_forces = get_coriolis_and_centrifugal_compensation_forces
+
+    def _free_rotation(self) -> torch.Tensor:
+        """(N, D, D): maps PhysX's dof velocities (world-frame root rotation) to MuJoCo's."""
+        n, d = self.count, self.max_dofs
+        rot = torch.eye(d, device=self._tree._dof_index.device).repeat(n, 1, 1)
+        rot[:, 3:6, 3:6] = math_utils.matrix_from_quat(self._root_quat()).transpose(-1, -2)
+        return rot
+
+    def _to_world_dofs(self, forces: torch.Tensor) -> torch.Tensor:
+        if self._root_quat is None:
+            return forces
+        return (self._free_rotation().transpose(-1, -2) @ forces[..., None])[..., 0]
+
+    def __getattr__(self, name: str):
+        raise AttributeError(
+            f"simlab's root_physx_view has no '{name}': it offers get_jacobians, get_generalized_mass_matrices,"
+            " get_gravity_compensation_forces and get_coriolis_and_centrifugal_compensation_forces; the state is"
+            " in asset.data, the model in sim.model"
+        )
 
 
 def soft_limits(limits: torch.Tensor, factor: float) -> torch.Tensor:

@@ -24,6 +24,7 @@ class RewardManager(ManagerBase):
     def __init__(self, cfg: object, env: ManagerBasedRLEnv):
         self._terms: list[tuple[str, RewardTermCfg]] = []
         self._class_terms: list[ManagerTermBase] = []
+        self._device_weighted: set[int] = set()  # terms whose weight a curriculum sets on the device
         super().__init__(cfg, env)
         n = len(self._terms)
         self._reward_buf = torch.zeros(self.num_envs, device=self.device)
@@ -82,10 +83,24 @@ class RewardManager(ManagerBase):
         return self._weights
 
     def get_term_cfg(self, term_name: str) -> RewardTermCfg:
-        for name, cfg in self._terms:
+        for i, (name, cfg) in enumerate(self._terms):
             if name == term_name:
+                if i in self._device_weighted:  # a weight changed on the device: read it back (a sync)
+                    cfg.weight = float(self._weights[i])
                 return cfg
         raise KeyError(f"No reward term '{term_name}'; reward terms: {self.active_terms}")
+
+    def set_term_weight_where(self, term_name: str, condition: torch.Tensor, weight: float) -> torch.Tensor:
+        """Set the weight of ``term_name`` to ``weight`` where the 0-d bool ``condition`` holds, on the
+        device (no host read: a captured step does it on every replay); returns the current weight.
+        ``get_term_cfg`` reads the weight back. A term whose weight starts at 0 is never computed."""
+        index = self.active_terms.index(term_name) if term_name in self.active_terms else None
+        if index is None:
+            raise KeyError(f"No reward term '{term_name}'; reward terms: {self.active_terms}")
+        weights = self._current_weights()
+        self._device_weighted.add(index)
+        weights[index] = torch.where(condition, torch.full_like(weights[index], weight), weights[index])
+        return weights[index].clone()
 
     def set_term_cfg(self, term_name: str, cfg: RewardTermCfg) -> None:
         for i, (name, _) in enumerate(self._terms):

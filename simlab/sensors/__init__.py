@@ -1,4 +1,4 @@
-"""Sensors read from the simulation each step: contact forces, ray casts (height scans), IMUs, cameras."""
+"""Sensors read from the simulation each step: contact forces, ray casts (height scans), IMUs, frames, cameras."""
 
 from .camera import (
     DATA_TYPES,
@@ -11,6 +11,7 @@ from .camera import (
     tile_images,
 )
 from .contact_sensor import ContactSensor, ContactSensorCfg, ContactSensorData
+from .frame_transformer import FrameTransformer, FrameTransformerCfg, FrameTransformerData, OffsetCfg
 from .imu import Imu, ImuCfg, ImuData
 from .ray_caster import RayCaster, RayCasterCfg, RayCasterData, patterns
 from .sensor_base import SensorBase, SensorBaseCfg
@@ -23,9 +24,13 @@ __all__ = [
     "ContactSensor",
     "ContactSensorCfg",
     "ContactSensorData",
+    "FrameTransformer",
+    "FrameTransformerCfg",
+    "FrameTransformerData",
     "Imu",
     "ImuCfg",
     "ImuData",
+    "OffsetCfg",
     "RayCaster",
     "RayCasterCfg",
     "RayCasterData",

@@ -16,15 +16,15 @@ if TYPE_CHECKING:
     from simlab.envs import ManagerBasedRLEnv
 
 
+@takes_env_mask
 def modify_reward_weight(
     env: ManagerBasedRLEnv, env_ids: torch.Tensor, term_name: str, weight: float, num_steps: int
-) -> float:
-    """Set the weight of reward term ``term_name`` to ``weight`` once ``num_steps`` env steps have passed."""
-    term_cfg = env.reward_manager.get_term_cfg(term_name)
-    if env.common_step_counter > num_steps and term_cfg.weight != weight:
-        term_cfg.weight = weight
-        env.reward_manager.set_term_cfg(term_name, term_cfg)
-    return float(term_cfg.weight)
+) -> torch.Tensor:
+    """Set the weight of reward term ``term_name`` to ``weight`` at the first reset after ``num_steps``
+    env steps (Isaac Lab's rule). The check and the change happen on the device, so a step replayed
+    as a CUDA graph applies them too; returns the term's current weight."""
+    due = env_ids.any() & (env._step_count > num_steps)
+    return env.reward_manager.set_term_weight_where(term_name, due, weight)
 
 
 _ROBOT = SceneEntityCfg("robot")

@@ -129,6 +129,7 @@ def height_scan(env: ManagerBasedEnv, sensor_cfg: SceneEntityCfg, offset: float 
     sensor = env.scene.sensors[sensor_cfg.name]
     return sensor.data.pos_w[:, 2].unsqueeze(1) - sensor.data.ray_hits_w[..., 2] - offset
 
+
 _TILED_CAMERA = SceneEntityCfg("tiled_camera")
 
 

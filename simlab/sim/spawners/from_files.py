@@ -77,7 +77,16 @@ def spawn_from_mjcf(prim_path: str, cfg: MjcfFileCfg, translation=None, orientat
         for actuator in list(child.actuators):
             child.delete(actuator)
     fix = cfg.articulation_props.fix_root_link if cfg.articulation_props is not None else None
-    return attach_root_body(child, prim_path, translation, orientation, fix)
+    root = attach_root_body(child, prim_path, translation, orientation, fix)
+    if cfg.rigid_props is not None and cfg.rigid_props.disable_gravity:
+        _compensate_gravity(root)
+    return root
+
+
+def _compensate_gravity(root: mujoco.MjsBody) -> None:
+    """Isaac Lab's ``disable_gravity``: MuJoCo's gravity compensation cancels gravity on every body."""
+    for body in [root, *root.find_all(mujoco.mjtObj.mjOBJ_BODY)]:
+        body.gravcomp = 1.0
 
 
 def spawn_from_urdf(prim_path: str, cfg: UrdfFileCfg, translation=None, orientation=None) -> mujoco.MjsBody:

@@ -1,12 +1,18 @@
 """Action terms and their configs."""
 
 from .actions_cfg import (
+    BinaryJointActionCfg,
+    BinaryJointPositionActionCfg,
+    BinaryJointVelocityActionCfg,
+    DifferentialInverseKinematicsActionCfg,
     JointActionCfg,
     JointEffortActionCfg,
     JointPositionActionCfg,
     JointVelocityActionCfg,
+    OperationalSpaceControllerActionCfg,
     RelativeJointPositionActionCfg,
 )
+from .binary_joint_actions import BinaryJointAction, BinaryJointPositionAction, BinaryJointVelocityAction
 from .joint_actions import (
     JointAction,
     JointEffortAction,
@@ -14,8 +20,17 @@ from .joint_actions import (
     JointVelocityAction,
     RelativeJointPositionAction,
 )
+from .task_space_actions import DifferentialInverseKinematicsAction, OperationalSpaceControllerAction
 
 __all__ = [
+    "BinaryJointAction",
+    "BinaryJointActionCfg",
+    "BinaryJointPositionAction",
+    "BinaryJointPositionActionCfg",
+    "BinaryJointVelocityAction",
+    "BinaryJointVelocityActionCfg",
+    "DifferentialInverseKinematicsAction",
+    "DifferentialInverseKinematicsActionCfg",
     "JointAction",
     "JointActionCfg",
     "JointEffortAction",
@@ -24,6 +39,8 @@ __all__ = [
     "JointPositionActionCfg",
     "JointVelocityAction",
     "JointVelocityActionCfg",
+    "OperationalSpaceControllerAction",
+    "OperationalSpaceControllerActionCfg",
     "RelativeJointPositionAction",
     "RelativeJointPositionActionCfg",
 ]

@@ -4,10 +4,11 @@ from __future__ import annotations
 
 from dataclasses import MISSING
 
+from simlab.controllers import DifferentialIKControllerCfg, OperationalSpaceControllerCfg
 from simlab.managers.manager_term_cfg import ActionTermCfg
 from simlab.utils import configclass
 
-from . import joint_actions
+from . import binary_joint_actions, joint_actions, task_space_actions
 
 
 @configclass
@@ -42,3 +43,71 @@ class JointVelocityActionCfg(JointActionCfg):
 @configclass
 class JointEffortActionCfg(JointActionCfg):
     class_type: type = joint_actions.JointEffortAction
+
+
+@configclass
+class BinaryJointActionCfg(ActionTermCfg):
+    joint_names: list[str] = MISSING
+    """The gripper's finger joints (names or regexes)."""
+    open_command_expr: dict[str, float] = MISSING
+    """Joint-name patterns to the targets that open the gripper (action >= 0)."""
+    close_command_expr: dict[str, float] = MISSING
+    """Joint-name patterns to the targets that close it (action < 0)."""
+
+
+@configclass
+class BinaryJointPositionActionCfg(BinaryJointActionCfg):
+    class_type: type = binary_joint_actions.BinaryJointPositionAction
+
+
+@configclass
+class BinaryJointVelocityActionCfg(BinaryJointActionCfg):
+    class_type: type = binary_joint_actions.BinaryJointVelocityAction
+
+
+@configclass
+class DifferentialInverseKinematicsActionCfg(ActionTermCfg):
+    @configclass
+    class OffsetCfg:
+        """The controlled frame relative to the body: ``pos`` and ``rot`` (w, x, y, z)."""
+
+        pos: tuple[float, float, float] = (0.0, 0.0, 0.0)
+        rot: tuple[float, float, float, float] = (1.0, 0.0, 0.0, 0.0)
+
+    class_type: type = task_space_actions.DifferentialInverseKinematicsAction
+    joint_names: list[str] = MISSING
+    body_name: str = MISSING
+    """The end-effector body."""
+    body_offset: OffsetCfg | None = None
+    scale: float | tuple[float, ...] = 1.0
+    controller: DifferentialIKControllerCfg = MISSING
+
+
+@configclass
+class OperationalSpaceControllerActionCfg(ActionTermCfg):
+    @configclass
+    class OffsetCfg:
+        pos: tuple[float, float, float] = (0.0, 0.0, 0.0)
+        rot: tuple[float, float, float, float] = (1.0, 0.0, 0.0, 0.0)
+
+    class_type: type = task_space_actions.OperationalSpaceControllerAction
+    joint_names: list[str] = MISSING
+    body_name: str = MISSING
+    body_offset: OffsetCfg | None = None
+    task_frame_rel_path: str | None = None
+    """Refused unless None: targets are in the robot's root frame."""
+    controller_cfg: OperationalSpaceControllerCfg = MISSING
+    position_scale: float = 1.0
+    orientation_scale: float = 1.0
+    wrench_scale: float = 1.0
+    stiffness_scale: float = 1.0
+    damping_ratio_scale: float = 1.0
+    nullspace_joint_pos_target: str = "none"
+    """``"none"`` (zeros), ``"center"`` (middle of the joint limits) or ``"default"`` (the default pose)."""
+
+    def __post_init__(self):
+        if self.task_frame_rel_path is not None:
+            raise ValueError(
+                "OperationalSpaceControllerActionCfg.task_frame_rel_path is not supported by simlab; leave it None"
+                " (targets are then in the robot's root frame)"
+            )

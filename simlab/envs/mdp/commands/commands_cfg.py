@@ -5,10 +5,12 @@ from __future__ import annotations
 from dataclasses import MISSING
 
 from simlab.managers.manager_term_cfg import CommandTermCfg
-from simlab.markers import BLUE_ARROW_X_MARKER_CFG, GREEN_ARROW_X_MARKER_CFG, VisualizationMarkersCfg
+from simlab.markers import BLUE_ARROW_X_MARKER_CFG, FRAME_MARKER_CFG, GREEN_ARROW_X_MARKER_CFG, VisualizationMarkersCfg
+from simlab.markers.visualization_markers import FrameCfg
 from simlab.utils import configclass
 
 from .null_command import NullCommand
+from .pose_command import UniformPoseCommand
 from .velocity_command import UniformVelocityCommand
 
 
@@ -50,3 +52,32 @@ class UniformVelocityCommandCfg(CommandTermCfg):
         prim_path="/Visuals/Command/velocity_current"
     )
     """The arrow of the robot's current velocity (with ``debug_vis``)."""
+
+
+@configclass
+class UniformPoseCommandCfg(CommandTermCfg):
+    class_type: type = UniformPoseCommand
+    asset_name: str = MISSING
+    body_name: str = MISSING
+    """The body whose pose is commanded (the metrics measure it)."""
+    make_quat_unique: bool = False
+    """Keep the quaternion's real part non-negative."""
+
+    @configclass
+    class Ranges:
+        pos_x: tuple[float, float] = MISSING
+        pos_y: tuple[float, float] = MISSING
+        pos_z: tuple[float, float] = MISSING
+        roll: tuple[float, float] = MISSING
+        pitch: tuple[float, float] = MISSING
+        yaw: tuple[float, float] = MISSING
+
+    ranges: Ranges = MISSING
+    goal_pose_visualizer_cfg: VisualizationMarkersCfg = FRAME_MARKER_CFG.replace(
+        prim_path="/Visuals/Command/goal_pose", markers={"frame": FrameCfg(scale=(0.1, 0.1, 0.1))}
+    )
+    """The commanded frame (with ``debug_vis``), drawn in renders."""
+    current_pose_visualizer_cfg: VisualizationMarkersCfg = FRAME_MARKER_CFG.replace(
+        prim_path="/Visuals/Command/body_pose", markers={"frame": FrameCfg(scale=(0.1, 0.1, 0.1))}
+    )
+    """The body's current frame (with ``debug_vis``)."""

@@ -1,0 +1,158 @@
+"""Do the Franka manipulation tasks learn? Train with rsl_rl (the task's agent config), then play the
+policy on held-out commands (another seed) and measure:
+
+* reach (``simlab/Reach-Franka-v0``): the end-effector's position error [cm] and orientation error
+  [rad] at the end of each 4 s command window; passes with mean < 2 cm and < 0.1 rad;
+* lift (``simlab/Lift-Cube-Franka-v0``): episodes whose cube ends within 5 cm of the commanded
+  position (measured on the episode's last step; a dropped cube fails); passes with >= 80 %.
+
+    python scripts/benchmarks/manipulation_learn.py                                   # both, GPU sizes
+    python scripts/benchmarks/manipulation_learn.py --tasks reach --num_envs 4096 --max_iterations 1000
+    python scripts/benchmarks/manipulation_learn.py --tasks reach lift --device cpu --num_envs 8 \\
+        --max_iterations 2 --eval_envs 4 --eval_seconds 8                             # a CPU smoke run
+
+Training runs as ``simlab train --task <task> --library rsl_rl --headless`` in a child process (its
+wall time is reported); the evaluation loads the newest checkpoint of that run.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import subprocess
+import sys
+import time
+from typing import Any
+
+import torch
+
+from simlab.cli.main import build_parser
+from simlab.cli.play import run_play
+from simlab.cli.session import load_configs
+
+TASKS = {"reach": "simlab/Reach-Franka-v0", "lift": "simlab/Lift-Cube-Franka-v0"}
+
+
+def reach_tracker(tolerance_cm: float, tolerance_rad: float):
+    """Errors of the hand to its command on the last step of every command window."""
+    errors: dict[str, list[torch.Tensor]] = {"pos": [], "rot": []}
+
+    def on_step(env, obs, actions) -> None:
+        from simlab.managers import SceneEntityCfg
+        from simlab.tasks.manager_based.manipulation.reach import mdp
+
+        term = env.command_manager.get_term("ee_pose")
+        ending = term.time_left <= env.step_dt * 0.5  # the command changes at the next step
+        if not bool(ending.any()):
+            return
+        asset_cfg = SceneEntityCfg("robot", body_names=[term.cfg.body_name])
+        asset_cfg.resolve(env.scene)
+        errors["pos"].append(mdp.position_command_error(env, "ee_pose", asset_cfg)[ending].cpu())
+        errors["rot"].append(mdp.orientation_command_error(env, "ee_pose", asset_cfg)[ending].cpu())
+
+    def judge() -> tuple[str, bool]:
+        if not errors["pos"]:
+            return "no command window ended: play longer (--eval_seconds)", False
+        pos_cm, rot = torch.cat(errors["pos"]) * 100, torch.cat(errors["rot"])
+        ok = pos_cm.mean() < tolerance_cm and rot.mean() < tolerance_rad
+        text = (
+            f"{pos_cm.numel()} commands: position error mean {pos_cm.mean():.2f} cm (median {pos_cm.median():.2f}),"
+            f" orientation error mean {rot.mean():.3f} rad (median {rot.median():.3f})"
+        )
+        return text, bool(ok)
+
+    return on_step, judge
+
+
+def lift_tracker(tolerance_m: float, required: float):
+    """Per finished episode: the cube within ``tolerance_m`` of its goal on the episode's last step."""
+    counts = {"success": 0, "episodes": 0}
+
+    def on_step(env, obs, actions) -> None:
+        from simlab.tasks.manager_based.manipulation.lift import mdp
+
+        # after this step the envs at max length - 1 end at the next one: measure them now
+        last = env.episode_length_buf >= env.max_episode_length - 1
+        dropped = env.termination_manager.terminated
+        if bool(last.any()):
+            near = mdp.object_reached_goal(env, "object_pose", threshold=tolerance_m)
+            counts["success"] += int((near & last).sum())
+            counts["episodes"] += int(last.sum())
+        counts["episodes"] += int(dropped.sum())
+
+    def judge() -> tuple[str, bool]:
+        if not counts["episodes"]:
+            return "no episode finished: play longer (--eval_seconds)", False
+        rate = counts["success"] / counts["episodes"]
+        return f"{counts['success']}/{counts['episodes']} episodes within {tolerance_m * 100:.0f} cm ({rate:.1%})", (
+            rate >= required
+        )
+
+    return on_step, judge
+
+
+def train(task: str, args) -> tuple[float, bool]:
+    cmd = [sys.executable, "-m", "simlab", "train", "--task", task, "--library", "rsl_rl", "--headless"]
+    cmd += ["--log_root", args.log_root, "--run_name", "learns"]
+    for flag in ("num_envs", "max_iterations", "device"):
+        if getattr(args, flag) is not None:
+            cmd += [f"--{flag}", str(getattr(args, flag))]
+    print(f"\n=== {' '.join(cmd[2:])}", flush=True)
+    start = time.time()
+    proc = subprocess.run(cmd, env={**os.environ, "PYTHONUNBUFFERED": "1"})
+    return time.time() - start, proc.returncode == 0
+
+
+def evaluate(task: str, tracker, args) -> dict[str, Any]:
+    argv = ["play", "--task", task, "--library", "rsl_rl", "--use_last_checkpoint", "--headless"]
+    argv += ["--num_envs", str(args.eval_envs), "--log_root", args.log_root, "--no_export", "--seed", str(args.seed)]
+    if args.device:
+        argv += ["--device", args.device]
+    play_args = build_parser().parse_args(argv)
+    env_cfg, _ = load_configs(play_args, [], with_agent=False)
+    play_args.steps = round(args.eval_seconds / (env_cfg.sim.dt * env_cfg.decimation))
+    on_step, judge = tracker
+    run_play(play_args, [], on_step=on_step)
+    return dict(zip(("text", "passed"), judge()))
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--tasks", nargs="+", choices=list(TASKS), default=list(TASKS))
+    parser.add_argument("--num_envs", type=int, default=None, help="Training envs (default: the task's, 4096).")
+    parser.add_argument("--max_iterations", type=int, default=None, help="Default: the agent config's.")
+    parser.add_argument("--device", default=None)
+    parser.add_argument("--log_root", default="logs")
+    parser.add_argument("--eval_envs", type=int, default=256)
+    parser.add_argument("--eval_seconds", type=float, default=20.0, help="Play time (reach: 5 windows of 4 s).")
+    parser.add_argument("--seed", type=int, default=12345, help="Seed of the held-out evaluation commands.")
+    parser.add_argument("--reach_cm", type=float, default=2.0)
+    parser.add_argument("--reach_rad", type=float, default=0.1)
+    parser.add_argument("--lift_m", type=float, default=0.05)
+    parser.add_argument("--lift_rate", type=float, default=0.8)
+    parser.add_argument("--skip_training", action="store_true", help="Evaluate the newest runs only.")
+    args = parser.parse_args()
+
+    rows = []
+    for name in args.tasks:
+        task = TASKS[name]
+        wall, trained = (float("nan"), True) if args.skip_training else train(task, args)
+        if not trained:
+            rows.append((task, wall, "training failed", False))
+            continue
+        tracker = (
+            reach_tracker(args.reach_cm, args.reach_rad)
+            if name == "reach"
+            else lift_tracker(args.lift_m, args.lift_rate)
+        )
+        result = evaluate(task, tracker, args)
+        rows.append((task, wall, result["text"], result["passed"]))
+
+    print(f"\n{'task':<28} {'train wall [s]':>14}  result")
+    for task, wall, text, ok in rows:
+        print(f"{task:<28} {wall:>14.1f}  {'PASS' if ok else 'FAIL'}: {text}")
+    return 0 if all(ok for *_, ok in rows) else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())

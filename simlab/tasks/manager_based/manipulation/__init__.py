@@ -1,0 +1,1 @@
+"""Manipulation tasks, manager-based: reach and lift with the Franka arm."""

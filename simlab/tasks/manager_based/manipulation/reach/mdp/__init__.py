@@ -1,0 +1,5 @@
+"""The reach task's MDP terms: simlab's library plus the pose-tracking rewards."""
+
+from simlab.envs.mdp import *  # noqa: F403
+
+from .rewards import *  # noqa: F403
