@@ -40,6 +40,15 @@ class ActionTermCfg:
     """Joint-name patterns to ``(min, max)`` bounds of the processed action; None: no clipping."""
 
 
+# -- recorders --------------------------------------------------------------------------------------
+
+
+@configclass
+class RecorderTermCfg:
+    class_type: type = MISSING
+    """The ``RecorderTerm`` subclass this config builds."""
+
+
 # -- commands ----------------------------------------------------------------------------------------
 
 

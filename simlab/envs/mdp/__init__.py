@@ -8,3 +8,4 @@ from .events import *  # noqa: F403
 from .observations import *  # noqa: F403
 from .rewards import *  # noqa: F403
 from .terminations import *  # noqa: F403
+from .recorders import *  # noqa: F403
