@@ -53,9 +53,7 @@ class SimulatedEnv:
         """The physics time step [s]."""
         return self.cfg.sim.dt
 
-    def _physics_steps(
-        self, apply_action: Callable[[], None], after_each: Callable[[], None] | None = None
-    ) -> None:
+    def _physics_steps(self, apply_action: Callable[[], None], after_each: Callable[[], None] | None = None) -> None:
         """One env step's ``decimation`` physics steps, ``apply_action`` before each (``after_each``,
         if given, after each: the recorders' post-physics hook).
 

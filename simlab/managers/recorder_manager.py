@@ -297,7 +297,9 @@ class RecorderManager(ManagerBase):
             if name in _SETTINGS:
                 continue
             if not isinstance(term_cfg, RecorderTermCfg):
-                raise TypeError(f"RecorderManager: term '{name}' must be a RecorderTermCfg, got {type(term_cfg).__name__}")
+                raise TypeError(
+                    f"RecorderManager: term '{name}' must be a RecorderTermCfg, got {type(term_cfg).__name__}"
+                )
             term = term_cfg.class_type(term_cfg, self._env)
             if not isinstance(term, RecorderTerm):
                 raise TypeError(f"RecorderManager: term '{name}' built a {type(term).__name__}, not a RecorderTerm.")
