@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -40,3 +41,20 @@ def test_env_tutorials_run(script):
     out = run_script(script, "--num_envs", "4", "--max_app_steps", "310")
     assert out.count("[INFO]: Resetting environment...") == 2  # at steps 0 and 300
     assert out.count("[Env 0]: Pole joint: ") == 310
+
+
+def test_articulation_tutorial_resets_two_cartpoles_under_origin_groups():
+    out = run_script("scripts/tutorials/01_assets/run_articulation.py", "--max_app_steps", "501")
+    assert "Setup complete" in out and out.count("Resetting robot state") == 2  # at steps 0 and 500
+
+
+def test_rigid_object_tutorial_drops_four_cones_that_come_to_rest():
+    out = run_script("scripts/tutorials/01_assets/run_rigid_object.py", "--max_app_steps", "240")
+    assert out.count("Resetting object state") == 1
+    last = out.rsplit("Root position (in world): ", 1)[1]
+    heights = [float(z) for z in re.findall(r"\[\s*[-\d.e]+,\s*[-\d.e]+,\s*([-\d.e]+)\]", last)[:4]]
+    assert len(heights) == 4 and all(abs(h - 0.1) < 0.01 for h in heights)  # each cone on its base
+
+
+def test_spawn_prims_tutorial_runs():
+    assert "Setup complete" in run_script("scripts/tutorials/00_sim/spawn_prims.py", "--max_app_steps", "100")

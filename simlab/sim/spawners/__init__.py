@@ -12,7 +12,16 @@ from .from_files import (
 )
 from .lights import DistantLightCfg, DomeLightCfg, LightCfg, spawn_light
 from .materials import MdlFileCfg, PreviewSurfaceCfg, RigidBodyMaterialCfg
-from .shapes import CapsuleCfg, CuboidCfg, CylinderCfg, ShapeCfg, SphereCfg, spawn_shape
+from .meshes import (
+    DeformableBodyMaterialCfg,
+    DeformableBodyPropertiesCfg,
+    MeshCapsuleCfg,
+    MeshConeCfg,
+    MeshCuboidCfg,
+    MeshCylinderCfg,
+    MeshSphereCfg,
+)
+from .shapes import CapsuleCfg, ConeCfg, CuboidCfg, CylinderCfg, ShapeCfg, SphereCfg, spawn_shape
 from .spawner_cfg import (
     ArticulationRootPropertiesCfg,
     CollisionPropertiesCfg,
