@@ -45,8 +45,13 @@ class OverrideError(ConfigError):
 
 def _parse(overrides: Sequence[str]) -> list:
     """Hydra's ``Override`` objects for ``overrides``; each must be a key=value (or ~key) word."""
-    from hydra.core.override_parser.overrides_parser import OverridesParser
-    from hydra.errors import OverrideParseException
+    try:
+        from hydra.core.override_parser.overrides_parser import OverridesParser
+        from hydra.errors import OverrideParseException
+    except ImportError as err:
+        raise OverrideError(
+            'Overrides are read by hydra-core, which is not installed: pip install "simlab[train]".'
+        ) from err
 
     for text in overrides:
         if "=" not in text and not text.startswith("~"):
