@@ -88,3 +88,48 @@ def test_hydra_task_config_decorator(monkeypatch):
 
     main()
     assert seen["env"].scene.num_envs == 3 and seen["agent"].max_iterations == 7
+
+
+# -- on hydra-core -------------------------------------------------------------------------------
+
+
+def test_configs_are_registered_in_hydras_config_store():
+    from hydra.core.config_store import ConfigStore
+
+    from simlab.tasks.utils.hydra import register_task_to_hydra
+
+    env, agent = register_task_to_hydra("simlab/Cartpole-v0", "rsl_rl_cfg_entry_point")
+    node = ConfigStore.instance().load("simlab/Cartpole-v0.yaml").node
+    assert node.env.scene.num_envs == env.scene.num_envs and node.agent.seed == agent.seed
+    assert node.env.rewards.alive.func == "simlab.envs.mdp.rewards:is_alive"  # callables stored as names
+
+
+def test_hydra_grammar_interpolation_and_delete(cfgs):
+    env, agent = cfgs
+    # ${...} interpolation and ~key are Hydra's grammar (the old hand-written parser had neither)
+    apply_overrides(env, agent, ["env.decimation=3", "env.sim.render_interval=${env.decimation}", "~env.rewards.alive"])
+    assert env.sim.render_interval == 3 and env.rewards.alive is None
+    with pytest.raises(OverrideError, match="sweeps"):
+        apply_overrides(env, agent, ["agent.seed=1,2"])
+
+
+def test_slices_lists_none_and_callables_round_trip(cfgs):
+    import simlab.envs.mdp as mdp
+
+    env, agent = cfgs
+    asset_cfg = "env.rewards.pole_pos.params.asset_cfg"
+    apply_overrides(
+        env,
+        agent,
+        [
+            f'{asset_cfg}.joint_ids="slice(0,1,None)"',
+            "env.viewer.eye=[1.0, 2.0, 3.0]",
+            "env.rewards.terminating.func=simlab.envs.mdp.rewards:is_alive",
+            "env.rewards.cart_vel=null",
+        ],
+    )
+    assert env.rewards.pole_pos.params["asset_cfg"].joint_ids == slice(0, 1, None)
+    assert env.viewer.eye == (1.0, 2.0, 3.0)  # a tuple field stays a tuple
+    assert env.rewards.terminating.func is mdp.is_alive and env.rewards.cart_vel is None
+    # what was not overridden is untouched (the same objects)
+    assert env.rewards.pole_vel.params["asset_cfg"].joint_names == ["cart_to_pole"]

@@ -329,9 +329,26 @@ def test_bad_action_and_event_terms_fail_at_construction():
         ManagerBasedRLEnv(cfg)
 
     cfg = cartpole_cfg()
-    cfg.events.reset_pole_position.mode = "on_reset"
-    with pytest.raises(ValueError, match=r"term 'reset_pole_position'.*unknown mode 'on_reset'"):
+    cfg.events.reset_pole_position.mode = ""
+    with pytest.raises(ValueError, match=r"term 'reset_pole_position'.*custom mode name"):
         ManagerBasedRLEnv(cfg)
+
+
+def test_custom_event_modes_run_when_applied(capsys):
+    """A mode other than the built-in ones is Isaac Lab's custom mode: it runs only when applied."""
+    cfg = cartpole_cfg()
+    cfg.events.nudge = EventTerm(func=record, mode="on_reset", params={"tag": "nudge"})
+    env = ManagerBasedRLEnv(cfg)
+    out = capsys.readouterr().out
+    assert "custom mode 'on_reset'" in out and "Did you mean 'reset'" in out  # a likely typo is pointed out
+    env.calls = []
+    env.step(torch.zeros(env.num_envs, 1))
+    assert env.calls == []  # never applied by the step
+    env.event_manager.apply(mode="on_reset", env_ids=torch.tensor([1]))
+    assert [c[:2] for c in env.calls] == [("nudge", [1])]
+    env.event_manager.apply(mode="undeclared")  # skipped with a note, as Isaac Lab does
+    assert "no event term has mode 'undeclared'" in capsys.readouterr().out
+    env.close()
 
 
 def test_terms_of_the_wrong_config_type_are_named():

@@ -217,9 +217,13 @@ def test_dc_motor_torque_speed_curve():
     robot.write_joint_state_to_sim(torch.zeros(3, 2), torch.tensor([[0.0, 0.0], [1.0, 0.0], [3.0, 0.0]]))
     robot.set_joint_effort_target(torch.full((3, 1), 500.0), joint_ids=[0])
     robot.write_data_to_sim()
-    # at 0 m/s: min(100, 80) = 80; at 1 m/s: 100 * (1 - 1/2) = 50; at 3 m/s beyond the limit: 0
-    assert robot.data.computed_torque[:, 0].tolist() == pytest.approx([80.0, 50.0, 0.0])
-    assert sim.physics.data("ctrl")[:, 0].tolist() == pytest.approx([80.0, 50.0, 0.0])
+    # at 0 m/s: min(100, 80) = 80; at 1 m/s: 100 * (1 - 1/2) = 50; at 3 m/s, past the no-load
+    # speed, the motor can only brake: 100 * (1 - 3/2) = -50
+    motor = robot.actuators["cart"]
+    assert motor.applied_effort[:, 0].tolist() == pytest.approx([80.0, 50.0, -50.0])
+    assert motor.computed_effort[:, 0].tolist() == [500.0] * 3  # before the curve: what the PD law asked for
+    assert robot.data.computed_torque[:, 0].tolist() == [500.0] * 3
+    assert sim.physics.data("ctrl")[:, 0].tolist() == pytest.approx([80.0, 50.0, -50.0])
 
 
 @pytest.mark.parametrize("device", DEVICES)

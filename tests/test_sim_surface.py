@@ -72,8 +72,8 @@ def test_stage_helpers_work_on_the_spec():
         assert sim_utils.get_current_stage() is not stage
         with pytest.raises(NotImplementedError, match="CuboidCfg"):
             sim_utils.create_prim("/World/Box", "Cube")
-        with pytest.raises(NotImplementedError, match="translation"):
-            sim_utils.create_prim("/World/Group", "Xform", translation=(1.0, 0.0, 0.0))
+        with pytest.raises(NotImplementedError, match="translation only"):
+            sim_utils.create_prim("/World/Group", "Xform", orientation=(0.0, 0.0, 0.0, 1.0))
     sim_utils.create_new_stage()
     assert SimulationContext.instance() is None
 
@@ -84,3 +84,28 @@ def test_usd_only_helpers_say_what_to_use(name):
     assert helper is getattr(sim_utils.utils, name)
     with pytest.raises(NotImplementedError, match="no USD. Instead: "):
         helper("/World/Robot")
+
+
+def test_assets_under_translated_xform_groups_get_one_world_each():
+    """Isaac Lab's tutorials spawn ``/World/Origin.*/Robot`` under groups made with create_prim."""
+    from simlab.assets import RigidObject, RigidObjectCfg
+
+    with sim_utils.build_simulation_context(device="cpu", dt=0.01) as sim:
+        origins = [(1.0, 0.0, 0.0), (-1.0, 2.0, 0.0), (0.0, -2.0, 0.0)]
+        for i, origin in enumerate(origins):
+            sim_utils.create_prim(f"/World/Origin{i}", "Xform", translation=origin)
+        sim_utils.create_prim("/World/Elsewhere", "Xform", translation=(9.0, 9.0, 0.0))  # not matched
+        ground = sim_utils.GroundPlaneCfg()
+        ground.func("/World/defaultGroundPlane", ground)
+        cone = sim_utils.ConeCfg(radius=0.1, height=0.2, rigid_props=sim_utils.RigidBodyPropertiesCfg())
+        init = RigidObjectCfg.InitialStateCfg(pos=(0.0, 0.0, 0.3))
+        ball = RigidObject(RigidObjectCfg(prim_path="/World/Origin.*/Ball", spawn=cone, init_state=init))
+        sim.reset()
+        assert ball.num_instances == 3
+        expected = torch.tensor(origins) + torch.tensor([0.0, 0.0, 0.3])
+        torch.testing.assert_close(ball.data.root_pos_w, expected)  # spawned in each group
+        for _ in range(50):
+            sim.step()
+            ball.update(sim.get_physics_dt())
+        # each cone falls in its own world and comes to rest on its base (centre at half its height)
+        torch.testing.assert_close(ball.data.root_pos_w[:, 2], torch.full((3,), 0.1), atol=5e-3, rtol=0)

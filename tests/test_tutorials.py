@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -49,3 +50,20 @@ def test_diff_ik_tutorial_reaches_each_goal():
     for line in errors:  # "[INFO]: goal 0: position error 0.0003 m, orientation error 0.0017 rad"
         words = line.replace(",", "").split()
         assert float(words[5]) < 2e-3 and float(words[9]) < 1e-2, line
+
+
+def test_articulation_tutorial_resets_two_cartpoles_under_origin_groups():
+    out = run_script("scripts/tutorials/01_assets/run_articulation.py", "--max_app_steps", "501")
+    assert "Setup complete" in out and out.count("Resetting robot state") == 2  # at steps 0 and 500
+
+
+def test_rigid_object_tutorial_drops_four_cones_that_come_to_rest():
+    out = run_script("scripts/tutorials/01_assets/run_rigid_object.py", "--max_app_steps", "240")
+    assert out.count("Resetting object state") == 1
+    last = out.rsplit("Root position (in world): ", 1)[1]
+    heights = [float(z) for z in re.findall(r"\[\s*[-\d.e]+,\s*[-\d.e]+,\s*([-\d.e]+)\]", last)[:4]]
+    assert len(heights) == 4 and all(abs(h - 0.1) < 0.01 for h in heights)  # each cone on its base
+
+
+def test_spawn_prims_tutorial_runs():
+    assert "Setup complete" in run_script("scripts/tutorials/00_sim/spawn_prims.py", "--max_app_steps", "100")

@@ -255,5 +255,5 @@ def test_dc_motor_curve_uses_its_own_velocity_limit():
     robot.write_joint_state_to_sim(torch.zeros(1, 2), torch.tensor([[1.0, 0.0]]))
     robot.set_joint_effort_target(torch.full((1, 1), 500.0), joint_ids=[0])
     robot.write_data_to_sim()
-    assert robot.data.computed_torque[0, 0].item() == pytest.approx(50.0)  # 100 * (1 - 1/2)
+    assert robot.actuators["cart"].applied_effort[0, 0].item() == pytest.approx(50.0)  # 100 * (1 - 1/2)
     assert robot.data.joint_velocity_limits[0, 0].item() == pytest.approx(50.0)

@@ -1,121 +1,206 @@
-"""Actuator models. ``compute`` turns joint targets into the ``ctrl`` of the MuJoCo actuators."""
+"""Actuator models with Isaac Lab's API: ``compute`` turns joint targets into what the simulation
+applies (the torque of an explicit model becomes the ``ctrl`` of its MuJoCo actuators)."""
 
 from __future__ import annotations
 
 import warnings
 from collections.abc import Sequence
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, ClassVar
 
 import torch
 
 from simlab.utils.errors import ConfigError
 from simlab.utils.string import resolve_matching_names_values
+from simlab.utils.types import ArticulationActions
 
 if TYPE_CHECKING:
     from .actuator_cfg import ActuatorBaseCfg
 
 
 class ActuatorBase:
-    """A group of joints of one articulation driven by the same actuator model."""
+    """A group of joints of one articulation driven by the same actuator model (Isaac Lab's API).
 
-    is_implicit_model: bool = False
+    Each gain or limit is the config's value, else the default passed in (what the robot file says;
+    Isaac Lab passes the USD values). Tensors are ``(num_envs, num_joints)``. Explicit models turn
+    targets into torque with :meth:`compute`, keeping ``computed_effort`` (the model's torque) and
+    ``applied_effort`` (after the model's limits). ``effort_limit`` is the model's own limit;
+    ``effort_limit_sim`` and ``velocity_limit_sim`` are what the simulation enforces.
+    """
+
+    is_implicit_model: ClassVar[bool] = False
+    _DEFAULT_MAX_EFFORT_SIM: ClassVar[float] = 1.0e9
+    """The simulation's effort cap of an explicit model whose config sets no ``effort_limit_sim``."""
 
     def __init__(
         self,
         cfg: ActuatorBaseCfg,
         joint_names: list[str],
-        joint_ids: Sequence[int],
+        joint_ids: Sequence[int] | torch.Tensor,
         num_envs: int,
         device: str | torch.device,
+        stiffness: torch.Tensor | float = 0.0,
+        damping: torch.Tensor | float = 0.0,
+        armature: torch.Tensor | float = 0.0,
+        friction: torch.Tensor | float = 0.0,
+        dynamic_friction: torch.Tensor | float = 0.0,
+        viscous_friction: torch.Tensor | float = 0.0,
+        effort_limit: torch.Tensor | float = torch.inf,
+        velocity_limit: torch.Tensor | float = torch.inf,
     ):
         self.cfg = cfg
-        self.joint_names = joint_names
+        self._joint_names = list(joint_names)
         self.joint_indices = torch.as_tensor(list(joint_ids), dtype=torch.long, device=device)
         self.num_envs = num_envs
         self.device = device
-        self.num_joints = len(joint_names)
-        effort = cfg.effort_limit_sim if cfg.effort_limit_sim is not None else cfg.effort_limit
-        self.stiffness = self._per_joint(cfg.stiffness, 0.0)
-        self.damping = self._per_joint(cfg.damping, 0.0)
-        self.effort_limit = self._per_joint(effort, float("inf"))
-        # As in Isaac Lab: ``velocity_limit_sim`` caps the joint speed in the simulation (see
-        # ``Articulation.write_data_to_sim``); ``velocity_limit`` is the motor model's own (a DC motor's
-        # no-load speed), falling back to the sim limit when unset.
-        self.velocity_limit_sim = self._per_joint(cfg.velocity_limit_sim, float("inf"))
+        self.stiffness = self._parse_joint_parameter(cfg.stiffness, stiffness)
+        self.damping = self._parse_joint_parameter(cfg.damping, damping)
+        self.armature = self._parse_joint_parameter(cfg.armature, armature)
+        self.friction = self._parse_joint_parameter(cfg.friction, friction)
+        self.dynamic_friction = self._parse_joint_parameter(getattr(cfg, "dynamic_friction", None), dynamic_friction)
+        self.viscous_friction = self._parse_joint_parameter(getattr(cfg, "viscous_friction", None), viscous_friction)
+        if self.is_implicit_model:  # the simulation is the model: one effort limit
+            sim_effort = cfg.effort_limit_sim if cfg.effort_limit_sim is not None else cfg.effort_limit
+            self.effort_limit_sim = self._parse_joint_parameter(sim_effort, effort_limit)
+            self.effort_limit = self.effort_limit_sim
+        else:
+            self.effort_limit_sim = self._parse_joint_parameter(cfg.effort_limit_sim, self._DEFAULT_MAX_EFFORT_SIM)
+            self.effort_limit = self._parse_joint_parameter(cfg.effort_limit, effort_limit)
+        # ``velocity_limit`` is the model's own (a DC motor's no-load speed), else the simulation's cap.
+        self.velocity_limit_sim = self._parse_joint_parameter(cfg.velocity_limit_sim, velocity_limit)
         model_velocity = cfg.velocity_limit if cfg.velocity_limit is not None else cfg.velocity_limit_sim
-        self.velocity_limit = self._per_joint(model_velocity, float("inf"))
-        self.armature = self._per_joint(cfg.armature, 0.0)
-        self.friction = self._per_joint(cfg.friction, 0.0)
+        self.velocity_limit = self._parse_joint_parameter(model_velocity, velocity_limit)
+        self.computed_effort = torch.zeros(num_envs, self.num_joints, device=device)
+        self.applied_effort = torch.zeros_like(self.computed_effort)
 
-    def _per_joint(self, value, default: float) -> torch.Tensor:
-        values = per_joint_values(value, self.joint_names, default)
-        return torch.tensor(values, dtype=torch.float32, device=self.device).repeat(self.num_envs, 1)
+    def __str__(self) -> str:
+        kind = "implicit" if self.is_implicit_model else "explicit"
+        return (
+            f"<class {type(self).__name__}> object:\n\tModel type            : {kind}\n"
+            f"\tNumber of joints      : {self.num_joints}\n\tJoint names expression: {self.cfg.joint_names_expr}\n"
+            f"\tJoint names           : {self.joint_names}\n\tJoint indices         : {self.joint_indices.tolist()}\n"
+        )
+
+    @property
+    def num_joints(self) -> int:
+        return len(self._joint_names)
+
+    @property
+    def joint_names(self) -> list[str]:
+        return self._joint_names
 
     def reset(self, env_ids) -> None:
         """Stateless models have nothing to reset."""
 
-    def compute_torque(
-        self,
-        pos_target,
-        vel_target,
-        effort_target,
-        joint_pos,
-        joint_vel,
-        stiffness,
-        damping,
-        effort_limit,
-        velocity_limit,
-    ) -> torch.Tensor:
-        """The joint torque an explicit model applies (gains and limits are per env and joint)."""
-        raise NotImplementedError(f"{type(self).__name__} is computed by the physics engine")
+    def compute(
+        self, control_action: ArticulationActions, joint_pos: torch.Tensor, joint_vel: torch.Tensor
+    ) -> ArticulationActions:
+        """Turn the joint targets of this group into what the simulation receives."""
+        raise NotImplementedError(f"{type(self).__name__} does not compute actions")
+
+    def _pd_effort(self, control_action: ArticulationActions, joint_pos: torch.Tensor, joint_vel: torch.Tensor):
+        """``kp (q* - q) + kd (qd* - qd) + tau_ff`` into ``computed_effort``, clipped into ``applied_effort``
+        (in place, so that a captured CUDA graph keeps reading the same buffers)."""
+        effort = self.stiffness * (control_action.joint_positions - joint_pos)
+        effort = effort + self.damping * (control_action.joint_velocities - joint_vel)
+        if control_action.joint_efforts is not None:
+            effort = effort + control_action.joint_efforts
+        self.computed_effort.copy_(effort)
+        self.applied_effort.copy_(self._clip_effort(effort))
+
+    def _clip_effort(self, effort: torch.Tensor) -> torch.Tensor:
+        return torch.clamp(effort, min=-self.effort_limit, max=self.effort_limit)
+
+    def _parse_joint_parameter(self, cfg_value, default) -> torch.Tensor:
+        """The config's value (a float, or a dict of joint-name patterns to floats), else ``default``
+        (a float or a ``(num_envs, num_joints)`` tensor), as a ``(num_envs, num_joints)`` tensor."""
+        shape = (self.num_envs, self.num_joints)
+        if isinstance(default, torch.Tensor):
+            out = default.to(self.device, torch.float32).expand(shape).clone()
+        else:
+            out = torch.full(shape, float(default), device=self.device)
+        if cfg_value is None:
+            return out
+        if isinstance(cfg_value, (int, float)):
+            return torch.full(shape, float(cfg_value), device=self.device)
+        if isinstance(cfg_value, dict):
+            ids, _, values = resolve_matching_names_values(cfg_value, self.joint_names)
+            out[:, ids] = torch.tensor(values, dtype=torch.float32, device=self.device)
+            return out
+        raise TypeError(
+            f"{type(self).__name__} for {self.joint_names}: a gain or limit is a float or a dict of joint-name"
+            f" patterns to floats, got {type(cfg_value).__name__}."
+        )
 
 
 class ImplicitActuator(ActuatorBase):
-    """The PD law runs inside MuJoCo (bias terms of the actuator); see ``actuator_cfg``."""
+    """The PD law runs inside MuJoCo (bias terms of the actuator); see ``actuator_cfg``.
 
-    is_implicit_model = True
+    :meth:`compute` leaves the targets as they are (MuJoCo applies them) and records the torque the
+    PD law asks for and its value within the effort limit, as Isaac Lab's implicit actuator does.
+    """
 
-    def __init__(self, cfg, joint_names, joint_ids, num_envs, device):
+    is_implicit_model: ClassVar[bool] = True
+
+    def __init__(self, cfg, joint_names, joint_ids, num_envs, device, **defaults):
         check_implicit_velocity_limit(cfg, joint_names)
-        super().__init__(cfg, joint_names, joint_ids, num_envs, device)
+        check_implicit_effort_limit(cfg, joint_names)
+        # One limit each, under both names, as Isaac Lab's implicit actuator keeps its (copied) config;
+        # a lone ``velocity_limit`` is ignored (check_implicit_velocity_limit said so).
+        cfg = cfg.replace()
+        cfg.effort_limit = cfg.effort_limit_sim = _first_set(cfg.effort_limit_sim, cfg.effort_limit)
+        cfg.velocity_limit = cfg.velocity_limit_sim
+        super().__init__(cfg, joint_names, joint_ids, num_envs, device, **defaults)
+
+    def compute(self, control_action, joint_pos, joint_vel):
+        self._pd_effort(control_action, joint_pos, joint_vel)
+        return control_action
 
 
 class IdealPDActuator(ActuatorBase):
-    """``tau = kp (q* - q) + kd (qd* - qd) + tau_ff``, clipped to the effort limit, in torch."""
+    """``tau = kp (q* - q) + kd (qd* - qd) + tau_ff``, clipped to ``effort_limit``, in torch."""
 
-    def compute_torque(
-        self,
-        pos_target,
-        vel_target,
-        effort_target,
-        joint_pos,
-        joint_vel,
-        stiffness,
-        damping,
-        effort_limit,
-        velocity_limit,
-    ):
-        torque = stiffness * (pos_target - joint_pos) + damping * (vel_target - joint_vel) + effort_target
-        return self._clip_effort(torque, joint_vel, effort_limit, velocity_limit)
-
-    def _clip_effort(self, effort, joint_vel, effort_limit, velocity_limit):
-        return torch.clamp(effort, -effort_limit, effort_limit)
+    def compute(self, control_action, joint_pos, joint_vel):
+        self._pd_effort(control_action, joint_pos, joint_vel)
+        return ArticulationActions(joint_efforts=self.applied_effort, joint_indices=control_action.joint_indices)
 
 
 class DCMotor(IdealPDActuator):
-    """The torque available shrinks linearly with speed: ``tau_max(qd) = tau_sat (1 - qd / qd_max)``."""
+    """The torque available shrinks linearly with speed: ``tau_max(qd) = tau_sat (1 - qd / qd_max)``,
+    and never exceeds ``effort_limit`` (Isaac Lab's four-quadrant DC motor)."""
 
-    def __init__(self, cfg, joint_names, joint_ids, num_envs, device):
-        super().__init__(cfg, joint_names, joint_ids, num_envs, device)
-        self.saturation_effort = float(cfg.saturation_effort)
+    def __init__(self, cfg, joint_names, joint_ids, num_envs, device, **defaults):
+        super().__init__(cfg, joint_names, joint_ids, num_envs, device, **defaults)
+        self._saturation_effort = float(cfg.saturation_effort)
         if not torch.isfinite(self.velocity_limit).all():
-            raise ValueError(f"DCMotorCfg for {joint_names} needs a finite velocity_limit")
+            raise ValueError(f"DCMotorCfg for {joint_names} needs a finite velocity_limit (the no-load speed)")
+        self._joint_vel = torch.zeros_like(self.computed_effort)
 
-    def _clip_effort(self, effort, joint_vel, effort_limit, velocity_limit):
-        speed_ratio = joint_vel / velocity_limit
-        max_effort = torch.minimum(torch.clamp(self.saturation_effort * (1.0 - speed_ratio), min=0.0), effort_limit)
-        min_effort = torch.maximum(torch.clamp(self.saturation_effort * (-1.0 - speed_ratio), max=0.0), -effort_limit)
-        return torch.clamp(effort, min_effort, max_effort)
+    def compute(self, control_action, joint_pos, joint_vel):
+        self._joint_vel.copy_(joint_vel)
+        return super().compute(control_action, joint_pos, joint_vel)
+
+    def _clip_effort(self, effort: torch.Tensor) -> torch.Tensor:
+        # The torque-speed lines bound the torque in all four quadrants: beyond the no-load speed the
+        # motor can only brake. Past the corner speed, where the braking line crosses the other
+        # side's effort limit, the line's value applies (the same for either direction of motion).
+        speed_ratio = self._joint_vel / self.velocity_limit
+        max_effort = torch.minimum(self._saturation_effort * (1.0 - speed_ratio), self.effort_limit)
+        min_effort = torch.maximum(self._saturation_effort * (-1.0 - speed_ratio), -self.effort_limit)
+        past_corner = torch.where(self._joint_vel > 0, max_effort, min_effort)
+        return torch.where(min_effort > max_effort, past_corner, torch.clamp(effort, min=min_effort, max=max_effort))
+
+
+def _first_set(*values):
+    return next((v for v in values if v is not None), None)
+
+
+def check_implicit_effort_limit(cfg: ActuatorBaseCfg, joint_names: list[str]) -> None:
+    """An implicit drive has one effort limit: both names set to different values is refused."""
+    if cfg.effort_limit is not None and cfg.effort_limit_sim is not None and cfg.effort_limit != cfg.effort_limit_sim:
+        raise ValueError(
+            f"ImplicitActuatorCfg for {joint_names} sets effort_limit={cfg.effort_limit} and"
+            f" effort_limit_sim={cfg.effort_limit_sim}: an implicit drive has one limit, set only 'effort_limit_sim'."
+        )
 
 
 def check_implicit_velocity_limit(cfg: ActuatorBaseCfg, joint_names: list[str]) -> None:

@@ -20,6 +20,7 @@ import simlab.utils.math as math_utils
 from simlab.actuators import ActuatorBase
 from simlab.actuators.actuator_pd import per_joint_values
 from simlab.utils.string import resolve_matching_names, resolve_matching_names_values
+from simlab.utils.types import ArticulationActions
 
 from .asset_base import EnvIds
 from .root_body import RootedAsset, RootedAssetData, breadth_first, contiguous
@@ -62,7 +63,11 @@ class Articulation(RootedAsset):
             implicit = act_cfg.class_type.is_implicit_model
             kp = per_joint_values(act_cfg.stiffness, names, 0.0)
             kd = per_joint_values(act_cfg.damping, names, 0.0)
-            effort_cfg = act_cfg.effort_limit_sim if act_cfg.effort_limit_sim is not None else act_cfg.effort_limit
+            # The simulation's cap: an implicit drive's one limit; an explicit model clips in torch
+            # (``effort_limit``) and is capped only by an ``effort_limit_sim`` it sets.
+            effort_cfg = act_cfg.effort_limit_sim
+            if implicit and effort_cfg is None:
+                effort_cfg = act_cfg.effort_limit
             effort = per_joint_values(effort_cfg, names, float("inf"))
             armature = per_joint_values(act_cfg.armature, names, None)
             friction = per_joint_values(act_cfg.friction, names, None)
@@ -135,7 +140,7 @@ class Articulation(RootedAsset):
             self.actuators[group] = actuator
             data.joint_stiffness[:, ids] = actuator.stiffness
             data.joint_damping[:, ids] = actuator.damping
-            data.joint_effort_limits[:, ids] = actuator.effort_limit
+            data.joint_effort_limits[:, ids] = torch.minimum(actuator.effort_limit, actuator.effort_limit_sim)
             data.joint_velocity_limits[:, ids] = actuator.velocity_limit_sim
             actuated += ids
             ctrl_cols += [model.actuator(self.prefix + name).id for name in names]
@@ -223,19 +228,11 @@ class Articulation(RootedAsset):
         # Explicit models replace their joints' ctrl with the torque they compute.
         for actuator in self._explicit:
             j = actuator.joint_indices
-            torque = actuator.compute_torque(
-                d.joint_pos_target[:, j],
-                d.joint_vel_target[:, j],
-                d.joint_effort_target[:, j],
-                d.joint_pos[:, j],
-                d.joint_vel[:, j],
-                d.joint_stiffness[:, j],
-                d.joint_damping[:, j],
-                d.joint_effort_limits[:, j],
-                actuator.velocity_limit,
+            targets = ArticulationActions(
+                d.joint_pos_target[:, j], d.joint_vel_target[:, j], d.joint_effort_target[:, j], j
             )
-            ctrl[:, j] = torque
-            d._explicit_torque[:, j] = torque
+            ctrl[:, j] = actuator.compute(targets, d.joint_pos[:, j], d.joint_vel[:, j]).joint_efforts
+            d._explicit_torque[:, j] = actuator.computed_effort
         self._ctrl[:, self._ctrl_cols] = ctrl[:, self._actuated]
 
     # joint state ---------------------------------------------------------------------------------
@@ -268,10 +265,12 @@ class Articulation(RootedAsset):
     def write_joint_stiffness_to_sim(self, stiffness, joint_ids=None, env_ids: EnvIds = None) -> None:
         self._write_cols(self.data.joint_stiffness, self._joint_index(joint_ids), env_ids, stiffness)
         self._sync_actuator_model(1, self.data.joint_stiffness, env_ids)
+        self._sync_explicit_gains("stiffness", self.data.joint_stiffness)
 
     def write_joint_damping_to_sim(self, damping, joint_ids=None, env_ids: EnvIds = None) -> None:
         self._write_cols(self.data.joint_damping, self._joint_index(joint_ids), env_ids, damping)
         self._sync_actuator_model(2, self.data.joint_damping, env_ids)
+        self._sync_explicit_gains("damping", self.data.joint_damping)
 
     def write_joint_effort_limit_to_sim(self, limits, joint_ids=None, env_ids: EnvIds = None) -> None:
         self._write_cols(self.data.joint_effort_limits, self._joint_index(joint_ids), env_ids, limits)
@@ -339,6 +338,11 @@ class Articulation(RootedAsset):
         if key not in cache:
             cache[key] = index[sel]
         return cache[key]
+
+    def _sync_explicit_gains(self, name: str, gains: torch.Tensor) -> None:
+        """Explicit models compute with their own gains (Isaac Lab's): keep them equal to the data's."""
+        for actuator in self._explicit:
+            getattr(actuator, name).copy_(gains[:, actuator.joint_indices])
 
     def _sync_actuator_model(self, bias_term: int, gains: torch.Tensor, env_ids: EnvIds) -> None:
         """Implicit actuators hold their PD gains in the model's bias: keep it per world in step."""
@@ -496,7 +500,7 @@ class ArticulationData(RootedAssetData):
 
     @property
     def computed_torque(self) -> torch.Tensor:
-        """Torque the actuator models ask for, before effort limits."""
+        """Torque the actuator models ask for, before their limits (an explicit model's ``computed_effort``)."""
         torque = (
             self.joint_stiffness * (self.joint_pos_target - self.joint_pos)
             + self.joint_damping * (self.joint_vel_target - self.joint_vel)

@@ -85,11 +85,30 @@ class AssetBase:
             raise RuntimeError(f"Create a SimulationContext before the asset '{cfg.prim_path}'.")
         self._sim = sim
         self._is_initialized = False
+        self._place_in_xform_groups(sim)
         if cfg.spawn is not None:
             cfg.spawn.func(cfg.prim_path, cfg.spawn, translation=cfg.init_state.pos, orientation=cfg.init_state.rot)
         self._on_spawned(sim)
         sim.add_compile_callback(self._on_compile)
         sim.add_reset_callback(self._initialize)
+
+    def _place_in_xform_groups(self, sim: SimulationContext) -> None:
+        """Outside a scene, an asset under ``create_prim`` groups gets one world per group (Isaac Lab's
+        ``/World/Origin.*/Robot``), each offset by its group's translation."""
+        from simlab.sim.utils import xform_group_origins
+
+        origins = xform_group_origins(self.cfg.prim_path)
+        if origins is None or str(self.cfg.prim_path).startswith(_PER_ENV_PREFIXES):
+            return
+        origins = torch.tensor(origins, dtype=torch.float32, device=sim.device)
+        if sim.model is not None:
+            raise RuntimeError(f"'{self.cfg.prim_path}': create assets before sim.reset().")
+        if sim.env_origins is not None and not torch.equal(sim.env_origins, origins):
+            raise ValueError(
+                f"'{self.cfg.prim_path}' matches {len(origins)} groups {origins.tolist()}, but the simulation already"
+                f" has env origins {sim.env_origins.tolist()}: every per-group asset must sit under the same groups."
+            )
+        sim.num_envs, sim.env_origins = len(origins), origins
 
     @property
     def is_initialized(self) -> bool:

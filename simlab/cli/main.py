@@ -4,6 +4,8 @@
     simlab play  --task simlab/Cartpole-v0 --use_last_checkpoint [--video] [--eval]
     simlab list  [--keyword cart]
     simlab random|zero --task simlab/Cartpole-v0
+    simlab record --task simlab/Cartpole-v0 --dataset_file demos.hdf5 --num_demos 5
+    simlab replay --task simlab/Cartpole-v0 --dataset_file demos.hdf5 --validate_states
     simlab bench ...
 
 Overrides are Hydra-style ``env.<path>=value`` / ``agent.<path>=value`` words after the flags,
@@ -96,7 +98,7 @@ def build_parser() -> argparse.ArgumentParser:
         formatter_class=argparse.RawDescriptionHelpFormatter,
         epilog=__doc__.split("\n\n", 1)[1],
     )
-    sub = parser.add_subparsers(dest="command", metavar="{train,play,list,random,zero,bench}")
+    sub = parser.add_subparsers(dest="command", metavar="{train,play,list,random,zero,record,replay,bench}")
     sub.required = True
 
     p = sub.add_parser("train", help="Train a policy.")
@@ -161,6 +163,18 @@ def build_parser() -> argparse.ArgumentParser:
             default=None,
             help="Write each camera's images of up to 16 envs as one tiled PNG to DIR, after the reset and at the end.",
         )
+
+    p = sub.add_parser("record", help="Record scripted episodes of a manager-based task into an HDF5 dataset.")
+    _add_common(p, video=False)
+    p.add_argument("--dataset_file", default="./datasets/dataset.hdf5", help="HDF5 file to write.")
+    p.add_argument("--num_demos", type=int, default=1, help="Finished episodes to record (default: 1).")
+    p.add_argument("--actions", choices=("random", "zero"), default="random", help="Seeded random or zero actions.")
+
+    p = sub.add_parser("replay", help="Replay the episodes of an HDF5 dataset (and check the states).")
+    _add_common(p, video=False)
+    p.add_argument("--dataset_file", required=True, help="HDF5 file written by simlab record.")
+    p.add_argument("--select_episodes", type=int, nargs="+", default=None, help="Episode indices (default: all).")
+    p.add_argument("--validate_states", action="store_true", help="Compare each state with the recorded one.")
 
     sub.add_parser("bench", help="Benchmarks (simlab bench --help).", add_help=False)
     return parser
@@ -242,6 +256,10 @@ def _dispatch(parser: argparse.ArgumentParser, args: argparse.Namespace, rest: l
         from simlab.cli.random_agent import run_random
 
         return run_random(args, zero=args.command == "zero")
+    if args.command in ("record", "replay"):
+        from simlab.cli.demos import run_record, run_replay
+
+        return (run_record if args.command == "record" else run_replay)(args, rest)
     if args.command == "train":
         from simlab.cli.train import launch_distributed, needs_launch, run_train
 

@@ -53,8 +53,9 @@ class SimulatedEnv:
         """The physics time step [s]."""
         return self.cfg.sim.dt
 
-    def _physics_steps(self, apply_action: Callable[[], None]) -> None:
-        """One env step's ``decimation`` physics steps, ``apply_action`` before each.
+    def _physics_steps(self, apply_action: Callable[[], None], after_each: Callable[[], None] | None = None) -> None:
+        """One env step's ``decimation`` physics steps, ``apply_action`` before each (``after_each``,
+        if given, after each: the recorders' post-physics hook).
 
         Derived quantities (body poses, sensor data) are recomputed only when something reads
         them (``PhysicsBackend.ensure_forward``). Callers count ``_sim_step_counter``: a graphed
@@ -65,6 +66,8 @@ class SimulatedEnv:
             self.scene.write_data_to_sim()
             self.sim.step(render=False)
             self.scene.update(dt=self.physics_dt)
+            if after_each is not None:
+                after_each()
 
     @property
     def step_is_graphed(self) -> bool:

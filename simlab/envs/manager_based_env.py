@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 import torch
 
-from simlab.managers import ActionManager, EventManager, ObservationManager
+from simlab.managers import ActionManager, EventManager, ObservationManager, RecorderManager
 from simlab.scene import InteractiveScene
 from simlab.sim import SimulationContext
 from simlab.utils.configclass import MissingFieldError
@@ -112,6 +112,8 @@ class ManagerBasedEnv(SimulatedEnv):
     # -- building ----------------------------------------------------------------------------------
 
     def load_managers(self) -> None:
+        self.recorder_manager = RecorderManager(self.cfg.recorders, self)
+        print("[INFO]: Recorder Manager:", self.recorder_manager)
         self.action_manager = ActionManager(self.cfg.actions, self)
         print("[INFO]: Action Manager:", self.action_manager)
         self.observation_manager = ObservationManager(self.cfg.observations, self)
@@ -128,20 +130,45 @@ class ManagerBasedEnv(SimulatedEnv):
         if seed is not None:
             self.seed(seed)
         mask = env_mask(env_ids, self.num_envs, self.device)
+        self.recorder_manager.record_pre_reset(mask)
         self._reset_idx(mask)
         self.scene.write_data_to_sim()
         self.sim.physics.mark_stale(mask)
+        self.recorder_manager.record_post_reset(mask)
+        self.obs_buf = self.observation_manager.compute(update_history=True)
+        return self.obs_buf, self.extras
+
+    def reset_to(
+        self,
+        state: dict[str, dict[str, dict[str, torch.Tensor]]],
+        env_ids: Sequence[int] | torch.Tensor | None = None,
+        seed: int | None = None,
+        is_relative: bool = False,
+    ) -> tuple[VecEnvObs, dict]:
+        """Reset ``env_ids`` (all by default), then put them in ``state`` (``scene.get_state``'s
+        layout, one row per env of ``env_ids``): how a recorded demonstration is replayed."""
+        mask = env_mask(env_ids, self.num_envs, self.device)
+        ids = mask.nonzero().flatten()
+        self.recorder_manager.record_pre_reset(ids)
+        if seed is not None:
+            self.seed(seed)
+        self._reset_idx(mask)
+        self.scene.reset_to(state, ids, is_relative=is_relative)
+        self.sim.physics.mark_stale(mask)
+        self.recorder_manager.record_post_reset(ids)
         self.obs_buf = self.observation_manager.compute(update_history=True)
         return self.obs_buf, self.extras
 
     def step(self, action: torch.Tensor) -> tuple[VecEnvObs, dict]:
         self.action_manager.process_action(action)
-        self._physics_steps(self.action_manager.apply_action)
+        self.recorder_manager.record_pre_step()
+        self._physics_steps(self.action_manager.apply_action, self._post_physics_recording())
         self._sim_step_counter += self.cfg.decimation
         self._step_count += 1
         if "interval" in self.event_manager.available_modes:
             self.event_manager.apply(mode="interval", dt=self.step_dt)
         self.obs_buf = self.observation_manager.compute(update_history=True)
+        self.recorder_manager.record_post_step()
         return self.obs_buf, self.extras
 
     def render(self, recompute: bool = False) -> np.ndarray:
@@ -152,6 +179,8 @@ class ManagerBasedEnv(SimulatedEnv):
         if self._is_closed:
             return
         close_renderer(self)
+        if getattr(self, "recorder_manager", None) is not None:
+            self.recorder_manager.close()  # exports the open episodes if cfg.recorders.export_in_close
         if getattr(self, "_stepper", None) is not None:  # the RL env's stepper
             self._stepper.release()
         if SimulationContext.instance() is getattr(self, "sim", None):
@@ -170,6 +199,11 @@ class ManagerBasedEnv(SimulatedEnv):
         self.extras["log"].update(self.observation_manager.reset(mask))
         self.extras["log"].update(self.action_manager.reset(mask))
         self.extras["log"].update(self.event_manager.reset(mask))
+        self.extras["log"].update(self.recorder_manager.reset(mask))
+
+    def _post_physics_recording(self):
+        """The recorders' after-each-physics-step hook, or None when nothing records."""
+        return self.recorder_manager.record_post_physics_decimation_step if self.recorder_manager.active_terms else None
 
     def _camera_pose(self) -> tuple[np.ndarray, np.ndarray]:
         """The viewer camera's eye and lookat in the frame of the rendered MuJoCo world."""

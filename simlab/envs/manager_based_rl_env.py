@@ -109,6 +109,8 @@ class ManagerBasedRLEnv(ManagerBasedEnv, gym.Env):
         """What makes this env's step select envs by ids (so it cannot be captured as a graph)."""
         blockers = self.event_manager.graph_blockers() + self.command_manager.graph_blockers()
         blockers += self.curriculum_manager.graph_blockers()
+        if self.recorder_manager.active_terms:
+            blockers.append("recorder terms are active (recording reads which envs reset)")
         if type(self)._reset_idx is not ManagerBasedRLEnv._reset_idx:
             blockers.append(f"{type(self).__name__} overrides _reset_idx")
         return blockers
@@ -116,7 +118,10 @@ class ManagerBasedRLEnv(ManagerBasedEnv, gym.Env):
     def _step_body(self, action: torch.Tensor):
         """The step, with fixed shapes: run eagerly or replayed as one CUDA graph."""
         self.action_manager.process_action(action)
-        self._physics_steps(self.action_manager.apply_action)
+        recording = bool(self.recorder_manager.active_terms)
+        if recording:
+            self.recorder_manager.record_pre_step()
+        self._physics_steps(self.action_manager.apply_action, self._post_physics_recording())
         diverged = self._restart_diverged()
         self.episode_length_buf += 1
         self._step_count += 1
@@ -127,7 +132,15 @@ class ManagerBasedRLEnv(ManagerBasedEnv, gym.Env):
         reward = self.reward_manager.compute(dt=self.step_dt)
         # The observation the finished episodes ended in, before their reset (for bootstrapping).
         final_obs = self.observation_manager.compute(update_history=False)
+        if recording:  # eager only (a graph blocker): the recorders take env ids
+            self.obs_buf = final_obs
+            self.recorder_manager.record_post_step()
+            finished = self.reset_buf.nonzero().flatten()
+            if len(finished):
+                self.recorder_manager.record_pre_reset(finished)
         log = self._reset_envs(self.reset_buf)
+        if recording and len(finished):
+            self.recorder_manager.record_post_reset(finished)
         log["Physics/diverged"] = diverged.sum()
         self.command_manager.compute(dt=self.step_dt)
         if "interval" in self.event_manager.available_modes:
@@ -182,6 +195,7 @@ class ManagerBasedRLEnv(ManagerBasedEnv, gym.Env):
             self.command_manager,
             self.event_manager,
             self.termination_manager,
+            self.recorder_manager,
         ):
             log.update(manager.reset(mask))
         masked_copy_(self.episode_length_buf, mask, 0)

@@ -14,10 +14,12 @@ from .manager_term_cfg import (
     ManagerTermBaseCfg,
     ObservationGroupCfg,
     ObservationTermCfg,
+    RecorderTermCfg,
     RewardTermCfg,
     TerminationTermCfg,
 )
 from .observation_manager import ObservationManager
+from .recorder_manager import DatasetExportMode, RecorderManager, RecorderManagerBaseCfg, RecorderTerm
 from .reward_manager import RewardManager
 from .scene_entity_cfg import SceneEntityCfg
 from .termination_manager import TerminationManager
@@ -31,6 +33,7 @@ __all__ = [
     "CommandTermCfg",
     "CurriculumManager",
     "CurriculumTermCfg",
+    "DatasetExportMode",
     "EventManager",
     "EventTermCfg",
     "ManagerBase",
@@ -39,6 +42,10 @@ __all__ = [
     "ObservationGroupCfg",
     "ObservationManager",
     "ObservationTermCfg",
+    "RecorderManager",
+    "RecorderManagerBaseCfg",
+    "RecorderTerm",
+    "RecorderTermCfg",
     "RewardManager",
     "RewardTermCfg",
     "SceneEntityCfg",

@@ -180,5 +180,3 @@ class ActionManager(ManagerBase):
                 self._terms[name] = term_cfg.class_type(term_cfg, self._env)
             except (ValueError, KeyError, TypeError) as err:
                 raise self._term_error(name, str(err)) from err
-        if not self._terms:
-            raise ValueError("ActionManager: the actions config declares no action term")

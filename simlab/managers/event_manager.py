@@ -1,5 +1,6 @@
 """Events: functions applied at ``prestartup``/``startup`` (once), on ``reset`` (to the resetting
-envs) or at ``interval``s (each env on its own timer, or one global timer).
+envs) or at ``interval``s (each env on its own timer, or one global timer). Any other mode name is a
+custom mode, applied when code calls ``event_manager.apply(mode=...)`` with it (as in Isaac Lab).
 
 Randomizations (masses, frictions, gains, gravity) are events; they change per-world model fields.
 """
@@ -12,6 +13,7 @@ from typing import TYPE_CHECKING
 import torch
 
 from simlab.utils.env_mask import masked_copy_, term_env_ids
+from simlab.utils.string import closest_matches
 
 from .manager_base import ManagerBase, ManagerTermBase, format_table
 from .manager_term_cfg import EventTermCfg
@@ -54,6 +56,33 @@ class EventManager(ManagerBase):
     def available_modes(self) -> list[str]:
         return list(self._mode_terms)
 
+    # Isaac Lab's internal views, read by code and tests written against its event manager.
+    @property
+    def _mode_term_cfgs(self) -> dict[str, list[EventTermCfg]]:
+        return {mode: [cfg for _, cfg in terms] for mode, terms in self._mode_terms.items()}
+
+    @property
+    def _mode_class_term_cfgs(self) -> dict[str, list[EventTermCfg]]:
+        """The terms whose ``func`` is a ``ManagerTermBase`` class (or, once built, instance), by mode."""
+        by_mode = {}
+        for mode, terms in self._mode_terms.items():
+            cfgs = [cfg for _, cfg in terms if isinstance(cfg.func, (type, ManagerTermBase))]
+            if cfgs:
+                by_mode[mode] = cfgs
+        return by_mode
+
+    @property
+    def _interval_term_time_left(self) -> list[torch.Tensor]:
+        return [self._interval_time_left[name] for name, _ in self._mode_terms.get("interval", [])]
+
+    @property
+    def _reset_term_last_triggered_step_id(self) -> list[torch.Tensor]:
+        return [self._reset_last_step[name] for name, _ in self._mode_terms.get("reset", [])]
+
+    @property
+    def _reset_term_last_triggered_once(self) -> list[torch.Tensor]:
+        return [self._reset_triggered_once[name] for name, _ in self._mode_terms.get("reset", [])]
+
     def get_term_cfg(self, term_name: str) -> EventTermCfg:
         for terms in self._mode_terms.values():
             for name, cfg in terms:
@@ -94,9 +123,11 @@ class EventManager(ManagerBase):
         current count). Envs are selected by mask throughout: terms marked ``takes_env_mask`` get
         the mask, the others get ids (see ``simlab.utils.env_mask.term_env_ids``).
         """
-        if mode not in MODES:
-            raise ValueError(f"Unknown event mode '{mode}'; modes: {list(MODES)}")
+        if not isinstance(mode, str) or not mode:
+            raise ValueError(f"An event mode is a non-empty string such as 'reset', got {mode!r}.")
         if mode not in self._mode_terms:
+            if mode not in MODES:  # Isaac Lab skips a mode no term declares, with a warning
+                print(f"[simlab] EventManager: no event term has mode '{mode}' (modes: {self.available_modes}).")
             return
         if mode == "interval" and dt is None:
             raise ValueError("EventManager.apply(mode='interval') needs the time step dt")
@@ -145,8 +176,17 @@ class EventManager(ManagerBase):
 
     def _prepare_terms(self) -> None:
         for name, term_cfg in self._checked_terms(EventTermCfg, min_argc=2):
+            if not isinstance(term_cfg.mode, str) or not term_cfg.mode:
+                raise self._term_error(
+                    name, f"mode must be {list(MODES)} or a custom mode name (a string), got {term_cfg.mode!r}"
+                )
             if term_cfg.mode not in MODES:
-                raise self._term_error(name, f"unknown mode '{term_cfg.mode}'; modes: {list(MODES)}")
+                close = closest_matches(term_cfg.mode, MODES, n=1)
+                if close:  # a custom mode that looks like a typo of a built-in one
+                    print(
+                        f"[simlab] EventManager: term '{name}' has the custom mode '{term_cfg.mode}': it runs only"
+                        f" when code calls event_manager.apply(mode='{term_cfg.mode}'). Did you mean '{close[0]}'?"
+                    )
             if term_cfg.mode == "interval":
                 rng = term_cfg.interval_range_s
                 if rng is None or len(rng) != 2 or rng[0] > rng[1] or rng[0] < 0:
@@ -158,7 +198,7 @@ class EventManager(ManagerBase):
                     name, f"interval_range_s is only for mode 'interval' (mode is '{term_cfg.mode}')"
                 )
             if term_cfg.mode == "reset":
-                self._reset_last_step[name] = torch.zeros(self.num_envs, dtype=torch.long, device=self.device)
+                self._reset_last_step[name] = torch.zeros(self.num_envs, dtype=torch.int32, device=self.device)
                 self._reset_triggered_once[name] = torch.zeros(self.num_envs, dtype=torch.bool, device=self.device)
             self._mode_terms.setdefault(term_cfg.mode, []).append((name, term_cfg))
 

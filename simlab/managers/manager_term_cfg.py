@@ -40,6 +40,15 @@ class ActionTermCfg:
     """Joint-name patterns to ``(min, max)`` bounds of the processed action; None: no clipping."""
 
 
+# -- recorders --------------------------------------------------------------------------------------
+
+
+@configclass
+class RecorderTermCfg:
+    class_type: type = MISSING
+    """The ``RecorderTerm`` subclass this config builds."""
+
+
 # -- commands ----------------------------------------------------------------------------------------
 
 
@@ -98,7 +107,8 @@ class EventTermCfg(ManagerTermBaseCfg):
     """``func(env, env_ids, **params)`` run at ``startup``, on ``reset`` or at ``interval``s."""
 
     mode: str = MISSING
-    """``"prestartup"`` (before the model compiles), ``"startup"``, ``"reset"`` or ``"interval"``."""
+    """``"prestartup"`` (before the model compiles), ``"startup"``, ``"reset"``, ``"interval"``, or a
+    custom mode name: applied when code calls ``env.event_manager.apply(mode=name)``."""
     interval_range_s: tuple[float, float] | None = None
     """For ``interval`` events: seconds between two applications, drawn uniformly."""
     is_global_time: bool = False

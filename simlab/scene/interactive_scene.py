@@ -137,6 +137,55 @@ class InteractiveScene:
         for entity in self._entities():
             entity.update(dt)
 
+    def get_state(self, is_relative: bool = False) -> dict[str, dict[str, dict[str, torch.Tensor]]]:
+        """The state of every asset, Isaac Lab's layout: ``state["articulation"|"rigid_object"][name]``
+        holds ``root_pose`` (pos, quat w-x-y-z), ``root_velocity`` (world lin, ang) and, for
+        articulations, ``joint_position`` / ``joint_velocity``. ``is_relative``: root positions from the
+        env origins. Copies: later steps do not change them."""
+        state: dict[str, dict] = {"articulation": {}, "deformable_object": {}, "rigid_object": {}}
+        for group, assets in (("articulation", self.articulations), ("rigid_object", self.rigid_objects)):
+            for name, asset in assets.items():
+                root_pose = asset.data.root_pose_w.clone()
+                if is_relative:
+                    root_pose[:, :3] -= self.env_origins
+                entry = {"root_pose": root_pose, "root_velocity": asset.data.root_vel_w.clone()}
+                if group == "articulation":
+                    entry["joint_position"] = asset.data.joint_pos.clone()
+                    entry["joint_velocity"] = asset.data.joint_vel.clone()
+                state[group][name] = entry
+        return state
+
+    def reset_to(
+        self,
+        state: dict[str, dict[str, dict[str, torch.Tensor]]],
+        env_ids: Sequence[int] | torch.Tensor | None = None,
+        is_relative: bool = False,
+    ) -> None:
+        """Write a ``get_state`` state (one row per env of ``env_ids``) into the simulation. Roots
+        welded to the world keep their pose.
+
+        Unlike Isaac Lab (whose code marks it FIXME), the joint targets are not set to the written
+        joint state: an effort-driven joint with damping would then be pulled towards the recorded
+        velocity, and a replay would leave the recording. The action terms set the targets they drive.
+        """
+        ids = torch.arange(self.num_envs, device=self.device) if env_ids is None else env_ids
+        ids = torch.as_tensor(ids, device=self.device)
+        for group, assets in (("articulation", self.articulations), ("rigid_object", self.rigid_objects)):
+            for name, entry in state.get(group, {}).items():
+                if name not in assets:
+                    raise KeyError(f"The state has {group} '{name}', which this scene lacks; it has {list(assets)}.")
+                asset = assets[name]
+                root_pose = entry["root_pose"].to(self.device).clone()
+                if is_relative:
+                    root_pose[:, :3] += self.env_origins[ids]
+                if not asset.is_fixed_base:
+                    asset.write_root_pose_to_sim(root_pose, env_ids=ids)
+                    asset.write_root_velocity_to_sim(entry["root_velocity"].to(self.device), env_ids=ids)
+                if group == "articulation":
+                    pos, vel = entry["joint_position"].to(self.device), entry["joint_velocity"].to(self.device)
+                    asset.write_joint_state_to_sim(pos, vel, env_ids=ids)
+        self.write_data_to_sim()
+
     def keys(self) -> list[str]:
         terrain = [self._terrain_name] if self._terrain is not None else []
         return [*terrain, *self.articulations, *self.rigid_objects, *self.sensors, *self.extras]

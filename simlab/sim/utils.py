@@ -15,6 +15,7 @@ xform ops); they exist so that ported code imports, and raise an error saying wh
 
 from __future__ import annotations
 
+import re
 import weakref
 from collections.abc import Sequence
 from typing import Any
@@ -31,6 +32,7 @@ __all__ = [
     "get_stage_up_axis",
     "is_prim_path_valid",
     "update_stage",
+    "xform_group_origins",
 ]
 
 
@@ -72,12 +74,34 @@ def get_stage_up_axis() -> str:
     return "Z"
 
 
-# Xform groups defined with create_prim, per simulation (they leave no trace in the spec itself)
-_XFORM_PATHS: weakref.WeakKeyDictionary[SimulationContext, set[str]] = weakref.WeakKeyDictionary()
+# Xform groups defined with create_prim, per simulation, in creation order, with their translation
+# (they leave no trace in the spec itself)
+_XFORM_PATHS: weakref.WeakKeyDictionary[SimulationContext, dict[str, tuple[float, float, float]]] = (
+    weakref.WeakKeyDictionary()
+)
 
 
-def _xform_paths(sim: SimulationContext) -> set[str]:
-    return _XFORM_PATHS.setdefault(sim, set())
+def _xform_paths(sim: SimulationContext) -> dict[str, tuple[float, float, float]]:
+    return _XFORM_PATHS.setdefault(sim, {})
+
+
+def xform_group_origins(prim_path: str) -> list[tuple[float, float, float]] | None:
+    """The translations of the ``Xform`` groups the parent of ``prim_path`` matches, in creation order.
+
+    Isaac Lab's ``/World/Origin.*/Robot`` spawns one robot under each ``/World/Origin<i>`` group;
+    in simlab each match becomes one world with the group's translation as its env origin. None
+    when the parent names no group made with :func:`create_prim`.
+    """
+    sim = SimulationContext.instance()
+    parent = prim_path.rstrip("/").rpartition("/")[0]
+    if sim is None or not parent:
+        return None
+    groups = _xform_paths(sim)
+    try:
+        matches = [t for path, t in groups.items() if re.fullmatch(parent, path)]
+    except re.error:
+        return None
+    return matches or None
 
 
 def create_prim(
@@ -94,25 +118,32 @@ def create_prim(
 ) -> str:
     """Define an ``Xform`` group at ``prim_path`` (a namespace for the entities spawned under it).
 
-    simlab places each entity by its own spawn pose, so a group carries no transform: a pose, scale,
-    USD file or attributes are refused rather than ignored. Returns ``prim_path``.
+    A ``translation`` (or ``position``) places the group: an asset whose prim path matches several
+    groups (``/World/Origin.*/Robot``) gets one world per group, offset by that translation (see
+    :func:`xform_group_origins`). A rotated or scaled group, a USD file or attributes are refused
+    rather than ignored. Returns ``prim_path``.
     """
     if prim_type != "Xform":
         raise NotImplementedError(
             f"create_prim('{prim_path}', '{prim_type}'): simlab spawns geometry from configs, not USD prim types."
             " Use e.g. sim_utils.CuboidCfg(size=...).func(prim_path, cfg) or sim_utils.MjcfFileCfg(asset_path=...)."
         )
-    given = {"position": position, "translation": translation, "orientation": orientation, "scale": scale}
+    identity = orientation is None or tuple(orientation) == (1.0, 0.0, 0.0, 0.0)
+    given = {"orientation": None if identity else orientation, "scale": None if scale in (None, (1, 1, 1)) else scale}
     given |= {"usd_path": usd_path, "semantic_label": semantic_label, "attributes": attributes}
     refused = [k for k, v in given.items() if v is not None]
     if refused:
         raise NotImplementedError(
-            f"create_prim('{prim_path}', 'Xform', {', '.join(refused)}=...): an Xform group in simlab is a name"
-            " only; give the pose to the spawner of each entity (func(prim_path, cfg, translation=...))."
+            f"create_prim('{prim_path}', 'Xform', {', '.join(refused)}=...): an Xform group in simlab carries a"
+            " translation only; give rotations to the spawner of each entity (func(prim_path, cfg, orientation=...))."
         )
     if not prim_path.startswith("/"):
         raise ValueError(f"Prim paths are absolute, e.g. '/World/Objects'; got '{prim_path}'.")
-    _xform_paths(_sim_for_stage()).add(prim_path.rstrip("/"))
+    offset = translation if translation is not None else position
+    offset = tuple(float(x) for x in offset) if offset is not None else (0.0, 0.0, 0.0)
+    if len(offset) != 3:
+        raise ValueError(f"create_prim('{prim_path}'): translation is (x, y, z), got {offset}.")
+    _xform_paths(_sim_for_stage())[prim_path.rstrip("/")] = offset
     return prim_path
 
 

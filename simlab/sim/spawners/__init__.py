@@ -12,8 +12,17 @@ from .from_files import (
 )
 from .lights import DistantLightCfg, DomeLightCfg, LightCfg, spawn_light
 from .materials import MdlFileCfg, PreviewSurfaceCfg, RigidBodyMaterialCfg
+from .meshes import (
+    DeformableBodyMaterialCfg,
+    DeformableBodyPropertiesCfg,
+    MeshCapsuleCfg,
+    MeshConeCfg,
+    MeshCuboidCfg,
+    MeshCylinderCfg,
+    MeshSphereCfg,
+)
 from .sensors import PinholeCameraCfg, spawn_camera
-from .shapes import CapsuleCfg, CuboidCfg, CylinderCfg, ShapeCfg, SphereCfg, spawn_shape
+from .shapes import CapsuleCfg, ConeCfg, CuboidCfg, CylinderCfg, ShapeCfg, SphereCfg, spawn_shape
 from .spawner_cfg import (
     ArticulationRootPropertiesCfg,
     CollisionPropertiesCfg,

@@ -1,4 +1,4 @@
-"""Primitive shapes (box, sphere, capsule, cylinder) as rigid bodies.
+"""Primitive shapes (box, sphere, capsule, cylinder, cone) as rigid bodies.
 
 A shape is one body with one geom. It gets a free joint (a dynamic rigid object) unless
 ``rigid_props.kinematic_enabled`` makes it a mocap body, or no ``rigid_props`` are given at all,
@@ -7,6 +7,7 @@ in which case it is static, like a prim without rigid-body properties in Isaac L
 
 from __future__ import annotations
 
+import math
 from dataclasses import MISSING
 
 import mujoco
@@ -35,6 +36,7 @@ def spawn_shape(prim_path: str, cfg: ShapeCfg, translation=None, orientation=Non
         if rigid.disable_gravity:
             body.gravcomp = 1.0
     geom = body.add_geom(name=f"{name}/geom", type=cfg.geom_type(), size=cfg.geom_size())
+    cfg.finish_geom(spec, geom, name)
     if cfg.visual_material is not None:
         geom.rgba = cfg.visual_material.rgba()
     if cfg.physics_material is not None:
@@ -59,6 +61,9 @@ class ShapeCfg(RigidObjectSpawnerCfg):
 
     def geom_size(self) -> list[float]:
         raise NotImplementedError
+
+    def finish_geom(self, spec: mujoco.MjSpec, geom: mujoco.MjsGeom, name: str) -> None:
+        """Shapes that MuJoCo has no primitive for add their mesh here."""
 
 
 @configclass
@@ -102,3 +107,29 @@ class CapsuleCfg(ShapeCfg):
 class CylinderCfg(CapsuleCfg):
     def geom_type(self):
         return mujoco.mjtGeom.mjGEOM_CYLINDER
+
+
+@configclass
+class ConeCfg(ShapeCfg):
+    """A cone along z, centred on its mid-height as Isaac Lab's (a convex mesh: MuJoCo has no cone)."""
+
+    radius: float = MISSING
+    height: float = MISSING
+    axis: str = "Z"
+    segments: int = 32
+    """Edges of the base polygon."""
+
+    def geom_type(self):
+        return mujoco.mjtGeom.mjGEOM_MESH
+
+    def geom_size(self):
+        return [0.0, 0.0, 0.0]
+
+    def finish_geom(self, spec, geom, name):
+        if self.axis.upper() != "Z":
+            raise ValueError(f"ConeCfg: only axis 'Z' is supported, got '{self.axis}'; rotate the prim instead.")
+        angles = [2 * math.pi * k / self.segments for k in range(self.segments)]
+        base = [[self.radius * math.cos(a), self.radius * math.sin(a), -self.height / 2] for a in angles]
+        vertices = [coord for point in [*base, [0.0, 0.0, self.height / 2]] for coord in point]
+        spec.add_mesh(name=f"{name}/cone", uservert=vertices)
+        geom.meshname = f"{name}/cone"
