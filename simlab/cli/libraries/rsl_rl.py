@@ -27,6 +27,7 @@ from rsl_rl.runners import OnPolicyRunner  # noqa: E402
 from rsl_rl.utils.logger import Logger  # noqa: E402
 
 from simlab.rl.rsl_rl import RslRlOnPolicyRunnerCfg, RslRlVecEnvWrapper  # noqa: E402
+from simlab.rl.rsl_rl.fast_update import FastPPOUpdate, fast_update_unsupported  # noqa: E402
 
 
 def experiment_name(agent_cfg: RslRlOnPolicyRunnerCfg, task: str) -> str:
@@ -141,7 +142,24 @@ def make_runner(env: gym.Env, agent_cfg: RslRlOnPolicyRunnerCfg, log_dir: str | 
     cfg["check_for_nan"] = False
     with contextlib.redirect_stdout(io.StringIO()):  # it prints the models; params/agent.yaml has them
         runner = _Runner(wrapped, cfg, log_dir=log_dir, device=agent_cfg.device)
+    use_fast_update(runner.alg, agent_cfg.fast_update)
     return runner
+
+
+def use_fast_update(alg: Any, setting: bool | None) -> str:
+    """Give ``alg`` simlab's fast PPO update where ``setting`` (agent.fast_update) asks; says which runs."""
+    if setting is False:
+        return "rsl_rl"
+    reason = fast_update_unsupported(alg)
+    if reason is not None:
+        if setting:
+            raise ValueError(
+                f"agent.fast_update=true, but simlab's fast PPO update does not cover {reason}. "
+                "Set agent.fast_update=null (use it where it applies) or false (rsl_rl's own update)."
+            )
+        return f"rsl_rl ({reason})"
+    alg.update = FastPPOUpdate(alg)
+    return "fast (CUDA graph)" if alg.update.cuda_graph else "fast"
 
 
 def train(

@@ -109,6 +109,11 @@ class RslRlOnPolicyRunnerCfg:
     clip_actions: float | None = None
     """Clip actions to [-clip_actions, clip_actions] in the wrapper; None does not clip."""
     check_for_nan: bool = True
+    fast_update: bool | None = None
+    """simlab's PPO update (:mod:`simlab.rl.rsl_rl.fast_update`): rsl_rl's update math with no host
+    read per mini-batch, replayed as one CUDA graph on the GPU. None: used wherever it covers the
+    config (feed-forward models, Adam/AdamW, no RND/symmetry/multi-GPU), else rsl_rl's own update;
+    True: required (an error says what it does not cover); False: rsl_rl's own ``PPO.update``."""
     actor: RslRlMLPModelCfg = MISSING
     critic: RslRlMLPModelCfg = MISSING
     algorithm: RslRlPpoAlgorithmCfg = MISSING
@@ -136,7 +141,7 @@ class RslRlOnPolicyRunnerCfg:
         cfg = _convert_deprecated(self)
         cfg.validate()
         d = cfg.to_dict()
-        for key in ("policy", "empirical_normalization"):
+        for key in ("policy", "empirical_normalization", "fast_update"):
             d.pop(key, None)
         if not d["obs_groups"]:
             groups = obs_group_names or ["policy"]

@@ -1,0 +1,119 @@
+"""simlab's fast PPO update makes the same update as rsl_rl's own ``PPO.update`` on the same batch."""
+
+from __future__ import annotations
+
+import copy
+
+import pytest
+import torch
+
+pytest.importorskip("rsl_rl")
+from rsl_rl.algorithms import PPO  # noqa: E402
+from tensordict import TensorDict  # noqa: E402
+
+from simlab.cli.libraries.rsl_rl import use_fast_update  # noqa: E402
+from simlab.rl.rsl_rl.fast_update import FastPPOUpdate  # noqa: E402
+from simlab.tasks.manager_based.classic.cartpole.agents.rsl_rl_ppo_cfg import CartpolePPORunnerCfg  # noqa: E402
+
+NUM_ENVS, OBS_DIM, NUM_ACTIONS = 64, 4, 1
+
+
+class _Env:
+    """What PPO.construct_algorithm reads of an env."""
+
+    num_envs, num_actions = NUM_ENVS, NUM_ACTIONS
+
+
+def _learner(seed: int, **algorithm: object) -> PPO:
+    """A cartpole-configured PPO with one rollout of made-up transitions in its storage."""
+    agent_cfg = CartpolePPORunnerCfg()
+    for key, value in algorithm.items():
+        setattr(agent_cfg.algorithm, key, value)
+    cfg = agent_cfg.to_rsl_rl_dict(["policy"])
+    cfg["multi_gpu"] = None
+    torch.manual_seed(seed)
+    obs = TensorDict({"policy": torch.randn(NUM_ENVS, OBS_DIM)}, batch_size=[NUM_ENVS])
+    alg = PPO.construct_algorithm(obs, _Env(), cfg, "cpu")
+    with torch.inference_mode():
+        for _ in range(cfg["num_steps_per_env"]):
+            alg.act(obs)
+            obs = TensorDict({"policy": torch.randn(NUM_ENVS, OBS_DIM)}, batch_size=[NUM_ENVS])
+            rewards, dones = torch.randn(NUM_ENVS), (torch.rand(NUM_ENVS) < 0.05).long()
+            alg.process_env_step(obs, rewards, dones, {"time_outs": torch.rand(NUM_ENVS) < 0.02})
+        alg.compute_returns(obs)
+    return alg
+
+
+def _state(alg: PPO) -> dict[str, torch.Tensor]:
+    return {**{f"actor.{k}": v for k, v in alg.actor.state_dict().items()},
+            **{f"critic.{k}": v for k, v in alg.critic.state_dict().items()}}
+
+
+def _update_both(updates: int = 2, **algorithm: object) -> tuple[PPO, PPO, list, list]:
+    reference, fast = _learner(0, **algorithm), _learner(0, **algorithm)
+    fast.update = FastPPOUpdate(fast)
+    ref_losses, fast_losses = [], []
+    for i in range(updates):
+        if i:  # the next rollout: the same made-up data in both storages, rewritten in place
+            for alg in (reference, fast):
+                alg.storage.step = alg.storage.num_transitions_per_env
+            fast.storage.rewards.copy_(reference.storage.rewards)
+        torch.manual_seed(100 + i)
+        ref_losses.append(reference.update())
+        torch.manual_seed(100 + i)
+        fast_losses.append(fast.update())
+    return reference, fast, ref_losses, fast_losses
+
+
+def test_fast_update_matches_rsl_rl_update_with_the_adaptive_learning_rate():
+    start = _learner(0)
+    initial = copy.deepcopy(_state(start))
+    reference, fast, ref_losses, fast_losses = _update_both(updates=1)
+    # the adaptive schedule moved the learning rate, and both moved it alike
+    assert reference.learning_rate != pytest.approx(1e-3)
+    assert fast.learning_rate == pytest.approx(reference.learning_rate, rel=1e-5)
+    assert fast.optimizer.param_groups[0]["lr"] == fast.learning_rate  # a float again after the update
+    moved = 0.0
+    for name, value in _state(reference).items():
+        torch.testing.assert_close(_state(fast)[name], value, rtol=1e-4, atol=1e-6, msg=name)
+        moved = max(moved, (value - initial[name]).abs().max().item())
+    assert moved > 1e-3  # the update changed the weights, so agreeing means something
+    for name in ("value", "surrogate", "entropy"):
+        assert fast_losses[0][name] == pytest.approx(ref_losses[0][name], rel=1e-4, abs=1e-6)
+
+
+def test_fast_update_matches_over_updates_with_a_fixed_schedule_and_per_batch_advantages():
+    reference, fast, ref_losses, fast_losses = _update_both(
+        updates=2, schedule="fixed", normalize_advantage_per_mini_batch=True
+    )
+    assert fast.learning_rate == reference.learning_rate == pytest.approx(1e-3)
+    for name, value in _state(reference).items():
+        torch.testing.assert_close(_state(fast)[name], value, rtol=1e-4, atol=1e-6, msg=name)
+    assert fast_losses[1]["value"] == pytest.approx(ref_losses[1]["value"], rel=1e-4)
+
+
+def test_fast_update_picks_up_a_learning_rate_set_from_outside():
+    reference, fast, _, _ = _update_both(updates=1)
+    for alg in (reference, fast):  # as rsl_rl's load() does from a checkpoint
+        alg.learning_rate = 3e-4
+        alg.storage.step = alg.storage.num_transitions_per_env
+    torch.manual_seed(7)
+    reference.update()
+    torch.manual_seed(7)
+    fast.update()
+    assert fast.learning_rate == pytest.approx(reference.learning_rate, rel=1e-5)
+
+
+def test_setting_chooses_the_update_and_says_what_it_does_not_cover():
+    alg = _learner(0)
+    assert use_fast_update(alg, False) == "rsl_rl"
+    assert not isinstance(alg.update, FastPPOUpdate)
+    assert use_fast_update(alg, None) == "fast"
+    assert isinstance(alg.update, FastPPOUpdate)
+
+    sgd = _learner(0, optimizer="sgd")
+    assert use_fast_update(sgd, None).startswith("rsl_rl (the optimizer SGD")
+    with pytest.raises(ValueError, match="agent.fast_update=true.*optimizer SGD"):
+        use_fast_update(sgd, True)
+    with pytest.raises(ValueError, match="CUDA graph needs a CUDA device"):
+        FastPPOUpdate(alg, cuda_graph=True)
