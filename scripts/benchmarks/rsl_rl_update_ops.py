@@ -1,6 +1,6 @@
 """How much work one rsl_rl PPO update and one rollout step dispatch: torch ops counted per call.
 
-    python scripts/benchmarks/rsl_rl_update_ops.py --task simlab/Cartpole-v0 --device cpu
+    python scripts/benchmarks/rsl_rl_update_ops.py --task simlab/Cartpole-v0 --device cpu [--update rsl_rl]
 
 On the GPU each dispatched op is a kernel launch (or a host read-back, counted apart), so these
 counts bound how fast an iteration can run when the host, not the GPU, is the limit. The runner
@@ -48,11 +48,15 @@ def main() -> None:
     parser.add_argument("--task", default="simlab/Cartpole-v0")
     parser.add_argument("--num_envs", type=int, default=256)
     parser.add_argument("--device", default="cpu")
+    parser.add_argument(
+        "--update", choices=("fast", "rsl_rl"), default="fast", help="simlab's fast PPO update or rsl_rl's own"
+    )
     args = parser.parse_args()
 
     env = gym.make(args.task, cfg=parse_env_cfg(args.task, device=args.device, num_envs=args.num_envs))
     agent_cfg = load_cfg_from_registry(args.task, "rsl_rl_cfg_entry_point")
     agent_cfg.device = args.device
+    agent_cfg.fast_update = args.update == "fast"
     runner = make_runner(env, agent_cfg, log_dir=None)
     runner.learn(num_learning_iterations=1)  # warm-up: lazy state, first graph capture
     alg, obs = runner.alg, runner.env.get_observations()
@@ -70,7 +74,7 @@ def main() -> None:
 
     mini_batches = agent_cfg.algorithm.num_learning_epochs * agent_cfg.algorithm.num_mini_batches
     steps = agent_cfg.num_steps_per_env
-    print(f"{args.task} on {args.device}, rsl_rl {agent_cfg.algorithm.class_name}:")
+    print(f"{args.task} on {args.device}, rsl_rl {agent_cfg.algorithm.class_name}, {args.update} update:")
     print(f"  rollout step (policy, env step, storage): {rollout.total / steps:.0f} ops")
     print(
         f"  PPO update: {update.total} ops in {mini_batches} mini-batches ({update.total / mini_batches:.0f} each), "

@@ -142,7 +142,7 @@ def make_runner(env: gym.Env, agent_cfg: RslRlOnPolicyRunnerCfg, log_dir: str | 
     cfg["check_for_nan"] = False
     with contextlib.redirect_stdout(io.StringIO()):  # it prints the models; params/agent.yaml has them
         runner = _Runner(wrapped, cfg, log_dir=log_dir, device=agent_cfg.device)
-    use_fast_update(runner.alg, agent_cfg.fast_update)
+    runner.update_kind = use_fast_update(runner.alg, agent_cfg.fast_update)
     return runner
 
 
@@ -150,6 +150,9 @@ def use_fast_update(alg: Any, setting: bool | None) -> str:
     """Give ``alg`` simlab's fast PPO update where ``setting`` (agent.fast_update) asks; says which runs."""
     if setting is False:
         return "rsl_rl"
+    if setting is None and torch.device(alg.device).type != "cuda":
+        # on the CPU it is as fast as rsl_rl's (measured in docs/performance.md): keep the library's own
+        return "rsl_rl (the fast update pays on CUDA; agent.fast_update=true runs it on the CPU too)"
     reason = fast_update_unsupported(alg)
     if reason is not None:
         if setting:
@@ -171,6 +174,8 @@ def train(
 ) -> None:
     """Train; ``run_dir`` None (ranks other than 0 of a distributed run) writes nothing."""
     runner = make_runner(env, agent_cfg, run_dir)
+    if run_dir is not None:
+        print(f"[simlab] PPO update: {runner.update_kind}", flush=True)
     logger = _ProgressLogger(
         log_dir=run_dir,
         cfg=runner.cfg,

@@ -246,7 +246,10 @@ class FastPPOUpdate:
         alg = self.alg
         params = [p for group in alg.optimizer.param_groups for p in group["params"]]
         saved_params = [p.detach().clone() for p in params]
-        saved_state = {p: {k: v.clone() for k, v in s.items() if torch.is_tensor(v)} for p, s in alg.optimizer.state.items()}
+        saved_state = {
+            p: {k: v.clone() for k, v in state.items() if torch.is_tensor(v)}
+            for p, state in alg.optimizer.state.items()
+        }
         saved_lr, saved_sums = self._lr.clone(), self._sums.clone()
         with torch.random.fork_rng(devices=[self.device]):
             yield
@@ -284,7 +287,7 @@ class FastPPOUpdate:
 
     @contextlib.contextmanager
     def _buffers_kept_in_place(self) -> Iterator[None]:
-        """Buffers the block replaces (rsl_rl's normalizer assigns a new ``_std``) are copied back into the old tensors."""
+        """Buffers the block replaces (rsl_rl's normalizer assigns a new ``_std``) go back into the old tensors."""
         modules = [m for model in (self.alg.actor, self.alg.critic) for m in model.modules()]
         before = [(m, name, t) for m in modules for name, t in m._buffers.items() if t is not None]
         yield

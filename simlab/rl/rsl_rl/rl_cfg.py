@@ -111,9 +111,10 @@ class RslRlOnPolicyRunnerCfg:
     check_for_nan: bool = True
     fast_update: bool | None = None
     """simlab's PPO update (:mod:`simlab.rl.rsl_rl.fast_update`): rsl_rl's update math with no host
-    read per mini-batch, replayed as one CUDA graph on the GPU. None: used wherever it covers the
-    config (feed-forward models, Adam/AdamW, no RND/symmetry/multi-GPU), else rsl_rl's own update;
-    True: required (an error says what it does not cover); False: rsl_rl's own ``PPO.update``."""
+    read per mini-batch, replayed as one CUDA graph on the GPU. None: on CUDA wherever it covers
+    the config (feed-forward models, Adam/AdamW, no RND/symmetry/multi-GPU), else rsl_rl's own
+    update (on the CPU it gains nothing); True: used, also on the CPU (an error says what it does not
+    cover); False: rsl_rl's own ``PPO.update``."""
     actor: RslRlMLPModelCfg = MISSING
     critic: RslRlMLPModelCfg = MISSING
     algorithm: RslRlPpoAlgorithmCfg = MISSING
