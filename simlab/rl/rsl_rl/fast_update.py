@@ -25,6 +25,7 @@ optimizers other than Adam / AdamW, a subclass with its own ``update``) keep rsl
 from __future__ import annotations
 
 import contextlib
+import warnings
 from collections.abc import Iterator
 from typing import Any
 
@@ -212,15 +213,22 @@ class FastPPOUpdate:
         with self._optimizer_reads_lr_tensor(), self._undone():
             side = torch.cuda.Stream(self.device)
             side.wait_stream(torch.cuda.current_stream(self.device))
-            with torch.cuda.stream(side):
+            with torch.cuda.stream(side), warnings.catch_warnings():
+                warnings.filterwarnings("ignore", message=".*capturable=True.*")  # the warm-up runs uncaptured
                 for _ in range(2):
                     self._mini_batch_step(batch, self._indices[:mini_batch_size])
             torch.cuda.current_stream(self.device).wait_stream(side)
         graph = torch.cuda.CUDAGraph()
         self.alg.optimizer.zero_grad()
-        with self._optimizer_reads_lr_tensor(), torch.cuda.graph(graph, capture_error_mode="thread_local"):
-            self._sums.zero_()
-            self._run(batch, self._indices, mini_batch_size)
+        try:
+            with self._optimizer_reads_lr_tensor(), torch.cuda.graph(graph, capture_error_mode="thread_local"):
+                self._sums.zero_()
+                self._run(batch, self._indices, mini_batch_size)
+        except RuntimeError as error:
+            raise RuntimeError(
+                f"Capturing the PPO update as a CUDA graph failed ({error}). Train with rsl_rl's own update: "
+                "agent.fast_update=false."
+            ) from error
         self._graph = graph
         self.captures += 1
 
