@@ -66,6 +66,7 @@ TRAIN_COLUMNS = [
     ("s/iteration", "seconds_per_iteration", ".3f"),
     ("iterations", "iterations", "d"),
     ("GPU MB", "gpu_memory_mb", ".0f"),
+    ("PPO update", "ppo_update", ""),
 ]
 SOLVE_COLUMNS = [
     ("task", "task", ""),
@@ -125,6 +126,13 @@ def main(argv: list[str] | None = None) -> int:
         default="on",
         help="GPU fast path for env steps: replay each step as one CUDA graph (on), eager (off), or both",
     )
+    parser.add_argument(
+        "--ppo_update",
+        choices=("default", "fast", "rsl_rl"),
+        default="default",
+        help="train/solve: rsl_rl's PPO update as simlab's fast one (one CUDA graph per update), rsl_rl's own, "
+        "or the agent config's choice (agent.fast_update: fast on CUDA)",
+    )
     parser.add_argument("--json", default=None, help="write the results to this JSON file")
     args = parser.parse_args(argv)
 
@@ -150,6 +158,7 @@ def main(argv: list[str] | None = None) -> int:
             iterations=args.iterations,
             graphs={"on": [True], "off": [False], "both": [True, False]}[args.cuda_graph],
             solve_args=args,
+            fast_update={"default": None, "fast": True, "rsl_rl": False}[args.ppo_update],
         )
         _print_table(rows, columns)
         results[name] = rows

@@ -121,8 +121,12 @@ def bench_env(
     return row
 
 
-def bench_train(task: str, num_envs: int, device: str, iterations: int, cuda_graph: bool = True) -> dict:
-    """Wall time of rsl_rl PPO iterations (rollout + update), after one warm-up iteration."""
+def bench_train(
+    task: str, num_envs: int, device: str, iterations: int, cuda_graph: bool = True, fast_update: bool | None = None
+) -> dict:
+    """Wall time of rsl_rl PPO iterations (rollout + update), after one warm-up iteration.
+
+    ``fast_update``: the agent config's ``fast_update`` (None: its own default)."""
     from simlab.cli.libraries.rsl_rl import make_runner
     from simlab.tasks.utils import load_cfg_from_registry
 
@@ -130,6 +134,8 @@ def bench_train(task: str, num_envs: int, device: str, iterations: int, cuda_gra
     env = make_env(task, num_envs, device, cuda_graph)
     agent_cfg = load_cfg_from_registry(task, "rsl_rl_cfg_entry_point")
     agent_cfg.device = str(env.device)
+    if fast_update is not None:
+        agent_cfg.fast_update = fast_update
     runner = make_runner(env, agent_cfg, log_dir=None)  # as `simlab train` builds it, without logging
     runner.learn(num_learning_iterations=1)
     synchronize(device)
@@ -147,6 +153,7 @@ def bench_train(task: str, num_envs: int, device: str, iterations: int, cuda_gra
         "env_steps_per_s": steps_per_iteration / seconds,
         "gpu_memory_mb": gpu_memory_mb(env.device, env.sim.physics),
         "cuda_graph": _graph_state(env),
+        "ppo_update": runner.update_kind,
     }
     env.close()
     return row
