@@ -46,4 +46,4 @@ def test_bench_train_runs_the_ppo_update_asked_for(tmp_path):
         assert main([*argv, "--ppo_update", update, "--json", str(out)]) == 0
         (rows[update],) = json.loads(out.read_text())["results"]["train"]
     assert rows["fast"]["ppo_update"] == "fast" and rows["fast"]["env_steps_per_s"] > 0
-    assert rows["rsl_rl"]["ppo_update"] == "rsl_rl"
+    assert rows["rsl_rl"]["ppo_update"] == "rsl_rl" and rows["rsl_rl"]["rollout_policy"] == "eager"

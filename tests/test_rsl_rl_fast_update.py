@@ -141,10 +141,29 @@ def test_simlab_train_with_the_fast_update_trains_the_weights_rsl_rl_does(tmp_pa
         argv += ["--max_iterations", "3", "--seed", "3", "--log_root", str(tmp_path / setting)]
         run_dir = run_train(build_parser().parse_args(argv), [f"agent.fast_update={setting}"])
         weights[setting] = torch.load(f"{run_dir}/model_2.pt", weights_only=False)
-        assert f"[simlab] PPO update: {'fast' if setting == 'true' else 'rsl_rl'}\n" in capsys.readouterr().out
+        printed = capsys.readouterr().out
+        assert (
+            f"[simlab] PPO update: {'fast' if setting == 'true' else 'rsl_rl'}; policy in the rollout: eager ("
+            in printed
+        )
     fast, reference = weights["true"], weights["false"]
     assert isinstance(fast["optimizer_state_dict"]["param_groups"][0]["lr"], float)  # checkpoints load anywhere
     assert not fast["optimizer_state_dict"]["param_groups"][0]["capturable"]
     for model in ("actor_state_dict", "critic_state_dict"):
         for name, value in reference[model].items():
             torch.testing.assert_close(fast[model][name], value, rtol=1e-3, atol=1e-5, msg=f"{model} {name}")
+
+
+def test_the_rollout_policy_is_graphed_only_where_a_cuda_graph_can_run():
+    from simlab.cli.libraries.rsl_rl import use_graphed_act
+    from simlab.rl.rsl_rl.graphed_act import GraphedAct
+
+    alg = _learner(0)
+    act = alg.act
+    assert use_graphed_act(alg, None) == "eager (a CUDA graph needs a CUDA device)"
+    assert use_graphed_act(alg, False) == "eager"
+    assert alg.act == act  # rsl_rl's own
+    with pytest.raises(ValueError, match="agent.graph_act=true, but a CUDA graph needs a CUDA device"):
+        use_graphed_act(alg, True)
+    with pytest.raises(ValueError, match="cannot be graphed: a CUDA graph needs a CUDA device"):
+        GraphedAct(alg)

@@ -50,7 +50,10 @@ def main() -> None:
     parser.add_argument("--num_envs", type=int, default=256)
     parser.add_argument("--device", default="cpu")
     parser.add_argument(
-        "--update", choices=("fast", "rsl_rl"), default="fast", help="simlab's fast PPO update or rsl_rl's own"
+        "--update",
+        choices=("fast", "rsl_rl"),
+        default="fast",
+        help="simlab's fast PPO update (and on CUDA the rollout's policy as a CUDA graph) or rsl_rl's own",
     )
     args = parser.parse_args()
 
@@ -58,6 +61,7 @@ def main() -> None:
     agent_cfg = load_cfg_from_registry(args.task, "rsl_rl_cfg_entry_point")
     agent_cfg.device = args.device
     agent_cfg.fast_update = args.update == "fast"
+    agent_cfg.graph_act = None if args.update == "fast" else False  # fast: the rollout's policy graphed on CUDA
     runner = make_runner(env, agent_cfg, log_dir=None)
     # simlab train's logger (it keeps finished episodes on the device), writing to a throw-away folder
     runner.logger = _ProgressLogger(

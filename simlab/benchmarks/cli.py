@@ -67,6 +67,7 @@ TRAIN_COLUMNS = [
     ("iterations", "iterations", "d"),
     ("GPU MB", "gpu_memory_mb", ".0f"),
     ("PPO update", "ppo_update", ""),
+    ("rollout policy", "rollout_policy", ""),
 ]
 SOLVE_COLUMNS = [
     ("task", "task", ""),
@@ -130,8 +131,9 @@ def main(argv: list[str] | None = None) -> int:
         "--ppo_update",
         choices=("default", "fast", "rsl_rl"),
         default="default",
-        help="train/solve: rsl_rl's PPO update as simlab's fast one (one CUDA graph per update), rsl_rl's own, "
-        "or the agent config's choice (agent.fast_update: fast on CUDA)",
+        help="train/solve: simlab's fast PPO update (one CUDA graph per update) and, on CUDA, the rollout's "
+        "policy as a CUDA graph; rsl_rl's own update and act; or the agent config's choice (agent.fast_update, "
+        "agent.graph_act: both on CUDA)",
     )
     parser.add_argument("--json", default=None, help="write the results to this JSON file")
     args = parser.parse_args(argv)

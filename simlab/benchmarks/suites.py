@@ -105,11 +105,22 @@ def solve(
             task,
             device=device,
             num_envs=n,
-            overrides=[] if fast_update is None else [f"agent.fast_update={str(fast_update).lower()}"],
+            overrides=_fast_path_overrides(fast_update),
             **{flag: getattr(a, flag) for flag in SOLVE_FLAGS},
         ),
     )
     return rows
+
+
+def _fast_path_overrides(fast_update: bool | None) -> list[str]:
+    """``--ppo_update``: rsl_rl's own update and act (False), or simlab's fast update and act graph (True)."""
+    if fast_update is None:
+        return []
+    return (
+        ["agent.fast_update=true", "agent.graph_act=null"]
+        if fast_update
+        else ["agent.fast_update=false", "agent.graph_act=false"]
+    )
 
 
 def _solve_in_child(task: str, num_envs: int | None, device: str, a) -> dict:

@@ -28,6 +28,7 @@ from rsl_rl.utils.logger import Logger  # noqa: E402
 
 from simlab.rl.rsl_rl import RslRlOnPolicyRunnerCfg, RslRlVecEnvWrapper  # noqa: E402
 from simlab.rl.rsl_rl.fast_update import FastPPOUpdate, fast_update_unsupported  # noqa: E402
+from simlab.rl.rsl_rl.graphed_act import GraphedAct, graphed_act_unsupported  # noqa: E402
 
 
 def experiment_name(agent_cfg: RslRlOnPolicyRunnerCfg, task: str) -> str:
@@ -143,7 +144,21 @@ def make_runner(env: gym.Env, agent_cfg: RslRlOnPolicyRunnerCfg, log_dir: str | 
     with contextlib.redirect_stdout(io.StringIO()):  # it prints the models; params/agent.yaml has them
         runner = _Runner(wrapped, cfg, log_dir=log_dir, device=agent_cfg.device)
     runner.update_kind = use_fast_update(runner.alg, agent_cfg.fast_update)
+    runner.act_kind = use_graphed_act(runner.alg, agent_cfg.graph_act)
     return runner
+
+
+def use_graphed_act(alg: Any, setting: bool | None) -> str:
+    """Replay rsl_rl's ``alg.act`` as a CUDA graph where ``setting`` (agent.graph_act) asks; says which runs."""
+    if setting is False:
+        return "eager"
+    reason = graphed_act_unsupported(alg)
+    if reason is not None:
+        if setting:
+            raise ValueError(f"agent.graph_act=true, but {reason}. Set agent.graph_act=null or false.")
+        return f"eager ({reason})"
+    alg.act = GraphedAct(alg)
+    return "CUDA graph"
 
 
 def use_fast_update(alg: Any, setting: bool | None) -> str:
@@ -175,7 +190,7 @@ def train(
     """Train; ``run_dir`` None (ranks other than 0 of a distributed run) writes nothing."""
     runner = make_runner(env, agent_cfg, run_dir)
     if run_dir is not None:
-        print(f"[simlab] PPO update: {runner.update_kind}", flush=True)
+        print(f"[simlab] PPO update: {runner.update_kind}; policy in the rollout: {runner.act_kind}", flush=True)
     logger = _ProgressLogger(
         log_dir=run_dir,
         cfg=runner.cfg,
