@@ -33,7 +33,11 @@ class _Env:
     num_envs, num_actions = NUM_ENVS, NUM_ACTIONS
 
 
-def _learner(seed: int, **algorithm: object) -> PPO:
+def _observations(device: str = "cpu") -> TensorDict:
+    return TensorDict({"policy": torch.randn(NUM_ENVS, OBS_DIM).to(device)}, batch_size=[NUM_ENVS])
+
+
+def _learner(seed: int, device: str = "cpu", **algorithm: object) -> PPO:
     """A cartpole-configured PPO with one rollout of made-up transitions in its storage."""
     agent_cfg = CartpolePPORunnerCfg()
     for key, value in algorithm.items():
@@ -41,14 +45,14 @@ def _learner(seed: int, **algorithm: object) -> PPO:
     cfg = agent_cfg.to_rsl_rl_dict(["policy"])
     cfg["multi_gpu"] = None
     torch.manual_seed(seed)
-    obs = TensorDict({"policy": torch.randn(NUM_ENVS, OBS_DIM)}, batch_size=[NUM_ENVS])
-    alg = PPO.construct_algorithm(obs, _Env(), cfg, "cpu")
+    obs = _observations(device)
+    alg = PPO.construct_algorithm(obs, _Env(), cfg, device)
     with torch.inference_mode():
         for _ in range(cfg["num_steps_per_env"]):
             alg.act(obs)
-            obs = TensorDict({"policy": torch.randn(NUM_ENVS, OBS_DIM)}, batch_size=[NUM_ENVS])
-            rewards, dones = torch.randn(NUM_ENVS), (torch.rand(NUM_ENVS) < 0.05).long()
-            alg.process_env_step(obs, rewards, dones, {"time_outs": torch.rand(NUM_ENVS) < 0.02})
+            obs = _observations(device)
+            rewards, dones = torch.randn(NUM_ENVS).to(device), (torch.rand(NUM_ENVS) < 0.05).long().to(device)
+            alg.process_env_step(obs, rewards, dones, {"time_outs": (torch.rand(NUM_ENVS) < 0.02).to(device)})
         alg.compute_returns(obs)
     return alg
 
@@ -167,3 +171,57 @@ def test_the_rollout_policy_is_graphed_only_where_a_cuda_graph_can_run():
         use_graphed_act(alg, True)
     with pytest.raises(ValueError, match="cannot be graphed: a CUDA graph needs a CUDA device"):
         GraphedAct(alg)
+
+
+needs_cuda = pytest.mark.skipif(not torch.cuda.is_available(), reason="needs a CUDA device")
+
+
+@needs_cuda
+def test_on_cuda_the_graphed_update_matches_rsl_rl_update():
+    reference, fast = _learner(0, "cuda"), _learner(0, "cuda")
+    fast.update = FastPPOUpdate(fast)
+    assert fast.update.cuda_graph
+    for i in range(3):  # the first update captures, the later ones replay
+        if i:
+            for alg in (reference, fast):
+                alg.storage.step = alg.storage.num_transitions_per_env
+        torch.manual_seed(100 + i)
+        ref_losses = reference.update()
+        torch.manual_seed(100 + i)
+        fast_losses = fast.update()
+        assert fast.learning_rate == pytest.approx(reference.learning_rate, rel=1e-5)
+        for name in ("value", "surrogate", "entropy"):
+            assert fast_losses[name] == pytest.approx(ref_losses[name], rel=1e-3, abs=1e-5)
+    assert fast.update.captures == 1
+    for name, value in _state(reference).items():
+        torch.testing.assert_close(_state(fast)[name], value, rtol=1e-3, atol=1e-5, msg=name)
+
+
+@needs_cuda
+def test_on_cuda_the_graphed_act_fills_the_transition_as_rsl_rl_act():
+    from simlab.rl.rsl_rl.graphed_act import GraphedAct
+
+    alg = _learner(0, "cuda")
+    graphed = GraphedAct(alg)
+    obs = _observations("cuda")
+    sampled = []
+    with torch.inference_mode():
+        for _ in range(3):
+            actions = graphed(obs)
+            t = alg.transition
+            assert t.observations is obs and actions is t.actions
+            sampled.append(actions.clone())
+            values, log_prob, params = (
+                t.values.clone(),
+                t.actions_log_prob.clone(),
+                [p.clone() for p in t.distribution_params],
+            )
+            alg.transition.clear()
+            alg.act(obs)  # rsl_rl's own on the same observations: the same values and distribution
+            torch.testing.assert_close(values, alg.transition.values)
+            for mine, theirs in zip(params, alg.transition.distribution_params):
+                torch.testing.assert_close(mine, theirs)
+            torch.testing.assert_close(log_prob, alg.actor.get_output_log_prob(sampled[-1]))
+            alg.transition.clear()
+    assert graphed.captures == 1
+    assert not torch.equal(sampled[0], sampled[1])  # each replay draws new noise
