@@ -36,3 +36,14 @@ def test_bench_physics_and_env_print_tables_and_json(tmp_path, capsys):
     assert physics["raw_steps_per_s"] > 0 and physics["scene_steps_per_s"] > 0
     assert env["env_steps_per_s"] > 0 and env["cuda_graph"] == "off"
     assert env["physics_steps_per_s"] == env["env_steps_per_s"] * 2  # cartpole decimation
+
+
+def test_bench_train_runs_the_ppo_update_asked_for(tmp_path):
+    rows = {}
+    for update in ("fast", "rsl_rl"):
+        out = tmp_path / f"{update}.json"
+        argv = ["train", "--device", "cpu", "--tasks", "simlab/Cartpole-v0", "--num_envs", "16", "--iterations", "1"]
+        assert main([*argv, "--ppo_update", update, "--json", str(out)]) == 0
+        (rows[update],) = json.loads(out.read_text())["results"]["train"]
+    assert rows["fast"]["ppo_update"] == "fast" and rows["fast"]["env_steps_per_s"] > 0
+    assert rows["rsl_rl"]["ppo_update"] == "rsl_rl" and rows["rsl_rl"]["rollout_policy"] == "eager"

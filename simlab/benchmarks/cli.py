@@ -69,6 +69,8 @@ TRAIN_COLUMNS = [
     ("s/iteration", "seconds_per_iteration", ".3f"),
     ("iterations", "iterations", "d"),
     ("GPU MB", "gpu_memory_mb", ".0f"),
+    ("PPO update", "ppo_update", ""),
+    ("rollout policy", "rollout_policy", ""),
 ]
 SOLVE_COLUMNS = [
     ("task", "task", ""),
@@ -128,6 +130,14 @@ def main(argv: list[str] | None = None) -> int:
         default="on",
         help="GPU fast path for env steps: replay each step as one CUDA graph (on), eager (off), or both",
     )
+    parser.add_argument(
+        "--ppo_update",
+        choices=("default", "fast", "rsl_rl"),
+        default="default",
+        help="train/solve: simlab's fast PPO update (one CUDA graph per update) and, on CUDA, the rollout's "
+        "policy as a CUDA graph; rsl_rl's own update and act; or the agent config's choice (agent.fast_update, "
+        "agent.graph_act: both on CUDA)",
+    )
     parser.add_argument("--json", default=None, help="write the results to this JSON file")
     args = parser.parse_args(argv)
 
@@ -153,6 +163,7 @@ def main(argv: list[str] | None = None) -> int:
             iterations=args.iterations,
             graphs={"on": [True], "off": [False], "both": [True, False]}[args.cuda_graph],
             solve_args=args,
+            fast_update={"default": None, "fast": True, "rsl_rl": False}[args.ppo_update],
         )
         _print_table(rows, columns)
         results[name] = rows

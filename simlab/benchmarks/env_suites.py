@@ -189,8 +189,13 @@ def bench_env(
     return row
 
 
-def bench_train(task: str, num_envs: int, device: str, iterations: int, cuda_graph: bool = True) -> dict:
-    """Wall time of rsl_rl PPO iterations (rollout + update), after one warm-up iteration."""
+def bench_train(
+    task: str, num_envs: int, device: str, iterations: int, cuda_graph: bool = True, fast_update: bool | None = None
+) -> dict:
+    """Wall time of rsl_rl PPO iterations (rollout + update), after one warm-up iteration.
+
+    ``fast_update``: False runs rsl_rl's own update and act, True simlab's fast update (and the act
+    graph on CUDA), None the agent config's choice."""
     from simlab.cli.libraries.rsl_rl import make_runner
     from simlab.tasks.utils import load_cfg_from_registry
 
@@ -198,6 +203,9 @@ def bench_train(task: str, num_envs: int, device: str, iterations: int, cuda_gra
     env = make_env(task, num_envs, device, cuda_graph)
     agent_cfg = load_cfg_from_registry(task, "rsl_rl_cfg_entry_point")
     agent_cfg.device = str(env.device)
+    if fast_update is not None:  # rsl_rl's own code (False) or simlab's fast paths (True; the act graph on CUDA)
+        agent_cfg.fast_update = fast_update
+        agent_cfg.graph_act = None if fast_update else False
     runner = make_runner(env, agent_cfg, log_dir=None)  # as `simlab train` builds it, without logging
     runner.learn(num_learning_iterations=1)
     synchronize(device)
@@ -215,6 +223,8 @@ def bench_train(task: str, num_envs: int, device: str, iterations: int, cuda_gra
         "env_steps_per_s": steps_per_iteration / seconds,
         "gpu_memory_mb": gpu_memory_mb(env.device, env.sim.physics),
         "cuda_graph": _graph_state(env),
+        "ppo_update": runner.update_kind,
+        "rollout_policy": runner.act_kind,
     }
     env.close()
     return row

@@ -63,7 +63,9 @@ def train(device: str, num_envs: list[int], tasks: list[str] | None, iterations:
                 _guarded(
                     rows,
                     {"task": task, "device": device, "num_envs": n},
-                    lambda task=task, n=n, graph=graph: bench_train(task, n, device, iterations, graph),
+                    lambda task=task, n=n, graph=graph: bench_train(
+                        task, n, device, iterations, graph, kw.get("fast_update")
+                    ),
                 )
     return rows
 
@@ -81,7 +83,9 @@ SOLVE_FLAGS = (
 )
 
 
-def solve(device: str, num_envs: list[int | None], tasks: list[str] | None, solve_args, **_) -> list[dict]:
+def solve(
+    device: str, num_envs: list[int | None], tasks: list[str] | None, solve_args, fast_update=None, **_
+) -> list[dict]:
     """Time to a solved task: one row per task and env count (``None``: the task's own).
 
     Its start-up share counts from the process start, so one measurement runs here and more than
@@ -97,9 +101,26 @@ def solve(device: str, num_envs: list[int | None], tasks: list[str] | None, solv
     _guarded(
         rows,
         {"task": task, "device": device, "num_envs": n},
-        lambda: time_to_policy(task, device=device, num_envs=n, **{flag: getattr(a, flag) for flag in SOLVE_FLAGS}),
+        lambda: time_to_policy(
+            task,
+            device=device,
+            num_envs=n,
+            overrides=_fast_path_overrides(fast_update),
+            **{flag: getattr(a, flag) for flag in SOLVE_FLAGS},
+        ),
     )
     return rows
+
+
+def _fast_path_overrides(fast_update: bool | None) -> list[str]:
+    """``--ppo_update``: rsl_rl's own update and act (False), or simlab's fast update and act graph (True)."""
+    if fast_update is None:
+        return []
+    return (
+        ["agent.fast_update=true", "agent.graph_act=null"]
+        if fast_update
+        else ["agent.fast_update=false", "agent.graph_act=false"]
+    )
 
 
 def _solve_in_child(task: str, num_envs: int | None, device: str, a) -> dict:
@@ -116,6 +137,7 @@ def _solve_in_child(task: str, num_envs: int | None, device: str, a) -> dict:
                 argv += [f"--{flag}", str(getattr(a, flag))]
         if num_envs is not None:
             argv += ["--num_envs", str(num_envs)]
+        argv += ["--ppo_update", a.ppo_update]
         proc = subprocess.run(argv)
         if proc.returncode != 0 or not os.path.isfile(out):
             return {"task": task, "device": device, "num_envs": num_envs, "error": f"exit code {proc.returncode}"}

@@ -112,6 +112,12 @@ def load_configs(args: argparse.Namespace, overrides: list[str], with_agent: boo
         env_cfg.sim.device = resolve_device(args.device)
     else:
         env_cfg.sim.device = resolve_device(env_cfg.sim.device)
+    envs_set = getattr(args, "num_envs", None) is not None or any(
+        text.split("=", 1)[0].lstrip("+~") == "env.scene.num_envs" for text in overrides
+    )
+    cpu_envs = getattr(env_cfg.scene, "num_envs_cpu", None)
+    if cpu_envs is not None and env_cfg.sim.device == "cpu" and not envs_set:
+        env_cfg.scene.num_envs = cpu_envs  # the task's CPU default (docs/performance.md, "Time to policy")
     return env_cfg, agent_cfg
 
 

@@ -17,6 +17,10 @@ class InteractiveSceneCfg:
     """
 
     num_envs: int = MISSING
+    num_envs_cpu: int | None = None
+    """simlab: the env count ``simlab train`` / ``play`` use instead of ``num_envs`` when the simulation
+    runs on the CPU and neither ``--num_envs`` nor an ``env.scene.num_envs=`` override sets one (a
+    task's CPU default, chosen by ``simlab bench solve``; None: ``num_envs`` on every device)."""
     env_spacing: float = MISSING
     """Distance between environment origins on the grid [m]."""
     lazy_sensor_update: bool = True

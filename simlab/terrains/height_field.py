@@ -10,7 +10,6 @@ from __future__ import annotations
 from collections.abc import Callable
 
 import numpy as np
-from scipy.ndimage import zoom
 
 from simlab.utils import configclass
 
@@ -65,6 +64,8 @@ def random_uniform_terrain(difficulty: float, cfg: HfRandomUniformTerrainCfg, rn
         coarse = rng.choice(levels, size=(max(2, round(nx / ratio)), max(2, round(ny / ratio))))
         if coarse.shape == (nx, ny):
             return coarse
+        from scipy.ndimage import zoom  # 1 s to import; only rough terrains need it
+
         return zoom(coarse, (nx / coarse.shape[0], ny / coarse.shape[1]), order=1, grid_mode=False)[:nx, :ny]
 
     return height_field_tile(cfg, interior)

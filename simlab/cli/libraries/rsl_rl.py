@@ -27,6 +27,8 @@ from rsl_rl.runners import OnPolicyRunner  # noqa: E402
 from rsl_rl.utils.logger import Logger  # noqa: E402
 
 from simlab.rl.rsl_rl import RslRlOnPolicyRunnerCfg, RslRlVecEnvWrapper  # noqa: E402
+from simlab.rl.rsl_rl.fast_update import FastPPOUpdate, fast_update_unsupported  # noqa: E402
+from simlab.rl.rsl_rl.graphed_act import GraphedAct, graphed_act_unsupported  # noqa: E402
 
 
 def experiment_name(agent_cfg: RslRlOnPolicyRunnerCfg, task: str) -> str:
@@ -141,7 +143,41 @@ def make_runner(env: gym.Env, agent_cfg: RslRlOnPolicyRunnerCfg, log_dir: str | 
     cfg["check_for_nan"] = False
     with contextlib.redirect_stdout(io.StringIO()):  # it prints the models; params/agent.yaml has them
         runner = _Runner(wrapped, cfg, log_dir=log_dir, device=agent_cfg.device)
+    runner.update_kind = use_fast_update(runner.alg, agent_cfg.fast_update)
+    runner.act_kind = use_graphed_act(runner.alg, agent_cfg.graph_act)
     return runner
+
+
+def use_graphed_act(alg: Any, setting: bool | None) -> str:
+    """Replay rsl_rl's ``alg.act`` as a CUDA graph where ``setting`` (agent.graph_act) asks; says which runs."""
+    if setting is False:
+        return "eager"
+    reason = graphed_act_unsupported(alg)
+    if reason is not None:
+        if setting:
+            raise ValueError(f"agent.graph_act=true, but {reason}. Set agent.graph_act=null or false.")
+        return f"eager ({reason})"
+    alg.act = GraphedAct(alg)
+    return "CUDA graph"
+
+
+def use_fast_update(alg: Any, setting: bool | None) -> str:
+    """Give ``alg`` simlab's fast PPO update where ``setting`` (agent.fast_update) asks; says which runs."""
+    if setting is False:
+        return "rsl_rl"
+    if setting is None and torch.device(alg.device).type != "cuda":
+        # on the CPU it is as fast as rsl_rl's (measured in docs/performance.md): keep the library's own
+        return "rsl_rl (the fast update pays on CUDA; agent.fast_update=true runs it on the CPU too)"
+    reason = fast_update_unsupported(alg)
+    if reason is not None:
+        if setting:
+            raise ValueError(
+                f"agent.fast_update=true, but simlab's fast PPO update does not cover {reason}. "
+                "Set agent.fast_update=null (use it where it applies) or false (rsl_rl's own update)."
+            )
+        return f"rsl_rl ({reason})"
+    alg.update = FastPPOUpdate(alg)
+    return "fast (CUDA graph)" if alg.update.cuda_graph else "fast"
 
 
 def train(
@@ -153,6 +189,8 @@ def train(
 ) -> None:
     """Train; ``run_dir`` None (ranks other than 0 of a distributed run) writes nothing."""
     runner = make_runner(env, agent_cfg, run_dir)
+    if run_dir is not None:
+        print(f"[simlab] PPO update: {runner.update_kind}; policy in the rollout: {runner.act_kind}", flush=True)
     logger = _ProgressLogger(
         log_dir=run_dir,
         cfg=runner.cfg,

@@ -136,6 +136,16 @@ class RslRlOnPolicyRunnerCfg:
     clip_actions: float | None = None
     """Clip actions to [-clip_actions, clip_actions] in the wrapper; None does not clip."""
     check_for_nan: bool = True
+    fast_update: bool | None = None
+    """simlab's PPO update (:mod:`simlab.rl.rsl_rl.fast_update`): rsl_rl's update math with no host
+    read per mini-batch, replayed as one CUDA graph on the GPU. None: on CUDA wherever it covers
+    the config (feed-forward models, Adam/AdamW, no RND/symmetry/multi-GPU), else rsl_rl's own
+    update (on the CPU it gains nothing); True: used, also on the CPU (an error says what it does not
+    cover); False: rsl_rl's own ``PPO.update``."""
+    graph_act: bool | None = None
+    """rsl_rl's ``alg.act`` (the policy's sample, value and log-probability each rollout step)
+    replayed as one CUDA graph (:mod:`simlab.rl.rsl_rl.graphed_act`). None: on CUDA for feed-forward
+    models; True: required (an error says why not); False: eager."""
     actor: RslRlMLPModelCfg = MISSING
     critic: RslRlMLPModelCfg = MISSING
     algorithm: RslRlPpoAlgorithmCfg = MISSING
@@ -163,7 +173,7 @@ class RslRlOnPolicyRunnerCfg:
         cfg = _convert_deprecated(self)
         cfg.validate()
         d = cfg.to_dict()
-        for key in ("policy", "empirical_normalization"):
+        for key in ("policy", "empirical_normalization", "fast_update", "graph_act"):
             d.pop(key, None)
         if not d["obs_groups"]:
             groups = obs_group_names or ["policy"]
