@@ -225,3 +225,20 @@ def test_on_cuda_the_graphed_act_fills_the_transition_as_rsl_rl_act():
             alg.transition.clear()
     assert graphed.captures == 1
     assert not torch.equal(sampled[0], sampled[1])  # each replay draws new noise
+
+
+def test_capturable_distributions_draw_the_same_normal_and_restore_torch():
+    from torch.distributions import Distribution, Normal
+
+    from simlab.rl.rsl_rl.capturable import capturable_distributions
+
+    loc, scale = torch.tensor([1.0, -2.0]), torch.tensor([0.5, 3.0])
+    plain_sample = Normal.sample
+    with capturable_distributions():
+        draws = Normal(loc, scale).sample((200_000,))
+        Normal(loc, -scale)  # no argument check inside the block (it would read back to the host)
+    torch.testing.assert_close(draws.mean(0), loc, atol=0.03, rtol=0)
+    torch.testing.assert_close(draws.std(0), scale, atol=0.03, rtol=0)
+    assert Normal.sample is plain_sample and Distribution._validate_args
+    with pytest.raises(ValueError):
+        Normal(loc, -scale)

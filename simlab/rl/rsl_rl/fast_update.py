@@ -34,6 +34,8 @@ from torch import nn
 
 from simlab.rl.utils import require
 
+from .capturable import capturable_distributions
+
 require("rsl_rl")
 TensorDict = require("tensordict").TensorDict
 from rsl_rl.algorithms import PPO  # noqa: E402
@@ -221,7 +223,11 @@ class FastPPOUpdate:
         graph = torch.cuda.CUDAGraph()
         self.alg.optimizer.zero_grad()
         try:
-            with self._optimizer_reads_lr_tensor(), torch.cuda.graph(graph, capture_error_mode="thread_local"):
+            with (
+                self._optimizer_reads_lr_tensor(),
+                capturable_distributions(),
+                torch.cuda.graph(graph, capture_error_mode="thread_local"),
+            ):
                 self._sums.zero_()
                 self._run(batch, self._indices, mini_batch_size)
         except RuntimeError as error:

@@ -19,6 +19,8 @@ import torch
 
 from simlab.rl.utils import require
 
+from .capturable import capturable_distributions
+
 require("rsl_rl")
 TensorDict = require("tensordict").TensorDict
 
@@ -72,11 +74,12 @@ class GraphedAct:
             side.wait_stream(torch.cuda.current_stream(self.device))
             with torch.cuda.stream(side):
                 for _ in range(2):
-                    self._eager_act(self._obs)
+                    with capturable_distributions():
+                        self._eager_act(self._obs)
             torch.cuda.current_stream(self.device).wait_stream(side)
         graph = torch.cuda.CUDAGraph()
         try:
-            with torch.cuda.graph(graph, capture_error_mode="thread_local"):
+            with capturable_distributions(), torch.cuda.graph(graph, capture_error_mode="thread_local"):
                 self._eager_act(self._obs)
         except RuntimeError as error:
             raise RuntimeError(
