@@ -233,7 +233,8 @@ def test_capturable_distributions_draw_the_same_normal_and_restore_torch():
     from simlab.rl.rsl_rl.capturable import capturable_distributions
 
     loc, scale = torch.tensor([1.0, -2.0]), torch.tensor([0.5, 3.0])
-    plain_sample = Normal.sample
+    plain_sample, validating = Normal.sample, Distribution._validate_args
+    Distribution.set_default_validate_args(True)  # rsl_rl's models may have turned it off
     with capturable_distributions():
         draws = Normal(loc, scale).sample((200_000,))
         Normal(loc, -scale)  # no argument check inside the block (it would read back to the host)
@@ -242,3 +243,4 @@ def test_capturable_distributions_draw_the_same_normal_and_restore_torch():
     assert Normal.sample is plain_sample and Distribution._validate_args
     with pytest.raises(ValueError):
         Normal(loc, -scale)
+    Distribution.set_default_validate_args(validating)
