@@ -14,6 +14,7 @@ its own. Distributions are ``"uniform"``, ``"log_uniform"`` or ``"gaussian"``; o
 from __future__ import annotations
 
 import contextlib
+import functools
 from typing import TYPE_CHECKING, Literal
 
 import torch
@@ -57,10 +58,18 @@ def _rows(values: torch.Tensor, env_ids: torch.Tensor | slice, cols) -> torch.Te
 
 
 def _range_tensor(ranges: dict[str, tuple[float, float]], device) -> torch.Tensor:
+    """(6, 2) low/high per pose key. Made once per config and device: a step being captured as a
+    CUDA graph may not copy from the host, and the ranges never change."""
     unknown = [k for k in ranges if k not in _POSE_KEYS]
     if unknown:
         raise ValueError(f"unknown range key(s) {unknown}; allowed: {list(_POSE_KEYS)}")
-    return torch.tensor([ranges.get(k, (0.0, 0.0)) for k in _POSE_KEYS], dtype=torch.float32, device=device)
+    rows = tuple(tuple(float(v) for v in ranges.get(k, (0.0, 0.0))) for k in _POSE_KEYS)
+    return _constant(rows, str(device))
+
+
+@functools.lru_cache(maxsize=256)
+def _constant(rows: tuple[tuple[float, ...], ...], device: str) -> torch.Tensor:
+    return torch.tensor(rows, dtype=torch.float32, device=device)
 
 
 def _sample(distribution: str, params: tuple[float, float], shape, device) -> torch.Tensor:
