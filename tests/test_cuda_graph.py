@@ -331,7 +331,8 @@ def test_graphed_and_eager_steps_agree_for_every_task(task):
         first_noise = next(i for i, n in enumerate(noise) if n > 0)
         # until the eager runs' own noise starts, the graphed run is at most at that noise's level
         # (the contact noise appears at a random step, in either pair)
-        assert max(drift[:first_noise]) <= 1e-5, "graphed and eager differ before the physics' own noise starts"
+        # (from the very first step in contact-rich tasks: then there is no noise-free window)
+        assert max(drift[:first_noise], default=0.0) <= 1e-5, "graphed and eager differ before the physics' noise"
         # Past that, contact noise grows chaotically (a done can flip), so single trajectories
         # cannot be compared: the runs must agree in what they add up to.
         stats_g, stats_e = _run_stats(graphed), _run_stats(eager)

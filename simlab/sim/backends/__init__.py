@@ -31,11 +31,13 @@ def make_backend(
     num_threads: int = 0,
     nconmax: int | None = None,
     njmax: int | None = None,
+    **cuda_options: Any,
 ) -> PhysicsBackend:
     """The backend for ``device`` and ``engine`` (``SimulationCfg.engine``).
 
     ``"cpu"`` runs MuJoCo through mjbatch (``num_threads`` workers), ``"cuda"`` / ``"cuda:N"`` runs
-    MuJoCo Warp (``nconmax`` / ``njmax`` contact and constraint buffers per world); engine
+    MuJoCo Warp (``nconmax`` / ``njmax`` contact and constraint buffers per world, and any other
+    option of :class:`CudaBackend`, e.g. ``overflow_check_interval``); engine
     ``"mujoco_warp"`` with ``"cpu"`` runs MuJoCo Warp on Warp's CPU device.
     """
     if engine not in ENGINES:
@@ -53,7 +55,7 @@ def make_backend(
     from .cuda import CudaBackend, require_cuda_backend
 
     require_cuda_backend(device)  # clear RuntimeError with the install hint
-    return CudaBackend(model, num_envs, device=device, nconmax=nconmax, njmax=njmax)
+    return CudaBackend(model, num_envs, device=device, nconmax=nconmax, njmax=njmax, **cuda_options)
 
 
 def __getattr__(name: str) -> Any:

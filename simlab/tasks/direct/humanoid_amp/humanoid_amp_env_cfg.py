@@ -98,7 +98,7 @@ class HumanoidAmpEnvCfg(DirectRLEnvCfg):
 
     # simulation: 120 Hz physics, 30 Hz control (Isaac Lab: 60 Hz x 2; the stiff PD drives of the
     # light MuJoCo limbs need the shorter step)
-    sim: SimulationCfg = SimulationCfg(dt=1 / 120, render_interval=decimation, mujoco=MujocoCfg(nconmax=64, njmax=320))
+    sim: SimulationCfg = SimulationCfg(dt=1 / 120, render_interval=decimation, mujoco=MujocoCfg(nconmax=96, njmax=640))
     terrain = GroundPlaneCfg(
         physics_material=sim_utils.RigidBodyMaterialCfg(static_friction=1.0, dynamic_friction=1.0, restitution=0.0)
     )

@@ -154,3 +154,7 @@ class LiftEnvCfg(ManagerBasedRLEnvCfg):
         self.episode_length_s = 5.0
         self.sim.dt = 0.01  # 100 Hz
         self.sim.render_interval = self.decimation
+        # Contact buffers per world on the GPU: the estimate from the model (82 constraint rows)
+        # overflowed on an H100 when the IK-driven hand pressed cube and fingers into the table.
+        self.sim.mujoco.nconmax = 48
+        self.sim.mujoco.njmax = 256
