@@ -80,6 +80,8 @@ def test_unknown_task_names_closest():
     with pytest.raises(ValueError, match="Cartpole-v0") as e:
         load_cfg_from_registry("simlab/Cartpol-v0", "env_cfg_entry_point")
     assert "Closest" in str(e.value)
+    with pytest.raises(ValueError, match="simlab's is 'simlab/Velocity-Flat-Unitree-Go2-v0'"):
+        load_cfg_from_registry("Isaac-Velocity-Flat-Unitree-Go2-v0", "env_cfg_entry_point")
 
 
 def test_missing_entry_point_lists_available():

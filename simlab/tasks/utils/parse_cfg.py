@@ -38,6 +38,9 @@ def task_spec(task_name: str) -> gym.envs.registration.EnvSpec:
         ids = registered_task_ids()
         close = closest_matches(name, ids, n=3, cutoff=0.3)
         hint = f" Closest: {close}." if close else ""
+        simlab_id = "simlab/" + name.removeprefix("Isaac-")
+        if name.startswith("Isaac-") and simlab_id in ids:
+            hint = f" That is Isaac Lab's id; simlab's is '{simlab_id}' (scripts/reinforcement_learning/ takes either)."
         raise ConfigError(f"Unknown task '{task_name}'.{hint} Registered tasks: {ids} (see `simlab list`).")
     return gym.spec(name)
 
