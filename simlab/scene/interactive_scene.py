@@ -39,17 +39,10 @@ def grid_origins(num_envs: int, spacing: float, device) -> torch.Tensor:
 
 def check_scene_cfg(cfg: InteractiveSceneCfg) -> None:
     """Refuse the scene settings simlab cannot honour (``lazy_sensor_update`` and ``clone_in_fabric``
-    change only speed in Isaac Lab and are accepted with either value)."""
+    change only speed in Isaac Lab and are accepted with either value). ``replicate_physics=False``
+    is accepted: every simlab env is a world of one compiled model either way, and what Isaac Lab
+    needs it for, per-env ``prestartup`` randomizations (scale, color), are per-world model fields."""
     owner = type(cfg).__name__
-    refuse_unless_default(
-        owner,
-        "replicate_physics",
-        cfg.replicate_physics,
-        True,
-        "every simlab env is a copy of one compiled MuJoCo model, so envs cannot hold different assets",
-        "Leave replicate_physics=True; vary masses, frictions, gains or scales per env with randomization events"
-        " (EventTermCfg, e.g. mdp.randomize_rigid_body_mass).",
-    )
     refuse_unless_default(
         owner,
         "filter_collisions",

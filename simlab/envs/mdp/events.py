@@ -17,6 +17,7 @@ import contextlib
 import functools
 from typing import TYPE_CHECKING, Literal
 
+import mujoco
 import torch
 
 import simlab.utils.math as math_utils
@@ -459,3 +460,107 @@ def randomize_physics_scene_gravity(
     high = torch.tensor(gravity_distribution_params[1], dtype=torch.float32, device=env.device)
     gravity = _randomize(default, (low, high), operation, distribution)
     env.sim.physics.model_field("opt.gravity")[env_ids] = gravity
+
+
+# -- per-env shape and look (Isaac Lab's USD-level, 'prestartup' randomizations) -----------------------
+
+_SCALABLE_GEOMS = {int(mujoco.mjtGeom.mjGEOM_BOX): "box", int(mujoco.mjtGeom.mjGEOM_ELLIPSOID): "ellipsoid"}
+
+
+def _asset_geoms(model: mujoco.MjModel, asset, asset_cfg: SceneEntityCfg) -> list[int]:
+    """The MuJoCo geoms on the selected bodies of ``asset``."""
+    local = _cols(asset_cfg.body_ids, asset.num_bodies, "cpu").tolist()
+    bodies = {int(asset._body_ids[i]) for i in local}
+    return [g for g in range(model.ngeom) if int(model.geom_bodyid[g]) in bodies]
+
+
+def _xyz_range(name: str, value: tuple[float, float] | dict[str, tuple[float, float]], keys: str) -> torch.Tensor:
+    """(3, 2) low/high per key of ``keys``: one range for all, or a dict keyed by them (missing: 1)."""
+    if isinstance(value, dict):
+        unknown = [k for k in value if k not in keys]
+        if unknown:
+            raise ValueError(f"{name}: unknown key(s) {unknown}; allowed: {list(keys)}")
+        return torch.tensor([value.get(k, (1.0, 1.0)) for k in keys], dtype=torch.float32)
+    return torch.tensor([value] * 3, dtype=torch.float32)
+
+
+def randomize_rigid_body_scale(
+    env: ManagerBasedEnv,
+    env_ids: torch.Tensor | None,
+    scale_range: tuple[float, float] | dict[str, tuple[float, float]],
+    asset_cfg: SceneEntityCfg,
+    relative_child_path: str | None = None,
+) -> None:
+    """Per-env scale of the asset's geoms: one uniform ``(x, y, z)`` sample per env scales their
+    sizes, positions in the body and bounding volumes (per-world model fields), like Isaac Lab's
+    scaling of the asset's USD prim. Masses and inertias keep their configured values.
+
+    Box and ellipsoid geoms take any scale; other geom types are refused (a sphere scaled unevenly
+    is no sphere). Applied once the model is compiled (at once if it already is), so it works as a
+    ``prestartup`` term. simlab's offscreen renderer draws the shared model's sizes.
+    """
+    if relative_child_path is not None:
+        raise ValueError("randomize_rigid_body_scale: relative_child_path names a USD prim; simlab scales every geom")
+    ranges = _xyz_range("randomize_rigid_body_scale scale_range", scale_range, "xyz")
+
+    def scale_geoms(sim) -> None:
+        asset = env.scene[asset_cfg.name]
+        geoms = _asset_geoms(sim.model, asset, asset_cfg)
+        others = sorted({int(sim.model.geom_type[g]) for g in geoms} - set(_SCALABLE_GEOMS))
+        if others:
+            names = [mujoco.mjtGeom(t).name for t in others]
+            raise ValueError(
+                f"randomize_rigid_body_scale: asset '{asset_cfg.name}' has geoms of type {names};"
+                f" only {list(_SCALABLE_GEOMS.values())} can be scaled per env"
+            )
+        ids = _ids(env, env_ids)
+        low, high = ranges[:, 0].to(env.device), ranges[:, 1].to(env.device)
+        scale = math_utils.sample_uniform(low, high, (len(ids), 3), env.device)[:, None, :]
+        cols = torch.tensor(geoms, dtype=torch.long, device=env.device)
+        physics = sim.physics
+        for field in ("geom_size", "geom_pos"):
+            default = torch.as_tensor(getattr(sim.model, field), dtype=torch.float32, device=env.device)[cols]
+            physics.model_field(field)[ids[:, None], cols] = default * scale
+        # the broad phase must still see the grown geom: bounding sphere and box grow with it
+        rbound = torch.as_tensor(sim.model.geom_rbound, dtype=torch.float32, device=env.device)[cols]
+        physics.model_field("geom_rbound")[ids[:, None], cols] = rbound * scale.amax(dim=-1)
+        aabb = torch.as_tensor(sim.model.geom_aabb, dtype=torch.float32, device=env.device)[cols]
+        physics.model_field("geom_aabb")[ids[:, None], cols] = aabb * scale.repeat(1, 1, 2)
+
+    env.sim.add_reset_callback(scale_geoms)
+
+
+def randomize_visual_color(
+    env: ManagerBasedEnv,
+    env_ids: torch.Tensor | None,
+    colors: list[tuple[float, float, float]] | dict[str, tuple[float, float]],
+    asset_cfg: SceneEntityCfg,
+    mesh_name: str = "",
+    event_name: str = "",
+) -> None:
+    """Per-env RGB color of the asset's geoms (per-world ``geom_rgba``): a uniform sample per channel
+    from ``{"r": (lo, hi), "g": ..., "b": ...}``, or one of a list of colors. ``mesh_name`` and
+    ``event_name`` name USD / Replicator objects and are not used. Applied once the model is compiled,
+    so it works as a ``prestartup`` term. simlab's offscreen renderer draws the shared model's colors.
+    """
+    if isinstance(colors, dict):
+        ranges = _xyz_range("randomize_visual_color colors", colors, "rgb")
+        palette = None
+    else:
+        palette = torch.tensor(colors, dtype=torch.float32)
+        if palette.ndim != 2 or palette.shape[1] != 3 or len(palette) == 0:
+            raise ValueError(
+                f"randomize_visual_color: colors is a dict of r/g/b ranges or a list of RGB triples, got {colors!r}"
+            )
+
+    def color_geoms(sim) -> None:
+        geoms = torch.tensor(_asset_geoms(sim.model, env.scene[asset_cfg.name], asset_cfg), device=env.device)
+        ids = _ids(env, env_ids)
+        if palette is None:
+            low, high = ranges[:, 0].to(env.device), ranges[:, 1].to(env.device)
+            rgb = math_utils.sample_uniform(low, high, (len(ids), 3), env.device)
+        else:
+            rgb = palette.to(env.device)[torch.randint(0, len(palette), (len(ids),), device=env.device)]
+        sim.physics.model_field("geom_rgba")[ids[:, None], geoms, :3] = rgb[:, None, :]
+
+    env.sim.add_reset_callback(color_geoms)
