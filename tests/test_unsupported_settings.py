@@ -156,7 +156,6 @@ def test_velocity_command_debug_vis_draws_the_commanded_velocity():
 @pytest.mark.parametrize(
     ("field", "message"),
     [
-        ("replicate_physics", r"replicate_physics=False .*one compiled MuJoCo model.*randomization events"),
         ("filter_collisions", r"filter_collisions=False .*cannot collide with each other"),
     ],
 )

@@ -1,0 +1,95 @@
+"""Per-env scale and color of an asset ('prestartup' events): per-world model fields the physics uses."""
+
+from __future__ import annotations
+
+import torch
+
+import simlab.envs.mdp as mdp
+import simlab.sim as sim_utils
+from simlab.assets import RigidObjectCfg
+from simlab.envs import ManagerBasedEnv, ManagerBasedEnvCfg
+from simlab.managers import EventTermCfg as EventTerm
+from simlab.managers import ObservationGroupCfg as ObsGroup
+from simlab.managers import ObservationTermCfg as ObsTerm
+from simlab.managers import SceneEntityCfg
+from simlab.scene import InteractiveSceneCfg
+from simlab.terrains import TerrainImporterCfg
+from simlab.utils import configclass
+
+CUBE = SceneEntityCfg("cube")
+
+
+@configclass
+class CubeSceneCfg(InteractiveSceneCfg):
+    terrain = TerrainImporterCfg(prim_path="/World/ground", terrain_type="plane")
+    cube = RigidObjectCfg(
+        prim_path="{ENV_REGEX_NS}/cube",
+        spawn=sim_utils.CuboidCfg(
+            size=(0.2, 0.2, 0.2),
+            rigid_props=sim_utils.RigidBodyPropertiesCfg(),
+            mass_props=sim_utils.MassPropertiesCfg(mass=1.0),
+            collision_props=sim_utils.CollisionPropertiesCfg(),
+        ),
+        init_state=RigidObjectCfg.InitialStateCfg(pos=(0.0, 0.0, 0.5)),
+    )
+
+
+@configclass
+class ObservationsCfg:
+    @configclass
+    class PolicyCfg(ObsGroup):
+        height = ObsTerm(func=mdp.root_pos_w, params={"asset_cfg": CUBE})
+
+    policy: PolicyCfg = PolicyCfg()
+
+
+@configclass
+class EventCfg:
+    scale = EventTerm(
+        func=mdp.randomize_rigid_body_scale,
+        mode="prestartup",
+        params={"scale_range": {"x": (0.5, 1.5), "y": (0.5, 1.5), "z": (0.5, 1.5)}, "asset_cfg": CUBE},
+    )
+    color = EventTerm(
+        func=mdp.randomize_visual_color,
+        mode="prestartup",
+        params={"colors": [(1.0, 0.0, 0.0), (0.0, 0.0, 1.0)], "asset_cfg": CUBE, "mesh_name": "geometry/mesh"},
+    )
+
+
+@configclass
+class ActionsCfg:
+    pass
+
+
+@configclass
+class CubeEnvCfg(ManagerBasedEnvCfg):
+    scene = CubeSceneCfg(num_envs=6, env_spacing=2.0, replicate_physics=False)
+    observations = ObservationsCfg()
+    actions = ActionsCfg()
+    events = EventCfg()
+
+    def __post_init__(self):
+        self.decimation = 5
+        self.sim.dt = 0.004
+        self.sim.device = "cpu"
+
+
+def test_scaled_cubes_come_to_rest_on_their_own_half_height():
+    env = ManagerBasedEnv(CubeEnvCfg())
+    try:
+        env.reset()
+        physics = env.sim.physics
+        cube = env.scene["cube"]
+        geom = int(torch.nonzero(torch.as_tensor(env.sim.model.geom_bodyid) == cube._body_ids[0])[0])
+        half = physics.model_field("geom_size")[:, geom].clone()  # (num_envs, 3) half sizes
+        scale = half / 0.1
+        assert ((scale >= 0.5) & (scale <= 1.5)).all() and scale[:, 2].std() > 0.05  # each env its own
+        rgb = physics.model_field("geom_rgba")[:, geom, :3]
+        assert all(row.tolist() in ([1.0, 0.0, 0.0], [0.0, 0.0, 1.0]) for row in rgb)
+        for _ in range(60):  # 1.2 s: dropped from 0.5 m, each cube lands on its own face
+            env.step(torch.zeros(env.num_envs, 0))
+        rest_height = cube.data.root_pos_w[:, 2]
+        assert torch.allclose(rest_height, half[:, 2], atol=5e-3), (rest_height, half[:, 2])
+    finally:
+        env.close()
