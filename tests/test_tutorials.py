@@ -85,6 +85,6 @@ def test_quadruped_base_env_tutorial_stands_anymal_on_rough_terrain():
     assert out.count("[INFO]: Resetting environment...") == 1
     heights = [float(h) for h in re.findall(r"Base height above terrain: ([-\d.]+)", out)]
     assert len(heights) == 150
-    # the base starts 0.6 m up and settles on its legs holding the default pose (no policy given):
-    # above the terrain the height scanner sees, never on it
-    assert 0.4 < heights[0] < 0.7 and min(heights) > 0.2, (heights[0], min(heights))
+    # the base starts 0.6 m up; holding the default pose (no policy given) the legs sag under
+    # ANYdrive's 40 N m/rad PD gains (to about 0.22 m here) but keep the base above the scanned terrain
+    assert 0.4 < heights[0] < 0.7 and min(heights) > 0.15, (heights[0], min(heights))
