@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import pytest
 import torch
 
 import simlab.envs.mdp as mdp
@@ -75,8 +76,13 @@ class CubeEnvCfg(ManagerBasedEnvCfg):
         self.sim.device = "cpu"
 
 
-def test_scaled_cubes_come_to_rest_on_their_own_half_height():
-    env = ManagerBasedEnv(CubeEnvCfg())
+@pytest.mark.parametrize("engine", ["mujoco", "mujoco_warp"])  # MuJoCo Warp on the CPU runs the GPU backend
+def test_scaled_cubes_come_to_rest_on_their_own_half_height(engine):
+    if engine == "mujoco_warp":
+        pytest.importorskip("mujoco_warp")
+    cfg = CubeEnvCfg()
+    cfg.sim.engine = engine
+    env = ManagerBasedEnv(cfg)
     try:
         env.reset()
         physics = env.sim.physics
