@@ -99,3 +99,32 @@ def test_scaled_cubes_come_to_rest_on_their_own_half_height(engine):
         assert torch.allclose(rest_height, half[:, 2], atol=5e-3), (rest_height, half[:, 2])
     finally:
         env.close()
+
+
+def test_renders_draw_each_env_with_its_own_color_and_size():
+    from simlab.sim.renderer import OffscreenRenderer
+
+    env = ManagerBasedEnv(CubeEnvCfg())
+    try:
+        env.reset()
+        for _ in range(60):  # the cubes come to rest
+            env.step(torch.zeros(env.num_envs, 0))
+        physics = env.sim.physics
+        geom = int(torch.nonzero(torch.as_tensor(env.sim.model.geom_bodyid) == env.scene["cube"]._body_ids[0])[0])
+        rgb = physics.model_field("geom_rgba")[:, geom, :3]
+        volume = physics.model_field("geom_size")[:, geom].prod(dim=-1)
+        renderer = OffscreenRenderer(env.sim.model, 96, 96, max_envs=1)
+        pixels = []
+        for env_id in range(env.num_envs):  # each env alone, seen from the same place over its cube
+            cube = (env.scene["cube"].data.root_pos_w[env_id] - env.scene.env_origins[env_id]).numpy()  # env frame
+            image = renderer.render(physics, [env_id], [[0.0, 0.0, 0.0]], eye=cube + [0.0, -0.8, 0.8], lookat=cube)
+            red, blue = image[..., 0].astype(int), image[..., 2].astype(int)
+            own, other = (red, blue) if rgb[env_id, 0] > 0.5 else (blue, red)
+            drawn = own > other + 40  # the cube's pixels, in its own color
+            assert drawn.sum() > 50 and (other > own + 40).sum() == 0, env_id
+            pixels.append(int(drawn.sum()))
+        renderer.close()
+        order = torch.argsort(volume)
+        assert pixels[int(order[-1])] > pixels[int(order[0])]  # the largest cube covers more of the image
+    finally:
+        env.close()

@@ -66,6 +66,38 @@ def gather_env_states(physics, env_ids: Sequence[int]) -> dict[str, np.ndarray]:
     return states
 
 
+# Geom fields an event may set per env (mdp.randomize_visual_color / randomize_rigid_body_scale)
+_LOOK_FIELDS = ("geom_rgba", "geom_size", "geom_pos")
+# the geom types whose drawn size (mjvGeom.size) is the model's geom_size
+_SIZED_AS_MODEL = (int(mujoco.mjtGeom.mjGEOM_BOX), int(mujoco.mjtGeom.mjGEOM_ELLIPSOID))
+
+
+def gather_env_looks(physics, env_ids: Sequence[int]) -> dict[str, np.ndarray]:
+    """The per-world geom colors, sizes and positions of the envs ``env_ids``; a field no env has
+    its own of is left out (the model's is drawn)."""
+    looks = {}
+    for name in _LOOK_FIELDS:
+        field = physics.per_world_model_field(name)
+        if field is not None:
+            looks[name] = field[torch.as_tensor(list(env_ids), dtype=torch.long, device=field.device)].cpu().numpy()
+    return looks
+
+
+def _restyle(model: mujoco.MjModel, data: mujoco.MjData, geoms, looks: dict[str, np.ndarray], row: int) -> None:
+    """Draw the model geoms among ``geoms`` (mjvGeoms of one env) with that env's own colors and sizes."""
+    for geom in geoms:
+        if geom.objtype != mujoco.mjtObj.mjOBJ_GEOM:
+            continue
+        gid = geom.objid
+        if "geom_rgba" in looks:
+            geom.rgba[:] = looks["geom_rgba"][row, gid]
+        if "geom_size" in looks and int(model.geom_type[gid]) in _SIZED_AS_MODEL:
+            geom.size[:] = looks["geom_size"][row, gid]
+        if "geom_pos" in looks:  # moved within its body: turn the change into the world frame
+            shift = looks["geom_pos"][row, gid] - model.geom_pos[gid]
+            geom.pos += data.xmat[model.geom_bodyid[gid]].reshape(3, 3) @ shift
+
+
 def _without_infinite_planes(model: mujoco.MjModel, world_geoms: bool = False) -> mujoco.MjModel:
     """A copy of ``model`` whose infinite planes (and, with ``world_geoms``, all static geoms of the
     world body) are invisible (MuJoCo skips geoms with alpha 0)."""
@@ -97,8 +129,11 @@ class EnvSceneBuilder:
         mujoco.mj_forward(self.model, self.data)
         return self.data
 
-    def add_neighbours(self, scene: mujoco.MjvScene, states: dict[str, np.ndarray], offsets: np.ndarray) -> None:
-        """Append the geoms of rows 1.. of ``states``, each moved by its row of ``offsets`` (metres)."""
+    def add_neighbours(
+        self, scene: mujoco.MjvScene, states: dict[str, np.ndarray], offsets: np.ndarray, looks=None
+    ) -> None:
+        """Append the geoms of rows 1.. of ``states``, each moved by its row of ``offsets`` (metres)
+        and drawn with its row of ``looks`` (``gather_env_looks``)."""
         catmask = int(mujoco.mjtCatBit.mjCAT_ALL)
         for row in range(1, len(offsets)):
             data = self.load(states, row)
@@ -109,14 +144,20 @@ class EnvSceneBuilder:
                 break  # MuJoCo warns once; the scene shows the envs that fit
             for geom in scene.geoms[first : scene.ngeom]:
                 geom.pos += offsets[row]
+            if looks:
+                _restyle(self.model, data, scene.geoms[first : scene.ngeom], looks, row)
 
-    def build(self, scene: mujoco.MjvScene, states: dict[str, np.ndarray], offsets: np.ndarray, camera) -> None:
+    def build(
+        self, scene: mujoco.MjvScene, states: dict[str, np.ndarray], offsets: np.ndarray, camera, looks=None
+    ) -> None:
         """The whole scene: row 0 is the reference env (offset 0), the others its neighbours."""
         data = self.load(states, 0)
         mujoco.mjv_updateScene(
             self.model, data, self.option, self._perturb, camera, int(mujoco.mjtCatBit.mjCAT_ALL), scene
         )
-        self.add_neighbours(scene, states, offsets)
+        if looks:
+            _restyle(self.model, data, scene.geoms[: scene.ngeom], looks, 0)
+        self.add_neighbours(scene, states, offsets, looks)
 
 
 def _install_gl_context(backend: str) -> None:
@@ -174,7 +215,9 @@ class OffscreenRenderer:
         """
         states = gather_env_states(physics, env_ids)
         set_free_camera(self._camera, eye, lookat)
-        self._builder.build(self._renderer.scene, states, np.asarray(offsets, dtype=np.float32), self._camera)
+        looks = gather_env_looks(physics, env_ids)
+        offsets = np.asarray(offsets, dtype=np.float32)
+        self._builder.build(self._renderer.scene, states, offsets, self._camera, looks)
         # debug markers (simlab.markers) are decor geoms added on top of the model's own
         from simlab.markers.visualization_markers import add_markers_to_scene
         from simlab.sim.simulation_context import SimulationContext

@@ -497,7 +497,7 @@ def randomize_rigid_body_scale(
 
     Box and ellipsoid geoms take any scale; other geom types are refused (a sphere scaled unevenly
     is no sphere). Applied once the model is compiled (at once if it already is), so it works as a
-    ``prestartup`` term. simlab's offscreen renderer draws the shared model's sizes.
+    ``prestartup`` term.
     """
     if relative_child_path is not None:
         raise ValueError("randomize_rigid_body_scale: relative_child_path names a USD prim; simlab scales every geom")
@@ -541,7 +541,7 @@ def randomize_visual_color(
     """Per-env RGB color of the asset's geoms (per-world ``geom_rgba``): a uniform sample per channel
     from ``{"r": (lo, hi), "g": ..., "b": ...}``, or one of a list of colors. ``mesh_name`` and
     ``event_name`` name USD / Replicator objects and are not used. Applied once the model is compiled,
-    so it works as a ``prestartup`` term. simlab's offscreen renderer draws the shared model's colors.
+    so it works as a ``prestartup`` term.
     """
     if isinstance(colors, dict):
         ranges = _xyz_range("randomize_visual_color colors", colors, "rgb")

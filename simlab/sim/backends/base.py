@@ -82,6 +82,11 @@ class PhysicsBackend(ABC):
         ``mjOption`` field such as ``"opt.gravity"``.
         """
 
+    def per_world_model_field(self, name: str) -> torch.Tensor | None:
+        """The per-world tensor of model field ``name`` if something made it per-world
+        (``model_field``), else None: the compiled model's value then holds in every world."""
+        return getattr(self, "_model", {}).get(name)
+
     def step(self, nstep: int = 1, forward: bool = True) -> None:
         """Advance every world by ``nstep`` physics steps, then forward (see module docstring).
 
