@@ -304,10 +304,7 @@ class randomize_rigid_body_material(ManagerTermBase):  # noqa: N801 - Isaac Lab'
         super().__init__(cfg, env)
         asset_cfg: SceneEntityCfg = cfg.params["asset_cfg"]
         asset = env.scene[asset_cfg.name]
-        model = env.sim.model
-        local = _cols(asset_cfg.body_ids, asset.num_bodies, "cpu").tolist()
-        bodies = {asset._body_ids[i] for i in local}
-        geoms = [g for g in range(model.ngeom) if int(model.geom_bodyid[g]) in bodies]
+        geoms = _asset_geoms(env.sim.model, asset, asset_cfg)
         if not geoms:
             raise ValueError(
                 f"randomize_rigid_body_material: asset '{asset_cfg.name}' has no geoms on the selected bodies"
