@@ -12,6 +12,7 @@ import torch
 from simlab.cli.main import main
 from simlab.robots.quadcopter import CRAZYFLIE_CFG
 from simlab.tasks.direct.quadcopter.quadcopter_env import QuadcopterEnv, QuadcopterEnvCfg
+from simlab.tasks.utils import load_cfg_from_registry
 from simlab.utils.math import euler_xyz_from_quat
 
 NUM_ENVS = 4
@@ -107,6 +108,17 @@ def test_crashed_drone_ends_its_episode_and_resets_by_mask(env):
     assert env.episode_length_buf.tolist() == [0] + [steps] * (NUM_ENVS - 1)
     assert extras["log"]["Episode_Termination/died"].item() == 1.0
     assert env._robot.data.joint_vel[0].tolist() == pytest.approx([200.0, -200.0, 200.0, -200.0])
+
+
+def test_agent_configs_are_isaac_labs():
+    task = "simlab/Quadcopter-Direct-v0"
+    rsl = load_cfg_from_registry(task, "rsl_rl_cfg_entry_point")
+    rsl.to_rsl_rl_dict()  # no MISSING field left
+    assert (rsl.num_steps_per_env, rsl.max_iterations, rsl.actor.hidden_dims) == (24, 200, [64, 64])
+    skrl = load_cfg_from_registry(task, "skrl_cfg_entry_point")
+    assert skrl["agent"]["rollouts"] == 24 and skrl["trainer"]["timesteps"] == 4800
+    rl_games = load_cfg_from_registry(task, "rl_games_cfg_entry_point")
+    assert rl_games["params"]["config"]["horizon_length"] == 24
 
 
 def test_simlab_train_runs(tmp_path):
