@@ -77,6 +77,8 @@ class QuadcopterEnv(DirectRLEnv):
         self._log = torch.zeros(len(self._log_names), device=self.device)
 
         self._body_id = self._robot.find_bodies("body")[0]
+        # on the device once: a captured step may not copy indices from the host
+        self._body_ids = torch.tensor(self._body_id, dtype=torch.long, device=self.device)
         self._robot_mass = self._robot.data.default_mass[0].sum()
         self._gravity_magnitude = torch.tensor(self.sim.cfg.gravity, device=self.device).norm()
         self._robot_weight = (self._robot_mass * self._gravity_magnitude).item()
@@ -100,9 +102,10 @@ class QuadcopterEnv(DirectRLEnv):
         self._moment[:, 0, :] = self.cfg.moment_scale * self._actions[:, 1:]
 
     def _apply_action(self):
-        # Body-frame wrench; the all-envs mask keeps the call free of host reads (graph-safe).
+        # Body-frame wrench; device-side body ids and the all-envs mask keep the call free of host
+        # copies and reads, so the step can be captured as a graph.
         self._robot.set_external_force_and_torque(
-            self._thrust, self._moment, body_ids=self._body_id, env_ids=self._all_envs
+            self._thrust, self._moment, body_ids=self._body_ids, env_ids=self._all_envs
         )
 
     def _get_observations(self) -> dict:
