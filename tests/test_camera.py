@@ -178,7 +178,7 @@ def test_camera_tasks_step_with_image_observations(task):
             obs, reward, terminated, truncated, extras = env.step(torch.ones(2, 1))
         policy = obs["policy"]
         assert policy.shape == (2, 100, 100, channels) and torch.isfinite(policy).all()
-        assert extras["final_obs"]["policy"].shape == policy.shape
+        assert "final_obs" not in extras  # cfg.final_observations = False: one render per step
         assert not torch.equal(policy, first)  # the cart was pushed: the picture changed
         if task == RGB_TASK:  # each image minus its mean colour
             assert policy.mean(dim=(1, 2)).abs().max() < 1e-5
@@ -310,7 +310,7 @@ def test_bench_env_measures_the_render_share(tmp_path):
     results = json.loads(out.read_text())["results"]
     for row in (results["env"][0], results["inference"][0]):  # inference: the CNN actor on the images
         assert "error" not in row
-        assert row["renders_per_step"] == 2  # the finished envs' last images, then the new ones
+        assert row["renders_per_step"] == 1  # the task computes no final observations
         assert row["render_ms"] > 0 and 0 < row["render_share"] < 1.5
 
 
@@ -356,7 +356,7 @@ def test_camera_task_steps_on_the_mujoco_warp_backend(monkeypatch):
         assert depth.shape == (2, 100, 100, 1)
         hit = depth[depth > 0]
         assert hit.numel() > 50 and abs(hit.min().item() - 4.9) < 0.05
-        assert int(camera.frame[0]) == 1 + 2 * 3  # the reset, then two renders per step
+        assert int(camera.frame[0]) == 1 + 3  # the reset, then one render per step (no final observations)
     finally:
         env.close()
 

@@ -215,3 +215,24 @@ def test_events_of_the_event_manager_apply():
     env = CartpoleEnv(make_cfg(num_envs=2, events=EventsCfg()))
     pole = env.cartpole.find_bodies("pole")[0][0]
     torch.testing.assert_close(env.cartpole.data.body_mass[:, pole], 2 * env.cartpole.data.default_mass[:, pole])
+
+
+def test_final_observations_can_be_left_out():
+    import simlab.tasks  # noqa: F401
+    from simlab.tasks.utils import parse_env_cfg
+
+    seen = {}
+    for final in (True, False):
+        cfg = parse_env_cfg("simlab/Cartpole-Direct-v0", device="cpu", num_envs=2)
+        cfg.final_observations = final
+        env = gym.make("simlab/Cartpole-Direct-v0", cfg=cfg).unwrapped
+        try:
+            env.reset(seed=0)
+            calls = []
+            compute = env._get_observations
+            env._get_observations = lambda calls=calls, compute=compute: calls.append(1) or compute()
+            *_, extras = env.step(torch.zeros(2, 1))
+            seen[final] = (len(calls), "final_obs" in extras)
+        finally:
+            env.close()
+    assert seen == {True: (2, True), False: (1, False)}

@@ -129,7 +129,7 @@ def _render_fn(cameras):
 
 
 def _renders_per_step(cameras, step) -> int | None:
-    """How many times one env step renders the cameras (the final and the new observations: 2)."""
+    """How many times one env step renders the cameras (2 when the step also computes final observations)."""
     if not cameras:
         return None
     before = int(cameras[0].frame[0])

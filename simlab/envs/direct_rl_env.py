@@ -112,7 +112,8 @@ class DirectRLEnv(SimulatedEnv, gym.Env):
         self.common_step_counter += 1
         obs, reward, terminated, truncated, final_obs, diverged = self._stepper(action)
         self.obs_buf, self.reward_buf = obs, reward
-        self.extras["final_obs"] = final_obs
+        if final_obs is not None:
+            self.extras["final_obs"] = final_obs
         self.extras["time_outs"] = truncated
         self.extras.setdefault("log", {})["Physics/diverged"] = diverged
         return obs, reward, terminated, truncated, self.extras
@@ -141,7 +142,8 @@ class DirectRLEnv(SimulatedEnv, gym.Env):
         self.reset_time_outs.copy_(time_outs)
         torch.logical_or(self.reset_terminated, self.reset_time_outs, out=self.reset_buf)
         reward = self._get_rewards()
-        final_obs = self._observations()  # what the finished envs ended in, for bootstrapping
+        # what the finished envs ended in, for bootstrapping (cfg.final_observations)
+        final_obs = self._observations() if self.cfg.final_observations else None
         self._reset_finished(self.reset_buf)
         if self.event_manager is not None and "interval" in self.event_manager.available_modes:
             self.event_manager.apply(mode="interval", dt=self.step_dt)

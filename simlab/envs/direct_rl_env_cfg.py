@@ -36,6 +36,10 @@ class DirectRLEnvCfg:
     The env always reports time-outs in ``truncated`` / ``extras["time_outs"]``; RL wrappers read this
     flag to decide whether to bootstrap on them.
     """
+    final_observations: bool = True
+    """Compute ``extras["final_obs"]`` each step: the observations the finished envs ended in, from
+    which Stable-Baselines3 bootstraps time-outs. rsl_rl, skrl and rl_games do not read them; a camera
+    task turns them off, since they would render every camera a second time per step."""
     episode_length_s: float = MISSING
     """Episode duration [s]; ``max_episode_length = ceil(episode_length_s / (sim.dt * decimation))``."""
     scene: InteractiveSceneCfg = MISSING
