@@ -61,7 +61,9 @@ class IndexResetCartpole(CartpoleEnv):
 # -- resets by mask (CPU) ------------------------------------------------------------------------
 
 
-@pytest.mark.parametrize("task", ["simlab/Cartpole-Direct-v0", "simlab/Ant-Direct-v0", "simlab/Cartpole-v0"])
+@pytest.mark.parametrize(
+    "task", ["simlab/Cartpole-Direct-v0", "simlab/Ant-Direct-v0", "simlab/Quadcopter-Direct-v0", "simlab/Cartpole-v0"]
+)
 def test_masked_reset_leaves_the_other_envs_bit_identical(task):
     env = make_task(task, "cpu", 8)
     env.reset(seed=1)

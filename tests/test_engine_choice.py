@@ -51,7 +51,7 @@ def _trajectory(task: str, engine: str, steps: int = 30) -> tuple[torch.Tensor, 
 
 
 @needs_warp
-@pytest.mark.parametrize("task", ["simlab/Cartpole-v0", "simlab/Cartpole-Direct-v0"])
+@pytest.mark.parametrize("task", ["simlab/Cartpole-v0", "simlab/Cartpole-Direct-v0", "simlab/Quadcopter-Direct-v0"])
 def test_mujoco_warp_on_cpu_matches_mujoco(task):
     reference, backend = _trajectory(task, "auto")
     assert backend == "CpuBackend"
