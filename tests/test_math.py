@@ -268,3 +268,12 @@ def test_convert_quat():
     assert torch.equal(math_utils.convert_quat(math_utils.convert_quat(q, "xyzw"), "wxyz"), q)
     with pytest.raises(ValueError, match="'xyzw' or 'wxyz'"):
         math_utils.convert_quat(q, "zyx")
+
+
+def test_constant_tensor_is_made_once_per_value_and_device():
+    from simlab.utils.math import constant_tensor
+
+    ranges = constant_tensor([(0.0, 1.0), [-2, 3]], "cpu")
+    assert ranges.dtype == torch.float32 and ranges.tolist() == [[0.0, 1.0], [-2.0, 3.0]]
+    assert constant_tensor(((0, 1), (-2.0, 3.0)), torch.device("cpu")) is ranges  # equal numbers, same tensor
+    assert constant_tensor([(0.0, 1.5), (-2.0, 3.0)], "cpu") is not ranges

@@ -8,6 +8,7 @@ tensors with any number of leading (batch) dimensions, e.g. ``(num_envs, 4)`` or
 
 from __future__ import annotations
 
+import functools
 import math
 from typing import Literal
 
@@ -19,6 +20,7 @@ __all__ = [
     "axis_angle_from_quat",
     "combine_frame_transforms",
     "compute_pose_error",
+    "constant_tensor",
     "convert_camera_frame_orientation_convention",
     "convert_quat",
     "copysign",
@@ -517,6 +519,25 @@ def _as_tensor(x: torch.Tensor | float, device: Device) -> torch.Tensor | float:
     if isinstance(x, (torch.Tensor, int, float)):
         return x
     return torch.as_tensor(x, dtype=torch.float32, device=device)
+
+
+def constant_tensor(values, device) -> torch.Tensor:
+    """A float32 tensor of fixed numbers (nested lists or tuples), made once per value and device.
+
+    MDP terms read such constants every step; a step captured as a CUDA graph may not copy from the
+    host, so they are built on first use and shared after. The tensor must not be written to."""
+    return _constant_tensor(_frozen(values), str(device))
+
+
+def _frozen(values):
+    if isinstance(values, (list, tuple)):
+        return tuple(_frozen(v) for v in values)
+    return float(values)
+
+
+@functools.lru_cache(maxsize=256)
+def _constant_tensor(values: tuple, device: str) -> torch.Tensor:
+    return torch.tensor(values, dtype=torch.float32, device=device)
 
 
 def sample_uniform(

@@ -14,7 +14,6 @@ its own. Distributions are ``"uniform"``, ``"log_uniform"`` or ``"gaussian"``; o
 from __future__ import annotations
 
 import contextlib
-import functools
 from typing import TYPE_CHECKING, Literal
 
 import mujoco
@@ -64,13 +63,7 @@ def _range_tensor(ranges: dict[str, tuple[float, float]], device) -> torch.Tenso
     unknown = [k for k in ranges if k not in _POSE_KEYS]
     if unknown:
         raise ValueError(f"unknown range key(s) {unknown}; allowed: {list(_POSE_KEYS)}")
-    rows = tuple(tuple(float(v) for v in ranges.get(k, (0.0, 0.0))) for k in _POSE_KEYS)
-    return _constant(rows, str(device))
-
-
-@functools.lru_cache(maxsize=256)
-def _constant(rows: tuple[tuple[float, ...], ...], device: str) -> torch.Tensor:
-    return torch.tensor(rows, dtype=torch.float32, device=device)
+    return math_utils.constant_tensor([ranges.get(k, (0.0, 0.0)) for k in _POSE_KEYS], device)
 
 
 def _sample(distribution: str, params: tuple[float, float], shape, device) -> torch.Tensor:

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import functools
 from typing import TYPE_CHECKING
 
 import torch
@@ -20,15 +19,7 @@ _ROBOT = SceneEntityCfg("robot")
 
 def to_target_w(env: ManagerBasedEnv, target_pos, asset_cfg: SceneEntityCfg) -> torch.Tensor:
     """World vector from the base to the target: ``(num_envs, 3)``."""
-    return (
-        _target_tensor(tuple(float(v) for v in target_pos), str(env.device)) - env.scene[asset_cfg.name].data.root_pos_w
-    )
-
-
-@functools.lru_cache(maxsize=64)
-def _target_tensor(target_pos: tuple[float, ...], device: str) -> torch.Tensor:
-    # made once per target and device: a step captured as a CUDA graph may not copy from the host
-    return torch.tensor(target_pos, dtype=torch.float32, device=device)
+    return math_utils.constant_tensor(target_pos, env.device) - env.scene[asset_cfg.name].data.root_pos_w
 
 
 def base_yaw_roll(env: ManagerBasedEnv, asset_cfg: SceneEntityCfg = _ROBOT) -> torch.Tensor:
