@@ -157,6 +157,16 @@ def run_cycle(cycle: Cycle, args: argparse.Namespace, previous: Cycle | None, st
     )
 
 
+def earlier_cycle(run_dir: str) -> Cycle:
+    """The last cycle of an earlier soak, rebuilt from its run folder, for the first cycle to resume from."""
+    checkpoints = sorted(glob.glob(os.path.join(run_dir, "model_*.pt")), key=iteration_of)
+    if not checkpoints:
+        raise SystemExit(f"--resume_from {run_dir}: no model_*.pt checkpoint there to resume from")
+    print(f"resuming the soak from {checkpoints[-1]}")
+    newest = iteration_of(checkpoints[-1])
+    return Cycle(-1, run_dir=os.path.abspath(run_dir), stopped_at=newest, checkpoints=checkpoints)
+
+
 def evaluate(run_dir: str, args: argparse.Namespace) -> float:
     """Fraction of env-steps with |pole angle| < threshold, playing the run's newest checkpoint."""
     argv = ["play", "--task", args.task, "--library", "rsl_rl", "--checkpoint", run_dir, "--headless"]
@@ -228,6 +238,12 @@ def main() -> int:
     parser.add_argument("--threshold", type=float, default=0.2, help="Pole angle bound [rad].")
     parser.add_argument("--fraction", type=float, default=0.95, help="Required fraction of steps inside.")
     parser.add_argument("--json", default=None, help="Also write the cycles, memory samples and criterion here.")
+    parser.add_argument(
+        "--resume_from",
+        default=None,
+        help="Run folder of an earlier soak (its last cycle): the first cycle resumes from its newest checkpoint,"
+        " so one soak can go on in another process or on another machine.",
+    )
     args = parser.parse_args()
     if args.cycles < 1 or args.duration <= 0:
         parser.error("--cycles must be at least 1 and --duration positive")
@@ -237,9 +253,10 @@ def main() -> int:
 
     start = time.time()
     cycles: list[Cycle] = []
+    earlier = earlier_cycle(args.resume_from) if args.resume_from else None
     for index in range(args.cycles):
         cycle = Cycle(index)
-        run_cycle(cycle, args, cycles[-1] if cycles else None, start)
+        run_cycle(cycle, args, cycles[-1] if cycles else earlier, start)
         cycles.append(cycle)
         if cycle.stopped_at is None:
             break  # nothing to resume from
