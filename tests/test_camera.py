@@ -190,6 +190,31 @@ def test_camera_tasks_step_with_image_observations(task):
 
 
 @needs_gl
+def test_frame_stack_keeps_the_newest_images_and_restarts_at_a_reset():
+    cfg = load_cfg_from_registry(DEPTH_TASK, "env_cfg_entry_point")
+    cfg.scene.num_envs, cfg.sim.device, cfg.seed, cfg.frame_stack = 2, "cpu", 3, 2
+    env = gym.make(DEPTH_TASK, cfg=cfg)
+    try:
+        obs, _ = env.reset()
+        assert env.unwrapped.single_observation_space["policy"].shape == (100, 100, 2)
+        stacked = obs["policy"]
+        assert stacked.shape == (2, 100, 100, 2) and torch.equal(stacked[..., 0], stacked[..., 1])  # fresh: repeated
+        previous = stacked[..., 1].clone()
+        obs, *_ = env.step(torch.ones(2, 1))
+        assert torch.equal(obs["policy"][..., 0], previous)  # the older image comes first
+        assert not torch.equal(obs["policy"][..., 1], previous)  # the newest shows the pushed cart
+        env.unwrapped._reset_idx(torch.tensor([1]))
+        obs, *_ = env.step(torch.zeros(2, 1))
+        assert not torch.equal(obs["policy"][0, ..., 0], obs["policy"][0, ..., 1])  # env 0 keeps its history
+        assert torch.equal(obs["policy"][1, ..., 0], obs["policy"][1, ..., 1])  # env 1 starts a new one
+    finally:
+        env.close()
+    cfg.frame_stack = 0
+    with pytest.raises(ValueError, match="frame_stack must be a positive int"):
+        gym.make(DEPTH_TASK, cfg=cfg)
+
+
+@needs_gl
 def test_save_camera_frames_writes_a_tiled_png(tmp_path):
     import imageio.v3 as iio
 

@@ -124,6 +124,13 @@ def main(argv: list[str] | None = None) -> int:
     solve.add_argument("--eval_seconds", type=float, default=5.0, help="seconds of play per checkpoint")
     solve.add_argument("--reward_threshold", type=float, default=None, help="solved at this mean reward per step")
     solve.add_argument("--log_root", default="logs", help="where the training runs go")
+    solve.add_argument(
+        "--overrides",
+        nargs="+",
+        default=[],
+        metavar="KEY=VALUE",
+        help="env.* / agent.* overrides as `simlab train` takes them (the evaluation env gets the env.* ones)",
+    )
     parser.add_argument(
         "--cuda_graph",
         choices=["on", "off", "both"],

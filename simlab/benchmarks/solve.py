@@ -63,8 +63,10 @@ class CheckpointJudge:
         eval_seconds: float,
         seed: int,
         reward_threshold: float | None = None,
+        env_overrides: list[str] | None = None,
     ):
         self.task, self.library, self.device = task, library, device
+        self.env_overrides = list(env_overrides or [])  # the trained env's settings (an image stack, say)
         self.eval_envs, self.eval_seconds, self.seed = eval_envs, eval_seconds, seed
         self.criterion = criterion_for(task, reward_threshold)
         self.evaluations: list[dict[str, Any]] = []
@@ -80,7 +82,7 @@ class CheckpointJudge:
         argv = ["play", "--task", self.task, "--library", self.library, "--headless", "--no_export"]
         argv += ["--num_envs", str(self.eval_envs), "--device", self.device, "--seed", str(self.seed)]
         args = build_parser().parse_args(argv)
-        env_cfg, agent_cfg = load_configs(args, [])
+        env_cfg, agent_cfg = load_configs(args, self.env_overrides)
         get_library(self.library).configure(agent_cfg, args, env_cfg)
         self._env = make_env(args, env_cfg, None, single_agent=True)
         self._agent_cfg = agent_cfg
@@ -170,7 +172,8 @@ def time_to_policy(
     overrides = list(overrides or [])
     if eval_every is not None:
         overrides.append(f"agent.save_interval={eval_every}")
-    judge = CheckpointJudge(task, library, device, eval_envs, eval_seconds, seed, reward_threshold)
+    env_overrides = [o for o in overrides if o.startswith("env.")]
+    judge = CheckpointJudge(task, library, device, eval_envs, eval_seconds, seed, reward_threshold, env_overrides)
     args.on_checkpoint = judge
     try:
         run_dir = run_train(args, overrides)

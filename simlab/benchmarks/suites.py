@@ -105,7 +105,7 @@ def solve(
             task,
             device=device,
             num_envs=n,
-            overrides=_fast_path_overrides(fast_update),
+            overrides=[*a.overrides, *_fast_path_overrides(fast_update)],
             **{flag: getattr(a, flag) for flag in SOLVE_FLAGS},
         ),
     )
@@ -138,6 +138,8 @@ def _solve_in_child(task: str, num_envs: int | None, device: str, a) -> dict:
         if num_envs is not None:
             argv += ["--num_envs", str(num_envs)]
         argv += ["--ppo_update", a.ppo_update]
+        if a.overrides:
+            argv += ["--overrides", *a.overrides]
         proc = subprocess.run(argv)
         if proc.returncode != 0 or not os.path.isfile(out):
             return {"task": task, "device": device, "num_envs": num_envs, "error": f"exit code {proc.returncode}"}

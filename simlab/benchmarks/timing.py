@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import gc
 import statistics
 import time
 from collections.abc import Callable
@@ -37,11 +38,19 @@ def interleaved(variants: dict[str, Callable[[], None]], steps: int, device: str
     return {name: statistics.median(values) for name, values in samples.items()}
 
 
+_memory_baseline: dict[str, int] = {}  # bytes torch still held when a measurement began, per device
+
+
 def reset_gpu_memory_peak(device: str) -> None:
-    """Start a new peak for ``gpu_memory_mb`` (call before building what is measured)."""
+    """Start a new peak for ``gpu_memory_mb`` (call before building what is measured).
+
+    What an earlier configuration of the same run still holds (objects not yet collected, cached
+    kernels' workspaces) is recorded as a baseline and left out of the next figure."""
     if str(device).startswith("cuda"):
+        gc.collect()
         torch.cuda.empty_cache()
-        torch.cuda.reset_peak_memory_stats()
+        torch.cuda.reset_peak_memory_stats(device)
+        _memory_baseline[str(device)] = torch.cuda.memory_allocated(device)
 
 
 def gpu_memory_mb(device: str, physics=None) -> float | None:
@@ -51,4 +60,5 @@ def gpu_memory_mb(device: str, physics=None) -> float | None:
     if not str(device).startswith("cuda"):
         return None
     physics_bytes = physics.device_memory_bytes() if physics is not None else 0
-    return (torch.cuda.max_memory_allocated() + physics_bytes) / 2**20
+    torch_bytes = torch.cuda.max_memory_allocated(device) - _memory_baseline.get(str(device), 0)
+    return (torch_bytes + physics_bytes) / 2**20

@@ -60,6 +60,9 @@ class CartpoleRGBCameraEnvCfg(DirectRLEnvCfg):
     # camera
     tiled_camera: TiledCameraCfg = _camera_cfg("rgb")
     write_image_to_file = False
+    frame_stack = 1
+    """Images per observation, newest last along the channel axis (1: Isaac Lab's layout). One image
+    shows where the pole is but not how fast it turns, which balancing needs; 2 shows both."""
 
     # spaces
     action_space = 1
@@ -93,6 +96,12 @@ class CartpoleCameraEnv(DirectRLEnv):
     cfg: CartpoleRGBCameraEnvCfg | CartpoleDepthCameraEnvCfg
 
     def __init__(self, cfg: CartpoleRGBCameraEnvCfg, render_mode: str | None = None, **kwargs):
+        if not isinstance(cfg.frame_stack, int) or cfg.frame_stack < 1:
+            raise ValueError(f"frame_stack must be a positive int (images per observation), got {cfg.frame_stack!r}")
+        channels = 3 if cfg.tiled_camera.data_types == ["rgb"] else 1  # RGB, or one depth channel
+        cfg.observation_space = [cfg.tiled_camera.height, cfg.tiled_camera.width, channels * cfg.frame_stack]
+        self._frames: torch.Tensor | None = None  # the last frame_stack images per env, (N, H, W, C * k)
+        self._fresh: torch.Tensor | None = None  # envs reset since their last observation: history = now
         super().__init__(cfg, render_mode, **kwargs)
         self._cart_dof_idx, _ = self._cartpole.find_joints(self.cfg.cart_dof_name)
         self._pole_dof_idx, _ = self._cartpole.find_joints(self.cfg.pole_dof_name)
@@ -130,7 +139,24 @@ class CartpoleCameraEnv(DirectRLEnv):
             from simlab.sensors import save_images_to_file
 
             save_images_to_file(image, f"cartpole_{data_type}.png")
-        return {"policy": pixels}
+        return {"policy": self._stack(pixels)}
+
+    def _stack(self, pixels: torch.Tensor) -> torch.Tensor:
+        """The newest ``frame_stack`` images along the channel axis; an env just reset repeats its first."""
+        if self.cfg.frame_stack == 1:
+            return pixels
+        self._history_buffers()
+        shifted = torch.cat([self._frames[..., pixels.shape[-1] :], pixels], dim=-1)
+        repeated = pixels.repeat(1, 1, 1, self.cfg.frame_stack)
+        self._frames.copy_(torch.where(self._fresh.view(-1, 1, 1, 1), repeated, shifted))
+        self._fresh.zero_()
+        return self._frames.clone()
+
+    def _history_buffers(self) -> None:
+        if self._frames is None:
+            height, width, channels = self.cfg.observation_space
+            self._frames = torch.zeros(self.num_envs, height, width, channels, device=self.device)
+            self._fresh = torch.ones(self.num_envs, dtype=torch.bool, device=self.device)
 
     def _joint_states(self) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor, torch.Tensor]:
         """Pole angle, pole velocity, cart position, cart velocity; each (num_envs,)."""
@@ -161,6 +187,9 @@ class CartpoleCameraEnv(DirectRLEnv):
 
     def _reset_mask(self, env_mask: torch.Tensor):
         super()._reset_mask(env_mask)
+        if self.cfg.frame_stack > 1:
+            self._history_buffers()
+            self._fresh |= env_mask
         # initial states drawn for every env, written where env_mask is set
         joint_pos = self._cartpole.data.default_joint_pos.clone()
         joint_pos[:, self._pole_dof_idx] += sample_uniform(
