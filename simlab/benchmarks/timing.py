@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import gc
 import statistics
 import time
 from collections.abc import Callable
@@ -37,18 +38,47 @@ def interleaved(variants: dict[str, Callable[[], None]], steps: int, device: str
     return {name: statistics.median(values) for name, values in samples.items()}
 
 
+_warp_baseline_bytes = 0
+
+
+def _warp_pool_bytes(device: str) -> int | None:
+    """Bytes in Warp's memory pool on ``device`` (every Warp array: the physics, the ray casts' targets,
+    graph buffers), or None without a pool."""
+    try:
+        import warp as wp
+
+        if not wp.is_mempool_enabled(device):
+            return None
+        return int(wp.get_mempool_used_mem_current(device))
+    except Exception:  # noqa: BLE001 - no Warp, or Warp not initialised on this device
+        return None
+
+
 def reset_gpu_memory_peak(device: str) -> None:
     """Start a new peak for ``gpu_memory_mb`` (call before building what is measured)."""
+    global _warp_baseline_bytes
     if str(device).startswith("cuda"):
+        gc.collect()  # the previous measurement's env and its Warp arrays
         torch.cuda.empty_cache()
         torch.cuda.reset_peak_memory_stats()
+        _warp_baseline_bytes = _warp_pool_bytes(device) or 0
+
+
+def warp_memory_mb(device: str, physics=None) -> float | None:
+    """Warp's device memory of one benchmark configuration (call while it is alive): what its memory
+    pool gained since ``reset_gpu_memory_peak``, at least the physics' own arrays."""
+    if not str(device).startswith("cuda"):
+        return None
+    physics_bytes = physics.device_memory_bytes() if physics is not None else 0
+    pool = _warp_pool_bytes(device)
+    pool_bytes = 0 if pool is None else pool - _warp_baseline_bytes
+    return max(physics_bytes, pool_bytes) / 2**20
 
 
 def gpu_memory_mb(device: str, physics=None) -> float | None:
     """GPU memory of one benchmark configuration: torch's peak since ``reset_gpu_memory_peak``
-    (env buffers, policy, learner) plus the physics' own arrays, which MuJoCo Warp allocates
-    outside torch."""
+    (env buffers, policy, learner) plus Warp's (``warp_memory_mb``: MuJoCo Warp allocates the
+    physics outside torch)."""
     if not str(device).startswith("cuda"):
         return None
-    physics_bytes = physics.device_memory_bytes() if physics is not None else 0
-    return (torch.cuda.max_memory_allocated() + physics_bytes) / 2**20
+    return torch.cuda.max_memory_allocated() / 2**20 + warp_memory_mb(device, physics)
