@@ -308,3 +308,16 @@ def test_cuda_orders_with_torch_side_stream(cartpole: mujoco.MjModel) -> None:
             runs.append(qpos.clone())
         torch.cuda.synchronize()
     torch.testing.assert_close(runs[0], runs[1], rtol=0, atol=0)
+
+
+def test_warp_contact_overflow_names_the_setting_on_the_cpu() -> None:
+    """The GPU backend's buffer-overflow error (MuJoCo Warp on Warp's CPU device, so CI runs it):
+    4 resting spheres per world against a contact buffer of 1 per world."""
+    try:
+        from simlab.sim.backends.cuda import CudaBackend
+    except ImportError as err:
+        pytest.skip(f"mujoco-warp is not installed: {err}")
+    small = CudaBackend(_spheres(4), 2, device="cpu", nconmax=1, overflow_check_interval=0)
+    small.step(50)
+    with pytest.raises(RuntimeError, match=r"nconmax \* num_envs; raise SimulationCfg\.mujoco\.nconmax \(now 1 per"):
+        small.check_overflow()

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import json
 
+import pytest
+
 from simlab.benchmarks.cli import main
 
 
@@ -36,6 +38,10 @@ def test_bench_physics_and_env_print_tables_and_json(tmp_path, capsys):
     assert physics["raw_steps_per_s"] > 0 and physics["scene_steps_per_s"] > 0
     assert env["env_steps_per_s"] > 0 and env["cuda_graph"] == "off"
     assert env["physics_steps_per_s"] == env["env_steps_per_s"] * 2  # cartpole decimation
+    # the physics of an env step (2 raw steps) and the rest: the share outside physics follows the ratio
+    assert env["physics_ms_per_env_step"] > 0
+    assert env["outside_physics_share"] == pytest.approx(1.0 - env["ratio"])
+    assert "outside physics" in printed
 
 
 def test_bench_train_runs_the_ppo_update_asked_for(tmp_path):

@@ -50,20 +50,11 @@ def robot_scene(robot_cfg: ArticulationCfg, num_envs: int = 2):
     return sim, scene
 
 
-def anymal_with_stiff_drives() -> ArticulationCfg:
-    """ANYmal-C with 150 N m/rad drives. Isaac Lab's DC-motor ANYdrive model (kp 40) cannot hold the
-    45 kg robot in its default pose: each knee carries about 110 N on a 0.2 m lever (22 N m, so
-    0.55 rad of PD error), and the robot folds onto its knees until a policy holds it up."""
-    cfg = ANYMAL_C_CFG.copy()
-    cfg.actuators["legs"].stiffness = 150.0
-    return cfg
-
-
 @pytest.mark.parametrize(
     ("robot_cfg", "joints", "bodies", "feet", "height_band"),
     [
         (UNITREE_GO2_CFG, GO2_JOINTS, GO2_BODIES, ".*_foot", (0.22, 0.36)),
-        (anymal_with_stiff_drives(), ANYMAL_JOINTS, ANYMAL_BODIES, ".*_FOOT", (0.38, 0.6)),
+        (ANYMAL_C_CFG, ANYMAL_JOINTS, ANYMAL_BODIES, ".*_FOOT", (0.44, 0.56)),
     ],
     ids=["go2", "anymal_c"],
 )
@@ -75,7 +66,7 @@ def test_quadruped_stands_on_its_feet_under_its_default_pd_targets(robot_cfg, jo
     torch.testing.assert_close(robot.data.joint_pos, robot.data.default_joint_pos)
     robot.set_joint_position_target(robot.data.default_joint_pos)
     heights = []
-    for _ in range(400):  # 2 s
+    for _ in range(600):  # 3 s
         scene.write_data_to_sim()
         sim.step()
         scene.update(sim.get_physics_dt())
@@ -398,3 +389,35 @@ def test_randomize_rigid_body_com_moves_the_base_com(go2):
     with pytest.raises(ValueError, match="unknown com_range key"):
         mdp.randomize_rigid_body_com(go2, None, {"roll": (0.0, 0.1)}, asset_cfg=base)
     mdp.randomize_rigid_body_com(go2, None, {}, asset_cfg=base)  # back to the model's
+
+
+def test_rough_task_curriculum_moves_robots_that_stay_put_down_a_row():
+    """Go2 rough, robots told to walk 1 m/s forward that do not move (zero actions) end their 1 s
+    episodes short of half the commanded distance: terrain_levels_vel moves each down one row (to
+    no lower than 0), puts its origin on the new tile, and the env logs the mean level."""
+    cfg = parse_env_cfg("simlab/Velocity-Rough-Unitree-Go2-v0", device="cpu", num_envs=8)
+    cfg.seed = 0
+    cfg.episode_length_s = 1.0
+    vel = cfg.commands.base_velocity
+    vel.heading_command, vel.rel_standing_envs = False, 0.0
+    vel.ranges.lin_vel_x, vel.ranges.lin_vel_y, vel.ranges.ang_vel_z = (1.0, 1.0), (0.0, 0.0), (0.0, 0.0)
+    cfg.scene.terrain.max_init_terrain_level = 9
+    cfg.events.reset_base.params["pose_range"] = {"yaw": (-3.14, 3.14)}  # start on the origins themselves
+    env = gym.make("simlab/Velocity-Rough-Unitree-Go2-v0", cfg=cfg).unwrapped
+    terrain = env.scene.terrain
+    env.reset()
+    assert env.cfg.scene.terrain.terrain_generator.curriculum  # rows are difficulty levels
+    before = terrain.terrain_levels.clone()
+    assert int(before.max()) > 0
+    logged = None
+    for _ in range(round(1.0 / env.step_dt)):
+        _, _, terminated, truncated, extras = env.step(torch.zeros(8, 12))
+        if "Curriculum/terrain_levels" in extras.get("log", {}):
+            logged = float(extras["log"]["Curriculum/terrain_levels"])
+    assert bool(truncated.all() | terminated.all())
+    torch.testing.assert_close(terrain.terrain_levels, (before - 1).clamp(min=0))
+    assert logged == pytest.approx(float(terrain.terrain_levels.float().mean()))
+    torch.testing.assert_close(
+        env.scene.env_origins, terrain.terrain_origins[terrain.terrain_levels, terrain.terrain_types]
+    )
+    env.close()

@@ -431,10 +431,95 @@ def test_contact_sensor_selects_bodies_by_regex_and_names_missing_ones():
 
     @configclass
     class FilteredCfg(SceneCfg):
-        feet = ContactSensorCfg(prim_path="{ENV_REGEX_NS}/Robot/.*_foot", filter_prim_paths_expr=["/World/ground"])
+        feet = ContactSensorCfg(prim_path="{ENV_REGEX_NS}/Robot/.*_foot", filter_prim_paths_expr=["/World/wall"])
 
-    with pytest.raises(ValueError, match="filter_prim_paths_expr"):
+    with pytest.raises(ValueError, match=r"filter_prim_paths_expr '/World/wall' matches no body and no static geom"):
         make_scene(FilteredCfg(num_envs=1, env_spacing=3.0))
+
+
+def _engines():
+    from test_engine_choice import _warp_on_cpu
+
+    no_warp = pytest.mark.skipif(_warp_on_cpu() is not None, reason=str(_warp_on_cpu()))
+    return [
+        pytest.param("cpu", "auto", id="mujoco"),
+        pytest.param("cpu", "mujoco_warp", marks=no_warp, id="mujoco_warp-cpu"),
+        pytest.param("cuda:0", "auto", marks=[pytest.mark.gpu], id="cuda"),
+    ]
+
+
+@configclass
+class StackSceneCfg(InteractiveSceneCfg):
+    """A 2 kg box on the ground with a 1 kg box on it; a sensor on the lower box that tells the ground
+    and the upper box apart."""
+
+    ground = AssetBaseCfg(prim_path="/World/ground", spawn=sim_utils.GroundPlaneCfg())
+    lower = box_cfg("{ENV_REGEX_NS}/Lower", z=0.1).replace(
+        spawn=box_cfg("x", 0.0).spawn.replace(mass_props=sim_utils.MassPropertiesCfg(mass=2.0))
+    )
+    upper = box_cfg("{ENV_REGEX_NS}/Upper", z=0.3, size=0.15)
+    contacts = ContactSensorCfg(
+        prim_path="{ENV_REGEX_NS}/Lower",
+        history_length=2,
+        filter_prim_paths_expr=["/World/ground", "{ENV_REGEX_NS}/Upper"],
+    )
+
+
+@pytest.mark.parametrize(("device", "engine"), _engines())
+def test_contact_force_matrix_separates_the_partners(device, engine):
+    sim = sim_utils.SimulationContext(sim_utils.SimulationCfg(dt=DT, device=device, engine=engine))
+    scene = InteractiveScene(StackSceneCfg(num_envs=2, env_spacing=3.0))
+    sim.reset()
+    sensor = scene["contacts"]
+    assert sensor.filter_partner_names == ["ground", "Upper/body"]  # model names: static geoms, bodies
+    push = torch.tensor([4.0, 0.0, 0.0], device=sim.device)  # below the friction limit: the stack stays
+    for _ in range(300):
+        scene["lower"].set_external_force_and_torque(push.expand(2, 1, 3), torch.zeros(2, 1, 3, device=sim.device))
+        scene.write_data_to_sim()
+        sim.step()
+        scene.update(DT)
+    d = sensor.data
+    assert d.force_matrix_w.shape == (2, 1, 2, 3) and d.force_matrix_w_history.shape == (2, 2, 1, 2, 3)
+    g = 9.81
+    ground, upper = d.force_matrix_w[:, 0, 0], d.force_matrix_w[:, 0, 1]
+    # the ground carries both boxes and holds the push by friction; the upper box presses down
+    torch.testing.assert_close(ground, torch.tensor([[-4.0, 0.0, 3 * g]] * 2, device=sim.device), atol=0.05, rtol=0.01)
+    torch.testing.assert_close(upper, torch.tensor([[0.0, 0.0, -g]] * 2, device=sim.device), atol=0.05, rtol=0.01)
+    # the partners cover every contact: together they are the net force
+    torch.testing.assert_close(ground + upper, d.net_forces_w[:, 0], atol=1e-3, rtol=1e-3)
+    torch.testing.assert_close(d.force_matrix_w_history[:, 0], d.force_matrix_w)
+    sensor.reset(torch.tensor([True, False], device=sim.device))
+    assert bool((d.force_matrix_w[0] == 0).all()) and bool((d.force_matrix_w[1] != 0).any())
+
+
+def test_contact_sensor_bodies_in_the_articulations_order():
+    """A sensor over all of a robot's bodies lists them as the robot does (level by level)."""
+    from simlab.robots.unitree import UNITREE_GO2_CFG
+
+    @configclass
+    class SceneCfg(InteractiveSceneCfg):
+        ground = AssetBaseCfg(prim_path="/World/ground", spawn=sim_utils.GroundPlaneCfg())
+        robot = UNITREE_GO2_CFG.replace(prim_path="{ENV_REGEX_NS}/Robot")
+        contacts = ContactSensorCfg(prim_path="{ENV_REGEX_NS}/Robot/.*")
+        feet = ContactSensorCfg(
+            prim_path="{ENV_REGEX_NS}/Robot/.*_foot",
+            filter_prim_paths_expr=["/World/ground", "{ENV_REGEX_NS}/Robot/base"],
+        )
+
+    sim, scene = make_scene(SceneCfg(num_envs=1, env_spacing=3.0))
+    robot, contacts, feet = scene["robot"], scene["contacts"], scene["feet"]
+    assert contacts.body_names == robot.body_names
+    assert contacts.body_names[:5] == ["base", "FL_hip", "FR_hip", "RL_hip", "RR_hip"]
+    assert feet.filter_partner_names == ["ground", "Robot/base"]
+    for _ in range(100):
+        scene.write_data_to_sim()
+        sim.step()
+        scene.update(DT)
+    # the feet stand on the ground and never touch the base; the name lookups agree with the data
+    ids, _ = feet.find_bodies(".*_foot")
+    torch.testing.assert_close(feet.data.force_matrix_w[:, :, 0], feet.data.net_forces_w[:, ids], atol=1e-3, rtol=1e-3)
+    assert float(feet.data.force_matrix_w[..., 0, 2].min()) > 5.0
+    assert bool((feet.data.force_matrix_w[:, :, 1] == 0).all())
 
 
 # -- in an env step ---------------------------------------------------------------------------------

@@ -228,11 +228,41 @@ def test_bad_terrain_configs_name_the_setting():
         TerrainGenerator(small_terrain(sub_terrains={"f": MeshPlaneTerrainCfg(proportion=0.0)}))
     with pytest.raises(ValueError, match="border_width"):
         TerrainGenerator(small_terrain(sub_terrains={"r": HfRandomUniformTerrainCfg(border_width=2.0)}))
+    # a sampling so fine that the terrain would not fit in memory is refused before generating it
+    with pytest.raises(ValueError, match=r"cannot fit: 10 x 20 tiles .* every 0.001 m .* raise horizontal_scale"):
+        TerrainGenerator(ROUGH_TERRAINS_CFG.replace(horizontal_scale=0.001))
 
 
 def test_rough_preset_is_isaac_labs_grid():
     assert (ROUGH_TERRAINS_CFG.num_rows, ROUGH_TERRAINS_CFG.num_cols, ROUGH_TERRAINS_CFG.size) == (10, 20, (8.0, 8.0))
     assert sum(s.proportion for s in ROUGH_TERRAINS_CFG.sub_terrains.values()) == pytest.approx(1.0)
+    # Isaac Lab's sub-terrains and proportions; with the curriculum, columns go to the kinds by
+    # proportion: 4 of pyramid stairs, 4 of inverted stairs, 4 of boxes, 4 of roughness, 2 + 2 of slopes
+    subs = ROUGH_TERRAINS_CFG.sub_terrains
+    assert {name: (type(sub).__name__, sub.proportion) for name, sub in subs.items()} == {
+        "pyramid_stairs": ("MeshPyramidStairsTerrainCfg", 0.2),
+        "pyramid_stairs_inv": ("MeshInvertedPyramidStairsTerrainCfg", 0.2),
+        "boxes": ("MeshRandomGridTerrainCfg", 0.2),
+        "random_rough": ("HfRandomUniformTerrainCfg", 0.2),
+        "hf_pyramid_slope": ("HfPyramidSlopedTerrainCfg", 0.1),
+        "hf_pyramid_slope_inv": ("HfInvertedPyramidSlopedTerrainCfg", 0.1),
+    }
+    for name in ("pyramid_stairs", "pyramid_stairs_inv"):
+        stairs = subs[name]
+        assert (stairs.step_height_range, stairs.step_width, stairs.platform_width, stairs.border_width) == (
+            (0.05, 0.23),
+            0.3,
+            3.0,
+            1.0,
+        )
+    terrain = TerrainGenerator(ROUGH_TERRAINS_CFG.replace(seed=1, curriculum=True))
+    kinds = {t.col: t.kind for t in terrain.tiles}
+    assert [kinds[c] for c in range(20)] == ["pyramid_stairs"] * 4 + ["pyramid_stairs_inv"] * 4 + ["boxes"] * 4 + [
+        "random_rough"
+    ] * 4 + ["hf_pyramid_slope"] * 2 + ["hf_pyramid_slope_inv"] * 2
+    # rows are difficulty levels: the stairs' steps rise with the row (0.05 m at row 0 .. 0.23 m at row 9)
+    step = {t.row: t.geometry.origin[2] / 7 for t in terrain.tiles if t.col == 0}  # the platform: 7 steps up
+    assert step[0] < 0.07 and step[9] > 0.21 and all(step[r] < step[r + 1] for r in range(9))
 
 
 @pytest.mark.skipif(not rendering_available(), reason="no offscreen GL backend")

@@ -55,11 +55,14 @@ ENV_COLUMNS = [
     ("env ms", "env_ms_per_step", ".3f"),
     ("raw physics steps/s", "raw_physics_steps_per_s", ",.0f"),
     ("env/raw", "ratio", ".2f"),
+    ("physics ms", "physics_ms_per_env_step", ".3f"),
+    ("outside physics", "outside_physics_share", ".0%"),
     ("render ms", "render_ms", ".3f"),
     ("renders/step", "renders_per_step", "d"),
     ("render share", "render_share", ".0%"),
     ("graph", "cuda_graph", ""),
     ("GPU MB", "gpu_memory_mb", ".0f"),
+    ("Warp MB", "warp_memory_mb", ".0f"),
 ]
 TRAIN_COLUMNS = [
     ("task", "task", ""),
@@ -69,6 +72,7 @@ TRAIN_COLUMNS = [
     ("s/iteration", "seconds_per_iteration", ".3f"),
     ("iterations", "iterations", "d"),
     ("GPU MB", "gpu_memory_mb", ".0f"),
+    ("Warp MB", "warp_memory_mb", ".0f"),
     ("PPO update", "ppo_update", ""),
     ("rollout policy", "rollout_policy", ""),
 ]

@@ -15,7 +15,7 @@ import torch
 
 import simlab.sim as sim_utils
 
-from .timing import gpu_memory_mb, interleaved, reset_gpu_memory_peak, synchronize
+from .timing import gpu_memory_mb, interleaved, reset_gpu_memory_peak, synchronize, warp_memory_mb
 
 DEFAULT_TASKS = ["simlab/Cartpole-v0", "simlab/Cartpole-Direct-v0", "simlab/Ant-Direct-v0", "simlab/Humanoid-Direct-v0"]
 
@@ -178,7 +178,11 @@ def bench_env(
         "env_ms_per_step": seconds["env"] * 1e3,
         "raw_physics_steps_per_s": raw_rate,
         "ratio": env_rate * decimation / raw_rate,
+        # the physics of one env step alone (its `decimation` raw steps), and the rest of the step's share
+        "physics_ms_per_env_step": seconds["raw"] * decimation * 1e3,
+        "outside_physics_share": 1.0 - seconds["raw"] * decimation / seconds["env"],
         "gpu_memory_mb": _plus(gpu_memory_mb(env.device, env.sim.physics), camera_bytes / 2**20),
+        "warp_memory_mb": warp_memory_mb(env.device, env.sim.physics),
         "render_ms": seconds["render"] * 1e3 if cameras else None,
         "renders_per_step": renders_per_step,
         "render_share": renders_per_step * seconds["render"] / seconds["env"] if cameras else None,
@@ -222,6 +226,7 @@ def bench_train(
         "seconds_per_iteration": seconds,
         "env_steps_per_s": steps_per_iteration / seconds,
         "gpu_memory_mb": gpu_memory_mb(env.device, env.sim.physics),
+        "warp_memory_mb": warp_memory_mb(env.device, env.sim.physics),
         "cuda_graph": _graph_state(env),
         "ppo_update": runner.update_kind,
         "rollout_policy": runner.act_kind,

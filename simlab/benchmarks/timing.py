@@ -38,27 +38,53 @@ def interleaved(variants: dict[str, Callable[[], None]], steps: int, device: str
     return {name: statistics.median(values) for name, values in samples.items()}
 
 
-_memory_baseline: dict[str, int] = {}  # bytes torch still held when a measurement began, per device
+_warp_baseline_bytes = 0
+_torch_baseline_bytes: dict[str, int] = {}  # what torch still held when a measurement began, per device
+
+
+def _warp_pool_bytes(device: str) -> int | None:
+    """Bytes in Warp's memory pool on ``device`` (every Warp array: the physics, the ray casts' targets,
+    graph buffers), or None without a pool."""
+    try:
+        import warp as wp
+
+        if not wp.is_mempool_enabled(device):
+            return None
+        return int(wp.get_mempool_used_mem_current(device))
+    except Exception:  # noqa: BLE001 - no Warp, or Warp not initialised on this device
+        return None
 
 
 def reset_gpu_memory_peak(device: str) -> None:
     """Start a new peak for ``gpu_memory_mb`` (call before building what is measured).
 
     What an earlier configuration of the same run still holds (objects not yet collected, cached
-    kernels' workspaces) is recorded as a baseline and left out of the next figure."""
+    workspaces) is recorded as a baseline and left out of the next figure."""
+    global _warp_baseline_bytes
     if str(device).startswith("cuda"):
-        gc.collect()
+        gc.collect()  # the previous measurement's env and its Warp arrays
         torch.cuda.empty_cache()
         torch.cuda.reset_peak_memory_stats(device)
-        _memory_baseline[str(device)] = torch.cuda.memory_allocated(device)
+        _torch_baseline_bytes[str(device)] = torch.cuda.memory_allocated(device)
+        _warp_baseline_bytes = _warp_pool_bytes(device) or 0
+
+
+def warp_memory_mb(device: str, physics=None) -> float | None:
+    """Warp's device memory of one benchmark configuration (call while it is alive): what its memory
+    pool gained since ``reset_gpu_memory_peak``, at least the physics' own arrays."""
+    if not str(device).startswith("cuda"):
+        return None
+    physics_bytes = physics.device_memory_bytes() if physics is not None else 0
+    pool = _warp_pool_bytes(device)
+    pool_bytes = 0 if pool is None else pool - _warp_baseline_bytes
+    return max(physics_bytes, pool_bytes) / 2**20
 
 
 def gpu_memory_mb(device: str, physics=None) -> float | None:
     """GPU memory of one benchmark configuration: torch's peak since ``reset_gpu_memory_peak``
-    (env buffers, policy, learner) plus the physics' own arrays, which MuJoCo Warp allocates
-    outside torch."""
+    (env buffers, policy, learner) plus Warp's (``warp_memory_mb``: MuJoCo Warp allocates the
+    physics outside torch)."""
     if not str(device).startswith("cuda"):
         return None
-    physics_bytes = physics.device_memory_bytes() if physics is not None else 0
-    torch_bytes = torch.cuda.max_memory_allocated(device) - _memory_baseline.get(str(device), 0)
-    return (torch_bytes + physics_bytes) / 2**20
+    torch_bytes = torch.cuda.max_memory_allocated(device) - _torch_baseline_bytes.get(str(device), 0)
+    return torch_bytes / 2**20 + warp_memory_mb(device, physics)

@@ -16,7 +16,21 @@ ANYDRIVE_3_SIMPLE_ACTUATOR_CFG = DCMotorCfg(
     stiffness={".*": 40.0},
     damping={".*": 5.0},
 )
-"""ANYdrive 3.x as a DC motor (Isaac Lab's simple actuator model)."""
+"""ANYdrive 3.x as a DC motor (Isaac Lab's simple actuator model, its numbers). Too soft to hold
+ANYmal-C in its default pose: see ``ANYDRIVE_3_STIFF_ACTUATOR_CFG``."""
+
+ANYDRIVE_3_STIFF_ACTUATOR_CFG = ANYDRIVE_3_SIMPLE_ACTUATOR_CFG.replace(stiffness={".*": 200.0})
+"""simlab's stand-in for Isaac Lab's ``ANYDRIVE_3_LSTM_ACTUATOR_CFG`` (an actuator network trained on
+the real drives, a file simlab does not ship): the same DC-motor limits (80 N m, 120 N m saturation,
+7.5 rad/s) and damping (5 N m s/rad), with a stiffness that holds the robot as the real drives do.
+
+In the default pose each HAA, HFE and KFE carries about 22 N m (a quarter of the 45 kg on a lever of
+about 0.2 m: the feet stand 0.2 m outboard of the HAA axes and 0.2 m ahead of or behind the knees).
+Measured in simlab (flat ground, PD targets at the default pose, base height after 3 s; it stands
+at 0.55 m with rigid joints): kp 40 (Isaac Lab's simple model) 0.21 m, the robot folds onto its
+knees; kp 80 (legged_gym's ANYmal-C PD gains) 0.26 m; kp 200 0.47 m, joints within 0.14 rad of
+their targets. The stiffness is simlab's choice, not a published figure."""
+
 
 ANYMAL_C_CFG = ArticulationCfg(
     spawn=sim_utils.MjcfFileCfg(asset_path=os.path.join(ASSETS_DIR, "anybotics_anymal_c.xml")),
@@ -30,8 +44,9 @@ ANYMAL_C_CFG = ArticulationCfg(
             ".*H_KFE": 0.8,
         },
     ),
-    actuators={"legs": ANYDRIVE_3_SIMPLE_ACTUATOR_CFG},
+    actuators={"legs": ANYDRIVE_3_STIFF_ACTUATOR_CFG},
     soft_joint_pos_limit_factor=0.95,
 )
 """ANYmal-C. Isaac Lab drives it with an LSTM actuator network (``ANYDRIVE_3_LSTM_ACTUATOR_CFG``),
-a trained file simlab does not ship; here it has Isaac Lab's DC-motor ANYdrive model instead."""
+a trained file simlab does not ship; here a stiffer DC-motor ANYdrive (``ANYDRIVE_3_STIFF_ACTUATOR_CFG``)
+that holds the robot in its default pose."""

@@ -13,6 +13,15 @@ it starts from and they drive it to the next state (what PhysX reports for its s
 sensor needs no extra forward pass per physics step (one per substep would cost about half a step
 more). The scene updates the sensor right after each physics step, before anything recomputes
 derived quantities.
+
+Forces from chosen partners (``filter_prim_paths_expr``, Isaac Lab's ``force_matrix_w``) come from
+MuJoCo's own contact sensors, one per (sensor body, partner) pair added to the model: each sums, in
+the world frame, the forces of the step's contacts between the partner and the body (``reduce=
+"netforce"``), on MuJoCo C and MuJoCo Warp alike, at the same point of the step as ``cfrc_ext``.
+
+Body order: breadth first (by depth in the kinematic tree, then model order), the order of an
+articulation's ``body_names``; a sensor over all of a robot's bodies lists them as the robot does.
+Look bodies up by name (``find_bodies``, ``SceneEntityCfg(..., body_names=...)``) all the same.
 """
 
 from __future__ import annotations
@@ -26,9 +35,49 @@ from simlab.utils import configclass
 from simlab.utils.env_mask import env_mask, masked_copy_
 from simlab.utils.string import resolve_matching_names
 
-from .sensor_base import SensorBase, SensorBaseCfg, find_sensor_bodies
+from .sensor_base import SensorBase, SensorBaseCfg, find_sensor_bodies, match_body_names, prim_path_in_model
 
 _TRIGGER_SITE = "simlab/contact_forces"
+_FILTER_SENSOR = "simlab/contact_filter"
+# a MuJoCo contact sensor's settings (mjsSensor.intprm): its data (bit 1: force), its reduction
+# (3: netforce, the sum of the matching contacts' forces in the world frame) and one slot
+_NET_FORCE_SENSOR = [2, 3, 1]
+
+
+def _order_breadth_first(model: mujoco.MjModel, ids: list[int]) -> list[int]:
+    from simlab.assets.root_body import breadth_first
+
+    return breadth_first(model, ids, lambda b: b)
+
+
+def _filter_partners(spec: mujoco.MjSpec, expr: str, owner: str) -> list[tuple[str, mujoco.mjtObj, str]]:
+    """The contact partners ``expr`` names, as (name, MuJoCo object type, object name): bodies of
+    assets (``{ENV_REGEX_NS}/Object``: its root body, ``{ENV_REGEX_NS}/Robot/.*_foot``: those), or
+    static geometry of the world (``/World/ground``: the ground plane, or a terrain's geoms)."""
+    bodies = list(spec.bodies)[1:]  # the world is no asset body
+    names = [b.name for b in bodies]
+    roots = {b.name for b in spec.worldbody.bodies}
+    matched = [names[i] for i in match_body_names(names, roots, expr)]
+    if matched:
+        return [(name, mujoco.mjtObj.mjOBJ_BODY, name) for name in matched]
+    path = prim_path_in_model(expr)
+    static = [g.name for g in spec.worldbody.geoms if g.name == path or g.name.startswith(path + "/")]
+    colliding = [g.name for g in spec.worldbody.geoms if g.contype or g.conaffinity]
+    if len(static) == 1:
+        return [(path, mujoco.mjtObj.mjOBJ_GEOM, static[0])]
+    if static and set(colliding) <= set(static):  # every static geom that collides: the world body
+        return [(path, mujoco.mjtObj.mjOBJ_BODY, "world")]
+    if static:
+        raise ValueError(
+            f"{owner}: filter_prim_paths_expr '{expr}' names {len(static)} static geoms, but the world has other"
+            f" colliding geoms too ({sorted(set(colliding) - set(static))[:5]}); a filter on static geometry"
+            " must name one geom or all of it."
+        )
+    raise ValueError(
+        f"{owner}: filter_prim_paths_expr '{expr}' matches no body and no static geom of the model; bodies: {names},"
+        f" static geoms: {[g.name for g in spec.worldbody.geoms]}. Name an asset ('{{ENV_REGEX_NS}}/Object'),"
+        " its bodies ('{ENV_REGEX_NS}/Robot/<body regex>') or static geometry ('/World/ground')."
+    )
 
 
 class ContactSensorData:
@@ -49,6 +98,11 @@ class ContactSensorData:
         self.current_contact_time: torch.Tensor | None = None
         self.last_contact_time: torch.Tensor | None = None
         self.force_matrix_w: torch.Tensor | None = None
+        """(N, B, M, 3) contact force on each body from each of the M partners that
+        ``filter_prim_paths_expr`` names (world frame, normal and friction, as ``net_forces_w``);
+        None without filters."""
+        self.force_matrix_w_history: torch.Tensor | None = None
+        """(N, T, B, M, 3) the last T values of ``force_matrix_w``, newest first."""
 
 
 class ContactSensor(SensorBase):
@@ -58,11 +112,10 @@ class ContactSensor(SensorBase):
 
     def __init__(self, cfg: ContactSensorCfg, scene=None):
         super().__init__(cfg, scene)
+        self._partners: list[str] = []
+        self._filter_prefix = ""
         if cfg.filter_prim_paths_expr:
-            raise ValueError(
-                "ContactSensorCfg.filter_prim_paths_expr (per-partner force matrix) is not supported by simlab;"
-                " leave it empty"
-            )
+            self._sim.add_build_callback(self._add_filter_sensors)
         # An acceleration-stage sensor makes MuJoCo's forward pass compute cfrc_ext.
         spec = self._sim.spec
         if spec.site(_TRIGGER_SITE) is None:
@@ -93,6 +146,11 @@ class ContactSensor(SensorBase):
     def body_names(self) -> list[str]:
         return self._body_names
 
+    @property
+    def filter_partner_names(self) -> list[str]:
+        """The M partners of ``force_matrix_w``, in its order (Isaac Lab's order: by expression)."""
+        return self._partners
+
     def find_bodies(self, name_keys: str | Sequence[str], preserve_order: bool = False) -> tuple[list[int], list[str]]:
         return resolve_matching_names(name_keys, self._body_names, preserve_order)
 
@@ -114,6 +172,8 @@ class ContactSensor(SensorBase):
         mask = env_mask(env_ids, self.num_instances, self.device)
         d = self._data
         buffers = [d.net_forces_w, d.net_forces_w_history]
+        if d.force_matrix_w is not None:
+            buffers += [d.force_matrix_w, d.force_matrix_w_history]
         if self.cfg.track_air_time:
             buffers += [d.current_air_time, d.last_air_time, d.current_contact_time, d.last_contact_time]
         for buffer in buffers:
@@ -133,6 +193,12 @@ class ContactSensor(SensorBase):
         if d.net_forces_w_history.shape[1] > 1:
             d.net_forces_w_history.copy_(torch.roll(d.net_forces_w_history, 1, dims=1))
         d.net_forces_w_history[:, 0] = external
+        if d.force_matrix_w is not None:
+            matrix = self._sensordata[:, self._filter_index]  # (N, B, M, 3)
+            d.force_matrix_w.copy_(matrix)
+            if d.force_matrix_w_history.shape[1] > 1:
+                d.force_matrix_w_history.copy_(torch.roll(d.force_matrix_w_history, 1, dims=1))
+            d.force_matrix_w_history[:, 0] = matrix
         # every buffer is written in place: a step replayed as a CUDA graph reads and writes the
         # same tensors at each replay (a rebound attribute would leave the graph reading the old one)
         if self.cfg.track_pose:
@@ -150,8 +216,40 @@ class ContactSensor(SensorBase):
 
     # -- building -------------------------------------------------------------------------------
 
+    def _add_filter_sensors(self, spec: mujoco.MjSpec) -> None:
+        """One MuJoCo contact sensor per (body, partner): the force the partner exerts on the body."""
+        owner = f"ContactSensorCfg('{self.cfg.prim_path}')"
+        bodies = list(spec.bodies)[1:]
+        names = [b.name for b in bodies]
+        roots = {b.name for b in spec.worldbody.bodies}
+        sensor_bodies = [names[i] for i in match_body_names(names, roots, self.cfg.prim_path)]
+        if not sensor_bodies:
+            raise ValueError(f"{owner} prim_path '{self.cfg.prim_path}' matches no body of the model; bodies: {names}")
+        partners = [p for expr in self.cfg.filter_prim_paths_expr for p in _filter_partners(spec, expr, owner)]
+        self._partners = [name for name, _, _ in partners]
+        self._filter_prefix = f"{_FILTER_SENSOR}{len(spec.sensors)}/"  # unique per sensor of the scene
+        for body in sensor_bodies:
+            for partner, objtype, objname in partners:
+                name = self._filter_sensor_name(body, partner)
+                spec.add_sensor(
+                    name=name,
+                    type=mujoco.mjtSensor.mjSENS_CONTACT,
+                    objtype=objtype,  # object 1 exerts the force reported on object 2
+                    objname=objname,
+                    reftype=mujoco.mjtObj.mjOBJ_BODY,
+                    refname=body,
+                    intprm=_NET_FORCE_SENSOR,
+                )
+
+    def _filter_sensor_name(self, body: str, partner: str) -> str:
+        return f"{self._filter_prefix}{body}|{partner}"
+
     def _initialize(self, sim) -> None:
         ids, names = find_sensor_bodies(sim.model, self.cfg.prim_path, f"ContactSensorCfg('{self.cfg.prim_path}')")
+        ids = _order_breadth_first(sim.model, ids)
+        names = [sim.model.body(b).name for b in ids]
+        if self._partners:
+            self._bind_filter_sensors(sim, names)
         names = [name.split("/", 1)[1] for name in names]  # "Robot/foot" -> "foot", as Isaac Lab names them
         self._body_ids = torch.tensor(ids, dtype=torch.long, device=self.device)
         self._body_names = names
@@ -171,6 +269,21 @@ class ContactSensor(SensorBase):
             d.current_contact_time = torch.zeros(n, b, device=dev)
             d.last_contact_time = torch.zeros(n, b, device=dev)
         super()._initialize(sim)
+
+    def _bind_filter_sensors(self, sim, body_names: list[str]) -> None:
+        """Index of each (body, partner, xyz) value in ``sensordata``, bodies in the sensor's order."""
+        model, m = sim.model, len(self._partners)
+        addresses = []
+        for body in body_names:
+            for partner in self._partners:
+                adr = int(model.sensor(self._filter_sensor_name(body, partner)).adr[0])
+                addresses.append([adr, adr + 1, adr + 2])
+        index = torch.tensor(addresses, dtype=torch.long, device=self.device).view(len(body_names), m, 3)
+        self._filter_index = index
+        self._sensordata = sim.physics.data("sensordata")
+        n, hist = self.num_instances, max(1, self.cfg.history_length)
+        self._data.force_matrix_w = torch.zeros(n, len(body_names), m, 3, device=self.device)
+        self._data.force_matrix_w_history = torch.zeros(n, hist, len(body_names), m, 3, device=self.device)
 
     def _need_air_time(self, what: str) -> None:
         if not self.cfg.track_air_time:

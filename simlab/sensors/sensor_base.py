@@ -94,25 +94,28 @@ def model_body_names(model: mujoco.MjModel) -> list[str]:
     return [model.body(b).name for b in range(1, model.nbody)]
 
 
-def find_sensor_bodies(model: mujoco.MjModel, prim_path: str, owner: str) -> tuple[list[int], list[str]]:
-    """Ids and names of the bodies that ``prim_path`` selects (``{ENV_REGEX_NS}/Robot/.*``); an
-    asset's own path (``{ENV_REGEX_NS}/Robot``) selects its root body. Raises naming the bodies there are."""
+def match_body_names(names: list[str], root_names: set[str], prim_path: str) -> list[int]:
+    """Indices of the ``names`` (the model's body names, world excluded) that ``prim_path`` selects
+    (``{ENV_REGEX_NS}/Robot/.*``); an asset's own path (``{ENV_REGEX_NS}/Robot``) selects its root
+    body, the one of ``root_names`` (the world's children) named ``Robot/...``."""
     path = prim_path_in_model(prim_path)
     entity, _, bodies = path.partition("/")
-    ids: list[int] = []
     if bodies:
         pattern = re.compile(re.escape(entity) + "/" + bodies)
-        ids = [b for b in range(1, model.nbody) if pattern.fullmatch(model.body(b).name)]
-    else:  # the asset itself: its root body (a child of the world)
-        ids = [
-            b
-            for b in range(1, model.nbody)
-            if model.body_parentid[b] == 0 and model.body(b).name.startswith(entity + "/")
-        ]
+        return [i for i, name in enumerate(names) if pattern.fullmatch(name)]
+    return [i for i, name in enumerate(names) if name in root_names and name.startswith(entity + "/")]
+
+
+def find_sensor_bodies(model: mujoco.MjModel, prim_path: str, owner: str) -> tuple[list[int], list[str]]:
+    """Ids and names of the bodies that ``prim_path`` selects (see ``match_body_names``). Raises
+    naming the bodies there are."""
+    names = model_body_names(model)
+    roots = {model.body(b).name for b in range(1, model.nbody) if model.body_parentid[b] == 0}
+    ids = [i + 1 for i in match_body_names(names, roots, prim_path)]
     if not ids:
         raise ValueError(
             f"{owner} prim_path '{prim_path}' matches no body of the model; bodies in the model:"
-            f" {model_body_names(model)}. Write the path as '{{ENV_REGEX_NS}}/<asset>/<body regex>',"
+            f" {names}. Write the path as '{{ENV_REGEX_NS}}/<asset>/<body regex>',"
             " e.g. '{ENV_REGEX_NS}/Robot/base'."
         )
     return ids, [model.body(b).name for b in ids]

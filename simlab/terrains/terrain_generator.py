@@ -131,6 +131,23 @@ def validate(cfg: TerrainGeneratorCfg) -> None:
             f"TerrainGeneratorCfg.horizontal_scale and vertical_scale must be > 0, got"
             f" {cfg.horizontal_scale}, {cfg.vertical_scale}"
         )
+    # every tile may become a height field (box tiles too, by default): bound the samples before
+    # generating them, rather than fill the host and then the GPU with them
+    finest = min(cfg.horizontal_scale, cfg.box_height_field_scale or cfg.horizontal_scale)
+    per_tile = (int(cfg.size[0] / finest) + 1) * (int(cfg.size[1] / finest) + 1)
+    total = per_tile * cfg.num_rows * cfg.num_cols
+    if total > MAX_HEIGHT_SAMPLES:
+        raise ValueError(
+            f"TerrainGeneratorCfg cannot fit: {cfg.num_rows} x {cfg.num_cols} tiles of {cfg.size} m sampled every"
+            f" {finest} m (horizontal_scale / box_height_field_scale) make {total:,} height samples, more than"
+            f" {MAX_HEIGHT_SAMPLES:,} (the terrain is in every world's model); raise horizontal_scale, or use"
+            " fewer or smaller tiles (num_rows, num_cols, size)"
+        )
+
+
+MAX_HEIGHT_SAMPLES = 50_000_000
+"""At most this many height-field samples in a generated terrain (200 MB as float32; Isaac Lab's
+ROUGH_TERRAINS_CFG has 1.3 million)."""
 
 
 BOX_TILES_AS = ("height_field", "boxes")

@@ -128,6 +128,14 @@ class EventCfg:
             "operation": "add",
         },
     )
+    base_com = EventTerm(
+        func=mdp.randomize_rigid_body_com,
+        mode="startup",
+        params={
+            "asset_cfg": SceneEntityCfg("robot", body_names="base"),
+            "com_range": {"x": (-0.05, 0.05), "y": (-0.05, 0.05), "z": (-0.01, 0.01)},
+        },
+    )
     # reset
     base_external_force_torque = EventTerm(
         func=mdp.apply_external_force_torque,
