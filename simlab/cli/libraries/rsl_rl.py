@@ -21,6 +21,7 @@ from simlab.cli.session import check_training_length
 from simlab.rl.utils import require
 from simlab.utils.errors import ConfigError, TrainingDivergedError
 from simlab.utils.io import atomic_torch_saves
+from simlab.utils.startup import mark
 
 require("rsl_rl")
 from rsl_rl.runners import OnPolicyRunner  # noqa: E402
@@ -59,6 +60,7 @@ class _ProgressLogger(Logger):
         self.update_seconds = 0.0  # rsl_rl's learn_time, summed
 
     def log(self, it: int, start_it: int, total_it: int, collect_time: float, learn_time: float, **kw: Any) -> None:
+        mark("first iteration")
         self.rollout_seconds += collect_time
         self.update_seconds += learn_time
         self._flush_finished()
@@ -189,6 +191,8 @@ def train(
 ) -> None:
     """Train; ``run_dir`` None (ranks other than 0 of a distributed run) writes nothing."""
     runner = make_runner(env, agent_cfg, run_dir)
+    mark("runner")
+    _mark_first_step(runner.env)
     if run_dir is not None:
         print(f"[simlab] PPO update: {runner.update_kind}; policy in the rollout: {runner.act_kind}", flush=True)
     logger = _ProgressLogger(
@@ -231,6 +235,18 @@ def train(
     except TrainingDivergedError:
         logger.stop_logging_writer()
         raise
+
+
+def _mark_first_step(wrapped: RslRlVecEnvWrapper) -> None:
+    """Mark the start-up milestone "first env step" when the first step returns (then step as before)."""
+
+    def first_step(actions: torch.Tensor):
+        del wrapped.step  # later steps call the class's method directly
+        out = wrapped.step(actions)
+        mark("first env step")
+        return out
+
+    wrapped.step = first_step
 
 
 class _StopTraining(Exception):
