@@ -5,7 +5,10 @@ training writes the same weights."""
 from __future__ import annotations
 
 import glob
+import os
 import re
+import subprocess
+import sys
 
 import pytest
 import torch
@@ -14,7 +17,7 @@ from torch.utils.tensorboard import SummaryWriter
 import simlab.cli.libraries.rsl_rl as rsl_rl_adapter
 from simlab.cli.main import build_parser
 from simlab.cli.train import run_train
-from simlab.utils.startup import MILESTONES_PREFIX, milestones
+from simlab.utils.startup import MILESTONES_PREFIX, bytecode_hint, milestones
 
 TRAIN = ["train", "--task", "simlab/Cartpole-v0", "--headless", "--device", "cpu", "--num_envs", "16", "--seed", "5"]
 
@@ -80,3 +83,20 @@ def test_episode_logs_picked_per_iteration_match_the_per_step_choice(tmp_path, m
             assert all(torch.equal(a[i][k], b[i][k]) for i in a for k in a[i])
         else:
             assert all(torch.equal(a[k], b[k]) for k in a)
+
+
+def test_a_library_compiled_from_source_is_named_with_the_fix(tmp_path):
+    code = (
+        "import json\n"
+        "from simlab.utils.startup import bytecode_hint, compiled_from_source\n"
+        "print(compiled_from_source(('json', 'not_imported')))\n"
+        "print(bytecode_hint(('json',)))\n"
+    )
+    # an empty bytecode cache that Python may not write to: every module is compiled from source
+    uncached = {**os.environ, "PYTHONPYCACHEPREFIX": str(tmp_path), "PYTHONDONTWRITEBYTECODE": "1"}
+    out = subprocess.run([sys.executable, "-c", code], env=uncached, capture_output=True, text=True, check=True)
+    listed, hint = out.stdout.splitlines()[-2:]
+    assert listed == "['json']"
+    assert "compiled json from source" in hint and "PYTHONDONTWRITEBYTECODE is set" in hint
+    assert "PYTHONPYCACHEPREFIX" in hint
+    assert bytecode_hint(("json",)) is None  # this process found json's bytecode cached

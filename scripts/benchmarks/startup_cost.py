@@ -13,6 +13,9 @@ run by run, so machine noise falls on all of them alike; compare the ratios:
   without ``PYTHONDONTWRITEBYTECODE``, i.e. every module's bytecode cached in DIR: what start-up is
   where the install has no ``.pyc`` files (``pip install --no-compile``) or Python may not write
   them. Its first run fills DIR; compare the later ones.
+- ``no bytecode`` (with ``--no_bytecode_variant``): this tree with an empty ``PYTHONPYCACHEPREFIX`` and
+  ``PYTHONDONTWRITEBYTECODE=1``: every module compiled from source in every run, what a host whose
+  install has no ``.pyc`` files and whose Python may not write them pays.
 
 Per variant it prints the median (and each run's) seconds from the process start to each of
 ``simlab train``'s start-up milestones: the configs loaded (torch and the task imported), the RL
@@ -163,6 +166,7 @@ def main() -> int:
     parser.add_argument("--runs", type=int, default=5, help="fresh processes per variant")
     parser.add_argument("--before", default=None, help="a folder holding an older simlab package to compare with")
     parser.add_argument("--pycache_prefix", default=None, help="add a variant with PYTHONPYCACHEPREFIX=this folder")
+    parser.add_argument("--no_bytecode_variant", action="store_true", help="add a variant that compiles from source")
     parser.add_argument("--top", type=int, default=12, help="packages listed by import cost")
     parser.add_argument("--cwd", default=ROOT, help="folder the runs start in")
     parser.add_argument("--json", default=None, help="write the runs to this file")
@@ -176,8 +180,11 @@ def main() -> int:
         variants.append({"name": "pycache prefix", "tree": ROOT, "env": cached})
     if args.before:
         variants.append({"name": "before", "tree": os.path.abspath(args.before), "env": {}})
-    runs: dict[str, list[dict]] = {v["name"]: [] for v in variants}
-    with tempfile.TemporaryDirectory() as log_root:
+    with tempfile.TemporaryDirectory() as log_root, tempfile.TemporaryDirectory() as empty:
+        if args.no_bytecode_variant:
+            uncached = {"PYTHONPYCACHEPREFIX": empty, "PYTHONDONTWRITEBYTECODE": "1"}
+            variants.append({"name": "no bytecode", "tree": ROOT, "env": uncached})
+        runs: dict[str, list[dict]] = {v["name"]: [] for v in variants}
         for r in range(args.runs):
             for v in variants:
                 row = run_once(v, args, log_root)
@@ -191,19 +198,17 @@ def main() -> int:
         name: {k: statistics.median(row[k] for row in rows) for k in METRICS if all(k in row for row in rows)}
         for name, rows in runs.items()
     }
-    header = f"{'variant':>16} | " + " | ".join(f"{k:>16}" for k in METRICS)
-    print(header)
-    for name, values in medians.items():
-        print(f"{name:>16} | " + " | ".join(f"{values[k]:16.2f}" if k in values else f"{'-':>16}" for k in METRICS))
     first = variants[0]["name"]
-    for name in list(medians)[1:]:
-        ratios = [
-            f"{medians[first][k] / medians[name][k]:16.2f}"
-            if k in medians[first] and k in medians[name]
-            else f"{'-':>16}"
-            for k in METRICS
-        ]
-        print(f"{first + '/' + name:>16} | " + " | ".join(ratios))
+    others = list(medians)[1:]
+    columns = list(medians) + [f"{first}/{name}" for name in others]
+    width = max(16, *(len(c) for c in columns))
+    print(f"{'median s':>18} | " + " | ".join(f"{c:>{width}}" for c in columns))
+    for k in METRICS:
+        cells = [f"{medians[name][k]:{width}.2f}" if k in medians[name] else f"{'-':>{width}}" for name in medians]
+        for name in others:
+            both = k in medians[first] and k in medians[name]
+            cells.append(f"{medians[first][k] / medians[name][k]:{width}.2f}" if both else f"{'-':>{width}}")
+        print(f"{k:>18} | " + " | ".join(cells))
     for name, rows in runs.items():
         child = rows[0]["child"]
         compiled = [row["child"].get("compiled_from_source") for row in rows]

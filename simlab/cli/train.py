@@ -14,7 +14,13 @@ from simlab.cli.runs import dump_params, make_run_dir, remove_if_empty_run, writ
 from simlab.cli.session import check_flags, load_configs, make_env, resolve_seed
 from simlab.rl.utils import is_multi_agent
 from simlab.utils.errors import ConfigError
-from simlab.utils.startup import clear_milestones, format_milestones, mark, seconds_since_process_start
+from simlab.utils.startup import (
+    bytecode_hint,
+    clear_milestones,
+    format_milestones,
+    mark,
+    seconds_since_process_start,
+)
 
 __all__ = [
     "launch_distributed",
@@ -185,6 +191,9 @@ def _train_in(
                 f"[simlab] Training {args.task} with {args.library} on {env_cfg.sim.device}, "
                 f"{env.unwrapped.num_envs} envs{spread}. Run folder: {run_dir}"
             )
+            hint = bytecode_hint()
+            if hint:
+                print(hint)
         startup = seconds_since_process_start()
         start = time.perf_counter()
         lib.train(env, agent_cfg, run_dir, args, resume)
