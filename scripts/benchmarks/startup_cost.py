@@ -103,7 +103,7 @@ def run_once(variant: dict, args: argparse.Namespace, log_root: str) -> dict:
     env["STARTUP_COST_REPORT"] = report
     cmd = [sys.executable, "-c", CHILD, *_train_argv(args, log_root)]
     start = time.perf_counter()
-    out = subprocess.run(cmd, env=env, cwd=args.cwd, capture_output=True, text=True)
+    out = subprocess.run(cmd, env=env, cwd=log_root, capture_output=True, text=True)
     wall = time.perf_counter() - start
     if out.returncode != 0:
         raise RuntimeError(
@@ -134,7 +134,7 @@ def import_costs(variant: dict, args: argparse.Namespace, log_root: str) -> dict
     env = _variant_env(variant)
     env["STARTUP_COST_REPORT"] = os.devnull
     cmd = [sys.executable, "-X", "importtime", "-c", CHILD, *_train_argv(args, log_root)]
-    out = subprocess.run(cmd, env=env, cwd=args.cwd, capture_output=True, text=True)
+    out = subprocess.run(cmd, env=env, cwd=log_root, capture_output=True, text=True)
     groups: dict[str, float] = defaultdict(float)
     for line in out.stderr.splitlines():
         found = re.match(r"import time:\s+(\d+) \|\s+\d+ \|\s*(\S+)", line)
@@ -168,7 +168,6 @@ def main() -> int:
     parser.add_argument("--pycache_prefix", default=None, help="add a variant with PYTHONPYCACHEPREFIX=this folder")
     parser.add_argument("--no_bytecode_variant", action="store_true", help="add a variant that compiles from source")
     parser.add_argument("--top", type=int, default=12, help="packages listed by import cost")
-    parser.add_argument("--cwd", default=ROOT, help="folder the runs start in")
     parser.add_argument("--json", default=None, help="write the runs to this file")
     parser.add_argument("overrides", nargs="*", help="env.x=... / agent.y=... words passed to simlab train")
     args = parser.parse_args()
