@@ -32,6 +32,7 @@ def test_every_checkpoint_is_played_and_training_is_what_simlab_train_does(tmp_p
         assert column in printed
     assert printed.count("[solve] model_") == 3  # iterations 0, 1, 2; the final save of model_2 is not played twice
     assert "not solved in 3 iterations; of " in printed and "start-up " in printed and "evaluation " in printed
+    assert "[solve] start-up " in printed and "first env step " in printed and "first iteration " in printed
 
     (row,) = json.loads(out.read_text())["results"]["solve"]
     assert "error" not in row
@@ -44,6 +45,9 @@ def test_every_checkpoint_is_played_and_training_is_what_simlab_train_does(tmp_p
     last = row["evaluations"][-1]
     assert sum(shares) + row["other_s"] == pytest.approx(last["saved_at_s"] + last["evaluation_s"])
     assert row["wall_s"] >= last["saved_at_s"] and row["num_envs"] == 32
+    reached = row["startup_milestones_s"]
+    assert list(reached)[0] == "command" and list(reached)[-1] == "first iteration"
+    assert reached["first iteration"] <= row["evaluations"][0]["saved_at_s"]
 
     # playing the checkpoints left training alone: the same weights as `simlab train` with that seed
     plain = ["train", "--task", "simlab/Cartpole-v0", "--headless", "--device", "cpu", "--num_envs", "32"]

@@ -211,6 +211,8 @@ def bench_train(
         agent_cfg.fast_update = fast_update
         agent_cfg.graph_act = None if fast_update else False
     runner = make_runner(env, agent_cfg, log_dir=None)  # as `simlab train` builds it, without logging
+    if hasattr(env, "log_refresh_on_device"):  # as `simlab train` steps it: no log flag read per step
+        env.log_refresh_on_device = True
     runner.learn(num_learning_iterations=1)
     synchronize(device)
     start = time.perf_counter()

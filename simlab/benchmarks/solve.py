@@ -25,6 +25,7 @@ import torch
 from simlab.benchmarks.criteria import criterion_for
 from simlab.cli.train import seconds_since_process_start
 from simlab.utils.io import load_yaml
+from simlab.utils.startup import milestones
 
 SUPPORTED_LIBRARIES = ("rsl_rl",)
 
@@ -203,6 +204,11 @@ def time_to_policy(
     names = {"startup_s": "start-up", "rollout_s": "rollout", "update_s": "update", "evaluation_s": "evaluation"}
     split = ", ".join(f"{names.get(k, 'other')} {v / measured:.0%}" for k, v in shares.items())
     print(f"[solve] {task}: {verdict}; of {measured:.1f} s: {split}", flush=True)
+    reached = milestones()  # simlab train's, from this process's start
+    print(
+        f"[solve] start-up {startup:.1f} s, reached at (s): " + ", ".join(f"{k} {v:.1f}" for k, v in reached.items()),
+        flush=True,
+    )
     return {
         "task": task,
         "library": library,
@@ -217,5 +223,6 @@ def time_to_policy(
         "time_to_policy_s": last["time_to_checkpoint_s"] if judge.solved else None,
         "wall_s": wall,
         **shares,
+        "startup_milestones_s": reached,
         "evaluations": judge.evaluations,
     }

@@ -14,8 +14,21 @@ from simlab.cli.runs import dump_params, make_run_dir, remove_if_empty_run, writ
 from simlab.cli.session import check_flags, load_configs, make_env, resolve_seed
 from simlab.rl.utils import is_multi_agent
 from simlab.utils.errors import ConfigError
+from simlab.utils.startup import (
+    bytecode_hint,
+    clear_milestones,
+    format_milestones,
+    mark,
+    seconds_since_process_start,
+)
 
-__all__ = ["launch_distributed", "needs_launch", "run_train", "uses_multi_agent_learner"]
+__all__ = [
+    "launch_distributed",
+    "needs_launch",
+    "run_train",
+    "seconds_since_process_start",
+    "uses_multi_agent_learner",
+]
 
 
 def uses_multi_agent_learner(args: argparse.Namespace) -> bool:
@@ -97,14 +110,18 @@ def _settings_all_ranks_share(args: argparse.Namespace, overrides: list[str], en
 
 def run_train(args: argparse.Namespace, overrides: list[str], argv: list[str] | None = None) -> str | None:
     """Train ``args.task`` with ``args.library``; returns the run folder (None on ranks other than 0)."""
+    clear_milestones()
+    mark("command")
     check_flags(args)
     if getattr(args, "ml_framework", "torch") != "torch" and args.library != "skrl":
         raise ConfigError(f"--ml_framework {args.ml_framework} is skrl's; {args.library} trains on torch.")
     args.seed = resolve_seed(args.seed)
     env_cfg, agent_cfg = load_configs(args, overrides)
+    mark("configs")
     _ask_for_io_descriptors(args, env_cfg)
     ranks = _setup_ranks(args, env_cfg)
     lib = get_library(args.library)
+    mark("library")
     lib.configure(agent_cfg, args, env_cfg)
     # seed + rank: each rank simulates other episodes (the env seeds torch with it; skrl and rl_games
     # add the rank to their own seeds themselves)
@@ -125,6 +142,8 @@ def run_train(args: argparse.Namespace, overrides: list[str], argv: list[str] | 
         distributed.shutdown()
     took = time.perf_counter() - start
     if ranks.is_main:
+        if getattr(args, "verbose", False):
+            print(format_milestones())
         print(
             f"[simlab] Training took {took:.1f} s after {startup:.1f} s of start-up "
             f"({startup + took:.1f} s in all). Run folder: {run_dir}"
@@ -154,6 +173,7 @@ def _train_in(
     multi = uses_multi_agent_learner(args)
     video_dir = os.path.join(run_dir, "videos", "train") if run_dir else None
     env = make_env(args, env_cfg, video_dir, single_agent=not multi)
+    mark("env")
     try:
         if multi and not is_multi_agent(env):
             raise ConfigError(f"--algorithm {args.algorithm} needs a multi-agent task; {args.task} has one agent.")
@@ -171,21 +191,12 @@ def _train_in(
                 f"[simlab] Training {args.task} with {args.library} on {env_cfg.sim.device}, "
                 f"{env.unwrapped.num_envs} envs{spread}. Run folder: {run_dir}"
             )
+            hint = bytecode_hint()
+            if hint:
+                print(hint)
         startup = seconds_since_process_start()
         start = time.perf_counter()
         lib.train(env, agent_cfg, run_dir, args, resume)
     finally:
         env.close()
     return startup, start
-
-
-def seconds_since_process_start() -> float:
-    """Wall time since this process started (Linux's /proc; NaN elsewhere)."""
-    try:
-        with open("/proc/self/stat") as f:
-            start_ticks = int(f.read().rsplit(")", 1)[1].split()[19])  # field 22: starttime
-        with open("/proc/uptime") as f:
-            uptime = float(f.read().split()[0])
-        return uptime - start_ticks / os.sysconf("SC_CLK_TCK")
-    except (OSError, ValueError, IndexError):
-        return float("nan")

@@ -40,6 +40,12 @@ class ManagerBasedRLEnv(ManagerBasedEnv, gym.Env):
         "autoreset_mode": gym.vector.AutoresetMode.SAME_STEP,
     }
     cfg: ManagerBasedRLEnvCfg
+    log_refresh_on_device: bool = False
+    """False: ``extras["log"]`` is replaced only in steps where some env finished (Isaac Lab's way;
+    deciding that reads a flag back from the device every step). True: every step puts its logs in
+    ``extras["log"]`` and whether they are fresh in ``extras["log_refreshed"]`` (a 0-d bool on the
+    env's device), and the consumer picks the fresh ones itself: simlab's rsl_rl logger does, once
+    per iteration, so a GPU rollout runs without a host sync per step."""
 
     def __init__(self, cfg: ManagerBasedRLEnvCfg, render_mode: str | None = None, **kwargs):
         if render_mode not in self.metadata["render_modes"]:
@@ -100,8 +106,12 @@ class ManagerBasedRLEnv(ManagerBasedEnv, gym.Env):
         self.extras["final_obs"] = final_obs
         self.extras["time_outs"] = truncated
         # Episode logs are means over the envs that finished; as in Isaac Lab they are refreshed
-        # only in steps where some env finished (one read of a flag per step).
-        if bool(self.reset_buf.any()):
+        # only in steps where some env finished (one read of a flag per step, unless the consumer
+        # reads the flags itself: log_refresh_on_device).
+        if self.log_refresh_on_device:
+            self.extras["log"] = log
+            self.extras["log_refreshed"] = self.reset_buf.any()
+        elif bool(self.reset_buf.any()):
             self.extras["log"] = log
         return obs, reward, terminated, truncated, self.extras
 

@@ -18,6 +18,7 @@ import torch
 
 from simlab.app.app_launcher import resolve_device
 from simlab.utils.errors import ConfigError
+from simlab.utils.startup import mark
 from simlab.utils.unsupported import refuse_unless_default
 
 from .backends import PhysicsBackend, make_backend
@@ -137,6 +138,7 @@ class SimulationContext:
             for build in self._on_build:
                 build(self.spec)
             self.model = self.spec.compile()
+            mark("model compiled")
             geometry_qpos0 = self.model.qpos0.copy()
             for callback in self._on_compile:
                 callback(self.model)  # articulations put their default joint positions in qpos0
@@ -157,11 +159,13 @@ class SimulationContext:
                 nconmax=opts.nconmax,
                 njmax=opts.njmax,
             )
+            mark("physics backend")  # for MuJoCo Warp: imported, initialised, model and data on the GPU
             self.backend.set_initial_qpos(initial_qpos)
             for callback in self._on_reset:
                 callback(self)
         if not soft:
             self.backend.reset()
+            mark("physics reset")
 
     def step(self, render: bool = True, forward: bool = False) -> None:
         """One physics step of every world (``mj_step``).

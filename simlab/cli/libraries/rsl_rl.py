@@ -21,6 +21,7 @@ from simlab.cli.session import check_training_length
 from simlab.rl.utils import require
 from simlab.utils.errors import ConfigError, TrainingDivergedError
 from simlab.utils.io import atomic_torch_saves
+from simlab.utils.startup import mark
 
 require("rsl_rl")
 from rsl_rl.runners import OnPolicyRunner  # noqa: E402
@@ -55,10 +56,15 @@ class _ProgressLogger(Logger):
     def __init__(self, *args: Any, **kwargs: Any):
         super().__init__(*args, **kwargs)
         self._finished: list[tuple[torch.Tensor, torch.Tensor, torch.Tensor]] = []
+        # (refreshed flag, logs) of each step of an env with log_refresh_on_device, and the logs
+        # that count until the next refresh (what extras["log"] would hold in Isaac Lab's way)
+        self._env_logs: list[tuple[torch.Tensor, dict]] = []
+        self.current_env_log: dict | None = None
         self.rollout_seconds = 0.0  # rsl_rl's collect_time, summed over the iterations
         self.update_seconds = 0.0  # rsl_rl's learn_time, summed
 
     def log(self, it: int, start_it: int, total_it: int, collect_time: float, learn_time: float, **kw: Any) -> None:
+        mark("first iteration")
         self.rollout_seconds += collect_time
         self.update_seconds += learn_time
         self._flush_finished()
@@ -81,12 +87,15 @@ class _ProgressLogger(Logger):
 
         rsl_rl copies the returns of finished episodes to the host every step, which makes the
         CPU wait for the GPU each step. Here they stay on the device until ``log``, once per
-        iteration; the buffers then hold the same episodes in the same order.
+        iteration; the buffers then hold the same episodes in the same order. So do the env's
+        episode logs where the env leaves choosing the fresh ones to us (``log_refresh_on_device``).
         """
         if self.writer is None or intrinsic_rewards is not None:
             return super().process_env_step(rewards, dones, extras, intrinsic_rewards)
         if "episode" in extras:
             self.ep_extras.append(extras["episode"])
+        elif "log_refreshed" in extras:
+            self._env_logs.append((extras["log_refreshed"], extras["log"]))
         elif "log" in extras:
             self.ep_extras.append(extras["log"])
         self.cur_reward_sum += rewards
@@ -97,6 +106,14 @@ class _ProgressLogger(Logger):
         self.cur_episode_length.masked_fill_(done, 0.0)
 
     def _flush_finished(self) -> None:
+        if self._env_logs:
+            refreshed = torch.stack([flag for flag, _ in self._env_logs]).tolist()
+            for fresh, (_, log) in zip(refreshed, self._env_logs):
+                if fresh:
+                    self.current_env_log = log
+                if self.current_env_log is not None:  # the same dict object per step, as extras["log"] was
+                    self.ep_extras.append(self.current_env_log)
+            self._env_logs.clear()
         if not self._finished:
             return
         done, returns, lengths = (torch.stack(column) for column in zip(*self._finished))
@@ -189,6 +206,8 @@ def train(
 ) -> None:
     """Train; ``run_dir`` None (ranks other than 0 of a distributed run) writes nothing."""
     runner = make_runner(env, agent_cfg, run_dir)
+    mark("runner")
+    _mark_first_step(runner.env)
     if run_dir is not None:
         print(f"[simlab] PPO update: {runner.update_kind}; policy in the rollout: {runner.act_kind}", flush=True)
     logger = _ProgressLogger(
@@ -203,6 +222,7 @@ def train(
     )
     logger.verbose = bool(getattr(args, "verbose", False))
     runner.logger = logger
+    _logs_without_host_sync(runner, logger)
     import simlab
 
     runner.add_git_repo_to_log(simlab.__file__)
@@ -231,6 +251,29 @@ def train(
     except TrainingDivergedError:
         logger.stop_logging_writer()
         raise
+
+
+def _logs_without_host_sync(runner: OnPolicyRunner, logger: _ProgressLogger) -> None:
+    """Let the logger pick the env's fresh episode logs once per iteration (no host read per step).
+
+    Not with RND: then rsl_rl's own bookkeeping reads ``extras["log"]`` each step."""
+    env = runner.env.unwrapped
+    if not hasattr(env, "log_refresh_on_device") or runner.cfg["algorithm"].get("rnd_cfg"):
+        return
+    env.log_refresh_on_device = True
+    logger.current_env_log = env.extras.get("log")  # what the first steps log until a refresh
+
+
+def _mark_first_step(wrapped: RslRlVecEnvWrapper) -> None:
+    """Mark the start-up milestone "first env step" when the first step returns (then step as before)."""
+
+    def first_step(actions: torch.Tensor):
+        del wrapped.step  # later steps call the class's method directly
+        out = wrapped.step(actions)
+        mark("first env step")
+        return out
+
+    wrapped.step = first_step
 
 
 class _StopTraining(Exception):
