@@ -10,10 +10,11 @@ is played again on the CPU (MuJoCo C, ``--cpu_eval_envs`` envs for ``--eval_seco
 ``--use_pretrained_checkpoint`` plays it after install, and shipped only if it passes there too.
 
 Shipped into ``<out>/<task name>/rsl_rl/``: the run's ``params/`` (its configs and command), the
-checkpoint without its optimizer state (actor and critic weights: what play needs, a third of the
-size), ``exported/policy.onnx`` and ``policy.pt``, and ``record.json``: the training command, seed,
-iterations, device, the criterion and its value on both devices, and this script's command. The
-script exits with 1 when a task was not shipped (not solved, or failed on the CPU).
+checkpoint with the policy's weights only (what play loads; without critic and optimizer state it
+is a third of the size, so training cannot resume from it), ``exported/policy.onnx``, and
+``record.json``: this script's command, the training command, seed, iterations, device, the
+criterion and its value on both devices, and the files' sizes. The script exits with 1 when a task
+was not shipped (not solved, or failed on the CPU).
 """
 
 from __future__ import annotations
@@ -32,6 +33,7 @@ from typing import Any
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 LIBRARY = "rsl_rl"
+SHIPPED_CHECKPOINT_KEYS = ("actor_state_dict", "iter", "infos")
 
 
 def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
@@ -113,10 +115,13 @@ def ship(task: str, checkpoint: str, record: dict[str, Any], out: str) -> str:
     shutil.rmtree(target, ignore_errors=True)
     shutil.copytree(os.path.join(run_dir_of_checkpoint(checkpoint, LIBRARY), "params"), os.path.join(target, "params"))
     state = torch.load(checkpoint, map_location="cpu", weights_only=False)
-    state.pop("optimizer_state_dict", None)  # play loads the actor only; resuming starts a new optimizer
-    shipped_checkpoint = os.path.join(target, os.path.basename(checkpoint))
-    torch.save(state, shipped_checkpoint)
-    shutil.copytree(export_policy(task, checkpoint), os.path.join(target, "exported"))
+    # play loads the actor alone (rsl_rl's load_cfg={"actor": True}): the critic and the optimizer's
+    # moments, two thirds of the file, are left out
+    state = {key: state[key] for key in SHIPPED_CHECKPOINT_KEYS}
+    torch.save(state, os.path.join(target, os.path.basename(checkpoint)))
+    # the ONNX policy; play writes the TorchScript one again wherever it plays the copy
+    os.makedirs(os.path.join(target, "exported"))
+    shutil.copy2(os.path.join(export_policy(task, checkpoint), "policy.onnx"), os.path.join(target, "exported"))
     files = [os.path.join(root, name) for root, _, names in os.walk(target) for name in names]
     record["files_bytes"] = {os.path.relpath(f, target): os.path.getsize(f) for f in sorted(files)}
     with open(os.path.join(target, "record.json"), "w") as f:
