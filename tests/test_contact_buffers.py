@@ -118,3 +118,23 @@ def test_lift_ik_rel_buffers_cover_its_peaks():
     assert peaks.constraint_rows > 0
     assert reserved["nconmax"] >= 2 * peaks.contacts_per_world
     assert reserved["njmax"] >= 2 * peaks.constraint_rows
+
+
+@pytest.mark.parametrize("motion", ["Walk", "Run", "Dance"])
+def test_amp_reference_states_start_clear_of_the_ground_and_of_themselves(motion):
+    """Reference-state initialisation puts no body into the ground or into another body (no contacts
+    at all: the feet start ``reference_lift`` above the ground) and pushes no joint past its range."""
+    task = f"simlab/Humanoid-AMP-{motion}-Direct-v0"
+    env = gym.make(task, cfg=parse_env_cfg(task, device="cpu", num_envs=64)).unwrapped
+    try:
+        env.reset(seed=0)
+        model, data = env.sim.model, mujoco.MjData(env.sim.model)
+        limit_rows = 0
+        for qpos in env.sim.physics.data("qpos").double().numpy():
+            data.qpos[:] = qpos
+            mujoco.mj_forward(model, data)
+            assert data.ncon == 0, [mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, c.geom1) for c in data.contact]
+            limit_rows += int((data.efc_type[: data.nefc] == mujoco.mjtConstraint.mjCNSTR_LIMIT_JOINT).sum())
+        assert limit_rows <= 64 // 16  # a clip's pose may touch a joint's limit, in a few envs at most
+    finally:
+        env.close()
