@@ -120,6 +120,18 @@ def test_lift_ik_rel_buffers_cover_its_peaks():
     assert reserved["njmax"] >= 2 * peaks.constraint_rows
 
 
+@needs_warp
+def test_the_former_amp_drives_overflow_and_the_error_says_worlds_diverged():
+    """The GPU failure, on Warp's CPU device: 300 N m drives and 96 / 640 buffers (the config then)."""
+
+    def former(cfg) -> None:
+        cfg.robot.actuators["body"].effort_limit_sim = 300.0
+        cfg.sim.mujoco.nconmax, cfg.sim.mujoco.njmax = 96, 640
+
+    with pytest.raises(RuntimeError, match=r"nefc > njmax.*world\(s\) overflowed.*[1-9]\d* world\(s\) have diverged"):
+        measure_task_buffers(AMP_WALK, num_envs=16, env_steps=100, headroom=1, episode_length_s=3.0, configure=former)
+
+
 @pytest.mark.parametrize("motion", ["Walk", "Run", "Dance"])
 def test_amp_reference_states_start_clear_of_the_ground_and_of_themselves(motion):
     """Reference-state initialisation puts no body into the ground or into another body (no contacts
