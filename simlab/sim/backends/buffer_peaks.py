@@ -113,16 +113,15 @@ def measure_task_buffers(
         configure(cfg)
     env = gym.make(task, cfg=cfg).unwrapped
     try:
-        # what a run of the task reserves: its config's sizes, or the backend's estimate
-        configured = {"nconmax": env.sim.physics.nconmax, "njmax": env.sim.physics.njmax}
         if not isinstance(env.sim.physics, CudaBackend):
             raise TypeError(f"{task} did not run on MuJoCo Warp ({type(env.sim.physics).__name__})")
-    finally:
-        env.close()
-    cfg.sim.mujoco.nconmax = headroom * max(configured["nconmax"], 1)
-    cfg.sim.mujoco.njmax = headroom * max(configured["njmax"], 1)
-    env = gym.make(task, cfg=cfg).unwrapped
-    try:
+        # what a run of the task reserves: its config's sizes, or the backend's estimate
+        configured = {"nconmax": env.sim.physics.nconmax, "njmax": env.sim.physics.njmax}
+        if headroom != 1:  # measure in a simulation with larger buffers
+            env.close()
+            cfg.sim.mujoco.nconmax = headroom * max(configured["nconmax"], 1)
+            cfg.sim.mujoco.njmax = headroom * max(configured["njmax"], 1)
+            env = gym.make(task, cfg=cfg).unwrapped
         backend = env.sim.physics
         env.reset(seed=seed)
         peaks = BufferPeaks().watch(backend)
