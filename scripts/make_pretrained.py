@@ -1,69 +1,203 @@
-"""Make a pretrained policy shipped in simlab/pretrained/ (played by ``simlab play --use_pretrained_checkpoint``).
+"""Make the pretrained policies shipped in simlab/pretrained/ (``simlab play --use_pretrained_checkpoint``).
 
-    python scripts/make_pretrained.py --task simlab/Cartpole-v0 --library rsl_rl
+    python scripts/make_pretrained.py --tasks simlab/Ant-Direct-v0 simlab/Humanoid-Direct-v0 --device cuda:0
+    python scripts/make_pretrained.py --tasks simlab/Cartpole-v0 --device cpu
 
-Trains with the task's default agent config and evaluates the policy with
-scripts/benchmarks/cartpole_learns.py (|pole angle| < 0.2 rad in >= 95 % of the steps of 64 envs
-over 5 s); only a policy that passes is shipped. The run folder's params/, its last checkpoint and the
-exported ONNX / TorchScript policy go to simlab/pretrained/<task name>/<library>/, with record.txt
-holding the training command and the evaluation's output. Only the cartpole tasks have an evaluation.
+For each task, ``simlab bench solve`` trains it with rsl_rl (the task's agent config; ``--num_envs``,
+``--max_iterations`` override it) and plays every saved checkpoint on the training device, stopping
+at the first one that meets the task's criterion (``simlab.benchmarks.criteria``). That checkpoint
+is played again on the CPU (MuJoCo C, ``--cpu_eval_envs`` envs for ``--eval_seconds``), where
+``--use_pretrained_checkpoint`` plays it after install, and shipped only if it passes there too.
+
+Shipped into ``<out>/<task name>/rsl_rl/``: the run's ``params/`` (its configs and command), the
+checkpoint with the policy's weights only (what play loads; without critic and optimizer state it
+is a third of the size, so training cannot resume from it), ``exported/policy.onnx``, and
+``record.json``: this script's command, the training command, seed, iterations, device, the
+criterion and its value on both devices, and the files' sizes. The script exits with 1 when a task
+was not shipped (not solved, or failed on the CPU).
 """
 
 from __future__ import annotations
 
 import argparse
 import datetime
+import json
 import os
+import shlex
 import shutil
 import subprocess
 import sys
 import tempfile
+import time
+from typing import Any
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-EVALUATED_TASKS = ("simlab/Cartpole-v0", "simlab/Cartpole-Direct-v0")
+LIBRARY = "rsl_rl"
+SHIPPED_CHECKPOINT_KEYS = ("actor_state_dict", "iter", "infos")
 
 
-def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--task", default="simlab/Cartpole-v0", choices=EVALUATED_TASKS)
-    parser.add_argument("--library", default="rsl_rl", choices=("rsl_rl", "skrl", "sb3", "rl_games"))
-    parser.add_argument("--device", default="cpu")
-    args = parser.parse_args()
-
-    from simlab.cli.runs import CHECKPOINT_LAYOUT, find_last_checkpoint, run_dir_of_checkpoint
+def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
     from simlab.pretrained import PRETRAINED_DIR
 
-    with tempfile.TemporaryDirectory() as log_root:
-        evaluate = [sys.executable, os.path.join(REPO, "scripts", "benchmarks", "cartpole_learns.py")]
-        evaluate += ["--task", args.task, "--libraries", args.library, "--log_root", log_root, "--device", args.device]
-        done = subprocess.run(evaluate, capture_output=True, text=True)
-        print(done.stdout[-3000:], done.stderr[-3000:] if done.returncode else "", sep="\n")
-        if done.returncode != 0:
-            print("The policy did not pass its evaluation: nothing shipped.", file=sys.stderr)
-            return 1
-        (experiment,) = os.listdir(os.path.join(log_root, args.library))
-        checkpoint = find_last_checkpoint(log_root, args.library, experiment)
-        run_dir = run_dir_of_checkpoint(checkpoint, args.library)
-        export = [sys.executable, "-m", "simlab", "play", "--task", args.task, "--library", args.library]
-        export += ["--checkpoint", checkpoint, "--steps", "1", "--num_envs", "1", "--device", args.device]
-        subprocess.run(export, check=True, capture_output=True)
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--tasks", nargs="+", required=True, help="Gymnasium ids of the tasks to train and ship.")
+    parser.add_argument("--device", default="cpu", help="Where to train: cpu or cuda:N.")
+    parser.add_argument("--num_envs", type=int, default=None, help="Training envs (default: the task's).")
+    parser.add_argument("--max_iterations", type=int, default=None, help="Give up after (default: the agent's).")
+    parser.add_argument("--eval_every", type=int, default=None, help="Iterations between evaluated checkpoints.")
+    parser.add_argument("--seed", type=int, default=42, help="Training and evaluation seed.")
+    parser.add_argument("--eval_envs", type=int, default=64, help="Envs that play each checkpoint while training.")
+    parser.add_argument("--cpu_eval_envs", type=int, default=32, help="Envs of the final play on the CPU.")
+    parser.add_argument("--eval_seconds", type=float, default=5.0, help="Seconds of play per evaluation.")
+    parser.add_argument(
+        "--reward_threshold", type=float, default=None, help="Judge by this mean reward per step instead."
+    )
+    parser.add_argument("--out", default=PRETRAINED_DIR, help="Where the policies go (default: the package's).")
+    parser.add_argument("--log_root", default=None, help="Keep the training runs here (default: a temporary folder).")
+    return parser.parse_args(argv)
 
-        target = os.path.join(PRETRAINED_DIR, args.task.split("/")[-1], args.library)
-        shutil.rmtree(target, ignore_errors=True)
-        shutil.copytree(os.path.join(run_dir, "params"), os.path.join(target, "params"))
-        checkpoint_dir = os.path.join(target, *CHECKPOINT_LAYOUT[args.library][0])
-        os.makedirs(checkpoint_dir, exist_ok=True)
-        shutil.copy2(checkpoint, checkpoint_dir)
-        shutil.copytree(os.path.join(os.path.dirname(checkpoint), "exported"), os.path.join(checkpoint_dir, "exported"))
-        with open(os.path.join(run_dir, "params", "command.txt")) as f:
-            command = f.read().strip()
-        evaluation = done.stdout[done.stdout.rfind(f"\n{args.task}:") :].strip()
-        with open(os.path.join(target, "record.txt"), "w") as f:
-            f.write(f"made by: python scripts/make_pretrained.py --task {args.task} --library {args.library}\n")
-            f.write(f"date: {datetime.date.today().isoformat()}\ntrained with: {command}\n")
-            f.write(f"checkpoint: {os.path.basename(checkpoint)}\nevaluation:\n{evaluation}\n")
-    print(f"Shipped {args.task} ({args.library}) in {target}")
-    return 0
+
+def train_until_solved(task: str, args: argparse.Namespace, log_root: str) -> dict[str, Any]:
+    """``simlab bench solve`` for ``task`` in a child process; its result row."""
+    result_file = os.path.join(log_root, f"{task.split('/')[-1]}_solve.json")
+    command = [sys.executable, "-m", "simlab", "bench", "solve", "--tasks", task, "--library", LIBRARY]
+    command += ["--device", args.device, "--seed", str(args.seed), "--log_root", log_root, "--json", result_file]
+    command += ["--eval_envs", str(args.eval_envs), "--eval_seconds", str(args.eval_seconds)]
+    for flag in ("num_envs", "max_iterations", "eval_every", "reward_threshold"):
+        if getattr(args, flag) is not None:
+            command += [f"--{flag}", str(getattr(args, flag))]
+    print(f"[make_pretrained] {shlex.join(command)}", flush=True)
+    subprocess.run(command, check=True, cwd=REPO)
+    with open(result_file) as f:
+        (row,) = json.load(f)["results"]["solve"]
+    if "error" in row:
+        raise RuntimeError(f"training {task} failed: {row['error']}")
+    return row
+
+
+def evaluate_on_cpu(task: str, checkpoint: str, iteration: int, args: argparse.Namespace) -> dict[str, Any]:
+    """Play ``checkpoint`` on the CPU (MuJoCo C) and judge it by the task's criterion."""
+    from simlab.benchmarks.solve import CheckpointJudge
+
+    judge = CheckpointJudge(
+        task, LIBRARY, "cpu", args.cpu_eval_envs, args.eval_seconds, args.seed, args.reward_threshold
+    )
+    try:
+        judge(checkpoint, iteration, {"rollout": 0.0, "update": 0.0})
+    finally:
+        judge.close()
+    (entry,) = judge.evaluations
+    return {
+        "device": "cpu",
+        "envs": args.cpu_eval_envs,
+        "seconds": args.eval_seconds,
+        "seed": args.seed,
+        "score": entry["score"],
+        "passed": entry["passed"],
+    }
+
+
+def export_policy(task: str, checkpoint: str) -> str:
+    """``simlab play`` writes ``exported/policy.onnx`` and ``policy.pt`` beside the checkpoint."""
+    command = [sys.executable, "-m", "simlab", "play", "--task", task, "--library", LIBRARY, "--headless"]
+    command += ["--checkpoint", checkpoint, "--steps", "1", "--num_envs", "1", "--device", "cpu"]
+    subprocess.run(command, check=True, capture_output=True, cwd=REPO)
+    return os.path.join(os.path.dirname(checkpoint), "exported")
+
+
+def ship(task: str, checkpoint: str, record: dict[str, Any], out: str) -> str:
+    """Copy the run's params, the checkpoint (without optimizer state) and its exports into ``out``."""
+    import torch
+
+    from simlab.cli.runs import run_dir_of_checkpoint
+
+    target = os.path.join(out, task.split("/")[-1], LIBRARY)
+    shutil.rmtree(target, ignore_errors=True)
+    shutil.copytree(os.path.join(run_dir_of_checkpoint(checkpoint, LIBRARY), "params"), os.path.join(target, "params"))
+    state = torch.load(checkpoint, map_location="cpu", weights_only=False)
+    # play loads the actor alone (rsl_rl's load_cfg={"actor": True}): the critic and the optimizer's
+    # moments, two thirds of the file, are left out
+    state = {key: state[key] for key in SHIPPED_CHECKPOINT_KEYS}
+    torch.save(state, os.path.join(target, os.path.basename(checkpoint)))
+    # the ONNX policy; play writes the TorchScript one again wherever it plays the copy
+    os.makedirs(os.path.join(target, "exported"))
+    shutil.copy2(os.path.join(export_policy(task, checkpoint), "policy.onnx"), os.path.join(target, "exported"))
+    files = [os.path.join(root, name) for root, _, names in os.walk(target) for name in names]
+    record["files_bytes"] = {os.path.relpath(f, target): os.path.getsize(f) for f in sorted(files)}
+    with open(os.path.join(target, "record.json"), "w") as f:
+        json.dump(record, f, indent=2)
+        f.write("\n")
+    return target
+
+
+def make_one(task: str, args: argparse.Namespace, log_root: str, argv: list[str]) -> bool:
+    start = time.perf_counter()
+    row = train_until_solved(task, args, log_root)
+    if not row["solved"]:
+        print(f"[make_pretrained] {task}: not solved ({row['criterion']}: {row['score']:.3f}); nothing shipped")
+        return False
+    solved = next(e for e in row["evaluations"] if e["passed"])
+    cpu = evaluate_on_cpu(task, solved["checkpoint"], solved["iteration"], args)
+    with open(os.path.join(row["run_dir"], "params", "command.txt")) as f:
+        train_command = f.read().strip()
+    record = {
+        "task": task,
+        "library": LIBRARY,
+        "made_by": shlex.join(["python", "scripts/make_pretrained.py", *argv]),
+        "date": datetime.date.today().isoformat(),
+        "train_command": train_command,
+        "device": args.device,
+        "num_envs": row["num_envs"],
+        "seed": args.seed,
+        "iterations": solved["iteration"] + 1,
+        "checkpoint": os.path.basename(solved["checkpoint"]),
+        "train_seconds": round(solved["time_to_checkpoint_s"], 1),
+        "criterion": row["criterion"],
+        "evaluation": {
+            "device": args.device,
+            "envs": args.eval_envs,
+            "seconds": args.eval_seconds,
+            "score": solved["score"],
+            "passed": True,
+        },
+        "cpu_evaluation": cpu,
+    }
+    if args.reward_threshold is not None:
+        record["reward_threshold"] = args.reward_threshold
+    if not cpu["passed"]:
+        print(
+            f"[make_pretrained] {task}: passed on {args.device} ({solved['score']:.3f}) but not on the CPU"
+            f" ({cpu['score']:.3f}); nothing shipped\n{json.dumps(record, indent=2)}"
+        )
+        return False
+    target = ship(task, solved["checkpoint"], record, args.out)
+    took = time.perf_counter() - start
+    sizes = ", ".join(f"{name} {size / 1024:.0f} KiB" for name, size in record["files_bytes"].items())
+    print(
+        f"[make_pretrained] {task}: shipped in {target} after {record['iterations']} iterations"
+        f" ({row['criterion']}: {solved['score']:.3f} on {args.device}, {cpu['score']:.3f} on the CPU;"
+        f" {took:.0f} s); {sizes}",
+        flush=True,
+    )
+    return True
+
+
+def main(argv: list[str] | None = None) -> int:
+    argv = sys.argv[1:] if argv is None else argv
+    args = parse_args(argv)
+    import simlab.tasks  # noqa: F401 - registers the tasks
+    from simlab.benchmarks.criteria import criterion_for
+
+    for task in args.tasks:  # every task has a criterion before hours of training start
+        criterion_for(task, args.reward_threshold)
+    shipped = {}
+    with tempfile.TemporaryDirectory() as scratch:
+        log_root = os.path.abspath(args.log_root or scratch)
+        os.makedirs(log_root, exist_ok=True)
+        for task in args.tasks:
+            shipped[task] = make_one(task, args, log_root, argv)
+    print("[make_pretrained] " + "; ".join(f"{t}: {'shipped' if ok else 'NOT shipped'}" for t, ok in shipped.items()))
+    return 0 if all(shipped.values()) else 1
 
 
 if __name__ == "__main__":

@@ -3,6 +3,8 @@
 cartpole: |pole angle| < 0.2 rad in >= 95 % of the env-steps of 64 envs over 5 s.
 humanoid, ant: the mean reward per env-step over the played window (falls and resets included)
 stays at or above a stated threshold.
+velocity tasks (Go2, Anymal): the base's planar velocity follows the command, mean error <= 0.25 m/s.
+quadcopter: from 2 s into an episode (the flight to the goal), within 0.3 m of it in >= 75 % of the env-steps.
 """
 
 from __future__ import annotations
@@ -70,16 +72,79 @@ def mean_reward_at_least(threshold: float) -> Criterion:
     return Criterion(f"mean reward per env-step >= {threshold:g}", lambda: (None, None), judge)
 
 
+def velocity_tracker() -> tuple[Callable[[Any, Any, Any], None], dict[str, float]]:
+    """An ``on_step`` hook summing ``|v_xy command - v_xy|`` (base frame) over env-steps."""
+    sums = {"error": 0.0, "total": 0}
+
+    def on_step(env, obs, actions) -> None:
+        base = env.unwrapped
+        command = base.command_manager.get_command("base_velocity")
+        velocity = base.scene["robot"].data.root_lin_vel_b
+        sums["error"] += float(torch.linalg.norm(command[:, :2] - velocity[:, :2], dim=-1).sum())
+        sums["total"] += command.shape[0]
+
+    return on_step, sums
+
+
+def tracks_velocity(max_error: float = 0.25) -> Criterion:
+    def judge(result: dict[str, float], sums: dict[str, float]) -> tuple[float, bool]:
+        error = sums["error"] / max(1, sums["total"])
+        return error, error <= max_error
+
+    return Criterion(f"mean |v_xy command - v_xy| <= {max_error} m/s", velocity_tracker, judge)
+
+
+def goal_distance_tracker(
+    radius: float, settle_seconds: float
+) -> tuple[Callable[[Any, Any, Any], None], dict[str, int]]:
+    """An ``on_step`` hook counting env-steps, ``settle_seconds`` or more after the quadcopter's start
+    (the play's first step or its last reset: the flight to the goal), within ``radius`` of its goal.
+
+    The time is counted here: the task starts its episodes at random lengths.
+    """
+    counts = {"inside": 0, "total": 0}
+    flying: dict[str, torch.Tensor] = {}
+
+    def on_step(env, obs, actions) -> None:
+        base = env.unwrapped
+        steps = flying.setdefault("steps", torch.zeros(base.num_envs, dtype=torch.long, device=base.device))
+        steps.add_(1)
+        settled = steps >= math.ceil(settle_seconds / base.step_dt - 1e-6)
+        steps.masked_fill_(base.reset_buf, 0)  # restarted: the next step is its first
+        distance = torch.linalg.norm(base._desired_pos_w - base._robot.data.root_pos_w, dim=1)
+        counts["inside"] += int((settled & (distance < radius)).sum())
+        counts["total"] += int(settled.sum())
+
+    return on_step, counts
+
+
+def reaches_goal(radius: float = 0.3, fraction: float = 0.75, settle_seconds: float = 2.0) -> Criterion:
+    def judge(result: dict[str, float], counts: dict[str, int]) -> tuple[float, bool]:
+        inside = counts["inside"] / max(1, counts["total"])
+        return inside, counts["total"] > 0 and inside >= fraction
+
+    return Criterion(
+        f"from {settle_seconds:g} s into an episode, within {radius} m of the goal in >= {fraction:.0%} of steps",
+        lambda: goal_distance_tracker(radius, settle_seconds),
+        judge,
+    )
+
+
 def criterion_for(task: str, reward_threshold: float | None = None) -> Criterion:
     """The criterion of ``task`` (a Gymnasium id); ``reward_threshold`` replaces the stated one."""
     if reward_threshold is not None:
         return mean_reward_at_least(reward_threshold)
     if "Cartpole" in task:
         return pole_upright()
+    if "Velocity-" in task:
+        return tracks_velocity()
+    if "Quadcopter" in task:
+        return reaches_goal()
     for robot, threshold in MEAN_REWARD_THRESHOLDS.items():
         if robot in task:
             return mean_reward_at_least(threshold)
     raise ValueError(
-        f"No solve criterion for {task}: the cartpole tasks and the {list(MEAN_REWARD_THRESHOLDS)} tasks have one; "
+        f"No solve criterion for {task}: the cartpole, velocity, quadcopter and {list(MEAN_REWARD_THRESHOLDS)}"
+        " tasks have one; "
         "give --reward_threshold R to judge by the mean reward per env-step."
     )

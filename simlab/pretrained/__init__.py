@@ -1,16 +1,20 @@
 """Policies trained here and shipped with simlab: ``simlab play --use_pretrained_checkpoint``.
 
 Each is a run folder, ``simlab/pretrained/<task name>/<library>/``, as ``simlab train`` writes it
-(``params/``, the checkpoint, ``exported/policy.onnx`` and ``policy.pt``), plus ``record.txt``: the
-command that trained it and the evaluation it passed. ``scripts/make_pretrained.py`` makes them.
+(``params/``, the checkpoint, ``exported/policy.onnx``), plus its record: ``record.json`` (how
+``scripts/make_pretrained.py`` made it: commands, seed, iterations, the task's criterion and the
+value the policy reached on the CPU; :func:`pretrained_record`), or ``record.txt`` for the first
+cartpoles.
 """
 
 from __future__ import annotations
 
+import json
 import os
 import shutil
+from typing import Any
 
-__all__ = ["PRETRAINED_DIR", "copy_pretrained_run", "list_pretrained", "pretrained_run_dir"]
+__all__ = ["PRETRAINED_DIR", "copy_pretrained_run", "list_pretrained", "pretrained_record", "pretrained_run_dir"]
 
 PRETRAINED_DIR = os.path.dirname(os.path.abspath(__file__))
 
@@ -39,6 +43,15 @@ def pretrained_run_dir(task: str, library: str) -> str:
             f"Train one with: simlab train --task {task} --library {library} --headless"
         )
     return folder
+
+
+def pretrained_record(task: str, library: str) -> dict[str, Any] | None:
+    """The ``record.json`` of the shipped run (None for a run shipped before records were JSON)."""
+    path = os.path.join(pretrained_run_dir(task, library), "record.json")
+    if not os.path.isfile(path):
+        return None
+    with open(path) as f:
+        return json.load(f)
 
 
 def copy_pretrained_run(task: str, library: str, log_root: str) -> str:

@@ -12,6 +12,20 @@ from simlab.assets import ArticulationCfg
 
 ASSETS_DIR = os.path.join(os.path.dirname(__file__), "assets")
 
+HUMANOID_GEARS = {
+    "lower_waist:.*": 67.5,
+    "pelvis": 67.5,
+    ".*_upper_arm:.*": 67.5,
+    ".*_lower_arm": 45.0,
+    ".*_thigh:0": 45.0,
+    ".*_thigh:1": 135.0,
+    ".*_thigh:2": 45.0,
+    ".*_shin": 90.0,
+    ".*_foot:.*": 22.5,
+}
+"""Isaac Lab's gears of the humanoid [N m]: each joint's torque at action 1 in the torque-driven
+tasks, i.e. the strength of its motor (the AMP task's drives are limited to them)."""
+
 HUMANOID_CFG = ArticulationCfg(
     prim_path="{ENV_REGEX_NS}/Robot",
     spawn=sim_utils.MjcfFileCfg(asset_path=os.path.join(ASSETS_DIR, "humanoid.xml")),

@@ -353,7 +353,8 @@ class CudaBackend(PhysicsBackend):
         """
         self._calls_since_check = 0
         bits = torch.tensor(list(_OVERFLOW_SETTINGS), dtype=self._overflow_seen.dtype, device=self.device)
-        hit = ((self._overflow_seen.unsqueeze(-1) & bits) != 0).any(dim=0).tolist()  # the one sync
+        per_world = (self._overflow_seen.unsqueeze(-1) & bits) != 0  # (num_envs, settings)
+        hit = per_world.any(dim=0).tolist()  # the one sync
         problems = [
             f"{what}; raise SimulationCfg.mujoco.{setting} (now {getattr(self, setting)} per world)"
             for (what, setting), flag in zip(_OVERFLOW_SETTINGS.values(), hit)
@@ -366,8 +367,26 @@ class CudaBackend(PhysicsBackend):
                 + "; ".join(problems)
                 + ". Contacts or constraints beyond the buffers are dropped, so the physics is wrong: set"
                 " env_cfg.sim.mujoco.nconmax / njmax (override sim.mujoco.nconmax=N) or pass them to"
-                " make_backend(..., nconmax=..., njmax=...)."
+                " make_backend(..., nconmax=..., njmax=...). " + self._overflow_diagnosis(per_world.any(dim=-1))
             )
+
+    def _overflow_diagnosis(self, overflowed: torch.Tensor) -> str:
+        """Which worlds overflowed and whether the physics blew up (only on the error path: it syncs).
+
+        A world whose state diverged has nearly every pair of geoms in contact, so no buffer size
+        is enough: the overflow is then a symptom of an unstable task, not of a small buffer.
+        """
+        worlds = overflowed.nonzero().flatten().tolist()
+        speed = self.data("qvel").abs().amax(dim=-1)[overflowed]
+        fastest = float(torch.nan_to_num(speed, nan=float("inf")).max()) if speed.numel() else 0.0
+        shown = ", ".join(map(str, worlds[:8])) + (", ..." if len(worlds) > 8 else "")
+        return (
+            f"{len(worlds)} world(s) overflowed ({shown}); their fastest joint now moves at {fastest:.3g}"
+            f" (m or rad)/s, and {int(self.diverged_count)} world(s) have diverged so far. A world that blew"
+            " up touches itself everywhere: if these are large, make the task stable (actions, gains, effort"
+            " limits, time step) rather than the buffers larger; scripts/tools/measure_contact_buffers.py"
+            " measures what a task needs."
+        )
 
     def close(self) -> None:
         self._graphs.clear()

@@ -15,7 +15,7 @@ import simlab.sim as sim_utils
 from simlab.actuators import ImplicitActuatorCfg
 from simlab.assets import ArticulationCfg
 from simlab.envs import DirectRLEnvCfg, ViewerCfg
-from simlab.robots.humanoid import HUMANOID_CFG
+from simlab.robots.humanoid import HUMANOID_CFG, HUMANOID_GEARS
 from simlab.scene import InteractiveSceneCfg
 from simlab.sim import MujocoCfg, SimulationCfg
 from simlab.sim.spawners.from_files import GroundPlaneCfg
@@ -31,7 +31,12 @@ AMP_OBSERVATION_SIZE = 2 * NUM_JOINTS + 1 + 6 + 3 + 3 + 3 * len(KEY_BODIES)
 
 # PD position drives: the policy's actions are joint targets (Isaac Lab's AMP humanoid takes its
 # gains from its USD; these are chosen for the 41 kg MuJoCo humanoid, stiff enough to hold a pose
-# against gravity and soft enough to stay stable at 120 Hz)
+# against gravity and soft enough to stay stable at 120 Hz). Each drive's torque is limited to the
+# humanoid's gear (its motor in the torque-driven tasks): a drive at its limit leaves MuJoCo's
+# implicit integration (the force no longer depends on the velocity), so its full torque acts
+# explicitly, and the former 300 N m on every joint (a foot weighs 0.5 kg) swung light joints by
+# up to 150 rad/s per step, flipping the drive from one limit to the other until the world blew up
+# (on MuJoCo Warp: nefc past njmax; tests/test_contact_buffers.py).
 AMP_HUMANOID_CFG = HUMANOID_CFG.replace(
     prim_path="/World/envs/env_.*/Robot",
     actuators={
@@ -57,7 +62,7 @@ AMP_HUMANOID_CFG = HUMANOID_CFG.replace(
             },
             velocity_limit_sim={".*": 100.0},
             armature={".*": 0.01},
-            effort_limit_sim=300.0,
+            effort_limit_sim=HUMANOID_GEARS,
         ),
     },
 )
@@ -97,8 +102,10 @@ class HumanoidAmpEnvCfg(DirectRLEnvCfg):
     """Height [m] added to reference root positions at reset, so the feet start just above the ground."""
 
     # simulation: 120 Hz physics, 30 Hz control (Isaac Lab: 60 Hz x 2; the stiff PD drives of the
-    # light MuJoCo limbs need the shorter step)
-    sim: SimulationCfg = SimulationCfg(dt=1 / 120, render_interval=decimation, mujoco=MujocoCfg(nconmax=96, njmax=640))
+    # light MuJoCo limbs need the shorter step). MuJoCo Warp's buffers per world: measured peaks of
+    # 15 contacts and 61 constraint rows (64 envs, 300 steps of random actions, reference-state
+    # resets, no early termination: scripts/tools/measure_contact_buffers.py), reserved 4x over
+    sim: SimulationCfg = SimulationCfg(dt=1 / 120, render_interval=decimation, mujoco=MujocoCfg(nconmax=64, njmax=320))
     terrain = GroundPlaneCfg(
         physics_material=sim_utils.RigidBodyMaterialCfg(static_friction=1.0, dynamic_friction=1.0, restitution=0.0)
     )

@@ -155,6 +155,9 @@ class LiftEnvCfg(ManagerBasedRLEnvCfg):
         self.sim.dt = 0.01  # 100 Hz
         self.sim.render_interval = self.decimation
         # Contact buffers per world on the GPU: the estimate from the model (82 constraint rows)
-        # overflowed on an H100 when the IK-driven hand pressed cube and fingers into the table.
+        # overflowed on an H100 when the IK-driven hand pressed cube and fingers into the table:
+        # hand, fingers, pads and cube each touch the table at 4 points, measured up to 22 contacts
+        # and 112 rows in one world (IK-Rel, 256 envs x 300 steps of random actions; see
+        # scripts/tools/measure_contact_buffers.py). Reserved: about twice that.
         self.sim.mujoco.nconmax = 48
         self.sim.mujoco.njmax = 256

@@ -1,0 +1,79 @@
+"""scripts/make_pretrained.py: train, judge by the task's criterion, ship where --use_pretrained_checkpoint finds it.
+
+The cartpole with tiny settings on the CPU: a policy of two iterations does not balance the pole,
+so the shipping path runs with a mean-reward threshold any policy meets, and the criterion's own
+verdict is checked with the real one.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import os
+
+import numpy as np
+import onnxruntime
+import torch
+
+import simlab.pretrained
+from simlab.cli.main import build_parser
+from simlab.cli.play import run_play
+
+REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+TASK = "simlab/Cartpole-Direct-v0"
+TINY = ["--device", "cpu", "--num_envs", "8", "--max_iterations", "2", "--eval_every", "1"]
+TINY += ["--eval_envs", "4", "--cpu_eval_envs", "4", "--eval_seconds", "0.5", "--seed", "3"]
+
+
+def _script():
+    path = os.path.join(REPO, "scripts", "make_pretrained.py")
+    spec = importlib.util.spec_from_file_location("make_pretrained", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_make_pretrained_ships_a_policy_that_play_finds(tmp_path, monkeypatch):
+    out = tmp_path / "pretrained"
+    script = _script()
+    assert script.main(["--tasks", TASK, *TINY, "--reward_threshold=-1e9", "--out", str(out)]) == 0
+
+    shipped = out / "Cartpole-Direct-v0" / "rsl_rl"
+    record = json.loads((shipped / "record.json").read_text())
+    assert record["task"] == TASK and record["seed"] == 3 and record["num_envs"] == 8
+    assert 1 <= record["iterations"] <= 2
+    assert record["criterion"] == "mean reward per env-step >= -1e+09"
+    assert record["cpu_evaluation"]["passed"] and record["cpu_evaluation"]["envs"] == 4
+    assert record["train_command"].startswith("simlab bench solve --tasks simlab/Cartpole-Direct-v0")
+    assert record["made_by"].startswith("python scripts/make_pretrained.py --tasks simlab/Cartpole-Direct-v0")
+    checkpoint = shipped / record["checkpoint"]
+    assert record["files_bytes"][record["checkpoint"]] == os.path.getsize(checkpoint)
+    assert set(torch.load(checkpoint, weights_only=False)) == set(script.SHIPPED_CHECKPOINT_KEYS)
+
+    # simlab play --use_pretrained_checkpoint finds it (the package's folder pointed at the output)
+    monkeypatch.setattr(simlab.pretrained, "PRETRAINED_DIR", str(out))
+    argv = ["play", "--task", TASK, "--use_pretrained_checkpoint", "--headless", "--device", "cpu"]
+    argv += ["--num_envs", "2", "--steps", "5", "--log_root", str(tmp_path / "logs")]
+    result = run_play(build_parser().parse_args(argv), [])
+    played = os.path.dirname(result["checkpoint"])
+    assert played.startswith(str(tmp_path / "logs" / "pretrained"))
+    # the shipped ONNX policy is the checkpoint's: it acts as the TorchScript policy play exported from it
+    observations = torch.randn(16, 4)
+    session = onnxruntime.InferenceSession(str(shipped / "exported" / "policy.onnx"))
+    (onnx_actions,) = session.run(None, {session.get_inputs()[0].name: observations.numpy()})
+    torch_actions = torch.jit.load(os.path.join(played, "exported", "policy.pt"))(observations)
+    np.testing.assert_allclose(onnx_actions, torch_actions.detach().numpy(), atol=1e-5)
+
+
+def test_make_pretrained_ships_nothing_that_misses_the_criterion(tmp_path, capsys):
+    out = tmp_path / "pretrained"
+    assert _script().main(["--tasks", TASK, *TINY, "--out", str(out)]) == 1
+    assert not out.exists()
+    assert "not solved (|pole angle| < 0.2 rad" in capsys.readouterr().out
+
+
+def test_make_pretrained_refuses_a_task_without_a_criterion_before_training(tmp_path):
+    import pytest
+
+    with pytest.raises(ValueError, match="No solve criterion for simlab/Lift-Cube-Franka-v0"):
+        _script().main(["--tasks", "simlab/Lift-Cube-Franka-v0", "--out", str(tmp_path)])
