@@ -168,6 +168,12 @@ def test_pose_command_samples_in_its_ranges_and_measures_the_body():
         atol=1e-4,
         rtol=0,
     )
+    torch.testing.assert_close(
+        reach_mdp.orientation_command_error_tanh(env, 0.1, "ee_pose", asset_cfg),
+        1 - torch.tanh(term.metrics["orientation_error"] / 0.1),
+        atol=1e-4,
+        rtol=0,
+    )
     env.close()
 
 
