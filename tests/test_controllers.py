@@ -111,6 +111,26 @@ def test_unreachable_pose_leaves_a_finite_remaining_error():
     assert torch.isfinite(robot.data.joint_pos).all()
 
 
+def test_absolute_targets_take_the_direction_of_the_quaternion():
+    """A policy's 4 orientation numbers are not unit length; the rotation they mean is their direction
+    (unnormalized, the axis-angle error, and so the joint step, would grow with their length)."""
+    jac = torch.eye(6, 7).repeat(2, 1, 1)
+    pos, quat, q = torch.zeros(2, 3), torch.tensor([[1.0, 0.0, 0.0, 0.0]]).repeat(2, 1), torch.zeros(2, 7)
+    unit = torch.tensor([[0.2, 0.0, 0.3, 0.9539392, 0.0, 0.0, 0.3]]).repeat(2, 1)
+    scaled = unit.clone()
+    scaled[0, 3:] *= 3.0
+    scaled[1, 3:] *= 0.2
+    steps = []
+    for command in (unit, scaled):
+        ik = DifferentialIKController(DifferentialIKControllerCfg(command_type="pose", ik_method="dls"), 2, "cpu")
+        ik.set_command(command)
+        steps.append(ik.compute(pos, quat, jac, q))
+    torch.testing.assert_close(steps[1], steps[0])
+    osc = OperationalSpaceController(OperationalSpaceControllerCfg(target_types=["pose_abs"]), 2, "cpu")
+    osc.set_command(scaled)
+    torch.testing.assert_close(osc.desired_ee_pose_b, unit)
+
+
 @pytest.mark.parametrize("device", DEVICES)
 def test_operational_space_control_tracks_a_setpoint_under_gravity(device):
     robot_cfg = FRANKA_PANDA_CFG.copy()

@@ -168,6 +168,12 @@ def test_pose_command_samples_in_its_ranges_and_measures_the_body():
         atol=1e-4,
         rtol=0,
     )
+    torch.testing.assert_close(
+        reach_mdp.orientation_command_error_tanh(env, 0.1, "ee_pose", asset_cfg),
+        1 - torch.tanh(term.metrics["orientation_error"] / 0.1),
+        atol=1e-4,
+        rtol=0,
+    )
     env.close()
 
 
@@ -239,8 +245,10 @@ def test_absolute_ik_action_moves_the_end_effector_frame_to_the_commanded_pose()
     assert term.action_dim == 7
     pos, quat = term._ee_pose_b()
     target = torch.cat([pos + torch.tensor([[0.1, -0.05, -0.08], [-0.05, 0.12, 0.05]]), quat], dim=-1)
-    for _ in range(60):
-        env.step(target)
+    # the task's actions span the workspace: command = action * scale + offset
+    action = (target - torch.tensor(term.cfg.offset)) / torch.tensor(term.cfg.scale)
+    for _ in range(240):  # the damped (lambda 0.45) IK closes the error in a few seconds
+        env.step(action)
     pos, quat = term._ee_pose_b()
     assert (pos - target[:, :3]).norm(dim=-1).max() < 2e-3
     assert math_utils.quat_error_magnitude(quat, target[:, 3:]).max() < 1e-2
@@ -251,6 +259,29 @@ def test_absolute_ik_action_moves_the_end_effector_frame_to_the_commanded_pose()
         robot.data.body_quat_w[:, hand], torch.tensor([0.0, 0.0, 0.107]).repeat(2, 1)
     )
     torch.testing.assert_close(tip - env.scene.env_origins, pos, atol=1e-5, rtol=0)
+    env.close()
+
+
+def test_absolute_ik_reach_stays_bounded_under_random_actions():
+    """An untrained policy's Gaussian actions (random, often unreachable poses, quaternions of any
+    length): the arm moves within the Franka's joint speed limits (applied before each physics step,
+    as PhysX does in its solver) and nothing blows up. Before the limits and the normalized targets,
+    saturated drives spun joints to 1e5 rad/s and MuJoCo reported an unstable simulation."""
+    env = make_env(reach_ik_abs.FrankaReachEnvCfg, num_envs=16)
+    env.reset()
+    robot = env.scene["robot"]
+    arm = robot.find_joints("panda_joint.*")[0]
+    torch.testing.assert_close(robot.data.joint_velocity_limits[0, arm], torch.tensor([2.175] * 4 + [2.61] * 3))
+    generator = torch.Generator().manual_seed(0)
+    fastest, lowest = 0.0, 0.0
+    for _ in range(90):
+        _, reward, *_ = env.step(torch.randn(16, 7, generator=generator))
+        assert torch.isfinite(robot.data.joint_pos).all() and torch.isfinite(reward).all()
+        fastest = max(fastest, robot.data.joint_vel[:, arm].abs().max().item())
+        lowest = min(lowest, reward.min().item())
+    # one physics step at the effort limit adds a few rad/s to a capped speed; 1e5 was the blow-up
+    assert fastest < 15.0
+    assert lowest > -0.1
     env.close()
 
 

@@ -10,6 +10,11 @@ policy on held-out commands (another seed) and measure:
     python scripts/benchmarks/manipulation_learn.py --tasks reach --num_envs 4096 --max_iterations 1000
     python scripts/benchmarks/manipulation_learn.py --tasks reach lift --device cpu --num_envs 8 \\
         --max_iterations 2 --eval_envs 4 --eval_seconds 8                             # a CPU smoke run
+    python scripts/benchmarks/manipulation_learn.py --tasks reach --log_root logs/reach_big \\
+        agent.actor.hidden_dims=[256,128,64]                                          # a variant
+
+Trailing ``env.x=v`` / ``agent.x=v`` overrides go to both the training and the evaluation (give each
+variant its own ``--log_root``: the evaluation plays the newest run there).
 
 Training runs as ``simlab train --task <task> --library rsl_rl --headless`` in a child process (its
 wall time is reported); the evaluation loads the newest checkpoint of that run.
@@ -97,6 +102,7 @@ def train(task: str, args) -> tuple[float, bool]:
     for flag in ("num_envs", "max_iterations", "device"):
         if getattr(args, flag) is not None:
             cmd += [f"--{flag}", str(getattr(args, flag))]
+    cmd += args.overrides
     print(f"\n=== {' '.join(cmd[2:])}", flush=True)
     start = time.time()
     proc = subprocess.run(cmd, env={**os.environ, "PYTHONUNBUFFERED": "1"})
@@ -109,10 +115,10 @@ def evaluate(task: str, tracker, args) -> dict[str, Any]:
     if args.device:
         argv += ["--device", args.device]
     play_args = build_parser().parse_args(argv)
-    env_cfg, _ = load_configs(play_args, [], with_agent=False)
+    env_cfg, _ = load_configs(play_args, args.overrides, with_agent=False)
     play_args.steps = round(args.eval_seconds / (env_cfg.sim.dt * env_cfg.decimation))
     on_step, judge = tracker
-    run_play(play_args, [], on_step=on_step)
+    run_play(play_args, args.overrides, on_step=on_step)
     return dict(zip(("text", "passed"), judge()))
 
 
@@ -131,7 +137,11 @@ def main() -> int:
     parser.add_argument("--lift_m", type=float, default=0.05)
     parser.add_argument("--lift_rate", type=float, default=0.8)
     parser.add_argument("--skip_training", action="store_true", help="Evaluate the newest runs only.")
+    parser.add_argument("overrides", nargs="*", help="env.x=v / agent.x=v overrides for training and evaluation.")
     args = parser.parse_args()
+    bad = [o for o in args.overrides if "=" not in o or not o.startswith(("env.", "agent."))]
+    if bad:
+        parser.error(f"overrides look like env.x.y=1 or agent.z=2, got {bad}")
 
     rows = []
     for name in args.tasks:

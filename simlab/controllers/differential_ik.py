@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING
 
 import torch
 
-from simlab.utils.math import apply_delta_pose, compute_pose_error
+from simlab.utils.math import apply_delta_pose, compute_pose_error, normalize
 
 from .linalg import solve_spd
 
@@ -79,7 +79,9 @@ class DifferentialIKController:
             self.ee_pos_des[:], self.ee_quat_des[:] = apply_delta_pose(ee_pos, ee_quat, command)
         else:
             self.ee_pos_des[:] = command[:, 0:3]
-            self.ee_quat_des[:] = command[:, 3:7]
+            # a policy emits any 4 numbers: the rotation is their direction (unnormalized, the
+            # axis-angle error and so the joint step would scale with their length)
+            self.ee_quat_des[:] = normalize(command[:, 3:7])
 
     def compute(
         self, ee_pos: torch.Tensor, ee_quat: torch.Tensor, jacobian: torch.Tensor, joint_pos: torch.Tensor

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING
 
 import torch
 
-from simlab.utils.math import apply_delta_pose, combine_frame_transforms, compute_pose_error
+from simlab.utils.math import apply_delta_pose, combine_frame_transforms, compute_pose_error, normalize
 
 from .linalg import inverse_spd
 
@@ -84,7 +84,8 @@ class OperationalSpaceController:
         start = 0
         for target in self.target_list:
             if target == "pose_abs":
-                pose = command[:, start : start + 7]
+                # the rotation is the direction of the 4 numbers (a policy's are not unit length)
+                pose = torch.cat([command[:, start : start + 3], normalize(command[:, start + 3 : start + 7])], dim=-1)
                 start += 7
                 if current_task_frame_pose_b is not None:
                     pos, quat = combine_frame_transforms(

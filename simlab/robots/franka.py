@@ -38,13 +38,25 @@ FRANKA_PANDA_CFG = ArticulationCfg(
     ),
     actuators={
         "panda_shoulder": ImplicitActuatorCfg(
-            joint_names_expr=["panda_joint[1-4]"], effort_limit_sim=87.0, stiffness=80.0, damping=4.0
+            joint_names_expr=["panda_joint[1-4]"],
+            effort_limit_sim=87.0,
+            velocity_limit_sim=2.175,
+            stiffness=80.0,
+            damping=4.0,
         ),
         "panda_forearm": ImplicitActuatorCfg(
-            joint_names_expr=["panda_joint[5-7]"], effort_limit_sim=12.0, stiffness=80.0, damping=4.0
+            joint_names_expr=["panda_joint[5-7]"],
+            effort_limit_sim=12.0,
+            velocity_limit_sim=2.61,
+            stiffness=80.0,
+            damping=4.0,
         ),
         "panda_hand": ImplicitActuatorCfg(
-            joint_names_expr=["panda_finger_joint.*"], effort_limit_sim=200.0, stiffness=2e3, damping=1e2
+            joint_names_expr=["panda_finger_joint.*"],
+            effort_limit_sim=200.0,
+            velocity_limit_sim=0.2,
+            stiffness=2e3,
+            damping=1e2,
         ),
     },
     soft_joint_pos_limit_factor=1.0,

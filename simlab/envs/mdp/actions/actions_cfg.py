@@ -80,6 +80,9 @@ class DifferentialInverseKinematicsActionCfg(ActionTermCfg):
     """The end-effector body."""
     body_offset: OffsetCfg | None = None
     scale: float | tuple[float, ...] = 1.0
+    offset: float | tuple[float, ...] = 0.0
+    """Added after scaling: the controller's command is ``action * scale + offset`` (e.g. the centre
+    of the workspace, so that actions near zero are reachable targets)."""
     controller: DifferentialIKControllerCfg = MISSING
 
 

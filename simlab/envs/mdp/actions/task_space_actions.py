@@ -105,10 +105,19 @@ class DifferentialInverseKinematicsAction(_BodyFrameAction):
         dim = self._ik_controller.action_dim
         self._raw_actions = torch.zeros(self.num_envs, dim, device=self.device)
         self._processed_actions = torch.zeros_like(self._raw_actions)
-        self._scale = torch.zeros(self.num_envs, dim, device=self.device)
-        self._scale[:] = torch.as_tensor(cfg.scale, dtype=torch.float32, device=self.device)
+        self._scale = self._per_dim("scale", cfg.scale, dim)
+        self._offset = self._per_dim("offset", cfg.offset, dim)
         if cfg.clip is not None:
             raise ValueError(f"{type(cfg).__name__}.clip is not supported for task-space actions; scale the action")
+
+    def _per_dim(self, name: str, value: float | tuple[float, ...], dim: int) -> torch.Tensor:
+        values = torch.as_tensor(value, dtype=torch.float32, device=self.device).reshape(-1)
+        if values.numel() not in (1, dim):
+            raise ValueError(
+                f"{type(self.cfg).__name__}.{name} has {values.numel()} values; give one number or {dim}"
+                f" (one per command entry: {self._ik_controller._layout()})"
+            )
+        return values.expand(dim).repeat(self.num_envs, 1)
 
     @property
     def action_dim(self) -> int:
@@ -124,7 +133,7 @@ class DifferentialInverseKinematicsAction(_BodyFrameAction):
 
     def process_actions(self, actions: torch.Tensor) -> None:
         self._raw_actions[:] = actions
-        self._processed_actions[:] = actions * self._scale
+        self._processed_actions[:] = actions * self._scale + self._offset
         pos, quat = self._ee_pose_b()
         self._ik_controller.set_command(self._processed_actions, pos, quat)
 

@@ -12,7 +12,12 @@ from simlab.utils.math import combine_frame_transforms, quat_error_magnitude, qu
 if TYPE_CHECKING:
     from simlab.envs import ManagerBasedRLEnv
 
-__all__ = ["orientation_command_error", "position_command_error", "position_command_error_tanh"]
+__all__ = [
+    "orientation_command_error",
+    "orientation_command_error_tanh",
+    "position_command_error",
+    "position_command_error_tanh",
+]
 
 
 def _position_error(env: ManagerBasedRLEnv, command_name: str, asset_cfg: SceneEntityCfg) -> torch.Tensor:
@@ -40,3 +45,10 @@ def orientation_command_error(env: ManagerBasedRLEnv, command_name: str, asset_c
     command = env.command_manager.get_command(command_name)
     des_quat_w = quat_mul(asset.data.root_quat_w, command[:, 3:7])
     return quat_error_magnitude(asset.data.body_quat_w[:, asset_cfg.body_ids[0]], des_quat_w)
+
+
+def orientation_command_error_tanh(
+    env: ManagerBasedRLEnv, std: float, command_name: str, asset_cfg: SceneEntityCfg
+) -> torch.Tensor:
+    """``1 - tanh(angle / std)``: 1 at the commanded orientation, falling off over ``std`` radians."""
+    return 1 - torch.tanh(orientation_command_error(env, command_name, asset_cfg) / std)

@@ -18,7 +18,14 @@ class FrankaReachEnvCfg(joint_pos_env_cfg.FrankaReachEnvCfg):
             asset_name="robot",
             joint_names=["panda_joint.*"],
             body_name="panda_hand",
-            controller=DifferentialIKControllerCfg(command_type="pose", use_relative_mode=False, ik_method="dls"),
+            # Isaac Lab's current absolute-IK settings: a damping of 0.45 keeps the joint steps small
+            # near singular or unreachable targets, and actions in [-1, 1] span the commanded
+            # workspace (centre 0.5, 0, 0.325 m; half-spans 0.15, 0.2, 0.175 m)
+            controller=DifferentialIKControllerCfg(
+                command_type="pose", use_relative_mode=False, ik_method="dls", ik_params={"lambda_val": 0.45}
+            ),
+            scale=(0.15, 0.2, 0.175, 1.0, 1.0, 1.0, 1.0),
+            offset=(0.5, 0.0, 0.325, 0.0, 0.0, 0.0, 0.0),
             body_offset=mdp.DifferentialInverseKinematicsActionCfg.OffsetCfg(pos=(0.0, 0.0, 0.107)),
         )
 

@@ -2,15 +2,41 @@
 
 import math
 
+from simlab.managers import RewardTermCfg as RewTerm
+from simlab.managers import SceneEntityCfg
 from simlab.robots.franka import FRANKA_PANDA_CFG
 from simlab.utils import configclass
 
 from ... import mdp
-from ...reach_env_cfg import ReachEnvCfg
+from ...reach_env_cfg import ReachEnvCfg, RewardsCfg
+
+
+@configclass
+class FrankaReachRewardsCfg(RewardsCfg):
+    """Isaac Lab's reach rewards plus two narrow ones that pay for the last centimetres and the last
+    tenth of a radian: Isaac Lab's terms (a linear error and a tanh over 10 cm) barely tell 3 cm from
+    1 cm, and the policies they train stop a few centimetres short of the target."""
+
+    end_effector_position_tracking_precise = RewTerm(
+        func=mdp.position_command_error_tanh,
+        weight=0.2,
+        params={
+            "asset_cfg": SceneEntityCfg("robot", body_names=["panda_hand"]),
+            "std": 0.02,
+            "command_name": "ee_pose",
+        },
+    )
+    end_effector_orientation_tracking_fine_grained = RewTerm(
+        func=mdp.orientation_command_error_tanh,
+        weight=0.1,
+        params={"asset_cfg": SceneEntityCfg("robot", body_names=["panda_hand"]), "std": 0.1, "command_name": "ee_pose"},
+    )
 
 
 @configclass
 class FrankaReachEnvCfg(ReachEnvCfg):
+    rewards: FrankaReachRewardsCfg = FrankaReachRewardsCfg()
+
     def __post_init__(self):
         super().__post_init__()
         self.scene.robot = FRANKA_PANDA_CFG.replace(prim_path="{ENV_REGEX_NS}/Robot")
