@@ -13,7 +13,6 @@ from simlab.controllers import DifferentialIKController, DifferentialIKControlle
 from simlab.tasks.direct.franka_cabinet.franka_cabinet_env import (
     REWARD_TERMS,
     FrankaCabinetEnv,
-    FrankaCabinetEnvCfg,
     compute_rewards,
 )
 from simlab.tasks.utils import parse_env_cfg

@@ -20,12 +20,20 @@ SEKTION_CABINET_CFG = ArticulationCfg(
     spawn=sim_utils.MjcfFileCfg(asset_path=os.path.join(ASSETS_DIR, "sektion_cabinet.xml")),
     init_state=ArticulationCfg.InitialStateCfg(
         pos=(0.0, 0.0, 0.4),
-        joint_pos={"door_left_joint": 0.0, "door_right_joint": 0.0, "drawer_bottom_joint": 0.0, "drawer_top_joint": 0.0},
+        joint_pos={
+            "door_left_joint": 0.0,
+            "door_right_joint": 0.0,
+            "drawer_bottom_joint": 0.0,
+            "drawer_top_joint": 0.0,
+        },
     ),
     actuators={
         # a spring towards closed (position target 0), as in Isaac Lab's cabinet tasks
         "drawers": ImplicitActuatorCfg(
-            joint_names_expr=["drawer_top_joint", "drawer_bottom_joint"], effort_limit_sim=87.0, stiffness=10.0, damping=1.0
+            joint_names_expr=["drawer_top_joint", "drawer_bottom_joint"],
+            effort_limit_sim=87.0,
+            stiffness=10.0,
+            damping=1.0,
         ),
         "doors": ImplicitActuatorCfg(
             joint_names_expr=["door_left_joint", "door_right_joint"], effort_limit_sim=87.0, stiffness=10.0, damping=2.5
