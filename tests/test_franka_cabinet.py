@@ -11,6 +11,7 @@ from test_engine_choice import needs_warp
 import simlab.tasks  # noqa: F401 - registers the tasks
 from simlab.controllers import DifferentialIKController, DifferentialIKControllerCfg
 from simlab.tasks.direct.franka_cabinet.franka_cabinet_env import (
+    DRAWER_OPENING_OBS,
     REWARD_TERMS,
     FrankaCabinetEnv,
     compute_rewards,
@@ -106,7 +107,7 @@ def test_open_drawer_terminates_and_reset_by_mask_touches_only_that_env(env):
     robot_before = env._robot.data.joint_pos.clone()
     _, _, terminated, truncated, extras = env.step(torch.zeros(2, 9))
     assert terminated.tolist() == [True, False] and not truncated.any()
-    assert extras["final_obs"]["policy"][0, 21] > 0.38  # the finished episode's last observation
+    assert extras["final_obs"]["policy"][0, DRAWER_OPENING_OBS] > 0.38  # the finished episode's last observation
     # env 0 starts again: drawer shut, arm within the reset noise of its default pose, targets there too
     assert env._cabinet.data.joint_pos[0].abs().max() < 1e-6
     offset = env._robot.data.joint_pos[0] - env._robot.data.default_joint_pos[0]

@@ -31,6 +31,9 @@ from simlab.utils import configclass
 from simlab.utils.env_mask import masked_copy_
 from simlab.utils.math import combine_frame_transforms, quat_apply, quat_inv, sample_uniform
 
+DRAWER_OPENING_OBS = 21
+"""Column of the policy observation that holds the top drawer's opening [m]."""
+
 
 @configclass
 class FrankaCabinetEnvCfg(DirectRLEnvCfg):
