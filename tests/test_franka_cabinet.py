@@ -180,3 +180,18 @@ def test_mujoco_warp_on_cpu_steps_the_cabinet_like_mujoco():
         trajectories.append(torch.stack(frames))
     assert (trajectories[0][-1] - trajectories[0][0]).abs().max() > 0.05  # the arm moved
     torch.testing.assert_close(trajectories[1], trajectories[0], atol=2e-3, rtol=0)
+
+
+def test_agent_configs_follow_isaac_lab():
+    from simlab.tasks.utils import load_cfg_from_registry
+
+    rsl = load_cfg_from_registry(TASK, "rsl_rl_cfg_entry_point")
+    rsl.to_rsl_rl_dict()  # validates: no MISSING field left
+    assert (rsl.num_steps_per_env, rsl.max_iterations, rsl.experiment_name) == (16, 1500, "franka_cabinet_direct")
+    assert rsl.algorithm.desired_kl == 0.008 and rsl.actor.hidden_dims == [256, 128, 64]
+    skrl = load_cfg_from_registry(TASK, "skrl_cfg_entry_point")
+    assert skrl["agent"]["rollouts"] == 16 and skrl["trainer"]["timesteps"] == 24000
+    rlg = load_cfg_from_registry(TASK, "rl_games_cfg_entry_point")
+    assert rlg["params"]["config"]["max_epochs"] == 1500 and rlg["params"]["config"]["torch_compile"] is False
+    play = parse_env_cfg("simlab/Franka-Cabinet-Direct-Play-v0", device="cpu")
+    assert play.scene.num_envs == 50
