@@ -12,6 +12,7 @@ from types import SimpleNamespace
 import gymnasium as gym
 import pytest
 import torch
+from test_engine_choice import needs_warp
 
 import simlab.tasks  # noqa: F401 - registers the tasks
 from simlab.tasks.manager_based.manipulation.cabinet import mdp
@@ -122,3 +123,23 @@ def test_open_cabinet_state_machine_opens_the_drawer():
     widest = re.search(r"widest drawer opening per env \[m\]: \[([^\]]+)\]", proc.stdout)
     assert widest, proc.stdout
     assert all(float(x) > 0.2 for x in widest.group(1).split(", ")), widest.group(0)
+
+
+@needs_warp
+def test_mujoco_warp_on_cpu_steps_the_ik_task_like_mujoco():
+    """The GPU backend (on Warp's CPU device) and MuJoCo C agree over the first steps of an IK reach."""
+    task = "simlab/Open-Drawer-Franka-IK-Abs-v0"
+    observations = []
+    for engine in ("mujoco", "mujoco_warp"):
+        cfg = parse_env_cfg(task, device="cpu", num_envs=2)
+        cfg.sim.engine, cfg.seed = engine, 0
+        cfg.observations.policy.enable_corruption = False
+        env = gym.make(task, cfg=cfg).unwrapped
+        env.reset(seed=0)
+        target = torch.tensor([[0.45, 0.0, 0.5, 0.0, 1.0, 0.0, 0.0, 1.0]] * 2)  # hand down, gripper open
+        for _ in range(10):
+            obs, *_ = env.step(target)
+        observations.append(obs["policy"])
+        env.close()
+    assert (observations[0][:, 9:18]).abs().max() > 0.1  # the arm moves
+    torch.testing.assert_close(observations[1], observations[0], atol=1e-4, rtol=0)
