@@ -21,7 +21,7 @@ import torch
 
 import simlab.sim as sim_utils
 from simlab.assets import Articulation, ArticulationCfg
-from simlab.envs import DirectRLEnv, DirectRLEnvCfg
+from simlab.envs import DirectRLEnv, DirectRLEnvCfg, ViewerCfg
 from simlab.robots.cabinet import SEKTION_CABINET_CFG
 from simlab.robots.franka import FRANKA_PANDA_CFG
 from simlab.scene import InteractiveSceneCfg
@@ -55,6 +55,8 @@ class FrankaCabinetEnvCfg(DirectRLEnvCfg):
 
     # scene
     scene: InteractiveSceneCfg = InteractiveSceneCfg(num_envs=4096, env_spacing=3.0, replicate_physics=True)
+    # videos look at env 0's robot and drawer (Isaac Lab keeps the default far view)
+    viewer: ViewerCfg = ViewerCfg(eye=(2.2, 1.6, 1.4), lookat=(0.5, 0.0, 0.6), origin_type="env")
 
     # robot: 1 m in front of the cabinet, turned to face it
     robot: ArticulationCfg = FRANKA_PANDA_CFG.replace(
