@@ -46,11 +46,12 @@ class FrankaCabinetEnvCfg(DirectRLEnvCfg):
 
     # simulation: elliptic friction cones with impratio 10 make friction stiff enough for a pinch grasp
     # to hold the handle while pulling (with pyramidal cones and impratio 1 the handle slipped out of
-    # the scripted grasp of tests/test_franka_cabinet.py after 15-25 cm)
+    # the scripted grasp of tests/test_franka_cabinet.py after 15-25 cm); GPU buffers per world sized
+    # for condim rows per contact (4 at the finger pads)
     sim: SimulationCfg = SimulationCfg(
         dt=1 / 120,
         render_interval=decimation,
-        mujoco=MujocoCfg(cone="elliptic", impratio=10.0, nconmax=32, njmax=160),
+        mujoco=MujocoCfg(cone="elliptic", impratio=10.0, nconmax=48, njmax=256),
     )
 
     # scene

@@ -187,5 +187,6 @@ class CabinetEnvCfg(ManagerBasedRLEnvCfg):
         self.sim.render_interval = self.decimation
         self.sim.mujoco.cone = "elliptic"
         self.sim.mujoco.impratio = 10.0
-        self.sim.mujoco.nconmax = 32
-        self.sim.mujoco.njmax = 160
+        # GPU buffers per world: elliptic cones take condim rows per contact (4 at the finger pads)
+        self.sim.mujoco.nconmax = 48
+        self.sim.mujoco.njmax = 256
