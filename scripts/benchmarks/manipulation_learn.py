@@ -4,11 +4,15 @@ policy on held-out commands (another seed) and measure:
 * reach (``simlab/Reach-Franka-v0``): the end-effector's position error [cm] and orientation error
   [rad] at the end of each 4 s command window; passes with mean < 2 cm and < 0.1 rad;
 * lift (``simlab/Lift-Cube-Franka-v0``): episodes whose cube ends within 5 cm of the commanded
-  position (measured on the episode's last step; a dropped cube fails); passes with >= 80 %.
+  position (measured on the episode's last step; a dropped cube fails); passes with >= 80 %;
+* cabinet (``simlab/Franka-Cabinet-Direct-v0``): episodes that end with the top drawer open at least
+  20 cm (its opening in the episode's final observation; an episode that pulls it past 39 cm ends
+  there, open); passes with >= 80 %.
 
     python scripts/benchmarks/manipulation_learn.py                                   # both, GPU sizes
     python scripts/benchmarks/manipulation_learn.py --tasks reach --num_envs 4096 --max_iterations 1000
-    python scripts/benchmarks/manipulation_learn.py --tasks reach lift --device cpu --num_envs 8 \\
+    python scripts/benchmarks/manipulation_learn.py --tasks cabinet --num_envs 4096  # the drawer, rsl_rl
+    python scripts/benchmarks/manipulation_learn.py --tasks reach lift cabinet --device cpu --num_envs 8 \\
         --max_iterations 2 --eval_envs 4 --eval_seconds 8                             # a CPU smoke run
     python scripts/benchmarks/manipulation_learn.py --tasks reach --log_root logs/reach_big \\
         agent.actor.hidden_dims=[256,128,64]                                          # a variant
@@ -35,7 +39,11 @@ from simlab.cli.main import build_parser
 from simlab.cli.play import run_play
 from simlab.cli.session import load_configs
 
-TASKS = {"reach": "simlab/Reach-Franka-v0", "lift": "simlab/Lift-Cube-Franka-v0"}
+TASKS = {
+    "reach": "simlab/Reach-Franka-v0",
+    "lift": "simlab/Lift-Cube-Franka-v0",
+    "cabinet": "simlab/Franka-Cabinet-Direct-v0",
+}
 
 
 def reach_tracker(tolerance_cm: float, tolerance_rad: float):
@@ -96,6 +104,37 @@ def lift_tracker(tolerance_m: float, required: float):
     return on_step, judge
 
 
+def cabinet_tracker(min_opening_m: float, required: float):
+    """Per finished episode: the top drawer open at least ``min_opening_m`` when the episode ended."""
+    counts = {"success": 0, "episodes": 0}
+    openings: list[torch.Tensor] = []
+
+    def on_step(env, obs, actions) -> None:
+        from simlab.tasks.direct.franka_cabinet.franka_cabinet_env import DRAWER_OPENING_OBS
+
+        finished = env.reset_buf  # the envs whose episode ended in this step (already reset)
+        if not bool(finished.any()):
+            return
+        opening = env.extras["final_obs"]["policy"][:, DRAWER_OPENING_OBS]
+        counts["success"] += int((finished & (opening >= min_opening_m)).sum())
+        counts["episodes"] += int(finished.sum())
+        openings.append(opening[finished].cpu())
+
+    def judge() -> tuple[str, bool]:
+        if not counts["episodes"]:
+            return "no episode finished: play longer (--eval_seconds)", False
+        rate = counts["success"] / counts["episodes"]
+        ends = torch.cat(openings) * 100
+        text = (
+            f"{counts['success']}/{counts['episodes']} episodes ended with the drawer open >= "
+            f"{min_opening_m * 100:.0f} cm ({rate:.1%}); opening at the end mean {ends.mean():.1f} cm "
+            f"(median {ends.median():.1f})"
+        )
+        return text, rate >= required
+
+    return on_step, judge
+
+
 def train(task: str, args) -> tuple[float, bool]:
     cmd = [sys.executable, "-m", "simlab", "train", "--task", task, "--library", "rsl_rl", "--headless"]
     cmd += ["--log_root", args.log_root, "--run_name", "learns"]
@@ -136,6 +175,8 @@ def main() -> int:
     parser.add_argument("--reach_rad", type=float, default=0.1)
     parser.add_argument("--lift_m", type=float, default=0.05)
     parser.add_argument("--lift_rate", type=float, default=0.8)
+    parser.add_argument("--cabinet_m", type=float, default=0.2, help="Drawer opening that counts as opened.")
+    parser.add_argument("--cabinet_rate", type=float, default=0.8)
     parser.add_argument("--skip_training", action="store_true", help="Evaluate the newest runs only.")
     parser.add_argument("overrides", nargs="*", help="env.x=v / agent.x=v overrides for training and evaluation.")
     args = parser.parse_args()
@@ -150,11 +191,11 @@ def main() -> int:
         if not trained:
             rows.append((task, wall, "training failed", False))
             continue
-        tracker = (
-            reach_tracker(args.reach_cm, args.reach_rad)
-            if name == "reach"
-            else lift_tracker(args.lift_m, args.lift_rate)
-        )
+        tracker = {
+            "reach": lambda: reach_tracker(args.reach_cm, args.reach_rad),
+            "lift": lambda: lift_tracker(args.lift_m, args.lift_rate),
+            "cabinet": lambda: cabinet_tracker(args.cabinet_m, args.cabinet_rate),
+        }[name]()
         result = evaluate(task, tracker, args)
         rows.append((task, wall, result["text"], result["passed"]))
 

@@ -1,6 +1,7 @@
 """Robot configurations and their MJCF models (``simlab.robots.<robot>``)."""
 
 from .ant import ANT_CFG
+from .cabinet import SEKTION_CABINET_CFG
 from .cart_double_pendulum import CART_DOUBLE_PENDULUM_CFG
 from .cartpole import CARTPOLE_CFG
 from .franka import FRANKA_PANDA_CFG, FRANKA_PANDA_HIGH_PD_CFG

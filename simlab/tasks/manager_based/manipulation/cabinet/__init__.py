@@ -1,0 +1,1 @@
+"""Open a cabinet's drawer (Isaac Lab's ``manipulation/cabinet``); robots in ``config/``."""

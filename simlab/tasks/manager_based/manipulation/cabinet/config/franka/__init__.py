@@ -1,0 +1,19 @@
+"""Franka cabinet tasks (Isaac Lab's ``Isaac-Open-Drawer-Franka-v0`` and its IK variants)."""
+
+import gymnasium as gym
+
+from . import agents
+
+_RSL_RL = f"{agents.__name__}.rsl_rl_ppo_cfg:CabinetPPORunnerCfg"
+
+for _task, _module in (("", "joint_pos_env_cfg"), ("-IK-Abs", "ik_abs_env_cfg"), ("-IK-Rel", "ik_rel_env_cfg")):
+    for _suffix, _cfg in (("-v0", "FrankaCabinetEnvCfg"), ("-Play-v0", "FrankaCabinetEnvCfg_PLAY")):
+        kwargs = {"env_cfg_entry_point": f"{__name__}.{_module}:{_cfg}"}
+        if not _task:  # Isaac Lab ships agent configs for the joint-position task only
+            kwargs["rsl_rl_cfg_entry_point"] = _RSL_RL
+        gym.register(
+            id=f"simlab/Open-Drawer-Franka{_task}{_suffix}",
+            entry_point="simlab.envs:ManagerBasedRLEnv",
+            disable_env_checker=True,
+            kwargs=kwargs,
+        )

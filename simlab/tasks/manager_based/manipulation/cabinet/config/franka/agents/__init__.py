@@ -1,0 +1,1 @@
+"""Agent configs of the Franka cabinet task."""
