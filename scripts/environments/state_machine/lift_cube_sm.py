@@ -96,7 +96,7 @@ def infer_state_machine(
     elif state == PickSmState.APPROACH_ABOVE_OBJECT:
         des_ee_pose[tid] = wp.transform_multiply(offset[tid], object_pose[tid])
         gripper_state[tid] = GripperState.OPEN
-        if distance_below_threshold(
+        if distance_below_threshold(  # noqa: SIM102 - Isaac Lab's nesting, kept for comparison
             wp.transform_get_translation(ee_pose[tid]),
             wp.transform_get_translation(des_ee_pose[tid]),
             position_threshold,
@@ -107,7 +107,7 @@ def infer_state_machine(
     elif state == PickSmState.APPROACH_OBJECT:
         des_ee_pose[tid] = object_pose[tid]
         gripper_state[tid] = GripperState.OPEN
-        if distance_below_threshold(
+        if distance_below_threshold(  # noqa: SIM102 - Isaac Lab's nesting, kept for comparison
             wp.transform_get_translation(ee_pose[tid]),
             wp.transform_get_translation(des_ee_pose[tid]),
             position_threshold,
@@ -124,7 +124,7 @@ def infer_state_machine(
     elif state == PickSmState.LIFT_OBJECT:
         des_ee_pose[tid] = des_object_pose[tid]
         gripper_state[tid] = GripperState.CLOSE
-        if distance_below_threshold(
+        if distance_below_threshold(  # noqa: SIM102 - Isaac Lab's nesting, kept for comparison
             wp.transform_get_translation(ee_pose[tid]),
             wp.transform_get_translation(des_ee_pose[tid]),
             position_threshold,
