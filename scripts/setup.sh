@@ -6,7 +6,7 @@
 # (on this project's CPU machines `pip install torch==2.13.0` takes a local CPU wheel).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-extras="train,rsl_rl,skrl,sb3,render,viewer"
+extras="train,rsl_rl,skrl,sb3,render,viewer,teleop"
 [ "${1:-}" = "dev" ] && extras="$extras,dev"
 # Offscreen rendering: simlab tries EGL (GPU drivers), then OSMesa (software); install OSMesa where we can.
 if ! ldconfig -p 2>/dev/null | grep -q libOSMesa; then
@@ -24,6 +24,15 @@ if [ "${1:-}" = "dev" ] && ! command -v chromium >/dev/null; then
       || echo "note: could not install chromium and xvfb; the browser tests of the web viewer will be skipped"
   else
     echo "note: install chromium and xvfb (Debian/Ubuntu) to run the web and native viewer tests"
+  fi
+fi
+# dev: the teleoperation test types keys into MuJoCo's window under Xvfb with xdotool.
+if [ "${1:-}" = "dev" ] && ! command -v xdotool >/dev/null; then
+  if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
+    (apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq xdotool >/dev/null) \
+      || echo "note: could not install xdotool; the native viewer's teleoperation test will be skipped"
+  else
+    echo "note: install xdotool (Debian/Ubuntu) to run the native viewer's teleoperation test"
   fi
 fi
 [ -d .venv ] || python3 -m venv .venv

@@ -3,7 +3,9 @@
 The followed env is MuJoCo's data of the window; its neighbours are drawn into the window's user
 scene at their origins. Keys: space pauses / resumes, the right arrow steps once while paused,
 ``[`` / ``]`` follow the previous / next env, ``-`` / ``=`` draw less / more often, ``V`` turns
-drawing off and on (training at full speed).
+drawing off and on (training at full speed). Letter and digit keys that a teleoperation device
+listens for (``simlab.devices.Se3Keyboard``: W, S, A, D, ...) go to it instead, through
+:data:`simlab.viewer.keys.key_hub`, as taps: MuJoCo's window reports presses, not releases.
 """
 
 from __future__ import annotations
@@ -12,6 +14,7 @@ import mujoco
 
 from simlab.sim.renderer import EnvSceneBuilder, set_free_camera
 from simlab.viewer.choice import display_available
+from simlab.viewer.keys import KeyEvent, glfw_key_name, key_hub
 from simlab.viewer.live import LiveViewer, ViewerError
 from simlab.viewer.source import EnvSnapshot, SimSource
 
@@ -46,6 +49,8 @@ class NativeViewer(LiveViewer):
         self._start()
 
     def _on_key(self, key: int) -> None:
+        if forward_key_to_listeners(key):
+            return
         c = self.controls
         if key == _KEY_SPACE:
             c.paused = not c.paused
@@ -81,3 +86,11 @@ class NativeViewer(LiveViewer):
 
     def _close(self) -> None:
         self._handle.close()
+
+
+def forward_key_to_listeners(keycode: int) -> bool:
+    """Send a key of MuJoCo's window to the teleoperation listeners, if one listens for it."""
+    name = glfw_key_name(keycode)
+    if name is None or not key_hub.wants(name):
+        return False
+    return key_hub.publish(KeyEvent(name, "tap"))

@@ -3,7 +3,9 @@
 mjviser draws a MuJoCo model's bodies as batched meshes, several envs at once, from body poses
 (``ViserMujocoScene.update_from_arrays``); simlab gives it the shown envs' poses, computed on the
 host, and adds the controls a person needs while training: pause / single step, the followed env,
-how often to draw, and the followed env's episode return and length.
+how often to draw, and the followed env's episode return and length. When a teleoperation device
+listens for keys (``simlab.devices.Se3Keyboard``), a Teleop tab has a button per key: a motion
+key's button acts while held down (viser repeats its event), the others act once per click.
 """
 
 from __future__ import annotations
@@ -14,10 +16,13 @@ import sys
 import mujoco
 import numpy as np
 
+from simlab.viewer.keys import KeyEvent, key_hub
 from simlab.viewer.live import MAX_SHOWN_ENVS, LiveViewer, ViewerError
 from simlab.viewer.source import EnvSnapshot, HostKinematics, SimSource
 
 __all__ = ["WebViewer"]
+
+TELEOP_REPEAT_HZ = 10.0  # a held teleop button's event rate; Se3Keyboard holds a tap for 0.2 s
 
 
 def _port_in_use(port: int) -> bool:
@@ -180,8 +185,34 @@ class WebViewer(LiveViewer):
             self.scene.create_overlay_gui()
         with tabs.add_tab("Groups"):
             self.scene.create_groups_gui()
+        self._tabs = tabs
+        self._teleop_buttons: dict[str, object] = {}
+        self._add_teleop_buttons()
+        self._watch = key_hub.watch(self._add_teleop_buttons)
+
+    # -- teleoperation keys ---------------------------------------------------------------------
+
+    def _add_teleop_buttons(self) -> None:
+        """A button for each key a teleoperation listener wants (added once; kept while the page lives)."""
+        keys, held = key_hub.keys(), key_hub.held_keys()
+        new = [key for key in keys if key not in self._teleop_buttons]
+        if not new:
+            return
+        if not hasattr(self, "_teleop_tab"):
+            self._teleop_tab = self._tabs.add_tab("Teleop")
+            with self._teleop_tab:
+                self.server.gui.add_markdown("Hold a motion key's button to move; click the others.")
+        with self._teleop_tab:
+            for key in new:
+                button = self.server.gui.add_button(f"{key}: {keys[key]}")
+                if key in held:
+                    button.on_hold(lambda _, k=key: key_hub.publish(KeyEvent(k, "tap")), callback_hz=TELEOP_REPEAT_HZ)
+                else:
+                    button.on_click(lambda _, k=key: key_hub.publish(KeyEvent(k, "tap")))
+                self._teleop_buttons[key] = button
 
     def _close(self) -> None:
+        key_hub.unwatch(self._watch)
         self.server.stop()
 
 

@@ -161,3 +161,8 @@ class LiftEnvCfg(ManagerBasedRLEnvCfg):
         # scripts/tools/measure_contact_buffers.py). Reserved: about twice that.
         self.sim.mujoco.nconmax = 48
         self.sim.mujoco.njmax = 256
+        # Holding the cube: elliptic friction cones with a high impratio (MuJoCo's advice for grasps).
+        # With pyramidal cones the cube crept out of the pads while the hand carried it (measured with
+        # scripts/environments/state_machine/lift_cube_sm.py on the CPU).
+        self.sim.mujoco.cone = "elliptic"
+        self.sim.mujoco.impratio = 10.0
