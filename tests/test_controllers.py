@@ -131,6 +131,28 @@ def test_absolute_targets_take_the_direction_of_the_quaternion():
     torch.testing.assert_close(osc.desired_ee_pose_b, unit)
 
 
+def test_wrench_targets_and_axes_are_given_in_the_task_frame_and_closed_on_the_measured_force():
+    """10 N along the task frame's z, which is the root frame's -y (turned 90 degrees about x): the
+    efforts are J^T of that force; with contact stiffness 0.5, a measured 4 N adds 0.5 (10 - 4) N."""
+    jac = torch.eye(6, 7).repeat(2, 1, 1)  # efforts = the task-space force, padded
+    turned = torch.tensor([[0.0, 0.0, 0.0, 0.70710678, 0.70710678, 0.0, 0.0]]).repeat(2, 1)
+    command = torch.tensor([[0.0, 0.0, 10.0, 0.0, 0.0, 0.0]]).repeat(2, 1)
+    cfg = OperationalSpaceControllerCfg(
+        target_types=["wrench_abs"], contact_wrench_control_axes_task=[0, 0, 1, 0, 0, 0]
+    )
+    osc = OperationalSpaceController(cfg, 2, "cpu")
+    osc.set_command(command, current_task_frame_pose_b=turned)
+    torch.testing.assert_close(osc.compute(jac)[:, :3], torch.tensor([[0.0, -10.0, 0.0]]).repeat(2, 1))
+    cfg.contact_wrench_stiffness_task = [0.0, 0.0, 0.5, 0.0, 0.0, 0.0]
+    closed = OperationalSpaceController(cfg, 2, "cpu")
+    closed.set_command(command, current_task_frame_pose_b=turned)
+    with pytest.raises(ValueError, match="current_ee_force_b"):
+        closed.compute(jac)
+    measured = torch.tensor([[0.0, -4.0, 0.0], [0.0, -10.0, 0.0]])
+    efforts = closed.compute(jac, current_ee_force_b=measured)
+    torch.testing.assert_close(efforts[:, :3], torch.tensor([[0.0, -13.0, 0.0], [0.0, -10.0, 0.0]]))
+
+
 @pytest.mark.parametrize("device", DEVICES)
 def test_operational_space_control_tracks_a_setpoint_under_gravity(device):
     robot_cfg = FRANKA_PANDA_CFG.copy()

@@ -219,6 +219,13 @@ def test_binary_gripper_action_opens_and_closes():
     env.close()
 
 
+def test_osc_action_with_closed_loop_force_control_is_refused():
+    with pytest.raises(ValueError, match="contact_wrench_stiffness_task .*current_ee_force_b"):
+        make_env(
+            reach_osc.FrankaReachEnvCfg, **{"actions.arm_action.controller_cfg.contact_wrench_stiffness_task": 0.1}
+        )
+
+
 def test_gripper_config_without_finger_joints_is_refused():
     with pytest.raises(ValueError, match="match no finger joint of 'robot'.*Available strings"):
         make_env(

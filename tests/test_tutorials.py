@@ -52,6 +52,20 @@ def test_diff_ik_tutorial_reaches_each_goal():
         assert float(words[5]) < 2e-3 and float(words[9]) < 1e-2, line
 
 
+def test_osc_tutorial_tracks_the_wall_goals_while_pushing_10_newtons():
+    out = run_script("scripts/tutorials/05_controllers/run_osc.py", "--num_envs", "2", "--max_app_steps", "302")
+    # "[INFO]: step 100: position error 0.0027 m, orientation error 0.0090 rad, contact force 9.71 N"
+    rows = re.findall(
+        r"step (\d+): position error ([\d.]+) m, orientation error ([\d.]+) rad, contact force ([\d.]+) N", out
+    )
+    steps = {int(step): (float(pos), float(rot), float(force)) for step, pos, rot, force in rows}
+    assert sorted(steps) == [1, 100, 200, 300], out[-2000:]
+    start, end = steps[1], steps[300]
+    assert start[0] > 0.05 and end[0] < 0.1 * start[0] and end[0] < 2e-3  # along the wall's plane
+    assert end[1] < 0.2 * start[1] and end[1] < 1e-2
+    assert start[2] == 0.0 and 8.0 < end[2] < 12.0  # pressed against the wall with the commanded 10 N
+
+
 def test_articulation_tutorial_resets_two_cartpoles_under_origin_groups():
     out = run_script("scripts/tutorials/01_assets/run_articulation.py", "--max_app_steps", "501")
     assert "Setup complete" in out and out.count("Resetting robot state") == 2  # at steps 0 and 500

@@ -4,7 +4,10 @@
 
 with ``e`` the pose error (position, axis-angle), ``v`` the body velocity, ``Lambda = (J M^-1 J^T)^-1``
 the task-space mass matrix (with inertial decoupling; else the identity), ``g`` the gravity torques,
-``Jbar = M^-1 J^T Lambda`` the dynamically consistent inverse and ``F`` an open-loop wrench target.
+``Jbar = M^-1 J^T Lambda`` the dynamically consistent inverse and ``F`` a wrench target (closed-loop
+with ``contact_wrench_stiffness_task``: ``F + Kf (F - f)`` for a measured contact force ``f``). Gains,
+targets and the motion / wrench axes are given in a task frame (the root frame unless
+``set_command`` gets one) and rotated into the root frame.
 Damping gains are ``2 sqrt(kp) * damping_ratio``. All torch over a batch of envs; the matrix inverses
 are unrolled Cholesky solves in elementwise ops (``simlab.controllers.linalg``), so the step can be
 captured as a CUDA graph.
@@ -16,7 +19,13 @@ from typing import TYPE_CHECKING
 
 import torch
 
-from simlab.utils.math import apply_delta_pose, combine_frame_transforms, compute_pose_error, normalize
+from simlab.utils.math import (
+    apply_delta_pose,
+    combine_frame_transforms,
+    compute_pose_error,
+    matrix_from_quat,
+    normalize,
+)
 
 from .linalg import inverse_spd
 
@@ -40,10 +49,13 @@ class OperationalSpaceController:
         self.target_list = list(cfg.target_types)
         self._motion = any(t in ("pose_abs", "pose_rel") for t in self.target_list)
         self._wrench = "wrench_abs" in self.target_list
-        self._motion_axes = torch.diag(torch.tensor(cfg.motion_control_axes_task, dtype=torch.float32, device=device))
-        self._wrench_axes = torch.diag(
-            torch.tensor(cfg.contact_wrench_control_axes_task, dtype=torch.float32, device=device)
-        )
+        self._motion_axes = torch.tensor(cfg.motion_control_axes_task, dtype=torch.float32, device=device)
+        self._wrench_axes = torch.tensor(cfg.contact_wrench_control_axes_task, dtype=torch.float32, device=device)
+        stiffness = cfg.contact_wrench_stiffness_task
+        self._force_gains = None if stiffness is None else torch.tensor(_six(stiffness), device=device)
+        self.task_frame_pose_b = torch.zeros(n, 7, device=device)
+        """(N, 7) the frame the targets, gains and axes are given in (identity: the root frame)."""
+        self.task_frame_pose_b[:, 3] = 1.0
         self._kp = torch.zeros(n, 6, device=device)
         self._damping_ratio = torch.zeros(n, 6, device=device)
         self._kp[:] = torch.as_tensor(_six(cfg.motion_stiffness_task), device=device)
@@ -81,6 +93,11 @@ class OperationalSpaceController:
                 f"{self.cfg.impedance_mode!r}) takes commands of shape (num_envs, {self.action_dim}), got"
                 f" {tuple(command.shape)}"
             )
+        if current_task_frame_pose_b is None:
+            self.task_frame_pose_b.zero_()
+            self.task_frame_pose_b[:, 3] = 1.0
+        else:
+            self.task_frame_pose_b[:] = current_task_frame_pose_b
         start = 0
         for target in self.target_list:
             if target == "pose_abs":
@@ -128,6 +145,16 @@ class OperationalSpaceController:
         cfg = self.cfg
         n, num_joints = jacobian_b.shape[0], jacobian_b.shape[2]
         efforts = torch.zeros(n, num_joints, device=jacobian_b.device)
+        # rotation of the task frame's axes into the root frame, for forces and torques alike
+        rot = matrix_from_quat(self.task_frame_pose_b[:, 3:])
+        rot6 = torch.zeros(n, 6, 6, device=jacobian_b.device)
+        rot6[:, :3, :3] = rot
+        rot6[:, 3:, 3:] = rot
+
+        def in_root(diagonal: torch.Tensor) -> torch.Tensor:
+            """A diagonal gain or selection matrix of the task frame, expressed in the root frame."""
+            return rot6 @ torch.diag_embed(diagonal.expand(n, 6)) @ rot6.transpose(-1, -2)
+
         decouple = cfg.inertial_dynamics_decoupling or cfg.nullspace_control == "position"
         if decouple and mass_matrix is None:
             raise ValueError("compute needs mass_matrix for inertial_dynamics_decoupling / nullspace_control")
@@ -146,15 +173,20 @@ class OperationalSpaceController:
             )
             self.pose_error_b[:] = torch.cat([pos_err, rot_err], dim=-1)
             kd = 2.0 * self._kp.sqrt() * self._damping_ratio
-            acc = self._kp * self.pose_error_b - kd * current_ee_vel_b
-            acc = acc @ self._motion_axes
+            acc = in_root(self._kp) @ self.pose_error_b[..., None] - in_root(kd) @ current_ee_vel_b[..., None]
+            acc = (in_root(self._motion_axes) @ acc)[..., 0]
             if cfg.inertial_dynamics_decoupling:
                 acc = (self._task_mass_matrix(jacobian_b, mass_inv) @ acc[..., None])[..., 0]
             efforts += (jac_t @ acc[..., None])[..., 0]
 
         if self._wrench:
-            wrench = self.desired_ee_wrench_task @ self._wrench_axes
-            efforts += (jac_t @ wrench[..., None])[..., 0]
+            wrench = rot6 @ self.desired_ee_wrench_task[..., None]
+            if self._force_gains is not None:
+                if current_ee_force_b is None:
+                    raise ValueError("compute needs current_ee_force_b (N, 3) with contact_wrench_stiffness_task")
+                measured = torch.cat([current_ee_force_b, torch.zeros_like(current_ee_force_b)], dim=-1)
+                wrench = wrench + in_root(self._force_gains) @ (wrench - measured[..., None])
+            efforts += (jac_t @ in_root(self._wrench_axes) @ wrench)[..., 0]
 
         if cfg.gravity_compensation:
             if gravity is None:

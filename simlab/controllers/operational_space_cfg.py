@@ -39,7 +39,8 @@ class OperationalSpaceControllerCfg:
     motion_stiffness_limits_task: tuple[float, float] = (0.0, 1000.0)
     motion_damping_ratio_limits_task: tuple[float, float] = (0.0, 100.0)
     contact_wrench_stiffness_task: float | Sequence[float] | None = None
-    """Refused unless None: closed-loop force control needs a contact force sensor on the end effector."""
+    """Closed-loop force control: the wrench command becomes ``F + Kf (F - f)`` with ``f`` the measured
+    contact force (``compute``'s ``current_ee_force_b``); None applies the wrench target open-loop."""
     nullspace_control: str = "none"
     """``"position"`` drives the joints towards a posture inside the task's null space."""
     nullspace_stiffness: float = 10.0
@@ -56,8 +57,3 @@ class OperationalSpaceControllerCfg:
             raise ValueError(f"impedance_mode {self.impedance_mode!r}: use one of {IMPEDANCE_MODES}")
         if self.nullspace_control not in NULLSPACE_CONTROLS:
             raise ValueError(f"nullspace_control {self.nullspace_control!r}: use one of {NULLSPACE_CONTROLS}")
-        if self.contact_wrench_stiffness_task is not None:
-            raise ValueError(
-                "contact_wrench_stiffness_task (closed-loop force control) is not supported by simlab's"
-                " OperationalSpaceController; leave it None (wrench_abs targets are then applied open-loop)"
-            )

@@ -154,6 +154,13 @@ class OperationalSpaceControllerAction(_BodyFrameAction):
 
     def __init__(self, cfg: actions_cfg.OperationalSpaceControllerActionCfg, env: ManagerBasedEnv):
         super().__init__(cfg, env)
+        if cfg.controller_cfg.contact_wrench_stiffness_task is not None:
+            raise ValueError(
+                f"{type(cfg).__name__}: controller_cfg.contact_wrench_stiffness_task (closed-loop force control)"
+                " needs a measured end-effector force, which this action term does not read; leave it None"
+                " (wrench targets are then open-loop) or call OperationalSpaceController.compute yourself"
+                " with current_ee_force_b"
+            )
         self._osc = OperationalSpaceController(cfg.controller_cfg, self.num_envs, self.device)
         dim = self._osc.action_dim
         self._raw_actions = torch.zeros(self.num_envs, dim, device=self.device)
