@@ -313,6 +313,9 @@ class _FakeHidDevice:
     def read(self, size, timeout_ms=0):
         return []
 
+    def close(self):
+        pass
+
 
 def test_spacemouse_reports_give_isaac_labs_commands(monkeypatch):
     monkeypatch.setattr(Se3SpaceMouse, "_open_device", lambda self: (_FakeHidDevice(), "SpaceMouse Compact"))
