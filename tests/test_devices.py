@@ -4,6 +4,7 @@ driving the IK tasks, the gamepad and SpaceMouse read from stand-in hardware, an
 from __future__ import annotations
 
 import importlib.util
+import sys
 
 import numpy as np
 import pytest
@@ -343,3 +344,19 @@ def test_spacemouse_without_a_device_says_what_it_saw():
     pytest.importorskip("hid")
     with pytest.raises(OSError, match="No SpaceMouse found .*HID devices seen"):
         Se3SpaceMouse(Se3SpaceMouseCfg())
+
+
+@pytest.mark.parametrize(
+    ("module", "make"),
+    [("hid", lambda: Se3SpaceMouse(Se3SpaceMouseCfg())), ("pygame", lambda: _make_gamepad())],
+)
+def test_a_missing_library_names_the_extra_to_install(monkeypatch, module, make):
+    monkeypatch.setitem(sys.modules, module, None)  # import now fails as if not installed
+    with pytest.raises(ImportError, match='pip install "simlab\\[teleop\\]"'):
+        make()
+
+
+def _make_gamepad():
+    from simlab.devices import Se3Gamepad, Se3GamepadCfg
+
+    return Se3Gamepad(Se3GamepadCfg())
