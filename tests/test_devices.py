@@ -97,6 +97,16 @@ def test_a_tap_holds_its_key_for_the_hold_time(keyboard):
     assert keyboard.advance()[2] == 0.0
 
 
+def test_a_dropped_keyboard_stops_listening():
+    import gc
+
+    device = Se3Keyboard(Se3KeyboardCfg())
+    assert key_hub.wants("W")
+    del device
+    gc.collect()
+    assert not key_hub.wants("W")
+
+
 def test_callbacks_run_on_press_for_any_key(keyboard):
     calls = []
     keyboard.add_callback("R", lambda: calls.append("R"))
