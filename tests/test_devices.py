@@ -4,6 +4,7 @@ driving the IK tasks, the gamepad and SpaceMouse read from stand-in hardware, an
 from __future__ import annotations
 
 import importlib.util
+import sys
 
 import numpy as np
 import pytest
@@ -94,6 +95,16 @@ def test_a_tap_holds_its_key_for_the_hold_time(keyboard):
     assert keyboard.advance()[2] == pytest.approx(0.4)
     now[0] += 0.1  # 0.25 s after the last tap
     assert keyboard.advance()[2] == 0.0
+
+
+def test_a_dropped_keyboard_stops_listening():
+    import gc
+
+    device = Se3Keyboard(Se3KeyboardCfg())
+    assert key_hub.wants("W")
+    del device
+    gc.collect()
+    assert not key_hub.wants("W")
 
 
 def test_callbacks_run_on_press_for_any_key(keyboard):
@@ -313,6 +324,9 @@ class _FakeHidDevice:
     def read(self, size, timeout_ms=0):
         return []
 
+    def close(self):
+        pass
+
 
 def test_spacemouse_reports_give_isaac_labs_commands(monkeypatch):
     monkeypatch.setattr(Se3SpaceMouse, "_open_device", lambda self: (_FakeHidDevice(), "SpaceMouse Compact"))
@@ -340,3 +354,19 @@ def test_spacemouse_without_a_device_says_what_it_saw():
     pytest.importorskip("hid")
     with pytest.raises(OSError, match="No SpaceMouse found .*HID devices seen"):
         Se3SpaceMouse(Se3SpaceMouseCfg())
+
+
+@pytest.mark.parametrize(
+    ("module", "make"),
+    [("hid", lambda: Se3SpaceMouse(Se3SpaceMouseCfg())), ("pygame", lambda: _make_gamepad())],
+)
+def test_a_missing_library_names_the_extra_to_install(monkeypatch, module, make):
+    monkeypatch.setitem(sys.modules, module, None)  # import now fails as if not installed
+    with pytest.raises(ImportError, match='pip install "simlab\\[teleop\\]"'):
+        make()
+
+
+def _make_gamepad():
+    from simlab.devices import Se3Gamepad, Se3GamepadCfg
+
+    return Se3Gamepad(Se3GamepadCfg())

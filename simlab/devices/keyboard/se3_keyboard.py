@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import threading
 import time
+import weakref
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -87,7 +88,18 @@ class Se3Keyboard(DeviceBase):
         self._additional_callbacks: dict[str, Callable[[], None]] = {}
         self._listener = None
         if listen_to_viewer:
-            self._listener = key_hub.subscribe(_KEY_LABELS, self.on_key_event, held=tuple(_MOTION_KEYS))
+            self._listener = self._subscribe(_KEY_LABELS)
+
+    def _subscribe(self, labels: dict[str, str]):
+        """Listen to the hub through a weak reference, so that a dropped keyboard is freed (and unsubscribes)."""
+        handler = weakref.WeakMethod(self.on_key_event)
+
+        def forward(event: KeyEvent) -> None:
+            method = handler()
+            if method is not None:
+                method(event)
+
+        return key_hub.subscribe(labels, forward, held=tuple(_MOTION_KEYS))
 
     def __del__(self):
         listener = getattr(self, "_listener", None)
@@ -130,7 +142,7 @@ class Se3Keyboard(DeviceBase):
             key_hub.unsubscribe(self._listener)
             labels = dict(_KEY_LABELS)
             labels.update({k: labels.get(k, k) for k in self._additional_callbacks})
-            self._listener = key_hub.subscribe(labels, self.on_key_event, held=tuple(_MOTION_KEYS))
+            self._listener = self._subscribe(labels)
 
     def advance(self) -> torch.Tensor:
         with self._lock:

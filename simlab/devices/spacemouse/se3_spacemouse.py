@@ -106,7 +106,9 @@ class Se3SpaceMouse(DeviceBase):
         return msg
 
     def close(self) -> None:
+        """Stop reading and release the device."""
         self._running = False
+        self._thread.join(timeout=1.0)
 
     def reset(self) -> None:
         with self._lock:
@@ -131,6 +133,7 @@ class Se3SpaceMouse(DeviceBase):
             report = self._device.read(13 if receiver else 7, 100)  # 100 ms timeout: notice close()
             if report:
                 self.handle_report(list(report), receiver)
+        self._device.close()
 
     def handle_report(self, data: list[int], receiver: bool = False) -> None:
         """Apply one HID report: id 1 translation (and rotation on the receiver), 2 rotation, 3 buttons."""
