@@ -256,6 +256,8 @@ class SimulationContext:
             raise ValueError(f"SimulationCfg.dt must be a positive number of seconds, got {cfg.dt}")
         # A generous free camera distance so renders of spread-out scenes are not clipped.
         spec.visual.map.zfar = 200.0
+        if cfg.physics_material is not None:  # the default class: geoms that set no friction of their own
+            spec.default.geom.friction = cfg.physics_material.friction()
         return spec
 
 
