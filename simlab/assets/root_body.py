@@ -138,7 +138,7 @@ class RootedAsset(AssetBase):
     def reset(self, env_ids: EnvIds = None) -> None:
         for composer in (self._permanent_wrench_composer, self._instantaneous_wrench_composer):
             if composer.active:  # else zero already: no kernels for nothing
-                composer.reset(env_mask(env_ids, self.num_instances, self.device))
+                composer.reset(None if env_ids is None else env_mask(env_ids, self.num_instances, self.device))
 
     def write_data_to_sim(self) -> None:
         permanent, instantaneous = self._permanent_wrench_composer, self._instantaneous_wrench_composer
