@@ -109,3 +109,48 @@ def test_assets_under_translated_xform_groups_get_one_world_each():
             ball.update(sim.get_physics_dt())
         # each cone falls in its own world and comes to rest on its base (centre at half its height)
         torch.testing.assert_close(ball.data.root_pos_w[:, 2], torch.full((3,), 0.1), atol=5e-3, rtol=0)
+
+
+def test_usd_stage_calls_on_the_stage_say_what_to_use():
+    with sim_utils.build_simulation_context(device="cpu", add_ground_plane=True) as sim:
+        stage = sim_utils.get_current_stage()
+        # the one USD query a spec answers: was something spawned at this path?
+        assert sim.stage.GetPrimAtPath("/World/defaultGroundPlane").IsValid()
+        assert not stage.GetPrimAtPath("/World/defaultDomeLight").IsValid()
+        assert stage.GetPrimAtPath("/World/defaultGroundPlane").GetName() == "defaultGroundPlane"
+        with pytest.raises(AttributeError, match="not a USD prim: it has no 'GetAttribute'.*MjSpec API"):
+            stage.GetPrimAtPath("/World/defaultGroundPlane").GetAttribute("size")
+        for usd_call in ("DefinePrim", "Traverse", "GetDefaultPrim"):
+            with pytest.raises(AttributeError, match=f"not a USD stage: it has no '{usd_call}'.*MjSpec API"):
+                getattr(stage, usd_call)
+        assert not hasattr(stage, "Traverse")  # still an AttributeError for hasattr
+        with pytest.raises(AttributeError, match="has no attribute 'no_such_field'"):
+            stage.no_such_field  # noqa: B018
+        sim.reset()  # the spec itself compiles as before
+        assert sim.model.ngeom >= 1
+
+
+def test_clear_all_callbacks_forgets_setup_and_render_callbacks():
+    with sim_utils.build_simulation_context(device="cpu") as sim:
+        calls = []
+        sim.add_render_callback(lambda: calls.append("render"))
+        sim.add_reset_callback(lambda s: calls.append("reset"))
+        sim.add_clear_callback(lambda: calls.append("clear"))
+        sim.clear_all_callbacks()
+        sim.reset()
+        sim.run_render_callbacks()
+        assert calls == []
+    assert calls == ["clear"], "what releases resources still runs when the simulation is cleared"
+
+
+def test_run_tests_runs_the_calling_file_with_pytest(tmp_path):
+    import subprocess
+    import sys
+
+    test_file = tmp_path / "test_small.py"
+    test_file.write_text(
+        "from simlab.app import run_tests\n\ndef test_one():\n    assert 1 + 1 == 2\n\n"
+        "def test_two():\n    assert False\n\nif __name__ == '__main__':\n    run_tests(['-q'])\n"
+    )
+    done = subprocess.run([sys.executable, str(test_file)], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 1 and "1 failed, 1 passed" in done.stdout, done.stdout[-1000:]

@@ -22,6 +22,7 @@ from simlab.utils.unsupported import refuse_unless_default
 
 from .backends import PhysicsBackend, make_backend
 from .simulation_cfg import SimulationCfg
+from .stage import StageSpec
 
 _INTEGRATORS = {
     "euler": mujoco.mjtIntegrator.mjINT_EULER,
@@ -232,13 +233,20 @@ class SimulationContext:
         """Run ``callback()`` before every offscreen image (debug visualization places its markers then)."""
         self._on_render.append(callback)
 
+    def clear_all_callbacks(self) -> None:
+        """Forget the build, compile, reset and render callbacks (Isaac Lab's, before ``clear_instance``):
+        assets and sensors made so far are no longer set up by a later ``reset()``. What releases
+        resources (``add_clear_callback``) still runs at ``clear_instance``."""
+        for callbacks in (self._on_build, self._on_compile, self._on_reset, self._on_render):
+            callbacks.clear()
+
     def run_render_callbacks(self) -> None:
         for callback in self._on_render:
             callback()
 
     def _new_spec(self) -> mujoco.MjSpec:
         cfg, opts = self.cfg, self.cfg.mujoco
-        spec = mujoco.MjSpec()
+        spec = StageSpec()
         spec.modelname = "simlab"
         spec.compiler.degree = False
         spec.option.timestep = cfg.dt
