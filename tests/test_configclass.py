@@ -156,13 +156,27 @@ def test_missing_fields_do_not_block_construction():
     assert cfg.prim_path is MISSING
 
 
-def test_annotation_only_field_is_missing():
-    @configclass
-    class C:
-        x: int
+def test_a_field_needs_a_default_and_missing_needs_a_type():
+    # Isaac Lab's rules: a required field is written `x: int = MISSING`
+    with pytest.raises(ValueError, match="Missing default value for 'x' in class 'C'.*= MISSING"):
 
-    assert C().x is MISSING
-    assert C(x=3).x == 3
+        @configclass
+        class C:
+            x: int
+
+    with pytest.raises(TypeError, match="Missing type annotation for 'y' in class 'D'"):
+
+        @configclass
+        class D:
+            y = MISSING
+
+    @configclass
+    class E:
+        x: int = MISSING
+        kind = dict  # an unannotated class value is a field of type type[dict]
+
+    assert E().x is MISSING and E(x=3).x == 3
+    assert E.__annotations__["kind"] == type[dict] and E().kind is dict
 
 
 def test_validate_lists_every_missing_field_by_path():
