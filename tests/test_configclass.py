@@ -296,7 +296,7 @@ def test_copy_is_deep():
 def test_to_dict_converts_recursively():
     d = EnvCfg().to_dict()
     assert d["scene"]["num_envs"] == 4
-    assert d["scene"]["robot"]["init_pos"] == [0.0, 0.0, 1.0]
+    assert d["scene"]["robot"]["init_pos"] == (0.0, 0.0, 1.0)  # tuples stay tuples, as in Isaac Lab
     assert d["rewards"]["alive"]["func"] == f"{__name__}:joint_pos"
     assert d["scene"]["robot"]["actuators"]["legs"]["class_type"] == f"{__name__}:DummyActuator"
     assert isinstance(d["scene"]["robot"]["actuators"]["legs"], dict)

@@ -86,8 +86,10 @@ def _plain(cfg: Any) -> Any:
             return MISSING_STR
         if isinstance(value, dict):
             return {k: fix(v) for k, v in value.items()}
-        if isinstance(value, list):
+        if isinstance(value, (list, tuple)):
             return [fix(v) for v in value]
+        if hasattr(value, "tolist"):  # tensors in a config
+            return value.tolist()
         return value
 
     if cfg is None:
