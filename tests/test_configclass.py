@@ -403,3 +403,24 @@ def test_classvar_property_and_static_members_are_not_fields():
 
     assert [f.name for f in dataclasses.fields(C)] == ["items", "required"]
     assert C().required is MISSING and C(required=2).twice == 4 and C.helper() == 1
+
+
+def test_to_dict_keeps_tuples_tensors_and_post_init_members():
+    import torch
+
+    @configclass
+    class C:
+        eye: tuple = (1.0, 2.0, 3.0)
+        look: list = [0.0, 0.0, 0.0]
+        gains: torch.Tensor = torch.tensor([1.0, 2.0])
+
+        def __post_init__(self):
+            self.derived = 2 * self.eye[0]
+
+    cfg = C()
+    d = cfg.to_dict()
+    assert d["eye"] == (1.0, 2.0, 3.0) and d["look"] == [0.0, 0.0, 0.0] and d["derived"] == 2.0
+    assert isinstance(d["gains"], torch.Tensor) and d["gains"].tolist() == [1.0, 2.0]
+    cfg.from_dict({"eye": [4.0, 5.0, 6.0], "look": (1.0, 1.0, 1.0)})
+    assert cfg.eye == (4.0, 5.0, 6.0), "a tuple member stays a tuple"
+    assert cfg.look == (1.0, 1.0, 1.0), "a given tuple is kept as given (Isaac Lab's)"
