@@ -138,14 +138,14 @@ def _merge_value(current: Any, value: Any, path: str, field_default: Any = datac
             f" None (to remove it), got {type(value).__name__}: {value!r}."
         )
     if isinstance(value, (list, tuple)):
+        given = type(value)
         if isinstance(current, (list, tuple)) and len(current) == len(value):
             value = [
                 _merge_value(c, v, f"{path}[{i}]") if isinstance(v, Mapping) and _is_config_instance(c) else v
                 for i, (c, v) in enumerate(zip(current, value))
             ]
-        if isinstance(current, tuple):
-            return tuple(value)
-        return list(value) if isinstance(value, list) else value  # Isaac Lab keeps a given tuple
+        # a tuple member stays a tuple; otherwise the given kind is kept (Isaac Lab's)
+        return tuple(value) if isinstance(current, tuple) or given is tuple else list(value)
     if isinstance(value, ResolvableString):
         return value  # already a (lazy) callable reference: keep it as given
     if isinstance(value, str) and _CALLABLE_STR.match(value):
