@@ -102,7 +102,8 @@ def _store(name: str, env_cfg: Any, agent_cfg: Any) -> None:
 
     group, _, base = name.rpartition("/")  # "simlab/Cartpole-v0": config "Cartpole-v0" of group "simlab"
     node = {"env": _plain(env_cfg), "agent": _plain(agent_cfg)}
-    ConfigStore.instance().store(name=base, node=node, group=group or None)
+    # the global package: composing "simlab/Cartpole-v0" gives {"env", "agent"} at the root, as Isaac Lab's ids do
+    ConfigStore.instance().store(name=base, node=node, group=group or None, package="_global_")
 
 
 def _compose(name: str, overrides: list[str]):
