@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import torch
-from conftest import rendering_available
+from conftest import DEVICES, rendering_available
 
 from simlab.tasks.direct.quadcopter.quadcopter_env import QuadcopterEnv, QuadcopterEnvCfg
 
@@ -36,10 +36,10 @@ def ported():
     sys.modules.pop(spec.name, None)
 
 
-def make(env_class, cfg_class, **kwargs):
+def make(env_class, cfg_class, device: str = "cpu", **kwargs):
     cfg = cfg_class(seed=0)
     cfg.scene.num_envs = NUM_ENVS
-    cfg.sim.device = "cpu"
+    cfg.sim.device = device
     return env_class(cfg, **kwargs)
 
 
@@ -59,18 +59,19 @@ def fly(env, num_steps: int = 50) -> tuple[torch.Tensor, torch.Tensor]:
     generator = torch.Generator().manual_seed(0)
     observed, states = [], []
     for _ in range(num_steps):
-        action = torch.zeros(NUM_ENVS, 4)
+        action = torch.zeros(NUM_ENVS, 4, device=env.device)
         action[:, 0] = HOVER_THRUST
-        action[:, 1:] = 0.01 * (2 * torch.rand(NUM_ENVS, 3, generator=generator) - 1)
+        action[:, 1:] = 0.01 * (2 * torch.rand(NUM_ENVS, 3, generator=generator) - 1).to(env.device)
         obs, _, terminated, truncated, _ = env.step(action)
         assert not (terminated | truncated).any()
-        observed.append(obs["policy"][:, :9].clone())
-        states.append(env._robot.data.root_state_w.clone())
+        observed.append(obs["policy"][:, :9].cpu())
+        states.append(env._robot.data.root_state_w.cpu())
     return torch.stack(observed), torch.stack(states)
 
 
-def test_ported_file_flies_as_simlab_s_own_quadcopter(ported):
-    env = make(ported.QuadcopterEnv, ported.QuadcopterEnvCfg)
+@pytest.mark.parametrize("device", DEVICES)
+def test_ported_file_flies_as_simlab_s_own_quadcopter(ported, device):
+    env = make(ported.QuadcopterEnv, ported.QuadcopterEnvCfg, device)
     try:
         masses = env._robot.root_physx_view.get_masses()
         assert masses.shape == (NUM_ENVS, env._robot.num_bodies) and masses.device.type == "cpu"
@@ -79,19 +80,21 @@ def test_ported_file_flies_as_simlab_s_own_quadcopter(ported):
         observed, states = fly(env)
         composer = env._robot.permanent_wrench_composer
         assert composer.active
-        torch.testing.assert_close(composer.composed_force[:, 0, 2], torch.full((NUM_ENVS,), weight))
+        torch.testing.assert_close(composer.composed_force[:, 0, 2].cpu(), torch.full((NUM_ENVS,), weight))
     finally:
         env.close()
     # the thrust holds the weight: tilted by the small moments it sinks by cm (free fall: 4.9 m in 1 s)
     assert (states[:, :, 2] - states[0, :, 2]).abs().max() < 0.1
-    native = make(QuadcopterEnv, QuadcopterEnvCfg)
+    native = make(QuadcopterEnv, QuadcopterEnvCfg, device)
     try:
         assert native._robot_weight == pytest.approx(weight)
         native_observed, native_states = fly(native)
     finally:
         native.close()
-    torch.testing.assert_close(observed, native_observed)
-    torch.testing.assert_close(states, native_states)
+    # the same physics: bit for bit on the CPU; on the GPU the native task's step is one CUDA graph
+    tolerance = {} if device == "cpu" else {"atol": 1e-4, "rtol": 1e-4}
+    torch.testing.assert_close(observed, native_observed, **tolerance)
+    torch.testing.assert_close(states, native_states, **tolerance)
 
 
 @pytest.mark.skipif(not rendering_available(), reason="needs offscreen rendering (EGL or OSMesa)")
@@ -112,5 +115,30 @@ def test_goal_marker_is_drawn_in_renders(ported):
         assert changed.sum() > 50, "the 5 cm goal cube covers some pixels"
         red = with_goal[changed].astype(int)
         assert (red[:, 0] > red[:, 1] + 40).mean() > 0.5, "the changed pixels are the red cube's"
+    finally:
+        env.close()
+
+
+@pytest.mark.parametrize("engine", ["mujoco", pytest.param("mujoco_warp", marks=pytest.mark.slow)])
+def test_set_masses_changes_the_dynamics(ported, engine):
+    """Double the mass of env 1 through PhysX's view names: the thrust that holds env 0's weight lets
+    it sink at g / 2 (0.981 m/s after 0.2 s); ``mujoco_warp`` runs the GPU backend's code on the CPU."""
+    cfg = ported.QuadcopterEnvCfg(seed=0)
+    cfg.scene.num_envs = 2
+    cfg.sim.device, cfg.sim.engine = "cpu", engine
+    env = ported.QuadcopterEnv(cfg)
+    try:
+        view = env._robot.root_physx_view
+        masses = view.get_masses()
+        masses[1] *= 2.0
+        view.set_masses(masses, torch.tensor([1]))
+        assert view.get_masses().sum(dim=1).tolist() == pytest.approx([0.027, 0.054])
+        env.reset()
+        env.episode_length_buf.zero_()
+        hover = torch.tensor([[HOVER_THRUST, 0.0, 0.0, 0.0]] * 2)
+        for _ in range(10):  # 0.2 s
+            env.step(hover)
+        vz = env._robot.data.root_lin_vel_w[:, 2].tolist()
+        assert vz == pytest.approx([0.0, -9.81 / 2 * 0.2], abs=1e-4)
     finally:
         env.close()
