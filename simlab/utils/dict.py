@@ -6,11 +6,11 @@ import dataclasses
 import hashlib
 import json
 import re
+import sys
 from collections.abc import Iterable, Mapping
 from typing import Any
 
 import numpy as np
-import torch
 
 from simlab.utils.string import (
     ResolvableString,
@@ -72,7 +72,8 @@ def _value_to_plain(value: Any) -> Any:
         return [_value_to_plain(v) for v in value]
     if isinstance(value, type) or callable(value):
         return _callable_name(value)
-    if isinstance(value, torch.Tensor):  # kept, as Isaac Lab's class_to_dict does (yaml writers list it)
+    torch = sys.modules.get("torch")  # a tensor exists only once torch is imported: keep this module light
+    if torch is not None and isinstance(value, torch.Tensor):  # kept, as Isaac Lab's (yaml writers list it)
         return value
     if hasattr(value, "tolist"):  # numpy arrays and scalars
         return value.tolist()
