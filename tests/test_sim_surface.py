@@ -154,3 +154,31 @@ def test_run_tests_runs_the_calling_file_with_pytest(tmp_path):
     )
     done = subprocess.run([sys.executable, str(test_file)], capture_output=True, text=True, timeout=120)
     assert done.returncode == 1 and "1 failed, 1 passed" in done.stdout, done.stdout[-1000:]
+
+
+def test_physics_and_render_step_callbacks_follow_the_render_interval():
+    from simlab.envs import ManagerBasedRLEnv
+    from simlab.tasks.manager_based.classic.cartpole.cartpole_env_cfg import CartpoleEnvCfg
+
+    cfg = CartpoleEnvCfg()
+    cfg.scene.num_envs, cfg.sim.device, cfg.seed = 2, "cpu", 0
+    cfg.decimation, cfg.sim.render_interval = 2, 3
+    env = ManagerBasedRLEnv(cfg)
+    try:
+        assert env.sim.render_mode == SimulationContext.RenderMode.PARTIAL_RENDERING
+        physics_dts, render_dts = [], []
+        env.sim.add_physics_callback("physics", physics_dts.append)
+        env.sim.add_render_callback("render", lambda event: render_dts.append(event.payload["dt"]))
+        assert env.sim.has_step_callbacks
+        env.reset()
+        for _ in range(5):  # 10 physics steps: a render step after the 3rd, 6th and 9th
+            env.step(torch.zeros(2, 1))
+        assert physics_dts == [cfg.sim.dt] * 10
+        assert render_dts == pytest.approx([3 * cfg.sim.dt] * 3)
+        env.sim.remove_physics_callback("physics")
+        env.sim.remove_render_callback("render")
+        assert not env.sim.has_step_callbacks
+        env.step(torch.zeros(2, 1))
+        assert len(physics_dts) == 10 and len(render_dts) == 3
+    finally:
+        env.close()
