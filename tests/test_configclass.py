@@ -156,13 +156,27 @@ def test_missing_fields_do_not_block_construction():
     assert cfg.prim_path is MISSING
 
 
-def test_annotation_only_field_is_missing():
-    @configclass
-    class C:
-        x: int
+def test_a_field_needs_a_default_and_missing_needs_a_type():
+    # Isaac Lab's rules: a required field is written `x: int = MISSING`
+    with pytest.raises(ValueError, match="Missing default value for 'x' in class 'C'.*= MISSING"):
 
-    assert C().x is MISSING
-    assert C(x=3).x == 3
+        @configclass
+        class C:
+            x: int
+
+    with pytest.raises(TypeError, match="Missing type annotation for 'y' in class 'D'"):
+
+        @configclass
+        class D:
+            y = MISSING
+
+    @configclass
+    class E:
+        x: int = MISSING
+        kind = dict  # an unannotated class value is a field of type type[dict]
+
+    assert E().x is MISSING and E(x=3).x == 3
+    assert E.__annotations__["kind"] == type[dict] and E().kind is dict
 
 
 def test_validate_lists_every_missing_field_by_path():
@@ -282,7 +296,7 @@ def test_copy_is_deep():
 def test_to_dict_converts_recursively():
     d = EnvCfg().to_dict()
     assert d["scene"]["num_envs"] == 4
-    assert d["scene"]["robot"]["init_pos"] == [0.0, 0.0, 1.0]
+    assert d["scene"]["robot"]["init_pos"] == (0.0, 0.0, 1.0)  # tuples stay tuples, as in Isaac Lab
     assert d["rewards"]["alive"]["func"] == f"{__name__}:joint_pos"
     assert d["scene"]["robot"]["actuators"]["legs"]["class_type"] == f"{__name__}:DummyActuator"
     assert isinstance(d["scene"]["robot"]["actuators"]["legs"], dict)
@@ -389,3 +403,24 @@ def test_classvar_property_and_static_members_are_not_fields():
 
     assert [f.name for f in dataclasses.fields(C)] == ["items", "required"]
     assert C().required is MISSING and C(required=2).twice == 4 and C.helper() == 1
+
+
+def test_to_dict_keeps_tuples_tensors_and_post_init_members():
+    import torch
+
+    @configclass
+    class C:
+        eye: tuple = (1.0, 2.0, 3.0)
+        look: list = [0.0, 0.0, 0.0]
+        gains: torch.Tensor = torch.tensor([1.0, 2.0])
+
+        def __post_init__(self):
+            self.derived = 2 * self.eye[0]
+
+    cfg = C()
+    d = cfg.to_dict()
+    assert d["eye"] == (1.0, 2.0, 3.0) and d["look"] == [0.0, 0.0, 0.0] and d["derived"] == 2.0
+    assert isinstance(d["gains"], torch.Tensor) and d["gains"].tolist() == [1.0, 2.0]
+    cfg.from_dict({"eye": [4.0, 5.0, 6.0], "look": (1.0, 1.0, 1.0)})
+    assert cfg.eye == (4.0, 5.0, 6.0), "a tuple member stays a tuple"
+    assert cfg.look == (1.0, 1.0, 1.0), "a given tuple is kept as given (Isaac Lab's)"

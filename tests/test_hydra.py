@@ -102,6 +102,12 @@ def test_configs_are_registered_in_hydras_config_store():
     node = ConfigStore.instance().load("simlab/Cartpole-v0.yaml").node
     assert node.env.scene.num_envs == env.scene.num_envs and node.agent.seed == agent.seed
     assert node.env.rewards.alive.func == "simlab.envs.mdp.rewards:is_alive"  # callables stored as names
+    # composed by the task id, as Isaac Lab's tests do: env and agent at the root
+    from hydra import compose, initialize
+
+    with initialize(version_base="1.3", config_path=None):
+        composed = compose(config_name="simlab/Cartpole-v0", overrides=["env.decimation=3"])
+    assert set(composed) == {"env", "agent"} and composed.env.decimation == 3
 
 
 def test_hydra_grammar_interpolation_and_delete(cfgs):

@@ -80,7 +80,7 @@ def test_pickle_round_trip(tmp_path):
 def test_class_to_dict_and_update(tmp_path):
     cfg = SimCfg()
     d = class_to_dict(cfg)
-    assert d == {"dt": 0.005, "gravity": [0.0, 0.0, -9.81], "device": MISSING}
+    assert d == {"dt": 0.005, "gravity": (0.0, 0.0, -9.81), "device": MISSING}
     update_class_from_dict(cfg, {"dt": 0.01, "device": "cpu"})
     assert cfg.dt == 0.01 and cfg.device == "cpu"
     with pytest.raises(KeyError, match="'dtt'.*Did you mean 'dt'"):

@@ -216,13 +216,14 @@ def test_apply_external_force_torque_by_mask(go2):
     base = resolved(go2, SceneEntityCfg("robot", body_names="base"))
     mask = torch.tensor([False, True, False, True])
     mdp.apply_external_force_torque(go2, mask, (0.0, 0.0), (0.0, 0.0), asset_cfg=base)
-    assert not robot._has_external_wrench, "zero ranges on a robot without wrenches change nothing"
+    wrenches = robot.permanent_wrench_composer
+    assert not wrenches.active, "zero ranges on a robot without wrenches change nothing"
     mdp.apply_external_force_torque(go2, mask, (5.0, 5.0), (-1.0, -1.0), asset_cfg=base)
     expected = torch.zeros(N, 3)
     expected[mask] = 5.0
-    torch.testing.assert_close(robot._ext_force_b[:, 0], expected)
-    torch.testing.assert_close(robot._ext_torque_b[:, 0], -expected / 5.0)
-    assert not robot._ext_force_b[:, 1:].any(), "only the base is pushed"
+    torch.testing.assert_close(wrenches.composed_force[:, 0], expected)
+    torch.testing.assert_close(wrenches.composed_torque[:, 0], -expected / 5.0)
+    assert not wrenches.composed_force[:, 1:].any(), "only the base is pushed"
     robot.set_external_force_and_torque(torch.zeros(N, 1, 3), torch.zeros(N, 1, 3), body_ids=base.body_ids)
 
 

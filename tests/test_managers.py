@@ -377,3 +377,76 @@ def test_missing_config_fields_are_reported():
                 decimation=2,
             )
         )
+
+
+# -- Isaac Lab's manager internals -------------------------------------------------------------------
+
+
+def _bare_env(num_envs: int = 3):
+    """What reward and termination managers need from an env (Isaac Lab's tests use the same)."""
+    from collections import namedtuple
+
+    from simlab.sim import SimulationContext
+
+    SimulationContext.clear_instance()
+    return namedtuple("Env", ["num_envs", "dt", "device", "sim"])(num_envs, 0.1, "cpu", SimulationContext())
+
+
+def test_reward_terms_may_return_a_number_and_a_missing_weight_is_a_type_error():
+    from dataclasses import MISSING
+
+    from simlab.managers import RewardManager
+    from simlab.utils.errors import ConfigError
+
+    env = _bare_env()
+    manager = RewardManager({"one": RewTerm(func=lambda env: 1, weight=3.0)}, env)
+    torch.testing.assert_close(manager.compute(dt=0.1), torch.full((3,), 0.3))
+    assert manager._term_names == ["one"] and manager._term_cfgs[0].weight == 3.0
+    with pytest.raises(TypeError, match="weight must be a number") as error:
+        RewardManager({"one": RewTerm(func=lambda env: 1, weight=MISSING)}, env)
+    assert isinstance(error.value, ConfigError)
+
+
+def test_termination_manager_keeps_the_terms_that_ended_the_last_episode():
+    from simlab.managers import TerminationManager
+
+    env = _bare_env(num_envs=2)
+    fired = {"a": torch.tensor([True, False]), "b": torch.tensor([False, False])}
+    manager = TerminationManager(
+        {"a": DoneTerm(func=lambda env: fired["a"].clone()), "b": DoneTerm(func=lambda env: fired["b"].clone())}, env
+    )
+    manager.compute()
+    assert manager._last_episode_dones.tolist() == [[True, False], [False, False]]
+    fired["a"] = torch.tensor([False, False])
+    fired["b"] = torch.tensor([False, True])
+    manager.compute()  # env 0 ended by nothing this step: its last episode's reason stays
+    assert manager._last_episode_dones.tolist() == [[True, False], [False, True]]
+    assert manager._term_dones.tolist() == [[False, False], [False, True]]
+
+
+def test_observation_history_counts_appended_steps_only():
+    @configclass
+    class HistoryObsCfg:
+        @configclass
+        class PolicyCfg(ObsGroup):
+            pos = ObsTerm(func=mdp.joint_pos)
+
+            def __post_init__(self):
+                self.history_length = 3
+
+        policy: PolicyCfg = PolicyCfg()
+
+    env = ManagerBasedRLEnv(cartpole_cfg(observations=HistoryObsCfg()))
+    manager = env.observation_manager
+    assert manager._group_obs_term_names == {"policy": ["pos"]}
+    history = manager._group_obs_term_history_buffer["policy"]["pos"]
+    env.reset()
+    assert history.current_length.tolist() == [1] * N and history.max_length == 3
+    manager.compute()  # a look without a step changes nothing
+    assert history.current_length.tolist() == [1] * N
+    for _ in range(4):
+        env.step(torch.zeros(N, 1))
+    assert history.current_length.tolist() == [3] * N, "capped at the history length"
+    env.reset(env_ids=torch.tensor([1]))
+    assert history.current_length.tolist() == [3, 1, 3, 3]
+    env.close()

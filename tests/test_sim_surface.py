@@ -109,3 +109,76 @@ def test_assets_under_translated_xform_groups_get_one_world_each():
             ball.update(sim.get_physics_dt())
         # each cone falls in its own world and comes to rest on its base (centre at half its height)
         torch.testing.assert_close(ball.data.root_pos_w[:, 2], torch.full((3,), 0.1), atol=5e-3, rtol=0)
+
+
+def test_usd_stage_calls_on_the_stage_say_what_to_use():
+    with sim_utils.build_simulation_context(device="cpu", add_ground_plane=True) as sim:
+        stage = sim_utils.get_current_stage()
+        # the one USD query a spec answers: was something spawned at this path?
+        assert sim.stage.GetPrimAtPath("/World/defaultGroundPlane").IsValid()
+        assert not stage.GetPrimAtPath("/World/defaultDomeLight").IsValid()
+        assert stage.GetPrimAtPath("/World/defaultGroundPlane").GetName() == "defaultGroundPlane"
+        with pytest.raises(AttributeError, match="not a USD prim: it has no 'GetAttribute'.*MjSpec API"):
+            stage.GetPrimAtPath("/World/defaultGroundPlane").GetAttribute("size")
+        for usd_call in ("DefinePrim", "Traverse", "GetDefaultPrim"):
+            with pytest.raises(AttributeError, match=f"not a USD stage: it has no '{usd_call}'.*MjSpec API"):
+                getattr(stage, usd_call)
+        assert not hasattr(stage, "Traverse")  # still an AttributeError for hasattr
+        with pytest.raises(AttributeError, match="has no attribute 'no_such_field'"):
+            stage.no_such_field  # noqa: B018
+        sim.reset()  # the spec itself compiles as before
+        assert sim.model.ngeom >= 1
+
+
+def test_clear_all_callbacks_forgets_setup_and_render_callbacks():
+    with sim_utils.build_simulation_context(device="cpu") as sim:
+        calls = []
+        sim.add_render_callback(lambda: calls.append("render"))
+        sim.add_reset_callback(lambda s: calls.append("reset"))
+        sim.add_clear_callback(lambda: calls.append("clear"))
+        sim.clear_all_callbacks()
+        sim.reset()
+        sim.run_render_callbacks()
+        assert calls == []
+    assert calls == ["clear"], "what releases resources still runs when the simulation is cleared"
+
+
+def test_run_tests_runs_the_calling_file_with_pytest(tmp_path):
+    import subprocess
+    import sys
+
+    test_file = tmp_path / "test_small.py"
+    test_file.write_text(
+        "from simlab.app import run_tests\n\ndef test_one():\n    assert 1 + 1 == 2\n\n"
+        "def test_two():\n    assert False\n\nif __name__ == '__main__':\n    run_tests(['-q'])\n"
+    )
+    done = subprocess.run([sys.executable, str(test_file)], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 1 and "1 failed, 1 passed" in done.stdout, done.stdout[-1000:]
+
+
+def test_physics_and_render_step_callbacks_follow_the_render_interval():
+    from simlab.envs import ManagerBasedRLEnv
+    from simlab.tasks.manager_based.classic.cartpole.cartpole_env_cfg import CartpoleEnvCfg
+
+    cfg = CartpoleEnvCfg()
+    cfg.scene.num_envs, cfg.sim.device, cfg.seed = 2, "cpu", 0
+    cfg.decimation, cfg.sim.render_interval = 2, 3
+    env = ManagerBasedRLEnv(cfg)
+    try:
+        assert env.sim.render_mode == SimulationContext.RenderMode.PARTIAL_RENDERING
+        physics_dts, render_dts = [], []
+        env.sim.add_physics_callback("physics", physics_dts.append)
+        env.sim.add_render_callback("render", lambda event: render_dts.append(event.payload["dt"]))
+        assert env.sim.has_step_callbacks
+        env.reset()
+        for _ in range(5):  # 10 physics steps: a render step after the 3rd, 6th and 9th
+            env.step(torch.zeros(2, 1))
+        assert physics_dts == [cfg.sim.dt] * 10
+        assert render_dts == pytest.approx([3 * cfg.sim.dt] * 3)
+        env.sim.remove_physics_callback("physics")
+        env.sim.remove_render_callback("render")
+        assert not env.sim.has_step_callbacks
+        env.step(torch.zeros(2, 1))
+        assert len(physics_dts) == 10 and len(render_dts) == 3
+    finally:
+        env.close()

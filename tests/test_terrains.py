@@ -377,3 +377,16 @@ def test_isaac_lab_velocity_scene_terrain_config():
     assert sim.model.nhfield > 0 and np.allclose(sim.model.geom_friction[:, 0], 1.0)
     # the 20 m border around the 80 m x 160 m grid is flat ground
     assert ground_height(sim.model, 0.0, 80.0 + 10.0) == pytest.approx(0.0, abs=1e-6)
+
+
+def test_without_a_seed_of_its_own_the_global_numpy_seed_fixes_the_terrain():
+    from simlab.utils.seed import configure_seed
+
+    def heights(global_seed: int) -> list[np.ndarray]:
+        configure_seed(global_seed)  # what seeding the env does
+        generator = TerrainGenerator(small_terrain(seed=None))
+        return [t.geometry.heights for t in generator.tiles if t.kind == "rough"]
+
+    first, again, other = heights(11), heights(11), heights(12)
+    assert all(np.array_equal(a, b) for a, b in zip(first, again, strict=True))
+    assert not all(np.array_equal(a, b) for a, b in zip(first, other, strict=True))

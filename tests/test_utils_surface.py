@@ -134,6 +134,11 @@ def test_nucleus_paths_are_refused_with_what_to_use():
     assert ISAACLAB_NUCLEUS_DIR.startswith(ISAAC_NUCLEUS_DIR) and ISAAC_NUCLEUS_DIR.startswith(NUCLEUS_ASSET_ROOT_DIR)
     with pytest.raises(FileNotFoundError, match="MJCF"):
         retrieve_file_path(f"{ISAACLAB_NUCLEUS_DIR}/Robots/ANYbotics/ANYmal-C/anymal_c.usd")
+    from simlab.utils.assets import check_usd_path_with_timeout
+
+    with pytest.raises(FileNotFoundError, match="Nucleus.*simlab.robots"):
+        check_usd_path_with_timeout(f"{ISAACLAB_NUCLEUS_DIR}/Robots/FrankaEmika/panda_instanceable.usd")
+    assert check_usd_path_with_timeout(__file__) and not check_usd_path_with_timeout(__file__ + ".missing")
 
 
 def test_mjcf_spawner_refuses_a_nucleus_path():

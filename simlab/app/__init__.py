@@ -1,5 +1,6 @@
 """The app layer: command-line flags and the app loop object (no Omniverse, launching is instant)."""
 
 from simlab.app.app_launcher import AppLauncher, SimulationApp, resolve_device
+from simlab.app.run_tests import run_tests
 
-__all__ = ["AppLauncher", "SimulationApp", "resolve_device"]
+__all__ = ["AppLauncher", "SimulationApp", "resolve_device", "run_tests"]

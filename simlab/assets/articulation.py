@@ -23,6 +23,7 @@ from simlab.utils.string import resolve_matching_names, resolve_matching_names_v
 from simlab.utils.types import ArticulationActions
 
 from .asset_base import EnvIds
+from .body_properties_view import BodyPropertiesView
 from .root_body import RootedAsset, RootedAssetData, breadth_first, contiguous
 
 
@@ -370,7 +371,7 @@ class Articulation(RootedAsset):
             target[env[:, None], self._dof_index] = values[env]
 
 
-class ArticulationDynamicsView:
+class ArticulationDynamicsView(BodyPropertiesView):
     """The parts of PhysX's ``ArticulationView`` that controllers use, from MuJoCo's forward pass.
 
     Shapes follow PhysX: Jacobians are ``(num_envs, num_bodies, 6, num_dofs)`` with rows
@@ -382,6 +383,7 @@ class ArticulationDynamicsView:
     def __init__(self, articulation: Articulation):
         from simlab.sim.dynamics import TreeDynamics
 
+        super().__init__(articulation)
         a = articulation
         model = a._sim.model
         self._fixed = a.is_fixed_base
@@ -435,13 +437,6 @@ class ArticulationDynamicsView:
         if self._root_quat is None:
             return forces
         return (self._free_rotation().transpose(-1, -2) @ forces[..., None])[..., 0]
-
-    def __getattr__(self, name: str):
-        raise AttributeError(
-            f"simlab's root_physx_view has no '{name}': it offers get_jacobians, get_generalized_mass_matrices,"
-            " get_gravity_compensation_forces and get_coriolis_and_centrifugal_compensation_forces; the state is"
-            " in asset.data, the model in sim.model"
-        )
 
 
 def soft_limits(limits: torch.Tensor, factor: float) -> torch.Tensor:

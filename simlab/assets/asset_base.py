@@ -7,6 +7,7 @@ looks its bodies and joints up in the model and binds its data to the backend's 
 
 from __future__ import annotations
 
+from abc import ABC
 from collections.abc import Sequence
 from dataclasses import MISSING
 
@@ -71,7 +72,7 @@ def check_asset_cfg(cfg: AssetBaseCfg) -> None:
     )
 
 
-class AssetBase:
+class AssetBase(ABC):
     """Spawns on construction; binds to the simulation when it compiles."""
 
     def __init__(self, cfg: AssetBaseCfg):

@@ -12,10 +12,12 @@ import mujoco
 import torch
 
 import simlab.utils.math as math_utils
-from simlab.utils.env_mask import PerEnvState, env_mask, is_mask, masked_copy_, rows
+from simlab.utils.env_mask import env_mask, is_mask, masked_copy_, rows
 from simlab.utils.string import resolve_matching_names
+from simlab.utils.wrench_composer import WrenchComposer
 
 from .asset_base import AssetBase, EnvIds
+from .body_properties_view import BodyPropertiesView
 
 
 def contiguous(ids: list[int], device) -> slice | torch.Tensor:
@@ -74,12 +76,11 @@ class RootedAsset(AssetBase):
             self._mocap_pos, self._mocap_quat = physics.data("mocap_pos"), physics.data("mocap_quat")
         self._xfrc_applied = physics.data("xfrc_applied")
         n = self.num_instances
-        # Per-env state: the external wrench set until changed (cleared by a reset).
-        self._state = PerEnvState(n, self.device)
-        self._ext_force_b = self._state.zeros("ext_force_b", (len(body_ids), 3))
-        self._ext_torque_b = self._state.zeros("ext_torque_b", (len(body_ids), 3))
-        self._has_external_wrench = False
         self.data = self._make_data(sim)
+        # External wrenches, link frame: kept until changed, and for the next step only.
+        self._permanent_wrench_composer = WrenchComposer(self)
+        self._instantaneous_wrench_composer = WrenchComposer(self)
+        self._wrench_written = False  # whether xfrc_applied holds a wrench that must be cleared
         init = self.cfg.init_state
         state = [*init.pos, *init.rot, *getattr(init, "lin_vel", (0, 0, 0)), *getattr(init, "ang_vel", (0, 0, 0))]
         self.data.default_root_state = torch.tensor(state, dtype=torch.float32, device=self.device).repeat(n, 1)
@@ -109,8 +110,12 @@ class RootedAsset(AssetBase):
         return self._is_fixed_base
 
     @property
-    def root_physx_view(self):
-        raise AttributeError("simlab has no PhysX views: the state is in asset.data, the model in sim.model")
+    def root_physx_view(self) -> BodyPropertiesView:
+        """PhysX's view names for the bodies' masses and inertias (the state is in ``data``)."""
+        view = self.__dict__.get("_properties_view")
+        if view is None:
+            view = self.__dict__["_properties_view"] = BodyPropertiesView(self)
+        return view
 
     @property
     def _ALL_INDICES(self) -> torch.Tensor:  # noqa: N802 - Isaac Lab's name
@@ -120,15 +125,35 @@ class RootedAsset(AssetBase):
         """Indices and names of the bodies matching names or regexes (errors list what exists)."""
         return resolve_matching_names(name_keys, self.body_names, preserve_order)
 
+    @property
+    def permanent_wrench_composer(self) -> WrenchComposer:
+        """Wrenches applied every physics step until changed or reset (Isaac Lab's)."""
+        return self._permanent_wrench_composer
+
+    @property
+    def instantaneous_wrench_composer(self) -> WrenchComposer:
+        """Wrenches applied at the next physics step only, on top of the permanent ones (Isaac Lab's)."""
+        return self._instantaneous_wrench_composer
+
     def reset(self, env_ids: EnvIds = None) -> None:
-        if self._has_external_wrench:  # else both are zero already: no kernels for nothing
-            self._state.reset(env_mask(env_ids, self.num_instances, self.device))
+        for composer in (self._permanent_wrench_composer, self._instantaneous_wrench_composer):
+            if composer.active:  # else zero already: no kernels for nothing
+                composer.reset(None if env_ids is None else env_mask(env_ids, self.num_instances, self.device))
 
     def write_data_to_sim(self) -> None:
-        if self._has_external_wrench:
-            quat = self.data.body_quat_w
-            self._xfrc_applied[:, self._body_index, 0:3] = math_utils.quat_apply(quat, self._ext_force_b)
-            self._xfrc_applied[:, self._body_index, 3:6] = math_utils.quat_apply(quat, self._ext_torque_b)
+        permanent, instantaneous = self._permanent_wrench_composer, self._instantaneous_wrench_composer
+        if permanent.active or instantaneous.active:
+            force, torque = permanent.composed_force, permanent.composed_torque
+            if instantaneous.active:
+                force, torque = force + instantaneous.composed_force, torque + instantaneous.composed_torque
+                instantaneous.reset()
+            quat = self.data.body_quat_w  # MuJoCo applies xfrc_applied at the centre of mass, world frame
+            self._xfrc_applied[:, self._body_index, 0:3] = math_utils.quat_apply(quat, force)
+            self._xfrc_applied[:, self._body_index, 3:6] = math_utils.quat_apply(quat, torque)
+            self._wrench_written = True
+        elif self._wrench_written:
+            self._xfrc_applied[:, self._body_index] = 0.0
+            self._wrench_written = False
 
     def write_root_state_to_sim(self, root_state: torch.Tensor, env_ids: EnvIds = None) -> None:
         self.write_root_pose_to_sim(root_state[:, :7], env_ids)
@@ -172,28 +197,23 @@ class RootedAsset(AssetBase):
         self,
         forces: torch.Tensor,
         torques: torch.Tensor,
+        positions: torch.Tensor | None = None,
         body_ids=None,
         env_ids: EnvIds = None,
         is_global: bool = False,
     ) -> None:
-        """Wrenches applied at the bodies' centres of mass every physics step until changed.
-
-        Forces are in the body frame (``is_global=False``, Isaac Lab's default) or the world frame.
-        """
-        env = self._env_index(env_ids)
-        bodies = slice(None) if body_ids is None else torch.as_tensor(body_ids, dtype=torch.long, device=self.device)
-        if is_global:
-            quat = self.data.body_quat_w[env][:, bodies]
-            forces, torques = math_utils.quat_apply_inverse(quat, forces), math_utils.quat_apply_inverse(quat, torques)
-        self._write_cols(self._ext_force_b, bodies, env, forces)
-        self._write_cols(self._ext_torque_b, bodies, env, torques)
-        if is_mask(env):
-            # inside an env step: no host read; applying zero wrenches is harmless
-            self._has_external_wrench = True
-            return
-        self._has_external_wrench = bool(self._ext_force_b.any() or self._ext_torque_b.any())
-        if not self._has_external_wrench:
-            self._xfrc_applied[:, self._body_index] = 0.0
+        """Wrenches applied every physics step until changed: Isaac Lab 2.x's name for
+        ``permanent_wrench_composer.set_forces_and_torques``. Shapes ``(envs, bodies, 3)``; body
+        frame unless ``is_global``; ``positions`` are where the forces act (offsets from the link
+        origin, or world points when ``is_global``)."""
+        if isinstance(positions, (list, tuple, slice)) or (
+            isinstance(positions, torch.Tensor) and positions.dtype in (torch.long, torch.int32)
+        ):  # Isaac Lab < 2.2 took body_ids third
+            positions, body_ids = None, positions
+        composer = self._permanent_wrench_composer
+        composer.set_forces_and_torques(forces, torques, positions, body_ids, env_ids, is_global)
+        if not is_mask(env_ids) and not bool(composer.composed_force.any() or composer.composed_torque.any()):
+            composer.reset()  # all zero: nothing to apply (host read only outside an env step)
 
     # -- helpers ----------------------------------------------------------------------------------
 

@@ -61,10 +61,14 @@ class SimulatedEnv:
         them (``PhysicsBackend.ensure_forward``). Callers count ``_sim_step_counter``: a graphed
         step runs this Python once, at capture, and counts outside the graph.
         """
-        for _ in range(self.cfg.decimation):
+        render_steps = self.sim.has_step_callbacks  # Isaac Lab's render step: only when someone listens
+        first = self._sim_step_counter - self.cfg.decimation  # the host counter already counts this step
+        for i in range(self.cfg.decimation):
             apply_action()
             self.scene.write_data_to_sim()
             self.sim.step(render=False)
+            if render_steps and (first + i + 1) % self.cfg.sim.render_interval == 0:
+                self.sim.render()
             self.scene.update(dt=self.physics_dt)
             if after_each is not None:
                 after_each()

@@ -50,7 +50,8 @@ class DirectMARLEnv(SimulatedEnv, gym.Env):
         check_agents(cfg)
         build_simulation(self, cfg, render_mode)
 
-        self.has_debug_vis_implementation = False
+        self._debug_vis = False
+        self._debug_vis_hooked = False
         self.extras: dict[str, dict] = {agent: {} for agent in cfg.possible_agents}
         self._sim_step_counter = 0
         self.common_step_counter = 0
@@ -172,7 +173,11 @@ class DirectMARLEnv(SimulatedEnv, gym.Env):
     # Rendering, closing and debug visualisation work as in the single-agent direct env.
     render = DirectRLEnv.render
     close = DirectRLEnv.close
+    has_debug_vis_implementation = DirectRLEnv.has_debug_vis_implementation
     set_debug_vis = DirectRLEnv.set_debug_vis
+    _draw_debug_vis = DirectRLEnv._draw_debug_vis
+    _set_debug_vis_impl = DirectRLEnv._set_debug_vis_impl
+    _debug_vis_callback = DirectRLEnv._debug_vis_callback
 
     # -- helpers ----------------------------------------------------------------------------------
 

@@ -70,7 +70,8 @@ class DirectRLEnv(SimulatedEnv, gym.Env):
         check_env_cfg(cfg)
         build_simulation(self, cfg, render_mode)
 
-        self.has_debug_vis_implementation = False
+        self._debug_vis = False
+        self._debug_vis_hooked = False
         self.extras: dict[str, Any] = {}
         self._sim_step_counter = 0
         self.common_step_counter = 0
@@ -185,9 +186,30 @@ class DirectRLEnv(SimulatedEnv, gym.Env):
             SimulationContext.clear_instance()
         self._is_closed = True
 
+    @property
+    def has_debug_vis_implementation(self) -> bool:
+        """Whether the task draws debug markers (it overrides ``_set_debug_vis_impl``)."""
+        return not getattr(type(self)._set_debug_vis_impl, "draws_nothing", False)
+
     def set_debug_vis(self, debug_vis: bool) -> bool:
-        """Debug markers need a viewer; simlab has none, so this is never supported."""
-        return False
+        """Show or hide the task's debug markers (``simlab.markers``) in offscreen renders and videos.
+
+        As in Isaac Lab, ``_set_debug_vis_impl`` creates or hides the markers and
+        ``_debug_vis_callback`` places them; simlab calls it before each rendered image (Isaac Lab:
+        each viewport update), so the step itself does no drawing. False when the task draws nothing.
+        """
+        if not self.has_debug_vis_implementation:
+            return False
+        self._debug_vis = bool(debug_vis)
+        self._set_debug_vis_impl(self._debug_vis)
+        if self._debug_vis and not self._debug_vis_hooked:
+            self.sim.add_render_callback(self._draw_debug_vis)
+            self._debug_vis_hooked = True
+        return True
+
+    def _draw_debug_vis(self) -> None:
+        if self._debug_vis:
+            self._debug_vis_callback(None)
 
     # -- helpers ----------------------------------------------------------------------------------
 
@@ -252,6 +274,11 @@ class DirectRLEnv(SimulatedEnv, gym.Env):
         raise NotImplementedError(f"Please implement the '_get_dones' method for {type(self).__name__}.")
 
     def _set_debug_vis_impl(self, debug_vis: bool) -> None:
+        raise NotImplementedError(f"Debug visualization is not implemented for {type(self).__name__}.")
+
+    _set_debug_vis_impl.draws_nothing = True
+
+    def _debug_vis_callback(self, event) -> None:
         raise NotImplementedError(f"Debug visualization is not implemented for {type(self).__name__}.")
 
 

@@ -162,8 +162,8 @@ class ManagerBasedEnv(SimulatedEnv):
     def step(self, action: torch.Tensor) -> tuple[VecEnvObs, dict]:
         self.action_manager.process_action(action)
         self.recorder_manager.record_pre_step()
+        self._sim_step_counter += self.cfg.decimation  # host counters first, as in the RL envs
         self._physics_steps(self.action_manager.apply_action, self._post_physics_recording())
-        self._sim_step_counter += self.cfg.decimation
         self._step_count += 1
         if "interval" in self.event_manager.available_modes:
             self.event_manager.apply(mode="interval", dt=self.step_dt)

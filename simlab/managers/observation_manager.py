@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING
 
 import torch
 
+from simlab.utils.env_mask import masked_copy_
 from simlab.utils.modifiers import ModifierBase
 
 from .manager_base import ManagerBase, ManagerTermBase, cfg_items, format_table, func_name
@@ -26,12 +27,19 @@ _GROUP_FIELDS = {f.name for f in dataclasses.fields(ObservationGroupCfg)}
 
 
 class _History:
-    """The last ``length`` values of a term per env, oldest first."""
+    """The last ``length`` values of a term per env, oldest first (a fresh env's buffer is filled
+    with its first value). ``current_length`` counts the values appended since the env's reset, as
+    Isaac Lab's ``CircularBuffer`` does."""
 
     def __init__(self, length: int, num_envs: int, device: str):
         self.length = length
         self.buffer: torch.Tensor | None = None
         self.fresh = torch.ones(num_envs, dtype=torch.bool, device=device)
+        self.current_length = torch.zeros(num_envs, dtype=torch.long, device=device)
+
+    @property
+    def max_length(self) -> int:
+        return self.length
 
     def with_value(self, value: torch.Tensor) -> torch.Tensor:
         """The buffer after appending ``value`` (not stored)."""
@@ -44,8 +52,13 @@ class _History:
 
     def append(self, value: torch.Tensor) -> torch.Tensor:
         self.buffer = self.with_value(value)
+        self.current_length.add_(1).clamp_(max=self.length)
         self.fresh[:] = False
         return self.buffer
+
+    def reset(self, mask: torch.Tensor) -> None:
+        self.fresh |= mask  # refilled with the next observation
+        masked_copy_(self.current_length, mask, 0)
 
 
 class ObservationManager(ManagerBase):
@@ -71,6 +84,19 @@ class ObservationManager(ManagerBase):
                 title += f" (shape: {self._group_obs_dim.get(group)})"
             tables.append(format_table(title, ["Index", "Name", "Shape"], rows))
         return "\n".join(tables)
+
+    # Isaac Lab's attributes, which its tests and some task code read
+    @property
+    def _group_obs_term_names(self) -> dict[str, list[str]]:
+        return {group: [name for name, _ in terms] for group, terms in self._group_terms.items()}
+
+    @property
+    def _group_obs_term_cfgs(self) -> dict[str, list[ObservationTermCfg]]:
+        return {group: [cfg for _, cfg in terms] for group, terms in self._group_terms.items()}
+
+    @property
+    def _group_obs_term_history_buffer(self) -> dict[str, dict[str, _History]]:
+        return self._histories
 
     @property
     def active_terms(self) -> dict[str, list[str]]:
@@ -120,7 +146,7 @@ class ObservationManager(ManagerBase):
             modifier.reset(mask)
         for histories in self._histories.values():
             for history in histories.values():
-                history.fresh |= mask  # refilled with the next observation
+                history.reset(mask)
         return {}
 
     def compute(self, update_history: bool = False) -> dict[str, torch.Tensor | dict[str, torch.Tensor]]:
@@ -151,7 +177,7 @@ class ObservationManager(ManagerBase):
                 value = value.mul_(term_cfg.scale)
             if name in histories:
                 history = histories[name]
-                value = history.append(value) if update_history or history.buffer is None else history.with_value(value)
+                value = history.append(value) if update_history else history.with_value(value)
                 if term_cfg.flatten_history_dim:
                     value = value.reshape(value.shape[0], -1)
             obs[name] = value

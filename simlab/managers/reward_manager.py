@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING
 import torch
 
 from simlab.utils.env_mask import masked_copy_
+from simlab.utils.errors import ConfigTypeError
 
 from .manager_base import ManagerBase, ManagerTermBase, format_table
 from .manager_term_cfg import RewardTermCfg
@@ -38,6 +39,14 @@ class RewardManager(ManagerBase):
         return format_table("Active Reward Terms", ["Index", "Name", "Weight"], rows)
 
     @property
+    def _term_names(self) -> list[str]:  # Isaac Lab's attribute
+        return [name for name, _ in self._terms]
+
+    @property
+    def _term_cfgs(self) -> list:  # Isaac Lab's attribute
+        return [cfg for _, cfg in self._terms]
+
+    @property
     def active_terms(self) -> list[str]:
         return [name for name, _ in self._terms]
 
@@ -60,13 +69,22 @@ class RewardManager(ManagerBase):
         """The (num_envs,) reward of this env step."""
         if not self._terms:
             return self._reward_buf
-        values = [self._zeros if cfg.weight == 0.0 else cfg.func(self._env, **cfg.params) for _, cfg in self._terms]
+        values = [
+            self._zeros if cfg.weight == 0.0 else self._column(cfg.func(self._env, **cfg.params))
+            for _, cfg in self._terms
+        ]
         # Weights are refreshed from the term configs every step (curricula may change them); the
         # copy goes through a host buffer so a captured step reads the current values on replay.
         torch.mul(torch.stack(values, dim=1), self._current_weights(), out=self._step_reward)
         self._episode_sums.add_(self._step_reward, alpha=dt)
         torch.sum(self._step_reward, dim=1, out=self._reward_buf).mul_(dt)
         return self._reward_buf
+
+    def _column(self, value) -> torch.Tensor:
+        """A term's (num_envs,) values; a number (or 0-d tensor) counts for every env."""
+        if isinstance(value, torch.Tensor) and value.dim() == 1:
+            return value
+        return torch.as_tensor(value, dtype=torch.float32, device=self.device).expand(self.num_envs)
 
     def _current_weights(self) -> torch.Tensor:
         """The term weights as a device tensor, copied again only when a config's weight changed.
@@ -117,7 +135,8 @@ class RewardManager(ManagerBase):
         self._terms = self._checked_terms(RewardTermCfg, min_argc=1)
         for name, term_cfg in self._terms:
             if not isinstance(term_cfg.weight, (int, float)):
-                raise self._term_error(name, f"weight must be a number, got {term_cfg.weight!r}")
+                error = self._term_error(name, f"weight must be a number, got {term_cfg.weight!r}")
+                raise ConfigTypeError(str(error)) from None
 
     def _on_sim_started(self) -> None:
         self._class_terms = self._finish_terms(self._terms)

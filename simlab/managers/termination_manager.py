@@ -24,6 +24,8 @@ class TerminationManager(ManagerBase):
         super().__init__(cfg, env)
         n = self.num_envs
         self._term_dones = torch.zeros(n, len(self._terms), dtype=torch.bool, device=self.device)
+        # per env, the terms that ended its last episode (kept until another one ends)
+        self._last_episode_dones = torch.zeros_like(self._term_dones)
         self._truncated_buf = torch.zeros(n, dtype=torch.bool, device=self.device)
         self._terminated_buf = torch.zeros_like(self._truncated_buf)
         self._dones_buf = torch.zeros_like(self._truncated_buf)
@@ -32,6 +34,14 @@ class TerminationManager(ManagerBase):
     def __str__(self) -> str:
         rows = [(i, name, cfg.time_out) for i, (name, cfg) in enumerate(self._terms)]
         return format_table("Active Termination Terms", ["Index", "Name", "Time Out"], rows)
+
+    @property
+    def _term_names(self) -> list[str]:  # Isaac Lab's attribute
+        return [name for name, _ in self._terms]
+
+    @property
+    def _term_cfgs(self) -> list:  # Isaac Lab's attribute
+        return [cfg for _, cfg in self._terms]
 
     @property
     def active_terms(self) -> list[str]:
@@ -90,6 +100,8 @@ class TerminationManager(ManagerBase):
                 self._truncated_buf |= value
             else:
                 self._terminated_buf |= value
+        ended = self._term_dones.any(dim=1, keepdim=True)
+        torch.where(ended, self._term_dones, self._last_episode_dones, out=self._last_episode_dones)
         return torch.logical_or(self._truncated_buf, self._terminated_buf, out=self._dones_buf)
 
     def _prepare_terms(self) -> None:

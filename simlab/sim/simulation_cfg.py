@@ -2,9 +2,12 @@
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import TYPE_CHECKING, Literal
 
 from simlab.utils import configclass
+
+if TYPE_CHECKING:  # spawners import the simulation context, which imports this module
+    from simlab.sim.spawners.materials import RigidBodyMaterialCfg
 
 
 @configclass
@@ -56,3 +59,7 @@ class SimulationCfg:
     with an error."""
     seed: int | None = None
     """Refused unless None: MuJoCo's physics has no random numbers. Seed the env (``env_cfg.seed``)."""
+    physics_material: RigidBodyMaterialCfg | None = None
+    """Isaac Lab's default material of colliders that have none: the friction of the geoms spawned
+    without their own ``physics_material`` (robot files keep theirs). None keeps MuJoCo's (1.0).
+    MuJoCo takes the larger friction of two touching geoms, whatever the combine mode."""

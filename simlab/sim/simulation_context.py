@@ -8,9 +8,11 @@ assets resolve their joints and bodies against it. From then on ``step()`` advan
 
 from __future__ import annotations
 
+import enum
 import math
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
+from types import SimpleNamespace
 from typing import Any
 
 import mujoco
@@ -23,6 +25,7 @@ from simlab.utils.unsupported import refuse_unless_default
 
 from .backends import PhysicsBackend, make_backend
 from .simulation_cfg import SimulationCfg
+from .stage import StageSpec
 
 _INTEGRATORS = {
     "euler": mujoco.mjtIntegrator.mjINT_EULER,
@@ -42,6 +45,15 @@ def _choice(table: dict, value: str, what: str):
 
 class SimulationContext:
     """Owns the spec being built, the compiled model and the physics backend."""
+
+    class RenderMode(enum.IntEnum):
+        """Isaac Lab's rendering modes. simlab has no GUI and renders images offscreen on demand:
+        ``PARTIAL_RENDERING``."""
+
+        NO_GUI_OR_RENDERING = -1
+        NO_RENDERING = 0
+        PARTIAL_RENDERING = 1
+        FULL_RENDERING = 2
 
     _instance: SimulationContext | None = None
 
@@ -71,6 +83,9 @@ class SimulationContext:
         self._on_compile: list[Callable[[mujoco.MjModel], None]] = []
         self._on_reset: list[Callable[[SimulationContext], None]] = []
         self._on_render: list[Callable[[], None]] = []
+        # Isaac Lab's named per-step callbacks: after each physics step, and at each render step
+        self._physics_callbacks: dict[str, Callable[[float], None]] = {}
+        self._render_step_callbacks: dict[str, Callable[[Any], None]] = {}
         self._on_clear: list[Callable[[], None]] = []
         self._step_count = 0
         # Isaac Lab's carb settings, as a plain store: what ported code sets, it reads back. simlab
@@ -176,13 +191,25 @@ class SimulationContext:
         """
         self.physics.step(1, forward=forward)
         self._step_count += 1
+        for callback in list(self._physics_callbacks.values()):
+            callback(self.cfg.dt)
 
     def forward(self) -> None:
         """Recompute derived quantities (body poses, velocities, sensors) of every world now."""
         self.physics.forward()
 
     def render(self, mode=None) -> None:
-        """Rendering is offscreen and on demand (``env.render()``); nothing to do per step."""
+        """Isaac Lab's render step (an env calls it every ``render_interval`` physics steps when a named
+        render callback listens): runs those callbacks. Images are made offscreen, on demand
+        (``env.render()``), not here."""
+        event = SimpleNamespace(payload={"dt": self.get_rendering_dt()})
+        for callback in list(self._render_step_callbacks.values()):
+            callback(event)
+
+    @property
+    def render_mode(self) -> SimulationContext.RenderMode:
+        """No GUI, images rendered offscreen on demand: ``RenderMode.PARTIAL_RENDERING``."""
+        return SimulationContext.RenderMode.PARTIAL_RENDERING
 
     # -- simlab ---------------------------------------------------------------------------------
 
@@ -232,9 +259,41 @@ class SimulationContext:
         to release what must not outlive it, e.g. a camera's GL context."""
         self._on_clear.append(callback)
 
-    def add_render_callback(self, callback: Callable[[], None]) -> None:
-        """Run ``callback()`` before every offscreen image (debug visualization places its markers then)."""
-        self._on_render.append(callback)
+    def add_render_callback(self, name_or_callback: str | Callable[[], None], callback: Callable | None = None) -> None:
+        """``add_render_callback(callback)``: run ``callback()`` before every offscreen image (debug
+        visualization places its markers then). ``add_render_callback(name, callback)`` (Isaac Lab's):
+        run ``callback(event)`` at every render step, ``event.payload["dt"]`` the rendering period."""
+        if isinstance(name_or_callback, str):
+            if callback is None:
+                raise TypeError(f"add_render_callback('{name_or_callback}', callback): the callback is missing")
+            self._render_step_callbacks[name_or_callback] = callback
+        else:
+            self._on_render.append(name_or_callback)
+
+    def remove_render_callback(self, name: str) -> None:
+        self._render_step_callbacks.pop(name, None)
+
+    def add_physics_callback(self, name: str, callback: Callable[[float], None]) -> None:
+        """Run ``callback(dt)`` after every physics step (Isaac Lab's). An env whose simulation has
+        such callbacks steps eagerly (Python runs per physics step), not as a CUDA graph."""
+        self._physics_callbacks[name] = callback
+
+    def remove_physics_callback(self, name: str) -> None:
+        self._physics_callbacks.pop(name, None)
+
+    @property
+    def has_step_callbacks(self) -> bool:
+        """Whether named physics or render-step callbacks are registered (they need eager steps)."""
+        return bool(self._physics_callbacks or self._render_step_callbacks)
+
+    def clear_all_callbacks(self) -> None:
+        """Forget the build, compile, reset, render and physics callbacks (Isaac Lab's, before
+        ``clear_instance``): assets and sensors made so far are no longer set up by a later
+        ``reset()``. What releases resources (``add_clear_callback``) still runs at ``clear_instance``."""
+        for callbacks in (self._on_build, self._on_compile, self._on_reset, self._on_render):
+            callbacks.clear()
+        self._physics_callbacks.clear()
+        self._render_step_callbacks.clear()
 
     def run_render_callbacks(self) -> None:
         for callback in self._on_render:
@@ -242,7 +301,7 @@ class SimulationContext:
 
     def _new_spec(self) -> mujoco.MjSpec:
         cfg, opts = self.cfg, self.cfg.mujoco
-        spec = mujoco.MjSpec()
+        spec = StageSpec()
         spec.modelname = "simlab"
         spec.compiler.degree = False
         spec.option.timestep = cfg.dt
@@ -260,6 +319,8 @@ class SimulationContext:
             raise ValueError(f"SimulationCfg.dt must be a positive number of seconds, got {cfg.dt}")
         # A generous free camera distance so renders of spread-out scenes are not clipped.
         spec.visual.map.zfar = 200.0
+        if cfg.physics_material is not None:  # the default class: geoms that set no friction of their own
+            spec.default.geom.friction = cfg.physics_material.friction()
         return spec
 
 

@@ -47,7 +47,8 @@ class TerrainGenerator:
         validate(cfg)
         self.cfg = cfg
         self.device = device
-        self.seed = int(np.random.SeedSequence().entropy % 2**32) if cfg.seed is None else cfg.seed
+        # without a seed of its own, numpy's global state picks it (Isaac Lab's): seeding the env fixes the terrain
+        self.seed = int(np.random.get_state()[1][0]) if cfg.seed is None else cfg.seed
         rng = np.random.default_rng(self.seed)
         names = list(cfg.sub_terrains)
         proportions = np.array([cfg.sub_terrains[n].proportion for n in names], dtype=np.float64)

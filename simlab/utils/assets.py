@@ -17,6 +17,7 @@ __all__ = [
     "NUCLEUS_ASSET_ROOT_DIR",
     "NVIDIA_NUCLEUS_DIR",
     "check_file_path",
+    "check_usd_path_with_timeout",
     "read_file",
     "retrieve_file_path",
 ]
@@ -53,6 +54,13 @@ def check_file_path(path: str | os.PathLike) -> int:
     if str(path).startswith(_REMOTE_PREFIXES):
         return 0
     return 1 if os.path.isfile(_expand(path)) else 0
+
+
+def check_usd_path_with_timeout(usd_path: str, timeout: float = 300, log_interval: float = 30) -> bool:
+    """Isaac Lab's check that a (Nucleus) USD file can be reached: whether a local file exists; a
+    remote path raises, naming what to use instead (simlab has no Nucleus client and reads no USD)."""
+    refuse_remote_path(usd_path)
+    return os.path.isfile(_expand(usd_path))
 
 
 def retrieve_file_path(path: str | os.PathLike, download_dir: str | None = None, force_download: bool = True) -> str:

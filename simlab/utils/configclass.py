@@ -115,7 +115,7 @@ def _validate(self) -> None:
     missing = _find_missing(self, "", set())
     if missing:
         listing = "\n".join(f"  - {m}" for m in missing)
-        raise MissingFieldError(f"{type(self).__name__} has {len(missing)} missing field(s) to set:\n{listing}")
+        raise MissingFieldError(f"{type(self).__name__} has {len(missing)} missing field(s) to set:\n{listing}\n")
 
 
 _METHODS: dict[str, Callable] = {
@@ -150,8 +150,10 @@ def _is_member_not_field(cls: type, key: str, value: Any, inherited: dict[str, F
         # a def in the class body is a method; a function assigned from elsewhere is a value
         return value.__qualname__.startswith(cls.__qualname__ + ".")
     if isinstance(value, type):
-        # a nested class definition, unless it overrides an inherited field (e.g. class_type)
-        return key not in inherited and key != "class_type"
+        # a class defined in the body is a nested class; one assigned from elsewhere is a value
+        # (a field of type type[...]), and so is one that overrides an inherited field (class_type)
+        nested = value.__qualname__ == f"{cls.__qualname__}.{value.__name__}"
+        return nested and key not in inherited and key != "class_type"
     return False
 
 
@@ -172,7 +174,12 @@ def _process_class(cls: type) -> None:
             annotations[key] = inherited[key].type  # subclass overrides an inherited default
         else:
             value = cls.__dict__[key]
-            annotations[key] = Any if value is None else type(value)
+            if value is MISSING:
+                raise TypeError(
+                    f"Missing type annotation for '{key}' in class '{cls.__name__}': MISSING says nothing of the"
+                    f" field's type. Write '{key}: <type> = MISSING', or give a default value."
+                )
+            annotations[key] = Any if value is None else type[value] if isinstance(value, type) else type(value)
     for a in ann_order:
         annotations.setdefault(a, own_ann[a])
 
@@ -180,9 +187,12 @@ def _process_class(cls: type) -> None:
         if _is_classvar(annotation):
             continue
         if key not in cls.__dict__:
-            # annotated without a value: a required field that may be filled in later
-            setattr(cls, key, dataclasses.field(default_factory=_return_missing))
-            continue
+            if key not in inherited:
+                raise ValueError(
+                    f"Missing default value for '{key}' in class '{cls.__name__}'. Give it a default, or"
+                    f" '{key}: ... = MISSING' for a field that must be set before use."
+                )
+            continue  # an inherited field re-annotated: it keeps its inherited default
         value = cls.__dict__[key]
         if isinstance(value, Field):
             if value.default is MISSING and value.default_factory is MISSING:

@@ -6,6 +6,7 @@ import dataclasses
 import hashlib
 import json
 import re
+import sys
 from collections.abc import Iterable, Mapping
 from typing import Any
 
@@ -65,11 +66,16 @@ def _value_to_plain(value: Any) -> Any:
         return f"slice({value.start}, {value.stop}, {value.step})"
     if isinstance(value, Mapping):
         return {k: _value_to_plain(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple, set, frozenset)):
+    if isinstance(value, tuple):  # kept a tuple, as Isaac Lab's class_to_dict does (yaml writers list it)
+        return tuple(_value_to_plain(v) for v in value)
+    if isinstance(value, (list, set, frozenset)):
         return [_value_to_plain(v) for v in value]
     if isinstance(value, type) or callable(value):
         return _callable_name(value)
-    if hasattr(value, "tolist"):  # torch tensors, numpy arrays and scalars
+    torch = sys.modules.get("torch")  # a tensor exists only once torch is imported: keep this module light
+    if torch is not None and isinstance(value, torch.Tensor):  # kept, as Isaac Lab's (yaml writers list it)
+        return value
+    if hasattr(value, "tolist"):  # numpy arrays and scalars
         return value.tolist()
     if hasattr(value, "__dict__"):
         return class_to_dict(value)
@@ -79,11 +85,14 @@ def _value_to_plain(value: Any) -> Any:
 def class_to_dict(obj: Any) -> dict[str, Any]:
     """Recursively convert a config (or any object with ``__dict__``) into a plain dict.
 
-    Callables and classes become ``"module:qualname"`` strings, tuples become lists, tensors
-    and arrays become lists, so that the result can be written to yaml.
+    Callables and classes become ``"module:qualname"`` strings, numpy arrays become lists; tuples
+    and tensors stay as they are (Isaac Lab's), and ``simlab.utils.io.dump_yaml`` writes them as lists.
     """
     if _is_config_instance(obj):
-        items = ((f.name, getattr(obj, f.name)) for f in dataclasses.fields(obj))
+        # the fields, then what __post_init__ added (Isaac Lab reads the instance's __dict__)
+        names = [f.name for f in dataclasses.fields(obj)]
+        names += [k for k in vars(obj) if k not in names and not k.startswith("__")]
+        items = ((name, getattr(obj, name)) for name in names)
     elif isinstance(obj, Mapping):
         items = obj.items()
     elif hasattr(obj, "__dict__"):
@@ -130,12 +139,14 @@ def _merge_value(current: Any, value: Any, path: str, field_default: Any = datac
             f" None (to remove it), got {type(value).__name__}: {value!r}."
         )
     if isinstance(value, (list, tuple)):
+        given = type(value)
         if isinstance(current, (list, tuple)) and len(current) == len(value):
             value = [
                 _merge_value(c, v, f"{path}[{i}]") if isinstance(v, Mapping) and _is_config_instance(c) else v
                 for i, (c, v) in enumerate(zip(current, value))
             ]
-        return tuple(value) if isinstance(current, tuple) else list(value)
+        # a tuple member stays a tuple; otherwise the given kind is kept (Isaac Lab's)
+        return tuple(value) if isinstance(current, tuple) or given is tuple else list(value)
     if isinstance(value, ResolvableString):
         return value  # already a (lazy) callable reference: keep it as given
     if isinstance(value, str) and _CALLABLE_STR.match(value):

@@ -13,6 +13,7 @@ import traceback
 __all__ = [
     "CheckpointError",
     "ConfigError",
+    "ConfigTypeError",
     "DeviceError",
     "MissingDependencyError",
     "SimlabError",
@@ -27,6 +28,10 @@ class SimlabError(Exception):
 
 class ConfigError(SimlabError, ValueError):
     """A wrong setting: a flag, an override, a config field, a task id."""
+
+
+class ConfigTypeError(ConfigError, TypeError):
+    """A config field of the wrong type (a weight that is not a number, ...)."""
 
 
 class DeviceError(SimlabError, RuntimeError):

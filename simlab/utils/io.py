@@ -98,8 +98,10 @@ def _to_yaml_ready(value: Any) -> Any:
         return MISSING_STR
     if isinstance(value, dict):
         return {str(k): _to_yaml_ready(v) for k, v in value.items()}
-    if isinstance(value, list):
+    if isinstance(value, (list, tuple)):
         return [_to_yaml_ready(v) for v in value]
+    if hasattr(value, "tolist"):  # torch tensors
+        return value.tolist()
     return value
 
 

@@ -7,7 +7,7 @@ import random
 
 import numpy as np
 
-__all__ = ["set_seed"]
+__all__ = ["configure_seed", "set_seed"]
 
 
 def set_seed(seed: int, torch_deterministic: bool = False) -> int:
@@ -34,3 +34,6 @@ def set_seed(seed: int, torch_deterministic: bool = False) -> int:
         torch.backends.cudnn.deterministic = True
         torch.use_deterministic_algorithms(True)
     return seed
+
+
+configure_seed = set_seed  # Isaac Lab's name

@@ -216,7 +216,7 @@ def apply_external_force_torque(
 ) -> None:
     """Uniform random forces and torques (body frame) on the selected bodies, held until changed."""
     asset = env.scene[asset_cfg.name]
-    if is_mask(env_ids) and not asset._has_external_wrench and not any((*force_range, *torque_range)):
+    if is_mask(env_ids) and not asset.permanent_wrench_composer.active and not any((*force_range, *torque_range)):
         return  # zero wrenches on a robot that has none: nothing changes (Isaac Lab's default ranges)
     env_ids, write_ids = _selection(env, env_ids)
     num_rows = env.num_envs if isinstance(env_ids, slice) else len(env_ids)

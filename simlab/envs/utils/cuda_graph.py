@@ -91,6 +91,10 @@ class EnvStepper:
 
     def __call__(self, action: torch.Tensor) -> Any:
         self._calls += 1
+        if self.eager_reason is None and self.env.sim.has_step_callbacks:
+            # Python that must run at every physics / render step cannot be replayed: step eagerly from now on
+            self.eager_reason = "sim.add_physics_callback / add_render_callback(name, ...) callbacks are registered"
+            self.graph = None
         if self.eager_reason is not None:
             if self._check_actions:
                 check_finite_action(action)

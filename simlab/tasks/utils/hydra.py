@@ -86,8 +86,10 @@ def _plain(cfg: Any) -> Any:
             return MISSING_STR
         if isinstance(value, dict):
             return {k: fix(v) for k, v in value.items()}
-        if isinstance(value, list):
+        if isinstance(value, (list, tuple)):
             return [fix(v) for v in value]
+        if hasattr(value, "tolist"):  # tensors in a config
+            return value.tolist()
         return value
 
     if cfg is None:
@@ -100,7 +102,8 @@ def _store(name: str, env_cfg: Any, agent_cfg: Any) -> None:
 
     group, _, base = name.rpartition("/")  # "simlab/Cartpole-v0": config "Cartpole-v0" of group "simlab"
     node = {"env": _plain(env_cfg), "agent": _plain(agent_cfg)}
-    ConfigStore.instance().store(name=base, node=node, group=group or None)
+    # the global package: composing "simlab/Cartpole-v0" gives {"env", "agent"} at the root, as Isaac Lab's ids do
+    ConfigStore.instance().store(name=base, node=node, group=group or None, package="_global_")
 
 
 def _compose(name: str, overrides: list[str]):
