@@ -64,8 +64,9 @@ def reset_gpu_memory_peak(device: str) -> None:
     if str(device).startswith("cuda"):
         gc.collect()  # the previous measurement's env and its Warp arrays
         torch.cuda.empty_cache()
-        torch.cuda.reset_peak_memory_stats(device)
-        _torch_baseline_bytes[str(device)] = torch.cuda.memory_allocated(device)
+        # the current device's counters (an explicit device is refused before CUDA is initialised)
+        torch.cuda.reset_peak_memory_stats()
+        _torch_baseline_bytes[str(device)] = torch.cuda.memory_allocated()
         _warp_baseline_bytes = _warp_pool_bytes(device) or 0
 
 
@@ -86,5 +87,5 @@ def gpu_memory_mb(device: str, physics=None) -> float | None:
     physics outside torch)."""
     if not str(device).startswith("cuda"):
         return None
-    torch_bytes = torch.cuda.max_memory_allocated(device) - _torch_baseline_bytes.get(str(device), 0)
+    torch_bytes = torch.cuda.max_memory_allocated() - _torch_baseline_bytes.get(str(device), 0)
     return torch_bytes / 2**20 + warp_memory_mb(device, physics)
