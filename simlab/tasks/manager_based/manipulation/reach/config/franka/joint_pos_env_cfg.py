@@ -13,22 +13,10 @@ from ...reach_env_cfg import ReachEnvCfg, RewardsCfg
 
 @configclass
 class FrankaReachRewardsCfg(RewardsCfg):
-    """Isaac Lab's reach rewards plus two narrower ones that pay for the last centimetres and the last
-    tenth of a radian: Isaac Lab's terms (a linear error and a tanh over 10 cm) barely tell 3 cm from
-    1 cm, and the policies they train stop a few centimetres and about 0.2 rad short of the target.
-    The weights balance the two: near the target 1 cm of position is worth about 0.1 rad of
-    orientation (with a position term over 2 cm instead, too narrow to pull from 5 cm, a CPU run
-    bought 0.18 -> 0.11 rad of orientation with 4.8 -> 7.8 cm of position)."""
+    """Isaac Lab's reach rewards plus a narrow orientation term that pays for the last tenth of a
+    radian: with Isaac Lab's linear orientation error alone the policies stop about 0.18 rad short
+    (CPU, 1024 envs, 400 iterations: 0.187 rad mean, 6.46 cm; with this term 0.092 rad, 4.62 cm)."""
 
-    end_effector_position_tracking_precise = RewTerm(
-        func=mdp.position_command_error_tanh,
-        weight=0.3,
-        params={
-            "asset_cfg": SceneEntityCfg("robot", body_names=["panda_hand"]),
-            "std": 0.05,
-            "command_name": "ee_pose",
-        },
-    )
     end_effector_orientation_tracking_fine_grained = RewTerm(
         func=mdp.orientation_command_error_tanh,
         weight=0.1,
