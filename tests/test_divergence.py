@@ -33,8 +33,10 @@ def test_a_blown_up_world_ends_its_episode_and_is_counted(bad_value):
     assert torch.isfinite(obs["policy"]).all() and torch.isfinite(reward).all()
     assert env.episode_length_buf[3] == 0  # reset in the same step, as any finished episode
     assert not torch.equal(env.sim.physics.data("qpos")[0], before[0])  # the others went on stepping
+    first_log = extras["log"]
     obs, *_, extras = env.step(torch.zeros(6, 1))
     assert int(extras["log"]["Physics/diverged"]) == 0
+    assert int(first_log["Physics/diverged"]) == 1  # each step's log is its own (loggers keep one per step)
     env.close()
 
 

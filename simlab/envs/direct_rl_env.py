@@ -116,7 +116,9 @@ class DirectRLEnv(SimulatedEnv, gym.Env):
         if final_obs is not None:
             self.extras["final_obs"] = final_obs
         self.extras["time_outs"] = truncated
-        self.extras.setdefault("log", {})["Physics/diverged"] = diverged
+        # a new dict each step: loggers keep one per step (rsl_rl averages them), so one shared dict
+        # would report only the last step's count
+        self.extras["log"] = {**self.extras.get("log", {}), "Physics/diverged": diverged}
         return obs, reward, terminated, truncated, self.extras
 
     def graph_blockers(self) -> list[str]:
