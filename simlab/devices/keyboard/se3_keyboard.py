@@ -3,8 +3,10 @@
 Isaac Lab reads the keyboard of its Omniverse window; simlab reads the keys typed in its live
 viewer (``--viewer native``: MuJoCo's window; ``--viewer web``: the buttons of the page's Teleop
 tab) through :data:`simlab.viewer.keys.key_hub`. Those viewers report presses only, so a key they
-send moves the arm for ``key_hold_time`` seconds after its last event: tap it to nudge, and on the
-web page hold its button down (the button repeats while held). Press / release pairs, as a script
+send moves the arm for ``key_hold_time`` seconds of simulated time after its last event (one
+``advance()`` per env step; a simulation may run faster than the wall clock, and a tap should move
+the arm as far however fast it runs): tap it to nudge, and on the web page hold its button down
+(the button repeats while held). Press / release pairs, as a script
 or a desktop key source sends them, behave as in Isaac Lab: the key acts until released.
 """
 
@@ -80,7 +82,9 @@ class Se3Keyboard(DeviceBase):
         self.rot_sensitivity = cfg.rot_sensitivity
         self.gripper_term = cfg.gripper_term
         self._sim_device = cfg.sim_device
-        self._clock: Callable[[], float] = time.monotonic
+        self._clock: Callable[[], float] = self._simulated_time
+        self._advances = 0  # advance() calls: env steps of the loop that drives the device
+        self._step_dt: float | None = None  # an env step's simulated seconds, from the simulation
         self._lock = threading.Lock()  # the viewer's thread sends events while the loop advances
         self._pressed: set[str] = set()  # held until released
         self._tapped_until: dict[str, float] = {}  # held until this time
@@ -144,8 +148,21 @@ class Se3Keyboard(DeviceBase):
             labels.update({k: labels.get(k, k) for k in self._additional_callbacks})
             self._listener = self._subscribe(labels)
 
+    def _simulated_time(self) -> float:
+        """Seconds simulated so far: advance() calls times the env step (Isaac Lab's tasks render once
+        per env step, so the simulation's rendering dt is the step); the wall clock without a simulation."""
+        if self._step_dt is None:
+            from simlab.sim import SimulationContext
+
+            sim = SimulationContext.instance()
+            if sim is None:
+                return time.monotonic()
+            self._step_dt = float(sim.get_rendering_dt())
+        return self._advances * self._step_dt
+
     def advance(self) -> torch.Tensor:
         with self._lock:
+            self._advances += 1
             now = self._clock()
             self._tapped_until = {k: t for k, t in self._tapped_until.items() if t > now}
             held = self._pressed | set(self._tapped_until)
