@@ -9,22 +9,19 @@ Isaac Lab, so that no camera sees a neighbour.
 
 from __future__ import annotations
 
-import math
-
 import torch
 
 import simlab.sim as sim_utils
 from simlab.assets import Articulation, ArticulationCfg
-from simlab.envs import DirectRLEnv, DirectRLEnvCfg
+from simlab.envs import DirectRLEnvCfg
 from simlab.envs.common import ViewerCfg
 from simlab.robots.cartpole import CARTPOLE_CFG
 from simlab.scene import InteractiveSceneCfg
 from simlab.sensors import TiledCamera, TiledCameraCfg
 from simlab.sim import SimulationCfg
 from simlab.utils import configclass
-from simlab.utils.math import sample_uniform
 
-from .cartpole_env import compute_rewards
+from .cartpole_env import CartpoleEnv
 
 
 def _camera_cfg(data_type: str) -> TiledCameraCfg:
@@ -92,7 +89,10 @@ class CartpoleDepthCameraEnvCfg(CartpoleRGBCameraEnvCfg):
     observation_space = [tiled_camera.height, tiled_camera.width, 1]
 
 
-class CartpoleCameraEnv(DirectRLEnv):
+class CartpoleCameraEnv(CartpoleEnv):
+    """The cartpole env with a camera's image as its observation (actions, rewards, dones and resets
+    are the state cartpole's)."""
+
     cfg: CartpoleRGBCameraEnvCfg | CartpoleDepthCameraEnvCfg
 
     def __init__(self, cfg: CartpoleRGBCameraEnvCfg, render_mode: str | None = None, **kwargs):
@@ -103,9 +103,6 @@ class CartpoleCameraEnv(DirectRLEnv):
         self._frames: torch.Tensor | None = None  # the last frame_stack images per env, (N, H, W, C * k)
         self._fresh: torch.Tensor | None = None  # envs reset since their last observation: history = now
         super().__init__(cfg, render_mode, **kwargs)
-        self._cart_dof_idx, _ = self._cartpole.find_joints(self.cfg.cart_dof_name)
-        self._pole_dof_idx, _ = self._cartpole.find_joints(self.cfg.pole_dof_name)
-        self.action_scale = self.cfg.action_scale
         if len(self.cfg.tiled_camera.data_types) != 1:
             raise ValueError(
                 "The cartpole camera task observes one image type at a time, got"
@@ -113,18 +110,12 @@ class CartpoleCameraEnv(DirectRLEnv):
             )
 
     def _setup_scene(self):
-        self._cartpole = Articulation(self.cfg.robot_cfg)
+        self.cartpole = Articulation(self.cfg.robot_cfg)
         self._tiled_camera = TiledCamera(self.cfg.tiled_camera)
-        self.scene.articulations["cartpole"] = self._cartpole
+        self.scene.articulations["cartpole"] = self.cartpole
         self.scene.sensors["tiled_camera"] = self._tiled_camera
         light_cfg = sim_utils.DomeLightCfg(intensity=2000.0, color=(0.75, 0.75, 0.75))
         light_cfg.func("/World/Light", light_cfg)
-
-    def _pre_physics_step(self, actions: torch.Tensor) -> None:
-        self.actions = self.action_scale * actions.clone()
-
-    def _apply_action(self) -> None:
-        self._cartpole.set_joint_effort_target(self.actions, joint_ids=self._cart_dof_idx)
 
     def _get_observations(self) -> dict:
         data_type = self.cfg.tiled_camera.data_types[0]
@@ -158,49 +149,8 @@ class CartpoleCameraEnv(DirectRLEnv):
             self._frames = torch.zeros(self.num_envs, height, width, channels, device=self.device)
             self._fresh = torch.ones(self.num_envs, dtype=torch.bool, device=self.device)
 
-    def _joint_states(self) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor, torch.Tensor]:
-        """Pole angle, pole velocity, cart position, cart velocity; each (num_envs,)."""
-        joint_pos, joint_vel = self._cartpole.data.joint_pos, self._cartpole.data.joint_vel
-        pole, cart = self._pole_dof_idx[0], self._cart_dof_idx[0]
-        return joint_pos[:, pole], joint_vel[:, pole], joint_pos[:, cart], joint_vel[:, cart]
-
-    def _get_rewards(self) -> torch.Tensor:
-        pole_pos, pole_vel, cart_pos, cart_vel = self._joint_states()
-        return compute_rewards(
-            self.cfg.rew_scale_alive,
-            self.cfg.rew_scale_terminated,
-            self.cfg.rew_scale_pole_pos,
-            self.cfg.rew_scale_cart_vel,
-            self.cfg.rew_scale_pole_vel,
-            pole_pos,
-            pole_vel,
-            cart_pos,
-            cart_vel,
-            self.reset_terminated,
-        )
-
-    def _get_dones(self) -> tuple[torch.Tensor, torch.Tensor]:
-        pole_pos, _, cart_pos, _ = self._joint_states()
-        time_out = self.episode_length_buf >= self.max_episode_length - 1
-        out_of_bounds = (torch.abs(cart_pos) > self.cfg.max_cart_pos) | (torch.abs(pole_pos) > math.pi / 2)
-        return out_of_bounds, time_out
-
     def _reset_mask(self, env_mask: torch.Tensor):
         super()._reset_mask(env_mask)
         if self.cfg.frame_stack > 1:
             self._history_buffers()
             self._fresh |= env_mask
-        # initial states drawn for every env, written where env_mask is set
-        joint_pos = self._cartpole.data.default_joint_pos.clone()
-        joint_pos[:, self._pole_dof_idx] += sample_uniform(
-            self.cfg.initial_pole_angle_range[0] * math.pi,
-            self.cfg.initial_pole_angle_range[1] * math.pi,
-            joint_pos[:, self._pole_dof_idx].shape,
-            joint_pos.device,
-        )
-        joint_vel = self._cartpole.data.default_joint_vel.clone()
-        default_root_state = self._cartpole.data.default_root_state.clone()
-        default_root_state[:, :3] += self.scene.env_origins
-        self._cartpole.write_root_pose_to_sim(default_root_state[:, :7], env_mask)
-        self._cartpole.write_root_velocity_to_sim(default_root_state[:, 7:], env_mask)
-        self._cartpole.write_joint_state_to_sim(joint_pos, joint_vel, None, env_mask)
