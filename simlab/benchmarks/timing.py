@@ -39,7 +39,7 @@ def interleaved(variants: dict[str, Callable[[], None]], steps: int, device: str
 
 
 _warp_baseline_bytes = 0
-_torch_baseline_bytes: dict[str, int] = {}  # what torch still held when a measurement began, per device
+_torch_baseline_bytes = 0  # what torch still held on the current device when a measurement began
 
 
 def _warp_pool_bytes(device: str) -> int | None:
@@ -60,13 +60,13 @@ def reset_gpu_memory_peak(device: str) -> None:
 
     What an earlier configuration of the same run still holds (objects not yet collected, cached
     workspaces) is recorded as a baseline and left out of the next figure."""
-    global _warp_baseline_bytes
+    global _warp_baseline_bytes, _torch_baseline_bytes
     if str(device).startswith("cuda"):
         gc.collect()  # the previous measurement's env and its Warp arrays
         torch.cuda.empty_cache()
         # the current device's counters (an explicit device is refused before CUDA is initialised)
         torch.cuda.reset_peak_memory_stats()
-        _torch_baseline_bytes[str(device)] = torch.cuda.memory_allocated()
+        _torch_baseline_bytes = torch.cuda.memory_allocated()
         _warp_baseline_bytes = _warp_pool_bytes(device) or 0
 
 
@@ -87,5 +87,5 @@ def gpu_memory_mb(device: str, physics=None) -> float | None:
     physics outside torch)."""
     if not str(device).startswith("cuda"):
         return None
-    torch_bytes = torch.cuda.max_memory_allocated() - _torch_baseline_bytes.get(str(device), 0)
+    torch_bytes = torch.cuda.max_memory_allocated() - _torch_baseline_bytes
     return torch_bytes / 2**20 + warp_memory_mb(device, physics)
