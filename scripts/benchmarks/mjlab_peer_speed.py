@@ -8,8 +8,8 @@ The task keeps mjlab's own dt and decimation; the printed line says which they w
 import sys
 import time
 
-import torch
 import mjlab.tasks  # noqa: F401  (registers mjlab's tasks)
+import torch
 from mjlab.envs import ManagerBasedRlEnv
 from mjlab.tasks.registry import load_env_cfg
 
