@@ -84,3 +84,30 @@ def test_bad_input_says_what_is_allowed(tmp_path):
         time_to_policy("simlab/Cartpole-v0", library="sb3", log_root=str(tmp_path))
     with pytest.raises(ValueError, match="No solve criterion for simlab/Lift"):
         criterion_for("simlab/Lift-Cube-Franka-v0")
+
+
+def test_fresh_processes_start_with_the_bytecode_the_first_one_cached(tmp_path, capsys):
+    """``--processes 2 --pycache_prefix DIR``: two solves one after the other in fresh processes; the
+    first compiles every module into the empty DIR, the second finds them all there."""
+    out = tmp_path / "solve.json"
+    argv = ["solve", *TINY, "--max_iterations", "1", "--log_root", str(tmp_path / "bench"), "--json", str(out)]
+    argv += ["--processes", "2", "--pycache_prefix", str(tmp_path / "pyc")]
+    assert main(argv) == 0
+    first, second = json.loads(out.read_text())["results"]["solve"]
+    assert (first["process"], second["process"]) == (1, 2)
+    assert first["caches"]["pycache_prefix"] == str(tmp_path / "pyc") and not first["caches"]["dont_write_bytecode"]
+    assert first["python_modules_compiled"] > 1000  # torch and the rest, compiled into the empty folder
+    assert second["python_modules_compiled"] == 0
+    assert first["warp_kernel_modules_compiled"] is None  # the CPU engine does not import Warp
+    for row in (first, second):
+        phases = row["startup_phases_s"]
+        assert list(phases) == list(row["startup_milestones_s"])
+        assert sum(phases.values()) == pytest.approx(row["startup_milestones_s"]["first iteration"])
+    printed = capsys.readouterr().out
+    assert "start-up phases (s spent reaching each milestone" in printed and "process 2: start-up " in printed
+
+
+def test_cache_flags_need_fresh_processes(capsys):
+    with pytest.raises(SystemExit):
+        main(["solve", *TINY, "--pycache_prefix", "/tmp/x"])
+    assert "give --processes N" in capsys.readouterr().err

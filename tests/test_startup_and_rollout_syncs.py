@@ -100,3 +100,30 @@ def test_a_library_compiled_from_source_is_named_with_the_fix(tmp_path):
     assert "compiled json from source" in hint and "PYTHONDONTWRITEBYTECODE is set" in hint
     assert "PYTHONPYCACHEPREFIX" in hint
     assert bytecode_hint(("json",)) is None  # this process found json's bytecode cached
+
+
+def test_the_command_skips_the_exit_collection_and_loses_no_log(tmp_path):
+    """The ``simlab`` command freezes its objects out of Python's collection at exit; everything the
+    run wrote (checkpoints, every iteration's TensorBoard scalars) is on disk. Called from Python
+    (a test, a script), ``main`` leaves the garbage collector alone."""
+    from tensorboard.backend.event_processing.event_accumulator import EventAccumulator
+
+    from simlab.cli.main import main
+
+    argv = [*TRAIN, "--max_iterations", "3", "--log_root", str(tmp_path / "cli")]
+    probe = "import gc, sys\nfrom simlab.cli.main import main\nsys.argv = ['simlab', *sys.argv[1:]]\n"
+    probe += "code = main()\nprint('frozen', gc.get_freeze_count() > 0)\nsys.exit(code)\n"
+    out = subprocess.run([sys.executable, "-c", probe, *argv], capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr[-2000:]
+    assert "frozen True" in out.stdout
+    (run,) = glob.glob(str(tmp_path / "cli" / "rsl_rl" / "cartpole" / "*"))
+    saved = sorted(os.path.basename(p) for p in glob.glob(os.path.join(run, "model_*.pt")))
+    assert saved == ["model_0.pt", "model_2.pt"]
+    (events,) = glob.glob(os.path.join(run, "events.out.tfevents*"))
+    scalars = EventAccumulator(events)
+    scalars.Reload()
+    assert [e.step for e in scalars.Scalars("Loss/value")] == [0, 1, 2]
+
+    frozen_before = __import__("gc").get_freeze_count()
+    assert main([*TRAIN, "--max_iterations", "1", "--log_root", str(tmp_path / "in_process")]) == 0
+    assert __import__("gc").get_freeze_count() == frozen_before

@@ -22,7 +22,10 @@ Per variant it prints the median (and each run's) seconds from the process start
 library imported, the model compiled, the physics backend up (MuJoCo Warp imported, initialised,
 model and data on the device), the first physics reset, the env built, the rsl_rl runner built,
 the first env step returned and the first training iteration done. A tree without milestones
-gives only the printed start-up and the process wall time. Then one extra process
+gives only the printed start-up and the process wall time. A second table gives each phase's
+median: the seconds spent reaching each milestone from the one before (the first from the process
+start), and from the first iteration to the process's end (one iteration's end, the checkpoint
+save and the interpreter's exit). Then one extra process
 per variant under ``python -X importtime`` gives the import cost grouped by package (a module's own
 time, summed over the first two parts of its name). Each run also reports the modules Python
 compiled from source (no cached bytecode: a fresh install without ``.pyc`` pays this once) and the
@@ -143,6 +146,18 @@ def import_costs(variant: dict, args: argparse.Namespace, log_root: str) -> dict
     return dict(groups)
 
 
+MILESTONES = (
+    "command",
+    "configs",
+    "library",
+    "model compiled",
+    "physics backend",
+    "physics reset",
+    "env",
+    "runner",
+    "first env step",
+    "first iteration",
+)
 METRICS = (
     "configs",
     "library",
@@ -156,6 +171,43 @@ METRICS = (
     "printed start-up",
     "wall_s",
 )
+
+
+def phase_seconds(row: dict) -> dict[str, float]:
+    """Seconds spent reaching each milestone from the one before (the first from the process
+    start), and after the first iteration to the process's end (the iteration's end, the save,
+    the interpreter's exit)."""
+    spent, before = {}, 0.0
+    for name in MILESTONES:
+        if name in row:
+            spent[name] = row[name] - before
+            before = row[name]
+    if spent:
+        spent["to the process end"] = row["wall_s"] - before
+    return spent
+
+
+def print_phase_table(runs: dict[str, list[dict]]) -> None:
+    """Median seconds of each start-up phase per variant, and the first variant's over the others'."""
+    per_run = {name: [phase_seconds(row) for row in rows] for name, rows in runs.items()}
+    names = [p for p in (*MILESTONES, "to the process end") if any(p in r for rows in per_run.values() for r in rows)]
+    if not names:
+        return
+    medians = {
+        variant: {p: statistics.median(r[p] for r in rows) for p in names if all(p in r for r in rows)}
+        for variant, rows in per_run.items()
+    }
+    first, others = next(iter(medians)), list(medians)[1:]
+    columns = list(medians) + [f"{first}/{name}" for name in others]
+    width = max(16, *(len(c) for c in columns))
+    print("\nper phase: median s spent reaching each milestone from the one before")
+    print(f"{'phase':>18} | " + " | ".join(f"{c:>{width}}" for c in columns))
+    for p in names:
+        cells = [f"{medians[v][p]:{width}.2f}" if p in medians[v] else f"{'-':>{width}}" for v in medians]
+        for name in others:
+            both = p in medians[first] and p in medians[name] and medians[name][p] > 0
+            cells.append(f"{medians[first][p] / medians[name][p]:{width}.2f}" if both else f"{'-':>{width}}")
+        print(f"{p:>18} | " + " | ".join(cells))
 
 
 def main() -> int:
@@ -208,6 +260,7 @@ def main() -> int:
             both = k in medians[first] and k in medians[name]
             cells.append(f"{medians[first][k] / medians[name][k]:{width}.2f}" if both else f"{'-':>{width}}")
         print(f"{k:>18} | " + " | ".join(cells))
+    print_phase_table(runs)
     for name, rows in runs.items():
         child = rows[0]["child"]
         compiled = [row["child"].get("compiled_from_source") for row in rows]

@@ -91,7 +91,31 @@ SOLVE_COLUMNS = [
     ("evaluation s", "evaluation_s", ".1f"),
     ("other s", "other_s", ".1f"),
     ("wall s", "wall_s", ".1f"),
+    ("process", "process", "d"),
+    ("py compiled", "python_modules_compiled", "d"),
+    ("Warp compiled", "warp_kernel_modules_compiled", "d"),
 ]
+
+
+def _print_solve_breakdown(rows: list[dict]) -> None:
+    """Each solve's time as shares, and its start-up as phases: seconds spent reaching each of
+    ``simlab train``'s milestones from the one before (the first from the process start)."""
+    measured = [r for r in rows if "startup_s" in r]
+    if not measured:
+        return
+    print("\nshares of each run (process start to the end of its last evaluation):")
+    shares = [("start-up", "startup_s"), ("rollout", "rollout_s"), ("update", "update_s")]
+    shares += [("evaluation", "evaluation_s"), ("other", "other_s")]
+    for r in measured:
+        total = sum(r[key] for _, key in shares)
+        label = f"{r['task']} seed {r['seed']}" + (f" process {r['process']}" if "process" in r else "")
+        print(f"  {label}: " + ", ".join(f"{name} {r[key] / total:.0%}" for name, key in shares))
+    names = list(dict.fromkeys(name for r in measured for name in r.get("startup_phases_s", {})))
+    table = []
+    for r in measured:
+        table.append({"task": r["task"], "process": r.get("process"), **r.get("startup_phases_s", {})})
+    print("\nstart-up phases (s spent reaching each milestone from the one before):")
+    _print_table(table, [("task", "task", ""), ("process", "process", "d")] + [(n, n, ".2f") for n in names])
 
 
 def _suite_functions() -> dict[str, tuple[Callable[..., list[dict]], list]]:
@@ -129,6 +153,26 @@ def main(argv: list[str] | None = None) -> int:
     solve.add_argument("--reward_threshold", type=float, default=None, help="solved at this mean reward per step")
     solve.add_argument("--log_root", default="logs", help="where the training runs go")
     solve.add_argument(
+        "--processes",
+        type=int,
+        default=0,
+        help="run each solve N times, one fresh process after the other (default 0: once, in this process); "
+        "the first fills the caches the later ones start with",
+    )
+    solve.add_argument(
+        "--pycache_prefix",
+        default=None,
+        metavar="DIR",
+        help="with --processes: Python keeps every module's bytecode in DIR (PYTHONPYCACHEPREFIX, "
+        "PYTHONDONTWRITEBYTECODE unset), as an installed package has it",
+    )
+    solve.add_argument(
+        "--warp_cache",
+        default=None,
+        metavar="DIR",
+        help="with --processes: Warp's kernel cache folder (WARP_CACHE_PATH); an empty one makes the first run cold",
+    )
+    solve.add_argument(
         "--overrides",
         nargs="+",
         default=[],
@@ -151,6 +195,10 @@ def main(argv: list[str] | None = None) -> int:
     )
     parser.add_argument("--json", default=None, help="write the results to this JSON file")
     args = parser.parse_args(argv)
+    if args.processes < 0:
+        parser.error(f"--processes takes a count >= 0, got {args.processes}")
+    if (args.pycache_prefix or args.warp_cache) and not args.processes:
+        parser.error("--pycache_prefix and --warp_cache set up fresh processes: give --processes N (N >= 1)")
 
     from simlab.app.app_launcher import resolve_device
 
@@ -177,6 +225,8 @@ def main(argv: list[str] | None = None) -> int:
             fast_update={"default": None, "fast": True, "rsl_rl": False}[args.ppo_update],
         )
         _print_table(rows, columns)
+        if name == "solve":
+            _print_solve_breakdown(rows)
         results[name] = rows
     if args.json:
         meta = {"device": device, "machine": platform.node(), "cpu_count": os.cpu_count()}

@@ -25,7 +25,7 @@ import torch
 from simlab.benchmarks.criteria import criterion_for
 from simlab.cli.train import seconds_since_process_start
 from simlab.utils.io import load_yaml
-from simlab.utils.startup import milestones
+from simlab.utils.startup import cache_report, milestones, phases
 
 SUPPORTED_LIBRARIES = ("rsl_rl",)
 
@@ -209,6 +209,8 @@ def time_to_policy(
         f"[solve] start-up {startup:.1f} s, reached at (s): " + ", ".join(f"{k} {v:.1f}" for k, v in reached.items()),
         flush=True,
     )
+    caches = cache_report()
+    print(f"[solve] compiled in this process: {_compiled_text(caches)}", flush=True)
     return {
         "task": task,
         "library": library,
@@ -224,5 +226,19 @@ def time_to_policy(
         "wall_s": wall,
         **shares,
         "startup_milestones_s": reached,
+        "startup_phases_s": phases(reached),
+        "python_modules_compiled": caches["python_modules_compiled"],
+        "warp_kernel_modules_compiled": caches.get("warp_kernel_modules_compiled"),
+        "caches": caches,
         "evaluations": judge.evaluations,
     }
+
+
+def _compiled_text(caches: dict[str, Any]) -> str:
+    text = f"{caches['python_modules_compiled']} of {caches['python_modules']} Python modules (no cached bytecode)"
+    if "warp_kernel_modules_compiled" in caches:
+        text += (
+            f", {caches['warp_kernel_modules_compiled']} Warp kernel modules (cache {caches['warp_kernel_cache_dir']} "
+            f"holds {caches['warp_kernel_modules_cached']})"
+        )
+    return text

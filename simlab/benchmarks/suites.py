@@ -89,12 +89,21 @@ def solve(
     """Time to a solved task: one row per task and env count (``None``: the task's own).
 
     Its start-up share counts from the process start, so one measurement runs here and more than
-    one run each in a fresh process.
+    one run each in a fresh process. ``--processes N`` runs each N times, one fresh process after
+    the other, so that the later ones start with the caches the first filled (Python's bytecode
+    with ``--pycache_prefix``, Warp's kernels in ``--warp_cache`` or Warp's own cache folder).
     """
     from .solve import time_to_policy
 
     a = solve_args
     runs = [(task, n) for task in tasks or ["simlab/Cartpole-v0"] for n in num_envs]
+    if a.processes:
+        rows = []
+        for task, n in runs:
+            for process in range(1, a.processes + 1):
+                print(f"\n[solve] {task}: fresh process {process} of {a.processes}", flush=True)
+                rows.append({"process": process, **_solve_in_child(task, n, device, a)})
+        return rows
     if len(runs) > 1:
         return [_solve_in_child(task, n, device, a) for task, n in runs]
     (task, n), rows = runs[0], []
@@ -140,8 +149,21 @@ def _solve_in_child(task: str, num_envs: int | None, device: str, a) -> dict:
         argv += ["--ppo_update", a.ppo_update]
         if a.overrides:
             argv += ["--overrides", *a.overrides]
-        proc = subprocess.run(argv)
+        proc = subprocess.run(argv, env=_child_environment(a))
         if proc.returncode != 0 or not os.path.isfile(out):
             return {"task": task, "device": device, "num_envs": num_envs, "error": f"exit code {proc.returncode}"}
         with open(out) as f:
             return json.load(f)["results"]["solve"][0]
+
+
+def _child_environment(a) -> dict[str, str]:
+    """The environment of a fresh solve process: ``--pycache_prefix`` keeps every module's bytecode
+    in that folder (what an installed package has next to its sources), ``--warp_cache`` is Warp's
+    kernel cache (``WARP_CACHE_PATH``)."""
+    env = dict(os.environ)
+    if getattr(a, "pycache_prefix", None):
+        env["PYTHONPYCACHEPREFIX"] = os.path.abspath(a.pycache_prefix)
+        env.pop("PYTHONDONTWRITEBYTECODE", None)
+    if getattr(a, "warp_cache", None):
+        env["WARP_CACHE_PATH"] = os.path.abspath(a.warp_cache)
+    return env

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import gc
 import signal
 import sys
 import threading
@@ -224,7 +225,26 @@ def _report(command: str, error: BaseException, debug: bool) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
-    argv = list(sys.argv[1:] if argv is None else argv)
+    """The command line's entry point (``argv`` None: ``sys.argv``); returns the exit code."""
+    code = _main(list(sys.argv[1:] if argv is None else argv))
+    if argv is None:  # the process ends next: not when a caller (a test, a script) goes on
+        _skip_collection_at_exit()
+    return code
+
+
+def _skip_collection_at_exit() -> None:
+    """Leave the objects that exist now out of the garbage collection Python runs as it exits.
+
+    With torch, torch._dynamo and sympy loaded that collection took 0.6-1.5 s of every command
+    (2 CPU cores; `gc.freeze()` measured it down to 0.1-0.3 s). The command is done: its
+    checkpoints are saved and its writers flushed and closed, so nothing waits on a finalizer.
+    """
+    sys.stdout.flush()
+    sys.stderr.flush()
+    gc.freeze()
+
+
+def _main(argv: list[str]) -> int:
     if argv and argv[0] == "bench":
         from simlab.benchmarks.cli import main as bench_main
 

@@ -9,14 +9,17 @@ from __future__ import annotations
 
 import os
 import sys
+import time
 
 __all__ = [
     "bytecode_hint",
+    "cache_report",
     "clear_milestones",
     "compiled_from_source",
     "format_milestones",
     "mark",
     "milestones",
+    "phases",
     "seconds_since_process_start",
 ]
 
@@ -59,6 +62,15 @@ def format_milestones() -> str:
     return f"{MILESTONES_PREFIX} {pairs}"
 
 
+def phases(reached: dict[str, float]) -> dict[str, float]:
+    """Seconds spent reaching each milestone from the one before (the first from the process start)."""
+    spent, before = {}, 0.0
+    for name, seconds in reached.items():
+        spent[name] = seconds - before
+        before = seconds
+    return spent
+
+
 # large libraries whose import time doubles or worse when Python compiles them from source
 _LARGE_LIBRARIES = ("torch", "torch._dynamo", "sympy", "tensordict", "warp", "mujoco_warp")
 
@@ -85,3 +97,38 @@ def bytecode_hint(names: tuple[str, ...] = _LARGE_LIBRARIES) -> str | None:
         f"({why}), which can double the start-up. Keep a bytecode cache: export PYTHONPYCACHEPREFIX=~/.cache/pycache "
         "(with PYTHONDONTWRITEBYTECODE unset), or run python -m compileall on the install."
     )
+
+
+def cache_report() -> dict[str, object]:
+    """What this process compiled because no cache had it, so far: Python modules (bytecode) and
+    Warp kernel modules.
+
+    A module counts as compiled from source when its cached bytecode is missing (Python may not
+    write it) or was written since this process started (it just did). Warp's kernel modules
+    compiled here are the kernel cache's entries written since the process started; a run that
+    found every kernel cached writes none. Warp's entries are only counted where Warp is imported.
+    """
+    started = time.time() - seconds_since_process_start()
+    modules = [m for m in list(sys.modules.values()) if str(getattr(m, "__file__", None) or "").endswith(".py")]
+    compiled = 0
+    for module in modules:
+        cached = getattr(module, "__cached__", None)
+        if isinstance(cached, str):
+            try:
+                compiled += os.path.getmtime(cached) >= started
+            except OSError:
+                compiled += 1
+    report: dict[str, object] = {
+        "python_modules": len(modules),
+        "python_modules_compiled": compiled,
+        "pycache_prefix": sys.pycache_prefix,
+        "dont_write_bytecode": sys.dont_write_bytecode,
+    }
+    wp = sys.modules.get("warp")
+    folder = getattr(getattr(wp, "config", None), "kernel_cache_dir", None)
+    if folder and os.path.isdir(folder):
+        entries = [os.path.join(folder, entry) for entry in os.listdir(folder)]
+        report["warp_kernel_cache_dir"] = folder
+        report["warp_kernel_modules_cached"] = len(entries)
+        report["warp_kernel_modules_compiled"] = sum(os.path.getmtime(e) >= started for e in entries)
+    return report
