@@ -141,7 +141,8 @@ def cabinet_tracker(min_opening_m: float, required: float):
     return on_step, judge
 
 
-def train(task: str, args) -> tuple[float, bool]:
+def train(task: str, args) -> tuple[float, str | None]:
+    """Train ``task`` in a child process: its wall time and, if it failed, why."""
     cmd = [sys.executable, "-m", "simlab", "train", "--task", task, "--library", "rsl_rl", "--headless"]
     cmd += ["--log_root", args.log_root, "--run_name", "learns"]
     for flag in ("num_envs", "max_iterations", "device"):
@@ -158,8 +159,13 @@ def train(task: str, args) -> tuple[float, bool]:
         print(f"\n=== training budget of {args.train_budget_s:.0f} s reached: stopping it", flush=True)
         proc.send_signal(signal.SIGTERM)
         returncode = proc.wait()
-        return time.time() - start, returncode == EXIT_TERMINATED
-    return time.time() - start, returncode == 0
+        if returncode != EXIT_TERMINATED:
+            return time.time() - start, f"training exited with {returncode} when stopped"
+        checkpoint = newest_checkpoint(args.log_root)
+        if checkpoint == "none" or os.path.getmtime(checkpoint) < start:
+            return time.time() - start, "the training budget ended before training saved a checkpoint"
+        return time.time() - start, None
+    return time.time() - start, None if returncode == 0 else f"training exited with {returncode}"
 
 
 def newest_checkpoint(log_root: str) -> str:
@@ -213,9 +219,9 @@ def main() -> int:
     rows = []
     for name in args.tasks:
         task = TASKS[name]
-        wall, trained = (float("nan"), True) if args.skip_training else train(task, args)
-        if not trained:
-            rows.append((task, wall, "training failed", False))
+        wall, failure = (float("nan"), None) if args.skip_training else train(task, args)
+        if failure:
+            rows.append((task, wall, failure, False))
             continue
         tracker = {
             "reach": lambda: reach_tracker(args.reach_cm, args.reach_rad),
