@@ -47,8 +47,8 @@ def test_lift_state_machine_grasps_every_cube_and_carries_some_to_the_goal():
     carrying = int(lines[100][0].split(",")[-1])  # envs in LIFT_OBJECT: grasped their cube and carry it
     at_goal = int(lines[200][2])
     # Measured (seed 0, Franka's joint speed caps): 13 of 16 carry their cube by step 100 and 11 of 16 have it at
-    # the goal by step 200; 3 stall above their cube, where the per-step speed cap makes the stiff IK drive chatter
-    # (docs/manipulation.md).
+    # the goal by step 200; 3 stall above their cube, where the stiff IK drive saturates its force limit and
+    # reverses joints 1 and 3 at every physics step (docs/manipulation.md).
     assert carrying >= 12 and at_goal >= 8, out[-2000:]
 
 

@@ -12,6 +12,8 @@ policy on held-out commands (another seed) and measure:
     python scripts/benchmarks/manipulation_learn.py                                   # both, GPU sizes
     python scripts/benchmarks/manipulation_learn.py --tasks reach --num_envs 4096 --max_iterations 1000
     python scripts/benchmarks/manipulation_learn.py --tasks cabinet --num_envs 4096  # the drawer, rsl_rl
+    python scripts/benchmarks/manipulation_learn.py --tasks lift --num_envs 4096 --train_budget_s 420
+                                            # lift: train for at most 7 minutes, evaluate what it reached
     python scripts/benchmarks/manipulation_learn.py --tasks reach lift cabinet --device cpu --num_envs 8 \\
         --max_iterations 2 --eval_envs 4 --eval_seconds 8                             # a CPU smoke run
     python scripts/benchmarks/manipulation_learn.py --tasks reach --log_root logs/reach_big \\
@@ -21,13 +23,17 @@ Trailing ``env.x=v`` / ``agent.x=v`` overrides go to both the training and the e
 variant its own ``--log_root``: the evaluation plays the newest run there).
 
 Training runs as ``simlab train --task <task> --library rsl_rl --headless`` in a child process (its
-wall time is reported); the evaluation loads the newest checkpoint of that run.
+wall time is reported); the evaluation loads the newest checkpoint of that run. With ``--train_budget_s``
+the training is stopped (SIGTERM, on which it saves a checkpoint) once the budget is spent; the line
+``=== evaluating ...`` names the checkpoint, whose number is the iterations reached.
 """
 
 from __future__ import annotations
 
 import argparse
+import glob
 import os
+import signal
 import subprocess
 import sys
 import time
@@ -35,7 +41,7 @@ from typing import Any
 
 import torch
 
-from simlab.cli.main import build_parser
+from simlab.cli.main import EXIT_TERMINATED, build_parser
 from simlab.cli.play import run_play
 from simlab.cli.session import load_configs
 
@@ -135,7 +141,8 @@ def cabinet_tracker(min_opening_m: float, required: float):
     return on_step, judge
 
 
-def train(task: str, args) -> tuple[float, bool]:
+def train(task: str, args) -> tuple[float, str | None]:
+    """Train ``task`` in a child process: its wall time and, if it failed, why."""
     cmd = [sys.executable, "-m", "simlab", "train", "--task", task, "--library", "rsl_rl", "--headless"]
     cmd += ["--log_root", args.log_root, "--run_name", "learns"]
     for flag in ("num_envs", "max_iterations", "device"):
@@ -144,8 +151,27 @@ def train(task: str, args) -> tuple[float, bool]:
     cmd += args.overrides
     print(f"\n=== {' '.join(cmd[2:])}", flush=True)
     start = time.time()
-    proc = subprocess.run(cmd, env={**os.environ, "PYTHONUNBUFFERED": "1"})
-    return time.time() - start, proc.returncode == 0
+    proc = subprocess.Popen(cmd, env={**os.environ, "PYTHONUNBUFFERED": "1"})
+    try:
+        returncode = proc.wait(timeout=args.train_budget_s)
+    except subprocess.TimeoutExpired:
+        # SIGTERM makes `simlab train` save a checkpoint of the iteration it is in and exit (143)
+        print(f"\n=== training budget of {args.train_budget_s:.0f} s reached: stopping it", flush=True)
+        proc.send_signal(signal.SIGTERM)
+        returncode = proc.wait()
+        if returncode != EXIT_TERMINATED:
+            return time.time() - start, f"training exited with {returncode} when stopped"
+        checkpoint = newest_checkpoint(args.log_root)
+        if checkpoint == "none" or os.path.getmtime(checkpoint) < start:
+            return time.time() - start, "the training budget ended before training saved a checkpoint"
+        return time.time() - start, None
+    return time.time() - start, None if returncode == 0 else f"training exited with {returncode}"
+
+
+def newest_checkpoint(log_root: str) -> str:
+    """The newest rsl_rl checkpoint under ``log_root`` (what the evaluation plays)."""
+    checkpoints = glob.glob(os.path.join(log_root, "**", "model_*.pt"), recursive=True)
+    return max(checkpoints, key=os.path.getmtime) if checkpoints else "none"
 
 
 def evaluate(task: str, tracker, args) -> dict[str, Any]:
@@ -177,6 +203,12 @@ def main() -> int:
     parser.add_argument("--lift_rate", type=float, default=0.8)
     parser.add_argument("--cabinet_m", type=float, default=0.2, help="Drawer opening that counts as opened.")
     parser.add_argument("--cabinet_rate", type=float, default=0.8)
+    parser.add_argument(
+        "--train_budget_s",
+        type=float,
+        default=None,
+        help="Stop training after this many seconds (it saves a checkpoint) and evaluate that checkpoint.",
+    )
     parser.add_argument("--skip_training", action="store_true", help="Evaluate the newest runs only.")
     parser.add_argument("overrides", nargs="*", help="env.x=v / agent.x=v overrides for training and evaluation.")
     args = parser.parse_args()
@@ -187,15 +219,16 @@ def main() -> int:
     rows = []
     for name in args.tasks:
         task = TASKS[name]
-        wall, trained = (float("nan"), True) if args.skip_training else train(task, args)
-        if not trained:
-            rows.append((task, wall, "training failed", False))
+        wall, failure = (float("nan"), None) if args.skip_training else train(task, args)
+        if failure:
+            rows.append((task, wall, failure, False))
             continue
         tracker = {
             "reach": lambda: reach_tracker(args.reach_cm, args.reach_rad),
             "lift": lambda: lift_tracker(args.lift_m, args.lift_rate),
             "cabinet": lambda: cabinet_tracker(args.cabinet_m, args.cabinet_rate),
         }[name]()
+        print(f"=== evaluating {newest_checkpoint(args.log_root)}", flush=True)
         result = evaluate(task, tracker, args)
         rows.append((task, wall, result["text"], result["passed"]))
 

@@ -8,7 +8,8 @@
 Each task runs ``--steps`` env steps of uniform random actions in [-1, 1] (episodes shortened to
 ``--episode_length_s`` so that the rollout crosses resets) with buffers ``--headroom`` times what
 its config reserves, and reports the most contacts and rows any world had after a physics step,
-what the config reserves, and the ratio. ``--device cpu`` runs MuJoCo Warp's kernels on Warp's CPU
+what the config reserves, and the ratio; and the most iterations the constraint solver took in a
+world (what ``sim.mujoco.iterations`` caps). ``--device cpu`` runs MuJoCo Warp's kernels on Warp's CPU
 device (slow: keep ``--num_envs`` small). A world that diverged is reported: its counts mean nothing.
 """
 
@@ -52,6 +53,10 @@ def main(argv: list[str] | None = None) -> int:
             print(f"  {what:26s} peak {peak:5d}   {setting} {size:5d}   {ratio:5.1f}x  {verdict}")
             ok &= ratio >= args.margin
         print(f"  contacts of all worlds per world (the pooled nconmax): peak {peaks.contacts_pooled}")
+        print(
+            f"  solver iterations in one world and physics step: peak {peaks.solver_iterations}"
+            f" (sim.mujoco.iterations {reserved['iterations']})"
+        )
         ok &= diverged == 0
     return 0 if ok else 1
 

@@ -30,6 +30,9 @@ class BufferPeaks:
     ``nconmax`` must cover, since the worlds share one pool."""
     constraint_rows: int = 0
     """Most constraint rows (``nefc``) in one world: what ``njmax`` must cover."""
+    solver_iterations: int = 0
+    """Most iterations the constraint solver took in one world and physics step (``solver_niter``):
+    what ``sim.mujoco.iterations`` caps, and what a step waits for (the slowest world)."""
     samples: int = 0
     """Backend step calls sampled (one per physics step when an env steps)."""
     _backend: Any = field(default=None, repr=False)
@@ -72,6 +75,7 @@ class BufferPeaks:
             pooled = -(-num_contacts // backend.num_envs)
             self.contacts_pooled = max(self.contacts_pooled, pooled)
         self.constraint_rows = max(self.constraint_rows, int(wp.to_torch(data.nefc).max()))
+        self.solver_iterations = max(self.solver_iterations, int(wp.to_torch(data.solver_niter).max()))
         self.samples += 1
 
 
@@ -95,7 +99,7 @@ def measure_task_buffers(
 
     Returns the peaks, the number of worlds that diverged (their counts are not meaningful) and
     the sizes a run of the task reserves per world, ``{"nconmax": ..., "njmax": ...}`` (its config's,
-    or the backend's estimate where it sets none).
+    or the backend's estimate where it sets none), with its solver's ``"iterations"`` cap.
     """
     import gymnasium as gym
 
@@ -117,6 +121,7 @@ def measure_task_buffers(
             raise TypeError(f"{task} did not run on MuJoCo Warp ({type(env.sim.physics).__name__})")
         # what a run of the task reserves: its config's sizes, or the backend's estimate
         configured = {"nconmax": env.sim.physics.nconmax, "njmax": env.sim.physics.njmax}
+        iterations = cfg.sim.mujoco.iterations
         if headroom != 1:  # measure in a simulation with larger buffers
             env.close()
             cfg.sim.mujoco.nconmax = headroom * max(configured["nconmax"], 1)
@@ -131,6 +136,6 @@ def measure_task_buffers(
             env.step(torch.rand(shape, generator=actions, device=env.device) * 2 - 1)
         backend.check_overflow()
         peaks.unwatch()
-        return peaks, int(backend.diverged_count), configured
+        return peaks, int(backend.diverged_count), {**configured, "iterations": iterations}
     finally:
         env.close()
