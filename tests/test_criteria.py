@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import gymnasium as gym
+import pytest
 import torch
 
 import simlab.tasks  # noqa: F401 - registers the tasks
@@ -52,5 +53,28 @@ def test_quadcopter_criterion_counts_settled_steps_near_the_goal():
         assert counts["total"] == 4 * 11  # the first 2 s of each episode do not count
         score, passed = criterion.judge({}, counts)
         assert abs(score - 5 / 11) < 1e-6 and not passed  # hovering away from the goal, then 5 steps at it
+    finally:
+        env.close()
+
+
+def test_ant_and_humanoid_criteria_are_the_torso_speed_towards_the_target():
+    for task in ("simlab/Ant-v0", "simlab/Humanoid-v0", "simlab/Ant-Direct-v0", "simlab/Humanoid-Direct-v0"):
+        assert criterion_for(task).description == "mean torso speed towards the target >= 1 m/s"
+    with pytest.raises(ValueError, match="AMP humanoids have none"):
+        criterion_for("simlab/Humanoid-AMP-Dance-Direct-v0")
+    env = _env("simlab/Ant-v0")
+    try:
+        criterion = criterion_for("simlab/Ant-v0")
+        on_step, sums = criterion.make_hook()
+        env.step(torch.zeros(4, env.single_action_space.shape[-1]))  # dropped onto its legs: about still
+        on_step(env, None, None)
+        speed, passed = criterion.judge({}, sums)
+        assert abs(speed) < 0.3 and not passed
+        robot = env.scene["robot"]
+        running = torch.tensor([[3.0, 0.5, 0.0, 0.0, 0.0, 0.0]]).repeat(4, 1)  # 3 m/s towards +x
+        robot.write_root_velocity_to_sim(running)
+        on_step(env, None, None)
+        score, passed = criterion.judge({}, sums)
+        assert abs(score - (speed + 3.0) / 2) < 1e-5 and passed  # the mean over both steps
     finally:
         env.close()

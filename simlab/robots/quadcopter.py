@@ -10,7 +10,15 @@ ASSETS_DIR = os.path.join(os.path.dirname(__file__), "assets")
 
 CRAZYFLIE_CFG = ArticulationCfg(
     prim_path="{ENV_REGEX_NS}/Robot",
-    spawn=sim_utils.MjcfFileCfg(asset_path=os.path.join(ASSETS_DIR, "crazyflie.xml")),
+    spawn=sim_utils.MjcfFileCfg(
+        asset_path=os.path.join(ASSETS_DIR, "crazyflie.xml"),
+        # Isaac Lab's rigid-body settings. enable_gyroscopic_forces matters: it makes the scene integrate
+        # with MuJoCo's "implicit" integrator, without which an exploring policy's 700 rad/s^2 moments
+        # spin the 27 g drone up without bound in 10 ms steps (and training does not learn).
+        rigid_props=sim_utils.RigidBodyPropertiesCfg(
+            disable_gravity=False, max_depenetration_velocity=10.0, enable_gyroscopic_forces=True
+        ),
+    ),
     init_state=ArticulationCfg.InitialStateCfg(
         pos=(0.0, 0.0, 0.5),
         joint_pos={".*": 0.0},

@@ -80,6 +80,7 @@ def spawn_from_mjcf(prim_path: str, cfg: MjcfFileCfg, translation=None, orientat
     root = attach_root_body(child, prim_path, translation, orientation, fix)
     if cfg.rigid_props is not None and cfg.rigid_props.disable_gravity:
         _compensate_gravity(root)
+    _integrate_gyroscopic_forces(cfg)
     return root
 
 
@@ -89,12 +90,30 @@ def _compensate_gravity(root: mujoco.MjsBody) -> None:
         body.gravcomp = 1.0
 
 
+def _integrate_gyroscopic_forces(cfg: RigidObjectSpawnerCfg) -> None:
+    """Isaac Lab's ``enable_gyroscopic_forces``: the scene integrates with MuJoCo's ``implicit`` integrator.
+
+    The default ``implicitfast`` leaves the gyroscopic term (w x Iw) explicit. For a light body spun
+    fast (a Crazyflie, 1e-5 kg m^2, at hundreds of rad/s in 10 ms steps) that explicit term feeds
+    itself: the spin runs away to thousands of rad/s where a 10x finer step stays at a few hundred.
+    ``implicit`` takes the term's derivative into the step, as PhysX does when the flag is set.
+    Other integrators the user chose (euler, rk4) are kept.
+    """
+    if cfg.rigid_props is None or not cfg.rigid_props.enable_gyroscopic_forces:
+        return
+    option = current_spec().option
+    if option.integrator == mujoco.mjtIntegrator.mjINT_IMPLICITFAST:
+        option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICIT
+
+
 def spawn_from_urdf(prim_path: str, cfg: UrdfFileCfg, translation=None, orientation=None) -> mujoco.MjsBody:
     path = _local_file(cfg.asset_path, "URDF")
     child = mujoco.MjSpec.from_file(path)
     if not cfg.fix_base:
         child.worldbody.bodies[0].add_freejoint()
-    return attach_root_body(child, prim_path, translation, orientation)
+    root = attach_root_body(child, prim_path, translation, orientation)
+    _integrate_gyroscopic_forces(cfg)
+    return root
 
 
 def spawn_ground_plane(prim_path: str, cfg: GroundPlaneCfg, translation=None, orientation=None) -> mujoco.MjsGeom:

@@ -38,6 +38,8 @@ class RigidBodyPropertiesCfg:
     max_angular_velocity: float | None = None
     max_depenetration_velocity: float | None = None
     enable_gyroscopic_forces: bool | None = None
+    """True (on a robot file's spawner): the scene integrates with MuJoCo's ``implicit`` integrator, which
+    takes the gyroscopic term into the step, instead of the default ``implicitfast``."""
     retain_accelerations: bool | None = None
     solver_position_iteration_count: int | None = None
     solver_velocity_iteration_count: int | None = None

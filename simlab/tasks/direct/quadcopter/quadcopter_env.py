@@ -36,6 +36,7 @@ class QuadcopterEnvCfg(DirectRLEnvCfg):
     debug_vis = False  # goal markers need a viewer
 
     # simulation
+    # CRAZYFLIE_CFG's enable_gyroscopic_forces makes the scene integrate with MuJoCo's "implicit" integrator
     sim: SimulationCfg = SimulationCfg(dt=1 / 100, render_interval=decimation)
     terrain = GroundPlaneCfg(
         physics_material=sim_utils.RigidBodyMaterialCfg(static_friction=1.0, dynamic_friction=1.0, restitution=0.0)
