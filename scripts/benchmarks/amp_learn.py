@@ -209,7 +209,8 @@ def main() -> int:
     if args.video:
         play_argv += ["--video", "--video_length", str(min(steps, 300))]
     recorder = GaitRecorder(args.settle_seconds)
-    run_play(build_parser().parse_args(play_argv), [], on_step=recorder)
+    env_overrides = [o for o in overrides if o.startswith("env.")]  # the trained env's settings
+    run_play(build_parser().parse_args(play_argv), env_overrides, on_step=recorder)
     videos = sorted(glob.glob(os.path.join(run_dir, "videos", "play", "*.mp4")), key=os.path.getmtime)
     sheet = frame_sheet(videos[-1]) if args.video and videos else None
 
