@@ -196,6 +196,8 @@ def make_one(task: str, args: argparse.Namespace, log_root: str, argv: list[str]
     }
     if args.reward_threshold is not None:
         record["reward_threshold"] = args.reward_threshold
+    if args.time_budget is not None:
+        record["time_budget_s"] = args.time_budget
     if not cpu["passed"]:
         print(json.dumps(record, indent=2))
         return f"passed on {args.device} ({solved['score']:.3f}) but not on the CPU ({cpu['score']:.3f})"
