@@ -2,6 +2,9 @@
 
     python scripts/make_pretrained.py --tasks simlab/Ant-Direct-v0 simlab/Humanoid-Direct-v0 --device cuda:0
     python scripts/make_pretrained.py --tasks simlab/Cartpole-v0 --device cpu
+    python scripts/make_pretrained.py --device cuda:0 --eval_every 25 --time_budget 125 \\
+        --tasks simlab/Velocity-Flat-Unitree-Go2-v0 simlab/Velocity-Flat-Anymal-C-v0 simlab/Reach-Franka-v0
+    python scripts/make_pretrained.py --list      # every task: its criterion, whether rsl_rl trains it, shipped?
 
 For each task, ``simlab bench solve`` trains it with rsl_rl (the task's agent config; ``--num_envs``,
 ``--max_iterations`` override it) and plays every saved checkpoint on the training device, stopping
@@ -13,8 +16,13 @@ Shipped into ``<out>/<task name>/rsl_rl/``: the run's ``params/`` (its configs a
 checkpoint with the policy's weights only (what play loads; without critic and optimizer state it
 is a third of the size, so training cannot resume from it), ``exported/policy.onnx``, and
 ``record.json``: this script's command, the training command, seed, iterations, device, the
-criterion and its value on both devices, and the files' sizes. The script exits with 1 when a task
-was not shipped (not solved, or failed on the CPU).
+criterion and its value on both devices, and the files' sizes.
+
+A batch of tasks trains one after the other; ``--time_budget`` caps each task's training (its
+process is stopped there). A task that fails (not solved in its iterations or budget, failed on
+the CPU, or an error) is skipped with one ``SKIPPED`` line saying why, and the next one trains.
+Every task must have a criterion and an rsl_rl config, checked before any training starts. The
+script exits with 1 when a task was not shipped.
 """
 
 from __future__ import annotations
@@ -25,6 +33,7 @@ import json
 import os
 import shlex
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
@@ -40,7 +49,11 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
     from simlab.pretrained import PRETRAINED_DIR
 
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--tasks", nargs="+", required=True, help="Gymnasium ids of the tasks to train and ship.")
+    parser.add_argument("--tasks", nargs="+", default=None, help="Gymnasium ids of the tasks to train and ship.")
+    parser.add_argument("--list", action="store_true", help="List every task: criterion, rsl_rl config, shipped.")
+    parser.add_argument(
+        "--time_budget", type=float, default=None, help="Seconds of training per task before it is skipped."
+    )
     parser.add_argument("--device", default="cpu", help="Where to train: cpu or cuda:N.")
     parser.add_argument("--num_envs", type=int, default=None, help="Training envs (default: the task's).")
     parser.add_argument("--max_iterations", type=int, default=None, help="Give up after (default: the agent's).")
@@ -54,7 +67,14 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
     )
     parser.add_argument("--out", default=PRETRAINED_DIR, help="Where the policies go (default: the package's).")
     parser.add_argument("--log_root", default=None, help="Keep the training runs here (default: a temporary folder).")
-    return parser.parse_args(argv)
+    args = parser.parse_args(argv)
+    if not args.list and not args.tasks:
+        parser.error("give --tasks ID [ID ...] (or --list to see the tasks)")
+    return args
+
+
+class OverBudget(RuntimeError):
+    """Training did not solve the task within ``--time_budget``."""
 
 
 def train_until_solved(task: str, args: argparse.Namespace, log_root: str) -> dict[str, Any]:
@@ -67,7 +87,16 @@ def train_until_solved(task: str, args: argparse.Namespace, log_root: str) -> di
         if getattr(args, flag) is not None:
             command += [f"--{flag}", str(getattr(args, flag))]
     print(f"[make_pretrained] {shlex.join(command)}", flush=True)
-    subprocess.run(command, check=True, cwd=REPO)
+    # its own process group: the budget stops the training process and anything it started
+    child = subprocess.Popen(command, cwd=REPO, start_new_session=True)
+    try:
+        code = child.wait(timeout=args.time_budget)
+    except subprocess.TimeoutExpired:
+        os.killpg(child.pid, signal.SIGTERM)
+        child.wait()
+        raise OverBudget(f"not solved within the time budget of {args.time_budget:g} s") from None
+    if code != 0:
+        raise RuntimeError(f"training exited with status {code} (its output is above)")
     with open(result_file) as f:
         (row,) = json.load(f)["results"]["solve"]
     if "error" in row:
@@ -82,6 +111,7 @@ def evaluate_on_cpu(task: str, checkpoint: str, iteration: int, args: argparse.N
     judge = CheckpointJudge(
         task, LIBRARY, "cpu", args.cpu_eval_envs, args.eval_seconds, args.seed, args.reward_threshold
     )
+    seconds = judge.criterion.play_seconds(args.eval_seconds)
     try:
         judge(checkpoint, iteration, {"rollout": 0.0, "update": 0.0})
     finally:
@@ -90,7 +120,7 @@ def evaluate_on_cpu(task: str, checkpoint: str, iteration: int, args: argparse.N
     return {
         "device": "cpu",
         "envs": args.cpu_eval_envs,
-        "seconds": args.eval_seconds,
+        "seconds": seconds,
         "seed": args.seed,
         "score": entry["score"],
         "passed": entry["passed"],
@@ -130,12 +160,14 @@ def ship(task: str, checkpoint: str, record: dict[str, Any], out: str) -> str:
     return target
 
 
-def make_one(task: str, args: argparse.Namespace, log_root: str, argv: list[str]) -> bool:
+def make_one(task: str, args: argparse.Namespace, log_root: str, argv: list[str]) -> str | None:
+    """Train, judge and ship ``task``; None when shipped, else why not."""
+    from simlab.benchmarks.criteria import criterion_for
+
     start = time.perf_counter()
     row = train_until_solved(task, args, log_root)
     if not row["solved"]:
-        print(f"[make_pretrained] {task}: not solved ({row['criterion']}: {row['score']:.3f}); nothing shipped")
-        return False
+        return f"not solved in {row['iteration'] + 1} iterations ({row['criterion']}: {row['score']:.3f})"
     solved = next(e for e in row["evaluations"] if e["passed"])
     cpu = evaluate_on_cpu(task, solved["checkpoint"], solved["iteration"], args)
     with open(os.path.join(row["run_dir"], "params", "command.txt")) as f:
@@ -156,7 +188,7 @@ def make_one(task: str, args: argparse.Namespace, log_root: str, argv: list[str]
         "evaluation": {
             "device": args.device,
             "envs": args.eval_envs,
-            "seconds": args.eval_seconds,
+            "seconds": criterion_for(task, args.reward_threshold).play_seconds(args.eval_seconds),
             "score": solved["score"],
             "passed": True,
         },
@@ -164,12 +196,11 @@ def make_one(task: str, args: argparse.Namespace, log_root: str, argv: list[str]
     }
     if args.reward_threshold is not None:
         record["reward_threshold"] = args.reward_threshold
+    if args.time_budget is not None:
+        record["time_budget_s"] = args.time_budget
     if not cpu["passed"]:
-        print(
-            f"[make_pretrained] {task}: passed on {args.device} ({solved['score']:.3f}) but not on the CPU"
-            f" ({cpu['score']:.3f}); nothing shipped\n{json.dumps(record, indent=2)}"
-        )
-        return False
+        print(json.dumps(record, indent=2))
+        return f"passed on {args.device} ({solved['score']:.3f}) but not on the CPU ({cpu['score']:.3f})"
     target = ship(task, solved["checkpoint"], record, args.out)
     took = time.perf_counter() - start
     sizes = ", ".join(f"{name} {size / 1024:.0f} KiB" for name, size in record["files_bytes"].items())
@@ -179,25 +210,75 @@ def make_one(task: str, args: argparse.Namespace, log_root: str, argv: list[str]
         f" {took:.0f} s); {sizes}",
         flush=True,
     )
-    return True
+    return None
+
+
+def task_table() -> list[dict[str, Any]]:
+    """Every registered task but the -Play variants: its criterion (or why none), whether it has an
+    rsl_rl config (what this script trains with) and which libraries' policies are shipped."""
+    import gymnasium as gym
+
+    import simlab.tasks  # noqa: F401 - registers the tasks
+    from simlab.benchmarks.criteria import criterion_for
+    from simlab.pretrained import list_pretrained
+
+    shipped = list_pretrained()
+    rows = []
+    for task in sorted(t for t in gym.registry if t.startswith("simlab/") and "-Play-" not in t):
+        try:
+            criterion = criterion_for(task).description
+        except ValueError as e:
+            criterion = f"none: {e}"
+        rows.append(
+            {
+                "task": task,
+                "criterion": criterion,
+                "rsl_rl": "rsl_rl_cfg_entry_point" in gym.spec(task).kwargs,
+                "shipped": [lib for t, lib in shipped if t == task],
+            }
+        )
+    return rows
+
+
+def check_trainable(tasks: list[str], reward_threshold: float | None) -> None:
+    """Before hours of training start: every task exists, has a criterion and an rsl_rl config."""
+    import gymnasium as gym
+
+    from simlab.benchmarks.criteria import criterion_for
+
+    for task in tasks:
+        if task not in gym.registry:
+            raise ValueError(f"Unknown task {task}; see python scripts/make_pretrained.py --list")
+        criterion_for(task, reward_threshold)
+        if "rsl_rl_cfg_entry_point" not in gym.spec(task).kwargs:
+            raise ValueError(f"{task} has no rsl_rl config (rsl_rl_cfg_entry_point); this script trains with rsl_rl.")
 
 
 def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else argv
     args = parse_args(argv)
+    if args.list:
+        for row in task_table():
+            trains = "rsl_rl" if row["rsl_rl"] else "no rsl_rl config"
+            shipped = ", ".join(row["shipped"]) or "-"
+            print(f"{row['task']}\t{trains}\tshipped: {shipped}\t{row['criterion']}")
+        return 0
     import simlab.tasks  # noqa: F401 - registers the tasks
-    from simlab.benchmarks.criteria import criterion_for
 
-    for task in args.tasks:  # every task has a criterion before hours of training start
-        criterion_for(task, args.reward_threshold)
-    shipped = {}
+    check_trainable(args.tasks, args.reward_threshold)
+    skipped: dict[str, str | None] = {}
     with tempfile.TemporaryDirectory() as scratch:
         log_root = os.path.abspath(args.log_root or scratch)
         os.makedirs(log_root, exist_ok=True)
         for task in args.tasks:
-            shipped[task] = make_one(task, args, log_root, argv)
-    print("[make_pretrained] " + "; ".join(f"{t}: {'shipped' if ok else 'NOT shipped'}" for t, ok in shipped.items()))
-    return 0 if all(shipped.values()) else 1
+            try:
+                skipped[task] = make_one(task, args, log_root, argv)
+            except (OverBudget, RuntimeError, subprocess.SubprocessError, OSError) as e:
+                skipped[task] = str(e)
+            if skipped[task] is not None:
+                print(f"[make_pretrained] SKIPPED {task}: {skipped[task]}; nothing shipped", flush=True)
+    print("[make_pretrained] " + "; ".join(f"{t}: {'NOT shipped' if why else 'shipped'}" for t, why in skipped.items()))
+    return 0 if not any(skipped.values()) else 1
 
 
 if __name__ == "__main__":

@@ -1,6 +1,9 @@
-"""The solve criteria of the velocity and quadcopter tasks read the right quantities from the env."""
+"""The solve criteria read the right quantities from the env: velocity, quadcopter, cart double pendulum,
+Franka reach, lift and cabinet (an untrained policy fails each)."""
 
 from __future__ import annotations
+
+import math
 
 import gymnasium as gym
 import pytest
@@ -11,8 +14,11 @@ from simlab.benchmarks.criteria import criterion_for
 from simlab.tasks.utils import parse_env_cfg
 
 
-def _env(task: str, num_envs: int = 4):
-    env = gym.make(task, cfg=parse_env_cfg(task, device="cpu", num_envs=num_envs)).unwrapped
+def _env(task: str, num_envs: int = 4, **cfg_changes):
+    cfg = parse_env_cfg(task, device="cpu", num_envs=num_envs)
+    for name, value in cfg_changes.items():
+        setattr(cfg, name, value)
+    env = gym.make(task, cfg=cfg).unwrapped
     env.reset(seed=0)
     return env
 
@@ -60,7 +66,7 @@ def test_quadcopter_criterion_counts_settled_steps_near_the_goal():
 def test_ant_and_humanoid_criteria_are_the_torso_speed_towards_the_target():
     for task in ("simlab/Ant-v0", "simlab/Humanoid-v0", "simlab/Ant-Direct-v0", "simlab/Humanoid-Direct-v0"):
         assert criterion_for(task).description == "mean torso speed towards the target >= 1 m/s"
-    with pytest.raises(ValueError, match="AMP humanoids have none"):
+    with pytest.raises(ValueError, match="amp_learn.py"):
         criterion_for("simlab/Humanoid-AMP-Dance-Direct-v0")
     env = _env("simlab/Ant-v0")
     try:
@@ -78,3 +84,87 @@ def test_ant_and_humanoid_criteria_are_the_torso_speed_towards_the_target():
         assert abs(score - (speed + 3.0) / 2) < 1e-5 and passed  # the mean over both steps
     finally:
         env.close()
+
+
+def test_double_pendulum_criterion_wants_pole_and_pendulum_upright_in_the_world():
+    env = _env("simlab/Cart-Double-Pendulum-Direct-v0")
+    try:
+        criterion = criterion_for("simlab/Cart-Double-Pendulum-Direct-v0")
+        on_step, counts = criterion.make_hook()
+        robot = env.scene["robot"]
+        joints = [robot.joint_names.index(n) for n in ("cart_to_pole", "pole_to_pendulum")]
+        # upright; pole and pendulum joint cancel (pendulum upright in the world); pendulum 0.3 rad off;
+        # pole a full turn and 0.05 rad
+        angles = torch.tensor([[0.0, 0.0], [0.1, -0.1], [0.1, 0.2], [2 * math.pi + 0.05, -0.05]])
+        robot.write_joint_state_to_sim(angles, torch.zeros(4, 2), joints)
+        on_step(env, None, None)
+        assert counts == {"inside": 3, "total": 4}
+        assert criterion.judge({}, counts) == (0.75, True)
+        on_step, counts = criterion.make_hook()  # an untrained (zero) policy: both fall
+        for _ in range(round(2.0 / env.step_dt)):
+            env.step({agent: torch.zeros(4, 1) for agent in env.possible_agents})
+            on_step(env, None, None)
+        assert not criterion.judge({}, counts)[1]
+    finally:
+        env.close()
+
+
+def test_reach_criterion_takes_the_errors_at_the_end_of_each_command_window():
+    task = "simlab/Reach-Franka-v0"
+    env = _env(task, num_envs=2)
+    try:
+        criterion = criterion_for(task)
+        assert criterion.play_seconds(1.0) == 4.5  # a 4 s command window must end
+        on_step, errors = criterion.make_hook()
+        actions = torch.zeros(2, env.single_action_space.shape[-1])
+        for _ in range(round(4.5 / env.step_dt)):
+            env.step(actions)
+            on_step(env, None, None)
+        (position,), (orientation,) = errors["position"], errors["orientation"]
+        assert position.shape == orientation.shape == (2,)  # one window ended in each env
+        score, passed = criterion.judge({}, errors)
+        assert score == pytest.approx(max(float(position.mean()) / 0.02, float(orientation.mean()) / 0.1))
+        assert not passed  # standing still misses the commanded pose
+    finally:
+        env.close()
+
+
+def test_manager_based_drawer_criterion_judges_each_episode_on_its_last_step():
+    task = "simlab/Open-Drawer-Franka-v0"
+    env = _env(task, episode_length_s=0.5)
+    try:
+        criterion = criterion_for(task)
+        on_step, counts = criterion.make_hook()
+        cabinet = env.scene["cabinet"]
+        drawer = [cabinet.joint_names.index("drawer_top_joint")]
+        actions = torch.zeros(4, env.single_action_space.shape[-1])
+        for _ in range(round(0.5 / env.step_dt)):  # one episode each
+            env.step(actions)
+            # envs 0 and 1 hold the drawer open 0.3 m (an untrained arm leaves it shut in 2 and 3)
+            cabinet.write_joint_state_to_sim(torch.full((2, 1), 0.3), torch.zeros(2, 1), drawer, [0, 1])
+            on_step(env, None, None)
+        assert counts == {"success": 2, "episodes": 4}
+        assert criterion.judge({}, counts) == (0.5, False)
+    finally:
+        env.close()
+
+
+@pytest.mark.parametrize("task", ["simlab/Lift-Cube-Franka-v0", "simlab/Franka-Cabinet-Direct-v0"])
+def test_an_untrained_arm_fails_the_lift_and_cabinet_criteria(task):
+    env = _env(task, num_envs=2, episode_length_s=0.3)
+    try:
+        criterion = criterion_for(task)
+        on_step, counts = criterion.make_hook()
+        actions = torch.zeros(2, env.single_action_space.shape[-1])
+        for _ in range(round(0.3 / env.step_dt) + 1):
+            env.step(actions)
+            on_step(env, None, None)
+        assert counts == {"success": 0, "episodes": 2}
+        assert criterion.judge({}, counts) == (0.0, False)
+    finally:
+        env.close()
+
+
+def test_amp_tasks_have_no_reward_criterion():
+    with pytest.raises(ValueError, match="amp_learn.py"):
+        criterion_for("simlab/Humanoid-AMP-Walk-Direct-v0")

@@ -13,6 +13,7 @@ import os
 
 import numpy as np
 import onnxruntime
+import pytest
 import torch
 
 import simlab.pretrained
@@ -69,11 +70,38 @@ def test_make_pretrained_ships_nothing_that_misses_the_criterion(tmp_path, capsy
     out = tmp_path / "pretrained"
     assert _script().main(["--tasks", TASK, *TINY, "--out", str(out)]) == 1
     assert not out.exists()
-    assert "not solved (|pole angle| < 0.2 rad" in capsys.readouterr().out
+    printed = capsys.readouterr().out
+    assert f"SKIPPED {TASK}: not solved in 2 iterations (|pole angle| < 0.2 rad" in printed
+    assert f"{TASK}: NOT shipped" in printed
 
 
-def test_make_pretrained_refuses_a_task_without_a_criterion_before_training(tmp_path):
-    import pytest
+def test_make_pretrained_refuses_a_task_it_cannot_judge_or_train_before_training(tmp_path):
+    script = _script()
+    with pytest.raises(ValueError, match="No solve criterion for simlab/Humanoid-AMP-Walk-Direct-v0"):
+        script.main(["--tasks", TASK, "simlab/Humanoid-AMP-Walk-Direct-v0", "--out", str(tmp_path)])
+    with pytest.raises(ValueError, match="simlab/Open-Drawer-Franka-IK-Abs-v0 has no rsl_rl config"):
+        script.main(["--tasks", "simlab/Open-Drawer-Franka-IK-Abs-v0", "--out", str(tmp_path)])
+    with pytest.raises(ValueError, match="Unknown task simlab/Nope-v0"):
+        script.main(["--tasks", "simlab/Nope-v0", "--out", str(tmp_path)])
+    assert not os.listdir(tmp_path)
 
-    with pytest.raises(ValueError, match="No solve criterion for simlab/Lift-Cube-Franka-v0"):
-        _script().main(["--tasks", "simlab/Lift-Cube-Franka-v0", "--out", str(tmp_path)])
+
+def test_a_batch_skips_each_task_over_its_time_budget_with_a_line_and_goes_on(tmp_path, capsys):
+    out = tmp_path / "pretrained"
+    tasks = ["--tasks", TASK, "simlab/Cartpole-v0"]
+    assert _script().main([*tasks, *TINY, "--time_budget", "0.5", "--out", str(out)]) == 1
+    printed = capsys.readouterr().out
+    for task in (TASK, "simlab/Cartpole-v0"):  # the second trained after the first was skipped
+        assert f"SKIPPED {task}: not solved within the time budget of 0.5 s; nothing shipped" in printed
+    assert not out.exists()
+
+
+def test_the_task_list_names_every_tasks_criterion():
+    rows = {row["task"]: row for row in _script().task_table()}
+    assert len(rows) == 28 and not any("-Play-" in task for task in rows)  # 43 ids less 15 Play variants
+    assert rows["simlab/Cartpole-Direct-v0"]["shipped"] == ["rsl_rl"]
+    assert rows["simlab/Reach-Franka-OSC-v0"]["criterion"].startswith("at the end of each command window")
+    assert rows["simlab/Humanoid-AMP-Run-Direct-v0"]["criterion"].startswith("none: ")
+    assert not rows["simlab/Open-Drawer-Franka-IK-Rel-v0"]["rsl_rl"]
+    judged = [task for task, row in rows.items() if not row["criterion"].startswith("none")]
+    assert len(judged) == 25  # all but the three AMP tasks (judged by scripts/benchmarks/amp_learn.py)

@@ -2,12 +2,15 @@
 
     python scripts/benchmarks/amp_learn.py                                   # walk, the task's defaults
     python scripts/benchmarks/amp_learn.py --motion run --max_iterations 2000 --video
+    python scripts/benchmarks/amp_learn.py --device cuda:0 --num_envs 4096 --max_iterations 700 \\
+        --train_seconds 390 --video                                          # the GPU evidence run
     python scripts/benchmarks/amp_learn.py --num_envs 4 --max_iterations 3 --device cpu \\
         agent.motion_dataset.memory_size=2048 agent.reply_buffer.memory_size=2048   # a CPU smoke run
 
 Training runs as ``simlab train --task simlab/Humanoid-AMP-<Motion>-Direct-v0 --library skrl
 --algorithm AMP --headless`` in a child process (extra arguments are passed on as Hydra overrides).
-Reported:
+``--train_seconds`` stops it early with Ctrl+C's signal (training saves a checkpoint then), so a
+run fits a wall-clock budget whatever the device's speed. Reported:
 
 * the discriminator (style) reward of the rollouts, from the run's TensorBoard log
   (``Reward / Style reward (mean)``, one point per write interval): its first and last fifths and
@@ -19,7 +22,8 @@ Reported:
   nearest frame (AMP imitates a style, not a clock, so each played pose is compared with the clip
   pose closest to it; the same number for the standing zero pose is given for scale), the forward
   speed (world x, the clip's direction) and the horizontal speed beside the clip's, and the falls
-  per env-minute.
+  per env-minute;
+* with ``--video``: the play video and a PNG of six of its frames (``<video>.frames.png``) to look at.
 """
 
 from __future__ import annotations
@@ -28,6 +32,7 @@ import argparse
 import glob
 import json
 import os
+import signal
 import subprocess
 import sys
 import time
@@ -42,6 +47,30 @@ from simlab.tasks.utils import load_cfg_from_registry
 MOTIONS = ("walk", "run", "dance")
 
 
+def train(cmd: list[str], train_seconds: float | None) -> bool:
+    """Run the training command; past ``train_seconds`` send it SIGINT (it saves a checkpoint and stops).
+    True when it finished or was stopped by the budget with its checkpoint saved."""
+    child = subprocess.Popen(cmd, env={**os.environ, "PYTHONUNBUFFERED": "1"})
+    try:
+        return child.wait(timeout=train_seconds) == 0
+    except subprocess.TimeoutExpired:
+        print(f"=== training budget of {train_seconds:g} s spent: stopping it (SIGINT)", flush=True)
+        child.send_signal(signal.SIGINT)
+        return child.wait() in (0, 130)  # 130: simlab's exit status after an interrupt that saved
+
+
+def frame_sheet(video: str, count: int = 6) -> str:
+    """A PNG of ``count`` evenly spaced frames of ``video`` side by side (``<video>.frames.png``)."""
+    import imageio.v3 as iio
+    import numpy as np
+
+    frames = iio.imread(video)
+    picks = np.linspace(0, len(frames) - 1, count).round().astype(int)
+    path = video + ".frames.png"
+    iio.imwrite(path, np.concatenate([frames[i] for i in picks], axis=1))
+    return path
+
+
 def scalars(run_dir: str, tag: str) -> list[float]:
     from tensorboard.backend.event_processing.event_accumulator import EventAccumulator
 
@@ -51,7 +80,8 @@ def scalars(run_dir: str, tag: str) -> list[float]:
 
 
 def trend(values: list[float]) -> dict[str, float | list[float]]:
-    """First and last fifth means and up to 10 evenly spaced points."""
+    """First and last fifth means, the lowest point (AMP's style reward first falls as the discriminator
+    learns, then rises as the policy catches up) and up to 10 evenly spaced points."""
     if not values:
         return {}
     fifth = max(1, len(values) // 5)
@@ -59,6 +89,9 @@ def trend(values: list[float]) -> dict[str, float | list[float]]:
     return {
         "first_fifth_mean": sum(values[:fifth]) / fifth,
         "last_fifth_mean": sum(values[-fifth:]) / fifth,
+        "min": min(values),
+        "min_at_fraction": values.index(min(values)) / max(1, len(values) - 1),
+        "last": values[-1],
         "points": [round(v, 4) for v in values[::step]],
         "count": len(values),
     }
@@ -127,6 +160,9 @@ def main() -> int:
     parser.add_argument("--num_envs", type=int, default=None, help="Training envs (default: the task's).")
     parser.add_argument("--max_iterations", type=int, default=None, help="Default: the agent config's.")
     parser.add_argument("--device", default=None)
+    parser.add_argument(
+        "--train_seconds", type=float, default=None, help="Stop training after this wall time (a saved checkpoint)."
+    )
     parser.add_argument("--log_root", default="logs")
     parser.add_argument("--eval_envs", type=int, default=64)
     parser.add_argument("--eval_seconds", type=float, default=10.0)
@@ -147,7 +183,7 @@ def main() -> int:
         cmd += overrides
         print(f"=== {' '.join(cmd[2:])}", flush=True)
         start = time.time()
-        if subprocess.run(cmd, env={**os.environ, "PYTHONUNBUFFERED": "1"}).returncode != 0:
+        if not train(cmd, args.train_seconds):
             return 1
         wall = time.time() - start
 
@@ -160,6 +196,8 @@ def main() -> int:
     run_dir = runs[-1]
     checkpoints = glob.glob(os.path.join(run_dir, "checkpoints", "agent_*.pt"))
     checkpoint = max(checkpoints, key=lambda p: int(os.path.basename(p)[len("agent_") : -len(".pt")]))
+    rollouts = load_cfg_from_registry(task, "skrl_amp_cfg_entry_point")["agent"]["rollouts"]
+    iterations = int(os.path.basename(checkpoint)[len("agent_") : -len(".pt")]) // rollouts
 
     env_cfg = load_cfg_from_registry(task, "env_cfg_entry_point")
     steps = round(args.eval_seconds / (env_cfg.sim.dt * env_cfg.decimation))
@@ -171,23 +209,30 @@ def main() -> int:
     if args.video:
         play_argv += ["--video", "--video_length", str(min(steps, 300))]
     recorder = GaitRecorder(args.settle_seconds)
-    run_play(build_parser().parse_args(play_argv), [], on_step=recorder)
+    env_overrides = [o for o in overrides if o.startswith("env.")]  # the trained env's settings
+    run_play(build_parser().parse_args(play_argv), env_overrides, on_step=recorder)
+    videos = sorted(glob.glob(os.path.join(run_dir, "videos", "play", "*.mp4")), key=os.path.getmtime)
+    sheet = frame_sheet(videos[-1]) if args.video and videos else None
 
     results = {
         "task": task,
         "run_dir": run_dir,
         "checkpoint": checkpoint,
         "train_wall_s": wall,
+        "iterations": iterations,
+        "video_frames_png": sheet,
         "style_reward": trend(scalars(run_dir, STYLE_REWARD_TAG)),
         "episode_length_steps": trend(scalars(run_dir, "Episode / Total timesteps (mean)")),
         "play": {"envs": args.eval_envs, "seconds": args.eval_seconds, **recorder.summary()},
     }
     style, episodes, play = results["style_reward"], results["episode_length_steps"], results["play"]
     print(f"\n{task}: {run_dir}")
+    print(f"trained {iterations} iterations ({os.path.basename(checkpoint)}) in {wall:.0f} s of wall time")
     if style:
         print(
             f"style reward (TensorBoard points): first fifth {style['first_fifth_mean']:.3f} -> last fifth "
-            f"{style['last_fifth_mean']:.3f} ({style['count']} points; every tenth: {style['points']})"
+            f"{style['last_fifth_mean']:.3f}; lowest {style['min']:.3f} at {style['min_at_fraction']:.0%} of the run,"
+            f" last {style['last']:.3f} ({style['count']} points; every tenth: {style['points']})"
         )
     if episodes:
         print(f"episode length [steps]: {episodes['first_fifth_mean']:.1f} -> {episodes['last_fifth_mean']:.1f}")
@@ -197,6 +242,8 @@ def main() -> int:
         f"forward speed {play['forward_speed_m_s']:.3f} m/s (horizontal {play['horizontal_speed_m_s']:.3f}, "
         f"clip {play['clip_forward_speed_m_s']:.3f}); {play['falls_per_env_minute']:.2f} falls per env-minute"
     )
+    if sheet:
+        print(f"play video: {videos[-1]}; six of its frames: {sheet}")
     if args.json:
         with open(args.json, "w") as f:
             json.dump(results, f, indent=2)

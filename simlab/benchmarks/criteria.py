@@ -7,6 +7,15 @@ is at least a stated speed. A speed, not a reward: the manager-based tasks' rewa
 step time and the direct ones' are not, so one reward threshold cannot serve both.
 velocity tasks (Go2, Anymal): the base's planar velocity follows the command, mean error <= 0.25 m/s.
 quadcopter: from 2 s into an episode (the flight to the goal), within 0.3 m of it in >= 75 % of the env-steps.
+cart double pendulum: pole and pendulum both within 0.2 rad of upright in >= 75 % of the env-steps
+(episodes start up to 0.79 rad off, so the first moments of each are spent swinging them up).
+Franka reach: at the end of each command window, mean position error < 2 cm and mean orientation
+error < 0.1 rad (``scripts/benchmarks/manipulation_learn.py``'s criterion).
+Franka lift: >= 80 % of the episodes end with the cube within 5 cm of its commanded position.
+Franka cabinet (direct and manager-based): >= 80 % of the episodes end with the top drawer open >= 20 cm.
+
+Criteria that judge whole episodes or command windows state how long a play must at least last
+(``Criterion.min_seconds``); :meth:`Criterion.play_seconds` lengthens a shorter request to it.
 """
 
 from __future__ import annotations
@@ -14,6 +23,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import partial
 from typing import Any
 
 import torch
@@ -52,6 +62,11 @@ class Criterion:
     description: str
     make_hook: Callable[[], tuple[Callable | None, Any]]
     judge: Callable[[dict[str, float], Any], tuple[float, bool]]
+    min_seconds: float = 0.0  # a shorter play sees no finished episode or command window
+
+    def play_seconds(self, requested: float) -> float:
+        """How long to play for a verdict: ``requested``, or ``min_seconds`` where that is longer."""
+        return max(requested, self.min_seconds)
 
 
 def pole_upright(threshold: float = 0.2, fraction: float = 0.95) -> Criterion:
@@ -151,6 +166,138 @@ def reaches_goal(radius: float = 0.3, fraction: float = 0.75, settle_seconds: fl
     )
 
 
+def _wrapped(angle: torch.Tensor) -> torch.Tensor:
+    return torch.remainder(angle + math.pi, 2 * math.pi) - math.pi
+
+
+def double_pendulum_tracker(threshold: float) -> tuple[Callable[[Any, Any, Any], None], dict[str, int]]:
+    """An ``on_step`` hook counting env-steps with the pole and the pendulum (its angle in the world:
+    pole + pendulum joint) both within ``threshold`` of upright."""
+    counts = {"inside": 0, "total": 0}
+
+    def on_step(env, obs, actions) -> None:
+        robot = env.scene["robot"]  # the scene, not env.robot: training wraps the two agents as one
+        pole = robot.data.joint_pos[:, robot.joint_names.index("cart_to_pole")]
+        pendulum = pole + robot.data.joint_pos[:, robot.joint_names.index("pole_to_pendulum")]
+        upright = (_wrapped(pole).abs() < threshold) & (_wrapped(pendulum).abs() < threshold)
+        counts["inside"] += int(upright.sum())
+        counts["total"] += upright.numel()
+
+    return on_step, counts
+
+
+def both_poles_upright(threshold: float = 0.2, fraction: float = 0.75) -> Criterion:
+    def judge(result: dict[str, float], counts: dict[str, int]) -> tuple[float, bool]:
+        inside = counts["inside"] / max(1, counts["total"])
+        return inside, inside >= fraction
+
+    return Criterion(
+        f"pole and pendulum both within {threshold} rad of upright in >= {fraction:.0%} of steps",
+        lambda: double_pendulum_tracker(threshold),
+        judge,
+    )
+
+
+def command_window_tracker() -> tuple[Callable[[Any, Any, Any], None], dict[str, list[torch.Tensor]]]:
+    """An ``on_step`` hook keeping the reach task's position [m] and orientation [rad] errors of the
+    hand to its ``ee_pose`` command on the last step of every command window."""
+    errors: dict[str, list[torch.Tensor]] = {"position": [], "orientation": []}
+
+    def on_step(env, obs, actions) -> None:
+        from simlab.managers import SceneEntityCfg
+        from simlab.tasks.manager_based.manipulation.reach import mdp
+
+        term = env.command_manager.get_term("ee_pose")
+        ending = term.time_left <= env.step_dt * 0.5  # the command changes at the next step
+        if not bool(ending.any()):
+            return
+        hand = SceneEntityCfg("robot", body_names=[term.cfg.body_name])
+        hand.resolve(env.scene)
+        errors["position"].append(mdp.position_command_error(env, "ee_pose", hand)[ending].cpu())
+        errors["orientation"].append(mdp.orientation_command_error(env, "ee_pose", hand)[ending].cpu())
+
+    return on_step, errors
+
+
+def reaches_pose(position_m: float = 0.02, orientation_rad: float = 0.1, window_s: float = 4.0) -> Criterion:
+    """Score: the larger of the mean errors as a fraction of their tolerance (passes at < 1)."""
+
+    def judge(result: dict[str, float], errors: dict[str, list[torch.Tensor]]) -> tuple[float, bool]:
+        if not errors["position"]:
+            return math.inf, False
+        position = float(torch.cat(errors["position"]).mean())
+        orientation = float(torch.cat(errors["orientation"]).mean())
+        score = max(position / position_m, orientation / orientation_rad)
+        return score, score < 1.0
+
+    return Criterion(
+        f"at the end of each command window, mean position error < {position_m} m and mean orientation error"
+        f" < {orientation_rad} rad (score: the larger error over its tolerance, < 1)",
+        command_window_tracker,
+        judge,
+        min_seconds=window_s + 0.5,
+    )
+
+
+def episode_end_tracker(
+    succeeded: Callable[[Any], torch.Tensor],
+) -> tuple[Callable[[Any, Any, Any], None], dict[str, int]]:
+    """An ``on_step`` hook for manager-based tasks judging each episode on its last step: envs one step
+    short of their time limit are judged by ``succeeded(env)`` (a (num_envs,) bool tensor) now, as the
+    next step resets them; episodes ended early by a termination count as failed."""
+    counts = {"success": 0, "episodes": 0}
+
+    def on_step(env, obs, actions) -> None:
+        last = env.episode_length_buf >= env.max_episode_length - 1
+        if bool(last.any()):
+            counts["success"] += int((succeeded(env) & last).sum())
+            counts["episodes"] += int(last.sum())
+        counts["episodes"] += int(env.termination_manager.terminated.sum())
+
+    return on_step, counts
+
+
+def cube_near_goal(env: Any, tolerance_m: float) -> torch.Tensor:
+    from simlab.tasks.manager_based.manipulation.lift import mdp
+
+    return mdp.object_reached_goal(env, "object_pose", threshold=tolerance_m)
+
+
+def drawer_open(env: Any, min_opening_m: float) -> torch.Tensor:
+    cabinet = env.scene["cabinet"]
+    return cabinet.data.joint_pos[:, cabinet.joint_names.index("drawer_top_joint")] >= min_opening_m
+
+
+def direct_cabinet_tracker(min_opening_m: float) -> tuple[Callable[[Any, Any, Any], None], dict[str, int]]:
+    """An ``on_step`` hook for the direct cabinet: each finished episode's drawer opening, read from its
+    final observation (an episode that pulls the drawer past 39 cm ends there, open)."""
+    counts = {"success": 0, "episodes": 0}
+
+    def on_step(env, obs, actions) -> None:
+        from simlab.tasks.direct.franka_cabinet.franka_cabinet_env import DRAWER_OPENING_OBS
+
+        finished = env.reset_buf  # the envs whose episode ended in this step (already reset)
+        if not bool(finished.any()):
+            return
+        opening = env.extras["final_obs"]["policy"][:, DRAWER_OPENING_OBS]
+        counts["success"] += int((finished & (opening >= min_opening_m)).sum())
+        counts["episodes"] += int(finished.sum())
+
+    return on_step, counts
+
+
+def episodes_succeed(
+    what: str, make_hook: Callable[[], tuple[Callable, dict[str, int]]], episode_s: float, rate: float = 0.8
+) -> Criterion:
+    def judge(result: dict[str, float], counts: dict[str, int]) -> tuple[float, bool]:
+        if not counts["episodes"]:
+            return 0.0, False
+        share = counts["success"] / counts["episodes"]
+        return share, share >= rate
+
+    return Criterion(f">= {rate:.0%} of the episodes end with {what}", make_hook, judge, min_seconds=episode_s + 0.5)
+
+
 def criterion_for(task: str, reward_threshold: float | None = None) -> Criterion:
     """The criterion of ``task`` (a Gymnasium id); ``reward_threshold`` replaces the stated one."""
     if reward_threshold is not None:
@@ -161,11 +308,30 @@ def criterion_for(task: str, reward_threshold: float | None = None) -> Criterion
         return tracks_velocity()
     if "Quadcopter" in task:
         return reaches_goal()
+    if "Cart-Double-Pendulum" in task:
+        return both_poles_upright()
+    if "Reach-Franka" in task:
+        return reaches_pose()
+    if "Lift-Cube-Franka" in task:
+        hook = partial(episode_end_tracker, partial(cube_near_goal, tolerance_m=0.05))
+        return episodes_succeed("the cube within 0.05 m of its goal", hook, episode_s=5.0)
+    if "Open-Drawer-Franka" in task:
+        hook = partial(episode_end_tracker, partial(drawer_open, min_opening_m=0.2))
+        return episodes_succeed("the top drawer open >= 0.2 m", hook, episode_s=8.0)
+    if "Franka-Cabinet-Direct" in task:
+        return episodes_succeed(
+            "the top drawer open >= 0.2 m", partial(direct_cabinet_tracker, 0.2), episode_s=500 / 60
+        )
+    if "-AMP-" in task:  # its env reward is a constant; skrl's discriminator judges the motion
+        raise ValueError(
+            f"No solve criterion for {task}: AMP tasks train with skrl's AMP agent, judged by"
+            " scripts/benchmarks/amp_learn.py (joint error to the clip, speed, falls), not by a reward per step."
+        )
     for robot, min_speed in FORWARD_SPEED_THRESHOLDS.items():
-        if robot in task and "AMP" not in task:  # the AMP humanoids imitate a clip (a dance goes nowhere)
+        if robot in task:
             return runs_forward(min_speed)
     raise ValueError(
-        f"No solve criterion for {task}: the cartpole, velocity, quadcopter and {list(FORWARD_SPEED_THRESHOLDS)}"
-        " tasks have one (the AMP humanoids have none); "
+        f"No solve criterion for {task}: the cartpole, cart double pendulum, velocity, quadcopter, Franka reach,"
+        f" lift and cabinet and {list(FORWARD_SPEED_THRESHOLDS)} tasks have one; "
         "give --reward_threshold R to judge by the mean reward per env-step."
     )

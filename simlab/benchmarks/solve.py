@@ -87,7 +87,8 @@ class CheckpointJudge:
         get_library(self.library).configure(agent_cfg, args, env_cfg)
         self._env = make_env(args, env_cfg, None, single_agent=True)
         self._agent_cfg = agent_cfg
-        self._steps = max(1, round(self.eval_seconds / self._env.unwrapped.step_dt))
+        seconds = self.criterion.play_seconds(self.eval_seconds)  # whole episodes where it judges those
+        self._steps = max(1, round(seconds / self._env.unwrapped.step_dt))
 
     def __call__(self, path: str, iteration: int, seconds: dict[str, float]) -> bool:
         if any(e["checkpoint"] == path for e in self.evaluations):  # rsl_rl saves the last one twice

@@ -286,6 +286,8 @@ def train(
     except KeyboardInterrupt:
         if checkpoints is not None:
             print(f"\n[simlab] Interrupted: saved {save_now()}")
+        if getattr(agent, "writer", None) is not None:  # the TensorBoard points still queued
+            agent.writer.flush()
         raise
     except TrainingDivergedError as e:
         if checkpoints is None:

@@ -1,0 +1,61 @@
+"""scripts/benchmarks/amp_learn.py's own parts: the training budget (SIGINT, then the checkpoint the
+training saved is used), the TensorBoard trend and the PNG of the play video's frames. AMP training
+and play themselves are tested in tests/test_humanoid_amp.py."""
+
+from __future__ import annotations
+
+import importlib.util
+import os
+import sys
+
+import imageio.v3 as iio
+import numpy as np
+
+REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def _script():
+    path = os.path.join(REPO, "scripts", "benchmarks", "amp_learn.py")
+    spec = importlib.util.spec_from_file_location("amp_learn", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+# a stand-in for `simlab train`: saves on Ctrl+C's signal and exits 130, as simlab does
+INTERRUPTIBLE = """
+import sys, time
+try:
+    time.sleep(60)
+except KeyboardInterrupt:
+    open(sys.argv[1], "w").write("saved")
+    sys.exit(130)
+"""
+
+
+def test_the_training_budget_interrupts_and_the_saved_run_counts(tmp_path):
+    script = _script()
+    saved = tmp_path / "saved"
+    assert script.train([sys.executable, "-c", INTERRUPTIBLE, str(saved)], train_seconds=1.0)
+    assert saved.read_text() == "saved"
+    assert script.train([sys.executable, "-c", "pass"], train_seconds=None)  # finished on its own
+    assert not script.train([sys.executable, "-c", "raise SystemExit(1)"], train_seconds=30)  # failed
+
+
+def test_trend_reports_the_dip_and_the_rise():
+    trend = _script().trend([0.6, 0.4, 0.2, 0.1, 0.3, 0.5, 0.7, 0.8, 0.9, 1.0])
+    assert trend["first_fifth_mean"] == 0.5 and trend["last_fifth_mean"] == 0.95
+    assert trend["min"] == 0.1 and trend["min_at_fraction"] == 3 / 9 and trend["last"] == 1.0
+    assert trend["count"] == 10 and len(trend["points"]) == 10
+    assert _script().trend([]) == {}
+
+
+def test_frame_sheet_puts_six_frames_side_by_side(tmp_path):
+    video = str(tmp_path / "play.mp4")
+    frames = np.zeros((30, 64, 48, 3), dtype=np.uint8)
+    frames[:, :, :, 0] = np.arange(30, dtype=np.uint8)[:, None, None] * 8  # red grows frame by frame
+    iio.imwrite(video, frames, fps=30)
+    sheet = iio.imread(_script().frame_sheet(video))
+    assert sheet.shape == (64, 6 * 48, 3)
+    reds = [int(sheet[:, i * 48 : (i + 1) * 48, 0].mean()) for i in range(6)]
+    assert reds == sorted(reds) and reds[-1] - reds[0] > 150  # first to last frame, in order
