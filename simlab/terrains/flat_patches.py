@@ -1,13 +1,11 @@
 """Flat patches: points on a tile where a robot (or a goal) can be placed on level ground.
 
 Isaac Lab's rule, by rejection sampling: a candidate centre is drawn uniformly within ``x_range`` x
-``y_range`` around the tile's origin; the ground height is read on a ring of points ``patch_radius``
-away (one ring per radius); the candidate is kept when every one of those heights lies within
-``z_range`` of the origin's height and they differ by at most ``max_height_diff``. Isaac Lab reads 10
-points per ring; simlab reads the whole disc (the centre, and rings at a third and two thirds of the
-radius too) with points at most half a height sample apart, so a step between two ring points, or a
-bump inside the ring, is not missed.
-
+``y_range`` around the tile's origin; the ground height is read at 10 points on a ring ``patch_radius``
+away (one ring per radius) and, here, at the centre too; the candidate is kept when every one of those
+heights lies within ``z_range`` of the origin's height and they differ by at most ``max_height_diff``.
+As in Isaac Lab, only those points are read: a narrow step between two ring points, or a bump inside
+the ring, is not seen (use more radii to look inside).
 simlab reads the heights from the tile's surface itself (the height field in the model, or the boxes'
 tops), not by ray casting a mesh. The patches are returned in the world frame, the frame the terms that
 use them (a reset onto the terrain, a goal on the terrain) place things in.
@@ -22,8 +20,8 @@ import numpy as np
 
 from simlab.utils import configclass
 
-MIN_RING_POINTS = 10
-"""Height samples on each ring around a candidate centre, at least (Isaac Lab's count)."""
+RING_POINTS = 10
+"""Height samples on each ring around a candidate centre (Isaac Lab's count)."""
 CANDIDATES_PER_ROUND = 256
 MAX_ROUNDS = 200
 """At most ``MAX_ROUNDS * CANDIDATES_PER_ROUND`` candidates are tried per tile before giving up."""
@@ -58,13 +56,11 @@ def find_flat_patches(
     cfg: FlatPatchSamplingCfg,
     rng: np.random.Generator,
     where: str = "sub-terrain",
-    resolution: float = 0.1,
 ) -> np.ndarray:
     """(num_patches, 3) centres of flat patches in the tile frame (x, y in [0, size], z the ground height).
 
-    ``resolution`` is the spacing of the ground's height samples [m]; ``where`` names the tile in errors.
-    Raises a ValueError when the config is invalid or when the tile has no such patch (then the ranges,
-    radius or height tolerance must be loosened).
+    ``where`` names the tile in errors. Raises a ValueError when the config is invalid or when the tile
+    has no such patch (then the ranges, radius or height tolerance must be loosened).
     """
     check_cfg(cfg, where)
     radii = np.atleast_1d(np.asarray(cfg.patch_radius, dtype=np.float64))
@@ -79,12 +75,8 @@ def find_flat_patches(
             " widen the ranges"
         )
     low_z, high_z = origin[2] + cfg.z_range[0], origin[2] + cfg.z_range[1]
-    rings = [np.zeros((1, 2))]
-    for radius in np.unique(np.concatenate([radii, radii / 3, 2 * radii / 3])):
-        count = max(MIN_RING_POINTS, int(np.ceil(2 * np.pi * radius / (0.5 * resolution))))
-        angles = np.linspace(0.0, 2 * np.pi, count, endpoint=False)
-        rings.append(radius * np.stack([np.cos(angles), np.sin(angles)], -1))
-    ring = np.concatenate(rings)
+    angles = np.linspace(0.0, 2 * np.pi, RING_POINTS, endpoint=False)
+    ring = np.concatenate([np.zeros((1, 2)), *(r * np.stack([np.cos(angles), np.sin(angles)], -1) for r in radii)])
 
     found: list[np.ndarray] = []
     for _ in range(MAX_ROUNDS):

@@ -27,7 +27,7 @@ from .flat_patches import check_cfg, find_flat_patches
 from .height_field import HfTerrainBaseCfg
 from .sub_terrain_cfg import SubTerrainBaseCfg, TileGeometry
 from .terrain_generator_cfg import TerrainGeneratorCfg
-from .tile_surface import box_tile_spacing, height_at, height_grid, terrain_mesh
+from .tile_surface import height_at, height_grid, terrain_mesh
 
 if TYPE_CHECKING:
     import trimesh
@@ -131,19 +131,10 @@ class TerrainGenerator:
                     continue
                 where = f"TerrainGeneratorCfg.sub_terrains['{tile.kind}'].flat_patch_sampling['{name}'] on tile" \
                     f" (row {tile.row}, col {tile.col})"  # fmt: skip
-                found = find_flat_patches(
-                    surface, self.cfg.size, tile.geometry.origin, sampling[name], rng, where, self._resolution(tile)
-                )
+                found = find_flat_patches(surface, self.cfg.size, tile.geometry.origin, sampling[name], rng, where)
                 # a sub-terrain asking for fewer patches than another repeats its own to fill the slots
                 slots[tile.row, tile.col] = found[np.arange(len(slots[tile.row, tile.col])) % len(found)] + shift
         return {name: torch.tensor(p, dtype=torch.float32, device=self.device) for name, p in patches.items()}
-
-    def _resolution(self, tile: Tile) -> float:
-        """Spacing of the height samples of ``tile`` in the model [m] (box geoms: the finest spacing)."""
-        if tile.geometry.heights is not None:
-            return self.cfg.horizontal_scale
-        return box_tile_spacing(self.cfg) if self.tile_heights(tile) is not None else min(
-            self.cfg.horizontal_scale, box_tile_spacing(self.cfg))  # fmt: skip
 
     @cached_property
     def terrain_mesh(self) -> trimesh.Trimesh:
