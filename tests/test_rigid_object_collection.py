@@ -110,6 +110,13 @@ def test_shapes_names_and_defaults(collection):
     np.testing.assert_allclose(data.default_inertia[1].numpy(), np.stack(expected).reshape(3, 9), atol=1e-6)
     # the initial positions are the configs', in each env's frame
     torch.testing.assert_close(data.object_link_pos_w - scene.env_origins[:, None], data.default_object_state[..., :3])
+    # Isaac Lab 3.0 calls the objects bodies: same quantities under its names
+    assert objects.num_bodies == 3 and objects.body_names == objects.object_names
+    assert objects.find_bodies("block") == ([2], ["block"])
+    torch.testing.assert_close(data.body_link_pose_w, data.object_link_pose_w)
+    torch.testing.assert_close(data.body_com_vel_w, data.object_com_vel_w)
+    torch.testing.assert_close(data.default_body_pose, data.default_object_state[..., :7])
+    torch.testing.assert_close(data.body_mass, data.default_mass[..., 0])
 
 
 def test_free_fall_matches_the_discrete_integrator(collection):
@@ -146,6 +153,8 @@ def test_com_frame_writes_and_reads_match_scipy(collection):
     got = Rotation.from_quat(np.roll(data.object_link_quat_w[:, 2].numpy(), -1, axis=-1))
     assert (got * link_rot.inv()).magnitude().max() < 1e-5
     np.testing.assert_allclose(data.object_com_pose_w[:, 2].numpy(), pose.numpy(), atol=1e-5)
+    objects.write_body_com_pose_to_sim(pose[:, None], body_ids=[0])  # Isaac Lab 3.0's name, another object
+    np.testing.assert_allclose(data.body_com_pose_w[:, 0].numpy(), pose.numpy(), atol=1e-5)
 
     lin, ang = rng.uniform(-1, 1, (NUM_ENVS, 3)), rng.uniform(-3, 3, (NUM_ENVS, 3))
     velocity = torch.tensor(np.concatenate([lin, ang], -1), dtype=torch.float32)

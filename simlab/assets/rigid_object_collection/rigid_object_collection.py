@@ -96,6 +96,10 @@ class RigidObjectCollection:
     def object_names(self) -> list[str]:
         return self._object_names
 
+    # Isaac Lab 3.0's names: the objects are the collection's bodies
+    num_bodies = num_objects
+    body_names = object_names
+
     @property
     def _ALL_ENV_INDICES(self) -> torch.Tensor:  # noqa: N802 - Isaac Lab's name
         return torch.arange(self.num_instances, dtype=torch.long, device=self.device)
@@ -125,6 +129,8 @@ class RigidObjectCollection:
     def find_objects(self, name_keys: str | Sequence[str], preserve_order: bool = False) -> tuple[list[int], list[str]]:
         """Indices and names of the objects matching names or regexes (errors list what exists)."""
         return resolve_matching_names(name_keys, self.object_names, preserve_order)
+
+    find_bodies = find_objects
 
     def _env_obj_ids_to_view_ids(self, env_ids: torch.Tensor, object_ids: torch.Tensor) -> torch.Tensor:
         """Isaac Lab's flat index of (env, object) pairs, objects major (``object * num_envs + env``),
@@ -240,6 +246,32 @@ class RigidObjectCollection:
             rigid_object.write_root_velocity_to_sim(torch.cat([link_lin, velocity[:, 3:6]], dim=-1), env_ids)
 
     write_object_velocity_to_sim = write_object_com_velocity_to_sim
+
+    # Isaac Lab 3.0's names for the same writes (``body_ids`` are object ids)
+    def write_body_state_to_sim(self, body_states: torch.Tensor, env_ids: EnvIds = None, body_ids=None) -> None:
+        self.write_object_state_to_sim(body_states, env_ids, body_ids)
+
+    def write_body_link_state_to_sim(self, body_states: torch.Tensor, env_ids: EnvIds = None, body_ids=None) -> None:
+        self.write_object_link_state_to_sim(body_states, env_ids, body_ids)
+
+    def write_body_com_state_to_sim(self, body_states: torch.Tensor, env_ids: EnvIds = None, body_ids=None) -> None:
+        self.write_object_com_state_to_sim(body_states, env_ids, body_ids)
+
+    def write_body_link_pose_to_sim(self, body_poses: torch.Tensor, env_ids: EnvIds = None, body_ids=None) -> None:
+        self.write_object_link_pose_to_sim(body_poses, env_ids, body_ids)
+
+    write_body_pose_to_sim = write_body_link_pose_to_sim
+
+    def write_body_com_pose_to_sim(self, body_poses: torch.Tensor, env_ids: EnvIds = None, body_ids=None) -> None:
+        self.write_object_com_pose_to_sim(body_poses, env_ids, body_ids)
+
+    def write_body_com_velocity_to_sim(self, body_vels: torch.Tensor, env_ids: EnvIds = None, body_ids=None) -> None:
+        self.write_object_com_velocity_to_sim(body_vels, env_ids, body_ids)
+
+    write_body_velocity_to_sim = write_body_com_velocity_to_sim
+
+    def write_body_link_velocity_to_sim(self, body_vels: torch.Tensor, env_ids: EnvIds = None, body_ids=None) -> None:
+        self.write_object_link_velocity_to_sim(body_vels, env_ids, body_ids)
 
     # -- helpers ----------------------------------------------------------------------------------
 

@@ -2,6 +2,8 @@
 
 Every field is read live from the objects' own data and stacked on an object axis:
 ``(num_envs, num_objects, ...)``. Nothing is cached, so a field is current whenever it is read.
+Isaac Lab 3.0 calls the objects bodies (``body_link_pose_w``, ``default_body_pose``, ...); both names
+are here, with simlab's quaternion convention (w, x, y, z) throughout.
 """
 
 from __future__ import annotations
@@ -170,3 +172,56 @@ class RigidObjectCollectionData:
     def heading_w(self) -> torch.Tensor:
         forward = math_utils.quat_apply(self.object_link_quat_w, self.FORWARD_VEC_B)
         return torch.atan2(forward[..., 1], forward[..., 0])
+
+    # -- Isaac Lab 3.0's names: the objects are the collection's bodies ---------------------------
+
+    body_link_pos_w = object_link_pos_w
+    body_link_quat_w = object_link_quat_w
+    body_link_pose_w = object_link_pose_w
+    body_link_lin_vel_w = object_link_lin_vel_w
+    body_link_ang_vel_w = object_link_ang_vel_w
+    body_link_vel_w = object_link_vel_w
+    body_link_state_w = object_link_state_w
+    body_link_lin_vel_b = object_link_lin_vel_b
+    body_link_ang_vel_b = object_link_ang_vel_b
+    body_com_pos_w = object_com_pos_w
+    body_com_quat_w = object_com_quat_w
+    body_com_pose_w = object_com_pose_w
+    body_com_lin_vel_w = object_com_lin_vel_w
+    body_com_ang_vel_w = object_com_ang_vel_w
+    body_com_vel_w = object_com_vel_w
+    body_com_state_w = object_com_state_w
+    body_com_lin_vel_b = object_com_lin_vel_b
+    body_com_ang_vel_b = object_com_ang_vel_b
+    body_com_pos_b = com_pos_b = object_com_pos_b
+    body_com_quat_b = com_quat_b = object_com_quat_b
+    body_pos_w = object_pos_w
+    body_quat_w = object_quat_w
+    body_pose_w = object_pose_w
+    body_lin_vel_w = object_lin_vel_w
+    body_ang_vel_w = object_ang_vel_w
+    body_vel_w = object_vel_w
+    body_state_w = object_state_w
+
+    @property
+    def default_body_pose(self) -> torch.Tensor:
+        """(num_envs, num_objects, 7) the configs' initial link poses, env frame."""
+        return self.default_object_state[..., :7]
+
+    @property
+    def default_body_vel(self) -> torch.Tensor:
+        """(num_envs, num_objects, 6) the configs' initial com velocities."""
+        return self.default_object_state[..., 7:]
+
+    default_object_pose = default_body_pose
+    default_object_vel = default_body_vel
+    default_body_state = property(lambda self: self.default_object_state)
+
+    @property
+    def body_mass(self) -> torch.Tensor:
+        """(num_envs, num_objects) masses [kg] of each world's model."""
+        return torch.stack([o.data.body_mass[:, 0] for o in self._collection._objects], dim=1)
+
+    @property
+    def body_names(self) -> list[str]:
+        return self.object_names
