@@ -9,6 +9,7 @@ import time
 import numpy as np
 import pytest
 import torch
+import yaml
 
 from simlab.utils import configclass, set_seed
 from simlab.utils.assets import check_file_path, retrieve_file_path
@@ -42,11 +43,28 @@ def test_dump_yaml_creates_dirs_and_handles_types(tmp_path):
     back = load_yaml(path)
     assert back["fn"] == f"{os.path.join.__module__}:join"
     assert back["cls"] == f"{__name__}:SimCfg"
-    assert back["tuple"] == [1, 2]
+    assert back["tuple"] == (1, 2)
     assert back["np_scalar"] == 1.5 and back["np_array"] == [0, 1, 2]
     assert back["torch_scalar"] == 2.5 and back["torch_vec"] == [1.0, 2.0]
-    assert back["nested"]["cfg"] == {"dt": 0.005, "gravity": [0.0, 0.0, -9.81], "device": "cpu"}
+    assert back["nested"]["cfg"] == {"dt": 0.005, "gravity": (0.0, 0.0, -9.81), "device": "cpu"}
     assert back["missing"] == "???"
+
+
+def test_yaml_tuples_round_trip_with_pyyamls_tuple_tag(tmp_path):
+    data = {"pos": (0.0, 1.0), "mixed": [(1, 2), [3, (4,)]], "empty": (), "nested": {"t": ((1, 2), "a")}}
+    dump_yaml(tmp_path / "t.yaml", data)
+    text = (tmp_path / "t.yaml").read_text()
+    assert "!!python/tuple" in text
+    back = load_yaml(tmp_path / "t.yaml")
+    assert back == data and type(back["mixed"][1][1]) is tuple and type(back["mixed"][1]) is list
+    # PyYAML's own full loader (what Isaac Lab reads its configs with) reads the same values
+    assert yaml.full_load(text) == data
+    # an Isaac Lab file's tuples load; any other python tag is refused, not constructed
+    (tmp_path / "isaac.yaml").write_text("eye: !!python/tuple\n- 7.5\n- 7.5\n- 7.5\n")
+    assert load_yaml(tmp_path / "isaac.yaml") == {"eye": (7.5, 7.5, 7.5)}
+    (tmp_path / "evil.yaml").write_text("x: !!python/object/apply:os.getcwd []\n")
+    with pytest.raises(yaml.constructor.ConstructorError, match="python/object/apply"):
+        load_yaml(tmp_path / "evil.yaml")
 
 
 def test_dump_yaml_configclass_keeps_field_order(tmp_path):

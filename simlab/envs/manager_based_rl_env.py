@@ -82,11 +82,12 @@ class ManagerBasedRLEnv(ManagerBasedEnv, gym.Env):
         for group, names in om.active_terms.items():
             if om.group_obs_concatenate[group]:
                 self.single_observation_space[group] = gym.spaces.Box(-np.inf, np.inf, shape=om.group_obs_dim[group])
-            else:
+            else:  # a term's clip range bounds its space (Isaac Lab's)
+                terms = zip(names, om.group_obs_term_dim[group], om._group_obs_term_cfgs[group])
                 self.single_observation_space[group] = gym.spaces.Dict(
                     {
-                        name: gym.spaces.Box(-np.inf, np.inf, shape=dim)
-                        for name, dim in zip(names, om.group_obs_term_dim[group])
+                        name: gym.spaces.Box(*((-np.inf, np.inf) if cfg.clip is None else cfg.clip), shape=dim)
+                        for name, dim, cfg in terms
                     }
                 )
         self.single_action_space = gym.spaces.Box(-np.inf, np.inf, shape=(self.action_manager.total_action_dim,))

@@ -13,7 +13,15 @@ from dataclasses import fields
 
 import torch
 
-from simlab.assets import Articulation, ArticulationCfg, AssetBaseCfg, RigidObject, RigidObjectCfg
+from simlab.assets import (
+    Articulation,
+    ArticulationCfg,
+    AssetBaseCfg,
+    RigidObject,
+    RigidObjectCfg,
+    RigidObjectCollection,
+    RigidObjectCollectionCfg,
+)
 from simlab.assets.asset_base import check_asset_cfg
 from simlab.sensors import SensorBase, SensorBaseCfg
 from simlab.sim import SimulationContext
@@ -75,6 +83,7 @@ class InteractiveScene:
             sim.env_origins = self._terrain.env_origins
         self.articulations: dict[str, Articulation] = {}
         self.rigid_objects: dict[str, RigidObject] = {}
+        self.rigid_object_collections: dict[str, RigidObjectCollection] = {}
         self.sensors: dict[str, SensorBase] = {}
         self.extras: dict[str, AssetBaseCfg] = {}
         self._add_entities_from_cfg()
@@ -123,7 +132,11 @@ class InteractiveScene:
             entity.reset(env_ids)
 
     def write_data_to_sim(self) -> None:
-        for asset in (*self.articulations.values(), *self.rigid_objects.values()):
+        for asset in (
+            *self.articulations.values(),
+            *self.rigid_objects.values(),
+            *self.rigid_object_collections.values(),
+        ):
             asset.write_data_to_sim()
 
     def update(self, dt: float) -> None:
@@ -181,12 +194,13 @@ class InteractiveScene:
 
     def keys(self) -> list[str]:
         terrain = [self._terrain_name] if self._terrain is not None else []
-        return [*terrain, *self.articulations, *self.rigid_objects, *self.sensors, *self.extras]
+        groups = (self.articulations, self.rigid_objects, self.rigid_object_collections, self.sensors, self.extras)
+        return [*terrain, *(name for group in groups for name in group)]
 
     def __getitem__(self, key: str):
         if self._terrain is not None and key == self._terrain_name:
             return self._terrain
-        for group in (self.articulations, self.rigid_objects, self.sensors, self.extras):
+        for group in (self.articulations, self.rigid_objects, self.rigid_object_collections, self.sensors, self.extras):
             if key in group:
                 return group[key]
         hint = closest_matches(key, self.keys())
@@ -206,12 +220,20 @@ class InteractiveScene:
             ("extra", self.extras),
         ):
             lines += [f"  {name}: {kind} at {getattr(obj, 'cfg', obj).prim_path}" for name, obj in group.items()]
+        for name, collection in self.rigid_object_collections.items():
+            paths = [o.cfg.prim_path for o in collection.rigid_objects.values()]
+            lines.append(f"  {name}: rigid object collection of {paths}")
         return "\n".join(lines)
 
     # -- building ---------------------------------------------------------------------------------
 
     def _entities(self):
-        return (*self.articulations.values(), *self.rigid_objects.values(), *self.sensors.values())
+        return (
+            *self.articulations.values(),
+            *self.rigid_objects.values(),
+            *self.rigid_object_collections.values(),
+            *self.sensors.values(),
+        )
 
     def _import_terrain(self):
         """The terrain importer of the config's TerrainImporterCfg field, built first (as Isaac Lab
@@ -237,6 +259,13 @@ class InteractiveScene:
         for f in fields(self.cfg):
             value = getattr(self.cfg, f.name)
             if f.name in base_fields or value is None:
+                continue
+            if isinstance(value, RigidObjectCollectionCfg):
+                objects = {
+                    name: c.replace(prim_path=c.prim_path.format(ENV_REGEX_NS=ENV_REGEX_NS))
+                    for name, c in value.rigid_objects.items()
+                }
+                self.rigid_object_collections[f.name] = value.class_type(value.replace(rigid_objects=objects))
                 continue
             if not isinstance(value, (AssetBaseCfg, SensorBaseCfg)):
                 continue

@@ -7,6 +7,7 @@ from .box_terrains import (
     MeshRandomGridTerrainCfg,
 )
 from .config import FLAT_TERRAINS_CFG, ROUGH_TERRAINS_CFG
+from .flat_patches import FlatPatchSamplingCfg, find_flat_patches
 from .height_field import (
     HfInvertedPyramidSlopedTerrainCfg,
     HfPyramidSlopedTerrainCfg,
@@ -21,6 +22,7 @@ from .terrain_importer_cfg import TerrainImporterCfg
 
 __all__ = [
     "FLAT_TERRAINS_CFG",
+    "FlatPatchSamplingCfg",
     "ROUGH_TERRAINS_CFG",
     "HfInvertedPyramidSlopedTerrainCfg",
     "HfPyramidSlopedTerrainCfg",
@@ -36,5 +38,6 @@ __all__ = [
     "TerrainImporter",
     "TerrainImporterCfg",
     "TileGeometry",
+    "find_flat_patches",
     "generate_terrain",
 ]

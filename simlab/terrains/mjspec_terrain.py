@@ -13,7 +13,6 @@ import numpy as np
 
 from simlab.sim.spawners.materials import MdlFileCfg, PreviewSurfaceCfg, RigidBodyMaterialCfg
 
-from .box_terrains import boxes_to_heights
 from .terrain_generator import TerrainGenerator
 
 HFIELD_BASE_DEPTH = 1.0
@@ -68,10 +67,8 @@ def add_terrain_to_spec(
     for tile in terrain.tiles:
         tile_name = f"{name}/tile_{tile.row}_{tile.col}"
         shift = np.array([*tile.corner, 0.0])
-        heights = tile.geometry.heights
-        if len(tile.geometry.boxes) > 1 and terrain.cfg.box_tiles_as == "height_field":  # a flat tile stays one box
-            heights = boxes_to_heights(tile.geometry.boxes, terrain.cfg.size, box_tile_spacing(terrain.cfg))
-        else:
+        heights = terrain.tile_heights(tile)
+        if heights is None or tile.geometry.heights is not None:
             for i, (centre, size) in enumerate(tile.geometry.boxes):
                 add_box(f"{tile_name}/box_{i}", centre + shift, size)
         if heights is not None:
@@ -84,11 +81,6 @@ def add_terrain_to_spec(
         for geom, rgba in zip(coloured, terrain_colors(scheme, tops, np.random.default_rng(terrain.seed)), strict=True):
             geom.material, geom.rgba = "", rgba.tolist()
     return geoms
-
-
-def box_tile_spacing(cfg) -> float:
-    """Sample spacing of box tiles built as height fields [m]."""
-    return cfg.box_height_field_scale or cfg.horizontal_scale
 
 
 def surface_height(spec: mujoco.MjSpec, geom: mujoco.MjsGeom) -> float:

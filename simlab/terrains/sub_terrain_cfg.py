@@ -37,7 +37,8 @@ class SubTerrainBaseCfg:
     size: tuple[float, float] = (10.0, 10.0)
     """Tile size along x and y [m]; set by the terrain generator."""
     flat_patch_sampling: dict | None = None
-    """Isaac Lab's flat-patch sampling; not supported yet (must stay None)."""
+    """Name -> :class:`~simlab.terrains.FlatPatchSamplingCfg`: flat spots to find on each tile of this
+    kind (the generator's ``flat_patches[name]``); None: none."""
 
 
 def difficulty_lerp(value_range: tuple[float, float], difficulty: float) -> float:

@@ -38,6 +38,8 @@ class TerrainImporter:
         self.name = entity_name(cfg.prim_path)
         self.terrain_origins: torch.Tensor | None = None
         self.terrain_generator = None
+        self.flat_patches: dict[str, torch.Tensor] = {}
+        """Isaac Lab's: name -> (num_rows, num_cols, num_patches, 3) flat spots on the tiles, world frame."""
         if cfg.terrain_type == "generator":
             if cfg.terrain_generator is None:
                 raise ValueError("TerrainImporterCfg.terrain_type='generator' needs a terrain_generator config")
@@ -45,6 +47,7 @@ class TerrainImporter:
             from .terrain_generator import generate_terrain
 
             self.terrain_generator = generate_terrain(cfg.terrain_generator)
+            self.flat_patches = {name: p.to(device) for name, p in self.terrain_generator.flat_patches.items()}
             add_terrain_to_spec(
                 current_spec(), self.terrain_generator, self.name, cfg.physics_material, cfg.visual_material
             )

@@ -17,7 +17,34 @@ import yaml
 
 from simlab.utils.dict import MISSING_STR, _value_to_plain, class_to_dict
 
-__all__ = ["atomic_path", "atomic_torch_saves", "dump_pickle", "dump_yaml", "load_pickle", "load_yaml", "write_text"]
+__all__ = [
+    "ConfigYamlDumper",
+    "ConfigYamlLoader",
+    "atomic_path",
+    "atomic_torch_saves",
+    "dump_pickle",
+    "dump_yaml",
+    "load_pickle",
+    "load_yaml",
+    "write_text",
+]
+
+TUPLE_TAG = "tag:yaml.org,2002:python/tuple"
+"""PyYAML's tag for a tuple (``!!python/tuple``), the one Isaac Lab's dumped configs carry."""
+
+
+class ConfigYamlDumper(yaml.SafeDumper):
+    """PyYAML's safe dumper that writes tuples with the ``!!python/tuple`` tag, so a config's
+    tuples come back as tuples (as in Isaac Lab's ``params/env.yaml``)."""
+
+
+class ConfigYamlLoader(yaml.SafeLoader):
+    """PyYAML's safe loader plus the ``!!python/tuple`` tag (and no other python tag): it reads
+    Isaac Lab's and simlab's dumped configs without constructing arbitrary objects."""
+
+
+ConfigYamlDumper.add_representer(tuple, lambda dumper, data: dumper.represent_sequence(TUPLE_TAG, data))
+ConfigYamlLoader.add_constructor(TUPLE_TAG, lambda loader, node: tuple(loader.construct_sequence(node, deep=True)))
 
 
 def _fsync_dir(folder: str) -> None:
@@ -98,7 +125,9 @@ def _to_yaml_ready(value: Any) -> Any:
         return MISSING_STR
     if isinstance(value, dict):
         return {str(k): _to_yaml_ready(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
+    if isinstance(value, tuple):
+        return tuple(_to_yaml_ready(v) for v in value)
+    if isinstance(value, list):
         return [_to_yaml_ready(v) for v in value]
     if hasattr(value, "tolist"):  # torch tensors
         return value.tolist()
@@ -119,7 +148,8 @@ def dump_yaml(filename: str | os.PathLike, data: Any, sort_keys: bool = False) -
     """Write a dict or a configclass to ``filename`` (``.yaml`` is appended if missing).
 
     Parent directories are created. Callables and classes are written as ``"module:qualname"``,
-    tuples as lists, numpy/torch values as numbers or lists, ``MISSING`` as ``"???"``.
+    tuples as ``!!python/tuple`` sequences (Isaac Lab's files have them; :func:`load_yaml` reads them
+    back as tuples), numpy/torch values as numbers or lists, ``MISSING`` as ``"???"``.
     """
     if dataclasses.is_dataclass(data) and not isinstance(data, type):
         data = class_to_dict(data)
@@ -127,16 +157,16 @@ def dump_yaml(filename: str | os.PathLike, data: Any, sort_keys: bool = False) -
         raise TypeError(f"dump_yaml expects a dict or a configclass instance, got {type(data).__name__}.")
     filename = _prepare_path(filename, ".yaml")
     with atomic_path(filename) as tmp, open(tmp, "w") as f:
-        yaml.safe_dump(_to_yaml_ready(data), f, default_flow_style=False, sort_keys=sort_keys)
+        yaml.dump(_to_yaml_ready(data), f, Dumper=ConfigYamlDumper, default_flow_style=False, sort_keys=sort_keys)
 
 
 def load_yaml(filename: str | os.PathLike) -> dict:
-    """Read a yaml file into a dict (an empty file gives ``{}``)."""
+    """Read a yaml file into a dict (an empty file gives ``{}``); ``!!python/tuple`` gives a tuple."""
     filename = os.fspath(filename)
     if not os.path.isfile(filename):
         raise FileNotFoundError(f"yaml file not found: '{filename}'.")
     with open(filename) as f:
-        data = yaml.safe_load(f)
+        data = yaml.load(f, Loader=ConfigYamlLoader)  # noqa: S506 - a safe loader plus the tuple tag
     return {} if data is None else data
 
 

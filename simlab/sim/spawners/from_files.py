@@ -178,6 +178,8 @@ class UsdFileCfg(FileCfg):
 
     func: object = _usd_unsupported
     usd_path: str = MISSING
+    asset_path: str | None = None
+    """Unused: a USD file is named by ``usd_path`` (and refused when spawned, saying what to use)."""
 
 
 @configclass

@@ -12,6 +12,7 @@ import gymnasium as gym
 import yaml
 
 from simlab.utils.errors import ConfigError
+from simlab.utils.io import ConfigYamlLoader
 from simlab.utils.string import closest_matches
 
 __all__ = ["get_checkpoint_path", "load_cfg_from_registry", "parse_env_cfg", "registered_task_ids"]
@@ -57,10 +58,10 @@ def _load_entry_point(entry_point: Any, what: str) -> Any:
         if not os.path.isfile(path):
             raise FileNotFoundError(f"{what}: the file '{path}' does not exist.")
         with open(path) as f:
-            return yaml.safe_load(f) or {}
+            return yaml.load(f, Loader=ConfigYamlLoader) or {}  # noqa: S506 - safe, plus tuples
     if entry_point.endswith((".yaml", ".yml")):
         with open(entry_point) as f:
-            return yaml.safe_load(f) or {}
+            return yaml.load(f, Loader=ConfigYamlLoader) or {}  # noqa: S506 - safe, plus tuples
     if not attr:
         raise ValueError(f"{what}: expected 'module:ClassName' or 'module:file.yaml', got '{entry_point}'.")
     obj: Any = importlib.import_module(module_name)
