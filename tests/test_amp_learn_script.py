@@ -1,4 +1,4 @@
-"""scripts/benchmarks/amp_learn.py's own parts: the training budget (SIGINT, then the checkpoint the
+"""scripts/benchmarks/amp_learn.py's own parts: the training budget (SIGTERM, then the checkpoint the
 training saved is used), the TensorBoard trend and the PNG of the play video's frames. AMP training
 and play themselves are tested in tests/test_humanoid_amp.py."""
 
@@ -22,14 +22,19 @@ def _script():
     return module
 
 
-# a stand-in for `simlab train`: saves on Ctrl+C's signal and exits 130, as simlab does
+# a stand-in for `simlab train`: saves on SIGTERM and exits 143, as simlab does; SIGINT is ignored,
+# as in a process started from a background shell job (the budget must still stop it)
 INTERRUPTIBLE = """
-import sys, time
+import signal, sys, time
+signal.signal(signal.SIGINT, signal.SIG_IGN)
+def terminated(signum, frame):
+    raise KeyboardInterrupt
+signal.signal(signal.SIGTERM, terminated)
 try:
     time.sleep(60)
 except KeyboardInterrupt:
     open(sys.argv[1], "w").write("saved")
-    sys.exit(130)
+    sys.exit(143)
 """
 
 

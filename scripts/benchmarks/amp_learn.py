@@ -9,7 +9,7 @@
 
 Training runs as ``simlab train --task simlab/Humanoid-AMP-<Motion>-Direct-v0 --library skrl
 --algorithm AMP --headless`` in a child process (extra arguments are passed on as Hydra overrides).
-``--train_seconds`` stops it early with Ctrl+C's signal (training saves a checkpoint then), so a
+``--train_seconds`` stops it early with SIGTERM (training saves a checkpoint then), so a
 run fits a wall-clock budget whatever the device's speed. Reported:
 
 * the discriminator (style) reward of the rollouts, from the run's TensorBoard log
@@ -48,15 +48,19 @@ MOTIONS = ("walk", "run", "dance")
 
 
 def train(cmd: list[str], train_seconds: float | None) -> bool:
-    """Run the training command; past ``train_seconds`` send it SIGINT (it saves a checkpoint and stops).
-    True when it finished or was stopped by the budget with its checkpoint saved."""
+    """Run the training command; past ``train_seconds`` send it SIGTERM (it saves a checkpoint and stops).
+    True when it finished or was stopped by the budget with its checkpoint saved.
+
+    SIGTERM, not SIGINT: a process started from a background shell job inherits SIGINT ignored,
+    and Python then never turns it into ``KeyboardInterrupt``; `simlab train` handles SIGTERM itself.
+    """
     child = subprocess.Popen(cmd, env={**os.environ, "PYTHONUNBUFFERED": "1"})
     try:
         return child.wait(timeout=train_seconds) == 0
     except subprocess.TimeoutExpired:
-        print(f"=== training budget of {train_seconds:g} s spent: stopping it (SIGINT)", flush=True)
-        child.send_signal(signal.SIGINT)
-        return child.wait() in (0, 130)  # 130: simlab's exit status after an interrupt that saved
+        print(f"=== training budget of {train_seconds:g} s spent: stopping it (SIGTERM)", flush=True)
+        child.send_signal(signal.SIGTERM)
+        return child.wait() in (0, 143)  # 143: simlab's exit status after a SIGTERM that saved
 
 
 def frame_sheet(video: str, count: int = 6) -> str:
