@@ -4,6 +4,7 @@ training writes the same weights."""
 
 from __future__ import annotations
 
+import gc
 import glob
 import os
 import re
@@ -102,20 +103,44 @@ def test_a_library_compiled_from_source_is_named_with_the_fix(tmp_path):
     assert bytecode_hint(("json",)) is None  # this process found json's bytecode cached
 
 
+# run in a `simlab train` process: whether the collector runs while the configs load (start-up) and
+# when the runner is built (training), and whether the start-up's objects were frozen by then
+_COLLECTOR_PROBE = """
+import gc, sys
+import simlab.cli.libraries.rsl_rl as library
+import simlab.cli.train as train
+from simlab.cli.main import main
+
+def spy(name, function):
+    def wrapped(*args, **kwargs):
+        print(name, "collector on", gc.isenabled(), "frozen", gc.get_freeze_count() > 0)
+        return function(*args, **kwargs)
+    return wrapped
+
+train.load_configs = spy("configs:", train.load_configs)
+library.make_runner = spy("runner:", library.make_runner)
+sys.argv = ["simlab", *sys.argv[1:]]
+code = main()
+print("at exit: frozen", gc.get_freeze_count() > 0)
+sys.exit(code)
+"""
+
+
 def test_the_command_skips_the_exit_collection_and_loses_no_log(tmp_path):
-    """The ``simlab`` command freezes its objects out of Python's collection at exit; everything the
-    run wrote (checkpoints, every iteration's TensorBoard scalars) is on disk. Called from Python
-    (a test, a script), ``main`` leaves the garbage collector alone."""
+    """The ``simlab`` command pauses Python's garbage collector for its start-up and resumes it, the
+    start-up's objects frozen, before training; it freezes its objects out of the collection at exit;
+    everything the run wrote (checkpoints, every iteration's TensorBoard scalars) is on disk. Called
+    from Python (a test, a script), ``main`` leaves the garbage collector alone."""
     from tensorboard.backend.event_processing.event_accumulator import EventAccumulator
 
     from simlab.cli.main import main
 
     argv = [*TRAIN, "--max_iterations", "3", "--log_root", str(tmp_path / "cli")]
-    probe = "import gc, sys\nfrom simlab.cli.main import main\nsys.argv = ['simlab', *sys.argv[1:]]\n"
-    probe += "code = main()\nprint('frozen', gc.get_freeze_count() > 0)\nsys.exit(code)\n"
-    out = subprocess.run([sys.executable, "-c", probe, *argv], capture_output=True, text=True)
+    out = subprocess.run([sys.executable, "-c", _COLLECTOR_PROBE, *argv], capture_output=True, text=True)
     assert out.returncode == 0, out.stderr[-2000:]
-    assert "frozen True" in out.stdout
+    assert "configs: collector on False frozen False" in out.stdout
+    assert "runner: collector on True frozen True" in out.stdout
+    assert "at exit: frozen True" in out.stdout
     (run,) = glob.glob(str(tmp_path / "cli" / "rsl_rl" / "cartpole" / "*"))
     saved = sorted(os.path.basename(p) for p in glob.glob(os.path.join(run, "model_*.pt")))
     assert saved == ["model_0.pt", "model_2.pt"]
@@ -124,6 +149,6 @@ def test_the_command_skips_the_exit_collection_and_loses_no_log(tmp_path):
     scalars.Reload()
     assert [e.step for e in scalars.Scalars("Loss/value")] == [0, 1, 2]
 
-    frozen_before = __import__("gc").get_freeze_count()
+    frozen_before = gc.get_freeze_count()
     assert main([*TRAIN, "--max_iterations", "1", "--log_root", str(tmp_path / "in_process")]) == 0
-    assert __import__("gc").get_freeze_count() == frozen_before
+    assert gc.get_freeze_count() == frozen_before and gc.isenabled()

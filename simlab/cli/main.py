@@ -31,6 +31,7 @@ from typing import Any
 from simlab.cli.distributed import add_launch_args
 from simlab.cli.session import LIBRARIES, SKRL_ALGORITHMS
 from simlab.utils.errors import is_intended_error
+from simlab.utils.startup import pause_collector_for_start_up, resume_collector_after_start_up
 from simlab.viewer import VIEWER_KINDS
 
 __all__ = ["build_parser", "main"]
@@ -226,10 +227,22 @@ def _report(command: str, error: BaseException, debug: bool) -> int:
 
 def main(argv: list[str] | None = None) -> int:
     """The command line's entry point (``argv`` None: ``sys.argv``); returns the exit code."""
-    code = _main(list(sys.argv[1:] if argv is None else argv))
+    words = list(sys.argv[1:] if argv is None else argv)
+    if argv is None and _trains(words):  # this process is the command's own: its start-up may pause the collector
+        pause_collector_for_start_up()
+    try:
+        code = _main(words)
+    finally:
+        resume_collector_after_start_up()  # training resumes it itself; this is for an error before
     if argv is None:  # the process ends next: not when a caller (a test, a script) goes on
         _skip_collection_at_exit()
     return code
+
+
+def _trains(words: list[str]) -> bool:
+    """Whether the command is ``simlab train`` or ``simlab bench solve``: the commands that resume the
+    garbage collector when their start-up is done (before the first training iteration)."""
+    return bool(words) and (words[0] == "train" or (words[0] == "bench" and "solve" in words[1:]))
 
 
 def _skip_collection_at_exit() -> None:

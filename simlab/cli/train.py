@@ -19,6 +19,7 @@ from simlab.utils.startup import (
     clear_milestones,
     format_milestones,
     mark,
+    resume_collector_after_start_up,
     seconds_since_process_start,
 )
 
@@ -194,6 +195,7 @@ def _train_in(
             hint = bytecode_hint()
             if hint:
                 print(hint)
+        resume_collector_after_start_up()  # paused by the `simlab` command for its imports and env build
         startup = seconds_since_process_start()
         start = time.perf_counter()
         lib.train(env, agent_cfg, run_dir, args, resume)

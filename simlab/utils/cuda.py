@@ -22,8 +22,9 @@ def gc_paused() -> Iterator[None]:
     nobody closed) at any allocation; destroying a graph while a stream is capturing invalidates
     that capture. torch's ``torch.cuda.graph`` collects on entry for the same reason.
     """
-    gc.collect()
     enabled = gc.isenabled()
+    if enabled:  # a paused collector (start-up) collects nothing during the block either
+        gc.collect()
     gc.disable()
     try:
         yield
