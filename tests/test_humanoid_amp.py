@@ -250,3 +250,57 @@ def test_amp_on_jax_is_refused_before_anything_is_built(tmp_path, capsys):
     assert main([*argv, "--log_root", str(tmp_path / "logs")]) == 2
     assert "skrl's AMP agent exists for torch only" in capsys.readouterr().err
     assert not (tmp_path / "logs").exists()
+
+
+def test_a_kinematic_replay_of_the_clip_gives_the_reference_amp_observations():
+    """The env's AMP observation of the clip's states, written step by step into the sim, is what
+    ``collect_reference_motions`` (skrl's motion dataset) holds for those times, over the whole
+    history window: the discriminator sees one distribution from both sides."""
+    env = _make_env(3, reset_strategy="random", reference_lift=0.0)
+    try:
+        base = env.unwrapped
+        env.reset()
+        motion, robot, everyone = base._motion_loader, base.robot, torch.ones(3, dtype=torch.bool)
+        start = torch.tensor([0.0, 0.5, 1.7])  # the history of env 0 starts at the clip's first frame
+        base._motion_loader.sample_times = lambda n, duration=None: start  # RSI at these times
+        base._reset_mask(everyone)
+        root = base.motion_ref_body_index
+        for step in range(5):
+            times = start + step * base.step_dt
+            if step:
+                dof_pos, dof_vel, body_pos, body_rot, body_lin_vel, body_ang_vel = motion.sample(3, times=times)
+                robot.write_root_pose_to_sim(
+                    torch.cat([body_pos[:, root] + base.scene.env_origins, body_rot[:, root]], -1), everyone
+                )
+                robot.write_root_velocity_to_sim(
+                    torch.cat([body_lin_vel[:, root], body_ang_vel[:, root]], -1), everyone
+                )
+                joints = base.motion_dof_indexes
+                robot.write_joint_state_to_sim(dof_pos[:, joints], dof_vel[:, joints], None, everyone)
+                base._advance_amp_history()  # what the step does after its physics
+            history = base.amp_observation_buffer.flatten(1)
+            torch.testing.assert_close(history, base.collect_reference_motions(3, times), atol=2e-3, rtol=0)
+    finally:
+        env.close()
+
+
+@pytest.mark.parametrize("name", list(CLIPS))
+def test_every_amp_feature_of_the_shipped_clips_varies(name):
+    """A feature the clip holds constant (a torso pinned upright, a frozen joint) is one no simulated
+    body matches exactly: the discriminator would call every policy fake by it alone."""
+    from simlab.tasks.direct.humanoid_amp.humanoid_amp_env import compute_obs
+
+    motion = MotionLoader(os.path.join(MOTIONS_DIR, f"humanoid_{name}.npz"), "cpu")
+    root = motion.get_body_index(["torso"])[0]
+    keys = motion.get_body_index(["right_hand", "left_hand", "right_foot", "left_foot"])
+    frames = compute_obs(
+        motion.dof_positions,
+        motion.dof_velocities,
+        motion.body_positions[:, root],
+        motion.body_rotations[:, root],
+        motion.body_linear_velocities[:, root],
+        motion.body_angular_velocities[:, root],
+        motion.body_positions[:, keys],
+    )
+    constant = (frames.std(dim=0) < 1e-4).nonzero().flatten().tolist()
+    assert constant == [], f"{name}: AMP features {constant} never change"

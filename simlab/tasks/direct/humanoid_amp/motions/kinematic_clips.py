@@ -2,12 +2,18 @@
 
 Isaac Lab's AMP clips are motion capture that cannot be shipped, so simlab makes its own. Each clip
 is a periodic pattern of joint angles (sinusoids of the gait phase: hips swing, knees flex in the
-swing phase, ankles keep the feet level, arms swing against the legs, the waist counter-rotates).
-The body poses come from MuJoCo's forward kinematics (``mj_kinematics``) of
-``simlab/robots/assets/humanoid.xml``; the torso is placed so that the lower foot touches the ground
-and does not slide (the torso advances by what the stance foot moves back), so the forward speed
-follows from the leg motion. Velocities are finite differences. ``python scripts/tools/make_motion_clips.py``
-writes the clips shipped in this folder.
+swing phase, ankles keep the feet level, arms swing against the legs, the waist counter-rotates)
+and of the torso's orientation. The body poses come from MuJoCo's forward kinematics
+(``mj_kinematics``) of ``simlab/robots/assets/humanoid.xml``; the torso is placed so that the lower
+foot touches the ground and does not slide (the torso advances by what the stance foot moves back)
+and sways sideways over the stance foot, so the forward speed follows from the leg motion.
+Velocities are finite differences.
+
+Every joint and the torso move a little (sway, secondary motion): a clip in which some AMP
+observation features never change (a torso pinned upright with zero angular velocity, joints
+frozen at one angle) is a distribution a simulated body cannot reach, and the discriminator tells
+any policy from it by those features alone (its style reward stays low whatever the gait).
+``python scripts/tools/make_motion_clips.py`` writes the clips shipped in this folder.
 """
 
 from __future__ import annotations
@@ -42,6 +48,9 @@ class ClipSpec:
     cycles: int  # cycles in the clip
     torso_pitch: float  # forward lean of the torso [rad]
     joint_angles: Callable[[float], dict[str, float]]
+    torso_sway: Callable[[float], tuple[float, float, float]] = lambda phase: (0.0, 0.0, 0.0)
+    """The torso's roll, pitch (added to ``torso_pitch``) and yaw [rad] over the gait phase."""
+    lateral_sway: float = 0.0  # sideways excursion of the torso over the stance foot [m]
 
 
 def _legs(
@@ -69,7 +78,23 @@ def _legs(
         angles[f"{side}_thigh:1"] = hip
         angles[f"{side}_shin"] = knee
         angles[f"{side}_foot:0"] = 0.8 * (knee - hip - lean)  # keep the sole roughly level
+        angles[f"{side}_thigh:0"] = -0.05 - 0.05 * math.cos(p)  # the swing leg abducts, the stance hip adducts
+        angles[f"{side}_thigh:2"] = -0.05 * math.sin(p)  # the hips rotate with the stride
+        angles[f"{side}_foot:1"] = 0.06 * math.cos(p)  # the ankle rolls over the sole
     return angles
+
+
+def _arm_sway(angles: dict[str, float], phase: float, amount: float) -> None:
+    """Secondary arm motion: shoulders and elbows follow the swing a little."""
+    for side, sign in (("right", 1.0), ("left", -1.0)):
+        angles[f"{side}_upper_arm:0"] = angles.get(f"{side}_upper_arm:0", 0.0) + amount * math.cos(phase)
+        angles[f"{side}_lower_arm"] = angles.get(f"{side}_lower_arm", 0.0) + amount * sign * math.sin(phase)
+
+
+def _gait_sway(roll: float, pitch: float, yaw: float) -> Callable[[float], tuple[float, float, float]]:
+    """A torso that rolls over the stance leg and yaws with the stride once per cycle and pitches
+    twice per cycle (at each heel strike)."""
+    return lambda phase: (-roll * math.cos(phase), pitch * math.cos(2 * phase), yaw * math.sin(phase))
 
 
 def _walk(phase: float) -> dict[str, float]:
@@ -79,7 +104,9 @@ def _walk(phase: float) -> dict[str, float]:
     angles["right_upper_arm:0"] = angles["left_upper_arm:0"] = 0.35  # arms closer to the body
     angles["right_lower_arm"] = angles["left_lower_arm"] = -0.40
     angles["lower_waist:0"] = 0.10 * math.sin(phase)  # the waist counter-rotates
+    angles["lower_waist:1"] = 0.04 * math.cos(2 * phase)
     angles["pelvis"] = 0.05 * math.cos(phase)
+    _arm_sway(angles, phase, 0.08)
     return angles
 
 
@@ -90,8 +117,9 @@ def _run(phase: float) -> dict[str, float]:
     angles["right_upper_arm:0"] = angles["left_upper_arm:0"] = 0.40
     angles["right_lower_arm"] = angles["left_lower_arm"] = -1.20  # elbows bent
     angles["lower_waist:0"] = 0.20 * math.sin(phase)
-    angles["lower_waist:1"] = 0.10  # leaning into the run
+    angles["lower_waist:1"] = 0.10 + 0.06 * math.cos(2 * phase)  # leaning into the run
     angles["pelvis"] = 0.08 * math.cos(phase)
+    _arm_sway(angles, phase, 0.12)
     return angles
 
 
@@ -106,13 +134,26 @@ def _dance(phase: float) -> dict[str, float]:
     angles["left_upper_arm:2"] = -0.50 * math.cos(phase)
     angles["right_lower_arm"] = -0.80 + 0.50 * math.sin(2 * phase)
     angles["left_lower_arm"] = -0.80 - 0.50 * math.sin(2 * phase)
+    angles["lower_waist:1"] = 0.08 * math.cos(2 * phase)
     return angles
 
 
 CLIPS = {
-    "walk": ClipSpec("walk", cadence_hz=0.9, cycles=4, torso_pitch=0.05, joint_angles=_walk),
-    "run": ClipSpec("run", cadence_hz=1.4, cycles=6, torso_pitch=0.15, joint_angles=_run),
-    "dance": ClipSpec("dance", cadence_hz=0.75, cycles=3, torso_pitch=0.0, joint_angles=_dance),
+    "walk": ClipSpec(
+        "walk", 0.9, 4, torso_pitch=0.05, joint_angles=_walk, torso_sway=_gait_sway(0.05, 0.02, 0.06), lateral_sway=0.03
+    ),
+    "run": ClipSpec(
+        "run", 1.4, 6, torso_pitch=0.15, joint_angles=_run, torso_sway=_gait_sway(0.06, 0.04, 0.10), lateral_sway=0.02
+    ),
+    "dance": ClipSpec(
+        "dance",
+        0.75,
+        3,
+        torso_pitch=0.0,
+        joint_angles=_dance,
+        torso_sway=_gait_sway(0.10, 0.03, 0.15),
+        lateral_sway=0.04,
+    ),
 }
 """The shipped clips: cadence in gait cycles per second (two steps each)."""
 
@@ -130,6 +171,15 @@ def _quat_multiply(a: np.ndarray, b: np.ndarray) -> np.ndarray:
         ],
         axis=-1,
     )
+
+
+def _torso_quat(roll: float, pitch: float, yaw: float) -> np.ndarray:
+    """The quaternion (w, x, y, z) of intrinsic z-y-x (yaw, pitch, roll) rotations."""
+    half = np.array([roll, pitch, yaw]) / 2
+    qx = np.array([math.cos(half[0]), math.sin(half[0]), 0.0, 0.0])
+    qy = np.array([math.cos(half[1]), 0.0, math.sin(half[1]), 0.0])
+    qz = np.array([math.cos(half[2]), 0.0, 0.0, math.sin(half[2])])
+    return _quat_multiply(qz, _quat_multiply(qy, qx))
 
 
 def _angular_velocities(quats: np.ndarray, dt: float) -> np.ndarray:
@@ -166,19 +216,20 @@ def make_clip(spec: ClipSpec, fps: float = 60.0, xml_path: str = HUMANOID_XML) -
     frames_per_cycle = round(fps / spec.cadence_hz)
     cadence = fps / frames_per_cycle  # a whole number of frames per cycle, so the clip loops
     num_frames = spec.cycles * frames_per_cycle + 1
-    torso_quat = np.array([math.cos(spec.torso_pitch / 2), 0.0, math.sin(spec.torso_pitch / 2), 0.0])
 
     dof_positions = np.zeros((num_frames, len(joints)))
     body_positions = np.zeros((num_frames, len(body_names), 3))
     body_rotations = np.zeros((num_frames, len(body_names), 4))
     root_x, previous_stance, previous_feet = 0.0, None, {}
     for f in range(num_frames):
-        angles = spec.joint_angles(2 * math.pi * f / frames_per_cycle)
+        phase = 2 * math.pi * f / frames_per_cycle
+        angles = spec.joint_angles(phase)
         unknown = set(angles) - set(dof_names)
         if unknown:
             raise ValueError(f"Clip '{spec.name}' sets unknown joints {sorted(unknown)}; joints: {dof_names}")
         data.qpos[:] = 0.0
-        data.qpos[3:7] = torso_quat
+        roll, pitch, yaw = spec.torso_sway(phase)
+        data.qpos[3:7] = _torso_quat(roll, spec.torso_pitch + pitch, yaw)
         for j, joint in enumerate(joints):
             low, high = model.jnt_range[joint.id]
             angle = float(np.clip(angles.get(joint.name, 0.0), low, high))
@@ -191,7 +242,8 @@ def make_clip(spec: ClipSpec, fps: float = 60.0, xml_path: str = HUMANOID_XML) -
         if previous_stance is not None:
             root_x -= feet[previous_stance][0] - previous_feet[previous_stance][0]
         previous_stance, previous_feet = stance, feet
-        offset = np.array([root_x, 0.0, -feet[stance][2]])  # lower foot on the ground
+        # lower foot on the ground; the torso shifts sideways over the stance foot (the left one at phase 0)
+        offset = np.array([root_x, spec.lateral_sway * math.cos(phase), -feet[stance][2]])
         body_positions[f] = data.xpos[1:] + offset
         body_rotations[f] = data.xquat[1:]
 
