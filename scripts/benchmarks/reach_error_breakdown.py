@@ -44,9 +44,11 @@ def training_curve(log_root: str) -> list[str]:
     scalars = events.Tags()["scalars"]
     lines = []
     if "Metrics/ee_pose/position_error" in scalars:
-        points = events.Scalars("Metrics/ee_pose/position_error")
+        # the metric is logged when episodes end; iterations before the first end read 0
+        points = [p for p in events.Scalars("Metrics/ee_pose/position_error") if p.value > 0]
         every = max(1, len(points) // 12)
-        curve = " ".join(f"{p.step}:{p.value * 100:.1f}" for p in points[::every] + points[-1:])
+        shown = points[::every] if (len(points) - 1) % every == 0 else points[::every] + points[-1:]
+        curve = " ".join(f"{p.step}:{p.value * 100:.1f}" for p in shown)
         lines.append(f"training position error [cm] by iteration: {curve}")
     if "Curriculum/action_rate" in scalars:
         raised = [p.step for p in events.Scalars("Curriculum/action_rate") if p.value < -0.0001 - 1e-9]
