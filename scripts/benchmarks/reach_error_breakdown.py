@@ -1,0 +1,120 @@
+"""Where a trained reach policy's error lies: direction, command region, and its course over training.
+
+    python scripts/benchmarks/reach_error_breakdown.py --log_root logs/reach --device cuda:0
+    python scripts/benchmarks/reach_error_breakdown.py --log_root logs/reach_nograv \
+        env.scene.robot.spawn.rigid_props.disable_gravity=True
+
+Plays the newest rsl_rl checkpoint under ``--log_root`` on held-out commands (seed 12345, as
+``manipulation_learn.py``) and reports, at the last step of every 4 s command window:
+
+* the hand's position error (mean, median) and orientation error, as ``manipulation_learn.py`` judges them;
+* the signed error in the robot's base frame (mean dx, dy, dz): gravity sag the policy failed to
+  aim past shows as a negative dz, an imprecise reach as |dx| / |dy| with a mean near 0;
+* the error for near (x <= 0.5 m) and far commands;
+* from the run's TensorBoard events, ``Metrics/ee_pose/position_error`` over the iterations and the
+  iteration at which the curriculum raised the action-rate penalty.
+
+Overrides (``env.x=v``) must be the ones the run was trained with.
+"""
+
+from __future__ import annotations
+
+import argparse
+import glob
+import os
+import sys
+
+import torch
+
+from simlab.cli.main import build_parser
+from simlab.cli.play import run_play
+
+TASK = "simlab/Reach-Franka-v0"
+
+
+def training_curve(log_root: str) -> list[str]:
+    """Lines with the position error metric and the action-rate weight over the newest run's iterations."""
+    from tensorboard.backend.event_processing.event_accumulator import EventAccumulator
+
+    files = glob.glob(os.path.join(log_root, "**", "events.out.tfevents*"), recursive=True)
+    if not files:
+        return [f"no TensorBoard events under {log_root}"]
+    events = EventAccumulator(max(files, key=os.path.getmtime))
+    events.Reload()
+    scalars = events.Tags()["scalars"]
+    lines = []
+    if "Metrics/ee_pose/position_error" in scalars:
+        # the metric is logged when episodes end; iterations before the first end read 0
+        points = [p for p in events.Scalars("Metrics/ee_pose/position_error") if p.value > 0]
+        every = max(1, len(points) // 12)
+        shown = points[::every] if (len(points) - 1) % every == 0 else points[::every] + points[-1:]
+        curve = " ".join(f"{p.step}:{p.value * 100:.1f}" for p in shown)
+        lines.append(f"training position error [cm] by iteration: {curve}")
+    if "Curriculum/action_rate" in scalars:
+        raised = [p.step for p in events.Scalars("Curriculum/action_rate") if p.value < -0.0001 - 1e-9]
+        lines.append(f"curriculum raised the action-rate penalty at iteration {raised[0] if raised else 'never'}")
+    return lines
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--log_root", required=True)
+    parser.add_argument("--device", default="cpu")
+    parser.add_argument("--eval_envs", type=int, default=256)
+    parser.add_argument("--eval_seconds", type=float, default=20.0)
+    parser.add_argument("overrides", nargs="*", help="env.x=v overrides the run was trained with.")
+    args = parser.parse_args()
+
+    windows: list[torch.Tensor] = []  # per ending window: signed position error (3), command xyz (3), angle
+
+    def on_step(env, obs, actions) -> None:
+        from simlab.managers import SceneEntityCfg
+        from simlab.tasks.manager_based.manipulation.reach import mdp
+        from simlab.utils.math import subtract_frame_transforms
+
+        term = env.command_manager.get_term("ee_pose")
+        ending = term.time_left <= env.step_dt * 0.5
+        if not bool(ending.any()):
+            return
+        robot = env.scene["robot"]
+        asset_cfg = SceneEntityCfg("robot", body_names=[term.cfg.body_name])
+        asset_cfg.resolve(env.scene)
+        command = env.command_manager.get_command("ee_pose")[:, :3]
+        hand_b, _ = subtract_frame_transforms(
+            robot.data.root_pos_w, robot.data.root_quat_w, robot.data.body_pos_w[:, asset_cfg.body_ids[0]]
+        )
+        angle = mdp.orientation_command_error(env, "ee_pose", asset_cfg)
+        windows.append(torch.cat([hand_b - command, command, angle[:, None]], -1)[ending].cpu())
+
+    argv = ["play", "--task", TASK, "--library", "rsl_rl", "--use_last_checkpoint", "--headless"]
+    argv += ["--num_envs", str(args.eval_envs), "--log_root", args.log_root, "--no_export", "--seed", "12345"]
+    argv += ["--device", args.device]
+    play_args = build_parser().parse_args(argv)
+    play_args.steps = round(args.eval_seconds * 30)  # the reach env steps at 30 Hz
+    run_play(play_args, args.overrides, on_step=on_step)
+    if not windows:
+        print("no command window ended: play longer (--eval_seconds)")
+        return 1
+    data = torch.cat(windows)
+    error_cm, command, angle = data[:, :3] * 100, data[:, 3:6], data[:, 6]
+    distance = error_cm.norm(dim=1)
+    near = command[:, 0] <= 0.5
+    print(f"\n{len(data)} command windows")
+    print(
+        f"position error mean {distance.mean():.2f} cm (median {distance.median():.2f}); "
+        f"orientation error mean {angle.mean():.3f} rad (median {angle.median():.3f})"
+    )
+    signed = " ".join(f"{v:.2f}" for v in error_cm.mean(0).tolist())
+    size = " ".join(f"{v:.2f}" for v in error_cm.abs().mean(0).tolist())
+    print(f"signed error in the base frame, mean dx dy dz [cm]: {signed}; mean |dx| |dy| |dz| [cm]: {size}")
+    print(
+        f"commands x <= 0.5 m: {distance[near].mean():.2f} cm (n={int(near.sum())}); "
+        f"x > 0.5 m: {distance[~near].mean():.2f} cm (n={int((~near).sum())})"
+    )
+    for line in training_curve(args.log_root):
+        print(line)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
