@@ -37,10 +37,12 @@ import signal
 import subprocess
 import sys
 import time
+from functools import partial
 from typing import Any
 
 import torch
 
+from simlab.benchmarks.criteria import command_window_tracker, cube_near_goal, episode_end_tracker
 from simlab.cli.main import EXIT_TERMINATED, build_parser
 from simlab.cli.play import run_play
 from simlab.cli.session import load_configs
@@ -53,26 +55,13 @@ TASKS = {
 
 
 def reach_tracker(tolerance_cm: float, tolerance_rad: float):
-    """Errors of the hand to its command on the last step of every command window."""
-    errors: dict[str, list[torch.Tensor]] = {"pos": [], "rot": []}
-
-    def on_step(env, obs, actions) -> None:
-        from simlab.managers import SceneEntityCfg
-        from simlab.tasks.manager_based.manipulation.reach import mdp
-
-        term = env.command_manager.get_term("ee_pose")
-        ending = term.time_left <= env.step_dt * 0.5  # the command changes at the next step
-        if not bool(ending.any()):
-            return
-        asset_cfg = SceneEntityCfg("robot", body_names=[term.cfg.body_name])
-        asset_cfg.resolve(env.scene)
-        errors["pos"].append(mdp.position_command_error(env, "ee_pose", asset_cfg)[ending].cpu())
-        errors["rot"].append(mdp.orientation_command_error(env, "ee_pose", asset_cfg)[ending].cpu())
+    """Errors of the hand to its command on the last step of every command window (the solve criterion's hook)."""
+    on_step, errors = command_window_tracker()
 
     def judge() -> tuple[str, bool]:
-        if not errors["pos"]:
+        if not errors["position"]:
             return "no command window ended: play longer (--eval_seconds)", False
-        pos_cm, rot = torch.cat(errors["pos"]) * 100, torch.cat(errors["rot"])
+        pos_cm, rot = torch.cat(errors["position"]) * 100, torch.cat(errors["orientation"])
         ok = pos_cm.mean() < tolerance_cm and rot.mean() < tolerance_rad
         text = (
             f"{pos_cm.numel()} commands: position error mean {pos_cm.mean():.2f} cm (median {pos_cm.median():.2f}),"
@@ -84,20 +73,9 @@ def reach_tracker(tolerance_cm: float, tolerance_rad: float):
 
 
 def lift_tracker(tolerance_m: float, required: float):
-    """Per finished episode: the cube within ``tolerance_m`` of its goal on the episode's last step."""
-    counts = {"success": 0, "episodes": 0}
-
-    def on_step(env, obs, actions) -> None:
-        from simlab.tasks.manager_based.manipulation.lift import mdp
-
-        # after this step the envs at max length - 1 end at the next one: measure them now
-        last = env.episode_length_buf >= env.max_episode_length - 1
-        dropped = env.termination_manager.terminated
-        if bool(last.any()):
-            near = mdp.object_reached_goal(env, "object_pose", threshold=tolerance_m)
-            counts["success"] += int((near & last).sum())
-            counts["episodes"] += int(last.sum())
-        counts["episodes"] += int(dropped.sum())
+    """Per finished episode: the cube within ``tolerance_m`` of its goal on the episode's last step (the
+    solve criterion's hook; a dropped cube's episode counts as failed)."""
+    on_step, counts = episode_end_tracker(partial(cube_near_goal, tolerance_m=tolerance_m))
 
     def judge() -> tuple[str, bool]:
         if not counts["episodes"]:
