@@ -75,6 +75,7 @@ TRAIN_COLUMNS = [
     ("Warp MB", "warp_memory_mb", ".0f"),
     ("PPO update", "ppo_update", ""),
     ("rollout policy", "rollout_policy", ""),
+    ("rollout step", "rollout_step", ""),
 ]
 SOLVE_COLUMNS = [
     ("task", "task", ""),
@@ -193,6 +194,14 @@ def main(argv: list[str] | None = None) -> int:
         "policy as a CUDA graph; rsl_rl's own update and act; or the agent config's choice (agent.fast_update, "
         "agent.graph_act: both on CUDA)",
     )
+    parser.add_argument(
+        "--rollout_step",
+        choices=("default", "fast", "rsl_rl"),
+        default="default",
+        help="train/solve: simlab's rollout step (rsl_rl's process_env_step and the episode sums as one CUDA "
+        "graph per step where the policy is graphed), rsl_rl's own, or the agent config's choice "
+        "(agent.fast_rollout)",
+    )
     parser.add_argument("--json", default=None, help="write the results to this JSON file")
     args = parser.parse_args(argv)
     if args.processes < 0:
@@ -223,6 +232,7 @@ def main(argv: list[str] | None = None) -> int:
             graphs={"on": [True], "off": [False], "both": [True, False]}[args.cuda_graph],
             solve_args=args,
             fast_update={"default": None, "fast": True, "rsl_rl": False}[args.ppo_update],
+            fast_rollout={"default": None, "fast": True, "rsl_rl": False}[args.rollout_step],
         )
         _print_table(rows, columns)
         if name == "solve":

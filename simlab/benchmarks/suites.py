@@ -64,7 +64,7 @@ def train(device: str, num_envs: list[int], tasks: list[str] | None, iterations:
                     rows,
                     {"task": task, "device": device, "num_envs": n},
                     lambda task=task, n=n, graph=graph: bench_train(
-                        task, n, device, iterations, graph, kw.get("fast_update")
+                        task, n, device, iterations, graph, kw.get("fast_update"), kw.get("fast_rollout")
                     ),
                 )
     return rows
@@ -84,7 +84,13 @@ SOLVE_FLAGS = (
 
 
 def solve(
-    device: str, num_envs: list[int | None], tasks: list[str] | None, solve_args, fast_update=None, **_
+    device: str,
+    num_envs: list[int | None],
+    tasks: list[str] | None,
+    solve_args,
+    fast_update=None,
+    fast_rollout=None,
+    **_,
 ) -> list[dict]:
     """Time to a solved task: one row per task and env count (``None``: the task's own).
 
@@ -114,7 +120,7 @@ def solve(
             task,
             device=device,
             num_envs=n,
-            overrides=[*a.overrides, *_fast_path_overrides(fast_update)],
+            overrides=[*a.overrides, *_fast_path_overrides(fast_update), *_rollout_step_overrides(fast_rollout)],
             **{flag: getattr(a, flag) for flag in SOLVE_FLAGS},
         ),
     )
@@ -132,6 +138,11 @@ def _fast_path_overrides(fast_update: bool | None) -> list[str]:
     )
 
 
+def _rollout_step_overrides(fast_rollout: bool | None) -> list[str]:
+    """``--rollout_step``: simlab's rollout step (True), rsl_rl's (False), or the agent config's (None)."""
+    return [] if fast_rollout is None else [f"agent.fast_rollout={str(fast_rollout).lower()}"]
+
+
 def _solve_in_child(task: str, num_envs: int | None, device: str, a) -> dict:
     import json
     import subprocess
@@ -146,7 +157,7 @@ def _solve_in_child(task: str, num_envs: int | None, device: str, a) -> dict:
                 argv += [f"--{flag}", str(getattr(a, flag))]
         if num_envs is not None:
             argv += ["--num_envs", str(num_envs)]
-        argv += ["--ppo_update", a.ppo_update]
+        argv += ["--ppo_update", a.ppo_update, "--rollout_step", a.rollout_step]
         if a.overrides:
             argv += ["--overrides", *a.overrides]
         proc = subprocess.run(argv, env=_child_environment(a))

@@ -28,6 +28,7 @@ from rsl_rl.runners import OnPolicyRunner  # noqa: E402
 from rsl_rl.utils.logger import Logger  # noqa: E402
 
 from simlab.rl.rsl_rl import RslRlOnPolicyRunnerCfg, RslRlVecEnvWrapper  # noqa: E402
+from simlab.rl.rsl_rl.fast_rollout import FastRolloutStep, fast_rollout_unsupported  # noqa: E402
 from simlab.rl.rsl_rl.fast_update import FastPPOUpdate, fast_update_unsupported  # noqa: E402
 from simlab.rl.rsl_rl.graphed_act import GraphedAct, graphed_act_unsupported  # noqa: E402
 
@@ -60,6 +61,7 @@ class _ProgressLogger(Logger):
         # that count until the next refresh (what extras["log"] would hold in Isaac Lab's way)
         self._env_logs: list[tuple[torch.Tensor, dict]] = []
         self.current_env_log: dict | None = None
+        self.episode_sums_in_rollout = False  # True: simlab's rollout step keeps them (fast_rollout)
         self.rollout_seconds = 0.0  # rsl_rl's collect_time, summed over the iterations
         self.update_seconds = 0.0  # rsl_rl's learn_time, summed
 
@@ -98,10 +100,30 @@ class _ProgressLogger(Logger):
             self._env_logs.append((extras["log_refreshed"], extras["log"]))
         elif "log" in extras:
             self.ep_extras.append(extras["log"])
+        if not self.episode_sums_in_rollout:
+            self.add_episode_step(rewards, dones)
+
+    def add_episode_step(
+        self,
+        rewards: torch.Tensor,
+        dones: torch.Tensor,
+        into: tuple[torch.Tensor, torch.Tensor, torch.Tensor] | None = None,
+    ) -> None:
+        """Add a step's rewards to the running episode sums and restart the episodes that ended.
+
+        The step's (done, returns, lengths) go to ``into`` (buffers a CUDA graph writes at fixed
+        addresses, kept until ``log``) or to fresh tensors."""
         self.cur_reward_sum += rewards
         self.cur_episode_length += 1
-        done = dones > 0
-        self._finished.append((done, self.cur_reward_sum.clone(), self.cur_episode_length.clone()))
+        if into is None:
+            done = dones > 0
+            into = (done, self.cur_reward_sum.clone(), self.cur_episode_length.clone())
+        else:
+            done, returns, lengths = into
+            torch.gt(dones, 0, out=done)
+            returns.copy_(self.cur_reward_sum)
+            lengths.copy_(self.cur_episode_length)
+        self._finished.append(into)
         self.cur_reward_sum.masked_fill_(done, 0.0)
         self.cur_episode_length.masked_fill_(done, 0.0)
 
@@ -178,6 +200,31 @@ def use_graphed_act(alg: Any, setting: bool | None) -> str:
     return "CUDA graph"
 
 
+def use_fast_rollout(runner: OnPolicyRunner, setting: bool | None) -> str:
+    """Give the runner simlab's rollout step where ``setting`` (agent.fast_rollout) asks; says which runs.
+
+    Call it once ``runner.logger`` is the logger that trains: with simlab's logger the step also
+    keeps its episode sums."""
+    alg = runner.alg
+    if setting is False:
+        return "rsl_rl"
+    graphed = getattr(alg.act, "_graph", False) is not False  # simlab's GraphedAct
+    if setting is None and not graphed:
+        # eagerly it dispatches the same ops as rsl_rl's: it pays only with the policy graphed on CUDA
+        return "rsl_rl (simlab's pays with the policy graphed on CUDA; agent.fast_rollout=true runs it eagerly)"
+    reason = fast_rollout_unsupported(alg)
+    if reason is not None:
+        if setting:
+            raise ValueError(
+                f"agent.fast_rollout=true, but simlab's rollout step does not cover {reason}. "
+                "Set agent.fast_rollout=null (use it where it applies) or false (rsl_rl's own)."
+            )
+        return f"rsl_rl ({reason})"
+    logger = runner.logger if isinstance(runner.logger, _ProgressLogger) else None
+    alg.process_env_step = FastRolloutStep(alg, logger, cuda_graph=graphed)
+    return "fast (CUDA graph per step)" if graphed else "fast (eager)"
+
+
 def use_fast_update(alg: Any, setting: bool | None) -> str:
     """Give ``alg`` simlab's fast PPO update where ``setting`` (agent.fast_update) asks; says which runs."""
     if setting is False:
@@ -208,8 +255,6 @@ def train(
     runner = make_runner(env, agent_cfg, run_dir)
     mark("runner")
     _mark_first_step(runner.env)
-    if run_dir is not None:
-        print(f"[simlab] PPO update: {runner.update_kind}; policy in the rollout: {runner.act_kind}", flush=True)
     logger = _ProgressLogger(
         log_dir=run_dir,
         cfg=runner.cfg,
@@ -223,6 +268,13 @@ def train(
     logger.verbose = bool(getattr(args, "verbose", False))
     runner.logger = logger
     _logs_without_host_sync(runner, logger)
+    runner.rollout_kind = use_fast_rollout(runner, agent_cfg.fast_rollout)
+    if run_dir is not None:
+        print(
+            f"[simlab] PPO update: {runner.update_kind}; policy in the rollout: {runner.act_kind}; "
+            f"rollout step: {runner.rollout_kind}",
+            flush=True,
+        )
     import simlab
 
     runner.add_git_repo_to_log(simlab.__file__)
