@@ -1,7 +1,7 @@
 """Where one rollout step of ``simlab train``'s rsl_rl loop dispatches its torch ops, by source.
 
     python scripts/benchmarks/rollout_step_ops.py --device cpu --num_envs 64 [--rollout rsl_rl] [--ops]
-    python scripts/benchmarks/rollout_step_ops.py --device cuda:0 --num_envs 4096 --sync
+    python scripts/benchmarks/rollout_step_ops.py --device cuda:0 --num_envs 4096 [--rollout rsl_rl]
 
 A rollout step is rsl_rl's ``OnPolicyRunner.learn`` body: ``alg.act``, ``env.step`` (simlab's
 rsl_rl wrapper around the env), ``alg.process_env_step`` (rsl_rl's reward bootstrap and storage
@@ -9,8 +9,9 @@ add) and the logger's ``process_env_step`` (simlab's ``_ProgressLogger``). Each 
 under the innermost of these that dispatched it; the env's own step (one CUDA-graph replay on the
 GPU, eager on the CPU) is counted apart so that the rest, the runner's glue, shows. Host time per
 source is the wall time of its calls (at a few envs on the CPU it is mostly Python and dispatch);
-with ``--sync`` each labelled call waits for the GPU before and after, so its time includes its
-GPU work (and the loop runs slower than it does unsynchronised). ``--rollout fast`` is simlab's
+on CUDA a second timed run waits for the GPU before and after each labelled call, so that its
+time includes its GPU work (that loop runs slower than the unsynchronised one; the sum of its
+column is the step's time when nothing overlaps). ``--rollout fast`` is simlab's
 rollout step (``agent.fast_rollout``), ``rsl_rl`` rsl_rl's ``process_env_step`` and the logger's own.
 """
 
@@ -36,9 +37,9 @@ READ_BACKS = ("aten._local_scalar_dense", "aten.nonzero")
 class SourceCounter(TorchDispatchMode):
     """Counts dispatched torch ops and host seconds under the innermost labelled call."""
 
-    def __init__(self, sync: bool = False):
+    def __init__(self):
         super().__init__()
-        self.sync = sync
+        self.sync = False  # wait for the GPU around each labelled call
         self.ops: dict[str, collections.Counter[str]] = collections.defaultdict(collections.Counter)
         self.seconds: collections.Counter[str] = collections.Counter()
         self.stack = ["outside"]
@@ -79,7 +80,6 @@ def main() -> None:
     parser.add_argument("--rollout", choices=("fast", "rsl_rl"), default="fast")
     parser.add_argument("--iterations", type=int, default=3, help="timed iterations (after two warm-up ones)")
     parser.add_argument("--ops", action="store_true", help="list each source's ops")
-    parser.add_argument("--sync", action="store_true", help="CUDA: time each source with its GPU work")
     args = parser.parse_args()
 
     env = gym.make(args.task, cfg=parse_env_cfg(args.task, device=args.device, num_envs=args.num_envs))
@@ -100,7 +100,7 @@ def main() -> None:
     kind = use_fast_rollout(runner, agent_cfg.fast_rollout)
     runner.learn(num_learning_iterations=2)  # warm-up: lazy state, first graph captures
 
-    counter = SourceCounter(sync=args.sync)
+    counter = SourceCounter()
     alg, wrapper = runner.alg, runner.env
     counter.label(alg, "act", "policy (alg.act)")
     counter.label(wrapper, "step", "simlab wrapper (env.step)")
@@ -116,27 +116,41 @@ def main() -> None:
     counter.label(runner.logger, "log", "logger flush (per iteration)")
     counter.label(alg, "compute_returns", "compute returns (per iteration)")
     counter.label(runner, "learn", "runner loop")
-    with counter:  # ops (counting slows every op down: times come from a second run)
+    with counter:  # ops (counting slows every op down: times come from the next runs)
         runner.learn(num_learning_iterations=args.iterations)
     counter.seconds.clear()
+    start = time.perf_counter()
     runner.learn(num_learning_iterations=args.iterations)
+    iteration_seconds = (time.perf_counter() - start) / args.iterations
+    host_seconds = dict(counter.seconds)
+    synced_seconds = {}
+    if torch.device(args.device).type == "cuda":
+        counter.seconds.clear()
+        counter.sync = True
+        runner.learn(num_learning_iterations=args.iterations)
+        synced_seconds = dict(counter.seconds)
 
     steps = args.iterations * agent_cfg.num_steps_per_env
     print(
         f"{args.task}, {args.num_envs} envs on {args.device}; update: {runner.update_kind}; policy: {runner.act_kind}"
     )
-    print(f"rollout step: {kind}; per rollout step{' (GPU-synchronised)' if args.sync else ''}:")
-    rollout_ops = rollout_seconds = 0.0
-    for source in sorted(set(counter.ops) | set(counter.seconds), key=lambda s: ("iteration" in s, s)):
-        ops = counter.ops[source]
-        n, reads = sum(ops.values()) / steps, sum(c for k, c in ops.items() if k.startswith(READ_BACKS)) / steps
-        ms = 1e3 * counter.seconds[source] / steps
+    print(f"rollout step: {kind}; an iteration ({agent_cfg.num_steps_per_env} steps): {iteration_seconds:.4f} s")
+    synced = " GPU-synced ms" if synced_seconds else ""
+    print(f"  per rollout step (per iteration where said):  ops  read-backs   host ms{synced}")
+    totals = [0.0, 0.0, 0.0]
+    for source in sorted(set(counter.ops) | set(host_seconds), key=lambda s: ("iteration" in s, "excluded" in s, s)):
+        ops, per = counter.ops[source], args.iterations if "iteration" in source else steps
+        n, reads = sum(ops.values()) / per, sum(c for k, c in ops.items() if k.startswith(READ_BACKS)) / per
+        ms = 1e3 * host_seconds.get(source, 0.0) / per
+        synced_ms = 1e3 * synced_seconds.get(source, 0.0) / per
         if "iteration" not in source and "excluded" not in source:
-            rollout_ops, rollout_seconds = rollout_ops + n, rollout_seconds + ms
-        print(f"  {source:34s} {n:6.1f} ops {reads:4.1f} read-backs {ms:7.3f} ms host")
+            totals = [totals[0] + n, totals[1] + ms, totals[2] + synced_ms]
+        synced = f" {synced_ms:13.3f}" if synced_seconds else ""
+        print(f"  {source:34s} {n:8.1f} {reads:10.1f} {ms:9.3f}{synced}")
         if args.ops and "iteration" not in source and "excluded" not in source:
             print("      " + ", ".join(f"{name.removeprefix('aten.')} {c / steps:g}" for name, c in ops.most_common()))
-    print(f"  {'rollout step without the env step':34s} {rollout_ops:6.1f} ops {'':15s} {rollout_seconds:7.3f} ms host")
+    synced = f" {totals[2]:13.3f}" if synced_seconds else ""
+    print(f"  {'rollout step without the env step':34s} {totals[0]:8.1f} {'':10s} {totals[1]:9.3f}{synced}")
     env.close()
 
 

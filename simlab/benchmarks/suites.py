@@ -57,16 +57,18 @@ def train(device: str, num_envs: list[int], tasks: list[str] | None, iterations:
     from .env_suites import bench_train
 
     rows: list[dict] = []
+    rollout_steps = [True, False] if kw.get("fast_rollout") == "both" else [kw.get("fast_rollout")]
     for task in tasks or ["simlab/Cartpole-v0", "simlab/Humanoid-Direct-v0"]:
         for n in num_envs:
             for graph in kw.get("graphs", [True]):
-                _guarded(
-                    rows,
-                    {"task": task, "device": device, "num_envs": n},
-                    lambda task=task, n=n, graph=graph: bench_train(
-                        task, n, device, iterations, graph, kw.get("fast_update"), kw.get("fast_rollout")
-                    ),
-                )
+                for fast_rollout in rollout_steps:
+                    _guarded(
+                        rows,
+                        {"task": task, "device": device, "num_envs": n},
+                        lambda task=task, n=n, graph=graph, fast_rollout=fast_rollout: bench_train(
+                            task, n, device, iterations, graph, kw.get("fast_update"), fast_rollout
+                        ),
+                    )
     return rows
 
 

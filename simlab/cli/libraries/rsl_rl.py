@@ -208,7 +208,7 @@ def use_fast_rollout(runner: OnPolicyRunner, setting: bool | None) -> str:
     alg = runner.alg
     if setting is False:
         return "rsl_rl"
-    graphed = getattr(alg.act, "_graph", False) is not False  # simlab's GraphedAct
+    graphed = isinstance(alg.act, GraphedAct)
     if setting is None and not graphed:
         # eagerly it dispatches the same ops as rsl_rl's: it pays only with the policy graphed on CUDA
         return "rsl_rl (simlab's pays with the policy graphed on CUDA; agent.fast_rollout=true runs it eagerly)"

@@ -60,6 +60,7 @@ class FastRolloutStep:
         self.alg = alg
         self.logger = logger
         self._eager_step = alg.process_env_step  # rsl_rl's own
+        self._act = alg.act  # simlab's GraphedAct where the policy is graphed (read by the graphs)
         if cuda_graph is None:
             cuda_graph = torch.device(alg.device).type == "cuda"
         if cuda_graph and torch.device(alg.device).type != "cuda":
@@ -123,7 +124,7 @@ class FastRolloutStep:
     # -- the graphs ------------------------------------------------------------------------------------
 
     def _can_replay(self, row: int) -> bool:
-        act = self.alg.act
+        act = self._act
         return (
             self.cuda_graph
             and row in self._ran_eagerly  # the row ran once eagerly: the storage's lazy buffers exist
@@ -140,7 +141,7 @@ class FastRolloutStep:
     def _capture(self, row: int) -> bool:
         """Record row ``row``'s body and undo its host side effects (the replay that follows does
         them). False if the capture failed: then nothing happened and the step runs eagerly from now on."""
-        alg, act = self.alg, self.alg.act
+        alg, act = self.alg, self._act
         transition = alg.transition
         before = dict(vars(transition))
         transition.observations = act._obs  # the act graph's input: holds this step's observations
@@ -172,7 +173,7 @@ class FastRolloutStep:
 
     def _static_key(self, extras: dict) -> tuple:
         """What the graphs read by address, shape or value; a change captures them again."""
-        alg, act, storage = self.alg, self.alg.act, self.alg.storage
+        alg, act, storage = self.alg, self._act, self.alg.storage
         tensors = [
             *act._obs.values(),
             *act._outputs,
