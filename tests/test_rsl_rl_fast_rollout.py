@@ -95,6 +95,9 @@ def test_the_rollout_step_stores_and_logs_what_rsl_rl_and_the_per_step_logger_do
     graphed = device == "cuda"
     if graphed:
         alg.act = GraphedAct(alg)
+        with torch.inference_mode():  # capture the act graph now: every rollout below only replays it
+            alg.act(_made_up_rollout(0, 0, device)[0][0])
+        alg.transition.clear()
     reference_logger, fast_logger = _logger(cfg, device), _logger(cfg, device)
     reference_logger.writer = fast_logger.writer = object()  # as in a run that writes logs
     fast = FastRolloutStep(alg, fast_logger, cuda_graph=graphed)
