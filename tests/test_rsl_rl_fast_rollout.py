@@ -221,3 +221,23 @@ def test_a_failed_capture_leaves_nothing_behind_and_the_step_runs_eagerly(monkey
         assert _episodes(fast_logger) == _episodes(reference_logger)
     assert not fast.cuda_graph and fast.captures == 0 and "operation not permitted" in fast.eager_reason
     assert "capture of the rollout step failed, running it eagerly" in capsys.readouterr().out
+
+
+def test_the_act_graph_key_follows_a_replaced_parameter_or_buffer():
+    from simlab.rl.rsl_rl.graphed_act import GraphedAct
+
+    alg, _ = _ppo("cpu")
+    act = GraphedAct.__new__(GraphedAct)  # the key alone: a graph needs CUDA
+    act.alg, act._slots = alg, None
+    obs = _made_up_rollout(0, 0, "cpu")[0][0]
+    key = act._static_key(obs)
+    assert act._static_key(obs) == key
+    layer = alg.actor.mlp[0]
+    layer.weight = torch.nn.Parameter(layer.weight.detach().clone())  # a loaded or replaced weight
+    assert act._static_key(obs) != key
+    key = act._static_key(obs)
+    alg.critic.register_buffer("running_std", torch.ones(OBS_DIM))  # a buffer the graph reads, replaced below
+    act._slots = None
+    key = act._static_key(obs)
+    alg.critic.running_std = torch.ones(OBS_DIM)
+    assert act._static_key(obs) != key

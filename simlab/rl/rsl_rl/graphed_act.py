@@ -50,6 +50,7 @@ class GraphedAct:
         self._eager_act = alg.act  # rsl_rl's own
         self._graph: torch.cuda.CUDAGraph | None = None
         self._key: tuple | None = None
+        self._slots: list[tuple[torch.nn.Module, str]] | None = None
         self.captures = 0
 
     def __call__(self, obs: TensorDict) -> torch.Tensor:
@@ -92,8 +93,15 @@ class GraphedAct:
         self.captures += 1
 
     def _static_key(self, obs: TensorDict) -> tuple:
-        """What the graph reads by address or shape; a change recaptures."""
-        alg = self.alg
-        tensors = [*alg.actor.parameters(), *alg.critic.parameters(), *alg.actor.buffers(), *alg.critic.buffers()]
+        """What the graph reads by address or shape; a change recaptures.
+
+        Called every step: the models' tensor slots are listed once (walking ``parameters()`` each
+        step costs more than the replay's launch), then each slot's current tensor is read."""
+        if self._slots is None:
+            models = (self.alg.actor, self.alg.critic)
+            self._slots = [
+                (m, name) for model in models for m in model.modules() for name in (*m._parameters, *m._buffers)
+            ]
         shapes = tuple((name, tuple(value.shape), value.dtype) for name, value in obs.items())
-        return (shapes, *(t.data_ptr() for t in tensors))
+        tensors = (getattr(module, name) for module, name in self._slots)
+        return (shapes, *(0 if t is None else t.data_ptr() for t in tensors))
