@@ -18,7 +18,7 @@ import torch
 from torch.utils._python_dispatch import TorchDispatchMode
 
 import simlab.tasks  # noqa: F401 - registers the tasks
-from simlab.cli.libraries.rsl_rl import _ProgressLogger, make_runner
+from simlab.cli.libraries.rsl_rl import _ProgressLogger, make_runner, use_fast_rollout
 from simlab.tasks.utils import load_cfg_from_registry, parse_env_cfg
 
 READ_BACKS = ("aten._local_scalar_dense", "aten.nonzero")
@@ -53,7 +53,7 @@ def main() -> None:
         "--update",
         choices=("fast", "rsl_rl"),
         default="fast",
-        help="simlab's fast PPO update (and on CUDA the rollout's policy as a CUDA graph) or rsl_rl's own",
+        help="simlab's fast PPO update (and on CUDA the rollout's policy and step as CUDA graphs) or rsl_rl's own",
     )
     args = parser.parse_args()
 
@@ -74,6 +74,7 @@ def main() -> None:
         gpu_global_rank=0,
         device=args.device,
     )
+    use_fast_rollout(runner, None if args.update == "fast" else False)  # fast: the rollout step graphed on CUDA
     runner.learn(num_learning_iterations=1)  # warm-up: lazy state, first graph capture
     alg, obs = runner.alg, runner.env.get_observations()
 
