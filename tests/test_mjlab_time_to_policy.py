@@ -126,7 +126,7 @@ def _light_trainer(tmp_path: Path, iterations: int, seconds_each: float) -> list
     return [sys.executable, str(script)]
 
 
-def test_time_budget_stops_training_and_keeps_its_checkpoints(tmp_path):
+def test_time_budget_stops_training_and_keeps_its_checkpoints(tmp_path, capsys):
     argv, env = _light_trainer(tmp_path, 1000, 0.1), ttp.child_environment("cpu")
     start, code, lines = ttp.run_training(argv, env, str(tmp_path), str(tmp_path / "t.log"), 1.5)
     assert code == -15  # SIGTERM from the budget
@@ -134,6 +134,7 @@ def test_time_budget_stops_training_and_keeps_its_checkpoints(tmp_path):
     saved = ttp.find_checkpoints(log.run_dir)
     assert 1 <= len(saved) < 1000 and max(log.iterations) < 999
     assert all(c.written_at - start < 10 for c in saved)
+    assert capsys.readouterr().out.count("time budget 2 s spent") == 1
 
 
 def test_main_trains_then_plays_every_checkpoint(tmp_path, monkeypatch, capsys):

@@ -212,6 +212,7 @@ def run_training(argv: list[str], env: dict[str, str], cwd: str, log_path: str, 
     ``budget_s`` ends it (SIGTERM) that many seconds after its start; what it saved is kept.
     """
     lines: list[tuple[float, str]] = []
+    stopping = False
     start = time.time()
     with (
         open(log_path, "w") as log,
@@ -227,8 +228,13 @@ def run_training(argv: list[str], env: dict[str, str], cwd: str, log_path: str, 
             if match := _ITERATION.search(_ANSI.sub("", line)):
                 print(f"  [train {now - start:7.1f} s] iteration {match.group(1)}/{match.group(2)}", flush=True)
             if budget_s is not None and now - start > budget_s and process.poll() is None:
-                print(f"  [train] time budget {budget_s:.0f} s spent: stopping mjlab's training", flush=True)
-                process.terminate()
+                if not stopping:
+                    print(f"  [train] time budget {budget_s:.0f} s spent: stopping mjlab's training", flush=True)
+                stopping = True
+                if now - start < budget_s + 10:
+                    process.terminate()
+                else:  # it did not end on SIGTERM
+                    process.kill()
         code = process.wait()
     return start, code, lines
 
@@ -237,6 +243,8 @@ def play_checkpoints(
     task: str, checkpoints: list[Checkpoint], device: str, eval_envs: int, eval_seconds: float, seed: int
 ) -> list[tuple[float, bool]]:
     """Play each checkpoint in mjlab's play env; one (score, passed) per checkpoint."""
+    if not checkpoints:
+        return []
     os.environ.setdefault("MUJOCO_GL", "disable")
     import mjlab.tasks  # noqa: F401  (registers mjlab's tasks)
     import torch
@@ -384,7 +392,10 @@ def main(argv: list[str] | None = None) -> int:
         flush=True,
     )
     device = "cpu" if args.device == "cpu" else "cuda:0"
+    playing = time.perf_counter()
     verdicts = play_checkpoints(args.task, checkpoints, device, args.eval_envs, args.eval_seconds, args.seed)
+    if checkpoints:
+        print(f"played {len(checkpoints)} checkpoints in {time.perf_counter() - playing:.1f} s", flush=True)
     evaluated = [Evaluated(c, s, p) for c, (s, p) in zip(checkpoints, verdicts, strict=True)]
     for e in evaluated:
         print(
