@@ -359,3 +359,28 @@ def test_task_steps_on_the_cpu(task):
     assert dim == arm + ("Lift" in task)
     assert u.graph_blockers() == []  # on the GPU the step is replayed as one CUDA graph
     env.close()
+
+
+def test_joint_position_reach_agent_sees_the_commanded_position_at_unit_scale():
+    """The commanded position spans tenths of a metre; the joint-position reach agent normalizes its
+    observations, so that input reaches its networks at the scale of the others (unnormalized it
+    learned the orientation and barely the position: docs/manipulation.md)."""
+    from simlab.cli.libraries.rsl_rl import make_runner
+    from simlab.tasks.utils.parse_cfg import load_cfg_from_registry
+
+    task = "simlab/Reach-Franka-v0"
+    env = gym.make(task, cfg=parse_env_cfg(task, device="cpu", num_envs=64))
+    agent_cfg = load_cfg_from_registry(task, "rsl_rl_cfg_entry_point")
+    agent_cfg.device = "cpu"
+    runner = make_runner(env, agent_cfg, log_dir=None)
+    obs = runner.env.get_observations()
+    command_x = obs["policy"][:, 18]  # joint positions (9) and velocities (9), then the command's x
+    assert command_x.min() >= 0.35 and command_x.max() <= 0.65 and command_x.std() < 0.1
+    for model in (runner.alg.actor, runner.alg.critic):
+        model.update_normalization(obs)
+        seen = model.obs_normalizer(obs["policy"])[:, 18]
+        assert abs(float(seen.mean())) < 0.05 and 0.8 < float(seen.std()) < 1.2
+    # the IK and OSC variants keep Isaac Lab's agent (their actions are poses, not joint targets)
+    ik_cfg = load_cfg_from_registry("simlab/Reach-Franka-IK-Rel-v0", "rsl_rl_cfg_entry_point")
+    assert not ik_cfg.actor.obs_normalization and not ik_cfg.critic.obs_normalization
+    env.close()

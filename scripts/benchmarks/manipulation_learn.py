@@ -158,7 +158,8 @@ def evaluate(task: str, tracker, args) -> dict[str, Any]:
     if args.device:
         argv += ["--device", args.device]
     play_args = build_parser().parse_args(argv)
-    env_cfg, _ = load_configs(play_args, args.overrides, with_agent=False)
+    env_overrides = [o for o in args.overrides if o.startswith("env.")]  # agent.x=v: run_play applies them
+    env_cfg, _ = load_configs(play_args, env_overrides, with_agent=False)
     play_args.steps = round(args.eval_seconds / (env_cfg.sim.dt * env_cfg.decimation))
     on_step, judge = tracker
     run_play(play_args, args.overrides, on_step=on_step)

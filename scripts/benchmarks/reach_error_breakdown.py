@@ -11,6 +11,10 @@ Plays the newest rsl_rl checkpoint under ``--log_root`` on held-out commands (se
 * the signed error in the robot's base frame (mean dx, dy, dz): gravity sag the policy failed to
   aim past shows as a negative dz, an imprecise reach as |dx| / |dy| with a mean near 0;
 * the error for near (x <= 0.5 m) and far commands;
+* the pull toward the centre of the command box, per axis: the slope ``k`` of the signed error on
+  (centre - command); 0 follows the command, 1 ignores it (stays at the centre);
+* position and orientation error by the command's yaw (the hand's yaw is mostly joint 7, whose
+  +-2.9 rad range does not cover every commanded yaw: the commands near +-pi need the far end of it);
 * from the run's TensorBoard events, ``Metrics/ee_pose/position_error`` over the iterations and the
   iteration at which the curriculum raised the action-rate penalty.
 
@@ -21,6 +25,7 @@ from __future__ import annotations
 
 import argparse
 import glob
+import math
 import os
 import sys
 
@@ -70,7 +75,7 @@ def main() -> int:
     def on_step(env, obs, actions) -> None:
         from simlab.managers import SceneEntityCfg
         from simlab.tasks.manager_based.manipulation.reach import mdp
-        from simlab.utils.math import subtract_frame_transforms
+        from simlab.utils.math import euler_xyz_from_quat, subtract_frame_transforms
 
         term = env.command_manager.get_term("ee_pose")
         ending = term.time_left <= env.step_dt * 0.5
@@ -84,7 +89,12 @@ def main() -> int:
             robot.data.root_pos_w, robot.data.root_quat_w, robot.data.body_pos_w[:, asset_cfg.body_ids[0]]
         )
         angle = mdp.orientation_command_error(env, "ee_pose", asset_cfg)
-        windows.append(torch.cat([hand_b - command, command, angle[:, None]], -1)[ending].cpu())
+        _, _, yaw = euler_xyz_from_quat(env.command_manager.get_command("ee_pose")[:, 3:7])
+        yaw = torch.remainder(yaw + math.pi, 2 * math.pi) - math.pi
+        r = term.cfg.ranges
+        centre = torch.tensor([sum(r.pos_x), sum(r.pos_y), sum(r.pos_z)], device=command.device) / 2
+        rows = torch.cat([hand_b - command, command, angle[:, None], yaw[:, None], centre.expand_as(command)], -1)
+        windows.append(rows[ending].cpu())
 
     argv = ["play", "--task", TASK, "--library", "rsl_rl", "--use_last_checkpoint", "--headless"]
     argv += ["--num_envs", str(args.eval_envs), "--log_root", args.log_root, "--no_export", "--seed", "12345"]
@@ -96,7 +106,7 @@ def main() -> int:
         print("no command window ended: play longer (--eval_seconds)")
         return 1
     data = torch.cat(windows)
-    error_cm, command, angle = data[:, :3] * 100, data[:, 3:6], data[:, 6]
+    error_cm, command, angle, yaw, centre = data[:, :3] * 100, data[:, 3:6], data[:, 6], data[:, 7], data[:, 8:11]
     distance = error_cm.norm(dim=1)
     near = command[:, 0] <= 0.5
     print(f"\n{len(data)} command windows")
@@ -111,6 +121,20 @@ def main() -> int:
         f"commands x <= 0.5 m: {distance[near].mean():.2f} cm (n={int(near.sum())}); "
         f"x > 0.5 m: {distance[~near].mean():.2f} cm (n={int((~near).sum())})"
     )
+    off_cm = (centre - command) * 100
+    pull = (error_cm * off_cm).sum(0) / (off_cm**2).sum(0)
+    print(
+        "pull toward the command box's centre, k x y z (0: follows the command, 1: stays at the centre): "
+        + " ".join(f"{v:.2f}" for v in pull.tolist())
+    )
+    edges = torch.linspace(-math.pi, math.pi, 9)
+    for lo, hi in zip(edges[:-1].tolist(), edges[1:].tolist()):
+        inside = (yaw >= lo) & (yaw < hi)
+        if inside.any():
+            print(
+                f"  yaw [{lo:+.2f}, {hi:+.2f}) rad: position {distance[inside].mean():5.2f} cm, "
+                f"orientation {angle[inside].mean():.3f} rad (n={int(inside.sum())})"
+            )
     for line in training_curve(args.log_root):
         print(line)
     return 0
