@@ -480,17 +480,23 @@ class ArticulationData(RootedAssetData):
         a = self._asset
         return a._qvel[:, a._dof_cols]
 
+    # joint_acc and applied_torque are what the last physics step applied (as Isaac Lab's, whose
+    # acceleration is the last step's velocity change and whose torque the actuators computed before
+    # it): MuJoCo leaves them from that step's forward, so they are read without a new forward, which
+    # would recompute them at the new state (and cost a forward per env step when a reward reads them).
+
     @property
     def joint_acc(self) -> torch.Tensor:
+        """Joint accelerations of the last physics step."""
         a = self._asset
-        return self._derived(self._qacc)[:, a._dof_cols]
+        return self._qacc[:, a._dof_cols]
 
     @property
     def applied_torque(self) -> torch.Tensor:
         """Torque MuJoCo's actuators applied in the last step, after clamping (0 where unactuated)."""
         a = self._asset
         torque = torch.zeros_like(self.joint_effort_target)
-        torque[:, a._actuated] = self._derived(a._actuator_force)[:, a._ctrl_cols]
+        torque[:, a._actuated] = a._actuator_force[:, a._ctrl_cols]
         return torque
 
     @property
