@@ -187,32 +187,31 @@ class ContactSensor(SensorBase):
         if self.cfg.update_period > 0.0 and self._timestamp + 1e-9 < self.cfg.update_period and not force_recompute:
             return
         elapsed, self._timestamp = self._timestamp, 0.0
+        # Every buffer is written in place (a step replayed as a CUDA graph reads and writes the same
+        # tensors at each replay), and with few ops: each is a kernel launch per physics step on the GPU.
         d = self._data
-        external = self._cfrc_ext[:, self._body_ids, 3:6] - self._xfrc[:, self._body_ids, 0:3]
-        d.net_forces_w.copy_(external)
-        if d.net_forces_w_history.shape[1] > 1:
-            d.net_forces_w_history.copy_(torch.roll(d.net_forces_w_history, 1, dims=1))
-        d.net_forces_w_history[:, 0] = external
+        external = torch.index_select(
+            self._cfrc_ext[..., 3:6] - self._xfrc[..., 0:3], 1, self._body_ids, out=d.net_forces_w
+        )
+        _push_history(d.net_forces_w_history, external)
         if d.force_matrix_w is not None:
             matrix = self._sensordata[:, self._filter_index]  # (N, B, M, 3)
             d.force_matrix_w.copy_(matrix)
-            if d.force_matrix_w_history.shape[1] > 1:
-                d.force_matrix_w_history.copy_(torch.roll(d.force_matrix_w_history, 1, dims=1))
-            d.force_matrix_w_history[:, 0] = matrix
-        # every buffer is written in place: a step replayed as a CUDA graph reads and writes the
-        # same tensors at each replay (a rebound attribute would leave the graph reading the old one)
+            _push_history(d.force_matrix_w_history, matrix)
         if self.cfg.track_pose:
             self._sim.physics.ensure_forward()  # body poses of the current state
             d.pos_w.copy_(self._xpos[:, self._body_ids] + self._sim.env_origins[:, None])
             d.quat_w.copy_(self._xquat[:, self._body_ids])
         if self.cfg.track_air_time:
-            in_contact = torch.norm(external, dim=-1) > self.cfg.force_threshold
+            force = torch.linalg.vector_norm(external, dim=-1)
+            in_contact, in_air = force > self.cfg.force_threshold, force <= self.cfg.force_threshold
+            air_time, contact_time = d.current_air_time + elapsed, d.current_contact_time + elapsed
             first_contact = (d.current_air_time > 0.0) & in_contact
-            first_air = (d.current_contact_time > 0.0) & ~in_contact
-            d.last_air_time.copy_(torch.where(first_contact, d.current_air_time + elapsed, d.last_air_time))
-            d.current_air_time.copy_(torch.where(in_contact, 0.0, d.current_air_time + elapsed))
-            d.last_contact_time.copy_(torch.where(first_air, d.current_contact_time + elapsed, d.last_contact_time))
-            d.current_contact_time.copy_(torch.where(in_contact, d.current_contact_time + elapsed, 0.0))
+            first_air = (d.current_contact_time > 0.0) & in_air
+            torch.where(first_contact, air_time, d.last_air_time, out=d.last_air_time)
+            torch.where(first_air, contact_time, d.last_contact_time, out=d.last_contact_time)
+            torch.mul(air_time, in_air, out=d.current_air_time)
+            torch.mul(contact_time, in_contact, out=d.current_contact_time)
 
     # -- building -------------------------------------------------------------------------------
 
@@ -288,6 +287,11 @@ class ContactSensor(SensorBase):
     def _need_air_time(self, what: str) -> None:
         if not self.cfg.track_air_time:
             raise RuntimeError(f"ContactSensor.{what} needs track_air_time=True in the ContactSensorCfg")
+
+
+def _push_history(history: torch.Tensor, latest: torch.Tensor) -> None:
+    """Shift ``history`` (N, T, ...) one step back in time and put ``latest`` first (two kernels)."""
+    history.copy_(torch.cat([latest[:, None], history[:, :-1]], dim=1))
 
 
 @configclass
