@@ -24,12 +24,12 @@ import sys
 import torch
 from torch.utils._python_dispatch import TorchDispatchMode
 
-# Ops that launch no kernel: views and metadata, allocations (a graph's memory pool serves them).
+# Ops that launch no kernel: allocations (a graph's memory pool serves them), metadata; views are
+# found by their outputs (see launches_kernel).
 _NO_KERNEL = {
     "aten.empty.memory_format",
     "aten.empty_like.default",
     "aten.empty_strided.default",
-    "aten.detach.default",
     "aten.lift_fresh.default",
     "aten._to_copy.default",  # counted below only when it changes device or dtype
     "prim.device.default",
@@ -43,16 +43,32 @@ _NO_KERNEL = {
 READ_BACKS = ("aten._local_scalar_dense", "aten.nonzero", "aten.item")
 
 
-def launches_kernel(func, args, kwargs) -> bool:
-    """Whether a dispatched aten op runs a kernel (on the GPU: a launch)."""
+def launches_kernel(func, args, kwargs, outputs) -> bool:
+    """Whether a dispatched aten op runs a kernel (on the GPU: a launch): not a view or a
+    metadata op (whose outputs all alias its inputs without writing them), nor an allocation."""
     name = str(func)
-    if getattr(func, "is_view", False):
-        return False
-    if name == "aten._to_copy.default":  # .to(): a kernel only if something changes
-        src = args[0]
-        device = torch.device(kwargs.get("device", src.device))
-        return kwargs.get("dtype", src.dtype) != src.dtype or device != src.device
-    return name not in _NO_KERNEL
+    if name in _NO_KERNEL:
+        return name == "aten._to_copy.default" and _changes_device_or_dtype(args[0], kwargs)
+    if func._schema.is_mutable:  # in-place and out= ops write memory
+        return True
+    inputs = {t.untyped_storage().data_ptr() for t in _tensors((args, kwargs))}
+    produced = _tensors(outputs)
+    return not produced or not all(t.untyped_storage().data_ptr() in inputs for t in produced)
+
+
+def _changes_device_or_dtype(src: torch.Tensor, kwargs) -> bool:
+    device = torch.device(kwargs.get("device", src.device))
+    return kwargs.get("dtype", src.dtype) != src.dtype or device != src.device
+
+
+def _tensors(value) -> list[torch.Tensor]:
+    if isinstance(value, torch.Tensor):
+        return [value]
+    if isinstance(value, dict):
+        value = list(value.values())
+    if isinstance(value, (list, tuple)):
+        return [t for item in value for t in _tensors(item)]
+    return []
 
 
 class LaunchCounter(TorchDispatchMode):
@@ -75,13 +91,14 @@ class LaunchCounter(TorchDispatchMode):
 
     def __torch_dispatch__(self, func, types, args=(), kwargs=None):
         kwargs = kwargs or {}
-        if self.active and launches_kernel(func, args, kwargs):
+        outputs = func(*args, **kwargs)
+        if self.active and launches_kernel(func, args, kwargs, outputs):
             label = self.labels[-1]
             self.torch_ops[label] += 1
             self.op_names[label][str(func)] += 1
             if str(func).startswith(READ_BACKS):
                 self.read_backs[label] += 1
-        return func(*args, **kwargs)
+        return outputs
 
     @contextlib.contextmanager
     def scope(self, label: str):
