@@ -53,7 +53,9 @@ def launches_kernel(func, args, kwargs, outputs) -> bool:
         return True
     inputs = {t.untyped_storage().data_ptr() for t in _tensors((args, kwargs))}
     produced = _tensors(outputs)
-    return not produced or not all(t.untyped_storage().data_ptr() in inputs for t in produced)
+    if not produced:  # a number or a dtype: only a read of a device value costs a transfer
+        return name.startswith(READ_BACKS)
+    return not all(t.untyped_storage().data_ptr() in inputs for t in produced)
 
 
 def _changes_device_or_dtype(src: torch.Tensor, kwargs) -> bool:
