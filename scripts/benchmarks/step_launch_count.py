@@ -164,8 +164,9 @@ def instrument(env, counter: LaunchCounter) -> None:
     wrap(env, "_restart_diverged", "env (diverged worlds)")
     wrap(env.sim, "step", "physics")
     physics = env.sim.physics
-    counter.count_graph_replays(physics)
-    physics._graphs.clear()  # captured again under the counter (some were captured while building the env)
+    if hasattr(physics, "_graphs"):  # MuJoCo Warp's graphs
+        counter.count_graph_replays(physics)
+        physics._graphs.clear()  # captured again under the counter (some were captured while building the env)
     wrap(physics, "forward", "physics forward (derived quantities the MDP reads)")
     wrap(physics, "reset", "physics reset")
     wrap(physics, "restart", "env (diverged worlds)")
@@ -212,24 +213,25 @@ def instrument(env, counter: LaunchCounter) -> None:
                 wrap(manager.get_term_cfg(term_name), "func", f"{manager_name}s/{term_name}")
 
 
-def make_env(task: str, num_envs: int, seed: int):
+def make_env(task: str, num_envs: int, seed: int, engine: str = "mujoco_warp"):
     import gymnasium as gym
 
     import simlab.tasks  # noqa: F401 - registers the tasks
     from simlab.tasks.utils import parse_env_cfg
 
     cfg = parse_env_cfg(task, device="cpu", num_envs=num_envs)
-    cfg.sim.engine = "mujoco_warp"  # the GPU backend, on Warp's CPU device
+    cfg.sim.engine = engine  # mujoco_warp: the GPU backend, on Warp's CPU device
     cfg.seed = seed
     return gym.make(task, cfg=cfg).unwrapped
 
 
-def count(task: str, num_envs: int, steps: int, seed: int = 0) -> LaunchCounter:
-    import warp as wp
-
-    env = make_env(task, num_envs, seed)
+def count(task: str, num_envs: int, steps: int, seed: int = 0, engine: str = "mujoco_warp") -> LaunchCounter:
+    env = make_env(task, num_envs, seed, engine)
     counter = LaunchCounter()
-    counter.count_warp_launches(wp)
+    if engine == "mujoco_warp":
+        import warp as wp
+
+        counter.count_warp_launches(wp)
     instrument(env, counter)
     torch.manual_seed(seed)
     env.reset()
@@ -279,10 +281,20 @@ def main() -> None:
     parser.add_argument("--num_envs", type=int, default=8)
     parser.add_argument("--steps", type=int, default=5)
     parser.add_argument("--ops", type=int, default=0, help="also list each component's N most frequent ops")
+    parser.add_argument(
+        "--engine",
+        default="mujoco_warp",
+        choices=("mujoco_warp", "mujoco"),
+        help="mujoco_warp: the GPU backend on Warp's CPU device (counts its Warp launches too); mujoco: the "
+        "CPU backend (the same torch ops outside the physics, no Warp)",
+    )
     args = parser.parse_args()
     os.environ.setdefault("MUJOCO_GL", "osmesa")
-    counter = count(args.task, args.num_envs, args.steps)
-    print(f"{args.task}, {args.num_envs} envs: kernels launched per env step (means over {args.steps} steps)")
+    counter = count(args.task, args.num_envs, args.steps, engine=args.engine)
+    print(
+        f"{args.task}, {args.num_envs} envs, engine {args.engine}: kernels launched per env step"
+        f" (means over {args.steps} steps)"
+    )
     print(report(counter, args.steps, args.ops))
     sys.stdout.flush()
 
