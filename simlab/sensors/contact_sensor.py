@@ -175,7 +175,7 @@ class ContactSensor(SensorBase):
         if d.force_matrix_w is not None:
             buffers += [d.force_matrix_w, d.force_matrix_w_history]
         if self.cfg.track_air_time:
-            buffers += [d.current_air_time, d.last_air_time, d.current_contact_time, d.last_contact_time]
+            buffers += [self._current_times, self._last_times]
         for buffer in buffers:
             masked_copy_(buffer, mask, 0.0)
 
@@ -203,15 +203,15 @@ class ContactSensor(SensorBase):
             d.pos_w.copy_(self._xpos[:, self._body_ids] + self._sim.env_origins[:, None])
             d.quat_w.copy_(self._xquat[:, self._body_ids])
         if self.cfg.track_air_time:
+            # air and contact times side by side, (N, 2, B): each phase (in the air, in contact) goes
+            # on where its condition holds; where it ends after lasting a while, its length is kept
             force = torch.linalg.vector_norm(external, dim=-1)
-            in_contact, in_air = force > self.cfg.force_threshold, force <= self.cfg.force_threshold
-            air_time, contact_time = d.current_air_time + elapsed, d.current_contact_time + elapsed
-            first_contact = (d.current_air_time > 0.0) & in_contact
-            first_air = (d.current_contact_time > 0.0) & in_air
-            torch.where(first_contact, air_time, d.last_air_time, out=d.last_air_time)
-            torch.where(first_air, contact_time, d.last_contact_time, out=d.last_contact_time)
-            torch.mul(air_time, in_air, out=d.current_air_time)
-            torch.mul(contact_time, in_contact, out=d.current_contact_time)
+            threshold = self.cfg.force_threshold
+            goes_on = torch.stack((force <= threshold, force > threshold), dim=1)
+            times = self._current_times + elapsed
+            ended = (self._current_times > 0.0) > goes_on  # was running and stops now
+            torch.where(ended, times, self._last_times, out=self._last_times)
+            torch.mul(times, goes_on, out=self._current_times)
 
     # -- building -------------------------------------------------------------------------------
 
@@ -263,10 +263,12 @@ class ContactSensor(SensorBase):
             d.pos_w = torch.zeros(n, b, 3, device=dev)
             d.quat_w = torch.zeros(n, b, 4, device=dev)
         if self.cfg.track_air_time:
-            d.current_air_time = torch.zeros(n, b, device=dev)
-            d.last_air_time = torch.zeros(n, b, device=dev)
-            d.current_contact_time = torch.zeros(n, b, device=dev)
-            d.last_contact_time = torch.zeros(n, b, device=dev)
+            # one (N, 2, B) buffer each for the current and the last phase times (air, contact): the
+            # update then takes a few kernels for both; the data's tensors are views into them
+            self._current_times = torch.zeros(n, 2, b, device=dev)
+            self._last_times = torch.zeros(n, 2, b, device=dev)
+            d.current_air_time, d.current_contact_time = self._current_times.unbind(1)
+            d.last_air_time, d.last_contact_time = self._last_times.unbind(1)
         super()._initialize(sim)
 
     def _bind_filter_sensors(self, sim, body_names: list[str]) -> None:
