@@ -153,7 +153,7 @@ class Articulation(RootedAsset):
         self._speed_capped = bool(torch.isfinite(data.joint_velocity_limits).any())
         order = sorted(range(len(actuated)), key=lambda k: actuated[k])
         self._actuated = contiguous([actuated[k] for k in order], dev)
-        # joints whose ctrl is the implicit PD's targets (the explicit models write their own ctrl)
+        # whether some joints' ctrl holds implicit PD targets (explicit models write their own ctrl)
         self._any_implicit = any(a.is_implicit_model for a in self.actuators.values())
         self._ctrl_cols = contiguous([ctrl_cols[k] for k in order], dev)
         self._num_actuated = len(actuated)

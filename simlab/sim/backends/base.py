@@ -27,6 +27,9 @@ worlds *stale*; ``ensure_forward()`` forwards the stale worlds, if any, and is c
 reader of derived quantities (asset data, sensors). A step whose observations and rewards read
 only joint states therefore runs no forward at all: the physics work equals ``mj_step``'s.
 Forward is a pure function of the state, so when it runs changes no value and no trajectory.
+What the last physics step applied (``qacc``, ``actuator_force``, the contact forces in
+``cfrc_ext``) is read as that step left it, without a forward: a forward would recompute it at the
+new state, which is not what was applied.
 
 Nothing above the backend knows which backend runs.
 """
