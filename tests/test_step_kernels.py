@@ -17,6 +17,7 @@ from simlab.envs import ManagerBasedRLEnv
 from simlab.managers import ObservationGroupCfg, ObservationTermCfg
 from simlab.robots.unitree import UNITREE_GO2_CFG
 from simlab.scene import InteractiveScene, InteractiveSceneCfg
+from simlab.sensors import RayCasterCfg, patterns
 from simlab.tasks.manager_based.classic.cartpole.cartpole_env_cfg import CartpoleEnvCfg
 from simlab.utils import configclass
 from simlab.utils.noise import ConstantNoiseCfg, UniformNoiseCfg
@@ -111,6 +112,36 @@ def test_joint_acc_and_applied_torque_are_the_last_steps_and_need_no_forward():
     assert torque.abs().sum() > 0
     # the acceleration that moved the joints in that step
     torch.testing.assert_close(acc, (robot.data.joint_vel - velocity_before) / 0.005, atol=1.0, rtol=0.05)
+
+
+def test_height_scanner_on_a_floating_base_reads_its_pose_without_a_forward():
+    @configclass
+    class SceneCfg(InteractiveSceneCfg):
+        ground = AssetBaseCfg(prim_path="/World/ground", spawn=sim_utils.GroundPlaneCfg())
+        robot = UNITREE_GO2_CFG.replace(prim_path="{ENV_REGEX_NS}/Robot")
+        scanner = RayCasterCfg(
+            prim_path="{ENV_REGEX_NS}/Robot/base",
+            offset=RayCasterCfg.OffsetCfg(pos=(0.0, 0.0, 20.0)),
+            ray_alignment="yaw",
+            pattern_cfg=patterns.GridPatternCfg(resolution=0.5, size=[1.0, 1.0]),
+            mesh_prim_paths=["/World/ground"],
+        )
+
+    sim = sim_utils.SimulationContext(sim_utils.SimulationCfg(dt=0.005, device="cpu"))
+    scene = InteractiveScene(SceneCfg(num_envs=2, env_spacing=2.0))
+    sim.reset()
+    for _ in range(3):
+        scene.write_data_to_sim()
+        sim.step()
+        scene.update(sim.get_physics_dt())
+    assert sim.physics.is_stale
+    hits = scene["scanner"].data.ray_hits_w
+    assert sim.physics.is_stale, "the scan ran no forward"
+    robot = scene["robot"]
+    torch.testing.assert_close(scene["scanner"].data.pos_w, robot.data.root_pos_w)
+    torch.testing.assert_close(hits[..., 2], torch.zeros_like(hits[..., 2]), atol=1e-4, rtol=0)
+    sim.forward()  # the same pose as MuJoCo's kinematics gives the base
+    torch.testing.assert_close(scene["scanner"].data.pos_w, robot.data.body_pos_w[:, 0])
 
 
 @configclass
