@@ -72,9 +72,10 @@ class PhysicsBackend(ABC):
         self._qpos0 = torch.as_tensor(model.qpos0, dtype=torch.float32, device=self.device)
         self._moves_from_qpos0 = False  # set_initial_qpos gave a start other than qpos0
         self.state_version = 0
-        """Counts the changes of state (steps, resets, writes announced with ``mark_stale``, and each
-        capture or replay of a graphed env step): values computed from the state at one version
-        may be reused until it changes (``RootedAssetData``'s per-state quantities)."""
+        """Counts the changes of state (steps, resets, writes announced with ``mark_stale`` or followed
+        by a forward, and each capture or replay of a graphed env step): values computed from the
+        state at one version may be reused until it changes (``RootedAssetData``'s per-state
+        quantities)."""
 
     @abstractmethod
     def data(self, name: str) -> torch.Tensor:
@@ -110,6 +111,7 @@ class PhysicsBackend(ABC):
     def forward(self, env_ids: EnvIds = None) -> None:
         """Recompute derived quantities of the selected worlds (all when ``None``)."""
         self._forward(env_ids)
+        self.state_version += 1  # also covers state writes announced by a forward instead of mark_stale
         if env_ids is None or self.forwards_all_worlds:
             self._clear_stale()
 
