@@ -197,8 +197,8 @@ def test_quaternion_helpers_match_their_expanded_formulas(dtype):
     )
     torch.testing.assert_close(math_utils.quat_mul(q1, q2), expected)
     v = torch.randn(50, 3, dtype=dtype)
-    rotated = math_utils.quat_mul(math_utils.quat_mul(q1, torch.cat([torch.zeros(50, 1, dtype=dtype), v], -1)),
-                                  math_utils.quat_conjugate(q1))[:, 1:]  # fmt: skip
+    pure = torch.cat([torch.zeros(50, 1, dtype=dtype), v], dim=-1)  # v as a quaternion (0, v)
+    rotated = math_utils.quat_mul(math_utils.quat_mul(q1, pure), math_utils.quat_conjugate(q1))[:, 1:]
     torch.testing.assert_close(math_utils.quat_apply(q1, v), rotated)
     torch.testing.assert_close(math_utils.quat_apply_inverse(q1, math_utils.quat_apply(q1, v)), v)
     roll, pitch, yaw = (torch.rand(50, dtype=dtype) * 6 - 3 for _ in range(3))
