@@ -174,6 +174,11 @@ def test_observation_group_noise_clip_and_scale_per_column_equal_per_term():
     noise = policy[:, 2:4] - vel
     assert noise.min() >= -0.1 - 1e-6 and noise.max() <= 0.3 + 1e-6 and noise.std() > 0.05
     torch.testing.assert_close(policy[:, 4:], pos * torch.tensor([1.0, -3.0]))
+    # the same random numbers as the per-term path draws (term by term), with the same seed
+    torch.manual_seed(7)
+    policy = manager.compute()["policy"]
+    torch.manual_seed(7)
+    torch.testing.assert_close(policy[:, 2:4], vel + torch.rand_like(vel) * 0.4 - 0.1)
     # a changed noise config is seen at the next compute
     manager.get_term_cfg("policy", "pos").noise = ConstantNoiseCfg(bias=-0.03)
     torch.testing.assert_close(manager.compute()["policy"][:, :2], (pos - 0.03).clamp(-0.1, 0.1) * 2.0)

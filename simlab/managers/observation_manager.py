@@ -213,7 +213,8 @@ class ObservationManager(ManagerBase):
             and not self._histories[group_name]
             and not any(cfg.modifiers for _, cfg in terms)
         )
-        ops = _ColumnOps([cfg for _, cfg in terms], [dim[0] for dim in dims], self.device) if fusable else None
+        widths = [dim[0] for dim in dims]
+        ops = _ColumnOps([cfg for _, cfg in terms], widths, self.num_envs, self.device) if fusable else None
         self._columns[group_name] = (key, ops)
         return ops
 
@@ -320,29 +321,40 @@ def _column_key(cfg: ObservationTermCfg) -> tuple:
 
 
 class _ColumnOps:
-    """A concatenated group's additive noise, clip and scale as (D,) per-column tensors: three to
+    """A concatenated group's additive noise, clip and scale as (D,) per-column tensors: four or
     five kernels for the whole group instead of three or four per term (the order per column is
-    Isaac Lab's: noise, clip, scale)."""
+    Isaac Lab's: noise, clip, scale).
 
-    def __init__(self, cfgs: list[ObservationTermCfg], widths: list[int], device):
+    The random numbers are drawn in one call as many as the terms' own draws take together, in the
+    same order (term after term, each (num_envs, k) row by row), and gathered into their columns:
+    a seeded run draws the same noise as with the per-term path (on the CPU) and leaves the
+    generator where that path leaves it.
+    """
+
+    def __init__(self, cfgs: list[ObservationTermCfg], widths: list[int], num_envs: int, device):
         gain, offset, low, high, scale = [], [], [], [], []
-        self.sample = None  # torch.rand_like or torch.randn_like, if some term draws noise
+        self.sample = None  # torch.rand or torch.randn, if some term draws noise
+        draws: list[tuple[int, int]] = []  # (first column, width) of the terms that draw, in order
+        column = 0
         for cfg, k in zip(cfgs, widths):
             noise = cfg.noise
             g = o = 0.0
             if noise is not None and noise.func is noise_model.uniform_noise:
-                g, o, self.sample = noise.n_max - noise.n_min, noise.n_min, torch.rand_like
+                g, o, self.sample = noise.n_max - noise.n_min, noise.n_min, torch.rand
             elif noise is not None and noise.func is noise_model.gaussian_noise:
-                g, o, self.sample = noise.std, noise.mean, torch.randn_like
+                g, o, self.sample = noise.std, noise.mean, torch.randn
             elif noise is not None:  # constant
                 o = noise.bias
+            if noise is not None and noise.func is not noise_model.constant_noise:
+                draws.append((column, k))
             gain += [g] * k
             offset += [o] * k
             lo, hi = cfg.clip if cfg.clip is not None else (-float("inf"), float("inf"))
             low += [lo] * k
             high += [hi] * k
-            s = cfg.scale if cfg.scale is not None else 1.0
-            scale += s.flatten().tolist() if isinstance(s, torch.Tensor) else [float(s)] * k
+            s = cfg.scale.flatten().tolist() if isinstance(cfg.scale, torch.Tensor) else [cfg.scale or 1.0]
+            scale += [float(v) for v in (s * k if len(s) == 1 else s)]
+            column += k
 
         def tensor(values: list[float]) -> torch.Tensor:
             return torch.tensor(values, dtype=torch.float32, device=device)
@@ -351,11 +363,20 @@ class _ColumnOps:
         self.has_offset = any(o != 0.0 for o in offset)
         self.clip = (tensor(low), tensor(high)) if any(c.clip is not None for c in cfgs) else None
         self.scale = tensor(scale) if any(v != 1.0 for v in scale) else None
+        # where each (env, column) finds its number in the one draw (columns without noise: any, gain 0)
+        self.num_draws = num_envs * sum(k for _, k in draws)
+        where = torch.zeros(num_envs, column, dtype=torch.long)
+        start = 0
+        for first, k in draws:
+            where[:, first : first + k] = start + torch.arange(num_envs * k).view(num_envs, k)
+            start += num_envs * k
+        self.draw_index = where.to(device)
 
     def apply(self, obs: torch.Tensor) -> torch.Tensor:
         """Noise, clip and scale ``obs`` (a fresh (num_envs, D) tensor) in place."""
         if self.sample is not None:
-            obs.addcmul_(self.sample(obs), self.gain)
+            drawn = self.sample(self.num_draws, dtype=obs.dtype, device=obs.device)
+            obs.addcmul_(drawn[self.draw_index], self.gain)
         if self.has_offset:
             obs.add_(self.offset)
         if self.clip is not None:
