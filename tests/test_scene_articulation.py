@@ -160,11 +160,15 @@ def test_effort_target_drives_the_cart(device):
     robot = scene["cartpole"]
     effort = torch.tensor([[10.0, 0.0], [-10.0, 0.0]], device=sim.device)
     robot.set_joint_effort_target(effort)
-    step(sim, scene, 10)
-    vel = robot.data.joint_vel[:, 0].cpu()
+    step(sim, scene, 9)
+    vel = robot.data.joint_vel[:, 0].cpu().clone()  # the velocity the last step starts from
+    step(sim, scene)
     assert vel[0] > 0.05 and vel[1] < -0.05
-    # applied torque is the effort minus damping 10 * v
-    torch.testing.assert_close(robot.data.applied_torque[:, 0].cpu(), effort[:, 0].cpu() - 10 * vel, atol=2e-2, rtol=0)
+    # applied torque is what the last step applied: the effort minus damping 10 * v at its start
+    torch.testing.assert_close(robot.data.applied_torque[:, 0].cpu(), effort[:, 0].cpu() - 10 * vel, atol=1e-4, rtol=0)
+    # and the joint acceleration is that step's: its velocity change over dt
+    acc = (robot.data.joint_vel[:, 0].cpu() - vel) / 0.002
+    torch.testing.assert_close(robot.data.joint_acc[:, 0].cpu(), acc, atol=0.05, rtol=0.01)
     # the effort limit (400 N) clamps what MuJoCo applies
     robot.set_joint_effort_target(torch.full((2, 1), 1e4, device=sim.device), joint_ids=[0])
     step(sim, scene)

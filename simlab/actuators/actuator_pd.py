@@ -100,15 +100,16 @@ class ActuatorBase:
     def _pd_effort(self, control_action: ArticulationActions, joint_pos: torch.Tensor, joint_vel: torch.Tensor):
         """``kp (q* - q) + kd (qd* - qd) + tau_ff`` into ``computed_effort``, clipped into ``applied_effort``
         (in place, so that a captured CUDA graph keeps reading the same buffers)."""
-        effort = self.stiffness * (control_action.joint_positions - joint_pos)
-        effort = effort + self.damping * (control_action.joint_velocities - joint_vel)
+        # written with out= and in-place ops: each op is a kernel launch on the GPU, every physics step
+        effort = torch.mul(self.stiffness, control_action.joint_positions - joint_pos, out=self.computed_effort)
+        effort.addcmul_(self.damping, control_action.joint_velocities - joint_vel)
         if control_action.joint_efforts is not None:
-            effort = effort + control_action.joint_efforts
-        self.computed_effort.copy_(effort)
-        self.applied_effort.copy_(self._clip_effort(effort))
+            effort.add_(control_action.joint_efforts)
+        self._clip_effort(effort, joint_vel, out=self.applied_effort)
 
-    def _clip_effort(self, effort: torch.Tensor) -> torch.Tensor:
-        return torch.clamp(effort, min=-self.effort_limit, max=self.effort_limit)
+    def _clip_effort(self, effort: torch.Tensor, joint_vel: torch.Tensor, out: torch.Tensor) -> torch.Tensor:
+        """``effort`` within the model's limits, written into ``out``."""
+        return torch.clamp(effort, min=-self.effort_limit, max=self.effort_limit, out=out)
 
     def _parse_joint_parameter(self, cfg_value, default) -> torch.Tensor:
         """The config's value (a float, or a dict of joint-name patterns to floats), else ``default``
@@ -173,21 +174,18 @@ class DCMotor(IdealPDActuator):
         self._saturation_effort = float(cfg.saturation_effort)
         if not torch.isfinite(self.velocity_limit).all():
             raise ValueError(f"DCMotorCfg for {joint_names} needs a finite velocity_limit (the no-load speed)")
-        self._joint_vel = torch.zeros_like(self.computed_effort)
 
-    def compute(self, control_action, joint_pos, joint_vel):
-        self._joint_vel.copy_(joint_vel)
-        return super().compute(control_action, joint_pos, joint_vel)
-
-    def _clip_effort(self, effort: torch.Tensor) -> torch.Tensor:
+    def _clip_effort(self, effort: torch.Tensor, joint_vel: torch.Tensor, out: torch.Tensor) -> torch.Tensor:
         # The torque-speed lines bound the torque in all four quadrants: beyond the no-load speed the
         # motor can only brake. Past the corner speed, where the braking line crosses the other
         # side's effort limit, the line's value applies (the same for either direction of motion).
-        speed_ratio = self._joint_vel / self.velocity_limit
-        max_effort = torch.minimum(self._saturation_effort * (1.0 - speed_ratio), self.effort_limit)
-        min_effort = torch.maximum(self._saturation_effort * (-1.0 - speed_ratio), -self.effort_limit)
-        past_corner = torch.where(self._joint_vel > 0, max_effort, min_effort)
-        return torch.where(min_effort > max_effort, past_corner, torch.clamp(effort, min=min_effort, max=max_effort))
+        speed_ratio = joint_vel / self.velocity_limit
+        saturation = self._saturation_effort
+        max_effort = torch.minimum(torch.rsub(speed_ratio, saturation, alpha=saturation), self.effort_limit)
+        min_effort = torch.maximum(torch.rsub(speed_ratio, -saturation, alpha=saturation), -self.effort_limit)
+        # clamp(e, lo, hi) gives hi where lo > hi, the corner value when moving forward; backward it is lo
+        clipped = torch.clamp(effort, min=min_effort, max=max_effort, out=out)
+        return torch.where((joint_vel <= 0) & (min_effort > max_effort), min_effort, clipped, out=out)
 
 
 def _first_set(*values):

@@ -146,11 +146,15 @@ class Articulation(RootedAsset):
             actuated += ids
             ctrl_cols += [model.actuator(self.prefix + name).id for name in names]
             if not actuator.is_implicit_model:
-                self._explicit.append(actuator)
+                # its joints and MuJoCo actuators as slices where consecutive (views: no gather per step)
+                own_ctrl = contiguous([model.actuator(self.prefix + name).id for name in names], dev)
+                self._explicit.append((actuator, contiguous(list(ids), dev), own_ctrl))
         # a host-side flag, so that the step of a robot without speed limits does no clamping
         self._speed_capped = bool(torch.isfinite(data.joint_velocity_limits).any())
         order = sorted(range(len(actuated)), key=lambda k: actuated[k])
         self._actuated = contiguous([actuated[k] for k in order], dev)
+        # whether some joints' ctrl holds implicit PD targets (explicit models write their own ctrl)
+        self._any_implicit = any(a.is_implicit_model for a in self.actuators.values())
         self._ctrl_cols = contiguous([ctrl_cols[k] for k in order], dev)
         self._num_actuated = len(actuated)
         self._ctrl = physics.data("ctrl")
@@ -178,7 +182,6 @@ class Articulation(RootedAsset):
         data.joint_pos_target = data.default_joint_pos.clone()
         data.joint_vel_target = torch.zeros(n, num_joints, device=dev)
         data.joint_effort_target = torch.zeros(n, num_joints, device=dev)
-        data._explicit_torque = torch.zeros(n, num_joints, device=dev)
         data.joint_names = self._joint_names
 
     # -- Isaac Lab's API --------------------------------------------------------------------------
@@ -224,17 +227,17 @@ class Articulation(RootedAsset):
         if not self._num_actuated:
             return
         d = self.data
-        # Implicit: ctrl = kp q* + kd qd* + tau_ff (the PD bias lives in the model; see actuator_cfg).
-        ctrl = d.joint_stiffness * d.joint_pos_target + d.joint_damping * d.joint_vel_target + d.joint_effort_target
-        # Explicit models replace their joints' ctrl with the torque they compute.
-        for actuator in self._explicit:
-            j = actuator.joint_indices
+        if self._any_implicit:
+            # Implicit: ctrl = kp q* + kd qd* + tau_ff (the PD bias lives in the model; see actuator_cfg).
+            ctrl = d.joint_stiffness * d.joint_pos_target + d.joint_damping * d.joint_vel_target + d.joint_effort_target
+            self._ctrl[:, self._ctrl_cols] = ctrl[:, self._actuated]
+        # Explicit models write their joints' ctrl: the torque they compute.
+        joint_pos, joint_vel = d.joint_pos, d.joint_vel
+        for actuator, j, ctrl_cols in self._explicit:
             targets = ArticulationActions(
-                d.joint_pos_target[:, j], d.joint_vel_target[:, j], d.joint_effort_target[:, j], j
+                d.joint_pos_target[:, j], d.joint_vel_target[:, j], d.joint_effort_target[:, j], actuator.joint_indices
             )
-            ctrl[:, j] = actuator.compute(targets, d.joint_pos[:, j], d.joint_vel[:, j]).joint_efforts
-            d._explicit_torque[:, j] = actuator.computed_effort
-        self._ctrl[:, self._ctrl_cols] = ctrl[:, self._actuated]
+            self._ctrl[:, ctrl_cols] = actuator.compute(targets, joint_pos[:, j], joint_vel[:, j]).joint_efforts
 
     # joint state ---------------------------------------------------------------------------------
 
@@ -342,8 +345,8 @@ class Articulation(RootedAsset):
 
     def _sync_explicit_gains(self, name: str, gains: torch.Tensor) -> None:
         """Explicit models compute with their own gains (Isaac Lab's): keep them equal to the data's."""
-        for actuator in self._explicit:
-            getattr(actuator, name).copy_(gains[:, actuator.joint_indices])
+        for actuator, joints, _ in self._explicit:
+            getattr(actuator, name).copy_(gains[:, joints])
 
     def _sync_actuator_model(self, bias_term: int, gains: torch.Tensor, env_ids: EnvIds) -> None:
         """Implicit actuators hold their PD gains in the model's bias: keep it per world in step."""
@@ -480,17 +483,23 @@ class ArticulationData(RootedAssetData):
         a = self._asset
         return a._qvel[:, a._dof_cols]
 
+    # joint_acc and applied_torque are what the last physics step applied (as Isaac Lab's, whose
+    # acceleration is the last step's velocity change and whose torque the actuators computed before
+    # it): MuJoCo leaves them from that step's forward, so they are read without a new forward, which
+    # would recompute them at the new state (and cost a forward per env step when a reward reads them).
+
     @property
     def joint_acc(self) -> torch.Tensor:
+        """Joint accelerations of the last physics step."""
         a = self._asset
-        return self._derived(self._qacc)[:, a._dof_cols]
+        return self._qacc[:, a._dof_cols]
 
     @property
     def applied_torque(self) -> torch.Tensor:
         """Torque MuJoCo's actuators applied in the last step, after clamping (0 where unactuated)."""
         a = self._asset
         torque = torch.zeros_like(self.joint_effort_target)
-        torque[:, a._actuated] = self._derived(a._actuator_force)[:, a._ctrl_cols]
+        torque[:, a._actuated] = a._actuator_force[:, a._ctrl_cols]
         return torque
 
     @property
@@ -501,8 +510,8 @@ class ArticulationData(RootedAssetData):
             + self.joint_damping * (self.joint_vel_target - self.joint_vel)
             + self.joint_effort_target
         )
-        for actuator in self._asset._explicit:
-            torque[:, actuator.joint_indices] = self._explicit_torque[:, actuator.joint_indices]
+        for actuator, joints, _ in self._asset._explicit:
+            torque[:, joints] = actuator.computed_effort
         return torque
 
     # Isaac Lab's older names.

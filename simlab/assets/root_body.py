@@ -8,6 +8,8 @@ fixed base is a mocap body: its pose can be written, its velocity is zero.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import mujoco
 import torch
 
@@ -277,6 +279,20 @@ class RootedAssetData:
         self.FORWARD_VEC_B = torch.tensor([1.0, 0.0, 0.0], device=dev).repeat(n, 1)
         self.default_root_state: torch.Tensor
         self.body_names: list[str] = []
+        self._per_state_values: dict[str, tuple[tuple[int, bool], torch.Tensor]] = {}
+
+    def _per_state(self, name: str, compute: Callable[[], torch.Tensor]) -> torch.Tensor:
+        """``compute()`` once per state of the simulation (``PhysicsBackend.state_version``): the
+        quantities many terms read in one env step (base-frame velocities, projected gravity,
+        heading) then cost their kernels once. The tensor is shared until the state changes: read
+        it, do not write into it (as with Isaac Lab's data buffers)."""
+        key = (self._physics.state_version, torch.is_inference_mode_enabled())
+        cached = self._per_state_values.get(name)
+        if cached is not None and cached[0] == key:
+            return cached[1]
+        value = compute()
+        self._per_state_values[name] = (key, value)
+        return value
 
     def _derived(self, field: torch.Tensor) -> torch.Tensor:
         """``field`` (a derived MjData tensor) once it matches the current state."""
@@ -317,11 +333,13 @@ class RootedAssetData:
 
     @property
     def root_ang_vel_w(self) -> torch.Tensor:
-        return math_utils.quat_apply(self.root_quat_w, self.root_ang_vel_b)
+        return self._per_state("root_ang_vel_w", lambda: math_utils.quat_apply(self.root_quat_w, self.root_ang_vel_b))
 
     @property
     def root_lin_vel_b(self) -> torch.Tensor:
-        return math_utils.quat_apply_inverse(self.root_quat_w, self.root_lin_vel_w)
+        return self._per_state(
+            "root_lin_vel_b", lambda: math_utils.quat_apply_inverse(self.root_quat_w, self.root_lin_vel_w)
+        )
 
     @property
     def root_pose_w(self) -> torch.Tensor:
@@ -337,12 +355,17 @@ class RootedAssetData:
 
     @property
     def projected_gravity_b(self) -> torch.Tensor:
-        return math_utils.quat_apply_inverse(self.root_quat_w, self.GRAVITY_VEC_W)
+        return self._per_state(
+            "projected_gravity_b", lambda: math_utils.quat_apply_inverse(self.root_quat_w, self.GRAVITY_VEC_W)
+        )
 
     @property
     def heading_w(self) -> torch.Tensor:
-        forward = math_utils.quat_apply(self.root_quat_w, self.FORWARD_VEC_B)
-        return torch.atan2(forward[:, 1], forward[:, 0])
+        def heading() -> torch.Tensor:
+            forward = math_utils.quat_apply(self.root_quat_w, self.FORWARD_VEC_B)
+            return torch.atan2(forward[:, 1], forward[:, 0])
+
+        return self._per_state("heading_w", heading)
 
     # Isaac Lab 2.x aliases: the root link is the root body's frame.
     root_link_pos_w = root_pos_w

@@ -70,7 +70,7 @@ class CommandTerm(ManagerTermBase):
     def _resample(self, mask: torch.Tensor) -> None:
         """New commands and timers for the envs where ``mask`` is set."""
         lower, upper = self.cfg.resampling_time_range
-        masked_copy_(self.time_left, mask, torch.rand(self.num_envs, device=self.device) * (upper - lower) + lower)
+        masked_copy_(self.time_left, mask, torch.empty(self.num_envs, device=self.device).uniform_(lower, upper))
         if self.resamples_by_mask:
             self._resample_command(mask)
         else:

@@ -132,6 +132,8 @@ class EventManager(ManagerBase):
         if mode == "interval" and dt is None:
             raise ValueError("EventManager.apply(mode='interval') needs the time step dt")
         mask = self._mask(env_ids)
+        if isinstance(global_env_step_count, torch.Tensor):  # in the dtype of the per-term steps, once
+            global_env_step_count = global_env_step_count.to(torch.int32)
         for name, term_cfg in self._mode_terms[mode]:
             selected = mask
             if mode == "interval":

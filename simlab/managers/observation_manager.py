@@ -16,6 +16,7 @@ import torch
 
 from simlab.utils.env_mask import masked_copy_
 from simlab.utils.modifiers import ModifierBase
+from simlab.utils.noise import noise_model
 
 from .manager_base import ManagerBase, ManagerTermBase, cfg_items, format_table, func_name
 from .manager_term_cfg import ObservationGroupCfg, ObservationTermCfg
@@ -72,6 +73,7 @@ class ObservationManager(ManagerBase):
         self._class_terms: list[ManagerTermBase] = []
         self._group_obs_term_dim: dict[str, list[tuple[int, ...]]] = {}
         self._group_obs_dim: dict[str, tuple[int, ...] | list[tuple[int, ...]]] = {}
+        self._columns: dict[str, tuple[tuple, _ColumnOps | None]] = {}
         super().__init__(cfg, env)
 
     def __str__(self) -> str:
@@ -158,6 +160,10 @@ class ObservationManager(ManagerBase):
         if group_name not in self._group_terms:
             raise ValueError(f"No observation group '{group_name}'; groups: {list(self._group_terms)}")
         env = self._env
+        columns = self._column_ops(group_name)
+        if columns is not None:  # the whole group's noise, clip and scale in a few ops
+            terms = self._group_terms[group_name]
+            return columns.apply(torch.cat([cfg.func(env, **cfg.params) for _, cfg in terms], dim=-1))
         group_cfg = self._group_cfgs[group_name]
         histories = self._histories[group_name]
         obs: dict[str, torch.Tensor] = {}
@@ -185,6 +191,32 @@ class ObservationManager(ManagerBase):
             dim = group_cfg.concatenate_dim
             return torch.cat(list(obs.values()), dim=dim + 1 if dim >= 0 else dim)
         return obs
+
+    def _column_ops(self, group_name: str) -> _ColumnOps | None:
+        """The group's per-term noise, clip and scale as per-column ops on the concatenated
+        observation, where that gives the same result: a concatenated group of (num_envs, k) terms
+        without modifiers or history, whose noises add one kind of sample (uniform, Gaussian or
+        constant). Otherwise None (each term is processed on its own). Rebuilt when a term's
+        noise, clip or scale changes."""
+        dims = self._group_obs_term_dim.get(group_name)
+        if dims is None or not self._group_cfgs[group_name].concatenate_terms:
+            return None
+        terms = self._group_terms[group_name]
+        key = tuple(_column_key(cfg) for _, cfg in terms)
+        cached = self._columns.get(group_name)
+        if cached is not None and cached[0] == key:
+            return cached[1]
+        fusable = (
+            len({kind for kind, *_ in key} - {"none", "constant"}) <= 1  # one kind of random sample
+            and all(kind != "other" for kind, *_ in key)
+            and all(len(dim) == 1 for dim in dims)
+            and not self._histories[group_name]
+            and not any(cfg.modifiers for _, cfg in terms)
+        )
+        widths = [dim[0] for dim in dims]
+        ops = _ColumnOps([cfg for _, cfg in terms], widths, self.num_envs, self.device) if fusable else None
+        self._columns[group_name] = (key, ops)
+        return ops
 
     # -- building --------------------------------------------------------------------------------
 
@@ -265,3 +297,90 @@ class ObservationManager(ManagerBase):
                 self._group_obs_dim[group_name] = tuple(sample.shape[1:])
             else:
                 self._group_obs_dim[group_name] = dims
+
+
+def _column_key(cfg: ObservationTermCfg) -> tuple:
+    """What the per-column ops of a term depend on: its noise kind and values, clip, scale."""
+    noise = cfg.noise
+    if noise is None:
+        kind, values = "none", ()
+    elif getattr(noise, "operation", None) != "add":
+        kind, values = "other", ()
+    elif noise.func is noise_model.uniform_noise:
+        kind, values = "uniform", (noise.n_min, noise.n_max)
+    elif noise.func is noise_model.gaussian_noise:
+        kind, values = "gaussian", (noise.mean, noise.std)
+    elif noise.func is noise_model.constant_noise:
+        kind, values = "constant", (noise.bias,)
+    else:
+        kind, values = "other", ()
+    if any(isinstance(v, torch.Tensor) for v in values):
+        kind = "other"  # per-element noise tensors: the term's own path
+    scale = ("tensor", id(cfg.scale)) if isinstance(cfg.scale, torch.Tensor) else cfg.scale  # no device read
+    return (kind, *values, cfg.clip, scale)
+
+
+class _ColumnOps:
+    """A concatenated group's additive noise, clip and scale as (D,) per-column tensors: four or
+    five kernels for the whole group instead of three or four per term (the order per column is
+    Isaac Lab's: noise, clip, scale).
+
+    The random numbers are drawn in one call as many as the terms' own draws take together, in the
+    same order (term after term, each (num_envs, k) row by row), and gathered into their columns:
+    a seeded run draws the same noise as with the per-term path (on the CPU) and leaves the
+    generator where that path leaves it.
+    """
+
+    def __init__(self, cfgs: list[ObservationTermCfg], widths: list[int], num_envs: int, device):
+        gain, offset, low, high, scale = [], [], [], [], []
+        self.sample = None  # torch.rand or torch.randn, if some term draws noise
+        draws: list[tuple[int, int]] = []  # (first column, width) of the terms that draw, in order
+        column = 0
+        for cfg, k in zip(cfgs, widths):
+            noise = cfg.noise
+            g = o = 0.0
+            if noise is not None and noise.func is noise_model.uniform_noise:
+                g, o, self.sample = noise.n_max - noise.n_min, noise.n_min, torch.rand
+            elif noise is not None and noise.func is noise_model.gaussian_noise:
+                g, o, self.sample = noise.std, noise.mean, torch.randn
+            elif noise is not None:  # constant
+                o = noise.bias
+            if noise is not None and noise.func is not noise_model.constant_noise:
+                draws.append((column, k))
+            gain += [g] * k
+            offset += [o] * k
+            lo, hi = cfg.clip if cfg.clip is not None else (-float("inf"), float("inf"))
+            low += [lo] * k
+            high += [hi] * k
+            s = cfg.scale.flatten().tolist() if isinstance(cfg.scale, torch.Tensor) else [cfg.scale or 1.0]
+            scale += [float(v) for v in (s * k if len(s) == 1 else s)]
+            column += k
+
+        def tensor(values: list[float]) -> torch.Tensor:
+            return torch.tensor(values, dtype=torch.float32, device=device)
+
+        self.gain, self.offset = tensor(gain), tensor(offset)
+        self.has_offset = any(o != 0.0 for o in offset)
+        self.clip = (tensor(low), tensor(high)) if any(c.clip is not None for c in cfgs) else None
+        self.scale = tensor(scale) if any(v != 1.0 for v in scale) else None
+        # where each (env, column) finds its number in the one draw (columns without noise: any, gain 0)
+        self.num_draws = num_envs * sum(k for _, k in draws)
+        where = torch.zeros(num_envs, column, dtype=torch.long)
+        start = 0
+        for first, k in draws:
+            where[:, first : first + k] = start + torch.arange(num_envs * k).view(num_envs, k)
+            start += num_envs * k
+        self.draw_index = where.to(device)
+
+    def apply(self, obs: torch.Tensor) -> torch.Tensor:
+        """Noise, clip and scale ``obs`` (a fresh (num_envs, D) tensor) in place."""
+        if self.sample is not None:
+            drawn = self.sample(self.num_draws, dtype=obs.dtype, device=obs.device)
+            obs.addcmul_(drawn[self.draw_index], self.gain)
+        if self.has_offset:
+            obs.add_(self.offset)
+        if self.clip is not None:
+            obs.clamp_(self.clip[0], self.clip[1])
+        if self.scale is not None:
+            obs.mul_(self.scale)
+        return obs

@@ -175,7 +175,7 @@ class ContactSensor(SensorBase):
         if d.force_matrix_w is not None:
             buffers += [d.force_matrix_w, d.force_matrix_w_history]
         if self.cfg.track_air_time:
-            buffers += [d.current_air_time, d.last_air_time, d.current_contact_time, d.last_contact_time]
+            buffers += [self._current_times, self._last_times]
         for buffer in buffers:
             masked_copy_(buffer, mask, 0.0)
 
@@ -187,32 +187,31 @@ class ContactSensor(SensorBase):
         if self.cfg.update_period > 0.0 and self._timestamp + 1e-9 < self.cfg.update_period and not force_recompute:
             return
         elapsed, self._timestamp = self._timestamp, 0.0
+        # Every buffer is written in place (a step replayed as a CUDA graph reads and writes the same
+        # tensors at each replay), and with few ops: each is a kernel launch per physics step on the GPU.
         d = self._data
-        external = self._cfrc_ext[:, self._body_ids, 3:6] - self._xfrc[:, self._body_ids, 0:3]
-        d.net_forces_w.copy_(external)
-        if d.net_forces_w_history.shape[1] > 1:
-            d.net_forces_w_history.copy_(torch.roll(d.net_forces_w_history, 1, dims=1))
-        d.net_forces_w_history[:, 0] = external
+        external = torch.index_select(
+            self._cfrc_ext[..., 3:6] - self._xfrc[..., 0:3], 1, self._body_ids, out=d.net_forces_w
+        )
+        _push_history(d.net_forces_w_history, external)
         if d.force_matrix_w is not None:
             matrix = self._sensordata[:, self._filter_index]  # (N, B, M, 3)
             d.force_matrix_w.copy_(matrix)
-            if d.force_matrix_w_history.shape[1] > 1:
-                d.force_matrix_w_history.copy_(torch.roll(d.force_matrix_w_history, 1, dims=1))
-            d.force_matrix_w_history[:, 0] = matrix
-        # every buffer is written in place: a step replayed as a CUDA graph reads and writes the
-        # same tensors at each replay (a rebound attribute would leave the graph reading the old one)
+            _push_history(d.force_matrix_w_history, matrix)
         if self.cfg.track_pose:
             self._sim.physics.ensure_forward()  # body poses of the current state
             d.pos_w.copy_(self._xpos[:, self._body_ids] + self._sim.env_origins[:, None])
             d.quat_w.copy_(self._xquat[:, self._body_ids])
         if self.cfg.track_air_time:
-            in_contact = torch.norm(external, dim=-1) > self.cfg.force_threshold
-            first_contact = (d.current_air_time > 0.0) & in_contact
-            first_air = (d.current_contact_time > 0.0) & ~in_contact
-            d.last_air_time.copy_(torch.where(first_contact, d.current_air_time + elapsed, d.last_air_time))
-            d.current_air_time.copy_(torch.where(in_contact, 0.0, d.current_air_time + elapsed))
-            d.last_contact_time.copy_(torch.where(first_air, d.current_contact_time + elapsed, d.last_contact_time))
-            d.current_contact_time.copy_(torch.where(in_contact, d.current_contact_time + elapsed, 0.0))
+            # air and contact times side by side, (N, 2, B): each phase (in the air, in contact) goes
+            # on where its condition holds; where it ends after lasting a while, its length is kept
+            force = torch.linalg.vector_norm(external, dim=-1)
+            threshold = self.cfg.force_threshold
+            goes_on = torch.stack((force <= threshold, force > threshold), dim=1)
+            times = self._current_times + elapsed
+            ended = (self._current_times > 0.0) > goes_on  # was running and stops now
+            torch.where(ended, times, self._last_times, out=self._last_times)
+            torch.mul(times, goes_on, out=self._current_times)
 
     # -- building -------------------------------------------------------------------------------
 
@@ -264,10 +263,12 @@ class ContactSensor(SensorBase):
             d.pos_w = torch.zeros(n, b, 3, device=dev)
             d.quat_w = torch.zeros(n, b, 4, device=dev)
         if self.cfg.track_air_time:
-            d.current_air_time = torch.zeros(n, b, device=dev)
-            d.last_air_time = torch.zeros(n, b, device=dev)
-            d.current_contact_time = torch.zeros(n, b, device=dev)
-            d.last_contact_time = torch.zeros(n, b, device=dev)
+            # one (N, 2, B) buffer each for the current and the last phase times (air, contact): the
+            # update then takes a few kernels for both; the data's tensors are views into them
+            self._current_times = torch.zeros(n, 2, b, device=dev)
+            self._last_times = torch.zeros(n, 2, b, device=dev)
+            d.current_air_time, d.current_contact_time = self._current_times.unbind(1)
+            d.last_air_time, d.last_contact_time = self._last_times.unbind(1)
         super()._initialize(sim)
 
     def _bind_filter_sensors(self, sim, body_names: list[str]) -> None:
@@ -288,6 +289,11 @@ class ContactSensor(SensorBase):
     def _need_air_time(self, what: str) -> None:
         if not self.cfg.track_air_time:
             raise RuntimeError(f"ContactSensor.{what} needs track_air_time=True in the ContactSensorCfg")
+
+
+def _push_history(history: torch.Tensor, latest: torch.Tensor) -> None:
+    """Shift ``history`` (N, T, ...) one step back in time and put ``latest`` first (two kernels)."""
+    history.copy_(torch.cat([latest[:, None], history[:, :-1]], dim=1))
 
 
 @configclass

@@ -152,17 +152,22 @@ def quat_mul(q1: torch.Tensor, q2: torch.Tensor) -> torch.Tensor:
     """Hamilton product ``q1 * q2`` (apply ``q2`` first, then ``q1``)."""
     _check_last_dim("q1", q1, 4)
     _check_last_dim("q2", q2, 4)
-    w1, x1, y1, z1 = q1.unbind(-1)
-    w2, x2, y2, z2 = q2.unbind(-1)
-    return torch.stack(
-        (
-            w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2,
-            w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
-            w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2,
-            w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2,
-        ),
-        dim=-1,
-    )
+    # q1 * q2 = L(q1) q2 with L(q1)[i, j] = sign[i, j] q1[index[i, j]]: four kernels, not thirty
+    # (each is a launch on the GPU); no matmul, which may run in reduced precision (TF32)
+    index, sign = _quat_mul_tables(q1.device, torch.promote_types(q1.dtype, q2.dtype))
+    return (q1[..., index] * sign * q2[..., None, :]).sum(dim=-1)
+
+
+_QUAT_MUL_INDEX = ((0, 1, 2, 3), (1, 0, 3, 2), (2, 3, 0, 1), (3, 2, 1, 0))
+_QUAT_MUL_SIGN = ((1, -1, -1, -1), (1, 1, -1, 1), (1, 1, 1, -1), (1, -1, 1, 1))
+
+
+@functools.lru_cache(maxsize=64)
+def _quat_mul_tables(device: torch.device, dtype: torch.dtype) -> tuple[torch.Tensor, torch.Tensor]:
+    """Index and sign tables of ``quat_mul``, made once per device and dtype (a step captured as a
+    CUDA graph may not copy from the host)."""
+    index = torch.tensor(_QUAT_MUL_INDEX, dtype=torch.long, device=device)
+    return index, torch.tensor(_QUAT_MUL_SIGN, dtype=dtype, device=device)
 
 
 def quat_conjugate(q: torch.Tensor) -> torch.Tensor:
@@ -184,18 +189,23 @@ def quat_unique(q: torch.Tensor) -> torch.Tensor:
 
 def quat_apply(quat: torch.Tensor, vec: torch.Tensor) -> torch.Tensor:
     """Rotate ``vec`` (..., 3) by the unit quaternion ``quat`` (..., 4)."""
-    _check_last_dim("quat", quat, 4)
-    _check_last_dim("vec", vec, 3)
-    w, xyz = quat[..., :1], quat[..., 1:]
-    xyz, vec = torch.broadcast_tensors(xyz, vec)
-    # v' = v + w t + xyz x t with t = 2 xyz x v (no rotation matrix needed)
-    t = 2.0 * torch.linalg.cross(xyz, vec, dim=-1)
-    return vec + w * t + torch.linalg.cross(xyz, t, dim=-1)
+    return _rotate(quat, vec, inverse=False)
 
 
 def quat_apply_inverse(quat: torch.Tensor, vec: torch.Tensor) -> torch.Tensor:
     """Rotate ``vec`` by the inverse of the unit quaternion ``quat`` (world -> body frame)."""
-    return quat_apply(quat_conjugate(quat), vec)
+    return _rotate(quat, vec, inverse=True)
+
+
+def _rotate(quat: torch.Tensor, vec: torch.Tensor, inverse: bool) -> torch.Tensor:
+    # v' = v + 2 w t + 2 xyz x t with t = xyz x v (no rotation matrix needed); the inverse rotation
+    # (conjugate: xyz -> -xyz) flips the sign of the middle term. Four kernels.
+    _check_last_dim("quat", quat, 4)
+    _check_last_dim("vec", vec, 3)
+    w, xyz = quat[..., :1], quat[..., 1:]
+    xyz, vec = torch.broadcast_tensors(xyz, vec)
+    t = torch.linalg.cross(xyz, vec, dim=-1)
+    return torch.addcmul(vec, w, t, value=-2.0 if inverse else 2.0).add_(torch.linalg.cross(xyz, t, dim=-1), alpha=2.0)
 
 
 # Isaac Lab's older names for the same operations.
@@ -213,19 +223,27 @@ def quat_apply_yaw(quat: torch.Tensor, vec: torch.Tensor) -> torch.Tensor:
 
 def quat_from_euler_xyz(roll: torch.Tensor, pitch: torch.Tensor, yaw: torch.Tensor) -> torch.Tensor:
     """Quaternion from extrinsic X-Y-Z Euler angles (roll about x, then pitch about y, then yaw about z)."""
-    cr, sr = torch.cos(roll * 0.5), torch.sin(roll * 0.5)
-    cp, sp = torch.cos(pitch * 0.5), torch.sin(pitch * 0.5)
-    cy, sy = torch.cos(yaw * 0.5), torch.sin(yaw * 0.5)
-    # q = q_z(yaw) * q_y(pitch) * q_x(roll), expanded
-    return torch.stack(
-        (
-            cy * cr * cp + sy * sr * sp,
-            cy * sr * cp - sy * cr * sp,
-            cy * cr * sp + sy * sr * cp,
-            sy * cr * cp - cy * sr * sp,
-        ),
-        dim=-1,
-    )
+    # q = q_z(yaw) * q_y(pitch) * q_x(roll), expanded: each component is a signed sum of two products
+    # of three of the half angles' cosines and sines, gathered from one tensor (nine kernels, not 34)
+    half = torch.stack(torch.broadcast_tensors(roll, pitch, yaw), dim=-1) * 0.5
+    cos_sin = torch.cat((torch.cos(half), torch.sin(half)), dim=-1)  # cr, cp, cy, sr, sp, sy
+    index, sign = _euler_tables(cos_sin.device, cos_sin.dtype)
+    return (cos_sin[..., index].prod(dim=-1) * sign).sum(dim=-1)
+
+
+_EULER_INDEX = (
+    ((2, 0, 1), (5, 3, 4)),  # w = cy cr cp + sy sr sp
+    ((2, 3, 1), (5, 0, 4)),  # x = cy sr cp - sy cr sp
+    ((2, 0, 4), (5, 3, 1)),  # y = cy cr sp + sy sr cp
+    ((5, 0, 1), (2, 3, 4)),  # z = sy cr cp - cy sr sp
+)
+_EULER_SIGN = ((1, 1), (1, -1), (1, 1), (1, -1))
+
+
+@functools.lru_cache(maxsize=64)
+def _euler_tables(device: torch.device, dtype: torch.dtype) -> tuple[torch.Tensor, torch.Tensor]:
+    index = torch.tensor(_EULER_INDEX, dtype=torch.long, device=device)
+    return index, torch.tensor(_EULER_SIGN, dtype=dtype, device=device)
 
 
 def euler_xyz_from_quat(

@@ -47,11 +47,12 @@ def _selection(env: ManagerBasedEnv, env_ids) -> tuple[torch.Tensor | slice, tor
     return ids, ids
 
 
-def _rows(values: torch.Tensor, env_ids: torch.Tensor | slice, cols) -> torch.Tensor:
-    """``values[env_ids][:, cols]`` as a fresh tensor, gathered in one kernel instead of two."""
+def _rows(values: torch.Tensor, env_ids: torch.Tensor | slice, cols, fresh: bool = True) -> torch.Tensor:
+    """``values[env_ids][:, cols]`` as a fresh tensor (``fresh=False``: possibly a view, for reading
+    only), gathered in one kernel instead of two."""
     if isinstance(env_ids, slice):
         rows = values[env_ids, cols]
-        return rows.clone() if isinstance(cols, slice) else rows  # a slice of a slice is a view
+        return rows.clone() if fresh and isinstance(cols, slice) else rows  # a slice of a slice is a view
     if isinstance(cols, slice):
         return values[env_ids, cols]
     return values[env_ids[:, None], cols]
@@ -123,9 +124,9 @@ def reset_root_state_uniform(
 
 
 def _write_joints(asset, env_ids: torch.Tensor, write_ids, joint_ids, pos: torch.Tensor, vel: torch.Tensor) -> None:
-    limits = _rows(asset.data.soft_joint_pos_limits, env_ids, joint_ids)
+    limits = _rows(asset.data.soft_joint_pos_limits, env_ids, joint_ids, fresh=False)
     pos = pos.clamp(limits[..., 0], limits[..., 1])
-    vel_limits = _rows(asset.data.soft_joint_vel_limits, env_ids, joint_ids)
+    vel_limits = _rows(asset.data.soft_joint_vel_limits, env_ids, joint_ids, fresh=False)
     vel = vel.clamp(-vel_limits, vel_limits)
     asset.write_joint_state_to_sim(pos, vel, joint_ids=joint_ids, env_ids=write_ids)
 
@@ -142,10 +143,10 @@ def reset_joints_by_scale(
     env_ids, write_ids = _selection(env, env_ids)
     asset = env.scene[asset_cfg.name]
     ids = asset_cfg.joint_ids
-    pos = _rows(asset.data.default_joint_pos, env_ids, ids)
-    vel = _rows(asset.data.default_joint_vel, env_ids, ids)
-    pos *= math_utils.sample_uniform(*position_range, tuple(pos.shape), env.device)
-    vel *= math_utils.sample_uniform(*velocity_range, tuple(vel.shape), env.device)
+    pos = _rows(asset.data.default_joint_pos, env_ids, ids, fresh=False)
+    vel = _rows(asset.data.default_joint_vel, env_ids, ids, fresh=False)
+    pos = pos * math_utils.sample_uniform(*position_range, tuple(pos.shape), env.device)
+    vel = vel * math_utils.sample_uniform(*velocity_range, tuple(vel.shape), env.device)
     _write_joints(asset, env_ids, write_ids, ids, pos, vel)
 
 
@@ -161,10 +162,10 @@ def reset_joints_by_offset(
     env_ids, write_ids = _selection(env, env_ids)
     asset = env.scene[asset_cfg.name]
     ids = asset_cfg.joint_ids
-    pos = _rows(asset.data.default_joint_pos, env_ids, ids)
-    vel = _rows(asset.data.default_joint_vel, env_ids, ids)
-    pos += math_utils.sample_uniform(*position_range, tuple(pos.shape), env.device)
-    vel += math_utils.sample_uniform(*velocity_range, tuple(vel.shape), env.device)
+    pos = _rows(asset.data.default_joint_pos, env_ids, ids, fresh=False)
+    vel = _rows(asset.data.default_joint_vel, env_ids, ids, fresh=False)
+    pos = pos + math_utils.sample_uniform(*position_range, tuple(pos.shape), env.device)
+    vel = vel + math_utils.sample_uniform(*velocity_range, tuple(vel.shape), env.device)
     _write_joints(asset, env_ids, write_ids, ids, pos, vel)
 
 

@@ -215,8 +215,10 @@ def check_finite_obs(observations: Any) -> None:
 
 
 def _any_nonfinite(value: Any) -> torch.Tensor:
-    flags = [~torch.isfinite(t).all() for t in _tensors(value) if t.is_floating_point()]
-    return torch.stack(flags).any() if flags else torch.zeros((), dtype=torch.bool)
+    finite = [torch.isfinite(t).all() for t in _tensors(value) if t.is_floating_point()]
+    if not finite:
+        return torch.zeros((), dtype=torch.bool)
+    return ~(finite[0] if len(finite) == 1 else torch.stack(finite).all())  # few kernels: it runs every step
 
 
 def _observations(outputs: Any) -> Any:

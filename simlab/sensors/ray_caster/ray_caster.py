@@ -14,6 +14,7 @@ from __future__ import annotations
 import weakref
 from typing import TYPE_CHECKING
 
+import mujoco
 import torch
 
 from simlab.utils.env_mask import EnvIds, PerEnvState, env_mask
@@ -94,10 +95,15 @@ class RayCaster(SensorBase):
 
     def _cast(self) -> None:
         self._outdated = False
-        self._sim.physics.ensure_forward()
         origins = self._sim.env_origins
-        pos_w = self._xpos[:, self._body_id] + origins + self.drift
-        quat_w = self._xquat[:, self._body_id]
+        if self._free_pose is not None:  # a floating base's pose is its free joint's: no forward needed
+            position, orientation = self._free_pose
+            pos_w = self._qpos[:, position] + origins + self.drift
+            quat_w = self._qpos[:, orientation]
+        else:
+            self._sim.physics.ensure_forward()
+            pos_w = self._xpos[:, self._body_id] + origins + self.drift
+            quat_w = self._xquat[:, self._body_id]
         self._data.pos_w.copy_(pos_w)
         self._data.quat_w.copy_(quat_w)
         starts, directions = self._rays_w(pos_w, quat_w)
@@ -129,6 +135,13 @@ class RayCaster(SensorBase):
         self._xy = torch.tensor([1.0, 1.0, 0.0], device=device)  # drift in the plane only
         self._targets = RayTargets(shared[key], n * self.num_rays, sim.physics, device)
         self._xpos, self._xquat = sim.physics.data("xpos"), sim.physics.data("xquat")
+        # A body moved by a free joint has MuJoCo's world pose qpos[adr : adr + 7] (mj_kinematics
+        # copies it): the sensor then reads it there, without the forward xpos would need.
+        self._qpos, self._free_pose = sim.physics.data("qpos"), None
+        joint = int(model.body_jntadr[self._body_id])
+        if model.body_jntnum[self._body_id] == 1 and model.jnt_type[joint] == mujoco.mjtJoint.mjJNT_FREE:
+            adr = int(model.jnt_qposadr[joint])
+            self._free_pose = (slice(adr, adr + 3), slice(adr + 3, adr + 7))
         d = self._data
         d.pos_w = torch.zeros(n, 3, device=device)
         d.quat_w = torch.zeros(n, 4, device=device)

@@ -27,6 +27,9 @@ worlds *stale*; ``ensure_forward()`` forwards the stale worlds, if any, and is c
 reader of derived quantities (asset data, sensors). A step whose observations and rewards read
 only joint states therefore runs no forward at all: the physics work equals ``mj_step``'s.
 Forward is a pure function of the state, so when it runs changes no value and no trajectory.
+What the last physics step applied (``qacc``, ``actuator_force``, the contact forces in
+``cfrc_ext``) is read as that step left it, without a forward: a forward would recompute it at the
+new state, which is not what was applied.
 
 Nothing above the backend knows which backend runs.
 """
@@ -68,6 +71,11 @@ class PhysicsBackend(ABC):
         """Worlds found blown up so far (``take_diverged``), on the device."""
         self._qpos0 = torch.as_tensor(model.qpos0, dtype=torch.float32, device=self.device)
         self._moves_from_qpos0 = False  # set_initial_qpos gave a start other than qpos0
+        self.state_version = 0
+        """Counts the changes of state (steps, resets, writes announced with ``mark_stale`` or followed
+        by a forward, and each capture or replay of a graphed env step): values computed from the
+        state at one version may be reused until it changes (``RootedAssetData``'s per-state
+        quantities)."""
 
     @abstractmethod
     def data(self, name: str) -> torch.Tensor:
@@ -94,6 +102,7 @@ class PhysicsBackend(ABC):
         then stay one substep behind until ``ensure_forward``, as after a plain ``mj_step``.
         """
         self._step(nstep, forward)
+        self.state_version += 1
         if forward:
             self._clear_stale()
         else:
@@ -102,6 +111,7 @@ class PhysicsBackend(ABC):
     def forward(self, env_ids: EnvIds = None) -> None:
         """Recompute derived quantities of the selected worlds (all when ``None``)."""
         self._forward(env_ids)
+        self.state_version += 1  # also covers state writes announced by a forward instead of mark_stale
         if env_ids is None or self.forwards_all_worlds:
             self._clear_stale()
 
@@ -113,6 +123,7 @@ class PhysicsBackend(ABC):
     def reset(self, env_ids: EnvIds = None) -> None:
         """Restore the initial state of the selected worlds (all when ``None``), then forward."""
         self._reset(env_ids)
+        self.state_version += 1
         if env_ids is None or self.forwards_all_worlds:
             self._clear_stale()
         if self._moves_from_qpos0:
@@ -129,6 +140,7 @@ class PhysicsBackend(ABC):
 
     def mark_stale(self, env_ids: EnvIds = None) -> None:
         """Note that the state of these worlds (all when ``None``) changed since their last forward."""
+        self.state_version += 1
         if env_ids is None or self.forwards_all_worlds:
             self._stale_all = True
         elif isinstance(env_ids, torch.Tensor) and env_ids.dtype == torch.bool:
@@ -180,10 +192,12 @@ class PhysicsBackend(ABC):
         The capture records a forward at the start of the step only where one was due then.
         """
         self._stale_at_capture = self.is_stale
+        self.state_version += 1  # nothing computed before the capture is reused inside it
 
     def before_replay(self) -> None:
         """Called before each replay: forward now if state was written since the last step and
         the captured step does not forward at its start."""
+        self.state_version += 1  # the replay changes the state without running the step's Python
         if self.is_stale and not getattr(self, "_stale_at_capture", True):
             self.ensure_forward()
 

@@ -63,16 +63,23 @@ class UniformVelocityCommand(CommandTerm):
     def _resample_command(self, env_ids: torch.Tensor) -> None:
         """New commands where the (num_envs,) mask ``env_ids`` is set (draws for all envs)."""
         r, mask = self.cfg.ranges, env_ids
-
-        def draw(low: float, high: float) -> torch.Tensor:
-            return torch.empty(self.num_envs, device=self.device).uniform_(low, high)
-
-        for axis, bounds in enumerate((r.lin_vel_x, r.lin_vel_y, r.ang_vel_z)):
-            masked_copy_(self.vel_command_b[:, axis], mask, draw(*bounds))
+        # one draw for every env and quantity (each op is a kernel launch on the GPU): columns
+        # v_x, v_y, w_z, heading, then two uniform [0, 1) numbers for the heading and standing envs
+        bounds = (r.lin_vel_x, r.lin_vel_y, r.ang_vel_z, r.heading or (0.0, 0.0), (0.0, 1.0), (0.0, 1.0))
+        if getattr(self, "_draw_bounds", None) != bounds:  # first call, or a curriculum changed the ranges
+            low_width = torch.tensor([[lo, hi - lo] for lo, hi in bounds], device=self.device)
+            if hasattr(self, "_draw_low"):  # in place: a captured step reads these tensors
+                self._draw_low.copy_(low_width[:, 0])
+                self._draw_width.copy_(low_width[:, 1])
+            else:
+                self._draw_low, self._draw_width = low_width[:, 0].clone(), low_width[:, 1].clone()
+            self._draw_bounds = bounds
+        draws = torch.rand(self.num_envs, 6, device=self.device).mul_(self._draw_width).add_(self._draw_low)
+        masked_copy_(self.vel_command_b, mask, draws[:, :3])
         if self.cfg.heading_command:
-            masked_copy_(self.heading_target, mask, draw(*r.heading))
-            masked_copy_(self.is_heading_env, mask, draw(0.0, 1.0) <= self.cfg.rel_heading_envs)
-        masked_copy_(self.is_standing_env, mask, draw(0.0, 1.0) <= self.cfg.rel_standing_envs)
+            masked_copy_(self.heading_target, mask, draws[:, 3])
+            masked_copy_(self.is_heading_env, mask, draws[:, 4] <= self.cfg.rel_heading_envs)
+        masked_copy_(self.is_standing_env, mask, draws[:, 5] <= self.cfg.rel_standing_envs)
 
     def _update_command(self) -> None:
         if self.cfg.heading_command:
