@@ -16,8 +16,8 @@ policy on held-out commands (another seed) and measure:
                                             # lift: train for at most 7 minutes, evaluate what it reached
     python scripts/benchmarks/manipulation_learn.py --tasks reach lift cabinet --device cpu --num_envs 8 \\
         --max_iterations 2 --eval_envs 4 --eval_seconds 8                             # a CPU smoke run
-    python scripts/benchmarks/manipulation_learn.py --tasks reach --log_root logs/reach_big \\
-        agent.actor.hidden_dims=[256,128,64]                                          # a variant
+    python scripts/benchmarks/manipulation_learn.py --tasks reach --log_root logs/reach_small \\
+        agent.actor.hidden_dims=[64,64] agent.critic.hidden_dims=[64,64]  # a variant: Isaac Lab's sizes
 
 Trailing ``env.x=v`` / ``agent.x=v`` overrides go to both the training and the evaluation (give each
 variant its own ``--log_root``: the evaluation plays the newest run there).
