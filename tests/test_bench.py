@@ -55,4 +55,4 @@ def test_bench_train_runs_the_ppo_update_and_rollout_step_asked_for(tmp_path):
     assert rows["fast"]["ppo_update"] == "fast" and rows["fast"]["env_steps_per_s"] > 0
     assert rows["fast"]["rollout_step"] == "fast (eager)"  # on the CPU it runs eagerly when asked for
     assert rows["rsl_rl"]["ppo_update"] == "rsl_rl" and rows["rsl_rl"]["rollout_policy"] == "eager"
-    assert rows["rsl_rl"]["rollout_step"].startswith("rsl_rl (simlab's pays with the policy graphed on CUDA")
+    assert rows["rsl_rl"]["rollout_step"].startswith("rsl_rl (agent.fast_rollout=true: simlab's, opt-in")

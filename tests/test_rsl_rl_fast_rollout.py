@@ -120,7 +120,7 @@ def test_the_setting_chooses_the_rollout_step_and_says_why():
     runner = SimpleNamespace(alg=alg, logger=_logger(cfg, "cpu"), cfg=cfg)
     own = alg.process_env_step
     assert use_fast_rollout(runner, False) == "rsl_rl"
-    assert use_fast_rollout(runner, None).startswith("rsl_rl (simlab's pays with the policy graphed on CUDA")
+    assert use_fast_rollout(runner, None).startswith("rsl_rl (agent.fast_rollout=true: simlab's, opt-in")
     assert alg.process_env_step == own
     assert use_fast_rollout(runner, True) == "fast (eager)"
     assert isinstance(alg.process_env_step, FastRolloutStep) and alg.process_env_step.logger is runner.logger

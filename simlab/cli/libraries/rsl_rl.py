@@ -209,9 +209,9 @@ def use_fast_rollout(runner: OnPolicyRunner, setting: bool | None) -> str:
     if setting is False:
         return "rsl_rl"
     graphed = isinstance(alg.act, GraphedAct)
-    if setting is None and not graphed:
-        # eagerly it dispatches the same ops as rsl_rl's: it pays only with the policy graphed on CUDA
-        return "rsl_rl (simlab's pays with the policy graphed on CUDA; agent.fast_rollout=true runs it eagerly)"
+    if setting is None:
+        # off unless asked: on an H100 it made `simlab train` 9x slower (docs/performance.md)
+        return "rsl_rl (agent.fast_rollout=true: simlab's, opt-in)"
     reason = fast_rollout_unsupported(alg)
     if reason is not None:
         if setting:

@@ -150,8 +150,10 @@ class RslRlOnPolicyRunnerCfg:
     """simlab's rollout step (:mod:`simlab.rl.rsl_rl.fast_rollout`): the same transitions, rewards
     and logged episodes as rsl_rl's runner loop, with fewer torch ops per env step (observations
     in a reused ``TensorDict``, rsl_rl's bootstrap and storage add as one CUDA graph per step of the
-    rollout on the GPU, episode sums folded per iteration). None: on wherever it covers the config;
-    True: required (an error says why not); False: rsl_rl's and the wrapper's own per-step code."""
+    rollout on the GPU, episode sums folded per iteration). None or False: rsl_rl's and the
+    wrapper's own per-step code; True: simlab's (an error says what it does not cover). Off by
+    default: measured on an H100 it made cartpole training 9x slower, cause not yet found
+    (docs/performance.md, "The rollout step on the GPU")."""
     actor: RslRlMLPModelCfg = MISSING
     critic: RslRlMLPModelCfg = MISSING
     algorithm: RslRlPpoAlgorithmCfg = MISSING
