@@ -220,13 +220,17 @@ def test_holding_a_teleop_button_in_the_browser_moves_the_arm():
             assert time.monotonic() < deadline and run.poll() is None, "".join(line for _, line in received)
             time.sleep(0.2)
         before = positions_since(0.0)[-1]
-        # down: reachable from any start pose of the reset (the hand starts 0.4 to 0.8 m up)
-        asyncio.run(_hold_button_in_browser(f"http://127.0.0.1:{port}", "Teleop", "E: -z", 0.6))
-        settled = time.monotonic() + 1.0
-        while len(positions_since(settled)) < 1:
-            assert time.monotonic() < deadline and run.poll() is None, "".join(line for _, line in received)
-            time.sleep(0.2)
-        after = positions_since(settled)[-1]
+        # down: reachable from any start pose of the reset (the hand starts 0.4 to 0.8 m up). A loaded
+        # machine simulates fewer steps per second of holding, so hold again until it has moved.
+        for _ in range(4):
+            asyncio.run(_hold_button_in_browser(f"http://127.0.0.1:{port}", "Teleop", "E: -z", 0.6))
+            settled = time.monotonic() + 1.0
+            while len(positions_since(settled)) < 1:
+                assert time.monotonic() < deadline and run.poll() is None, "".join(line for _, line in received)
+                time.sleep(0.2)
+            after = positions_since(settled)[-1]
+            if before[2] - after[2] > 0.03:
+                break
     finally:
         run.kill()
         run.wait(timeout=60)
