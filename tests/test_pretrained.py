@@ -45,3 +45,11 @@ def test_a_task_without_a_pretrained_policy_says_what_is_shipped(tmp_path, capsy
     assert main([*argv, "--log_root", str(tmp_path / "logs")]) == 2
     err = capsys.readouterr().err
     assert f"No pretrained rsl_rl policy for {task}" in err and "Shipped:" in err
+
+
+def test_a_play_variant_plays_the_policy_of_its_task():
+    from simlab.pretrained import pretrained_run_dir
+
+    # Isaac Lab's play.py rule: Isaac-Reach-Franka-Play-v0 plays Isaac-Reach-Franka-v0's checkpoint
+    trained = pretrained_run_dir("simlab/Reach-Franka-v0", "rsl_rl")
+    assert pretrained_run_dir("simlab/Reach-Franka-Play-v0", "rsl_rl") == trained
