@@ -45,3 +45,11 @@ def test_a_task_without_a_pretrained_policy_says_what_is_shipped(tmp_path, capsy
     assert main([*argv, "--log_root", str(tmp_path / "logs")]) == 2
     err = capsys.readouterr().err
     assert f"No pretrained rsl_rl policy for {task}" in err and "Shipped:" in err
+
+
+def test_a_play_variant_plays_the_policy_of_its_task(tmp_path):
+    # Isaac Lab's play.py rule: Isaac-Reach-Franka-Play-v0 plays Isaac-Reach-Franka-v0's checkpoint
+    argv = ["play", "--task", "simlab/Reach-Franka-Play-v0", "--use_pretrained_checkpoint", "--headless"]
+    argv += ["--device", "cpu", "--num_envs", "2", "--steps", "3", "--log_root", str(tmp_path / "logs")]
+    result = run_play(build_parser().parse_args(argv), [])
+    assert result["checkpoint"].startswith(str(tmp_path / "logs" / "pretrained" / "rsl_rl" / "Reach-Franka-v0"))

@@ -166,7 +166,8 @@ def check_checkpoint_source(checkpoint: str, library: str, task: str, force: boo
     info = find_run_info(checkpoint) or {}
     if written_by is None and info.get("library") not in (None, library):
         problems.append(f"its run was trained with {info['library']}, not {library}")
-    if info.get("task") not in (None, task):
+    # a task's -Play variant plays what the task trained (Isaac Lab's train-then-play workflow)
+    if info.get("task") not in (None, task, task.replace("-Play", "")):
         problems.append(f"its run trained the task '{info['task']}', not '{task}' (use --task {info['task']})")
     _refuse(checkpoint, problems, force)
 

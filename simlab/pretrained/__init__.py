@@ -20,7 +20,8 @@ PRETRAINED_DIR = os.path.dirname(os.path.abspath(__file__))
 
 
 def _task_folder(task: str) -> str:
-    return task.split("/")[-1]
+    # a task's -Play variant plays the policy trained on the task itself (Isaac Lab's play.py rule)
+    return task.split("/")[-1].replace("-Play", "")
 
 
 def list_pretrained() -> list[tuple[str, str]]:
