@@ -14,6 +14,7 @@ import logging
 import math
 import os
 import re
+import sys
 from collections.abc import Iterator
 from typing import Any
 
@@ -116,6 +117,17 @@ def _wrap(env: gym.Env, ml_framework: str) -> Any:
         skrl_logger.removeFilter(drop)
 
 
+def _log_to_current_stderr() -> None:
+    """Point skrl's log handler at today's ``sys.stderr``.
+
+    skrl's handler keeps the stream that was ``sys.stderr`` when skrl was imported; a caller that
+    swapped it since (a notebook's or a test's capture) may have closed that one, and every skrl log
+    line then ends in a "--- Logging error ---" traceback."""
+    for handler in logging.getLogger("skrl").handlers:
+        if type(handler) is logging.StreamHandler:
+            handler.stream = sys.stderr  # not setStream: it flushes the old stream, which may be closed
+
+
 def experiment_name(agent_cfg: dict, task: str) -> str:
     return agent_cfg["agent"]["experiment"]["directory"]
 
@@ -150,6 +162,7 @@ def configure(agent_cfg: dict, args: argparse.Namespace, env_cfg: Any) -> None:
 
 def make_runner(env: gym.Env, agent_cfg: dict, run_dir: str | None, ml_framework: str = "torch") -> Any:
     """skrl's Runner; ``run_dir`` None (playing, or ranks other than 0) writes nothing."""
+    _log_to_current_stderr()
     cfg = copy.deepcopy(agent_cfg)
     exp = cfg["agent"]["experiment"]
     if run_dir is None:  # playing, or a rank other than 0: write nothing
