@@ -2,10 +2,12 @@
 
     python scripts/benchmarks/ik_rel_scripted_reach.py --gains 0.2 0.5 1.0
 
-Each step sends ``gain * (pose error) / scale`` through the task's relative differential-IK action
-(position error and the rotation vector from the hand to the commanded orientation, both in the robot's
-base frame): a gain g closes the fraction g of the error per step. Reports the mean position and
-orientation errors just before each 4 s command resample, as the reach criterion judges them. If this
+The command is a pose of ``panda_hand``; the action moves the IK frame 0.107 m further along the hand's
+z. Each step sends ``gain * (pose error) / scale`` through the task's relative differential-IK action
+(the IK frame's position error to where the commanded hand pose puts it, and the rotation vector to the
+commanded orientation, both in the robot's base frame): a gain g closes the fraction g of the error per
+step. Reports the hand's mean position and orientation errors (the task's reward terms) just before
+each 4 s command resample, as the reach criterion judges them. If this
 controller meets the criterion and a trained policy does not, the policy is what falls short, not the
 action or the IK.
 """
@@ -18,6 +20,8 @@ import gymnasium as gym
 import torch
 
 import simlab.tasks  # noqa: F401  (registers the tasks)
+from simlab.managers import SceneEntityCfg
+from simlab.tasks.manager_based.manipulation.reach import mdp
 from simlab.tasks.utils import parse_env_cfg
 from simlab.utils import math as math_utils
 
@@ -35,6 +39,9 @@ def main() -> None:
         env = gym.make(TASK, cfg=parse_env_cfg(TASK, device="cpu", num_envs=args.num_envs)).unwrapped
         env.reset()
         arm = env.action_manager.get_term("arm_action")
+        hand = SceneEntityCfg("robot", body_names=["panda_hand"])
+        hand.resolve(env.scene)
+        offset = torch.tensor(arm.cfg.body_offset.pos).expand(env.num_envs, 3)
         window = round(4.0 / env.step_dt)
         position_errors, orientation_errors = [], []
         for step in range((args.windows + 1) * window):
@@ -42,12 +49,11 @@ def main() -> None:
             ee_pos, ee_quat = arm._ee_pose_b()
             to_command = math_utils.quat_mul(command[:, 3:7], math_utils.quat_inv(ee_quat))
             rotation = math_utils.axis_angle_from_quat(to_command)
-            env.step(gain * torch.cat([command[:, :3] - ee_pos, rotation], dim=-1) / arm.cfg.scale)
+            target_pos = command[:, :3] + math_utils.quat_apply(command[:, 3:7], offset)
+            env.step(gain * torch.cat([target_pos - ee_pos, rotation], dim=-1) / arm.cfg.scale)
             if step >= window and step % window == window - 2:  # the last step before the resample
-                ee_pos, ee_quat = arm._ee_pose_b()
-                command = env.command_manager.get_command("ee_pose")
-                position_errors.append(float((command[:, :3] - ee_pos).norm(dim=-1).mean()))
-                orientation_errors.append(float(math_utils.quat_error_magnitude(command[:, 3:7], ee_quat).mean()))
+                position_errors.append(float(mdp.position_command_error(env, "ee_pose", hand).mean()))
+                orientation_errors.append(float(mdp.orientation_command_error(env, "ee_pose", hand).mean()))
         env.close()
         print(
             f"gain {gain}: position error (m) per window {[round(e, 4) for e in position_errors]}, "
