@@ -172,6 +172,7 @@ def script_to_simlab_argv(library: str, mode: str, args: argparse.Namespace, ove
 
 
 def _main(library: str, mode: str, argv: list[str] | None) -> int:
+    from simlab.cli.distributed import end_torchrun_worker
     from simlab.cli.main import main
 
     parser = build_script_parser(library, mode)
@@ -184,7 +185,10 @@ def _main(library: str, mode: str, argv: list[str] | None) -> int:
     except (ValueError, FileNotFoundError) as e:
         print(f"{mode}.py: error: {e}", file=sys.stderr)
         return 2
-    return main(simlab_argv)
+    code = main(simlab_argv)
+    if argv is None:  # the script is this process: end a torchrun worker as `simlab` ends it
+        end_torchrun_worker(code)
+    return code
 
 
 def train_main(library: str, argv: list[str] | None = None) -> int:

@@ -21,16 +21,14 @@ from __future__ import annotations
 import argparse
 import contextlib
 import gc
-import logging
-import os
 import signal
 import sys
 import threading
 import traceback
 from collections.abc import Iterator
-from typing import Any, NoReturn
+from typing import Any
 
-from simlab.cli.distributed import add_launch_args
+from simlab.cli.distributed import add_launch_args, end_torchrun_worker
 from simlab.cli.session import LIBRARIES, SKRL_ALGORITHMS
 from simlab.utils.errors import is_intended_error
 from simlab.utils.startup import pause_collector_for_start_up, resume_collector_after_start_up
@@ -238,23 +236,8 @@ def main(argv: list[str] | None = None) -> int:
         resume_collector_after_start_up()  # training resumes it itself; this is for an error before
     if argv is None:  # the process ends next: not when a caller (a test, a script) goes on
         _skip_collection_at_exit()
-        if "TORCHELASTIC_RUN_ID" in os.environ:  # a torchrun worker: end it before C++'s exit teardown
-            _end_worker(code)
+        end_torchrun_worker(code)
     return code
-
-
-def _end_worker(code: int) -> NoReturn:
-    """End a torchrun worker now, skipping the interpreter's teardown.
-
-    On 2 CPU cores a gloo worker that had finished training, saved and left its process group
-    sometimes aborted in that teardown ("terminate called without an active exception", SIGABRT),
-    which torchrun reports as a failed run. Everything is written by now (checkpoints saved,
-    writers closed); only the logging handlers and the standard streams are flushed here.
-    """
-    logging.shutdown()
-    sys.stdout.flush()
-    sys.stderr.flush()
-    os._exit(code)
 
 
 def _trains(words: list[str]) -> bool:
