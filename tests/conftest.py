@@ -47,3 +47,15 @@ def _fresh_simulation():
     SimulationContext.clear_instance()
     yield
     SimulationContext.clear_instance()
+
+
+@pytest.fixture
+def one_torch_thread():
+    """torch on one thread for the test: two threads on a shared 2-core machine make small PPO
+    updates ten times slower (`pytestmark = pytest.mark.usefixtures("one_torch_thread")`)."""
+    import torch
+
+    threads = torch.get_num_threads()
+    torch.set_num_threads(1)
+    yield
+    torch.set_num_threads(threads)

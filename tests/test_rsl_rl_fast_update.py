@@ -18,13 +18,7 @@ from simlab.tasks.manager_based.classic.cartpole.agents.rsl_rl_ppo_cfg import Ca
 NUM_ENVS, OBS_DIM, NUM_ACTIONS = 64, 4, 1
 
 
-@pytest.fixture(autouse=True)
-def _one_torch_thread():
-    """Two threads on the shared 2-core machine make these small updates ten times slower."""
-    threads = torch.get_num_threads()
-    torch.set_num_threads(1)
-    yield
-    torch.set_num_threads(threads)
+pytestmark = pytest.mark.usefixtures("one_torch_thread")
 
 
 class _Env:

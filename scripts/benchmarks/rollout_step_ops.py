@@ -28,7 +28,7 @@ import torch
 from torch.utils._python_dispatch import TorchDispatchMode
 
 import simlab.tasks  # noqa: F401 - registers the tasks
-from simlab.cli.libraries.rsl_rl import _ProgressLogger, make_runner, use_fast_rollout
+from simlab.cli.libraries.rsl_rl import install_progress_logger, make_runner, use_fast_rollout
 from simlab.tasks.utils import load_cfg_from_registry, parse_env_cfg
 
 READ_BACKS = ("aten._local_scalar_dense", "aten.nonzero")
@@ -87,16 +87,8 @@ def main() -> None:
     agent_cfg.device = args.device
     agent_cfg.fast_rollout = args.rollout == "fast"
     runner = make_runner(env, agent_cfg, log_dir=None)
-    runner.logger = _ProgressLogger(  # simlab train's logger, writing to a throw-away folder
-        log_dir=tempfile.mkdtemp(prefix="rollout_ops_"),
-        cfg=runner.cfg,
-        env_cfg=runner.env.cfg,
-        num_envs=runner.env.num_envs,
-        is_distributed=False,
-        gpu_world_size=1,
-        gpu_global_rank=0,
-        device=args.device,
-    )
+    # simlab train's logger, writing to a throw-away folder
+    install_progress_logger(runner, tempfile.mkdtemp(prefix="rollout_ops_"))
     kind = use_fast_rollout(runner, agent_cfg.fast_rollout)
     runner.learn(num_learning_iterations=2)  # warm-up: lazy state, first graph captures
 

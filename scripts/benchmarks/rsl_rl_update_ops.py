@@ -18,7 +18,7 @@ import torch
 from torch.utils._python_dispatch import TorchDispatchMode
 
 import simlab.tasks  # noqa: F401 - registers the tasks
-from simlab.cli.libraries.rsl_rl import _ProgressLogger, make_runner, use_fast_rollout
+from simlab.cli.libraries.rsl_rl import install_progress_logger, make_runner, use_fast_rollout
 from simlab.tasks.utils import load_cfg_from_registry, parse_env_cfg
 
 READ_BACKS = ("aten._local_scalar_dense", "aten.nonzero")
@@ -64,17 +64,8 @@ def main() -> None:
     agent_cfg.graph_act = None if args.update == "fast" else False  # fast: the rollout's policy graphed on CUDA
     runner = make_runner(env, agent_cfg, log_dir=None)
     # simlab train's logger (it keeps finished episodes on the device), writing to a throw-away folder
-    runner.logger = _ProgressLogger(
-        log_dir=tempfile.mkdtemp(prefix="update_ops_"),
-        cfg=runner.cfg,
-        env_cfg=runner.env.cfg,
-        num_envs=runner.env.num_envs,
-        is_distributed=False,
-        gpu_world_size=1,
-        gpu_global_rank=0,
-        device=args.device,
-    )
-    use_fast_rollout(runner, None if args.update == "fast" else False)  # fast: the rollout step graphed on CUDA
+    install_progress_logger(runner, tempfile.mkdtemp(prefix="update_ops_"))
+    use_fast_rollout(runner, None if args.update == "fast" else False)  # None: the agent's default (rsl_rl's step)
     runner.learn(num_learning_iterations=1)  # warm-up: lazy state, first graph capture
     alg, obs = runner.alg, runner.env.get_observations()
 

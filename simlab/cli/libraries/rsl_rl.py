@@ -244,6 +244,22 @@ def use_fast_update(alg: Any, setting: bool | None) -> str:
     return "fast (CUDA graph)" if alg.update.cuda_graph else "fast"
 
 
+def install_progress_logger(runner: OnPolicyRunner, log_dir: str | None) -> _ProgressLogger:
+    """Give ``runner`` simlab train's logger (a progress bar; finished episodes kept on the device),
+    writing to ``log_dir`` (None: nothing); returns it."""
+    runner.logger = _ProgressLogger(
+        log_dir=log_dir,
+        cfg=runner.cfg,
+        env_cfg=runner.env.cfg,
+        num_envs=runner.env.num_envs,
+        is_distributed=runner.is_distributed,
+        gpu_world_size=runner.gpu_world_size,
+        gpu_global_rank=runner.gpu_global_rank,
+        device=runner.device,
+    )
+    return runner.logger
+
+
 def train(
     env: gym.Env,
     agent_cfg: RslRlOnPolicyRunnerCfg,
@@ -255,18 +271,8 @@ def train(
     runner = make_runner(env, agent_cfg, run_dir)
     mark("runner")
     _mark_first_step(runner.env)
-    logger = _ProgressLogger(
-        log_dir=run_dir,
-        cfg=runner.cfg,
-        env_cfg=runner.env.cfg,
-        num_envs=runner.env.num_envs,
-        is_distributed=runner.is_distributed,
-        gpu_world_size=runner.gpu_world_size,
-        gpu_global_rank=runner.gpu_global_rank,
-        device=runner.device,
-    )
+    logger = install_progress_logger(runner, run_dir)
     logger.verbose = bool(getattr(args, "verbose", False))
-    runner.logger = logger
     _logs_without_host_sync(runner, logger)
     runner.rollout_kind = use_fast_rollout(runner, agent_cfg.fast_rollout)
     if run_dir is not None:
