@@ -35,7 +35,9 @@ class ClipRecorder:
     def __init__(self, skip_seconds: float, asset_name: str = "robot"):
         self.skip_seconds = skip_seconds
         self.asset_name = asset_name
-        self.frames: dict[str, list[torch.Tensor]] = {key: [] for key in ("dof_pos", "dof_vel", "pos", "rot", "lin", "ang")}
+        self.frames: dict[str, list[torch.Tensor]] = {
+            key: [] for key in ("dof_pos", "dof_vel", "pos", "rot", "lin", "ang")
+        }
         self.episode_steps: list[torch.Tensor] = []
         self.step_dt = float("nan")
         self.dof_names: list[str] = []
