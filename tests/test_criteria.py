@@ -149,6 +149,26 @@ def test_manager_based_drawer_criterion_judges_each_episode_on_its_last_step():
         env.close()
 
 
+def test_direct_cabinet_criterion_reads_each_episode_opening_before_its_reset():
+    task = "simlab/Franka-Cabinet-Direct-v0"
+    env = _env(task, episode_length_s=0.5)
+    try:
+        criterion = criterion_for(task)
+        on_step, counts = criterion.make_hook()
+        cabinet = env.scene["cabinet"]
+        drawer = [cabinet.joint_names.index("drawer_top_joint")]
+        actions = torch.zeros(4, env.single_action_space.shape[-1])
+        for _ in range(round(0.5 / env.step_dt)):  # one episode each (a time-out)
+            # envs 0 and 1 hold the drawer open 0.3 m (short of the 0.39 m that ends an episode)
+            cabinet.write_joint_state_to_sim(torch.full((2, 1), 0.3), torch.zeros(2, 1), drawer, [0, 1])
+            env.step(actions)
+            on_step(env, None, None)
+        assert counts == {"success": 2, "episodes": 4}
+        assert criterion.judge({}, counts) == (0.5, False)
+    finally:
+        env.close()
+
+
 @pytest.mark.parametrize("task", ["simlab/Lift-Cube-Franka-v0", "simlab/Franka-Cabinet-Direct-v0"])
 def test_an_untrained_arm_fails_the_lift_and_cabinet_criteria(task):
     env = _env(task, num_envs=2, episode_length_s=0.3)

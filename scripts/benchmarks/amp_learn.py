@@ -42,6 +42,7 @@ import torch
 from simlab.cli.libraries.skrl import STYLE_REWARD_TAG
 from simlab.cli.main import build_parser
 from simlab.cli.play import run_play
+from simlab.rl.utils import require
 from simlab.tasks.utils import load_cfg_from_registry
 
 MOTIONS = ("walk", "run", "dance")
@@ -176,6 +177,8 @@ def main() -> int:
     parser.add_argument("--json", default=None, help="Also write the results to this JSON file.")
     args, overrides = parser.parse_known_args()
     task = f"simlab/Humanoid-AMP-{args.motion.capitalize()}-Direct-v0"
+    if args.video:
+        require("moviepy")  # play's video writer: fail now, not after the training
 
     wall = float("nan")
     if not args.skip_training:

@@ -28,7 +28,9 @@ gets past the last step (farther than ``size / 2 - border_width`` from the tile'
 or y) before any fall; reported per kind and row: the step height, the fraction that crosses, the
 mean height change of the base from the start to the crossing point, and the falls.
 
-With ``--video PATH`` the first play (env 0) is rendered to an mp4.
+With ``--video PATH`` the first play (env 0) is rendered to an mp4. ``--checkpoint PATH`` skips
+training and measures a saved policy (e.g. the ``model_final.pt`` of an earlier run, whose curve is
+in that run's output): ``--device cpu`` plays a GPU-trained policy on MuJoCo C.
 """
 
 from __future__ import annotations
@@ -44,6 +46,7 @@ from rsl_rl.runners import OnPolicyRunner
 
 import simlab.tasks  # noqa: F401 - registers the tasks
 from simlab.rl.rsl_rl import RslRlVecEnvWrapper
+from simlab.rl.utils import require
 from simlab.tasks.utils.parse_cfg import load_cfg_from_registry, parse_env_cfg
 from simlab.terrains import MeshPyramidStairsTerrainCfg
 
@@ -112,6 +115,21 @@ def train(args: argparse.Namespace) -> tuple[OnPolicyRunner, float, list[tuple[i
     return runner, wall, curve
 
 
+def load_policy(args: argparse.Namespace):
+    """The inference policy of ``--checkpoint`` (an rsl_rl checkpoint of the task's agent)."""
+    task = task_id(args)
+    env_cfg = parse_env_cfg(task, device=args.device, num_envs=1)
+    seed_terrain(env_cfg, args.seed)
+    agent_cfg = load_cfg_from_registry(task, "rsl_rl_cfg_entry_point")
+    agent_cfg.device = args.device
+    env = RslRlVecEnvWrapper(gym.make(task, cfg=env_cfg), clip_actions=agent_cfg.clip_actions)
+    runner = OnPolicyRunner(env, agent_cfg.to_rsl_rl_dict(), log_dir=None, device=args.device)
+    runner.load(args.checkpoint, map_location=args.device)
+    policy = runner.get_inference_policy(device=args.device)
+    env.close()
+    return policy
+
+
 def play_cfg(task: str, args: argparse.Namespace, num_envs: int, command: tuple[float, float, float], seconds: float):
     """The task's config for measuring: fixed ``command`` (vx, vy, wz) from a standstill, no time-outs."""
     cfg = parse_env_cfg(task, device=args.device, num_envs=num_envs)
@@ -133,7 +151,7 @@ def play_cfg(task: str, args: argparse.Namespace, num_envs: int, command: tuple[
 def save_video(frames: list, path: str, step_dt: float) -> None:
     import imageio
 
-    imageio.mimsave(path, frames, fps=round(1.0 / step_dt))
+    imageio.mimsave(path, frames, fps=round(1.0 / step_dt), format="FFMPEG")
     print(f"video: {path}")
 
 
@@ -279,8 +297,11 @@ def report_flat(args: argparse.Namespace, policy, wall: float) -> bool:
 def report_rough(args: argparse.Namespace, policy, wall: float, curve: list[tuple[int, float, float]]) -> bool:
     results = play_stairs(policy, args, args.video)
     print(f"\n{task_id(args)}: {args.num_envs} envs, training wall time {wall:.1f} s on {args.device}")
-    print("curriculum (mean terrain level of all envs):")
-    print(f"{'iteration':>9} {'seconds':>8} {'mean level':>10}")
+    if not curve:  # --checkpoint: the curve is in the training run's output
+        print(f"played {args.checkpoint}; its training curve is in that run's output")
+    else:
+        print("curriculum (mean terrain level of all envs):")
+        print(f"{'iteration':>9} {'seconds':>8} {'mean level':>10}")
     for iteration, seconds, level in curve:
         print(f"{iteration:>9d} {seconds:>8.0f} {level:>10.3f}")
     print(f"\nstairs: {args.stairs_envs} envs per tile, {args.stairs_speed} m/s ahead for {args.stairs_seconds} s")
@@ -290,11 +311,16 @@ def report_rough(args: argparse.Namespace, policy, wall: float, curve: list[tupl
             f"{r['kind']:<20} {r['row']:>3d} {r['envs']:>5d} {r['step_height']:>8.3f} {r['crossed']:>8.1%}"
             f" {r['height_change']:>14.2f} {r['falls']:>6.1%}"
         )
-    rose = curve[-1][2] - curve[0][2]
+    rose = curve[-1][2] - curve[0][2] if curve else float("nan")
     climbed = [r for r in results if r["kind"] == "pyramid_stairs_inv"]
     climb_fraction = sum(r["crossed"] * r["envs"] for r in climbed) / max(1, sum(r["envs"] for r in climbed))
-    ok = rose >= 1.0 and climb_fraction >= 0.5
+    climbs = climb_fraction >= 0.5
+    ok = rose >= 1.0 and climbs
     print(f"mean terrain level rose by {rose:.2f}; {climb_fraction:.1%} of the envs climbed out of the inverted stairs")
+    if not curve:
+        verdict = "PASS" if climbs else "FAIL"
+        print(f"criterion (>= 50 % climb out of the inverted stairs; the level's rise: see training): {verdict}")
+        return climbs
     print(f"criterion (level rises by >= 1 row, >= 50 % climb out of the inverted stairs): {'PASS' if ok else 'FAIL'}")
     return ok
 
@@ -318,12 +344,20 @@ def main() -> int:
     parser.add_argument("--stairs_seconds", type=float, default=10.0)
     parser.add_argument("--log_root", default="logs")
     parser.add_argument("--video", default=None, help="Write the first play (env 0) to this mp4.")
+    parser.add_argument("--checkpoint", default=None, help="Measure this rsl_rl checkpoint instead of training.")
     args = parser.parse_args()
+    if args.video:
+        require("imageio_ffmpeg")  # before any training: imageio would write an .mp4 path as TIFF without it
+    if args.checkpoint and not os.path.isfile(args.checkpoint):
+        parser.error(f"--checkpoint {args.checkpoint}: no such file")
     if args.terrain == "flat" and args.play_seconds <= args.settle_seconds:
         parser.error(f"--play_seconds ({args.play_seconds}) must exceed --settle_seconds ({args.settle_seconds})")
 
-    runner, wall, curve = train(args)
-    policy = runner.get_inference_policy(device=args.device)
+    if args.checkpoint:
+        policy, wall, curve = load_policy(args), float("nan"), []
+    else:
+        runner, wall, curve = train(args)
+        policy = runner.get_inference_policy(device=args.device)
     ok = report_rough(args, policy, wall, curve) if args.terrain == "rough" else report_flat(args, policy, wall)
     return 0 if ok else 1
 

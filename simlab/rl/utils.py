@@ -25,6 +25,7 @@ _LIBRARIES = {
     "tqdm": ("tqdm", "train"),
     "rich": ("rich", "sb3"),
     "imageio": ("imageio", "render"),
+    "imageio_ffmpeg": ("imageio-ffmpeg", "render"),
     "moviepy": ("moviepy", "render"),
 }
 
