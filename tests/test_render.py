@@ -191,3 +191,31 @@ def test_gl_backend_is_chosen_and_explained(monkeypatch):
     monkeypatch.setattr(gl_backend, "_checked", {})
     with pytest.raises(gl_backend.GLBackendError, match="MUJOCO_GL=bogus fails"):
         gl_backend.check_gl_backend()
+
+
+@pytest.mark.skipif(not rendering_available(), reason="offscreen rendering unavailable")
+def test_a_large_scene_does_not_clip_what_is_near_the_camera():
+    # A 200 m ground (a generated terrain's size) makes MuJoCo's near plane, a share of the model's
+    # extent, lie metres from the camera; a red box 0.3 m in front of the camera must still be drawn.
+    import mujoco
+
+    from simlab.sim.renderer import NEAR_CLIP_M, open_mujoco_renderer, set_free_camera
+
+    spec = mujoco.MjSpec()
+    spec.worldbody.add_geom(type=mujoco.mjtGeom.mjGEOM_BOX, size=[100, 100, 0.1], pos=[0, 0, -0.1], rgba=[0.5] * 4)
+    spec.worldbody.add_geom(type=mujoco.mjtGeom.mjGEOM_BOX, size=[0.05] * 3, pos=[0.3, 0, 1], rgba=[1, 0, 0, 1])
+    model = spec.compile()
+    assert model.stat.extent > 50
+    data = mujoco.MjData(model)
+    mujoco.mj_forward(model, data)
+    renderer = open_mujoco_renderer(model, 64, 48)
+    try:
+        assert model.vis.map.znear * model.stat.extent <= NEAR_CLIP_M + 1e-9
+        camera = mujoco.MjvCamera()
+        set_free_camera(camera, (0.0, 0.0, 1.0), (1.0, 0.0, 1.0))
+        renderer.update_scene(data, camera)
+        image = renderer.render()
+    finally:
+        renderer.close()
+    red = (image[..., 0] > 150) & (image[..., 1] < 80) & (image[..., 2] < 80)
+    assert red[18:30, 26:38].mean() > 0.9  # the box fills the image's centre

@@ -28,7 +28,8 @@ gets past the last step (farther than ``size / 2 - border_width`` from the tile'
 or y) before any fall; reported per kind and row: the step height, the fraction that crosses, the
 mean height change of the base from the start to the crossing point, and the falls.
 
-With ``--video PATH`` the first play (env 0) is rendered to an mp4. ``--checkpoint PATH`` skips
+With ``--video PATH`` the first play is rendered to an mp4 (flat: env 0 of the first command; rough:
+an env climbing out of the lowest row's inverted stairs). ``--checkpoint PATH`` skips
 training and measures a saved policy (e.g. the ``model_final.pt`` of an earlier run, whose curve is
 in that run's output): ``--device cpu`` plays a GPU-trained policy on MuJoCo C.
 """
@@ -217,6 +218,11 @@ def play_stairs(policy, args: argparse.Namespace, video: str | None) -> list[dic
     cfg.observations.policy.enable_corruption = False
     cfg.events.push_robot = None
     cfg.events.base_external_force_torque = None
+    # the video follows the first env that climbs out of a pit (the lowest row's inverted stairs),
+    # from high enough that the steps around it stay below the camera
+    climbing = [i for i, t in enumerate(tiles) if t.kind == "pyramid_stairs_inv"]
+    cfg.viewer.env_index = min(climbing, key=lambda i: tiles[i].row) * per_tile if climbing else 0
+    cfg.viewer.eye = (1.6, -1.6, 1.4)
     env = RslRlVecEnvWrapper(gym.make(task, cfg=cfg, render_mode="rgb_array" if video else None))
     base = env.unwrapped
     terrain, robot = base.scene.terrain, base.scene["robot"]

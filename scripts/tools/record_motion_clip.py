@@ -97,12 +97,14 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--skip_seconds", type=float, default=2.0, help="Start from rest: not recorded.")
     parser.add_argument("--seconds", type=float, default=6.0, help="Length of the clip.")
     parser.add_argument("--seed", type=int, default=7)
+    parser.add_argument("--log_root", default="logs", help="Where play copies the pretrained policy.")
     args = parser.parse_args(argv)
 
     play_argv = ["play", "--task", args.task, "--library", "rsl_rl", "--headless", "--device", "cpu"]
     env_cfg = load_cfg_from_registry(args.task, "env_cfg_entry_point")
     steps = round((args.skip_seconds + args.seconds) / (env_cfg.sim.dt * env_cfg.decimation))
     play_argv += ["--num_envs", str(args.num_envs), "--seed", str(args.seed), "--no_export", "--steps", str(steps)]
+    play_argv += ["--log_root", args.log_root]
     play_argv += ["--checkpoint", args.checkpoint] if args.checkpoint else ["--use_pretrained_checkpoint"]
     recorder = ClipRecorder(args.skip_seconds)
     run_play(build_parser().parse_args(play_argv), [], on_step=recorder)

@@ -175,6 +175,10 @@ def _install_gl_context(backend: str) -> None:
     gl_context.GLContext = GLContext
 
 
+NEAR_CLIP_M = 0.05
+"""Farthest distance [m] of the renderer's near clipping plane from the camera."""
+
+
 def open_mujoco_renderer(model: mujoco.MjModel, width: int, height: int, max_geom: int = 1000) -> mujoco.Renderer:
     """MuJoCo's offscreen ``Renderer`` on the GL backend simlab chooses (EGL, else OSMesa).
 
@@ -182,6 +186,10 @@ def open_mujoco_renderer(model: mujoco.MjModel, width: int, height: int, max_geo
         GLBackendError: no backend renders here, or the chosen one fails; the message says what to install.
     """
     backend = choose_gl_backend()
+    # MuJoCo's near clipping plane is a share of the model's extent (znear 0.01): on a generated
+    # terrain of 100+ m it cuts away everything within a metre of the camera (the ground in front of
+    # a camera that follows a robot). Clip at most NEAR_CLIP_M away instead.
+    model.vis.map.znear = min(model.vis.map.znear, NEAR_CLIP_M / max(model.stat.extent, 1e-6))
     # The offscreen buffer must hold the image; the model's default is 640x480.
     model.vis.global_.offwidth = max(model.vis.global_.offwidth, width)
     model.vis.global_.offheight = max(model.vis.global_.offheight, height)
