@@ -195,11 +195,12 @@ def test_gl_backend_is_chosen_and_explained(monkeypatch):
 
 @pytest.mark.skipif(not rendering_available(), reason="offscreen rendering unavailable")
 def test_a_large_scene_does_not_clip_what_is_near_the_camera():
-    # A 200 m ground (a generated terrain's size) makes MuJoCo's near plane, a share of the model's
-    # extent, lie metres from the camera; a red box 0.3 m in front of the camera must still be drawn.
+    # A 200 m ground (a generated terrain's size) puts MuJoCo's near plane, a share of the model's
+    # extent, metres from the camera; the viewer's frames must still show a red box 0.3 m in front of
+    # it, and the model keeps its own setting (camera sensors use it).
     import mujoco
 
-    from simlab.sim.renderer import NEAR_CLIP_M, open_mujoco_renderer, set_free_camera
+    from simlab.sim.renderer import NEAR_CLIP_M, near_clip_limited, open_mujoco_renderer, set_free_camera
 
     spec = mujoco.MjSpec()
     spec.worldbody.add_geom(type=mujoco.mjtGeom.mjGEOM_BOX, size=[100, 100, 0.1], pos=[0, 0, -0.1], rgba=[0.5] * 4)
@@ -209,13 +210,22 @@ def test_a_large_scene_does_not_clip_what_is_near_the_camera():
     data = mujoco.MjData(model)
     mujoco.mj_forward(model, data)
     renderer = open_mujoco_renderer(model, 64, 48)
-    try:
-        assert model.vis.map.znear * model.stat.extent <= NEAR_CLIP_M + 1e-9
-        camera = mujoco.MjvCamera()
-        set_free_camera(camera, (0.0, 0.0, 1.0), (1.0, 0.0, 1.0))
-        renderer.update_scene(data, camera)
+    camera = mujoco.MjvCamera()
+    set_free_camera(camera, (0.0, 0.0, 1.0), (1.0, 0.0, 1.0))
+
+    def red_centre() -> float:
         image = renderer.render()
+        red = (image[..., 0] > 150) & (image[..., 1] < 80) & (image[..., 2] < 80)
+        return float(red[18:30, 26:38].mean())
+
+    try:
+        renderer.update_scene(data, camera)
+        assert red_centre() < 0.1  # MuJoCo's own near plane cuts the box away
+        znear = model.vis.map.znear
+        with near_clip_limited(model):
+            assert model.vis.map.znear * model.stat.extent <= NEAR_CLIP_M + 1e-9
+            renderer.update_scene(data, camera)
+        assert model.vis.map.znear == znear
+        assert red_centre() > 0.9  # the box fills the image's centre
     finally:
         renderer.close()
-    red = (image[..., 0] > 150) & (image[..., 1] < 80) & (image[..., 2] < 80)
-    assert red[18:30, 26:38].mean() > 0.9  # the box fills the image's centre

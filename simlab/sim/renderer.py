@@ -14,7 +14,8 @@ from __future__ import annotations
 
 import copy
 import math
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
 
 import mujoco
 import numpy as np
@@ -179,6 +180,23 @@ NEAR_CLIP_M = 0.05
 """Farthest distance [m] of the renderer's near clipping plane from the camera."""
 
 
+@contextmanager
+def near_clip_limited(model: mujoco.MjModel) -> Iterator[None]:
+    """Within the block, views of ``model`` clip at most ``NEAR_CLIP_M`` in front of the camera.
+
+    MuJoCo's near clipping plane is a share of the model's extent (``vis.map.znear`` 0.01): on a
+    generated terrain of 100+ m it cuts away everything within a metre of the camera, the ground in
+    front of a camera that follows a robot included. Only the viewer's frames take the closer plane
+    (camera sensors keep the model's, set from their ``clipping_range``), so it is restored after.
+    """
+    znear = model.vis.map.znear
+    model.vis.map.znear = min(znear, NEAR_CLIP_M / max(model.stat.extent, 1e-6))
+    try:
+        yield
+    finally:
+        model.vis.map.znear = znear
+
+
 def open_mujoco_renderer(model: mujoco.MjModel, width: int, height: int, max_geom: int = 1000) -> mujoco.Renderer:
     """MuJoCo's offscreen ``Renderer`` on the GL backend simlab chooses (EGL, else OSMesa).
 
@@ -186,10 +204,6 @@ def open_mujoco_renderer(model: mujoco.MjModel, width: int, height: int, max_geo
         GLBackendError: no backend renders here, or the chosen one fails; the message says what to install.
     """
     backend = choose_gl_backend()
-    # MuJoCo's near clipping plane is a share of the model's extent (znear 0.01): on a generated
-    # terrain of 100+ m it cuts away everything within a metre of the camera (the ground in front of
-    # a camera that follows a robot). Clip at most NEAR_CLIP_M away instead.
-    model.vis.map.znear = min(model.vis.map.znear, NEAR_CLIP_M / max(model.stat.extent, 1e-6))
     # The offscreen buffer must hold the image; the model's default is 640x480.
     model.vis.global_.offwidth = max(model.vis.global_.offwidth, width)
     model.vis.global_.offheight = max(model.vis.global_.offheight, height)
@@ -225,7 +239,8 @@ class OffscreenRenderer:
         set_free_camera(self._camera, eye, lookat)
         looks = gather_env_looks(physics, env_ids)
         offsets = np.asarray(offsets, dtype=np.float32)
-        self._builder.build(self._renderer.scene, states, offsets, self._camera, looks)
+        with near_clip_limited(self.model):  # the camera's frustum is set when the scene is built
+            self._builder.build(self._renderer.scene, states, offsets, self._camera, looks)
         # debug markers (simlab.markers) are decor geoms added on top of the model's own
         from simlab.markers.visualization_markers import add_markers_to_scene
         from simlab.sim.simulation_context import SimulationContext
