@@ -5,6 +5,8 @@
     python scripts/make_pretrained.py --device cuda:0 --eval_every 25 --time_budget 125 \\
         --tasks simlab/Velocity-Flat-Unitree-Go2-v0 simlab/Velocity-Flat-Anymal-C-v0 simlab/Reach-Franka-v0
     python scripts/make_pretrained.py --list      # every task: its criterion, whether rsl_rl trains it, shipped?
+    python scripts/make_pretrained.py --tasks simlab/Velocity-Rough-Unitree-Go2-v0 --checkpoint model_final.pt \
+        --trained_by "scripts/benchmarks/locomotion_walk.py --terrain rough ..."   # a policy trained elsewhere
 
 For each task, ``simlab bench solve`` trains it with rsl_rl (the task's agent config; ``--num_envs``,
 ``--max_iterations`` override it) and plays every saved checkpoint on the training device, stopping
@@ -23,6 +25,11 @@ process is stopped there). A task that fails (not solved in its iterations or bu
 the CPU, or an error) is skipped with one ``SKIPPED`` line saying why, and the next one trains.
 Every task must have a criterion and an rsl_rl config, checked before any training starts. The
 script exits with 1 when a task was not shipped.
+
+``--checkpoint PATH`` ships a policy trained elsewhere (one task; an rsl_rl checkpoint of the task's
+agent, e.g. the ``model_final.pt`` of ``scripts/benchmarks/locomotion_walk.py``) without training:
+its run folder is written from the task's registered configs, and it is judged on the CPU only;
+``--trained_by`` says in ``record.json`` how it was trained.
 """
 
 from __future__ import annotations
@@ -67,9 +74,18 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
     )
     parser.add_argument("--out", default=PRETRAINED_DIR, help="Where the policies go (default: the package's).")
     parser.add_argument("--log_root", default=None, help="Keep the training runs here (default: a temporary folder).")
+    parser.add_argument("--checkpoint", default=None, help="Ship this rsl_rl checkpoint, no training (one task).")
+    parser.add_argument("--trained_by", default=None, help="With --checkpoint: how it was trained, for record.json.")
     args = parser.parse_args(argv)
     if not args.list and not args.tasks:
         parser.error("give --tasks ID [ID ...] (or --list to see the tasks)")
+    if args.checkpoint is not None:
+        if len(args.tasks or []) != 1:
+            parser.error("--checkpoint ships one policy: give exactly one task with --tasks")
+        if not os.path.isfile(args.checkpoint):
+            parser.error(f"--checkpoint {args.checkpoint}: no such file")
+        if not args.trained_by:
+            parser.error("--checkpoint needs --trained_by: how the policy was trained (kept in record.json)")
     return args
 
 
@@ -213,6 +229,52 @@ def make_one(task: str, args: argparse.Namespace, log_root: str, argv: list[str]
     return None
 
 
+def adopt_checkpoint(task: str, args: argparse.Namespace, log_root: str, argv: list[str]) -> str | None:
+    """Judge ``args.checkpoint`` on the CPU and ship it; None when shipped, else why not."""
+    import gymnasium as gym
+    import torch
+
+    from simlab.benchmarks.criteria import criterion_for
+    from simlab.cli.checkpoints import env_sizes
+    from simlab.cli.runs import dump_params, write_run_info
+    from simlab.tasks.utils import load_cfg_from_registry, parse_env_cfg
+
+    iteration = int(torch.load(args.checkpoint, map_location="cpu", weights_only=False).get("iter", 0))
+    # a run folder as simlab train writes it: the task's registered configs, the checkpoint, run.yaml
+    run_dir = os.path.join(log_root, "adopted", task.split("/")[-1])
+    env_cfg = parse_env_cfg(task, device="cpu", num_envs=1)
+    env = gym.make(task, cfg=env_cfg)
+    try:
+        sizes = env_sizes(env)
+    finally:
+        env.close()
+    env_cfg = parse_env_cfg(task, device="cpu", num_envs=args.num_envs)
+    agent_cfg = load_cfg_from_registry(task, "rsl_rl_cfg_entry_point")
+    dump_params(run_dir, env_cfg, agent_cfg, ["python", "scripts/make_pretrained.py", *argv])
+    write_run_info(run_dir, {"task": task, "library": LIBRARY, "algorithm": "PPO", **sizes})
+    checkpoint = os.path.join(run_dir, f"model_{iteration}.pt")
+    shutil.copy2(args.checkpoint, checkpoint)
+    cpu = evaluate_on_cpu(task, checkpoint, iteration, args)
+    record = {
+        "task": task,
+        "library": LIBRARY,
+        "made_by": shlex.join(["python", "scripts/make_pretrained.py", *argv]),
+        "date": datetime.date.today().isoformat(),
+        "trained_by": args.trained_by,
+        "seed": args.seed,
+        "iterations": iteration,
+        "checkpoint": os.path.basename(checkpoint),
+        "criterion": criterion_for(task, args.reward_threshold).description,
+        "cpu_evaluation": cpu,
+    }
+    if not cpu["passed"]:
+        print(json.dumps(record, indent=2))
+        return f"failed on the CPU ({cpu['score']:.3f})"
+    target = ship(task, checkpoint, record, args.out)
+    print(f"[make_pretrained] {task}: shipped in {target} ({record['criterion']}: {cpu['score']:.3f} on the CPU)")
+    return None
+
+
 def task_table() -> list[dict[str, Any]]:
     """Every registered task but the -Play variants: its criterion (or why none), whether it has an
     rsl_rl config (what this script trains with) and which libraries' policies are shipped."""
@@ -272,7 +334,8 @@ def main(argv: list[str] | None = None) -> int:
         os.makedirs(log_root, exist_ok=True)
         for task in args.tasks:
             try:
-                skipped[task] = make_one(task, args, log_root, argv)
+                make = adopt_checkpoint if args.checkpoint else make_one
+                skipped[task] = make(task, args, log_root, argv)
             except (OverBudget, RuntimeError, subprocess.SubprocessError, OSError) as e:
                 skipped[task] = str(e)
             if skipped[task] is not None:

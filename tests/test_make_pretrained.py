@@ -105,3 +105,31 @@ def test_the_task_list_names_every_tasks_criterion():
     assert not rows["simlab/Open-Drawer-Franka-IK-Rel-v0"]["rsl_rl"]
     judged = [task for task, row in rows.items() if not row["criterion"].startswith("none")]
     assert len(judged) == 25  # all but the three AMP tasks (judged by scripts/benchmarks/amp_learn.py)
+
+
+def test_a_policy_trained_elsewhere_is_judged_on_the_cpu_and_shipped(tmp_path, capsys):
+    from simlab.cli.main import main as simlab_main
+
+    logs = tmp_path / "logs"
+    train = ["train", "--task", TASK, "--headless", "--device", "cpu", "--num_envs", "8", "--max_iterations", "1"]
+    assert simlab_main([*train, "--seed", "3", "--log_root", str(logs)]) == 0
+    checkpoint = max(logs.glob("rsl_rl/*/*/model_*.pt"), key=os.path.getmtime)
+    script = _script()
+    adopt = ["--tasks", TASK, "--checkpoint", str(checkpoint), "--trained_by", "a one-iteration test run"]
+    adopt += ["--cpu_eval_envs", "4", "--eval_seconds", "0.5"]
+
+    out = tmp_path / "pretrained"
+    assert script.main([*adopt, "--reward_threshold=-1e9", "--out", str(out)]) == 0
+    shipped = out / "Cartpole-Direct-v0" / "rsl_rl"
+    record = json.loads((shipped / "record.json").read_text())
+    assert record["trained_by"] == "a one-iteration test run" and record["cpu_evaluation"]["passed"]
+    assert "simlab/Cartpole-Direct-v0" in (shipped / "params" / "run.yaml").read_text()
+    assert set(torch.load(shipped / record["checkpoint"], weights_only=False)) == set(script.SHIPPED_CHECKPOINT_KEYS)
+    assert (shipped / "exported" / "policy.onnx").is_file()
+
+    # judged by the task's own criterion, a one-iteration policy is not shipped
+    refused = tmp_path / "refused"
+    assert script.main([*adopt, "--out", str(refused)]) == 1
+    assert "failed on the CPU" in capsys.readouterr().out and not refused.exists()
+    with pytest.raises(SystemExit):  # one policy, one task
+        script.main([*adopt, "--tasks", TASK, "simlab/Cartpole-v0"])
