@@ -180,6 +180,11 @@ NEAR_CLIP_M = 0.05
 """Farthest distance [m] of the renderer's near clipping plane from the camera."""
 
 
+def view_znear(model: mujoco.MjModel) -> float:
+    """``vis.map.znear`` that puts the near clipping plane at most ``NEAR_CLIP_M`` from the camera."""
+    return min(model.vis.map.znear, NEAR_CLIP_M / max(model.stat.extent, 1e-6))
+
+
 @contextmanager
 def near_clip_limited(model: mujoco.MjModel) -> Iterator[None]:
     """Within the block, views of ``model`` clip at most ``NEAR_CLIP_M`` in front of the camera.
@@ -190,7 +195,7 @@ def near_clip_limited(model: mujoco.MjModel) -> Iterator[None]:
     (camera sensors keep the model's, set from their ``clipping_range``), so it is restored after.
     """
     znear = model.vis.map.znear
-    model.vis.map.znear = min(znear, NEAR_CLIP_M / max(model.stat.extent, 1e-6))
+    model.vis.map.znear = view_znear(model)
     try:
         yield
     finally:

@@ -10,9 +10,11 @@ listens for (``simlab.devices.Se3Keyboard``: W, S, A, D, ...) go to it instead, 
 
 from __future__ import annotations
 
+import copy
+
 import mujoco
 
-from simlab.sim.renderer import EnvSceneBuilder, set_free_camera
+from simlab.sim.renderer import EnvSceneBuilder, set_free_camera, view_znear
 from simlab.viewer.choice import display_available
 from simlab.viewer.keys import KeyEvent, glfw_key_name, key_hub
 from simlab.viewer.live import LiveViewer, ViewerError
@@ -34,12 +36,17 @@ class NativeViewer(LiveViewer):
         super().__init__(source, realtime=realtime, follow=follow)
         import mujoco.viewer
 
-        self._builder = EnvSceneBuilder(source.model)
-        self._data = mujoco.MjData(source.model)
+        # the window's own copy of the model, whose near clipping plane is moved in to a few cm (on
+        # a large terrain MuJoCo's, a share of the model's extent, cuts away the ground in front of
+        # the camera); camera sensors keep the simulation model's
+        self._model = model = copy.copy(source.model)
+        model.vis.map.znear = view_znear(model)
+        self._builder = EnvSceneBuilder(model)
+        self._data = mujoco.MjData(model)
         try:
             # MuJoCo's side panels (its own simulation controls) are hidden: Tab / Shift+Tab show them.
             self._handle = mujoco.viewer.launch_passive(
-                source.model, self._data, key_callback=self._on_key, show_left_ui=False, show_right_ui=False
+                model, self._data, key_callback=self._on_key, show_left_ui=False, show_right_ui=False
             )
         except Exception as err:  # noqa: BLE001 - GLFW errors come in many types
             raise ViewerError(f"MuJoCo's viewer window did not open ({err}); use --viewer web instead") from err
@@ -69,7 +76,7 @@ class NativeViewer(LiveViewer):
         with self._handle.lock():
             for name, values in snapshot.states.items():  # the followed env is the window's own data
                 getattr(self._data, name)[:] = values[0]
-            mujoco.mj_forward(self.source.model, self._data)
+            mujoco.mj_forward(self._model, self._data)
             scene = self._handle.user_scn
             scene.ngeom = 0
             self._builder.add_neighbours(scene, snapshot.states, snapshot.offsets)
