@@ -24,7 +24,7 @@ def _episode_lengths(run_dir: str) -> list[float]:
 @pytest.mark.parametrize("ml_framework", ["jax", "jax-numpy"])
 def test_skrl_on_jax_learns_the_cartpole(tmp_path, caplog, ml_framework):
     argv = ["train", "--task", "simlab/Cartpole-v0", "--num_envs", "64", "--headless", "--device", "cpu"]
-    argv += ["--library", "skrl", "--ml_framework", ml_framework, "--max_iterations", "40", "--seed", "42"]
+    argv += ["--library", "skrl", "--ml_framework", ml_framework, "--max_iterations", "70", "--seed", "42"]
     with caplog.at_level(logging.WARNING, logger="skrl"):
         assert main([*argv, "--log_root", str(tmp_path / "logs")]) == 0
     assert not [r.getMessage() for r in caplog.records if r.levelno >= logging.WARNING]  # no device warnings
@@ -36,7 +36,10 @@ def test_skrl_on_jax_learns_the_cartpole(tmp_path, caplog, ml_framework):
     assert glob.glob(f"{run}/checkpoints/agent_*.pt")
     lengths = _episode_lengths(run)
     first, last = sum(lengths[:5]) / 5, sum(lengths[-5:]) / 5
-    # a random policy drops the pole in ~25 steps; after 40 iterations it balances for 100+
+    # a random policy drops the pole in ~25 steps; after 70 iterations it balances for 100+ (with the
+    # jax 0.10.2, flax 0.12.8 and optax 0.2.8 installed on 2026-11-28 the episode length stalls near 70
+    # steps from about iteration 10 to 45, then rises to the 300-step maximum; the 40 iterations this
+    # test ran before, which passed CI on 2026-11-24, now end in the stall)
     assert first < 50 and last > 100, (first, last)
 
 
