@@ -2,7 +2,24 @@
 
 from __future__ import annotations
 
+import importlib.util
+import os
+import sys
+from types import ModuleType
+
 import pytest
+
+
+def load_script(path: str | os.PathLike, name: str | None = None) -> ModuleType:
+    """Import a file that is not in a package (a repo script, a ported task file) as module ``name``
+    (default: the file's stem), registered in ``sys.modules``: dataclasses, configclass and
+    ``torch.jit.script`` look a module up there by name."""
+    name = name or os.path.splitext(os.path.basename(path))[0]
+    spec = importlib.util.spec_from_file_location(name, path)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module
+    spec.loader.exec_module(module)
+    return module
 
 
 def cuda_available() -> bool:

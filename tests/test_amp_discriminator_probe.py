@@ -5,10 +5,10 @@ shipped clips) by the torso's angular velocity alone, and much less so from the 
 from __future__ import annotations
 
 import dataclasses
-import importlib.util
 import os
 
 import gymnasium as gym
+from conftest import load_script
 
 from simlab.tasks.direct.humanoid_amp.humanoid_amp_env_cfg import AMP_OBSERVATION_SIZE, KEY_BODIES, NUM_JOINTS
 from simlab.tasks.direct.humanoid_amp.motions.kinematic_clips import CLIPS, make_clip
@@ -20,11 +20,7 @@ TASK = "simlab/Humanoid-AMP-Walk-Direct-v0"
 
 
 def _probe():
-    path = os.path.join(REPO, "scripts", "benchmarks", "amp_discriminator_probe.py")
-    spec = importlib.util.spec_from_file_location("amp_discriminator_probe", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return load_script(os.path.join(REPO, "scripts", "benchmarks", "amp_discriminator_probe.py"))
 
 
 def _sim_score_by_angular_velocity(probe, motion_file: str | None) -> float:

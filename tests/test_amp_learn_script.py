@@ -4,22 +4,18 @@ and play themselves are tested in tests/test_humanoid_amp.py."""
 
 from __future__ import annotations
 
-import importlib.util
 import os
 import sys
 
 import imageio.v3 as iio
 import numpy as np
+from conftest import load_script
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
 def _script():
-    path = os.path.join(REPO, "scripts", "benchmarks", "amp_learn.py")
-    spec = importlib.util.spec_from_file_location("amp_learn", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return load_script(os.path.join(REPO, "scripts", "benchmarks", "amp_learn.py"))
 
 
 # a stand-in for `simlab train`: saves on SIGTERM and exits 143, as simlab does; SIGINT is ignored,

@@ -4,26 +4,23 @@ tiles it names, and a robot that gets past the last step counts as crossed, with
 from __future__ import annotations
 
 import argparse
-import importlib.util
 from pathlib import Path
 
 import pytest
 import torch
+from conftest import load_script
 
 from simlab.rl.rsl_rl import RslRlVecEnvWrapper
 
 SCRIPT = Path(__file__).resolve().parents[1] / "scripts" / "benchmarks" / "locomotion_walk.py"
 
 
-def load_script():
-    spec = importlib.util.spec_from_file_location("locomotion_walk", SCRIPT)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+def _script():
+    return load_script(SCRIPT)
 
 
 def test_stairs_play_counts_robots_that_get_past_the_last_step(monkeypatch):
-    walk = load_script()
+    walk = _script()
     args = argparse.Namespace(
         robot="go2", terrain="rough", device="cpu", seed=42, stairs_rows=[9], stairs_envs=1,
         stairs_speed=1.0, stairs_seconds=0.2, log_root="unused",

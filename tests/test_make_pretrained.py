@@ -7,7 +7,6 @@ verdict is checked with the real one.
 
 from __future__ import annotations
 
-import importlib.util
 import json
 import os
 
@@ -15,6 +14,7 @@ import numpy as np
 import onnxruntime
 import pytest
 import torch
+from conftest import load_script
 
 import simlab.pretrained
 from simlab.cli.main import build_parser
@@ -27,11 +27,7 @@ TINY += ["--eval_envs", "4", "--cpu_eval_envs", "4", "--eval_seconds", "0.5", "-
 
 
 def _script():
-    path = os.path.join(REPO, "scripts", "make_pretrained.py")
-    spec = importlib.util.spec_from_file_location("make_pretrained", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return load_script(os.path.join(REPO, "scripts", "make_pretrained.py"))
 
 
 def test_make_pretrained_ships_a_policy_that_play_finds(tmp_path, monkeypatch):

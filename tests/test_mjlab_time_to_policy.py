@@ -7,7 +7,6 @@ With mjlab importable, the script trains and plays mjlab's cartpole for a few it
 
 from __future__ import annotations
 
-import importlib.util
 import inspect
 import json
 import math
@@ -20,6 +19,7 @@ from types import SimpleNamespace
 
 import pytest
 import torch
+from conftest import load_script
 
 from simlab.benchmarks import criteria
 
@@ -27,11 +27,7 @@ SCRIPT = Path(__file__).resolve().parents[1] / "scripts" / "benchmarks" / "mjlab
 
 
 def _load_script():
-    spec = importlib.util.spec_from_file_location("mjlab_time_to_policy", SCRIPT)
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module  # dataclasses look their module up while the class is built
-    spec.loader.exec_module(module)
-    return module
+    return load_script(SCRIPT)
 
 
 ttp = _load_script()

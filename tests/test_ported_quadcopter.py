@@ -9,7 +9,6 @@ simlab's own quadcopter task does under the same actions.
 
 from __future__ import annotations
 
-import importlib.util
 import re
 import sys
 from pathlib import Path
@@ -17,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import torch
-from conftest import DEVICES, rendering_available
+from conftest import DEVICES, load_script, rendering_available
 
 from simlab.tasks.direct.quadcopter.quadcopter_env import QuadcopterEnv, QuadcopterEnvCfg
 
@@ -28,12 +27,8 @@ HOVER_THRUST = 2.0 / 1.9 - 1.0  # thrust_to_weight * weight * (a + 1) / 2 == wei
 
 @pytest.fixture(scope="module")
 def ported():
-    spec = importlib.util.spec_from_file_location("isaaclab_quadcopter_env", PORTED)
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module  # configclass looks the module up by name
-    spec.loader.exec_module(module)
-    yield module
-    sys.modules.pop(spec.name, None)
+    yield load_script(PORTED, "isaaclab_quadcopter_env")
+    sys.modules.pop("isaaclab_quadcopter_env", None)
 
 
 def make(env_class, cfg_class, device: str = "cpu", **kwargs):

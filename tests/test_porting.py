@@ -7,11 +7,11 @@ result to a file, imports it and runs it, and checks that it behaves like simlab
 
 from __future__ import annotations
 
-import importlib.util
 import re
 import sys
 
 import torch
+from conftest import load_script
 
 ISAACLAB_CARTPOLE = """
 from __future__ import annotations
@@ -205,11 +205,7 @@ def port(source: str) -> str:
 
 
 def import_file(path, name: str):
-    spec = importlib.util.spec_from_file_location(name, path)
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[name] = module  # torch.jit.script and dataclasses look the module up by name
-    spec.loader.exec_module(module)
-    return module
+    return load_script(path, name)
 
 
 def test_the_mapping_only_touches_imports():

@@ -4,11 +4,11 @@ the AMP humanoid reads, and its velocities agree with its poses."""
 from __future__ import annotations
 
 import os
-import runpy
 
 import gymnasium as gym
 import numpy as np
 import torch
+from conftest import load_script
 
 from simlab.tasks.direct.humanoid_amp.motions.motion_file import read_motion_file
 from simlab.tasks.utils import parse_env_cfg
@@ -17,10 +17,10 @@ REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
 def test_a_clip_recorded_from_the_shipped_humanoid_policy_drives_the_amp_env(tmp_path):
-    script = runpy.run_path(os.path.join(REPO, "scripts", "tools", "record_motion_clip.py"))
+    script = load_script(os.path.join(REPO, "scripts", "tools", "record_motion_clip.py"))
     out = str(tmp_path / "run.npz")
     argv = ["--out", out, "--num_envs", "2", "--skip_seconds", "1", "--seconds", "1", "--log_root", str(tmp_path)]
-    assert script["main"](argv) == 0
+    assert script.main(argv) == 0
 
     clip = read_motion_file(out)
     fps = float(clip["fps"])

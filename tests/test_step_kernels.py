@@ -3,11 +3,11 @@ launch), and the mechanisms that keep it small without changing any value."""
 
 from __future__ import annotations
 
-import importlib.util
 import pathlib
 
 import pytest
 import torch
+from conftest import load_script
 
 import simlab.envs.mdp as mdp
 import simlab.sim as sim_utils
@@ -26,10 +26,7 @@ SCRIPT = pathlib.Path(__file__).resolve().parents[1] / "scripts" / "benchmarks" 
 
 
 def load_counter_script():
-    spec = importlib.util.spec_from_file_location("step_launch_count", SCRIPT)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return load_script(SCRIPT)
 
 
 def go2_scene(num_envs: int = 3):
