@@ -176,6 +176,16 @@ def ship(task: str, checkpoint: str, record: dict[str, Any], out: str) -> str:
     return target
 
 
+def record_header(task: str, argv: list[str]) -> dict[str, str]:
+    """The fields of ``record.json`` that say what was shipped and by which command, when."""
+    return {
+        "task": task,
+        "library": LIBRARY,
+        "made_by": shlex.join(["python", "scripts/make_pretrained.py", *argv]),
+        "date": datetime.date.today().isoformat(),
+    }
+
+
 def make_one(task: str, args: argparse.Namespace, log_root: str, argv: list[str]) -> str | None:
     """Train, judge and ship ``task``; None when shipped, else why not."""
     from simlab.benchmarks.criteria import criterion_for
@@ -189,10 +199,7 @@ def make_one(task: str, args: argparse.Namespace, log_root: str, argv: list[str]
     with open(os.path.join(row["run_dir"], "params", "command.txt")) as f:
         train_command = f.read().strip()
     record = {
-        "task": task,
-        "library": LIBRARY,
-        "made_by": shlex.join(["python", "scripts/make_pretrained.py", *argv]),
-        "date": datetime.date.today().isoformat(),
+        **record_header(task, argv),
         "train_command": train_command,
         "device": args.device,
         "num_envs": row["num_envs"],
@@ -256,10 +263,7 @@ def adopt_checkpoint(task: str, args: argparse.Namespace, log_root: str, argv: l
     shutil.copy2(args.checkpoint, checkpoint)
     cpu = evaluate_on_cpu(task, checkpoint, iteration, args)
     record = {
-        "task": task,
-        "library": LIBRARY,
-        "made_by": shlex.join(["python", "scripts/make_pretrained.py", *argv]),
-        "date": datetime.date.today().isoformat(),
+        **record_header(task, argv),
         "trained_by": args.trained_by,
         "seed": args.seed,
         "iterations": iteration,

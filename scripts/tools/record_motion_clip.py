@@ -35,9 +35,7 @@ class ClipRecorder:
     def __init__(self, skip_seconds: float, asset_name: str = "robot"):
         self.skip_seconds = skip_seconds
         self.asset_name = asset_name
-        self.frames: dict[str, list[torch.Tensor]] = {
-            key: [] for key in ("dof_pos", "dof_vel", "pos", "rot", "lin", "ang")
-        }
+        self.frames: dict[str, list[torch.Tensor]] = {}  # per motion-file array, one tensor per step
         self.episode_steps: list[torch.Tensor] = []
         self.step_dt = float("nan")
         self.dof_names: list[str] = []
@@ -53,38 +51,28 @@ class ClipRecorder:
         data = robot.data
         origins = env.scene.env_origins[:, None, :]
         for key, value in (
-            ("dof_pos", data.joint_pos),
-            ("dof_vel", data.joint_vel),
-            ("pos", data.body_pos_w - origins),
-            ("rot", data.body_quat_w),
-            ("lin", data.body_lin_vel_w),
-            ("ang", data.body_ang_vel_w),
+            ("dof_positions", data.joint_pos),
+            ("dof_velocities", data.joint_vel),
+            ("body_positions", data.body_pos_w - origins),
+            ("body_rotations", data.body_quat_w),
+            ("body_linear_velocities", data.body_lin_vel_w),
+            ("body_angular_velocities", data.body_ang_vel_w),
         ):
-            self.frames[key].append(value.clone().cpu())
+            self.frames.setdefault(key, []).append(value.clone().cpu())
 
     def clip(self) -> tuple[dict, int]:
         """The recorded motion of the first env that ran without a reset; (clip, env index)."""
-        if not self.frames["dof_pos"]:
+        if not self.frames:
             raise RuntimeError("Nothing was recorded: play longer than --skip_seconds.")
-        recorded = len(self.frames["dof_pos"])
+        recorded = len(self.frames["dof_positions"])
         # an env's episode step grows by one every step unless it was reset
         steps = torch.stack(self.episode_steps[-recorded:])  # (frames, envs)
         unbroken = (steps[1:] == steps[:-1] + 1).all(dim=0)
         if not bool(unbroken.any()):
             raise RuntimeError("Every env was reset while recording (the policy falls): record fewer --seconds.")
         env = int(torch.nonzero(unbroken)[0])
-        stack = {key: torch.stack(values)[:, env].numpy() for key, values in self.frames.items()}
-        clip = {
-            "fps": 1.0 / self.step_dt,
-            "dof_names": self.dof_names,
-            "body_names": self.body_names,
-            "dof_positions": stack["dof_pos"],
-            "dof_velocities": stack["dof_vel"],
-            "body_positions": stack["pos"],
-            "body_rotations": stack["rot"],
-            "body_linear_velocities": stack["lin"],
-            "body_angular_velocities": stack["ang"],
-        }
+        clip = {"fps": 1.0 / self.step_dt, "dof_names": self.dof_names, "body_names": self.body_names}
+        clip.update({key: torch.stack(values)[:, env].numpy() for key, values in self.frames.items()})
         return clip, env
 
 
