@@ -87,6 +87,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--seed", type=int, default=7)
     parser.add_argument("--log_root", default="logs", help="Where play copies the pretrained policy.")
     args = parser.parse_args(argv)
+    if not args.seconds > 0 or args.skip_seconds < 0:
+        parser.error(f"--seconds must be > 0 and --skip_seconds >= 0, got {args.seconds} and {args.skip_seconds}")
 
     play_argv = ["play", "--task", args.task, "--library", "rsl_rl", "--headless", "--device", "cpu"]
     env_cfg = load_cfg_from_registry(args.task, "env_cfg_entry_point")
@@ -97,7 +99,10 @@ def main(argv: list[str] | None = None) -> int:
     recorder = ClipRecorder(args.skip_seconds)
     run_play(build_parser().parse_args(play_argv), [], on_step=recorder)
 
-    clip, env = recorder.clip()
+    try:
+        clip, env = recorder.clip()
+    except RuntimeError as e:  # the policy fell in every env: say so, no traceback
+        parser.exit(2, f"{parser.prog}: error: {e}\n")
     write_motion_file(args.out, **clip)
     torso = clip["body_names"].index("torso")
     pos = clip["body_positions"][:, torso]
