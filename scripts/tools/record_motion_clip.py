@@ -69,7 +69,9 @@ class ClipRecorder:
         steps = torch.stack(self.episode_steps[-recorded:])  # (frames, envs)
         unbroken = (steps[1:] == steps[:-1] + 1).all(dim=0)
         if not bool(unbroken.any()):
-            raise RuntimeError("Every env was reset while recording (a fall, or the episode's time limit): record fewer --seconds.")
+            raise RuntimeError(
+                "Every env was reset while recording (a fall, or the episode's time limit): record fewer --seconds."
+            )
         env = int(torch.nonzero(unbroken)[0])
         clip = {"fps": 1.0 / self.step_dt, "dof_names": self.dof_names, "body_names": self.body_names}
         clip.update({key: torch.stack(values)[:, env].numpy() for key, values in self.frames.items()})
