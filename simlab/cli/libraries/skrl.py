@@ -85,6 +85,9 @@ def _runner_class(ml_framework: str) -> type:
         raise ValueError(f"Unknown --ml_framework '{ml_framework}'. Allowed: {list(ML_FRAMEWORKS)}.")
     if ml_framework == "torch":
         return importlib.import_module("skrl.utils.runner.torch").Runner
+    # JAX takes 75% of a GPU's memory at start-up by default, leaving too little to the simulation
+    # and torch in the same process; allocate as needed instead (a user's own setting wins).
+    os.environ.setdefault("XLA_PYTHON_CLIENT_PREALLOCATE", "false")
     require("jax")
     require("flax")
     require("optax")
