@@ -27,9 +27,10 @@ Every task must have a criterion and an rsl_rl config, checked before any traini
 script exits with 1 when a task was not shipped.
 
 ``--checkpoint PATH`` ships a policy trained elsewhere (one task; an rsl_rl checkpoint of the task's
-agent, e.g. the ``model_final.pt`` of ``scripts/benchmarks/locomotion_walk.py``) without training:
-its run folder is written from the task's registered configs, and it is judged on the CPU only;
-``--trained_by`` says in ``record.json`` how it was trained.
+agent, e.g. the ``model_final.pt`` of ``scripts/benchmarks/locomotion_walk.py``, or with ``--library
+skrl`` an skrl one, e.g. an AMP humanoid's ``agent_<timestep>.pt`` from ``scripts/benchmarks/amp_learn.py``)
+without training: its run folder is written from the task's registered configs, and it is judged on
+the CPU only; ``--trained_by`` says in ``record.json`` how it was trained.
 """
 
 from __future__ import annotations
@@ -38,6 +39,7 @@ import argparse
 import datetime
 import json
 import os
+import re
 import shlex
 import shutil
 import signal
@@ -48,8 +50,14 @@ import time
 from typing import Any
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-LIBRARY = "rsl_rl"
-SHIPPED_CHECKPOINT_KEYS = ("actor_state_dict", "iter", "infos")
+LIBRARY = "rsl_rl"  # what this script trains with (simlab bench solve)
+# what play loads from a checkpoint (the critic, value and discriminator and the optimizers' moments,
+# two thirds of a file, are left out): rsl_rl's load_cfg={"actor": True}; skrl's policy and its
+# observation normalizer
+SHIPPED_CHECKPOINT_KEYS = {
+    "rsl_rl": ("actor_state_dict", "iter", "infos"),
+    "skrl": ("policy", "observation_preprocessor"),
+}
 
 
 def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
@@ -74,7 +82,10 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
     )
     parser.add_argument("--out", default=PRETRAINED_DIR, help="Where the policies go (default: the package's).")
     parser.add_argument("--log_root", default=None, help="Keep the training runs here (default: a temporary folder).")
-    parser.add_argument("--checkpoint", default=None, help="Ship this rsl_rl checkpoint, no training (one task).")
+    parser.add_argument("--checkpoint", default=None, help="Ship this checkpoint, no training (one task).")
+    parser.add_argument(
+        "--library", choices=sorted(SHIPPED_CHECKPOINT_KEYS), default=LIBRARY, help="With --checkpoint: its library."
+    )
     parser.add_argument("--trained_by", default=None, help="With --checkpoint: how it was trained, for record.json.")
     args = parser.parse_args(argv)
     if not args.list and not args.tasks:
@@ -86,6 +97,8 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
             parser.error(f"--checkpoint {args.checkpoint}: no such file")
         if not args.trained_by:
             parser.error("--checkpoint needs --trained_by: how the policy was trained (kept in record.json)")
+    elif args.library != LIBRARY:
+        parser.error(f"this script trains with {LIBRARY}; --library {args.library} ships a --checkpoint only")
     return args
 
 
@@ -125,7 +138,7 @@ def evaluate_on_cpu(task: str, checkpoint: str, iteration: int, args: argparse.N
     from simlab.benchmarks.solve import CheckpointJudge
 
     judge = CheckpointJudge(
-        task, LIBRARY, "cpu", args.cpu_eval_envs, args.eval_seconds, args.seed, args.reward_threshold
+        task, args.library, "cpu", args.cpu_eval_envs, args.eval_seconds, args.seed, args.reward_threshold
     )
     seconds = judge.criterion.play_seconds(args.eval_seconds)
     try:
@@ -143,31 +156,33 @@ def evaluate_on_cpu(task: str, checkpoint: str, iteration: int, args: argparse.N
     }
 
 
-def export_policy(task: str, checkpoint: str) -> str:
+def export_policy(task: str, checkpoint: str, library: str) -> str:
     """``simlab play`` writes ``exported/policy.onnx`` and ``policy.pt`` beside the checkpoint."""
-    command = [sys.executable, "-m", "simlab", "play", "--task", task, "--library", LIBRARY, "--headless"]
+    command = [sys.executable, "-m", "simlab", "play", "--task", task, "--library", library, "--headless"]
     command += ["--checkpoint", checkpoint, "--steps", "1", "--num_envs", "1", "--device", "cpu"]
     subprocess.run(command, check=True, capture_output=True, cwd=REPO)
     return os.path.join(os.path.dirname(checkpoint), "exported")
 
 
 def ship(task: str, checkpoint: str, record: dict[str, Any], out: str) -> str:
-    """Copy the run's params, the checkpoint (without optimizer state) and its exports into ``out``."""
+    """Copy the run's params, the checkpoint (what play loads of it) and its exports into ``out``."""
     import torch
 
-    from simlab.cli.runs import run_dir_of_checkpoint
+    from simlab.cli.runs import CHECKPOINT_LAYOUT, run_dir_of_checkpoint
 
-    target = os.path.join(out, task.split("/")[-1], LIBRARY)
+    library = record["library"]
+    # the ONNX policy first (a failing export leaves nothing behind), from play, which writes it
+    # beside the checkpoint; play writes the TorchScript one again wherever it plays the copy
+    onnx = os.path.join(export_policy(task, checkpoint, library), "policy.onnx")
+    target = os.path.join(out, task.split("/")[-1], library)
     shutil.rmtree(target, ignore_errors=True)
-    shutil.copytree(os.path.join(run_dir_of_checkpoint(checkpoint, LIBRARY), "params"), os.path.join(target, "params"))
+    shutil.copytree(os.path.join(run_dir_of_checkpoint(checkpoint, library), "params"), os.path.join(target, "params"))
     state = torch.load(checkpoint, map_location="cpu", weights_only=False)
-    # play loads the actor alone (rsl_rl's load_cfg={"actor": True}): the critic and the optimizer's
-    # moments, two thirds of the file, are left out
-    state = {key: state[key] for key in SHIPPED_CHECKPOINT_KEYS}
-    torch.save(state, os.path.join(target, os.path.basename(checkpoint)))
-    # the ONNX policy; play writes the TorchScript one again wherever it plays the copy
-    os.makedirs(os.path.join(target, "exported"))
-    shutil.copy2(os.path.join(export_policy(task, checkpoint), "policy.onnx"), os.path.join(target, "exported"))
+    state = {key: state[key] for key in SHIPPED_CHECKPOINT_KEYS[library]}
+    folder = os.path.join(target, *CHECKPOINT_LAYOUT[library][0])  # skrl's go in checkpoints/
+    os.makedirs(os.path.join(folder, "exported"))
+    torch.save(state, os.path.join(folder, os.path.basename(checkpoint)))
+    shutil.copy2(onnx, os.path.join(folder, "exported"))
     files = [os.path.join(root, name) for root, _, names in os.walk(target) for name in names]
     record["files_bytes"] = {os.path.relpath(f, target): os.path.getsize(f) for f in sorted(files)}
     with open(os.path.join(target, "record.json"), "w") as f:
@@ -176,11 +191,11 @@ def ship(task: str, checkpoint: str, record: dict[str, Any], out: str) -> str:
     return target
 
 
-def record_header(task: str, argv: list[str]) -> dict[str, str]:
+def record_header(task: str, library: str, argv: list[str]) -> dict[str, str]:
     """The fields of ``record.json`` that say what was shipped and by which command, when."""
     return {
         "task": task,
-        "library": LIBRARY,
+        "library": library,
         "made_by": shlex.join(["python", "scripts/make_pretrained.py", *argv]),
         "date": datetime.date.today().isoformat(),
     }
@@ -199,7 +214,7 @@ def make_one(task: str, args: argparse.Namespace, log_root: str, argv: list[str]
     with open(os.path.join(row["run_dir"], "params", "command.txt")) as f:
         train_command = f.read().strip()
     record = {
-        **record_header(task, argv),
+        **record_header(task, LIBRARY, argv),
         "train_command": train_command,
         "device": args.device,
         "num_envs": row["num_envs"],
@@ -236,34 +251,51 @@ def make_one(task: str, args: argparse.Namespace, log_root: str, argv: list[str]
     return None
 
 
+def checkpoint_iteration(checkpoint: str, library: str, agent_cfg: dict) -> int:
+    """The training iteration a checkpoint was saved at: rsl_rl stores it; skrl names the timestep."""
+    import torch
+
+    if library == "rsl_rl":
+        return int(torch.load(checkpoint, map_location="cpu", weights_only=False).get("iter", 0))
+    timestep = re.search(r"(\d+)\.pt$", os.path.basename(checkpoint))
+    return int(timestep.group(1)) // agent_cfg["agent"]["rollouts"] if timestep else 0
+
+
 def adopt_checkpoint(task: str, args: argparse.Namespace, log_root: str, argv: list[str]) -> str | None:
     """Judge ``args.checkpoint`` on the CPU and ship it; None when shipped, else why not."""
     import gymnasium as gym
-    import torch
 
     from simlab.benchmarks.criteria import criterion_for
     from simlab.cli.checkpoints import env_sizes
-    from simlab.cli.runs import dump_params, write_run_info
-    from simlab.tasks.utils import load_cfg_from_registry, parse_env_cfg
+    from simlab.cli.main import build_parser
+    from simlab.cli.runs import CHECKPOINT_LAYOUT, dump_params, write_run_info
+    from simlab.cli.session import load_configs
 
-    iteration = int(torch.load(args.checkpoint, map_location="cpu", weights_only=False).get("iter", 0))
-    # a run folder as simlab train writes it: the task's registered configs, the checkpoint, run.yaml
+    # the task's registered configs as play loads them (skrl on an AMP-only task: its AMP agent)
+    play_args = build_parser().parse_args(["play", "--task", task, "--library", args.library, "--device", "cpu"])
+    env_cfg, agent_cfg = load_configs(play_args, [])
+    algorithm = agent_cfg["agent"]["class"] if args.library == "skrl" else "PPO"
+    iteration = checkpoint_iteration(args.checkpoint, args.library, agent_cfg)
+    # a run folder as simlab train writes it: the configs, run.yaml, the checkpoint in its library's place
     run_dir = os.path.join(log_root, "adopted", task.split("/")[-1])
-    env_cfg = parse_env_cfg(task, device="cpu", num_envs=1)
+    env_cfg.scene.num_envs = 1
     env = gym.make(task, cfg=env_cfg)
     try:
         sizes = env_sizes(env)
     finally:
         env.close()
-    env_cfg = parse_env_cfg(task, device="cpu", num_envs=args.num_envs)
-    agent_cfg = load_cfg_from_registry(task, "rsl_rl_cfg_entry_point")
+    if args.num_envs is not None:
+        env_cfg.scene.num_envs = args.num_envs
     dump_params(run_dir, env_cfg, agent_cfg, ["python", "scripts/make_pretrained.py", *argv])
-    write_run_info(run_dir, {"task": task, "library": LIBRARY, "algorithm": "PPO", **sizes})
-    checkpoint = os.path.join(run_dir, f"model_{iteration}.pt")
+    write_run_info(run_dir, {"task": task, "library": args.library, "algorithm": algorithm, **sizes})
+    folder = os.path.join(run_dir, *CHECKPOINT_LAYOUT[args.library][0])
+    os.makedirs(folder, exist_ok=True)
+    checkpoint = os.path.join(folder, os.path.basename(args.checkpoint))
     shutil.copy2(args.checkpoint, checkpoint)
     cpu = evaluate_on_cpu(task, checkpoint, iteration, args)
     record = {
-        **record_header(task, argv),
+        **record_header(task, args.library, argv),
+        "algorithm": algorithm,
         "trained_by": args.trained_by,
         "seed": args.seed,
         "iterations": iteration,
@@ -306,8 +338,8 @@ def task_table() -> list[dict[str, Any]]:
     return rows
 
 
-def check_trainable(tasks: list[str], reward_threshold: float | None) -> None:
-    """Before hours of training start: every task exists, has a criterion and an rsl_rl config."""
+def check_trainable(tasks: list[str], reward_threshold: float | None, library: str = LIBRARY) -> None:
+    """Before hours of training start: every task exists, has a criterion and a config for ``library``."""
     import gymnasium as gym
 
     from simlab.benchmarks.criteria import criterion_for
@@ -316,8 +348,9 @@ def check_trainable(tasks: list[str], reward_threshold: float | None) -> None:
         if task not in gym.registry:
             raise ValueError(f"Unknown task {task}; see python scripts/make_pretrained.py --list")
         criterion_for(task, reward_threshold)
-        if "rsl_rl_cfg_entry_point" not in gym.spec(task).kwargs:
-            raise ValueError(f"{task} has no rsl_rl config (rsl_rl_cfg_entry_point); this script trains with rsl_rl.")
+        keys = gym.spec(task).kwargs
+        if not any(k.startswith(f"{library}_") and k.endswith("cfg_entry_point") for k in keys):
+            raise ValueError(f"{task} has no {library} config ({library}_cfg_entry_point) to play a {library} policy.")
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -331,7 +364,7 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     import simlab.tasks  # noqa: F401 - registers the tasks
 
-    check_trainable(args.tasks, args.reward_threshold)
+    check_trainable(args.tasks, args.reward_threshold, args.library)
     skipped: dict[str, str | None] = {}
     with tempfile.TemporaryDirectory() as scratch:
         log_root = os.path.abspath(args.log_root or scratch)

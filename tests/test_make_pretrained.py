@@ -45,7 +45,7 @@ def test_make_pretrained_ships_a_policy_that_play_finds(tmp_path, monkeypatch):
     assert record["made_by"].startswith("python scripts/make_pretrained.py --tasks simlab/Cartpole-Direct-v0")
     checkpoint = shipped / record["checkpoint"]
     assert record["files_bytes"][record["checkpoint"]] == os.path.getsize(checkpoint)
-    assert set(torch.load(checkpoint, weights_only=False)) == set(script.SHIPPED_CHECKPOINT_KEYS)
+    assert set(torch.load(checkpoint, weights_only=False)) == set(script.SHIPPED_CHECKPOINT_KEYS["rsl_rl"])
 
     # simlab play --use_pretrained_checkpoint finds it (the package's folder pointed at the output)
     monkeypatch.setattr(simlab.pretrained, "PRETRAINED_DIR", str(out))
@@ -73,8 +73,10 @@ def test_make_pretrained_ships_nothing_that_misses_the_criterion(tmp_path, capsy
 
 def test_make_pretrained_refuses_a_task_it_cannot_judge_or_train_before_training(tmp_path):
     script = _script()
-    with pytest.raises(ValueError, match="No solve criterion for simlab/Humanoid-AMP-Walk-Direct-v0"):
+    with pytest.raises(ValueError, match="simlab/Humanoid-AMP-Walk-Direct-v0 has no rsl_rl config"):
         script.main(["--tasks", TASK, "simlab/Humanoid-AMP-Walk-Direct-v0", "--out", str(tmp_path)])
+    with pytest.raises(SystemExit):  # skrl policies are shipped from a --checkpoint, not trained here
+        script.main(["--tasks", TASK, "--library", "skrl", "--out", str(tmp_path)])
     with pytest.raises(ValueError, match="simlab/Open-Drawer-Franka-IK-Abs-v0 has no rsl_rl config"):
         script.main(["--tasks", "simlab/Open-Drawer-Franka-IK-Abs-v0", "--out", str(tmp_path)])
     with pytest.raises(ValueError, match="Unknown task simlab/Nope-v0"):
@@ -97,10 +99,10 @@ def test_the_task_list_names_every_tasks_criterion():
     assert len(rows) == 28 and not any("-Play-" in task for task in rows)  # 43 ids less 15 Play variants
     assert rows["simlab/Cartpole-Direct-v0"]["shipped"] == ["rsl_rl"]
     assert rows["simlab/Reach-Franka-OSC-v0"]["criterion"].startswith("at the end of each command window")
-    assert rows["simlab/Humanoid-AMP-Run-Direct-v0"]["criterion"].startswith("none: ")
+    assert rows["simlab/Humanoid-AMP-Run-Direct-v0"]["criterion"].startswith("forward speed >= 50% of the clip's")
+    assert rows["simlab/Humanoid-AMP-Run-Direct-v0"]["shipped"] == ["skrl"]
     assert not rows["simlab/Open-Drawer-Franka-IK-Rel-v0"]["rsl_rl"]
-    judged = [task for task, row in rows.items() if not row["criterion"].startswith("none")]
-    assert len(judged) == 25  # all but the three AMP tasks (judged by scripts/benchmarks/amp_learn.py)
+    assert not any(row["criterion"].startswith("none") for row in rows.values())
 
 
 def test_a_policy_trained_elsewhere_is_judged_on_the_cpu_and_shipped(tmp_path, capsys):
@@ -120,7 +122,8 @@ def test_a_policy_trained_elsewhere_is_judged_on_the_cpu_and_shipped(tmp_path, c
     record = json.loads((shipped / "record.json").read_text())
     assert record["trained_by"] == "a one-iteration test run" and record["cpu_evaluation"]["passed"]
     assert "simlab/Cartpole-Direct-v0" in (shipped / "params" / "run.yaml").read_text()
-    assert set(torch.load(shipped / record["checkpoint"], weights_only=False)) == set(script.SHIPPED_CHECKPOINT_KEYS)
+    shipped_keys = set(torch.load(shipped / record["checkpoint"], weights_only=False))
+    assert shipped_keys == set(script.SHIPPED_CHECKPOINT_KEYS["rsl_rl"])
     assert (shipped / "exported" / "policy.onnx").is_file()
 
     # judged by the task's own criterion, a one-iteration policy is not shipped
@@ -129,3 +132,25 @@ def test_a_policy_trained_elsewhere_is_judged_on_the_cpu_and_shipped(tmp_path, c
     assert "failed on the CPU" in capsys.readouterr().out and not refused.exists()
     with pytest.raises(SystemExit):  # one policy, one task
         script.main([*adopt, "--tasks", TASK, "simlab/Cartpole-v0"])
+
+
+def test_an_skrl_policy_trained_elsewhere_is_shipped_in_skrls_layout(tmp_path):
+    from simlab.cli.main import main as simlab_main
+
+    logs = tmp_path / "logs"
+    train = ["train", "--task", TASK, "--library", "skrl", "--headless", "--device", "cpu", "--num_envs", "8"]
+    assert simlab_main([*train, "--max_iterations", "1", "--seed", "3", "--log_root", str(logs)]) == 0
+    checkpoint = max(logs.glob("skrl/*/*/checkpoints/agent_*.pt"), key=os.path.getmtime)
+    script = _script()
+    adopt = ["--tasks", TASK, "--library", "skrl", "--checkpoint", str(checkpoint), "--trained_by", "a test run"]
+    adopt += ["--cpu_eval_envs", "4", "--eval_seconds", "0.5", "--reward_threshold=-1e9"]
+    out = tmp_path / "pretrained"
+    assert script.main([*adopt, "--out", str(out)]) == 0
+
+    shipped = out / "Cartpole-Direct-v0" / "skrl"
+    record = json.loads((shipped / "record.json").read_text())
+    assert record["library"] == "skrl" and record["algorithm"] == "PPO" and record["cpu_evaluation"]["passed"]
+    # skrl's layout: the checkpoint (policy and its normalizer only) and its export in checkpoints/
+    saved = shipped / "checkpoints" / record["checkpoint"]
+    assert set(torch.load(saved, weights_only=False)) == set(script.SHIPPED_CHECKPOINT_KEYS["skrl"])
+    assert (shipped / "checkpoints" / "exported" / "policy.onnx").is_file()

@@ -37,8 +37,7 @@ import subprocess
 import sys
 import time
 
-import torch
-
+from simlab.benchmarks.criteria import GaitRecorder
 from simlab.cli.libraries.skrl import STYLE_REWARD_TAG
 from simlab.cli.main import build_parser
 from simlab.cli.play import run_play
@@ -100,63 +99,6 @@ def trend(values: list[float]) -> dict[str, float | list[float]]:
         "points": [round(v, 4) for v in values[::step]],
         "count": len(values),
     }
-
-
-class GaitRecorder:
-    """An ``on_step`` hook for :func:`simlab.cli.play.run_play`: the played humanoid against its clip."""
-
-    def __init__(self, settle_seconds: float):
-        self.settle_seconds = settle_seconds
-        self.squared_errors: list[torch.Tensor] = []
-        self.forward: list[torch.Tensor] = []
-        self.horizontal: list[torch.Tensor] = []
-        self.falls = 0
-        self.env_steps = 0
-        self.step_dt = float("nan")
-        self.clip_speed = float("nan")
-        self.zero_pose_rms = float("nan")
-        self._clip_poses: torch.Tensor | None = None
-
-    def _setup(self, env) -> None:
-        motion = env._motion_loader
-        self._clip_poses = motion.dof_positions[:, env.motion_dof_indexes]  # (frames, joints) in robot order
-        torso = motion.get_body_index([env.cfg.reference_body])[0]
-        advance = motion.body_positions[-1, torso, 0] - motion.body_positions[0, torso, 0]
-        self.clip_speed = float(advance / motion.duration)
-        self.zero_pose_rms = float(self._nearest_squared_error(torch.zeros(1, self._clip_poses.shape[1])).sqrt())
-        self.step_dt = env.step_dt
-
-    def _nearest_squared_error(self, joint_pos: torch.Tensor) -> torch.Tensor:
-        """Mean over joints of the squared error to the nearest clip frame, per env."""
-        poses = self._clip_poses.to(joint_pos.device)
-        return torch.cdist(joint_pos, poses).min(dim=1).values ** 2 / poses.shape[1]
-
-    def __call__(self, env, obs, actions) -> None:
-        if self._clip_poses is None:
-            self._setup(env)
-        self.env_steps += env.num_envs
-        self.falls += int(env.reset_terminated.sum())
-        settled = env.episode_length_buf * env.step_dt >= self.settle_seconds
-        if not bool(settled.any()):
-            return
-        data = env.robot.data
-        self.squared_errors.append(self._nearest_squared_error(data.joint_pos[settled]).cpu())
-        velocity = data.root_lin_vel_w[settled]
-        self.forward.append(velocity[:, 0].cpu())
-        self.horizontal.append(velocity[:, :2].norm(dim=-1).cpu())
-
-    def summary(self) -> dict[str, float]:
-        def mean(chunks: list[torch.Tensor]) -> float:
-            return float(torch.cat(chunks).mean()) if chunks else float("nan")
-
-        return {
-            "joint_rms_error_rad": mean(self.squared_errors) ** 0.5,
-            "zero_pose_joint_rms_error_rad": self.zero_pose_rms,
-            "forward_speed_m_s": mean(self.forward),
-            "horizontal_speed_m_s": mean(self.horizontal),
-            "clip_forward_speed_m_s": self.clip_speed,
-            "falls_per_env_minute": self.falls / max(1, self.env_steps) * 60.0 / self.step_dt,
-        }
 
 
 def main() -> int:

@@ -13,6 +13,8 @@ Franka reach: at the end of each command window, mean position error < 2 cm and 
 error < 0.1 rad (``scripts/benchmarks/manipulation_learn.py``'s criterion).
 Franka lift: >= 80 % of the episodes end with the cube within 5 cm of its commanded position.
 Franka cabinet (direct and manager-based): >= 80 % of the episodes end with the top drawer open >= 20 cm.
+AMP humanoids: forward speed >= 50 % of the clip's, joint RMS error to the nearest clip frame <= 25 % of
+the standing pose's, <= 1 fall per env-minute (their env reward is a constant).
 
 Criteria that judge whole episodes or command windows state how long a play must at least last
 (``Criterion.min_seconds``); :meth:`Criterion.play_seconds` lengthens a shorter request to it.
@@ -298,6 +300,91 @@ def episodes_succeed(
     return Criterion(f">= {rate:.0%} of the episodes end with {what}", make_hook, judge, min_seconds=episode_s + 0.5)
 
 
+class GaitRecorder:
+    """An ``on_step`` hook: the played AMP humanoid against its clip (``scripts/benchmarks/amp_learn.py``).
+
+    AMP imitates a style, not a clock, so each played pose is compared with the clip pose nearest to
+    it; the standing zero pose's error is kept for scale. Steps less than ``settle_seconds`` into an
+    episode are not counted (reference-state starts are the clip itself)."""
+
+    def __init__(self, settle_seconds: float):
+        self.settle_seconds = settle_seconds
+        self.squared_errors: list[torch.Tensor] = []
+        self.forward: list[torch.Tensor] = []
+        self.horizontal: list[torch.Tensor] = []
+        self.falls = 0
+        self.env_steps = 0
+        self.step_dt = float("nan")
+        self.clip_speed = float("nan")
+        self.zero_pose_rms = float("nan")
+        self._clip_poses: torch.Tensor | None = None
+
+    def _setup(self, env) -> None:
+        motion = env._motion_loader
+        self._clip_poses = motion.dof_positions[:, env.motion_dof_indexes]  # (frames, joints) in robot order
+        torso = motion.get_body_index([env.cfg.reference_body])[0]
+        advance = motion.body_positions[-1, torso, 0] - motion.body_positions[0, torso, 0]
+        self.clip_speed = float(advance / motion.duration)
+        self.zero_pose_rms = float(self._nearest_squared_error(torch.zeros(1, self._clip_poses.shape[1])).sqrt())
+        self.step_dt = env.step_dt
+
+    def _nearest_squared_error(self, joint_pos: torch.Tensor) -> torch.Tensor:
+        """Mean over joints of the squared error to the nearest clip frame, per env."""
+        poses = self._clip_poses.to(joint_pos.device)
+        return torch.cdist(joint_pos, poses).min(dim=1).values ** 2 / poses.shape[1]
+
+    def __call__(self, env, obs, actions) -> None:
+        if self._clip_poses is None:
+            self._setup(env)
+        self.env_steps += env.num_envs
+        self.falls += int(env.reset_terminated.sum())
+        settled = env.episode_length_buf * env.step_dt >= self.settle_seconds
+        if not bool(settled.any()):
+            return
+        data = env.robot.data
+        self.squared_errors.append(self._nearest_squared_error(data.joint_pos[settled]).cpu())
+        velocity = data.root_lin_vel_w[settled]
+        self.forward.append(velocity[:, 0].cpu())
+        self.horizontal.append(velocity[:, :2].norm(dim=-1).cpu())
+
+    def summary(self) -> dict[str, float]:
+        def mean(chunks: list[torch.Tensor]) -> float:
+            return float(torch.cat(chunks).mean()) if chunks else float("nan")
+
+        return {
+            "joint_rms_error_rad": mean(self.squared_errors) ** 0.5,
+            "zero_pose_joint_rms_error_rad": self.zero_pose_rms,
+            "forward_speed_m_s": mean(self.forward),
+            "horizontal_speed_m_s": mean(self.horizontal),
+            "clip_forward_speed_m_s": self.clip_speed,
+            "falls_per_env_minute": self.falls / max(1, self.env_steps) * 60.0 / self.step_dt,
+        }
+
+
+def imitates_clip(
+    min_speed_fraction: float = 0.5, max_error_fraction: float = 0.25, max_falls_per_minute: float = 1.0
+) -> Criterion:
+    """AMP: moves forward at a good part of the clip's speed, in the clip's poses, without falling."""
+
+    def make_hook() -> tuple[GaitRecorder, GaitRecorder]:
+        recorder = GaitRecorder(settle_seconds=0.5)
+        return recorder, recorder
+
+    def judge(result: dict[str, float], recorder: GaitRecorder) -> tuple[float, bool]:
+        gait = recorder.summary()
+        speed = gait["forward_speed_m_s"] / max(gait["clip_forward_speed_m_s"], 1e-6)
+        posed = gait["joint_rms_error_rad"] <= max_error_fraction * gait["zero_pose_joint_rms_error_rad"]
+        return speed, speed >= min_speed_fraction and posed and gait["falls_per_env_minute"] <= max_falls_per_minute
+
+    return Criterion(
+        f"forward speed >= {min_speed_fraction:.0%} of the clip's, joint RMS error to the nearest clip frame"
+        f" <= {max_error_fraction:.0%} of the standing pose's, <= {max_falls_per_minute:g} fall per env-minute"
+        " (score: speed over the clip's)",
+        make_hook,
+        judge,
+    )
+
+
 def criterion_for(task: str, reward_threshold: float | None = None) -> Criterion:
     """The criterion of ``task`` (a Gymnasium id); ``reward_threshold`` replaces the stated one."""
     if reward_threshold is not None:
@@ -322,16 +409,13 @@ def criterion_for(task: str, reward_threshold: float | None = None) -> Criterion
         return episodes_succeed(
             "the top drawer open >= 0.2 m", partial(direct_cabinet_tracker, 0.2), episode_s=500 / 60
         )
-    if "-AMP-" in task:  # its env reward is a constant; skrl's discriminator judges the motion
-        raise ValueError(
-            f"No solve criterion for {task}: AMP tasks train with skrl's AMP agent, judged by"
-            " scripts/benchmarks/amp_learn.py (joint error to the clip, speed, falls), not by a reward per step."
-        )
+    if "-AMP-" in task:  # its env reward is a constant; the motion itself is judged
+        return imitates_clip()
     for robot, min_speed in FORWARD_SPEED_THRESHOLDS.items():
         if robot in task:
             return runs_forward(min_speed)
     raise ValueError(
         f"No solve criterion for {task}: the cartpole, cart double pendulum, velocity, quadcopter, Franka reach,"
-        f" lift and cabinet and {list(FORWARD_SPEED_THRESHOLDS)} tasks have one; "
+        f" lift and cabinet, AMP and {list(FORWARD_SPEED_THRESHOLDS)} tasks have one; "
         "give --reward_threshold R to judge by the mean reward per env-step."
     )

@@ -129,7 +129,10 @@ class HumanoidAmpDanceEnvCfg(HumanoidAmpEnvCfg):
 
 @configclass
 class HumanoidAmpRunEnvCfg(HumanoidAmpEnvCfg):
-    motion_file = os.path.join(MOTIONS_DIR, "humanoid_run.npz")
+    # recorded from Humanoid-v0's policy (scripts/tools/record_motion_clip.py): every frame is one this
+    # body's physics produced, and AMP learns it (docs/performance.md); the kinematic run clip,
+    # humanoid_run.npz, stays available through env.motion_file
+    motion_file = os.path.join(MOTIONS_DIR, "humanoid_run_recorded.npz")
 
 
 @configclass
