@@ -45,11 +45,6 @@ def test_a_task_without_a_pretrained_policy_says_what_is_shipped(tmp_path, capsy
     assert main([*argv, "--log_root", str(tmp_path / "logs")]) == 2
     err = capsys.readouterr().err
     assert f"No pretrained rsl_rl policy for {task}" in err and "Shipped:" in err
-    # a task whose policy is another library's says which
-    task = "simlab/Humanoid-AMP-Run-Direct-v0"
-    argv = ["play", "--task", task, "--use_pretrained_checkpoint", "--device", "cpu"]
-    assert main([*argv, "--log_root", str(tmp_path / "logs")]) == 2
-    assert "its shipped policy is skrl's: add --library skrl" in capsys.readouterr().err
 
 
 def test_a_play_variant_plays_the_policy_of_its_task(tmp_path):

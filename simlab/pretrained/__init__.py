@@ -38,12 +38,6 @@ def pretrained_run_dir(task: str, library: str) -> str:
     """The shipped run folder of ``task`` trained with ``library``; a clear error lists what is shipped."""
     folder = os.path.join(PRETRAINED_DIR, _task_folder(task), library)
     if not os.path.isdir(folder):
-        others = [lib for t, lib in list_pretrained() if t == f"simlab/{_task_folder(task)}"]
-        if others:  # e.g. the AMP humanoid's policy is skrl's
-            raise FileNotFoundError(
-                f"No pretrained {library} policy for {task}; its shipped policy is {others[0]}'s: "
-                f"add --library {others[0]}."
-            )
         shipped = ", ".join(f"{t} ({lib})" for t, lib in list_pretrained()) or "none"
         raise FileNotFoundError(
             f"No pretrained {library} policy for {task}. Shipped: {shipped}. "
