@@ -61,3 +61,16 @@ def test_stairs_play_counts_robots_that_get_past_the_last_step(monkeypatch):
     down, up = results[0]["height_change"], results[1]["height_change"]
     assert down == pytest.approx(-7 * results[0]["step_height"], abs=0.15)
     assert up == pytest.approx(7 * results[1]["step_height"], abs=0.15)
+
+
+def test_training_in_chunks_counts_each_iteration_once(tmp_path):
+    """Rough training runs rsl_rl's ``learn`` once per curve point; the saved counter is the iterations run."""
+    walk = _script()
+    args = argparse.Namespace(
+        robot="go2", terrain="rough", device="cpu", seed=42, num_envs=2, max_iterations=4, curve_every=2,
+        train_seconds=None, log_root=str(tmp_path),
+    )  # fmt: skip
+    runner, _, curve = walk.train(args)
+    assert [row[0] for row in curve] == [0, 2, 4]
+    (final,) = tmp_path.glob("locomotion_walk/*/model_final.pt")
+    assert torch.load(final, weights_only=False)["iter"] == 4

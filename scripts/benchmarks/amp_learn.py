@@ -4,6 +4,8 @@
     python scripts/benchmarks/amp_learn.py --motion run --max_iterations 2000 --video
     python scripts/benchmarks/amp_learn.py --device cuda:0 --num_envs 4096 --max_iterations 700 \\
         --train_seconds 390 --video                                          # the GPU evidence run
+    python scripts/benchmarks/amp_learn.py --motion run --device cuda:0 --num_envs 4096 --max_iterations 5000 \\
+        --train_seconds 330 --checkpoint <run>/checkpoints/agent_21584.pt   # resume a run (weights, optimizer)
     python scripts/benchmarks/amp_learn.py --num_envs 4 --max_iterations 3 --device cpu \\
         agent.motion_dataset.memory_size=2048 agent.reply_buffer.memory_size=2048   # a CPU smoke run
 

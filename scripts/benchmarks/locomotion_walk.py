@@ -108,6 +108,8 @@ def train(args: argparse.Namespace) -> tuple[OnPolicyRunner, float, list[tuple[i
         n = min(chunk, agent_cfg.max_iterations - done)
         runner.learn(num_learning_iterations=n, init_at_random_ep_len=done == 0)
         done += n
+        # rsl_rl leaves its counter at the last iteration it ran; the next chunk would repeat that index
+        runner.current_learning_iteration = done
         elapsed = time.time() - start
         if rough:
             curve.append((done, elapsed, mean_terrain_level(env)))
