@@ -10,7 +10,8 @@
         agent.motion_dataset.memory_size=2048 agent.reply_buffer.memory_size=2048   # a CPU smoke run
 
 Training runs as ``simlab train --task simlab/Humanoid-AMP-<Motion>-Direct-v0 --library skrl
---algorithm AMP --headless`` in a child process (extra arguments are passed on as Hydra overrides).
+--algorithm AMP --headless`` in a child process (extra arguments, Hydra overrides or ``--checkpoint``,
+are passed on to it).
 ``--train_seconds`` stops it early with SIGTERM (training saves a checkpoint then), so a
 run fits a wall-clock budget whatever the device's speed. Reported:
 
