@@ -4,10 +4,18 @@ from __future__ import annotations
 
 import importlib.util
 import os
+import signal
 import sys
 from types import ModuleType
 
 import pytest
+
+
+def sigint_as_in_a_terminal() -> None:
+    """``preexec_fn`` for a child that a test stops with Ctrl+C (SIGINT). A shell runs a background job
+    (``bash .ci/run &``) with SIGINT ignored; its children inherit that, and Python then never raises
+    ``KeyboardInterrupt``. Give the child the default handling a terminal's process has."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
 
 
 def load_script(path: str | os.PathLike, name: str | None = None) -> ModuleType:
