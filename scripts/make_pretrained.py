@@ -261,6 +261,16 @@ def checkpoint_iteration(checkpoint: str, library: str, agent_cfg: dict) -> int:
     return int(timestep.group(1)) // agent_cfg["agent"]["rollouts"] if timestep else 0
 
 
+def checkpoint_name(checkpoint: str, library: str, iteration: int, agent_cfg: dict) -> str:
+    """A file name that play's checkpoint search finds (locomotion_walk.py saves ``model_final.pt``)."""
+    from simlab.cli.runs import CHECKPOINT_LAYOUT
+
+    name = os.path.basename(checkpoint)
+    if re.search(CHECKPOINT_LAYOUT[library][1], name):
+        return name
+    return f"model_{iteration}.pt" if library == "rsl_rl" else f"agent_{iteration * agent_cfg['agent']['rollouts']}.pt"
+
+
 def adopt_checkpoint(task: str, args: argparse.Namespace, log_root: str, argv: list[str]) -> str | None:
     """Judge ``args.checkpoint`` on the CPU and ship it; None when shipped, else why not."""
     import gymnasium as gym
@@ -290,7 +300,7 @@ def adopt_checkpoint(task: str, args: argparse.Namespace, log_root: str, argv: l
     write_run_info(run_dir, {"task": task, "library": args.library, "algorithm": algorithm, **sizes})
     folder = os.path.join(run_dir, *CHECKPOINT_LAYOUT[args.library][0])
     os.makedirs(folder, exist_ok=True)
-    checkpoint = os.path.join(folder, os.path.basename(args.checkpoint))
+    checkpoint = os.path.join(folder, checkpoint_name(args.checkpoint, args.library, iteration, agent_cfg))
     shutil.copy2(args.checkpoint, checkpoint)
     cpu = evaluate_on_cpu(task, checkpoint, iteration, args)
     record = {

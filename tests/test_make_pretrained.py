@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 import os
+import shutil
 
 import numpy as np
 import onnxruntime
@@ -111,7 +112,8 @@ def test_a_policy_trained_elsewhere_is_judged_on_the_cpu_and_shipped(tmp_path, c
     logs = tmp_path / "logs"
     train = ["train", "--task", TASK, "--headless", "--device", "cpu", "--num_envs", "8", "--max_iterations", "1"]
     assert simlab_main([*train, "--seed", "3", "--log_root", str(logs)]) == 0
-    checkpoint = max(logs.glob("rsl_rl/*/*/model_*.pt"), key=os.path.getmtime)
+    checkpoint = tmp_path / "model_final.pt"  # the name locomotion_walk.py saves under
+    shutil.copy2(max(logs.glob("rsl_rl/*/*/model_*.pt"), key=os.path.getmtime), checkpoint)
     script = _script()
     adopt = ["--tasks", TASK, "--checkpoint", str(checkpoint), "--trained_by", "a one-iteration test run"]
     adopt += ["--cpu_eval_envs", "4", "--eval_seconds", "0.5"]
@@ -121,6 +123,7 @@ def test_a_policy_trained_elsewhere_is_judged_on_the_cpu_and_shipped(tmp_path, c
     shipped = out / "Cartpole-Direct-v0" / "rsl_rl"
     record = json.loads((shipped / "record.json").read_text())
     assert record["trained_by"] == "a one-iteration test run" and record["cpu_evaluation"]["passed"]
+    assert record["checkpoint"] == f"model_{record['iterations']}.pt"  # a name play's checkpoint search finds
     assert "simlab/Cartpole-Direct-v0" in (shipped / "params" / "run.yaml").read_text()
     shipped_keys = set(torch.load(shipped / record["checkpoint"], weights_only=False))
     assert shipped_keys == set(script.SHIPPED_CHECKPOINT_KEYS["rsl_rl"])
