@@ -11,11 +11,14 @@ from types import ModuleType
 import pytest
 
 
-def sigint_as_in_a_terminal() -> None:
-    """``preexec_fn`` for a child that a test stops with Ctrl+C (SIGINT). A shell runs a background job
-    (``bash .ci/run &``) with SIGINT ignored; its children inherit that, and Python then never raises
-    ``KeyboardInterrupt``. Give the child the default handling a terminal's process has."""
-    signal.signal(signal.SIGINT, signal.SIG_DFL)
+def pytest_configure(config) -> None:
+    """A shell starts a background job (``bash .ci/run &``) with SIGINT ignored, and every process it
+    starts inherits that: Python then never raises ``KeyboardInterrupt``, and the tests that stop a
+    child with Ctrl+C wait for it in vain. With a handler installed here, the children start with
+    SIGINT's default handling (exec resets a handled signal, not an ignored one). (A ``preexec_fn``
+    per child would do the same but makes subprocess fork this large, multithreaded process.)"""
+    if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
 
 
 def load_script(path: str | os.PathLike, name: str | None = None) -> ModuleType:

@@ -12,7 +12,7 @@ import time
 import numpy as np
 import pytest
 import torch
-from conftest import rendering_available, sigint_as_in_a_terminal
+from conftest import rendering_available
 
 from simlab.cli.main import main
 
@@ -145,7 +145,7 @@ def test_python_m_simlab_and_ctrl_c_saves(tmp_path):
         "--log_root",
         str(tmp_path / "logs"),
     ]
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, preexec_fn=sigint_as_in_a_terminal)
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
     deadline = time.time() + 60
     while time.time() < deadline and not glob.glob(str(tmp_path / "logs" / "rsl_rl" / "*" / "*" / "model_0.pt")):
         time.sleep(0.2)

@@ -12,7 +12,6 @@ import time
 
 import pytest
 import torch
-from conftest import sigint_as_in_a_terminal
 
 from simlab.cli import distributed
 from simlab.cli.main import main
@@ -169,13 +168,7 @@ def test_ctrl_c_on_the_launcher_saves_rank_0s_checkpoint(tmp_path):
     cmd += ["--log_root", str(tmp_path / "logs"), "--distributed", "--nproc_per_node", "2"]
     with open(tmp_path / "out.txt", "w") as out:
         launcher = subprocess.Popen(
-            cmd,
-            env=_env(PYTHONUNBUFFERED="1"),
-            stdout=out,
-            stderr=out,
-            cwd=tmp_path,
-            start_new_session=True,
-            preexec_fn=sigint_as_in_a_terminal,
+            cmd, env=_env(PYTHONUNBUFFERED="1"), stdout=out, stderr=out, cwd=tmp_path, start_new_session=True
         )
         deadline = time.time() + 120
         while "Synchronizing parameters for rank 0" not in (tmp_path / "out.txt").read_text():

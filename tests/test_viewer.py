@@ -16,7 +16,6 @@ import mujoco
 import numpy as np
 import pytest
 import torch
-from conftest import sigint_as_in_a_terminal
 
 from simlab.cli.main import main
 from simlab.viewer import SimSource, open_viewer, resolve_viewer_kind
@@ -91,9 +90,7 @@ def test_web_viewer_shows_the_robots_moving_in_a_browser(tmp_path):
     port = _free_port()
     cmd = [sys.executable, "-m", "simlab", "random", "--task", "simlab/Cartpole-v0", "--num_envs", "4",
            "--device", "cpu", "--viewer", "web", "--viewer_port", str(port)]  # fmt: skip
-    proc = subprocess.Popen(
-        cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, preexec_fn=sigint_as_in_a_terminal
-    )
+    proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     try:
         _wait_for_line(proc, f"Web viewer: http://localhost:{port}", 120)
         url = f"http://127.0.0.1:{port}"
