@@ -20,36 +20,32 @@ import sys
 
 import torch
 
-from simlab.cli.libraries import get_library
 from simlab.cli.main import build_parser
-from simlab.cli.session import load_configs, make_env
+from simlab.cli.play import run_play
+from simlab.tasks.utils import load_cfg_from_registry
 
 WINDOWS_S = (0.2, 0.5, 1.0)
 SPEED_BINS = ((0.0, 0.25), (0.25, 0.5), (0.5, 0.75), (0.75, 1.0), (1.0, 2.0))
 
 
-def play(task: str, checkpoint: str, envs: int, seconds: float, settle: float, device: str, seed: int):
-    """Commands and base velocities (T, N, 2) of a play, and the env step [s]."""
-    argv = ["play", "--task", task, "--headless", "--num_envs", str(envs), "--device", device, "--seed", str(seed)]
-    args = build_parser().parse_args(argv)
-    env_cfg, agent_cfg = load_configs(args, [])
-    library = get_library("rsl_rl")
-    library.configure(agent_cfg, args, env_cfg)
-    env = make_env(args, env_cfg, None, single_agent=True)
-    try:
-        policy = library.load_policy(env, agent_cfg, checkpoint)
-        base = env.unwrapped
-        obs, _ = env.reset()
-        commands, velocities = [], []
-        for step in range(round(seconds / base.step_dt)):
-            with torch.no_grad():
-                obs, *_ = env.step(policy(obs))
-            if step * base.step_dt >= settle:
-                commands.append(base.command_manager.get_command("base_velocity")[:, :2].clone())
-                velocities.append(base.scene["robot"].data.root_lin_vel_b[:, :2].clone())
-        return torch.stack(commands).cpu(), torch.stack(velocities).cpu(), base.step_dt
-    finally:
-        env.close()
+class VelocityLog:
+    """An ``on_step`` hook for :func:`simlab.cli.play.run_play`: each step's command and base velocity
+    (planar, base frame), from ``settle_seconds`` into the play on."""
+
+    def __init__(self, settle_seconds: float):
+        self.settle_seconds = settle_seconds
+        self.steps = 0
+        self.step_dt = float("nan")
+        self.commands: list[torch.Tensor] = []
+        self.velocities: list[torch.Tensor] = []
+
+    def __call__(self, env, obs, actions) -> None:
+        self.step_dt = env.step_dt
+        if self.steps * env.step_dt >= self.settle_seconds:
+            # copies: on the CPU .cpu() returns the env's own buffer, which the next step overwrites
+            self.commands.append(env.command_manager.get_command("base_velocity")[:, :2].clone().cpu())
+            self.velocities.append(env.scene["robot"].data.root_lin_vel_b[:, :2].clone().cpu())
+        self.steps += 1
 
 
 def windowed_error(commands: torch.Tensor, velocities: torch.Tensor, steps: int) -> float:
@@ -72,15 +68,30 @@ def main() -> int:
     if args.seconds <= args.settle_seconds:
         parser.error(f"--seconds ({args.seconds}) must be longer than --settle_seconds ({args.settle_seconds}).")
 
-    commands, velocities, step_dt = play(
-        args.task, args.checkpoint, args.envs, args.seconds, args.settle_seconds, args.device, args.seed
-    )
+    env_cfg = load_cfg_from_registry(args.task, "env_cfg_entry_point")
+    steps = round(args.seconds / (env_cfg.sim.dt * env_cfg.decimation))
+    play_argv = ["play", "--task", args.task, "--checkpoint", args.checkpoint, "--headless", "--no_export"]
+    play_argv += [
+        "--num_envs",
+        str(args.envs),
+        "--steps",
+        str(steps),
+        "--device",
+        args.device,
+        "--seed",
+        str(args.seed),
+    ]
+    log = VelocityLog(args.settle_seconds)
+    run_play(build_parser().parse_args(play_argv), [], on_step=log)
+    commands, velocities = torch.stack(log.commands), torch.stack(log.velocities)  # (steps, envs, 2)
     errors = (commands - velocities).norm(dim=-1)
     print(f"{args.task}, {args.envs} envs, {args.seconds - args.settle_seconds:g} s counted")
     print(f"mean |v_xy command - v_xy| at every step: {float(errors.mean()):.3f} m/s")
     for window in WINDOWS_S:
-        steps = max(1, round(window / step_dt))
-        print(f"  of velocities averaged over {window:g} s: {windowed_error(commands, velocities, steps):.3f} m/s")
+        window_steps = max(1, round(window / log.step_dt))
+        print(
+            f"  of velocities averaged over {window:g} s: {windowed_error(commands, velocities, window_steps):.3f} m/s"
+        )
     speed = commands.norm(dim=-1)
     print("by commanded speed [m/s]: share of steps, mean error, shortfall along the command")
     for low, high in SPEED_BINS:
