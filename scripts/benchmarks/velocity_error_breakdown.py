@@ -71,16 +71,8 @@ def main() -> int:
     env_cfg = load_cfg_from_registry(args.task, "env_cfg_entry_point")
     steps = round(args.seconds / (env_cfg.sim.dt * env_cfg.decimation))
     play_argv = ["play", "--task", args.task, "--checkpoint", args.checkpoint, "--headless", "--no_export"]
-    play_argv += [
-        "--num_envs",
-        str(args.envs),
-        "--steps",
-        str(steps),
-        "--device",
-        args.device,
-        "--seed",
-        str(args.seed),
-    ]
+    play_argv += ["--num_envs", str(args.envs), "--steps", str(steps), "--device", args.device]
+    play_argv += ["--seed", str(args.seed)]
     log = VelocityLog(args.settle_seconds)
     run_play(build_parser().parse_args(play_argv), [], on_step=log)
     commands, velocities = torch.stack(log.commands), torch.stack(log.velocities)  # (steps, envs, 2)
@@ -88,10 +80,8 @@ def main() -> int:
     print(f"{args.task}, {args.envs} envs, {args.seconds - args.settle_seconds:g} s counted")
     print(f"mean |v_xy command - v_xy| at every step: {float(errors.mean()):.3f} m/s")
     for window in WINDOWS_S:
-        window_steps = max(1, round(window / log.step_dt))
-        print(
-            f"  of velocities averaged over {window:g} s: {windowed_error(commands, velocities, window_steps):.3f} m/s"
-        )
+        error = windowed_error(commands, velocities, max(1, round(window / log.step_dt)))
+        print(f"  of velocities averaged over {window:g} s: {error:.3f} m/s")
     speed = commands.norm(dim=-1)
     print("by commanded speed [m/s]: share of steps, mean error, shortfall along the command")
     for low, high in SPEED_BINS:
