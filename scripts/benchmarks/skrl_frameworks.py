@@ -43,7 +43,6 @@ def train_seconds(task: str, framework: str, device: str, num_envs: int, iterati
 def handover(task: str, device: str) -> dict:
     """Step the env through skrl's JAX wrapper once; where do the observations JAX sees live?"""
     import gymnasium as gym
-    import torch
 
     import simlab.tasks  # noqa: F401  (registers the tasks)
     from simlab.cli.libraries.skrl import _runner_class, _wrap
@@ -56,14 +55,13 @@ def handover(task: str, device: str) -> dict:
     env.reset()
     actions = jax.numpy.zeros((8, env.action_space.shape[0]), device=env.device)
     observations, reward, *_ = env.step(actions)
-    written = env._env.unwrapped.obs_buf["policy"] if hasattr(env._env.unwrapped, "obs_buf") else None
+    written = env._env.unwrapped.obs_buf["policy"]  # the torch tensor the env wrote this step
     report = {
         "jax_backend": jax.default_backend(),
         "observation_device": str(next(iter(observations.devices()))),
         "reward_device": str(next(iter(reward.devices()))),
+        "same_buffer_as_env": observations.unsafe_buffer_pointer() == written.data_ptr(),
     }
-    if written is not None and isinstance(written, torch.Tensor):
-        report["same_buffer_as_env"] = observations.unsafe_buffer_pointer() == written.data_ptr()
     env.close()
     return report
 
