@@ -16,6 +16,7 @@ which separates a robot that cannot reach a speed from one that wobbles around i
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 
 import torch
@@ -65,6 +66,8 @@ def main() -> int:
     parser.add_argument("--device", default="cpu")
     parser.add_argument("--seed", type=int, default=42)
     args = parser.parse_args()
+    if not os.path.isfile(args.checkpoint):
+        parser.error(f"--checkpoint {args.checkpoint}: no such file (an rsl_rl model_<iteration>.pt of the task)")
     if args.seconds <= args.settle_seconds:
         parser.error(f"--seconds ({args.seconds}) must be longer than --settle_seconds ({args.settle_seconds}).")
 
