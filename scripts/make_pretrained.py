@@ -87,6 +87,13 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
         "--library", choices=sorted(SHIPPED_CHECKPOINT_KEYS), default=LIBRARY, help="With --checkpoint: its library."
     )
     parser.add_argument("--trained_by", default=None, help="With --checkpoint: how it was trained, for record.json.")
+    parser.add_argument(
+        "--overrides",
+        nargs="+",
+        default=[],
+        help="env.* / agent.* overrides to train with (e.g. env.frame_stack=2); the env.* ones are kept in"
+        " record.json and play applies them to the shipped policy",
+    )
     args = parser.parse_args(argv)
     if not args.list and not args.tasks:
         parser.error("give --tasks ID [ID ...] (or --list to see the tasks)")
@@ -99,7 +106,15 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
             parser.error("--checkpoint needs --trained_by: how the policy was trained (kept in record.json)")
     elif args.library != LIBRARY:
         parser.error(f"this script trains with {LIBRARY}; --library {args.library} ships a --checkpoint only")
+    bad = [o for o in args.overrides if not o.startswith(("env.", "agent.")) or "=" not in o]
+    if bad:
+        parser.error(f"--overrides {' '.join(bad)}: each looks like env.x.y=1 or agent.z=2")
     return args
+
+
+def env_overrides(args: argparse.Namespace) -> list[str]:
+    """The overrides that change the env (the trained policy needs them wherever it plays)."""
+    return [o for o in args.overrides if o.startswith("env.")]
 
 
 class OverBudget(RuntimeError):
@@ -115,6 +130,8 @@ def train_until_solved(task: str, args: argparse.Namespace, log_root: str) -> di
     for flag in ("num_envs", "max_iterations", "eval_every", "reward_threshold"):
         if getattr(args, flag) is not None:
             command += [f"--{flag}", str(getattr(args, flag))]
+    if args.overrides:
+        command += ["--overrides", *args.overrides]
     print(f"[make_pretrained] {shlex.join(command)}", flush=True)
     # its own process group: the budget stops the training process and anything it started
     child = subprocess.Popen(command, cwd=REPO, start_new_session=True)
@@ -138,7 +155,14 @@ def evaluate_on_cpu(task: str, checkpoint: str, iteration: int, args: argparse.N
     from simlab.benchmarks.solve import CheckpointJudge
 
     judge = CheckpointJudge(
-        task, args.library, "cpu", args.cpu_eval_envs, args.eval_seconds, args.seed, args.reward_threshold
+        task,
+        args.library,
+        "cpu",
+        args.cpu_eval_envs,
+        args.eval_seconds,
+        args.seed,
+        args.reward_threshold,
+        env_overrides(args),
     )
     seconds = judge.criterion.play_seconds(args.eval_seconds)
     try:
@@ -156,10 +180,10 @@ def evaluate_on_cpu(task: str, checkpoint: str, iteration: int, args: argparse.N
     }
 
 
-def export_policy(task: str, checkpoint: str, library: str) -> str:
+def export_policy(task: str, checkpoint: str, library: str, overrides: list[str]) -> str:
     """``simlab play`` writes ``exported/policy.onnx`` and ``policy.pt`` beside the checkpoint."""
     command = [sys.executable, "-m", "simlab", "play", "--task", task, "--library", library, "--headless"]
-    command += ["--checkpoint", checkpoint, "--steps", "1", "--num_envs", "1", "--device", "cpu"]
+    command += ["--checkpoint", checkpoint, "--steps", "1", "--num_envs", "1", "--device", "cpu", *overrides]
     subprocess.run(command, check=True, capture_output=True, cwd=REPO)
     return os.path.join(os.path.dirname(checkpoint), "exported")
 
@@ -173,7 +197,7 @@ def ship(task: str, checkpoint: str, record: dict[str, Any], out: str) -> str:
     library = record["library"]
     # the ONNX policy first (a failing export leaves nothing behind), from play, which writes it
     # beside the checkpoint; play writes the TorchScript one again wherever it plays the copy
-    onnx = os.path.join(export_policy(task, checkpoint, library), "policy.onnx")
+    onnx = os.path.join(export_policy(task, checkpoint, library, record.get("env_overrides", [])), "policy.onnx")
     target = os.path.join(out, task.split("/")[-1], library)
     shutil.rmtree(target, ignore_errors=True)
     shutil.copytree(os.path.join(run_dir_of_checkpoint(checkpoint, library), "params"), os.path.join(target, "params"))
@@ -191,14 +215,18 @@ def ship(task: str, checkpoint: str, record: dict[str, Any], out: str) -> str:
     return target
 
 
-def record_header(task: str, library: str, argv: list[str]) -> dict[str, str]:
-    """The fields of ``record.json`` that say what was shipped and by which command, when."""
-    return {
+def record_header(task: str, args: argparse.Namespace, library: str, argv: list[str]) -> dict[str, Any]:
+    """The fields of ``record.json`` that say what was shipped and by which command, when, and the env
+    overrides play must apply to it."""
+    header: dict[str, Any] = {
         "task": task,
         "library": library,
         "made_by": shlex.join(["python", "scripts/make_pretrained.py", *argv]),
         "date": datetime.date.today().isoformat(),
     }
+    if env_overrides(args):
+        header["env_overrides"] = env_overrides(args)
+    return header
 
 
 def make_one(task: str, args: argparse.Namespace, log_root: str, argv: list[str]) -> str | None:
@@ -214,7 +242,7 @@ def make_one(task: str, args: argparse.Namespace, log_root: str, argv: list[str]
     with open(os.path.join(row["run_dir"], "params", "command.txt")) as f:
         train_command = f.read().strip()
     record = {
-        **record_header(task, LIBRARY, argv),
+        **record_header(task, args, LIBRARY, argv),
         "train_command": train_command,
         "device": args.device,
         "num_envs": row["num_envs"],
@@ -283,7 +311,7 @@ def adopt_checkpoint(task: str, args: argparse.Namespace, log_root: str, argv: l
 
     # the task's registered configs as play loads them (skrl on an AMP-only task: its AMP agent)
     play_args = build_parser().parse_args(["play", "--task", task, "--library", args.library, "--device", "cpu"])
-    env_cfg, agent_cfg = load_configs(play_args, [])
+    env_cfg, agent_cfg = load_configs(play_args, env_overrides(args))
     algorithm = agent_cfg["agent"]["class"] if args.library == "skrl" else "PPO"
     iteration = checkpoint_iteration(args.checkpoint, args.library, agent_cfg)
     # a run folder as simlab train writes it: the configs, run.yaml, the checkpoint in its library's place
@@ -304,7 +332,7 @@ def adopt_checkpoint(task: str, args: argparse.Namespace, log_root: str, argv: l
     shutil.copy2(args.checkpoint, checkpoint)
     cpu = evaluate_on_cpu(task, checkpoint, iteration, args)
     record = {
-        **record_header(task, args.library, argv),
+        **record_header(task, args, args.library, argv),
         "algorithm": algorithm,
         "trained_by": args.trained_by,
         "seed": args.seed,

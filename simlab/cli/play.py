@@ -99,6 +99,13 @@ def run_play(
     """Play ``args.task`` with a trained policy; returns the episode statistics and exported files."""
     check_flags(args)
     lib = get_library(args.library)
+    if getattr(args, "use_pretrained_checkpoint", False):
+        from simlab.pretrained import pretrained_env_overrides
+
+        trained_with = pretrained_env_overrides(args.task, args.library)
+        if trained_with:
+            print(f"[simlab] The pretrained policy was trained with {' '.join(trained_with)}: playing with them too.")
+        overrides = [*trained_with, *overrides]
     env_cfg, agent_cfg = load_configs(args, overrides)
     lib.configure(agent_cfg, args, env_cfg)
     checkpoint = locate_checkpoint(args, lib.experiment_name(agent_cfg, args.task))

@@ -14,7 +14,14 @@ import os
 import shutil
 from typing import Any
 
-__all__ = ["PRETRAINED_DIR", "copy_pretrained_run", "list_pretrained", "pretrained_record", "pretrained_run_dir"]
+__all__ = [
+    "PRETRAINED_DIR",
+    "copy_pretrained_run",
+    "list_pretrained",
+    "pretrained_env_overrides",
+    "pretrained_record",
+    "pretrained_run_dir",
+]
 
 PRETRAINED_DIR = os.path.dirname(os.path.abspath(__file__))
 
@@ -53,6 +60,13 @@ def pretrained_record(task: str, library: str) -> dict[str, Any] | None:
         return None
     with open(path) as f:
         return json.load(f)
+
+
+def pretrained_env_overrides(task: str, library: str) -> list[str]:
+    """The ``env.*`` overrides the shipped policy was trained with (e.g. ``env.frame_stack=2``, which
+    changes its observation): play applies them before the user's own."""
+    record = pretrained_record(task, library)
+    return list(record.get("env_overrides", [])) if record else []
 
 
 def copy_pretrained_run(task: str, library: str, log_root: str) -> str:
