@@ -157,3 +157,26 @@ def test_an_skrl_policy_trained_elsewhere_is_shipped_in_skrls_layout(tmp_path):
     saved = shipped / "checkpoints" / record["checkpoint"]
     assert set(torch.load(saved, weights_only=False)) == set(script.SHIPPED_CHECKPOINT_KEYS["skrl"])
     assert (shipped / "checkpoints" / "exported" / "policy.onnx").is_file()
+
+
+def test_a_policy_trained_with_env_overrides_is_shipped_and_played_with_them(tmp_path, monkeypatch):
+    # two stacked depth images: the override changes the observation, so play must apply it too
+    task = "simlab/Cartpole-Depth-Camera-Direct-v0"
+    script = _script()
+    tiny = ["--device", "cpu", "--num_envs", "4", "--max_iterations", "1", "--eval_every", "1", "--seed", "3"]
+    tiny += ["--eval_envs", "2", "--cpu_eval_envs", "2", "--eval_seconds", "0.2", "--reward_threshold=-1e9"]
+    out = tmp_path / "pretrained"
+    assert script.main(["--tasks", task, *tiny, "--overrides", "env.frame_stack=2", "--out", str(out)]) == 0
+    record = json.loads((out / "Cartpole-Depth-Camera-Direct-v0" / "rsl_rl" / "record.json").read_text())
+    assert record["env_overrides"] == ["env.frame_stack=2"]
+    assert record["train_command"].endswith("--overrides env.frame_stack=2")
+
+    monkeypatch.setattr(simlab.pretrained, "PRETRAINED_DIR", str(out))
+    argv = ["play", "--task", task, "--use_pretrained_checkpoint", "--headless", "--device", "cpu"]
+    argv += ["--num_envs", "2", "--steps", "2", "--log_root", str(tmp_path / "logs")]
+    shapes = []
+    run_play(build_parser().parse_args(argv), [], on_step=lambda env, obs, actions: shapes.append(obs["policy"].shape))
+    assert shapes == [(2, 100, 100, 2)] * 2  # H, W, one depth channel per stacked image
+
+    with pytest.raises(SystemExit):  # an override names the env or the agent config
+        script.main(["--tasks", task, *tiny, "--overrides", "frame_stack=2"])

@@ -19,17 +19,23 @@ ANYDRIVE_3_SIMPLE_ACTUATOR_CFG = DCMotorCfg(
 """ANYdrive 3.x as a DC motor (Isaac Lab's simple actuator model, its numbers). Too soft to hold
 ANYmal-C in its default pose: see ``ANYDRIVE_3_STIFF_ACTUATOR_CFG``."""
 
-ANYDRIVE_3_STIFF_ACTUATOR_CFG = ANYDRIVE_3_SIMPLE_ACTUATOR_CFG.replace(stiffness={".*": 200.0})
+ANYDRIVE_3_STIFF_ACTUATOR_CFG = ANYDRIVE_3_SIMPLE_ACTUATOR_CFG.replace(stiffness={".*": 200.0}, damping={".*": 11.0})
 """simlab's stand-in for Isaac Lab's ``ANYDRIVE_3_LSTM_ACTUATOR_CFG`` (an actuator network trained on
 the real drives, a file simlab does not ship): the same DC-motor limits (80 N m, 120 N m saturation,
-7.5 rad/s) and damping (5 N m s/rad), with a stiffness that holds the robot as the real drives do.
+7.5 rad/s), with a stiffness that holds the robot as the real drives do and a damping that keeps
+the simple model's damping ratio.
 
 In the default pose each HAA, HFE and KFE carries about 22 N m (a quarter of the 45 kg on a lever of
 about 0.2 m: the feet stand 0.2 m outboard of the HAA axes and 0.2 m ahead of or behind the knees).
 Measured in simlab (flat ground, PD targets at the default pose, base height after 3 s; it stands
 at 0.55 m with rigid joints): kp 40 (Isaac Lab's simple model) 0.21 m, the robot folds onto its
 knees; kp 80 (legged_gym's ANYmal-C PD gains) 0.26 m; kp 200 0.47 m, joints within 0.14 rad of
-their targets. The stiffness is simlab's choice, not a published figure."""
+their targets. The stiffness is simlab's choice, not a published figure.
+
+Damping 11 N m s/rad rather than 5: with the joints' armature (0.05 kg m^2) the simple model's kp 40 /
+kd 5 has a damping ratio of 1.8; kp 200 with kd 5 would have 0.8, and kd 11 has 1.7. Flat-ground
+policies trained with kd 5 levelled off at a velocity error of 0.22-0.26 m/s (their bases swaying
+within each step); with kd 11, 0.116 m/s after 250 iterations (docs/locomotion.md)."""
 
 
 ANYMAL_C_CFG = ArticulationCfg(
