@@ -312,12 +312,16 @@ def test_warp_renderer_matches_mujoco_renderer(warp_device):
     hit = np.isfinite(depth_cpu)
     np.testing.assert_allclose(depth_gpu[hit], depth_cpu[hit], atol=1e-3)
     assert (gpu.geom_ids.cpu() == cpu.geom_ids).float().mean() > 0.99
-    # RGB structurally: the same pixels are lit, and the cart has its colour in both
+    # RGB: the same pixels are lit, and in the same colours (OpenGL without multisampling samples each
+    # pixel's centre as the rays do; antialiased, it drew the thin rail as a line the rays miss), so a
+    # policy trained on one device's images plays on the other's
     lit_cpu = cpu.rgb.int().amax(dim=-1) > 20
     lit_gpu = gpu.rgb.cpu().int().amax(dim=-1) > 20
     objects = torch.from_numpy(hit)
     assert (lit_gpu == objects).float().mean() > 0.99  # the ray tracer draws exactly the hit pixels
-    assert (lit_cpu & objects).sum() >= 0.95 * objects.sum()  # OpenGL draws them too (and antialiased edges)
+    assert (lit_cpu == objects).float().mean() > 0.99
+    colour_gap = (cpu.rgb.int() - gpu.rgb.cpu().int()).abs()
+    assert float(colour_gap.float().mean()) < 0.5 and (colour_gap.amax(dim=-1) <= 3).float().mean() > 0.99
     for rgb in (cpu.rgb, gpu.rgb.cpu()):
         assert is_cart_coloured(rgb).sum() > 10
     assert math.isclose(float(cpu.depth[torch.isfinite(cpu.depth)].min()), 4.9, abs_tol=0.02)

@@ -67,7 +67,14 @@ class MujocoCameraRenderer:
         self._physics = physics
         self._model = model
         self._camera_id = camera_id
-        self._renderer = open_mujoco_renderer(model, width, height, max_geom=max(1000, 2 * model.ngeom))
+        # No multisampling: each pixel shows what its centre sees, as in MuJoCo Warp's ray tracer, so a
+        # policy trained on one device's images plays on the other's (antialiased, a rail thinner than a
+        # pixel shows here as a line the GPU's images lack). The context reads it once, when it is made.
+        samples, model.vis.quality.offsamples = model.vis.quality.offsamples, 0
+        try:
+            self._renderer = open_mujoco_renderer(model, width, height, max_geom=max(1000, 2 * model.ngeom))
+        finally:
+            model.vis.quality.offsamples = samples
         self._data = mujoco.MjData(model)
         self._option = geoms_only_option()
         self._far = float(model.vis.map.zfar * model.stat.extent)
