@@ -104,7 +104,7 @@ def run_play(
 
         trained_with = pretrained_env_overrides(args.task, args.library)
         if trained_with:
-            print(f"[simlab] The pretrained policy was trained with {' '.join(trained_with)}: playing with them too.")
+            print(f"[simlab] The pretrained policy was trained with {' '.join(trained_with)}; play uses the same.")
         overrides = [*trained_with, *overrides]
     env_cfg, agent_cfg = load_configs(args, overrides)
     lib.configure(agent_cfg, args, env_cfg)
