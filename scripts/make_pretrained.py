@@ -4,6 +4,8 @@
     python scripts/make_pretrained.py --tasks simlab/Cartpole-v0 --device cpu
     python scripts/make_pretrained.py --device cuda:0 --eval_every 25 --time_budget 125 \\
         --tasks simlab/Velocity-Flat-Unitree-Go2-v0 simlab/Velocity-Flat-Anymal-C-v0 simlab/Reach-Franka-v0
+    python scripts/make_pretrained.py --device cuda:0 --num_envs 1024 --eval_every 30 \
+        --tasks simlab/Cartpole-RGB-Camera-Direct-v0 --overrides env.frame_stack=2   # trained (and played) so
     python scripts/make_pretrained.py --list      # every task: its criterion, whether rsl_rl trains it, shipped?
     python scripts/make_pretrained.py --tasks simlab/Velocity-Rough-Unitree-Go2-v0 --checkpoint model_final.pt \
         --trained_by "scripts/benchmarks/locomotion_walk.py --terrain rough ..."   # a policy trained elsewhere
@@ -18,7 +20,8 @@ Shipped into ``<out>/<task name>/rsl_rl/``: the run's ``params/`` (its configs a
 checkpoint with the policy's weights only (what play loads; without critic and optimizer state it
 is a third of the size, so training cannot resume from it), ``exported/policy.onnx``, and
 ``record.json``: this script's command, the training command, seed, iterations, device, the
-criterion and its value on both devices, and the files' sizes.
+criterion and its value on both devices, the files' sizes, and the ``env.*`` overrides of
+``--overrides`` (``env_overrides``), which ``simlab play --use_pretrained_checkpoint`` applies too.
 
 A batch of tasks trains one after the other; ``--time_budget`` caps each task's training (its
 process is stopped there). A task that fails (not solved in its iterations or budget, failed on

@@ -3,7 +3,8 @@
 Each is a run folder, ``simlab/pretrained/<task name>/<library>/``, as ``simlab train`` writes it
 (``params/``, the checkpoint, ``exported/policy.onnx``), plus its record: ``record.json`` (how
 ``scripts/make_pretrained.py`` made it: commands, seed, iterations, the task's criterion and the
-value the policy reached on the CPU; :func:`pretrained_record`), or ``record.txt`` for the first
+value the policy reached on the CPU; :func:`pretrained_record`; the env overrides it was trained
+with, which play applies: :func:`pretrained_env_overrides`), or ``record.txt`` for the first
 cartpoles.
 """
 
