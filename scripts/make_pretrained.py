@@ -235,13 +235,22 @@ def record_header(task: str, args: argparse.Namespace, library: str, argv: list[
 def make_one(task: str, args: argparse.Namespace, log_root: str, argv: list[str]) -> str | None:
     """Train, judge and ship ``task``; None when shipped, else why not."""
     from simlab.benchmarks.criteria import criterion_for
+    from simlab.utils.errors import SimlabError
 
     start = time.perf_counter()
     row = train_until_solved(task, args, log_root)
     if not row["solved"]:
         return f"not solved in {row['iteration'] + 1} iterations ({row['criterion']}: {row['score']:.3f})"
     solved = next(e for e in row["evaluations"] if e["passed"])
-    cpu = evaluate_on_cpu(task, solved["checkpoint"], solved["iteration"], args)
+    try:
+        cpu = evaluate_on_cpu(task, solved["checkpoint"], solved["iteration"], args)
+    except (RuntimeError, SimlabError) as e:  # e.g. a camera task on a host without OpenGL
+        adopt = ["python", "scripts/make_pretrained.py", "--tasks", task, "--checkpoint", solved["checkpoint"]]
+        adopt += ["--trained_by", "...", *(["--overrides", *args.overrides] if args.overrides else [])]
+        raise RuntimeError(
+            f"{os.path.basename(solved['checkpoint'])} passed on {args.device} ({solved['score']:.3f}), but its"
+            f" CPU replay failed here ({e}). Ship it from a machine where the replay runs: {shlex.join(adopt)}"
+        ) from e
     with open(os.path.join(row["run_dir"], "params", "command.txt")) as f:
         train_command = f.read().strip()
     record = {

@@ -180,3 +180,21 @@ def test_a_policy_trained_with_env_overrides_is_shipped_and_played_with_them(tmp
 
     with pytest.raises(SystemExit):  # an override names the env or the agent config
         script.main(["--tasks", task, *tiny, "--overrides", "frame_stack=2"])
+
+
+def test_a_failing_cpu_replay_names_the_passing_checkpoint_and_how_to_ship_it(tmp_path, capsys, monkeypatch):
+    from simlab.utils.gl_backend import GLBackendError
+
+    script = _script()
+
+    def no_opengl(*args, **kwargs):  # a GPU host without OpenGL replaying a camera policy
+        raise GLBackendError("No OpenGL backend renders offscreen here")
+
+    monkeypatch.setattr(script, "evaluate_on_cpu", no_opengl)
+    out = tmp_path / "pretrained"
+    argv = ["--tasks", TASK, *TINY, "--reward_threshold=-1e9", "--out", str(out), "--log_root", str(tmp_path / "logs")]
+    assert script.main(argv) == 1
+    printed = capsys.readouterr().out
+    assert f"SKIPPED {TASK}: model_" in printed and "passed on cpu" in printed and "No OpenGL backend" in printed
+    checkpoint = printed.split("--checkpoint ")[1].split()[0]
+    assert os.path.isfile(checkpoint) and not out.exists()  # kept for --checkpoint, nothing shipped
