@@ -1,6 +1,7 @@
 """Where a trained reach policy's error lies: direction, command region, and its course over training.
 
     python scripts/benchmarks/reach_error_breakdown.py --log_root logs/reach --device cuda:0
+    python scripts/benchmarks/reach_error_breakdown.py --log_root logs/reach_ik --task simlab/Reach-Franka-IK-Abs-v0
     python scripts/benchmarks/reach_error_breakdown.py --log_root logs/reach_nograv \
         env.scene.robot.spawn.rigid_props.disable_gravity=True
 
@@ -34,7 +35,7 @@ import torch
 from simlab.cli.main import build_parser
 from simlab.cli.play import run_play
 
-TASK = "simlab/Reach-Franka-v0"
+TASK = "simlab/Reach-Franka-v0"  # --task: or one of its IK / OSC variants
 
 
 def training_curve(log_root: str) -> list[str]:
@@ -64,6 +65,7 @@ def training_curve(log_root: str) -> list[str]:
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--log_root", required=True)
+    parser.add_argument("--task", default=TASK, help="The reach task the run trained (its IK / OSC variants too).")
     parser.add_argument("--device", default="cpu")
     parser.add_argument("--eval_envs", type=int, default=256)
     parser.add_argument("--eval_seconds", type=float, default=20.0)
@@ -96,7 +98,7 @@ def main() -> int:
         rows = torch.cat([hand_b - command, command, angle[:, None], yaw[:, None], centre.expand_as(command)], -1)
         windows.append(rows[ending].cpu())
 
-    argv = ["play", "--task", TASK, "--library", "rsl_rl", "--use_last_checkpoint", "--headless"]
+    argv = ["play", "--task", args.task, "--library", "rsl_rl", "--use_last_checkpoint", "--headless"]
     argv += ["--num_envs", str(args.eval_envs), "--log_root", args.log_root, "--no_export", "--seed", "12345"]
     argv += ["--device", args.device]
     play_args = build_parser().parse_args(argv)
