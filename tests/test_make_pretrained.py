@@ -78,8 +78,6 @@ def test_make_pretrained_refuses_a_task_it_cannot_judge_or_train_before_training
         script.main(["--tasks", TASK, "simlab/Humanoid-AMP-Walk-Direct-v0", "--out", str(tmp_path)])
     with pytest.raises(SystemExit):  # skrl policies are shipped from a --checkpoint, not trained here
         script.main(["--tasks", TASK, "--library", "skrl", "--out", str(tmp_path)])
-    with pytest.raises(ValueError, match="simlab/Open-Drawer-Franka-IK-Abs-v0 has no rsl_rl config"):
-        script.main(["--tasks", "simlab/Open-Drawer-Franka-IK-Abs-v0", "--out", str(tmp_path)])
     with pytest.raises(ValueError, match="Unknown task simlab/Nope-v0"):
         script.main(["--tasks", "simlab/Nope-v0", "--out", str(tmp_path)])
     assert not os.listdir(tmp_path)
@@ -102,7 +100,10 @@ def test_the_task_list_names_every_tasks_criterion():
     assert rows["simlab/Reach-Franka-OSC-v0"]["criterion"].startswith("at the end of each command window")
     assert rows["simlab/Humanoid-AMP-Run-Direct-v0"]["criterion"].startswith("forward speed >= 50% of the clip's")
     assert rows["simlab/Humanoid-AMP-Run-Direct-v0"]["shipped"] == ["skrl"]
-    assert not rows["simlab/Open-Drawer-Franka-IK-Rel-v0"]["rsl_rl"]
+    assert (
+        not rows["simlab/Humanoid-AMP-Walk-Direct-v0"]["rsl_rl"]
+        and rows["simlab/Open-Drawer-Franka-IK-Rel-v0"]["rsl_rl"]
+    )
     assert not any(row["criterion"].startswith("none") for row in rows.values())
 
 
