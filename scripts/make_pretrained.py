@@ -218,17 +218,18 @@ def ship(task: str, checkpoint: str, record: dict[str, Any], out: str) -> str:
     return target
 
 
-def record_header(task: str, args: argparse.Namespace, library: str, argv: list[str]) -> dict[str, Any]:
+def record_header(task: str, args: argparse.Namespace, argv: list[str]) -> dict[str, Any]:
     """The fields of ``record.json`` that say what was shipped and by which command, when, and the env
     overrides play must apply to it."""
     header: dict[str, Any] = {
         "task": task,
-        "library": library,
+        "library": args.library,  # rsl_rl when this script trained it (parse_args sees to that)
         "made_by": shlex.join(["python", "scripts/make_pretrained.py", *argv]),
         "date": datetime.date.today().isoformat(),
     }
-    if env_overrides(args):
-        header["env_overrides"] = env_overrides(args)
+    trained_with = env_overrides(args)
+    if trained_with:
+        header["env_overrides"] = trained_with
     return header
 
 
@@ -254,7 +255,7 @@ def make_one(task: str, args: argparse.Namespace, log_root: str, argv: list[str]
     with open(os.path.join(row["run_dir"], "params", "command.txt")) as f:
         train_command = f.read().strip()
     record = {
-        **record_header(task, args, LIBRARY, argv),
+        **record_header(task, args, argv),
         "train_command": train_command,
         "device": args.device,
         "num_envs": row["num_envs"],
@@ -344,7 +345,7 @@ def adopt_checkpoint(task: str, args: argparse.Namespace, log_root: str, argv: l
     shutil.copy2(args.checkpoint, checkpoint)
     cpu = evaluate_on_cpu(task, checkpoint, iteration, args)
     record = {
-        **record_header(task, args, args.library, argv),
+        **record_header(task, args, argv),
         "algorithm": algorithm,
         "trained_by": args.trained_by,
         "seed": args.seed,
