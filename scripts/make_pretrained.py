@@ -40,6 +40,7 @@ from __future__ import annotations
 
 import argparse
 import datetime
+import glob
 import json
 import os
 import re
@@ -124,6 +125,46 @@ class OverBudget(RuntimeError):
     """Training did not solve the task within ``--time_budget``."""
 
 
+SAVE_GRACE_S = 120.0  # how long a training stopped by the budget may take to save its checkpoint
+
+
+def stop_and_save(child: subprocess.Popen, log_root: str, started: float) -> str | None:
+    """Stop the training at the budget; the checkpoint it saved on the way out, if any.
+
+    SIGTERM reaches the training as Ctrl+C does (``simlab bench solve`` saves the iteration it is
+    at); a training that has not saved within ``SAVE_GRACE_S`` is killed.
+    """
+    os.killpg(child.pid, signal.SIGTERM)
+    try:
+        child.wait(timeout=SAVE_GRACE_S)
+    except subprocess.TimeoutExpired:
+        os.killpg(child.pid, signal.SIGKILL)
+        child.wait()
+    checkpoints = glob.glob(os.path.join(log_root, "*", "*", "*_solve", "model_*.pt"))
+    saved = [p for p in checkpoints if os.path.getmtime(p) >= started]
+    return max(saved, key=os.path.getmtime) if saved else None
+
+
+def over_budget_text(task: str, args: argparse.Namespace, saved: str | None) -> str:
+    text = f"not solved within the time budget of {args.time_budget:g} s"
+    if saved is None:
+        return text + " (no checkpoint written)"
+    if args.log_root is None:
+        return text + " (its last checkpoint was in a temporary folder: give --log_root to keep it)"
+    train_on = shlex.join(["simlab", "train", "--task", task, "--checkpoint", saved, *args.overrides])
+    return (
+        f"{text}; its last checkpoint is {saved}: train on with `{train_on}`, or judge and ship it with"
+        f" `{adopt_command(task, saved, args)}`"
+    )
+
+
+def adopt_command(task: str, checkpoint: str, args: argparse.Namespace) -> str:
+    """The command that judges ``checkpoint`` on the CPU and ships it (this script's ``--checkpoint``)."""
+    adopt = ["python", "scripts/make_pretrained.py", "--tasks", task, "--checkpoint", checkpoint]
+    adopt += ["--trained_by", "...", *(["--overrides", *args.overrides] if args.overrides else [])]
+    return shlex.join(adopt)
+
+
 def train_until_solved(task: str, args: argparse.Namespace, log_root: str) -> dict[str, Any]:
     """``simlab bench solve`` for ``task`` in a child process; its result row."""
     result_file = os.path.join(log_root, f"{task.split('/')[-1]}_solve.json")
@@ -138,12 +179,11 @@ def train_until_solved(task: str, args: argparse.Namespace, log_root: str) -> di
     print(f"[make_pretrained] {shlex.join(command)}", flush=True)
     # its own process group: the budget stops the training process and anything it started
     child = subprocess.Popen(command, cwd=REPO, start_new_session=True)
+    started = time.time()
     try:
         code = child.wait(timeout=args.time_budget)
     except subprocess.TimeoutExpired:
-        os.killpg(child.pid, signal.SIGTERM)
-        child.wait()
-        raise OverBudget(f"not solved within the time budget of {args.time_budget:g} s") from None
+        raise OverBudget(over_budget_text(task, args, stop_and_save(child, log_root, started))) from None
     if code != 0:
         raise RuntimeError(f"training exited with status {code} (its output is above)")
     with open(result_file) as f:
@@ -246,11 +286,10 @@ def make_one(task: str, args: argparse.Namespace, log_root: str, argv: list[str]
     try:
         cpu = evaluate_on_cpu(task, solved["checkpoint"], solved["iteration"], args)
     except (RuntimeError, SimlabError) as e:  # e.g. a camera task on a host without OpenGL
-        adopt = ["python", "scripts/make_pretrained.py", "--tasks", task, "--checkpoint", solved["checkpoint"]]
-        adopt += ["--trained_by", "...", *(["--overrides", *args.overrides] if args.overrides else [])]
         raise RuntimeError(
             f"{os.path.basename(solved['checkpoint'])} passed on {args.device} ({solved['score']:.3f}), but its"
-            f" CPU replay failed here ({e}). Ship it from a machine where the replay runs: {shlex.join(adopt)}"
+            f" CPU replay failed here ({e}). Ship it from a machine where the replay runs:"
+            f" {adopt_command(task, solved['checkpoint'], args)}"
         ) from e
     with open(os.path.join(row["run_dir"], "params", "command.txt")) as f:
         train_command = f.read().strip()

@@ -89,7 +89,10 @@ def test_a_batch_skips_each_task_over_its_time_budget_with_a_line_and_goes_on(tm
     assert _script().main([*tasks, *TINY, "--time_budget", "0.5", "--out", str(out)]) == 1
     printed = capsys.readouterr().out
     for task in (TASK, "simlab/Cartpole-v0"):  # the second trained after the first was skipped
-        assert f"SKIPPED {task}: not solved within the time budget of 0.5 s; nothing shipped" in printed
+        assert (
+            f"SKIPPED {task}: not solved within the time budget of 0.5 s (no checkpoint written); nothing shipped"
+            in printed
+        )
     assert not out.exists()
 
 
@@ -199,3 +202,32 @@ def test_a_failing_cpu_replay_names_the_passing_checkpoint_and_how_to_ship_it(tm
     assert f"SKIPPED {TASK}: model_" in printed and "passed on cpu" in printed and "No OpenGL backend" in printed
     checkpoint = printed.split("--checkpoint ")[1].split()[0]
     assert os.path.isfile(checkpoint) and not out.exists()  # kept for --checkpoint, nothing shipped
+
+
+def test_a_training_stopped_by_the_budget_saves_where_it_is_and_says_how_to_go_on(tmp_path):
+    import subprocess
+    import sys
+    import time
+
+    script = _script()
+    log_root = tmp_path / "logs"
+    command = [sys.executable, "-m", "simlab", "bench", "solve", "--tasks", TASK, "--device", "cpu", "--num_envs", "8"]
+    command += ["--eval_every", "100000", "--max_iterations", "100000", "--log_root", str(log_root)]
+    started = time.time()
+    child = subprocess.Popen(command, cwd=REPO, start_new_session=True, stdout=subprocess.PIPE, text=True)
+    deadline = time.time() + 300
+    while not list(log_root.glob("rsl_rl/*/*_solve/model_0.pt")):  # rsl_rl saves iteration 0: training runs
+        assert child.poll() is None and time.time() < deadline, "the training ended before its first checkpoint"
+        time.sleep(0.2)
+    saved = script.stop_and_save(child, str(log_root), started)
+    assert child.returncode == 143  # SIGTERM, handled as Ctrl+C: the training saved the iteration it was at
+    assert f"Interrupted: saved {saved}" in child.stdout.read() and os.path.isfile(saved)
+
+    args = script.parse_args(["--tasks", TASK, "--time_budget", "9", "--log_root", str(log_root)])
+    args.overrides = ["env.episode_length_s=4"]  # trained with it: going on and shipping keep it
+    text = script.over_budget_text(TASK, args, saved)
+    assert f"`simlab train --task {TASK} --checkpoint {saved} env.episode_length_s=4`" in text
+    assert f"--checkpoint {saved} --trained_by ... --overrides env.episode_length_s=4`" in text
+    scratch = script.parse_args(["--tasks", TASK, "--time_budget", "9"])
+    assert "give --log_root to keep it" in script.over_budget_text(TASK, scratch, saved)
+    assert script.over_budget_text(TASK, scratch, None).endswith("(no checkpoint written)")

@@ -262,7 +262,11 @@ def _main(argv: list[str]) -> int:
     if argv and argv[0] == "bench":
         from simlab.benchmarks.cli import main as bench_main
 
-        return int(bench_main(argv[1:]) or 0)
+        try:  # `bench solve` trains: SIGTERM saves its checkpoint as for `simlab train`
+            with _sigterm_as_interrupt():
+                return int(bench_main(argv[1:]) or 0)
+        except Terminated:
+            return EXIT_TERMINATED
     parser = build_parser()
     args, rest = parser.parse_known_args(argv)
     bad = [a for a in rest if "=" not in a or a.startswith("-")]

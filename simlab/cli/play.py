@@ -52,10 +52,18 @@ def _any(x: Any) -> torch.Tensor:
 
 
 def rollout(
-    env: Any, policy: Callable, steps: int | None, on_step: Callable[[Any, Any, Any], None] | None = None
+    env: Any,
+    policy: Callable,
+    steps: int | None,
+    on_step: Callable[[Any, Any, Any], None] | None = None,
+    stop_on_interrupt: bool = True,
 ) -> dict[str, float]:
     """Step ``env`` with ``policy`` for ``steps`` (None: until Ctrl+C); episode statistics of the run
-    and the mean reward per env-step."""
+    and the mean reward per env-step.
+
+    Ctrl+C ends the rollout with the statistics so far; with ``stop_on_interrupt`` False it propagates
+    instead (a checkpoint's evaluation cut short is no verdict: the caller stops).
+    """
     obs, _ = env.reset()
     base = env.unwrapped
     returns = torch.zeros(base.num_envs, device=base.device)
@@ -82,6 +90,8 @@ def rollout(
                 lengths[done] = 0
             step += 1
     except KeyboardInterrupt:
+        if not stop_on_interrupt:
+            raise
         print("\n[simlab] Stopped.")
     n = len(done_returns)
     return {
