@@ -24,7 +24,8 @@ criterion and its value on both devices, the files' sizes, and the ``env.*`` ove
 ``--overrides`` (``env_overrides``), which ``simlab play --use_pretrained_checkpoint`` applies too.
 
 A batch of tasks trains one after the other; ``--time_budget`` caps each task's training (its
-process is stopped there). A task that fails (not solved in its iterations or budget, failed on
+process is stopped there and saves the iteration it is at: the ``SKIPPED`` line names that
+checkpoint when ``--log_root`` keeps it, and ``--resume PATH`` trains on from it). A task that fails (not solved in its iterations or budget, failed on
 the CPU, or an error) is skipped with one ``SKIPPED`` line saying why, and the next one trains.
 Every task must have a criterion and an rsl_rl config, checked before any training starts. The
 script exits with 1 when a task was not shipped.
@@ -88,6 +89,9 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
     parser.add_argument("--log_root", default=None, help="Keep the training runs here (default: a temporary folder).")
     parser.add_argument("--checkpoint", default=None, help="Ship this checkpoint, no training (one task).")
     parser.add_argument(
+        "--resume", default=None, help="Train on from this checkpoint (one task), e.g. one a time budget stopped."
+    )
+    parser.add_argument(
         "--library", choices=sorted(SHIPPED_CHECKPOINT_KEYS), default=LIBRARY, help="With --checkpoint: its library."
     )
     parser.add_argument("--trained_by", default=None, help="With --checkpoint: how it was trained, for record.json.")
@@ -108,6 +112,8 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
             parser.error(f"--checkpoint {args.checkpoint}: no such file")
         if not args.trained_by:
             parser.error("--checkpoint needs --trained_by: how the policy was trained (kept in record.json)")
+    elif args.resume is not None and (len(args.tasks or []) != 1 or not os.path.isfile(args.resume)):
+        parser.error(f"--resume {args.resume}: give one task with --tasks and an existing checkpoint file")
     elif args.library != LIBRARY:
         parser.error(f"this script trains with {LIBRARY}; --library {args.library} ships a --checkpoint only")
     bad = [o for o in args.overrides if not o.startswith(("env.", "agent.")) or "=" not in o]
@@ -151,10 +157,11 @@ def over_budget_text(task: str, args: argparse.Namespace, saved: str | None) -> 
         return text + " (no checkpoint written)"
     if args.log_root is None:
         return text + " (its last checkpoint was in a temporary folder: give --log_root to keep it)"
-    train_on = shlex.join(["simlab", "train", "--task", task, "--checkpoint", saved, *args.overrides])
+    train_on = ["python", "scripts/make_pretrained.py", "--tasks", task, "--resume", saved, "--device", args.device]
+    train_on += ["--overrides", *args.overrides] if args.overrides else []
     return (
-        f"{text}; its last checkpoint is {saved}: train on with `{train_on}`, or judge and ship it with"
-        f" `{adopt_command(task, saved, args)}`"
+        f"{text}; its last checkpoint is {saved}: train on with `{shlex.join(train_on)}`, or judge and ship it"
+        f" as it is with `{adopt_command(task, saved, args)}`"
     )
 
 
@@ -171,7 +178,7 @@ def train_until_solved(task: str, args: argparse.Namespace, log_root: str) -> di
     command = [sys.executable, "-m", "simlab", "bench", "solve", "--tasks", task, "--library", LIBRARY]
     command += ["--device", args.device, "--seed", str(args.seed), "--log_root", log_root, "--json", result_file]
     command += ["--eval_envs", str(args.eval_envs), "--eval_seconds", str(args.eval_seconds)]
-    for flag in ("num_envs", "max_iterations", "eval_every", "reward_threshold"):
+    for flag in ("num_envs", "max_iterations", "eval_every", "reward_threshold", "resume"):
         if getattr(args, flag) is not None:
             command += [f"--{flag}", str(getattr(args, flag))]
     if args.overrides:
@@ -267,6 +274,8 @@ def record_header(task: str, args: argparse.Namespace, argv: list[str]) -> dict[
         "made_by": shlex.join(["python", "scripts/make_pretrained.py", *argv]),
         "date": datetime.date.today().isoformat(),
     }
+    if args.resume:
+        header["resumed_from"] = args.resume
     trained_with = env_overrides(args)
     if trained_with:
         header["env_overrides"] = trained_with

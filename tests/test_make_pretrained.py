@@ -226,8 +226,30 @@ def test_a_training_stopped_by_the_budget_saves_where_it_is_and_says_how_to_go_o
     args = script.parse_args(["--tasks", TASK, "--time_budget", "9", "--log_root", str(log_root)])
     args.overrides = ["env.episode_length_s=4"]  # trained with it: going on and shipping keep it
     text = script.over_budget_text(TASK, args, saved)
-    assert f"`simlab train --task {TASK} --checkpoint {saved} env.episode_length_s=4`" in text
+    assert f"--tasks {TASK} --resume {saved} --device cpu --overrides env.episode_length_s=4`" in text
     assert f"--checkpoint {saved} --trained_by ... --overrides env.episode_length_s=4`" in text
     scratch = script.parse_args(["--tasks", TASK, "--time_budget", "9"])
     assert "give --log_root to keep it" in script.over_budget_text(TASK, scratch, saved)
     assert script.over_budget_text(TASK, scratch, None).endswith("(no checkpoint written)")
+
+
+def test_resume_trains_on_from_a_checkpoint_and_records_it(tmp_path):
+    script = _script()
+    logs = tmp_path / "logs"
+    first = ["--tasks", TASK, *TINY, "--out", str(tmp_path / "none"), "--log_root", str(logs)]
+    assert script.main(first) == 1  # two iterations do not balance the pole: its checkpoints stay in logs
+    (checkpoint,) = logs.glob("rsl_rl/*/*_solve/model_1.pt")
+    out = tmp_path / "pretrained"
+    argv = ["--tasks", TASK, *TINY, "--reward_threshold=-1e9", "--out", str(out), "--resume", str(checkpoint)]
+    assert script.main(argv) == 0
+    record = json.loads((out / "Cartpole-Direct-v0" / "rsl_rl" / "record.json").read_text())
+    assert record["resumed_from"] == str(checkpoint) and f"--resume {checkpoint}" in record["train_command"]
+    # trained on: counted on from the resumed iteration (rsl_rl numbers the first iteration after a resume
+    # as the checkpoint's own), with weights that moved away from the checkpoint's
+    shipped = torch.load(out / "Cartpole-Direct-v0" / "rsl_rl" / record["checkpoint"], weights_only=False)
+    resumed = torch.load(checkpoint, weights_only=False)
+    assert shipped["iter"] >= resumed["iter"] == 1
+    moved = [not torch.equal(shipped["actor_state_dict"][k], v) for k, v in resumed["actor_state_dict"].items()]
+    assert any(moved)
+    with pytest.raises(SystemExit):  # a missing checkpoint is a usage error before any training
+        script.parse_args(["--tasks", TASK, "--resume", str(tmp_path / "missing.pt")])

@@ -153,6 +153,7 @@ def main(argv: list[str] | None = None) -> int:
     solve.add_argument("--eval_seconds", type=float, default=5.0, help="seconds of play per checkpoint")
     solve.add_argument("--reward_threshold", type=float, default=None, help="solved at this mean reward per step")
     solve.add_argument("--log_root", default="logs", help="where the training runs go")
+    solve.add_argument("--resume", default=None, help="train on from this checkpoint (simlab train's --checkpoint)")
     solve.add_argument(
         "--processes",
         type=int,

@@ -153,8 +153,12 @@ def time_to_policy(
     reward_threshold: float | None = None,
     log_root: str = "logs",
     overrides: list[str] | None = None,
+    resume: str | None = None,
 ) -> dict[str, Any]:
     """Train ``task`` until a checkpoint solves it (or ``max_iterations``); one result row.
+
+    ``resume``: a checkpoint to train on from (``simlab train --checkpoint``); ``max_iterations``
+    then counts the iterations after it, as in ``simlab train``.
 
     The start-up share is measured from this process's start, so call it once per process for a
     figure that means what it says (``simlab bench solve`` does).
@@ -170,6 +174,8 @@ def time_to_policy(
         argv += ["--num_envs", str(num_envs)]
     if max_iterations is not None:
         argv += ["--max_iterations", str(max_iterations)]
+    if resume is not None:
+        argv += ["--checkpoint", resume]
     args = build_parser().parse_args(argv)
     overrides = list(overrides or [])
     if eval_every is not None:

@@ -82,6 +82,7 @@ SOLVE_FLAGS = (
     "eval_seconds",
     "reward_threshold",
     "log_root",
+    "resume",
 )
 
 

@@ -4,12 +4,12 @@ import gymnasium as gym
 
 from . import agents
 
-_RSL_RL = f"{agents.__name__}.rsl_rl_ppo_cfg:FrankaReachPPORunnerCfg"
-# joint-position actions: the same agent with normalized observations (see its docstring)
-_RSL_RL_JOINT_POS = f"{agents.__name__}.rsl_rl_ppo_cfg:FrankaReachJointPosPPORunnerCfg"
+# Isaac Lab's agent with normalized observations and larger networks (see its docstring), for every
+# action space: each policy has to read the same commanded pose
+_RSL_RL = f"{agents.__name__}.rsl_rl_ppo_cfg:FrankaReachJointPosPPORunnerCfg"
 
 _VARIANTS = (
-    ("", "joint_pos_env_cfg", _RSL_RL_JOINT_POS),
+    ("", "joint_pos_env_cfg", _RSL_RL),
     ("-IK-Abs", "ik_abs_env_cfg", _RSL_RL),
     ("-IK-Rel", "ik_rel_env_cfg", _RSL_RL),
     ("-OSC", "osc_env_cfg", _RSL_RL),
