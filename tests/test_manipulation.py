@@ -361,7 +361,7 @@ def test_task_steps_on_the_cpu(task):
     env.close()
 
 
-def test_joint_position_reach_agent_sees_the_commanded_position_at_unit_scale():
+def test_reach_agents_see_the_commanded_position_at_unit_scale():
     """The commanded position spans tenths of a metre; the joint-position reach agent normalizes its
     observations, so that input reaches its networks at the scale of the others (unnormalized it
     learned the orientation and barely the position: docs/manipulation.md)."""
@@ -380,7 +380,8 @@ def test_joint_position_reach_agent_sees_the_commanded_position_at_unit_scale():
         model.update_normalization(obs)
         seen = model.obs_normalizer(obs["policy"])[:, 18]
         assert abs(float(seen.mean())) < 0.05 and 0.8 < float(seen.std()) < 1.2
-    # the IK and OSC variants keep Isaac Lab's agent (their actions are poses, not joint targets)
-    ik_cfg = load_cfg_from_registry("simlab/Reach-Franka-IK-Rel-v0", "rsl_rl_cfg_entry_point")
-    assert not ik_cfg.actor.obs_normalization and not ik_cfg.critic.obs_normalization
+    # the IK and OSC variants read the same command: the same agent
+    for variant in ("IK-Abs", "IK-Rel", "OSC"):
+        cfg = load_cfg_from_registry(f"simlab/Reach-Franka-{variant}-v0", "rsl_rl_cfg_entry_point")
+        assert cfg.to_dict() == agent_cfg.to_dict() | {"device": cfg.device}
     env.close()

@@ -6,7 +6,7 @@ from . import agents
 
 # Isaac Lab's agent with normalized observations and larger networks (see its docstring), for every
 # action space: each policy has to read the same commanded pose
-_RSL_RL = f"{agents.__name__}.rsl_rl_ppo_cfg:FrankaReachJointPosPPORunnerCfg"
+_RSL_RL = f"{agents.__name__}.rsl_rl_ppo_cfg:FrankaReachNormalizedPPORunnerCfg"
 
 _VARIANTS = (
     ("", "joint_pos_env_cfg", _RSL_RL),

@@ -34,19 +34,20 @@ class FrankaReachPPORunnerCfg(RslRlOnPolicyRunnerCfg):
 
 
 @configclass
-class FrankaReachJointPosPPORunnerCfg(FrankaReachPPORunnerCfg):
-    """Isaac Lab's reach agent with normalized observations and the lift agent's larger networks, for
-    joint-position actions.
+class FrankaReachNormalizedPPORunnerCfg(FrankaReachPPORunnerCfg):
+    """Isaac Lab's reach agent with normalized observations and the lift agent's larger networks; the
+    agent of every Franka reach task (joint-position, IK and OSC actions).
 
-    The policy must turn the commanded position into joint targets, and that part of its input spans
-    a few tenths of a metre (x 0.35-0.65 m, std 0.09 m) beside quaternions, joint angles and last
-    actions of order 1: unnormalized, the policy followed the commanded orientation and barely the
-    position, and more training made the position worse. The commanded yaw needs joint 7 near or
-    past its limits for a quarter of the commands, a mapping [64, 64] networks learned slowly.
+    The policy must turn the commanded position into actions, and that part of its input spans a few
+    tenths of a metre (x 0.35-0.65 m, std 0.09 m) beside quaternions, joint angles and last actions
+    of order 1: unnormalized, the policy followed the commanded orientation and barely the position,
+    and more training made the position worse. The commanded yaw needs joint 7 near or past its
+    limits for a quarter of the commands, a mapping [64, 64] networks learned slowly.
     CPU, 512 envs, mean errors over 192 held-out windows (docs/manipulation.md, "Why the position
-    error grew"): Isaac Lab's agent 8.05 cm / 0.200 rad at iteration 200 and 7.85 cm / 0.114 rad at
-    399; normalized, at iteration 250: 2.04 cm / 0.240 rad with [64, 64], 1.19 cm / 0.104 rad with
-    [256, 128, 64].
+    error grew"): joint-position actions, Isaac Lab's agent 8.05 cm / 0.200 rad at iteration 200 and
+    7.85 cm / 0.114 rad at 399; normalized, at iteration 250: 2.04 cm / 0.240 rad with [64, 64],
+    1.19 cm / 0.104 rad with [256, 128, 64]. IK-Abs actions (384 windows): Isaac Lab's agent 5.46 cm
+    after 1,336 iterations, this one 1.82 cm / 0.111 rad after 400 (docs/manipulation.md).
     """
 
     def __post_init__(self):
