@@ -25,8 +25,9 @@ criterion and its value on both devices, the files' sizes, and the ``env.*`` ove
 
 A batch of tasks trains one after the other; ``--time_budget`` caps each task's training (its
 process is stopped there and saves the iteration it is at: the ``SKIPPED`` line names that
-checkpoint when ``--log_root`` keeps it, and ``--resume PATH`` trains on from it). A task that fails (not solved in its iterations or budget, failed on
-the CPU, or an error) is skipped with one ``SKIPPED`` line saying why, and the next one trains.
+checkpoint when ``--log_root`` keeps it, and ``--resume PATH`` trains on from it). A task that
+fails (not solved in its iterations or budget, failed on the CPU, or an error) is skipped with one
+``SKIPPED`` line saying why, and the next one trains.
 Every task must have a criterion and an rsl_rl config, checked before any training starts. The
 script exits with 1 when a task was not shipped.
 
