@@ -158,19 +158,19 @@ def over_budget_text(task: str, args: argparse.Namespace, saved: str | None) -> 
         return text + " (no checkpoint written)"
     if args.log_root is None:
         return text + " (its last checkpoint was in a temporary folder: give --log_root to keep it)"
-    train_on = ["python", "scripts/make_pretrained.py", "--tasks", task, "--resume", saved, "--device", args.device]
-    train_on += ["--overrides", *args.overrides] if args.overrides else []
+    train_on = script_command(task, args, "--resume", saved, "--device", args.device)
+    ship = script_command(task, args, "--checkpoint", saved, "--trained_by", "...")
     return (
-        f"{text}; its last checkpoint is {saved}: train on with `{shlex.join(train_on)}`, or judge and ship it"
-        f" as it is with `{adopt_command(task, saved, args)}`"
+        f"{text}; its last checkpoint is {saved}: train on with `{train_on}`, or judge and ship it as it is"
+        f" with `{ship}`"
     )
 
 
-def adopt_command(task: str, checkpoint: str, args: argparse.Namespace) -> str:
-    """The command that judges ``checkpoint`` on the CPU and ships it (this script's ``--checkpoint``)."""
-    adopt = ["python", "scripts/make_pretrained.py", "--tasks", task, "--checkpoint", checkpoint]
-    adopt += ["--trained_by", "...", *(["--overrides", *args.overrides] if args.overrides else [])]
-    return shlex.join(adopt)
+def script_command(task: str, args: argparse.Namespace, *flags: str) -> str:
+    """This script's command line for ``task`` with ``flags``, keeping the run's ``--overrides``."""
+    command = ["python", "scripts/make_pretrained.py", "--tasks", task, *flags]
+    command += ["--overrides", *args.overrides] if args.overrides else []
+    return shlex.join(command)
 
 
 def train_until_solved(task: str, args: argparse.Namespace, log_root: str) -> dict[str, Any]:
@@ -299,7 +299,7 @@ def make_one(task: str, args: argparse.Namespace, log_root: str, argv: list[str]
         raise RuntimeError(
             f"{os.path.basename(solved['checkpoint'])} passed on {args.device} ({solved['score']:.3f}), but its"
             f" CPU replay failed here ({e}). Ship it from a machine where the replay runs:"
-            f" {adopt_command(task, solved['checkpoint'], args)}"
+            f" {script_command(task, args, '--checkpoint', solved['checkpoint'], '--trained_by', '...')}"
         ) from e
     with open(os.path.join(row["run_dir"], "params", "command.txt")) as f:
         train_command = f.read().strip()

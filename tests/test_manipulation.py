@@ -362,7 +362,7 @@ def test_task_steps_on_the_cpu(task):
 
 
 def test_reach_agents_see_the_commanded_position_at_unit_scale():
-    """The commanded position spans tenths of a metre; the joint-position reach agent normalizes its
+    """The commanded position spans tenths of a metre; the reach agent (every variant's) normalizes its
     observations, so that input reaches its networks at the scale of the others (unnormalized it
     learned the orientation and barely the position: docs/manipulation.md)."""
     from simlab.cli.libraries.rsl_rl import make_runner

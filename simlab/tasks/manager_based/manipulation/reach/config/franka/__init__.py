@@ -9,17 +9,17 @@ from . import agents
 _RSL_RL = f"{agents.__name__}.rsl_rl_ppo_cfg:FrankaReachNormalizedPPORunnerCfg"
 
 _VARIANTS = (
-    ("", "joint_pos_env_cfg", _RSL_RL),
-    ("-IK-Abs", "ik_abs_env_cfg", _RSL_RL),
-    ("-IK-Rel", "ik_rel_env_cfg", _RSL_RL),
-    ("-OSC", "osc_env_cfg", _RSL_RL),
+    ("", "joint_pos_env_cfg"),
+    ("-IK-Abs", "ik_abs_env_cfg"),
+    ("-IK-Rel", "ik_rel_env_cfg"),
+    ("-OSC", "osc_env_cfg"),
 )
 
-for _task, _module, _agent in _VARIANTS:
+for _task, _module in _VARIANTS:
     for _suffix, _cfg in (("-v0", "FrankaReachEnvCfg"), ("-Play-v0", "FrankaReachEnvCfg_PLAY")):
         gym.register(
             id=f"simlab/Reach-Franka{_task}{_suffix}",
             entry_point="simlab.envs:ManagerBasedRLEnv",
             disable_env_checker=True,
-            kwargs={"env_cfg_entry_point": f"{__name__}.{_module}:{_cfg}", "rsl_rl_cfg_entry_point": _agent},
+            kwargs={"env_cfg_entry_point": f"{__name__}.{_module}:{_cfg}", "rsl_rl_cfg_entry_point": _RSL_RL},
         )
