@@ -20,8 +20,9 @@ Shipped into ``<out>/<task name>/rsl_rl/``: the run's ``params/`` (its configs a
 checkpoint with the policy's weights only (what play loads; without critic and optimizer state it
 is a third of the size, so training cannot resume from it), ``exported/policy.onnx``, and
 ``record.json``: this script's command, the training command, seed, iterations, device, the
-criterion and its value on both devices, the files' sizes, and the ``env.*`` overrides of
-``--overrides`` (``env_overrides``), which ``simlab play --use_pretrained_checkpoint`` applies too.
+criterion and its value on both devices, the files' sizes, the ``env.*`` overrides of
+``--overrides`` (``env_overrides``), which ``simlab play --use_pretrained_checkpoint`` applies too,
+and after ``--resume`` the checkpoint it went on from and the command that trained that one.
 
 A batch of tasks trains one after the other; ``--time_budget`` caps each task's training (its
 process is stopped there and saves the iteration it is at: the ``SKIPPED`` line names that
@@ -266,6 +267,15 @@ def ship(task: str, checkpoint: str, record: dict[str, Any], out: str) -> str:
     return target
 
 
+def resumed_run_command(checkpoint: str) -> str | None:
+    """The command that trained ``checkpoint`` (its run folder's ``params/command.txt``), if it is there."""
+    path = os.path.join(os.path.dirname(os.path.abspath(checkpoint)), "params", "command.txt")
+    if not os.path.isfile(path):
+        return None
+    with open(path) as f:
+        return f.read().strip()
+
+
 def record_header(task: str, args: argparse.Namespace, argv: list[str]) -> dict[str, Any]:
     """The fields of ``record.json`` that say what was shipped and by which command, when, and the env
     overrides play must apply to it."""
@@ -277,6 +287,9 @@ def record_header(task: str, args: argparse.Namespace, argv: list[str]) -> dict[
     }
     if args.resume:
         header["resumed_from"] = args.resume
+        earlier = resumed_run_command(args.resume)
+        if earlier:  # the checkpoint's path is machine-local; how it was trained is what stays meaningful
+            header["resumed_from_command"] = earlier
     trained_with = env_overrides(args)
     if trained_with:
         header["env_overrides"] = trained_with

@@ -244,6 +244,9 @@ def test_resume_trains_on_from_a_checkpoint_and_records_it(tmp_path):
     assert script.main(argv) == 0
     record = json.loads((out / "Cartpole-Direct-v0" / "rsl_rl" / "record.json").read_text())
     assert record["resumed_from"] == str(checkpoint) and f"--resume {checkpoint}" in record["train_command"]
+    # and how the resumed checkpoint itself was trained (its run's command, not in the new run's)
+    first_command = (checkpoint.parent / "params" / "command.txt").read_text().strip()
+    assert record["resumed_from_command"] == first_command and "--resume" not in first_command
     # trained on: counted on from the resumed iteration (rsl_rl numbers the first iteration after a resume
     # as the checkpoint's own), with weights that moved away from the checkpoint's
     shipped = torch.load(out / "Cartpole-Direct-v0" / "rsl_rl" / record["checkpoint"], weights_only=False)
