@@ -33,6 +33,17 @@ def load_script(path: str | os.PathLike, name: str | None = None) -> ModuleType:
     return module
 
 
+def run_logs(scalars: list[tuple[str, float, int]], prefixes: tuple[str, ...]) -> list[tuple[str, float, int | None]]:
+    """The ``(tag, value, step)`` scalars a training logged under ``prefixes``, comparable between two runs:
+    rsl_rl's ``.../time`` series are stepped by whole seconds of wall-clock time, so their step is dropped
+    (a run that crossed a second under load would differ from an identical one that did not)."""
+    return [
+        (tag, value, None if tag.endswith("/time") else step)
+        for tag, value, step in scalars
+        if tag.startswith(prefixes)
+    ]
+
+
 def cuda_available() -> bool:
     try:
         import mujoco_warp  # noqa: F401

@@ -9,6 +9,7 @@ from types import SimpleNamespace
 
 import pytest
 import torch
+from conftest import run_logs
 
 pytest.importorskip("rsl_rl")
 from rsl_rl.algorithms import PPO  # noqa: E402
@@ -149,7 +150,7 @@ def test_simlab_train_with_the_rollout_step_logs_and_trains_as_rsl_rl_loop(tmp_p
         run_train(build_parser().parse_args(argv), ["env.episode_length_s=1.0", f"agent.fast_rollout={setting}"])
         assert f"rollout step: {'fast (eager)' if setting == 'true' else 'rsl_rl'}" in capsys.readouterr().out
         (final,) = glob.glob(str(tmp_path / setting / "rsl_rl" / "cartpole" / "*" / "model_2.pt"))
-        episodes = [s for s in scalars if s[0].startswith(("Episode_", "Train/mean_"))]
+        episodes = run_logs(scalars, ("Episode_", "Train/mean_"))
         runs[setting] = episodes, torch.load(final, weights_only=False)
     (fast_logs, fast), (own_logs, own) = runs["true"], runs["false"]
     assert {"Train/mean_reward", "Train/mean_episode_length"} <= {tag for tag, _, _ in fast_logs}

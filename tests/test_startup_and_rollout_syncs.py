@@ -13,6 +13,7 @@ import sys
 
 import pytest
 import torch
+from conftest import run_logs
 from torch.utils.tensorboard import SummaryWriter
 
 import simlab.cli.libraries.rsl_rl as rsl_rl_adapter
@@ -69,7 +70,7 @@ def test_episode_logs_picked_per_iteration_match_the_per_step_choice(tmp_path, m
     per_step, per_step_weights = _train_and_record(tmp_path, "per_step", monkeypatch)
 
     def episode_logs(scalars):
-        return [s for s in scalars if s[0].startswith(("Episode_", "Physics/", "Train/mean_"))]
+        return run_logs(scalars, ("Episode_", "Physics/", "Train/mean_"))
 
     assert {tag for tag, _, _ in episode_logs(deferred)} >= {
         "Episode_Reward/alive",
