@@ -267,13 +267,16 @@ def ship(task: str, checkpoint: str, record: dict[str, Any], out: str) -> str:
     return target
 
 
-def resumed_run_command(checkpoint: str) -> str | None:
-    """The command that trained ``checkpoint`` (its run folder's ``params/command.txt``), if it is there."""
-    path = os.path.join(os.path.dirname(os.path.abspath(checkpoint)), "params", "command.txt")
-    if not os.path.isfile(path):
-        return None
-    with open(path) as f:
+def run_command(run_dir: str) -> str:
+    """The command that trained the run in ``run_dir`` (its ``params/command.txt``, as simlab writes it)."""
+    with open(os.path.join(run_dir, "params", "command.txt")) as f:
         return f.read().strip()
+
+
+def resumed_run_command(checkpoint: str) -> str | None:
+    """The command that trained ``checkpoint``, if its run folder is there with it."""
+    run_dir = os.path.dirname(os.path.abspath(checkpoint))
+    return run_command(run_dir) if os.path.isfile(os.path.join(run_dir, "params", "command.txt")) else None
 
 
 def record_header(task: str, args: argparse.Namespace, argv: list[str]) -> dict[str, Any]:
@@ -314,11 +317,9 @@ def make_one(task: str, args: argparse.Namespace, log_root: str, argv: list[str]
             f" CPU replay failed here ({e}). Ship it from a machine where the replay runs:"
             f" {script_command(task, args, '--checkpoint', solved['checkpoint'], '--trained_by', '...')}"
         ) from e
-    with open(os.path.join(row["run_dir"], "params", "command.txt")) as f:
-        train_command = f.read().strip()
     record = {
         **record_header(task, args, argv),
-        "train_command": train_command,
+        "train_command": run_command(row["run_dir"]),
         "device": args.device,
         "num_envs": row["num_envs"],
         "seed": args.seed,
