@@ -25,8 +25,9 @@ criterion and its value on both devices, the files' sizes, the ``env.*`` overrid
 and after ``--resume`` the checkpoint it went on from and the command that trained that one.
 
 A batch of tasks trains one after the other; ``--time_budget`` caps each task's training (its
-process is stopped there and saves the iteration it is at: the ``SKIPPED`` line names that
-checkpoint when ``--log_root`` keeps it, and ``--resume PATH`` trains on from it). A task that
+process is stopped there and saves the iteration it is at, which is judged as any checkpoint and
+shipped when it solves the task; else the ``SKIPPED`` line names that checkpoint when ``--log_root``
+keeps it, and ``--resume PATH`` trains on from it). A task that
 fails (not solved in its iterations or budget, failed on the CPU, or an error) is skipped with one
 ``SKIPPED`` line saying why, and the next one trains.
 Every task must have a criterion and an rsl_rl config, checked before any training starts. The
@@ -192,7 +193,10 @@ def train_until_solved(task: str, args: argparse.Namespace, log_root: str) -> di
     try:
         code = child.wait(timeout=args.time_budget)
     except subprocess.TimeoutExpired:
-        raise OverBudget(over_budget_text(task, args, stop_and_save(child, log_root, started))) from None
+        saved = stop_and_save(child, log_root, started)
+        code = child.returncode  # 0: the checkpoint it saved on the way out solved the task
+        if code != 0:
+            raise OverBudget(over_budget_text(task, args, saved)) from None
     if code != 0:
         raise RuntimeError(f"training exited with status {code} (its output is above)")
     with open(result_file) as f:

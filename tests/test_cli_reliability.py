@@ -232,6 +232,31 @@ def test_sigterm_saves_a_checkpoint(tmp_path):
     torch.load(os.path.join(run, saved[0]), weights_only=False)  # complete
 
 
+def test_a_stop_whose_saved_checkpoint_meets_the_goal_ends_as_solved(tmp_path):
+    """`simlab bench solve` judges each checkpoint; a stop (a budget's SIGTERM, here Ctrl+C) saves the
+    iteration it is at, and when that checkpoint meets the goal the training ends there as solved.
+    (It used to end with an error, and make_pretrained shipped nothing: ANYmal-C rough, 2026-11-29.)"""
+    import _thread
+
+    from simlab.cli.main import build_parser
+    from simlab.cli.train import run_train
+
+    judged = []
+
+    def judge(path: str, iteration: int, seconds: dict[str, float]) -> bool:
+        judged.append(path)
+        if len(judged) == 1:
+            _thread.interrupt_main()  # Ctrl+C, right after the first checkpoint
+            return False
+        return True  # the checkpoint saved on the way out meets the goal
+
+    argv = ["train", *SMALL, "--library", "rsl_rl", "--max_iterations", "100000", "--log_root", str(tmp_path)]
+    args = build_parser().parse_args(argv)
+    args.on_checkpoint = judge
+    run_dir = run_train(args, ["agent.save_interval=100000"])
+    assert len(judged) == 2 and os.path.dirname(judged[1]) == run_dir and os.path.isfile(judged[1])
+
+
 # --- item 8: resume continues counters and logs --------------------------------------------------
 
 

@@ -301,8 +301,13 @@ def train(
     except KeyboardInterrupt:
         if run_dir is not None:
             path = os.path.join(run_dir, f"model_{runner.current_learning_iteration}.pt")
-            with atomic_torch_saves():
-                runner.save(path)
+            try:
+                with atomic_torch_saves():
+                    runner.save(path)
+            except _StopTraining:  # the hook judged this last checkpoint and it met the goal
+                logger.stop_logging_writer()
+                print(f"\n[simlab] Interrupted: saved {path}, which met the goal: training ends there")
+                return
             logger.stop_logging_writer()
             print(f"\n[simlab] Interrupted: saved {path}")
         raise
