@@ -145,6 +145,8 @@ def run_play(
         steps = args.steps
         if steps is None and (args.eval or args.video):
             steps = args.video_length if args.video else int(env.unwrapped.max_episode_length)
+        if env_cfg.seed is not None:  # the episodes `simlab bench solve` and make_pretrained judge with this seed
+            torch.manual_seed(env_cfg.seed)
         result.update(rollout(env, policy, steps, on_step))
     finally:
         env.close()
