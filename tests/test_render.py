@@ -229,3 +229,23 @@ def test_a_large_scene_does_not_clip_what_is_near_the_camera():
         assert red_centre() > 0.9  # the box fills the image's centre
     finally:
         renderer.close()
+
+
+def test_a_velocity_tasks_video_follows_its_robot_over_generated_terrain():
+    """On rough terrain each env starts on its own tile, away from the world origin: the velocity
+    tasks' camera follows the robot, so a one-env video shows it (it showed only the floor)."""
+    if not rendering_available():
+        pytest.skip("offscreen rendering unavailable")
+    from simlab.tasks.utils.parse_cfg import parse_env_cfg
+
+    cfg = parse_env_cfg("simlab/Velocity-Rough-Anymal-C-v0", device="cpu", num_envs=1)
+    cfg.viewer.resolution = (160, 120)
+    env = ManagerBasedRLEnv(cfg, render_mode="rgb_array")
+    try:
+        env.reset()
+        frame = env.render().astype(int)
+    finally:
+        env.close()
+    red, green, blue = frame[..., 0], frame[..., 1], frame[..., 2]
+    robot = (red > green + 50) & (red > blue + 50)  # ANYmal's orange shell against grey terrain
+    assert robot.mean() > 0.01, f"{robot.mean():.4f} of the frame shows the robot"

@@ -241,6 +241,10 @@ class LocomotionVelocityRoughEnvCfg(ManagerBasedRLEnvCfg):
         self.episode_length_s = 20.0
         self.sim.dt = 0.005
         self.sim.render_interval = self.decimation
+        # videos follow the robot: on generated terrain each env starts on its own tile, away from the
+        # world origin the default camera looks at (a video of one env showed only the floor)
+        self.viewer.origin_type, self.viewer.asset_name = "asset_root", "robot"
+        self.viewer.eye, self.viewer.lookat = (2.5, 2.5, 1.5), (0.0, 0.0, 0.0)
         # the height scan is read by the policy at its rate; contacts every physics step (air times)
         if self.scene.height_scanner is not None:
             self.scene.height_scanner.update_period = self.decimation * self.sim.dt
