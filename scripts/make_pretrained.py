@@ -149,23 +149,29 @@ def stop_and_save(child: subprocess.Popen, log_root: str, started: float) -> str
     except subprocess.TimeoutExpired:
         os.killpg(child.pid, signal.SIGKILL)
         child.wait()
+    return newest_checkpoint(log_root, started)
+
+
+def newest_checkpoint(log_root: str, started: float) -> str | None:
+    """The newest checkpoint a training under ``log_root`` wrote since ``started`` (a time.time())."""
     checkpoints = glob.glob(os.path.join(log_root, "*", "*", "*_solve", "model_*.pt"))
     saved = [p for p in checkpoints if os.path.getmtime(p) >= started]
     return max(saved, key=os.path.getmtime) if saved else None
 
 
 def over_budget_text(task: str, args: argparse.Namespace, saved: str | None) -> str:
-    text = f"not solved within the time budget of {args.time_budget:g} s"
+    return f"not solved within the time budget of {args.time_budget:g} s" + kept_text(task, args, saved)
+
+
+def kept_text(task: str, args: argparse.Namespace, saved: str | None) -> str:
+    """What a stopped training kept (``saved``, its last checkpoint) and the commands that go on from it."""
     if saved is None:
-        return text + " (no checkpoint written)"
+        return " (no checkpoint written)"
     if args.log_root is None:
-        return text + " (its last checkpoint was in a temporary folder: give --log_root to keep it)"
+        return " (its last checkpoint was in a temporary folder: give --log_root to keep it)"
     train_on = script_command(task, args, "--resume", saved, "--device", args.device)
     ship = script_command(task, args, "--checkpoint", saved, "--trained_by", "...")
-    return (
-        f"{text}; its last checkpoint is {saved}: train on with `{train_on}`, or judge and ship it as it is"
-        f" with `{ship}`"
-    )
+    return f"; its last checkpoint is {saved}: train on with `{train_on}`, or judge and ship it as it is with `{ship}`"
 
 
 def script_command(task: str, args: argparse.Namespace, *flags: str) -> str:
@@ -197,6 +203,9 @@ def train_until_solved(task: str, args: argparse.Namespace, log_root: str) -> di
         code = child.returncode  # 0: the checkpoint it saved on the way out solved the task
         if code != 0:
             raise OverBudget(over_budget_text(task, args, saved)) from None
+    if code in (-signal.SIGTERM, 128 + signal.SIGTERM):  # someone else stopped it: say what it kept
+        saved = newest_checkpoint(log_root, started)
+        raise RuntimeError("training was stopped by a SIGTERM" + kept_text(task, args, saved))
     if code != 0:
         raise RuntimeError(f"training exited with status {code} (its output is above)")
     with open(result_file) as f:

@@ -243,6 +243,30 @@ def test_a_training_stopped_by_the_budget_saves_where_it_is_and_says_how_to_go_o
     assert script.over_budget_text(TASK, scratch, None).endswith("(no checkpoint written)")
 
 
+def test_a_training_someone_else_stops_is_skipped_naming_the_checkpoint_it_saved(tmp_path, capsys):
+    import subprocess
+    import threading
+    import time
+
+    log_root = tmp_path / "logs"
+
+    def stop_after_the_first_checkpoint() -> None:
+        deadline = time.time() + 300
+        while not list(log_root.glob("rsl_rl/*/*_solve/model_0.pt")) and time.time() < deadline:
+            time.sleep(0.2)
+        time.sleep(1.0)
+        subprocess.run(["pkill", "-TERM", "-f", f"bench solve .*{log_root}"], check=True)
+
+    threading.Thread(target=stop_after_the_first_checkpoint, daemon=True).start()
+    argv = ["--tasks", TASK, "--device", "cpu", "--num_envs", "8", "--max_iterations", "100000"]
+    argv += ["--eval_every", "100000", "--eval_envs", "4", "--eval_seconds", "0.5"]
+    assert _script().main([*argv, "--log_root", str(log_root), "--out", str(tmp_path / "out")]) == 1
+    out = capsys.readouterr().out
+    (saved,) = [p for p in log_root.glob("rsl_rl/*/*_solve/model_*.pt") if p.name != "model_0.pt"]
+    assert f"training was stopped by a SIGTERM; its last checkpoint is {saved}: train on with" in out
+    assert f"--resume {saved} --device cpu" in out
+
+
 def test_resume_trains_on_from_a_checkpoint_and_records_it(tmp_path):
     script = _script()
     logs = tmp_path / "logs"
