@@ -113,6 +113,16 @@ def test_play_refuses_a_checkpoint_of_another_library_or_task(tmp_path, capsys):
     assert os.path.isfile(os.path.join(exported, "policy.onnx"))
 
 
+def test_play_seconds_runs_that_much_simulated_time(tmp_path):
+    from simlab.cli.main import build_parser
+    from simlab.cli.play import run_play
+
+    _train(tmp_path)
+    argv = ["play", *SMALL, "--use_last_checkpoint", "--seconds", "0.5", "--log_root", str(tmp_path / "logs")]
+    result = run_play(build_parser().parse_args(argv), [])
+    assert result["steps"] == 30  # the cartpole's env step is 1/120 s * decimation 2
+
+
 # --- items 4 & 10: bad flags and overrides -------------------------------------------------------
 
 
@@ -128,6 +138,8 @@ def test_play_refuses_a_checkpoint_of_another_library_or_task(tmp_path, capsys):
         (["train", "--video", "--video_length", "50", "--video_interval", "20"], "longer than --video_interval 20"),
         (["play", "--use_last_checkpoint", "--video", "--video_length", "0"], "--video_length must be at least 1"),
         (["play", "--use_last_checkpoint", "--steps", "0"], "--steps must be at least 1, got 0"),
+        (["play", "--use_last_checkpoint", "--seconds", "0"], "--seconds must be > 0 (simulated seconds), got 0.0"),
+        (["play", "--use_last_checkpoint", "--seconds", "2", "--steps", "9"], "--seconds and --steps both set how"),
         (["random", "--steps", "-1"], "--steps must be at least 1, got -1"),
         (["train", "env.scene.num_envs=64.5"], "'env.scene.num_envs=64.5': this field is an integer (int), got 64.5"),
     ],

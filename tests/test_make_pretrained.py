@@ -21,7 +21,6 @@ import simlab.pretrained
 from simlab.benchmarks.criteria import criterion_for
 from simlab.cli.main import build_parser
 from simlab.cli.play import run_play
-from simlab.tasks.utils import parse_env_cfg
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 TASK = "simlab/Cartpole-Direct-v0"
@@ -59,11 +58,10 @@ def test_make_pretrained_ships_a_policy_that_play_finds(tmp_path, monkeypatch):
     assert played.startswith(str(tmp_path / "logs" / "pretrained"))
     # with the record's envs, seconds and seed, play runs the episodes the CPU replay judged: the same score
     replay = record["cpu_evaluation"]
-    cfg = parse_env_cfg(TASK, device="cpu", num_envs=1)
-    steps = round(replay["seconds"] / (cfg.sim.dt * cfg.decimation))
-    argv[argv.index("--num_envs") + 1 : argv.index("--steps") + 2] = [str(replay["envs"]), "--steps", str(steps)]
+    argv = ["play", "--task", TASK, "--use_pretrained_checkpoint", "--headless", "--device", "cpu"]
+    argv += ["--num_envs", str(replay["envs"]), "--seconds", str(replay["seconds"]), "--seed", str(replay["seed"])]
     on_step, state = criterion_for(TASK, -1e9).make_hook()
-    result = run_play(build_parser().parse_args([*argv, "--seed", str(replay["seed"])]), [], on_step=on_step)
+    result = run_play(build_parser().parse_args([*argv, "--log_root", str(tmp_path / "logs")]), [], on_step=on_step)
     assert criterion_for(TASK, -1e9).judge(result, state)[0] == replay["score"]
     # the shipped ONNX policy is the checkpoint's: it acts as the TorchScript policy play exported from it
     observations = torch.randn(16, 4)

@@ -11,7 +11,6 @@ from simlab.benchmarks.criteria import criterion_for
 from simlab.cli.main import build_parser
 from simlab.cli.play import run_play
 from simlab.pretrained import list_pretrained, pretrained_record
-from simlab.tasks.utils import parse_env_cfg
 
 
 @pytest.mark.parametrize(("task", "library"), list_pretrained())
@@ -20,10 +19,9 @@ def test_pretrained_policy_meets_its_criterion(tmp_path, task, library):
     # the play make_pretrained.py judged on the CPU (the first cartpoles: 64 envs for 5 s)
     play = record["cpu_evaluation"] if record else {"envs": 64, "seconds": 5.0, "seed": 42}
     criterion = criterion_for(task, record.get("reward_threshold") if record else None)
-    cfg = parse_env_cfg(task, device="cpu", num_envs=1)
-    steps = max(1, round(play["seconds"] / (cfg.sim.dt * cfg.decimation)))
     argv = ["play", "--task", task, "--library", library, "--use_pretrained_checkpoint", "--headless"]
-    argv += ["--device", "cpu", "--num_envs", str(play["envs"]), "--steps", str(steps), "--seed", str(play["seed"])]
+    argv += ["--device", "cpu", "--num_envs", str(play["envs"]), "--seconds", str(play["seconds"])]
+    argv += ["--seed", str(play["seed"])]
     argv += ["--log_root", str(tmp_path / "logs")]
     on_step, state = criterion.make_hook()
     result = run_play(build_parser().parse_args(argv), [], on_step=on_step)

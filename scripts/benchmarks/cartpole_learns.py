@@ -84,13 +84,8 @@ def main() -> int:
         ]
         if args.device:
             play_argv += ["--device", args.device]
-        play_args = build_parser().parse_args(play_argv)
+        play_args = build_parser().parse_args([*play_argv, "--seconds", str(args.eval_seconds)])
         on_step, counts = pole_angle_tracker(args.threshold)
-        # steps of eval_seconds: step_dt = sim.dt * decimation of the task
-        from simlab.cli.session import load_configs
-
-        env_cfg, _ = load_configs(play_args, [], with_agent=False)
-        play_args.steps = round(args.eval_seconds / (env_cfg.sim.dt * env_cfg.decimation))
         run_play(play_args, [], on_step=on_step)
         frac = counts["inside"] / max(1, counts["total"])
         results.append((lib, wall, frac, frac >= args.fraction))

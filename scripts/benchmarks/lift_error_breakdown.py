@@ -25,7 +25,6 @@ import torch
 
 from simlab.cli.main import build_parser
 from simlab.cli.play import run_play
-from simlab.tasks.utils import parse_env_cfg
 
 TASK = "simlab/Lift-Cube-Franka-v0"  # --task: or one of its IK variants
 TOLERANCE_M = 0.05  # the criterion's
@@ -71,10 +70,8 @@ def main(argv: list[str] | None = None) -> int:
 
     argv = ["play", "--task", args.task, "--library", "rsl_rl", "--use_last_checkpoint", "--headless"]
     argv += ["--num_envs", str(args.eval_envs), "--log_root", args.log_root, "--no_export", "--seed", "12345"]
-    argv += ["--device", args.device]
+    argv += ["--device", args.device, "--seconds", str(args.eval_seconds)]
     play_args = build_parser().parse_args(argv)
-    cfg = parse_env_cfg(args.task, device="cpu", num_envs=1)
-    play_args.steps = round(args.eval_seconds / (cfg.sim.dt * cfg.decimation))
     result = run_play(play_args, args.overrides, on_step=on_step)
     if not ended:
         print("no episode ran to its time limit: play longer (--eval_seconds)")

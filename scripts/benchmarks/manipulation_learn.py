@@ -45,7 +45,6 @@ import torch
 from simlab.benchmarks.criteria import command_window_tracker, cube_near_goal, episode_end_tracker
 from simlab.cli.main import EXIT_TERMINATED, build_parser
 from simlab.cli.play import run_play
-from simlab.cli.session import load_configs
 
 TASKS = {
     "reach": "simlab/Reach-Franka-v0",
@@ -155,12 +154,10 @@ def newest_checkpoint(log_root: str) -> str:
 def evaluate(task: str, tracker, args) -> dict[str, Any]:
     argv = ["play", "--task", task, "--library", "rsl_rl", "--use_last_checkpoint", "--headless"]
     argv += ["--num_envs", str(args.eval_envs), "--log_root", args.log_root, "--no_export", "--seed", str(args.seed)]
+    argv += ["--seconds", str(args.eval_seconds)]
     if args.device:
         argv += ["--device", args.device]
     play_args = build_parser().parse_args(argv)
-    env_overrides = [o for o in args.overrides if o.startswith("env.")]  # agent.x=v: run_play applies them
-    env_cfg, _ = load_configs(play_args, env_overrides, with_agent=False)
-    play_args.steps = round(args.eval_seconds / (env_cfg.sim.dt * env_cfg.decimation))
     on_step, judge = tracker
     run_play(play_args, args.overrides, on_step=on_step)
     return dict(zip(("text", "passed"), judge()))

@@ -34,7 +34,6 @@ from cartpole_learns import pole_angle_tracker
 
 from simlab.cli.main import EXIT_INTERRUPTED, build_parser
 from simlab.cli.play import run_play
-from simlab.cli.session import load_configs
 
 _RESUMED = re.compile(r"\[simlab\] Resumed from (\S+) at iteration (\d+)")
 _SAVED = re.compile(r"\[simlab\] Interrupted: saved (\S+)")
@@ -171,9 +170,7 @@ def evaluate(run_dir: str, args: argparse.Namespace) -> float:
     """Fraction of env-steps with |pole angle| < threshold, playing the run's newest checkpoint."""
     argv = ["play", "--task", args.task, "--library", "rsl_rl", "--checkpoint", run_dir, "--headless"]
     argv += ["--num_envs", str(args.eval_envs), "--device", args.device, "--log_root", args.log_root, "--no_export"]
-    play_args = build_parser().parse_args(argv)
-    env_cfg, _ = load_configs(play_args, [], with_agent=False)
-    play_args.steps = round(args.eval_seconds / (env_cfg.sim.dt * env_cfg.decimation))
+    play_args = build_parser().parse_args([*argv, "--seconds", str(args.eval_seconds)])
     on_step, counts = pole_angle_tracker(args.threshold)
     run_play(play_args, [], on_step=on_step)
     return counts["inside"] / max(1, counts["total"])

@@ -23,7 +23,6 @@ import torch
 
 from simlab.cli.main import build_parser
 from simlab.cli.play import run_play
-from simlab.tasks.utils import load_cfg_from_registry
 
 WINDOWS_S = (0.2, 0.5, 1.0)
 SPEED_BINS = ((0.0, 0.25), (0.25, 0.5), (0.5, 0.75), (0.75, 1.0), (1.0, 2.0))
@@ -71,10 +70,8 @@ def main() -> int:
     if args.seconds <= args.settle_seconds:
         parser.error(f"--seconds ({args.seconds}) must be longer than --settle_seconds ({args.settle_seconds}).")
 
-    env_cfg = load_cfg_from_registry(args.task, "env_cfg_entry_point")
-    steps = round(args.seconds / (env_cfg.sim.dt * env_cfg.decimation))
     play_argv = ["play", "--task", args.task, "--checkpoint", args.checkpoint, "--headless", "--no_export"]
-    play_argv += ["--num_envs", str(args.envs), "--steps", str(steps), "--device", args.device]
+    play_argv += ["--num_envs", str(args.envs), "--seconds", str(args.seconds), "--device", args.device]
     play_argv += ["--seed", str(args.seed)]
     log = VelocityLog(args.settle_seconds)
     run_play(build_parser().parse_args(play_argv), [], on_step=log)

@@ -26,7 +26,6 @@ import torch
 from simlab.cli.main import build_parser
 from simlab.cli.play import run_play
 from simlab.tasks.direct.humanoid_amp.motions.motion_file import write_motion_file
-from simlab.tasks.utils import load_cfg_from_registry
 
 
 class ClipRecorder:
@@ -93,9 +92,8 @@ def main(argv: list[str] | None = None) -> int:
         parser.error(f"--seconds must be > 0 and --skip_seconds >= 0, got {args.seconds} and {args.skip_seconds}")
 
     play_argv = ["play", "--task", args.task, "--library", "rsl_rl", "--headless", "--device", "cpu"]
-    env_cfg = load_cfg_from_registry(args.task, "env_cfg_entry_point")
-    steps = round((args.skip_seconds + args.seconds) / (env_cfg.sim.dt * env_cfg.decimation))
-    play_argv += ["--num_envs", str(args.num_envs), "--seed", str(args.seed), "--no_export", "--steps", str(steps)]
+    seconds = args.skip_seconds + args.seconds
+    play_argv += ["--num_envs", str(args.num_envs), "--seed", str(args.seed), "--no_export", "--seconds", str(seconds)]
     play_argv += ["--log_root", args.log_root]
     play_argv += ["--checkpoint", args.checkpoint] if args.checkpoint else ["--use_pretrained_checkpoint"]
     recorder = ClipRecorder(args.skip_seconds)

@@ -143,6 +143,12 @@ def build_parser() -> argparse.ArgumentParser:
         help="Env steps to run (default: one episode with --eval or --video, else until Ctrl+C).",
     )
     p.add_argument(
+        "--seconds",
+        type=float,
+        default=None,
+        help="Simulated seconds to run instead of --steps (env steps of the task's sim.dt * decimation).",
+    )
+    p.add_argument(
         "--use_pretrained_checkpoint",
         action="store_true",
         help="Play the policy shipped with simlab for this task and library (copied to <log_root>/pretrained/).",

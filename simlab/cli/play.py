@@ -143,6 +143,8 @@ def run_play(
             result["exported"] = policy.export(folder)
             print(f"[simlab] Exported the policy to {folder}: {[os.path.basename(f) for f in result['exported']]}")
         steps = args.steps
+        if getattr(args, "seconds", None) is not None:
+            steps = max(1, round(args.seconds / env.unwrapped.step_dt))
         if steps is None and (args.eval or args.video):
             steps = args.video_length if args.video else int(env.unwrapped.max_episode_length)
         if env_cfg.seed is not None:  # the episodes `simlab bench solve` and make_pretrained judge with this seed

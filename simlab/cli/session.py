@@ -51,6 +51,11 @@ def check_flags(args: argparse.Namespace) -> None:
 
     for flag in ("num_envs", "max_iterations", "steps"):
         at_least_one(flag)
+    seconds = getattr(args, "seconds", None)
+    if seconds is not None and args.steps is not None:
+        raise ConfigError("--seconds and --steps both set how long to play: give one of them.")
+    if seconds is not None and not seconds > 0:
+        raise ConfigError(f"--seconds must be > 0 (simulated seconds), got {seconds}.")
     if getattr(args, "video", False):
         at_least_one("video_length")
         at_least_one("video_interval")
