@@ -183,6 +183,8 @@ def script_command(task: str, args: argparse.Namespace, *flags: str) -> str:
 
 def train_until_solved(task: str, args: argparse.Namespace, log_root: str) -> dict[str, Any]:
     """``simlab bench solve`` for ``task`` in a child process; its result row."""
+    from simlab.cli.main import EXIT_TERMINATED
+
     result_file = os.path.join(log_root, f"{task.split('/')[-1]}_solve.json")
     command = [sys.executable, "-m", "simlab", "bench", "solve", "--tasks", task, "--library", LIBRARY]
     command += ["--device", args.device, "--seed", str(args.seed), "--log_root", log_root, "--json", result_file]
@@ -203,7 +205,7 @@ def train_until_solved(task: str, args: argparse.Namespace, log_root: str) -> di
         code = child.returncode  # 0: the checkpoint it saved on the way out solved the task
         if code != 0:
             raise OverBudget(over_budget_text(task, args, saved)) from None
-    if code in (-signal.SIGTERM, 128 + signal.SIGTERM):  # someone else stopped it: say what it kept
+    if code in (-signal.SIGTERM, EXIT_TERMINATED):  # someone else stopped it: say what it kept
         saved = newest_checkpoint(log_root, started)
         raise RuntimeError("training was stopped by a SIGTERM" + kept_text(task, args, saved))
     if code != 0:

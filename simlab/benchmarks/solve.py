@@ -106,8 +106,8 @@ class CheckpointJudge:
                 self._sim = SimulationContext._instance
             policy = get_library(self.library).load_policy(self._env, self._agent_cfg, path)
             hook, state = self.criterion.make_hook()
-            torch.manual_seed(self.seed)  # every checkpoint starts from the same initial states
-            result = rollout(self._env, policy, self._steps, hook, stop_on_interrupt=False)
+            # every checkpoint starts from the same initial states
+            result = rollout(self._env, policy, self._steps, hook, stop_on_interrupt=False, seed=self.seed)
             score, passed = self.criterion.judge(result, state)
         took = time.perf_counter() - start
         entry = {

@@ -57,13 +57,19 @@ def rollout(
     steps: int | None,
     on_step: Callable[[Any, Any, Any], None] | None = None,
     stop_on_interrupt: bool = True,
+    seed: int | None = None,
 ) -> dict[str, float]:
     """Step ``env`` with ``policy`` for ``steps`` (None: until Ctrl+C); episode statistics of the run
     and the mean reward per env-step.
 
-    Ctrl+C ends the rollout with the statistics so far; with ``stop_on_interrupt`` False it propagates
-    instead (a checkpoint's evaluation cut short is no verdict: the caller stops).
+    ``seed`` seeds torch before the reset, so a rollout with the same seed starts from the same
+    states and draws the same commands: play and the checkpoint judge of ``simlab bench solve`` /
+    make_pretrained play the same episodes. Ctrl+C ends the rollout with the statistics so far; with
+    ``stop_on_interrupt`` False it propagates instead (a checkpoint's evaluation cut short is no
+    verdict: the caller stops).
     """
+    if seed is not None:
+        torch.manual_seed(seed)
     obs, _ = env.reset()
     base = env.unwrapped
     returns = torch.zeros(base.num_envs, device=base.device)
@@ -147,9 +153,7 @@ def run_play(
             steps = max(1, round(args.seconds / env.unwrapped.step_dt))
         if steps is None and (args.eval or args.video):
             steps = args.video_length if args.video else int(env.unwrapped.max_episode_length)
-        if env_cfg.seed is not None:  # the episodes `simlab bench solve` and make_pretrained judge with this seed
-            torch.manual_seed(env_cfg.seed)
-        result.update(rollout(env, policy, steps, on_step))
+        result.update(rollout(env, policy, steps, on_step, seed=env_cfg.seed))
     finally:
         env.close()
     if args.eval:
