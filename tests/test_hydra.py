@@ -69,6 +69,16 @@ def test_type_checks(cfgs):
         apply_overrides(env, agent, ["--num_envs"])
 
 
+def test_a_field_that_takes_a_tuple_takes_a_list_and_a_number_field_does_not():
+    # an action term's ``scale: float | tuple[float, ...]`` is per joint (or per pose component)
+    env = load_cfg_from_registry("simlab/Lift-Cube-Franka-IK-Abs-v0", "env_cfg_entry_point")
+    agent = load_cfg_from_registry("simlab/Lift-Cube-Franka-IK-Abs-v0", "rsl_rl_cfg_entry_point")
+    apply_overrides(env, agent, ["env.actions.arm_action.scale=[0.2, 0.3, 0.25, 1, 1, 1, 1]"])
+    assert tuple(env.actions.arm_action.scale) == (0.2, 0.3, 0.25, 1, 1, 1, 1)
+    with pytest.raises(OverrideError, match="expects a number"):
+        apply_overrides(env, agent, ["env.sim.dt=[0.01, 0.02]"])
+
+
 def test_dict_agent_and_new_keys():
     env = load_cfg_from_registry("simlab/Cartpole-v0", "env_cfg_entry_point")
     agent = load_cfg_from_registry("simlab/Cartpole-v0", "skrl_cfg_entry_point")

@@ -196,6 +196,8 @@ def _check_type(text: str, current: Any, value: Any, declared: str | None = None
         raise OverrideError(f"'{text}': this field is an integer (int), got {value!r}.")
     if value is None or current is None or dataclasses.is_dataclass(current):
         return value
+    if isinstance(value, (list, tuple)) and declared and ("tuple" in declared or "list" in declared):
+        return value  # e.g. an action term's ``scale: float | tuple[float, ...]``: per-joint values
     if isinstance(current, bool):
         if not isinstance(value, bool):
             raise OverrideError(f"'{text}': expects true or false, got {value!r}.")
