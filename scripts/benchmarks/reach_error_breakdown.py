@@ -16,6 +16,8 @@ Plays the newest rsl_rl checkpoint under ``--log_root`` on held-out commands (se
   (centre - command); 0 follows the command, 1 ignores it (stays at the centre);
 * position and orientation error by the command's yaw (the hand's yaw is mostly joint 7, whose
   +-2.9 rad range does not cover every commanded yaw: the commands near +-pi need the far end of it);
+* the windows that ended with a joint within 0.05 rad of an end of its range: how many per joint, how
+  many of them missed the commanded orientation by more than 0.2 rad, and their errors;
 * from the run's TensorBoard events, ``Metrics/ee_pose/position_error`` over the iterations and the
   iteration at which the curriculum raised the action-rate penalty.
 
@@ -36,6 +38,8 @@ from simlab.cli.main import build_parser
 from simlab.cli.play import run_play
 
 TASK = "simlab/Reach-Franka-v0"  # --task: or one of its IK / OSC variants
+MISSED_RAD = 0.2  # a window whose orientation error is above this missed the commanded orientation
+AT_LIMIT_RAD = 0.05  # a joint this close to an end of its range is held there
 
 
 def training_curve(log_root: str) -> list[str]:
@@ -72,7 +76,9 @@ def main() -> int:
     parser.add_argument("overrides", nargs="*", help="env.x=v overrides the run was trained with.")
     args = parser.parse_args()
 
-    windows: list[torch.Tensor] = []  # per ending window: signed position error (3), command xyz (3), angle
+    # per ending window: signed position error (3), command xyz (3), angle, yaw, box centre (3), joint margins
+    windows: list[torch.Tensor] = []
+    joint_names: list[str] = []
 
     def on_step(env, obs, actions) -> None:
         from simlab.managers import SceneEntityCfg
@@ -95,7 +101,13 @@ def main() -> int:
         yaw = torch.remainder(yaw + math.pi, 2 * math.pi) - math.pi
         r = term.cfg.ranges
         centre = torch.tensor([sum(r.pos_x), sum(r.pos_y), sum(r.pos_z)], device=command.device) / 2
-        rows = torch.cat([hand_b - command, command, angle[:, None], yaw[:, None], centre.expand_as(command)], -1)
+        # how near each joint is to its range's ends (a joint held at a limit can stop the hand short)
+        limits = robot.data.joint_pos_limits
+        margin = torch.minimum(robot.data.joint_pos - limits[..., 0], limits[..., 1] - robot.data.joint_pos)
+        joint_names.extend([] if joint_names else robot.joint_names)
+        rows = torch.cat(
+            [hand_b - command, command, angle[:, None], yaw[:, None], centre.expand_as(command), margin], -1
+        )
         windows.append(rows[ending].cpu())
 
     argv = ["play", "--task", args.task, "--library", "rsl_rl", "--use_last_checkpoint", "--headless"]
@@ -109,6 +121,7 @@ def main() -> int:
         return 1
     data = torch.cat(windows)
     error_cm, command, angle, yaw, centre = data[:, :3] * 100, data[:, 3:6], data[:, 6], data[:, 7], data[:, 8:11]
+    margin = data[:, 11:]
     distance = error_cm.norm(dim=1)
     near = command[:, 0] <= 0.5
     print(f"\n{len(data)} command windows")
@@ -136,6 +149,18 @@ def main() -> int:
             print(
                 f"  yaw [{lo:+.2f}, {hi:+.2f}) rad: position {distance[inside].mean():5.2f} cm, "
                 f"orientation {angle[inside].mean():.3f} rad (n={int(inside.sum())})"
+            )
+    at_limit = margin < AT_LIMIT_RAD
+    at_limit[:, at_limit.all(0)] = False  # a joint at its limit in every window (the open fingers) tells nothing
+    missed = angle > MISSED_RAD
+    print(f"windows ending with a joint within {AT_LIMIT_RAD} rad of a limit ({int(missed.sum())} of all missed the")
+    print(f"commanded orientation by more than {MISSED_RAD} rad):")
+    for j, joint in enumerate(joint_names):
+        held = at_limit[:, j]
+        if held.any():
+            print(
+                f"  {joint}: {int(held.sum())} windows, {int((held & missed).sum())} of them missed; position "
+                f"{distance[held].mean():.2f} cm, orientation {angle[held].mean():.3f} rad"
             )
     for line in training_curve(args.log_root):
         print(line)
