@@ -153,8 +153,8 @@ def main() -> int:
     at_limit = margin < AT_LIMIT_RAD
     at_limit[:, at_limit.all(0)] = False  # a joint at its limit in every window (the open fingers) tells nothing
     missed = angle > MISSED_RAD
-    print(f"windows ending with a joint within {AT_LIMIT_RAD} rad of a limit ({int(missed.sum())} of all missed the")
-    print(f"commanded orientation by more than {MISSED_RAD} rad):")
+    print(f"{int(missed.sum())} windows missed the commanded orientation by more than {MISSED_RAD} rad")
+    print(f"windows that ended with a joint within {AT_LIMIT_RAD} rad of a limit:")
     for j, joint in enumerate(joint_names):
         held = at_limit[:, j]
         if held.any():
