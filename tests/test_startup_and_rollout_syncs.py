@@ -153,3 +153,12 @@ def test_the_command_skips_the_exit_collection_and_loses_no_log(tmp_path):
     frozen_before = gc.get_freeze_count()
     assert main([*TRAIN, "--max_iterations", "1", "--log_root", str(tmp_path / "in_process")]) == 0
     assert gc.get_freeze_count() == frozen_before and gc.isenabled()
+
+
+def test_start_up_is_timed_from_python_when_a_shell_execs_it():
+    # `bash -c "bash scripts/setup.sh && simlab train ..."` runs simlab in the shell's own process
+    # (exec): /proc then dates it from the shell's start, and the setup's 20 s read as start-up
+    code = "import simlab.utils.startup as s; print(s.seconds_since_process_start())"
+    shell = f"sleep 3; exec {sys.executable} -c '{code}'"
+    out = subprocess.run(["bash", "-c", shell], capture_output=True, text=True, check=True, timeout=60)
+    assert float(out.stdout) < 2.5

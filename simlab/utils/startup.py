@@ -33,16 +33,28 @@ _COLLECTOR_PAUSED = False
 MILESTONES_PREFIX = "[simlab] Start-up milestones (s since the process started):"
 
 
+# More than this between the process's start and simlab's first import is not Python starting up:
+# the process began as a shell that then exec'd Python (bash runs the last command of
+# `bash -c "setup && simlab train"` in its own process), and /proc dates it from the shell's start.
+_EXEC_GAP_S = 2.0
+
+
 def seconds_since_process_start() -> float:
-    """Wall time since this process started (Linux's /proc; NaN elsewhere)."""
+    """Wall time since this process started (Linux's /proc; NaN elsewhere).
+
+    When a shell exec'd Python, the process's start is the shell's: then the time since simlab was
+    first imported is returned instead (it leaves out the interpreter's own start, a few tenths).
+    """
+    since_import = time.time() - getattr(sys.modules.get("simlab"), "_IMPORTED_AT", float("nan"))
     try:
         with open("/proc/self/stat") as f:
             start_ticks = int(f.read().rsplit(")", 1)[1].split()[19])  # field 22: starttime
         with open("/proc/uptime") as f:
             uptime = float(f.read().split()[0])
-        return uptime - start_ticks / os.sysconf("SC_CLK_TCK")
+        since_start = uptime - start_ticks / os.sysconf("SC_CLK_TCK")
     except (OSError, ValueError, IndexError):
         return float("nan")
+    return since_import if since_start - since_import > _EXEC_GAP_S else since_start
 
 
 def mark(name: str) -> None:
