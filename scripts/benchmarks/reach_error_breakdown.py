@@ -104,7 +104,8 @@ def main() -> int:
         # how near each joint is to its range's ends (a joint held at a limit can stop the hand short)
         limits = robot.data.joint_pos_limits
         margin = torch.minimum(robot.data.joint_pos - limits[..., 0], limits[..., 1] - robot.data.joint_pos)
-        joint_names.extend([] if joint_names else robot.joint_names)
+        if not joint_names:
+            joint_names.extend(robot.joint_names)
         rows = torch.cat(
             [hand_b - command, command, angle[:, None], yaw[:, None], centre.expand_as(command), margin], -1
         )
