@@ -219,8 +219,8 @@ def test_amp_tasks_register_skrl_amp_configs(motion):
     assert agent["agent"]["class"] == "AMP" and set(agent["models"]) >= {"policy", "value", "discriminator"}
     assert agent["agent"]["experiment"]["directory"] == f"humanoid_amp_{motion.lower()}"
     env_cfg = load_cfg_from_registry(task, "env_cfg_entry_point")
-    # the run imitates the clip recorded from Humanoid-v0's policy; walk and dance the generator's clips
-    clip = {"Walk": "humanoid_walk.npz", "Run": "humanoid_run_recorded.npz", "Dance": "humanoid_dance.npz"}[motion]
+    # the walk and run imitate clips recorded from Humanoid-v0's policies; the dance the generator's clip
+    clip = {"Walk": "humanoid_walk_recorded.npz", "Run": "humanoid_run_recorded.npz", "Dance": "humanoid_dance.npz"}[motion]
     assert os.path.isfile(env_cfg.motion_file) and os.path.basename(env_cfg.motion_file) == clip
 
 
