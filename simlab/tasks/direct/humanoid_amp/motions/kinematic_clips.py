@@ -51,6 +51,11 @@ class ClipSpec:
     torso_sway: Callable[[float], tuple[float, float, float]] = lambda phase: (0.0, 0.0, 0.0)
     """The torso's roll, pitch (added to ``torso_pitch``) and yaw [rad] over the gait phase."""
     lateral_sway: float = 0.0  # sideways excursion of the torso over the stance foot [m]
+    support: Callable[[float], float] | None = None
+    """Quasi-static balance, for slow motions with long single-support phases: the share of the weight
+    on the right foot over the gait phase (0..1). Both hips roll (the ankles roll back) so that the
+    centre of mass lies over that point between the feet, and the stance foot stays planted sideways
+    as well as forward. None: no balancing (the torso sways by ``lateral_sway``)."""
 
 
 def _legs(
@@ -123,6 +128,13 @@ def _run(phase: float) -> dict[str, float]:
     return angles
 
 
+def _march_support(phase: float) -> float:
+    """The weight on the right foot in ``_legs(march=True)``: all of it while the left knee is up
+    (cos(phase) < 0), none while the right one is, moving across as the feet pass each other."""
+    c = math.cos(phase)
+    return 0.5 - 0.5 * c / (abs(c) + 0.1)  # 0.9 / 0.1 at abs(c) = 0.8, where the lifted foot is 8 cm up
+
+
 def _dance(phase: float) -> dict[str, float]:
     # marching in place with high knees, the torso twisting, the arms raised and waving
     angles = _legs(phase, hip_swing=0.90, hip_bias=-0.05, knee_rest=0.10, knee_swing=1.30, lean=0.0, march=True)
@@ -152,7 +164,7 @@ CLIPS = {
         torso_pitch=0.0,
         joint_angles=_dance,
         torso_sway=_gait_sway(0.10, 0.03, 0.15),
-        lateral_sway=0.04,
+        support=_march_support,  # a slow march stands on one foot for half a second at a time
     ),
 }
 """The shipped clips: cadence in gait cycles per second (two steps each)."""
@@ -206,6 +218,47 @@ def _lowest_point(model: mujoco.MjModel, data: mujoco.MjData, geom_names: tuple[
     return best
 
 
+def _centre_of_mass(model: mujoco.MjModel, data: mujoco.MjData) -> np.ndarray:
+    """The whole body's centre of mass (3,) in the current pose (after ``mj_kinematics``)."""
+    return (model.body_mass[:, None] * data.xipos).sum(0) / model.body_mass.sum()
+
+
+def _balance_by_hip_roll(
+    model: mujoco.MjModel, data: mujoco.MjData, roll_adr: dict[str, int], right_share: float, theta: float
+) -> float:
+    """Roll both legs (hips one way, ankles back) until the centre of mass is over the point that
+    carries ``right_share`` of the weight on the right foot; returns the roll angle (``theta``: a guess).
+
+    Tilting both legs by the same angle moves the pelvis sideways over feet that keep their place and
+    orientation; the angle is found by the secant method on the sideways offset (a few cm to 0.1 m).
+    """
+    base = {name: data.qpos[adr] for name, adr in roll_adr.items()}
+
+    def offset(theta: float) -> float:
+        # right_thigh:0 turns about +x, left_thigh:0 about -x: the same world tilt takes opposite signs
+        data.qpos[roll_adr["right_thigh:0"]] = base["right_thigh:0"] + theta
+        data.qpos[roll_adr["left_thigh:0"]] = base["left_thigh:0"] - theta
+        data.qpos[roll_adr["right_foot:1"]] = base["right_foot:1"] - theta
+        data.qpos[roll_adr["left_foot:1"]] = base["left_foot:1"] - theta
+        mujoco.mj_kinematics(model, data)
+        # the middle of each sole (its capsules' centres): smooth in the angle, as the lowest point is not
+        right, left = (
+            np.mean([data.geom(g).xpos for g in FOOT_GEOMS[name]], axis=0) for name in ("right_foot", "left_foot")
+        )
+        support_y = right_share * right[1] + (1.0 - right_share) * left[1]
+        return float(_centre_of_mass(model, data)[1] - support_y)
+
+    a, b = theta, theta + 0.02
+    fa, fb = offset(a), offset(b)
+    for _ in range(8):
+        if abs(fb) < 1e-4 or fb == fa:
+            break
+        a, b, fa = b, float(np.clip(b - fb * (b - a) / (fb - fa), -0.26, 0.26)), fb
+        fb = offset(b)
+    offset(b)  # leave the pose of the last angle in data
+    return b
+
+
 def make_clip(spec: ClipSpec, fps: float = 60.0, xml_path: str = HUMANOID_XML) -> tuple[dict, dict]:
     """The clip of ``spec`` as motion-file arrays, and its measured forward speed and cadence."""
     model = mujoco.MjModel.from_xml_path(xml_path)
@@ -220,7 +273,11 @@ def make_clip(spec: ClipSpec, fps: float = 60.0, xml_path: str = HUMANOID_XML) -
     dof_positions = np.zeros((num_frames, len(joints)))
     body_positions = np.zeros((num_frames, len(body_names), 3))
     body_rotations = np.zeros((num_frames, len(body_names), 4))
-    root_x, previous_stance, previous_feet = 0.0, None, {}
+    roll_adr = {
+        name: model.jnt_qposadr[model.joint(name).id]
+        for name in ("right_thigh:0", "left_thigh:0", "right_foot:1", "left_foot:1")
+    }
+    root_x, root_y, roll, previous_stance, previous_feet = 0.0, 0.0, 0.0, None, {}
     for f in range(num_frames):
         phase = 2 * math.pi * f / frames_per_cycle
         angles = spec.joint_angles(phase)
@@ -236,14 +293,20 @@ def make_clip(spec: ClipSpec, fps: float = 60.0, xml_path: str = HUMANOID_XML) -
             data.qpos[model.jnt_qposadr[joint.id]] = angle
             dof_positions[f, j] = angle
         mujoco.mj_kinematics(model, data)
+        if spec.support is not None:
+            roll = _balance_by_hip_roll(model, data, roll_adr, spec.support(phase), roll)
+            dof_positions[f] = [data.qpos[model.jnt_qposadr[joint.id]] for joint in joints]
         feet = {name: _lowest_point(model, data, geoms) for name, geoms in FOOT_GEOMS.items()}
         stance = min(feet, key=lambda name: feet[name][2])
         # the torso advances by what the stance foot (the lower one) moved back since the last frame
+        # (and, balanced, moves sideways by what it moved sideways)
         if previous_stance is not None:
             root_x -= feet[previous_stance][0] - previous_feet[previous_stance][0]
+            if spec.support is not None:
+                root_y -= feet[previous_stance][1] - previous_feet[previous_stance][1]
         previous_stance, previous_feet = stance, feet
         # lower foot on the ground; the torso shifts sideways over the stance foot (the left one at phase 0)
-        offset = np.array([root_x, spec.lateral_sway * math.cos(phase), -feet[stance][2]])
+        offset = np.array([root_x, root_y + spec.lateral_sway * math.cos(phase), -feet[stance][2]])
         body_positions[f] = data.xpos[1:] + offset
         body_rotations[f] = data.xquat[1:]
 
