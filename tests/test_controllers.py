@@ -262,16 +262,18 @@ def test_bad_controller_configs_name_the_choices():
 
 
 def test_small_spd_solves_match_torch():
-    from simlab.controllers.linalg import inverse_spd, solve_spd
+    from simlab.controllers.linalg import inverse_spd, solve_spd, solve_spd_unrolled
 
     gen = torch.Generator().manual_seed(0)
     for n in (3, 6, 7):
         m = torch.randn(16, n, n, generator=gen, dtype=torch.float64)
         a = m @ m.transpose(-1, -2) + 0.1 * torch.eye(n, dtype=torch.float64)
         b = torch.randn(16, n, 2, generator=gen, dtype=torch.float64)
+        # the CPU's LAPACK path and the unrolled one a CUDA graph replays
         torch.testing.assert_close(solve_spd(a, b), torch.linalg.solve(a, b))
+        torch.testing.assert_close(solve_spd_unrolled(a, b), torch.linalg.solve(a, b))
         torch.testing.assert_close(inverse_spd(a), torch.linalg.inv(a))
-    # singular: finite
+    # singular: LAPACK refuses it, the unrolled solve clamps the pivot: finite
     singular = torch.zeros(2, 6, 6)
     singular[:, 0, 0] = 1.0
     assert torch.isfinite(solve_spd(singular, torch.ones(2, 6, 1))).all()

@@ -222,7 +222,8 @@ def test_amp_tasks_register_skrl_amp_configs(motion):
     assert agent["agent"]["experiment"]["directory"] == f"humanoid_amp_{motion.lower()}"
     env_cfg = load_cfg_from_registry(task, "env_cfg_entry_point")
     # the walk and run imitate clips recorded from Humanoid-v0's policies; the dance the generator's clip
-    clip = {"Walk": "humanoid_walk_recorded.npz", "Run": "humanoid_run_recorded.npz", "Dance": "humanoid_dance.npz"}[motion]
+    clips = {"Walk": "humanoid_walk_recorded.npz", "Run": "humanoid_run_recorded.npz", "Dance": "humanoid_dance.npz"}
+    clip = clips[motion]
     assert os.path.isfile(env_cfg.motion_file) and os.path.basename(env_cfg.motion_file) == clip
 
 
