@@ -3,6 +3,7 @@ and ``simlab train/play --library skrl --algorithm AMP`` end to end."""
 
 from __future__ import annotations
 
+import dataclasses
 import glob
 import math
 import os
@@ -93,6 +94,46 @@ def test_shipped_clips_are_what_the_generator_makes():
         assert shipped["dof_names"].tolist() == clip["dof_names"]
     walk, run = make_clip(CLIPS["walk"])[1], make_clip(CLIPS["run"])[1]
     assert 0.4 < walk["forward_speed_m_s"] < run["forward_speed_m_s"]
+
+
+def _support_track(clip: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per frame of ``clip``: the whole body's centre of mass, the middle of the lower foot's sole (both
+    from MuJoCo's kinematics of the clip's torso pose and joint angles), and whether only one foot is down."""
+    import mujoco
+
+    from simlab.tasks.direct.humanoid_amp.motions.kinematic_clips import FOOT_GEOMS, HUMANOID_XML
+
+    model = mujoco.MjModel.from_xml_path(HUMANOID_XML)
+    data = mujoco.MjData(model)
+    torso = clip["body_names"].index("torso")
+    dof_adr = [model.jnt_qposadr[model.joint(name).id] for name in clip["dof_names"]]
+    com, sole, single = [], [], []
+    for f in range(len(clip["dof_positions"])):
+        data.qpos[:3], data.qpos[3:7] = clip["body_positions"][f, torso], clip["body_rotations"][f, torso]
+        data.qpos[dof_adr] = clip["dof_positions"][f]
+        mujoco.mj_kinematics(model, data)
+        com.append((model.body_mass[:, None] * data.xipos).sum(0) / model.body_mass.sum())
+        soles = [np.mean([data.geom(g).xpos for g in geoms], axis=0) for geoms in FOOT_GEOMS.values()]
+        sole.append(min(soles, key=lambda p: p[2]))
+        single.append(abs(soles[0][2] - soles[1][2]) > 0.05)
+    return np.array(com), np.array(sole), np.array(single)
+
+
+def test_the_balanced_dance_stands_on_its_supporting_foot():
+    """A march that stands on one foot for half a second must hold its weight over that foot and not
+    slide it (the unbalanced clip slid the stance foot at about 0.9 m/s): else no body can dance it."""
+    clip, _ = make_clip(CLIPS["dance"])
+    com, sole, single = _support_track(clip)
+    assert single.mean() > 0.5  # mostly on one foot
+    sideways = np.abs(com[single, 1] - sole[single, 1])
+    assert sideways.mean() < 0.02 and sideways.max() < 0.05, (sideways.mean(), sideways.max())
+    # the stance sole stays put while it is the stance one (frames where the lower foot does not change)
+    same = np.linalg.norm(np.diff(sole[:, :2], axis=0), axis=1) < 0.05
+    slide = np.linalg.norm(np.diff(sole[:, :2], axis=0), axis=1)[same] * clip["fps"]
+    assert np.median(slide) < 0.02, np.median(slide)
+    unbalanced, _ = make_clip(dataclasses.replace(CLIPS["dance"], support=None, lateral_sway=0.04))
+    com, sole, single = _support_track(unbalanced)
+    assert np.abs(com[single, 1] - sole[single, 1]).max() > 0.05  # what the balance fixes
 
 
 def _make_env(num_envs: int = 3, **cfg_fields):

@@ -223,31 +223,57 @@ def _centre_of_mass(model: mujoco.MjModel, data: mujoco.MjData) -> np.ndarray:
     return (model.body_mass[:, None] * data.xipos).sum(0) / model.body_mass.sum()
 
 
-def _balance_by_hip_roll(
-    model: mujoco.MjModel, data: mujoco.MjData, roll_adr: dict[str, int], right_share: float, theta: float
-) -> float:
-    """Roll both legs (hips one way, ankles back) until the centre of mass is over the point that
-    carries ``right_share`` of the weight on the right foot; returns the roll angle (``theta``: a guess).
+FOOT_LEVELLERS = {
+    "right_foot": ("right_thigh:2", "right_foot:0", "right_foot:1"),
+    "left_foot": ("left_thigh:2", "left_foot:0", "left_foot:1"),
+}
+"""The joints that turn each foot about the vertical, across and along it: the hip's twist and the ankle."""
 
-    Tilting both legs by the same angle moves the pelvis sideways over feet that keep their place and
-    orientation; the angle is found by the secant method on the sideways offset (a few cm to 0.1 m).
+
+def _level_feet(model: mujoco.MjModel, data: mujoco.MjData, level: dict[str, np.ndarray]) -> None:
+    """Turn both feet to the world orientations ``level`` (their orientations in the upright zero pose:
+    flat, pointing forward) with the hips' twist and the ankles, whatever the torso's sway: a foot on the
+    ground then stays planted, turning neither with the torso nor about its contact point."""
+    jacr = np.zeros((3, model.nv))
+    for _ in range(4):  # Newton steps on the rotation error; converges in 2-3 for the sways used here
+        mujoco.mj_kinematics(model, data)
+        for foot, joints in FOOT_LEVELLERS.items():
+            body = model.body(foot).id
+            error = np.zeros(3)
+            mujoco.mju_subQuat(error, level[foot], data.xquat[body])  # rotation taking the foot to level
+            mujoco.mj_jacBody(model, data, None, jacr, body)
+            dofs = [model.jnt_dofadr[model.joint(name).id] for name in joints]
+            step = np.linalg.lstsq(jacr[:, dofs], data.xmat[body].reshape(3, 3) @ error, rcond=None)[0]
+            for name, delta in zip(joints, step):
+                joint = model.joint(name).id
+                adr = model.jnt_qposadr[joint]
+                data.qpos[adr] = np.clip(data.qpos[adr] + delta, *model.jnt_range[joint])
+    mujoco.mj_kinematics(model, data)
+
+
+def _balance_by_hip_roll(
+    model: mujoco.MjModel, data: mujoco.MjData, level: dict[str, np.ndarray], right_share: float, theta: float
+) -> float:
+    """Roll both legs at the hips until the centre of mass is over the point that carries ``right_share``
+    of the weight on the right foot, the feet held level; returns the roll angle (``theta``: a guess).
+
+    Tilting both legs by the same angle moves the pelvis sideways over feet that keep their place;
+    the angle is found by the secant method on the sideways offset (a few cm to 0.1 m).
     """
-    base = {name: data.qpos[adr] for name, adr in roll_adr.items()}
+    right_adr, left_adr = (model.jnt_qposadr[model.joint(name).id] for name in ("right_thigh:0", "left_thigh:0"))
+    base = data.qpos.copy()
 
     def offset(theta: float) -> float:
+        data.qpos[:] = base
         # right_thigh:0 turns about +x, left_thigh:0 about -x: the same world tilt takes opposite signs
-        data.qpos[roll_adr["right_thigh:0"]] = base["right_thigh:0"] + theta
-        data.qpos[roll_adr["left_thigh:0"]] = base["left_thigh:0"] - theta
-        data.qpos[roll_adr["right_foot:1"]] = base["right_foot:1"] - theta
-        data.qpos[roll_adr["left_foot:1"]] = base["left_foot:1"] - theta
-        mujoco.mj_kinematics(model, data)
-        # the middle of each sole (its capsules' centres): smooth in the angle, as the lowest point is not
-        right, left = (
-            np.mean([data.geom(g).xpos for g in FOOT_GEOMS[name]], axis=0) for name in ("right_foot", "left_foot")
-        )
+        data.qpos[right_adr] += theta
+        data.qpos[left_adr] -= theta
+        _level_feet(model, data, level)
+        right, left = (_sole_middle(data, foot) for foot in ("right_foot", "left_foot"))
         support_y = right_share * right[1] + (1.0 - right_share) * left[1]
         return float(_centre_of_mass(model, data)[1] - support_y)
 
+    # within +-0.26 rad both hips stay inside their abduction range
     a, b = theta, theta + 0.02
     fa, fb = offset(a), offset(b)
     for _ in range(8):
@@ -257,6 +283,11 @@ def _balance_by_hip_roll(
         fb = offset(b)
     offset(b)  # leave the pose of the last angle in data
     return b
+
+
+def _sole_middle(data: mujoco.MjData, foot: str) -> np.ndarray:
+    """The middle of a foot's sole (its capsules' centres): smooth in the pose, as the lowest point is not."""
+    return np.mean([data.geom(g).xpos for g in FOOT_GEOMS[foot]], axis=0)
 
 
 def make_clip(spec: ClipSpec, fps: float = 60.0, xml_path: str = HUMANOID_XML) -> tuple[dict, dict]:
@@ -273,11 +304,9 @@ def make_clip(spec: ClipSpec, fps: float = 60.0, xml_path: str = HUMANOID_XML) -
     dof_positions = np.zeros((num_frames, len(joints)))
     body_positions = np.zeros((num_frames, len(body_names), 3))
     body_rotations = np.zeros((num_frames, len(body_names), 4))
-    roll_adr = {
-        name: model.jnt_qposadr[model.joint(name).id]
-        for name in ("right_thigh:0", "left_thigh:0", "right_foot:1", "left_foot:1")
-    }
-    root_x, root_y, roll, previous_stance, previous_feet = 0.0, 0.0, 0.0, None, {}
+    mujoco.mj_kinematics(model, data)  # the upright zero pose: its feet are level
+    level = {foot: data.xquat[model.body(foot).id].copy() for foot in FOOT_LEVELLERS}
+    root_x, root_y, hip_roll, previous_stance, previous_feet = 0.0, 0.0, 0.0, None, {}
     for f in range(num_frames):
         phase = 2 * math.pi * f / frames_per_cycle
         angles = spec.joint_angles(phase)
@@ -294,17 +323,19 @@ def make_clip(spec: ClipSpec, fps: float = 60.0, xml_path: str = HUMANOID_XML) -
             dof_positions[f, j] = angle
         mujoco.mj_kinematics(model, data)
         if spec.support is not None:
-            roll = _balance_by_hip_roll(model, data, roll_adr, spec.support(phase), roll)
+            hip_roll = _balance_by_hip_roll(model, data, level, spec.support(phase), hip_roll)
             dof_positions[f] = [data.qpos[model.jnt_qposadr[joint.id]] for joint in joints]
         feet = {name: _lowest_point(model, data, geoms) for name, geoms in FOOT_GEOMS.items()}
         stance = min(feet, key=lambda name: feet[name][2])
-        # the torso advances by what the stance foot (the lower one) moved back since the last frame
-        # (and, balanced, moves sideways by what it moved sideways)
+        # the torso advances by what the stance foot (the lower one) moved back since the last frame;
+        # balanced, it also moves sideways by what that foot moved sideways, and the foot is held by its
+        # sole's middle (a level foot's lowest point jumps between heel and toe)
+        anchors = {name: _sole_middle(data, name) for name in feet} if spec.support is not None else feet
         if previous_stance is not None:
-            root_x -= feet[previous_stance][0] - previous_feet[previous_stance][0]
+            root_x -= anchors[previous_stance][0] - previous_feet[previous_stance][0]
             if spec.support is not None:
-                root_y -= feet[previous_stance][1] - previous_feet[previous_stance][1]
-        previous_stance, previous_feet = stance, feet
+                root_y -= anchors[previous_stance][1] - previous_feet[previous_stance][1]
+        previous_stance, previous_feet = stance, anchors
         # lower foot on the ground; the torso shifts sideways over the stance foot (the left one at phase 0)
         offset = np.array([root_x, root_y + spec.lateral_sway * math.cos(phase), -feet[stance][2]])
         body_positions[f] = data.xpos[1:] + offset
