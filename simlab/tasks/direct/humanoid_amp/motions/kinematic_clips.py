@@ -7,6 +7,8 @@ and of the torso's orientation. The body poses come from MuJoCo's forward kinema
 (``mj_kinematics``) of ``simlab/robots/assets/humanoid.xml``; the torso is placed so that the lower
 foot touches the ground and does not slide (the torso advances by what the stance foot moves back)
 and sways sideways over the stance foot, so the forward speed follows from the leg motion.
+A slow motion that stands on one foot for long (the dance) is balanced instead (``ClipSpec.support``):
+the feet are held level, the hips roll the pelvis over the supporting foot, and that foot stays planted.
 Velocities are finite differences.
 
 Every joint and the torso move a little (sway, secondary motion): a clip in which some AMP
