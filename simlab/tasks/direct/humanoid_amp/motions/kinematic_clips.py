@@ -55,9 +55,10 @@ class ClipSpec:
     lateral_sway: float = 0.0  # sideways excursion of the torso over the stance foot [m]
     support: Callable[[float], float] | None = None
     """Quasi-static balance, for slow motions with long single-support phases: the share of the weight
-    on the right foot over the gait phase (0..1). Both hips roll (the ankles roll back) so that the
-    centre of mass lies over that point between the feet, and the stance foot stays planted sideways
-    as well as forward. None: no balancing (the torso sways by ``lateral_sway``)."""
+    on the right foot over the gait phase (0..1). The feet are held level (the hips' twist and the
+    ankles), both hips roll so that the centre of mass lies over that point between the feet, and the
+    stance foot stays planted sideways as well as forward. None: no balancing (the torso sways by
+    ``lateral_sway``)."""
 
 
 def _legs(
