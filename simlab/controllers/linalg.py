@@ -1,4 +1,4 @@
-"""Small batched linear algebra in plain torch ops, safe inside a captured CUDA graph.
+"""Small batched linear algebra: plain torch ops on the GPU (safe inside a captured CUDA graph), LAPACK on the CPU.
 
 torch's ``linalg`` solvers may hand small batched matrices to MAGMA or cuSOLVER, which can
 synchronize or refuse a stream capture. The controllers solve systems of at most a robot's dof
