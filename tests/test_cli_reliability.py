@@ -102,6 +102,15 @@ def test_play_refuses_a_checkpoint_of_another_library_or_task(tmp_path, capsys):
     assert "observations sizes are {'policy': 4}; this env's are {'policy': 2}" in capsys.readouterr().err
     assert not os.path.exists(exported)
 
+    # a run trained with an override that changes the sizes: the refusal names it, to be given again
+    drop = "env.observations.policy.joint_vel_rel=null"
+    trained_without_it = os.path.join(_train(tmp_path, drop), "model_1.pt")
+    assert load_yaml(os.path.join(os.path.dirname(trained_without_it), "params", "run.yaml"))["env_overrides"] == [drop]
+    assert _run(tmp_path, "play", *SMALL, "--checkpoint", trained_without_it, "--steps", "2") == 2
+    assert f"its run was trained with {drop}: give this command the same" in capsys.readouterr().err
+    assert _run(tmp_path, "play", *SMALL, "--checkpoint", trained_without_it, "--steps", "2", drop) == 0
+    capsys.readouterr()
+
     # resuming training from another task's checkpoint is refused the same way, before a run folder exists
     assert _run(tmp_path, "train", *other, "--max_iterations", "1", "--checkpoint", ckpt) == 2
     assert "not 'simlab/Cartpole-Direct-v0'" in capsys.readouterr().err

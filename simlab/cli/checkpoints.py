@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import os
 import re
+import shlex
 import sys
 import zipfile
 from collections.abc import Iterator
@@ -180,6 +181,8 @@ def check_checkpoint_sizes(checkpoint: str, sizes: dict[str, Any], force: bool =
         for what in ("observations", "actions")
         if what in info and info[what] != sizes[what]
     ]
+    if problems and info.get("env_overrides"):
+        problems.append(f"its run was trained with {shlex.join(info['env_overrides'])}: give this command the same")
     _refuse(checkpoint, problems, force)
 
 

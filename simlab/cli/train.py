@@ -186,6 +186,9 @@ def _train_in(
             distributed.check_same_settings(args.shared_settings)
         if run_dir is not None:
             info = {"task": args.task, "library": args.library, "algorithm": args.algorithm or "PPO", **sizes}
+            env_overrides = [o for o in overrides if o.lstrip("+~").startswith("env.")]
+            if env_overrides:  # named when a play without them does not fit the checkpoint
+                info["env_overrides"] = env_overrides
             write_run_info(run_dir, info)
             spread = f" on each of {ranks.world_size} processes" if ranks.world_size > 1 else ""
             print(
