@@ -101,7 +101,12 @@ def _support_track(clip: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     from MuJoCo's kinematics of the clip's torso pose and joint angles), and whether only one foot is down."""
     import mujoco
 
-    from simlab.tasks.direct.humanoid_amp.motions.kinematic_clips import FOOT_GEOMS, HUMANOID_XML
+    from simlab.tasks.direct.humanoid_amp.motions.kinematic_clips import (
+        FOOT_GEOMS,
+        HUMANOID_XML,
+        _centre_of_mass,
+        _sole_middle,
+    )
 
     model = mujoco.MjModel.from_xml_path(HUMANOID_XML)
     data = mujoco.MjData(model)
@@ -112,8 +117,8 @@ def _support_track(clip: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         data.qpos[:3], data.qpos[3:7] = clip["body_positions"][f, torso], clip["body_rotations"][f, torso]
         data.qpos[dof_adr] = clip["dof_positions"][f]
         mujoco.mj_kinematics(model, data)
-        com.append((model.body_mass[:, None] * data.xipos).sum(0) / model.body_mass.sum())
-        soles = [np.mean([data.geom(g).xpos for g in geoms], axis=0) for geoms in FOOT_GEOMS.values()]
+        com.append(_centre_of_mass(model, data))
+        soles = [_sole_middle(data, foot) for foot in FOOT_GEOMS]
         sole.append(min(soles, key=lambda p: p[2]))
         single.append(abs(soles[0][2] - soles[1][2]) > 0.05)
     return np.array(com), np.array(sole), np.array(single)

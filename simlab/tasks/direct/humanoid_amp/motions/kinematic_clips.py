@@ -237,20 +237,21 @@ def _level_feet(model: mujoco.MjModel, data: mujoco.MjData, level: dict[str, np.
     """Turn both feet to the world orientations ``level`` (their orientations in the upright zero pose:
     flat, pointing forward) with the hips' twist and the ankles, whatever the torso's sway: a foot on the
     ground then stays planted, turning neither with the torso nor about its contact point."""
-    jacr = np.zeros((3, model.nv))
+    feet = [
+        (foot, model.body(foot).id, [model.joint(name).id for name in joints])
+        for foot, joints in FOOT_LEVELLERS.items()
+    ]
+    jacr, error = np.zeros((3, model.nv)), np.zeros(3)
     for _ in range(4):  # Newton steps on the rotation error; converges in 2-3 for the sways used here
         mujoco.mj_kinematics(model, data)
-        for foot, joints in FOOT_LEVELLERS.items():
-            body = model.body(foot).id
-            error = np.zeros(3)
+        for foot, body, joint_ids in feet:
             mujoco.mju_subQuat(error, level[foot], data.xquat[body])  # rotation taking the foot to level
             mujoco.mj_jacBody(model, data, None, jacr, body)
-            dofs = [model.jnt_dofadr[model.joint(name).id] for name in joints]
-            step = np.linalg.lstsq(jacr[:, dofs], data.xmat[body].reshape(3, 3) @ error, rcond=None)[0]
-            for name, delta in zip(joints, step):
-                joint = model.joint(name).id
-                adr = model.jnt_qposadr[joint]
-                data.qpos[adr] = np.clip(data.qpos[adr] + delta, *model.jnt_range[joint])
+            step = np.linalg.lstsq(
+                jacr[:, model.jnt_dofadr[joint_ids]], data.xmat[body].reshape(3, 3) @ error, rcond=None
+            )[0]
+            adr = model.jnt_qposadr[joint_ids]
+            data.qpos[adr] = np.clip(data.qpos[adr] + step, *model.jnt_range[joint_ids].T)
     mujoco.mj_kinematics(model, data)
 
 
@@ -284,8 +285,7 @@ def _balance_by_hip_roll(
             break
         a, b, fa = b, float(np.clip(b - fb * (b - a) / (fb - fa), -0.26, 0.26)), fb
         fb = offset(b)
-    offset(b)  # leave the pose of the last angle in data
-    return b
+    return b  # the last angle evaluated: data holds its pose
 
 
 def _sole_middle(data: mujoco.MjData, foot: str) -> np.ndarray:
