@@ -127,7 +127,9 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
 
 def env_overrides(args: argparse.Namespace) -> list[str]:
     """The overrides that change the env (the trained policy needs them wherever it plays)."""
-    return [o for o in args.overrides if o.startswith("env.")]
+    from simlab.tasks.utils.hydra import env_overrides_in
+
+    return env_overrides_in(args.overrides)
 
 
 class OverBudget(RuntimeError):

@@ -149,3 +149,12 @@ def test_slices_lists_none_and_callables_round_trip(cfgs):
     assert env.rewards.terminating.func is mdp.is_alive and env.rewards.cart_vel is None
     # what was not overridden is untouched (the same objects)
     assert env.rewards.pole_vel.params["asset_cfg"].joint_names == ["cart_to_pole"]
+
+
+def test_env_overrides_are_picked_with_their_hydra_prefixes():
+    # what a trained policy needs again at play (the run's record, the judge, make_pretrained): every
+    # override of the env, also those that add (+, ++) or delete (~) a key; none of the agent's
+    from simlab.tasks.utils.hydra import env_overrides_in
+
+    overrides = ["env.decimation=4", "+env.extra=1", "++env.sim.dt=0.01", "~env.events", "agent.seed=3", "+agent.x=1"]
+    assert env_overrides_in(overrides) == overrides[:4]

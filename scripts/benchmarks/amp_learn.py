@@ -46,6 +46,7 @@ from simlab.cli.main import build_parser
 from simlab.cli.play import run_play
 from simlab.rl.utils import require
 from simlab.tasks.utils import load_cfg_from_registry
+from simlab.tasks.utils.hydra import env_overrides_in
 
 MOTIONS = ("walk", "run", "dance")
 
@@ -161,8 +162,8 @@ def main() -> int:
     if args.video:
         play_argv += ["--video", "--video_length", str(min(steps, 300))]
     recorder = GaitRecorder(args.settle_seconds)
-    env_overrides = [o for o in overrides if o.startswith("env.")]  # the trained env's settings
-    run_play(build_parser().parse_args(play_argv), env_overrides, on_step=recorder)
+    # the trained env's settings
+    run_play(build_parser().parse_args(play_argv), env_overrides_in(overrides), on_step=recorder)
     videos = sorted(glob.glob(os.path.join(run_dir, "videos", "play", "*.mp4")), key=os.path.getmtime)
     sheet = frame_sheet(videos[-1]) if args.video and videos else None
 

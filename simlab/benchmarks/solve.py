@@ -167,6 +167,7 @@ def time_to_policy(
         raise ValueError(f"simlab bench solve trains with {list(SUPPORTED_LIBRARIES)}; got --library {library}.")
     from simlab.cli.main import build_parser
     from simlab.cli.train import run_train
+    from simlab.tasks.utils.hydra import env_overrides_in
 
     argv = ["train", "--task", task, "--library", library, "--headless", "--device", device]
     argv += ["--seed", str(seed), "--log_root", log_root, "--run_name", "solve"]
@@ -180,8 +181,9 @@ def time_to_policy(
     overrides = list(overrides or [])
     if eval_every is not None:
         overrides.append(f"agent.save_interval={eval_every}")
-    env_overrides = [o for o in overrides if o.startswith("env.")]
-    judge = CheckpointJudge(task, library, device, eval_envs, eval_seconds, seed, reward_threshold, env_overrides)
+    judge = CheckpointJudge(
+        task, library, device, eval_envs, eval_seconds, seed, reward_threshold, env_overrides_in(overrides)
+    )
     args.on_checkpoint = judge
     try:
         run_dir = run_train(args, overrides)

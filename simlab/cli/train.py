@@ -13,6 +13,7 @@ from simlab.cli.libraries import get_library
 from simlab.cli.runs import dump_params, make_run_dir, remove_if_empty_run, write_run_info
 from simlab.cli.session import check_flags, load_configs, make_env, resolve_seed
 from simlab.rl.utils import is_multi_agent
+from simlab.tasks.utils.hydra import env_overrides_in
 from simlab.utils.errors import ConfigError
 from simlab.utils.startup import (
     bytecode_hint,
@@ -186,7 +187,7 @@ def _train_in(
             distributed.check_same_settings(args.shared_settings)
         if run_dir is not None:
             info = {"task": args.task, "library": args.library, "algorithm": args.algorithm or "PPO", **sizes}
-            env_overrides = [o for o in overrides if o.lstrip("+~").startswith("env.")]
+            env_overrides = env_overrides_in(overrides)
             if env_overrides:  # named when a play without them does not fit the checkpoint
                 info["env_overrides"] = env_overrides
             write_run_info(run_dir, info)

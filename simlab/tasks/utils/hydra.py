@@ -248,6 +248,12 @@ def apply_overrides(env_cfg: Any, agent_cfg: Any, overrides: Sequence[str]) -> N
         _write(override.input_line, obj, path, value)
 
 
+def env_overrides_in(overrides: Sequence[str]) -> list[str]:
+    """The overrides that change the env (``env.x=v``, and ``+env.``, ``++env.``, ``~env.`` ones): what a
+    trained policy needs again wherever it plays."""
+    return [o for o in overrides if o.lstrip("+~").startswith("env.")]
+
+
 def hydra_task_config(task_name: str, agent_cfg_entry_point: str | None) -> Callable:
     """Decorate ``main(env_cfg, agent_cfg)``: register the task's configs with Hydra, compose the
     overrides in ``sys.argv[1:]`` onto them and call ``main`` with the two config objects.
