@@ -355,3 +355,30 @@ def test_every_amp_feature_of_the_shipped_clips_varies(name):
     )
     constant = (frames.std(dim=0) < 1e-4).nonzero().flatten().tolist()
     assert constant == [], f"{name}: AMP features {constant} never change"
+
+
+def test_the_imitation_reward_pays_for_the_clips_poses_and_pace():
+    """Off (Isaac Lab's env) the reward is a constant 1; on, each env earns up to 1 for a pose on the
+    clip and up to 1 for the clip's forward speed."""
+    env = _make_env(3, reset_strategy="random-start", imitation_reward=True)
+    try:
+        base = env.unwrapped
+        env.reset()
+        robot = base.robot
+        assert base.clip_forward_speed > 0.1  # the walk moves forward
+        # reference states are on the clip: the pose term is 1, the pace term the clip's speed at its start
+        assert base.clip_pose_squared_error(robot.data.joint_pos).max() < 1e-10
+        on_clip = base._get_rewards()
+        speed = robot.data.body_lin_vel_w[:, base.ref_body_index, 0]
+        pace = torch.exp(-(((speed - base.clip_forward_speed) / base.cfg.speed_sigma) ** 2))
+        torch.testing.assert_close(on_clip, 1.0 + pace)
+        # the same bodies standing in the zero pose: the pose term falls, the pace term stays
+        zero = torch.zeros_like(robot.data.joint_pos)
+        robot.write_joint_state_to_sim(zero, robot.data.joint_vel.clone())
+        error = base.clip_pose_squared_error(robot.data.joint_pos)
+        assert (error > 0.01).all()
+        torch.testing.assert_close(base._get_rewards(), torch.exp(-error / base.cfg.pose_sigma**2) + pace)
+        base.cfg.imitation_reward = False
+        assert torch.equal(base._get_rewards(), torch.ones(3))
+    finally:
+        env.close()

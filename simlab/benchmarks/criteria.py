@@ -317,24 +317,17 @@ class GaitRecorder:
         self.step_dt = float("nan")
         self.clip_speed = float("nan")
         self.zero_pose_rms = float("nan")
-        self._clip_poses: torch.Tensor | None = None
+        self._ready = False
 
     def _setup(self, env) -> None:
-        motion = env._motion_loader
-        self._clip_poses = motion.dof_positions[:, env.motion_dof_indexes]  # (frames, joints) in robot order
-        torso = motion.get_body_index([env.cfg.reference_body])[0]
-        advance = motion.body_positions[-1, torso, 0] - motion.body_positions[0, torso, 0]
-        self.clip_speed = float(advance / motion.duration)
-        self.zero_pose_rms = float(self._nearest_squared_error(torch.zeros(1, self._clip_poses.shape[1])).sqrt())
+        self._ready = True
+        self.clip_speed = env.clip_forward_speed
+        zero_pose = torch.zeros(1, env.clip_joint_pos.shape[1], device=env.clip_joint_pos.device)
+        self.zero_pose_rms = float(env.clip_pose_squared_error(zero_pose).sqrt())
         self.step_dt = env.step_dt
 
-    def _nearest_squared_error(self, joint_pos: torch.Tensor) -> torch.Tensor:
-        """Mean over joints of the squared error to the nearest clip frame, per env."""
-        poses = self._clip_poses.to(joint_pos.device)
-        return torch.cdist(joint_pos, poses).min(dim=1).values ** 2 / poses.shape[1]
-
     def __call__(self, env, obs, actions) -> None:
-        if self._clip_poses is None:
+        if not self._ready:
             self._setup(env)
         self.env_steps += env.num_envs
         self.falls += int(env.reset_terminated.sum())
@@ -342,7 +335,7 @@ class GaitRecorder:
         if not bool(settled.any()):
             return
         data = env.robot.data
-        self.squared_errors.append(self._nearest_squared_error(data.joint_pos[settled]).cpu())
+        self.squared_errors.append(env.clip_pose_squared_error(data.joint_pos[settled]).cpu())
         velocity = data.root_lin_vel_w[settled]
         self.forward.append(velocity[:, 0].cpu())
         self.horizontal.append(velocity[:, :2].norm(dim=-1).cpu())

@@ -57,6 +57,16 @@ class HumanoidAmpEnv(DirectRLEnv):
         self.motion_ref_body_index = self._motion_loader.get_body_index([self.cfg.reference_body])[0]
         self.motion_key_body_indexes = self._motion_loader.get_body_index(key_bodies)
 
+        # the clip's poses (frames, joints) in the robot's joint order and its mean forward speed, for
+        # the imitation reward and for judging a played policy (simlab.benchmarks.criteria)
+        motion = self._motion_loader
+        self.clip_joint_pos = motion.dof_positions[:, self.motion_dof_indexes]
+        advance = (
+            motion.body_positions[-1, self.motion_ref_body_index, 0]
+            - motion.body_positions[0, self.motion_ref_body_index, 0]
+        )
+        self.clip_forward_speed = float(advance / motion.duration)
+
         # the AMP observation: the last num_amp_observations frames, newest first
         frames, size = self.cfg.num_amp_observations, self.cfg.amp_observation_space
         self.amp_observation_size = frames * size
@@ -99,7 +109,18 @@ class HumanoidAmpEnv(DirectRLEnv):
         return {"policy": self._frame()}
 
     def _get_rewards(self) -> torch.Tensor:
-        return torch.ones((self.num_envs,), dtype=torch.float32, device=self.device)
+        if not self.cfg.imitation_reward:
+            return torch.ones((self.num_envs,), dtype=torch.float32, device=self.device)
+        data = self.robot.data
+        pose = torch.exp(-self.clip_pose_squared_error(data.joint_pos) / self.cfg.pose_sigma**2)
+        speed_error = data.body_lin_vel_w[:, self.ref_body_index, 0] - self.clip_forward_speed
+        return pose + torch.exp(-((speed_error / self.cfg.speed_sigma) ** 2))
+
+    def clip_pose_squared_error(self, joint_pos: torch.Tensor) -> torch.Tensor:
+        """Mean over joints of the squared error of ``joint_pos`` (N, joints) to the nearest clip frame:
+        AMP imitates a style, not a clock, so a pose is compared with the clip's pose nearest to it."""
+        poses = self.clip_joint_pos.to(joint_pos.device)
+        return torch.cdist(joint_pos, poses).min(dim=1).values ** 2 / poses.shape[1]
 
     def _get_dones(self) -> tuple[torch.Tensor, torch.Tensor]:
         # the first hook after the physics steps, called once per step (observations are computed

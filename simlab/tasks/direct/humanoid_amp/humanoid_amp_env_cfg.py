@@ -101,6 +101,17 @@ class HumanoidAmpEnvCfg(DirectRLEnvCfg):
     reference_lift = 0.05
     """Height [m] added to reference root positions at reset, so the feet start just above the ground."""
 
+    imitation_reward = False
+    """The env's reward: False gives a constant 1 (Isaac Lab; the agent's task reward scale is 0, so the
+    discriminator alone teaches). True gives a task reward for the clip's poses and pace, each in (0, 1]:
+    ``exp(-(e / pose_sigma)^2)`` with e the RMS joint error to the nearest clip frame, plus
+    ``exp(-((v - v_clip) / speed_sigma)^2)`` with v the torso's forward speed; the agent's
+    ``task_reward_scale`` must then be set above 0 for it to count."""
+    pose_sigma = 0.3
+    """Joint RMS error [rad] at which the pose reward has fallen to 1/e."""
+    speed_sigma = 0.3
+    """Forward speed error [m/s] at which the pace reward has fallen to 1/e."""
+
     # simulation: 120 Hz physics, 30 Hz control (Isaac Lab: 60 Hz x 2; the stiff PD drives of the
     # light MuJoCo limbs need the shorter step). MuJoCo Warp's buffers per world: measured peaks of
     # 15 contacts and 61 constraint rows (64 envs, 300 steps of random actions, reference-state
