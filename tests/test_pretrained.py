@@ -38,11 +38,12 @@ def test_pretrained_policy_meets_its_criterion(tmp_path, task, library):
 def test_a_task_without_a_pretrained_policy_says_what_is_shipped(tmp_path, capsys):
     from simlab.cli.main import main
 
-    task = "simlab/Reach-Franka-OSC-v0"  # none shipped yet (not solved in 260 s on the GPU)
-    argv = ["play", "--task", task, "--use_pretrained_checkpoint", "--device", "cpu"]
+    task = "simlab/Reach-Franka-v0"  # its rsl_rl policy ships, an skrl one does not
+    argv = ["play", "--task", task, "--library", "skrl", "--use_pretrained_checkpoint", "--device", "cpu"]
     assert main([*argv, "--log_root", str(tmp_path / "logs")]) == 2
     err = capsys.readouterr().err
-    assert f"No pretrained rsl_rl policy for {task}" in err and "Shipped:" in err
+    assert f"No pretrained skrl policy for {task}" in err and "Shipped:" in err
+    assert "Reach-Franka-v0 (rsl_rl)" in err
 
 
 def test_a_play_variant_plays_the_policy_of_its_task(tmp_path):
