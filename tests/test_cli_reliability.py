@@ -305,6 +305,19 @@ def test_skrl_resume_continues_the_step_counter(tmp_path):
     assert steps and min(steps) > done, steps
 
 
+def test_skrl_resume_takes_the_learning_rate_it_is_given(tmp_path):
+    """skrl restores the optimizer's learning rate with its state; a rate given for the resumed run
+    must apply (at 0 the policy may not change)."""
+    first = _train(tmp_path, library="skrl")
+    ckpt = max(glob.glob(os.path.join(first, "checkpoints", "agent_*.pt")), key=os.path.getmtime)
+    second = _train(tmp_path, "--checkpoint", ckpt, "agent.agent.learning_rate=0.0", library="skrl")
+    resumed = max(glob.glob(os.path.join(second, "checkpoints", "agent_*.pt")), key=os.path.getmtime)
+    before, after = (torch.load(p, map_location="cpu", weights_only=False)["policy"] for p in (ckpt, resumed))
+    assert before.keys() == after.keys()
+    for name in before:
+        assert torch.equal(before[name], after[name]), name
+
+
 def test_rsl_rl_resume_keeps_episode_lengths(tmp_path, monkeypatch):
     """A fresh run spreads its first resets over an episode; a resumed one must not (it would log short,
     untrained-looking episodes right after resuming)."""

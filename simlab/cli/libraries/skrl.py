@@ -196,6 +196,19 @@ def _continue_counting(agent: Any, start: int) -> None:
         setattr(agent, name, shifted)
 
 
+def _use_configured_learning_rate(agent: Any, learning_rate: Any) -> None:
+    """skrl's ``load`` restores the optimizer with the learning rate it had when saved, which would
+    silently override ``agent.agent.learning_rate`` given for the resumed run. The configured rate
+    applies instead (a KL-adaptive schedule restarts from it, as rsl_rl's adaptive schedule does)."""
+    import torch
+
+    optimizer = getattr(agent, "optimizer", None)
+    if not isinstance(optimizer, torch.optim.Optimizer) or not isinstance(learning_rate, (int, float)):
+        return  # JAX optimizers, multi-agent dicts: left as skrl restores them
+    for group in optimizer.param_groups:
+        group["lr"] = float(learning_rate)
+
+
 def _timestep_of(checkpoint: str) -> int:
     """The timestep in an ``agent_<timestep>.pt`` checkpoint name (0 for other names)."""
     match = re.match(r"agent_(\d+)\.pt$", os.path.basename(checkpoint))
@@ -278,6 +291,7 @@ def train(
     start = 0
     if resume_path:
         runner.agent.load(resume_path)
+        _use_configured_learning_rate(runner.agent, agent_cfg["agent"].get("learning_rate"))
         start = _timestep_of(resume_path)
         _continue_counting(runner.agent, start)
         print(f"[simlab] Resumed weights, optimizer and normalizers from {resume_path} at timestep {start}")
