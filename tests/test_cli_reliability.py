@@ -305,14 +305,26 @@ def test_skrl_resume_continues_the_step_counter(tmp_path):
     assert steps and min(steps) > done, steps
 
 
-def test_skrl_resume_takes_the_learning_rate_it_is_given(tmp_path):
-    """skrl restores the optimizer's learning rate with its state; a rate given for the resumed run
-    must apply (at 0 the policy may not change)."""
-    first = _train(tmp_path, library="skrl")
-    ckpt = max(glob.glob(os.path.join(first, "checkpoints", "agent_*.pt")), key=os.path.getmtime)
-    second = _train(tmp_path, "--checkpoint", ckpt, "agent.agent.learning_rate=0.0", library="skrl")
-    resumed = max(glob.glob(os.path.join(second, "checkpoints", "agent_*.pt")), key=os.path.getmtime)
-    before, after = (torch.load(p, map_location="cpu", weights_only=False)["policy"] for p in (ckpt, resumed))
+def _policy_weights(checkpoint: str) -> dict[str, torch.Tensor]:
+    if checkpoint.endswith(".zip"):  # Stable-Baselines3
+        from stable_baselines3 import PPO
+
+        return PPO.load(checkpoint, device="cpu").policy.state_dict()
+    return torch.load(checkpoint, map_location="cpu", weights_only=False)["policy"]  # skrl
+
+
+@pytest.mark.parametrize(
+    ("library", "pattern", "learning_rate"),
+    [("skrl", "checkpoints/agent_*.pt", "agent.agent.learning_rate"), ("sb3", "model_*.zip", "agent.learning_rate")],
+)
+def test_a_resumed_run_takes_the_learning_rate_it_is_given(tmp_path, library, pattern, learning_rate):
+    """skrl and Stable-Baselines3 restore the saved learning rate with the checkpoint; a rate given
+    for the resumed run must apply (at 0 the policy may not change)."""
+    first = _train(tmp_path, library=library)
+    ckpt = max(glob.glob(os.path.join(first, pattern)), key=os.path.getmtime)
+    second = _train(tmp_path, "--checkpoint", ckpt, f"{learning_rate}=0.0", library=library)
+    resumed = max(glob.glob(os.path.join(second, pattern)), key=os.path.getmtime)
+    before, after = _policy_weights(ckpt), _policy_weights(resumed)
     assert before.keys() == after.keys()
     for name in before:
         assert torch.equal(before[name], after[name]), name

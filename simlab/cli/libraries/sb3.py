@@ -118,7 +118,10 @@ def train(env: gym.Env, agent_cfg: dict, run_dir: str, args: argparse.Namespace,
     kwargs, extra = _split_cfg(agent_cfg, num_envs)
     venv = _wrap(env, extra, kwargs.get("gamma", 0.99))
     if resume_path:
-        model = PPO.load(resume_path, env=venv, device=kwargs.get("device", "auto"))
+        # PPO.load restores every hyperparameter saved with the model; the run's config (and the
+        # overrides given with --checkpoint) apply instead, the network's shape excepted
+        settings = {k: v for k, v in kwargs.items() if k not in ("policy_kwargs", "device", "seed")}
+        model = PPO.load(resume_path, env=venv, device=kwargs.get("device", "auto"), **settings)
         stats = _vecnormalize_path(resume_path)
         if isinstance(venv, VecNormalize) and os.path.isfile(stats):
             loaded = VecNormalize.load(stats, venv.venv)
