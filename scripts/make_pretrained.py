@@ -387,7 +387,7 @@ def checkpoint_name(checkpoint: str, library: str, iteration: int, agent_cfg: di
     from simlab.cli.runs import CHECKPOINT_LAYOUT
 
     name = os.path.basename(checkpoint)
-    if re.search(CHECKPOINT_LAYOUT[library][1], name):
+    if re.match(CHECKPOINT_LAYOUT[library][1], name):  # anchored at the start, as play's search
         return name
     return f"model_{iteration}.pt" if library == "rsl_rl" else f"agent_{iteration * agent_cfg['agent']['rollouts']}.pt"
 

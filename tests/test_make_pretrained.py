@@ -288,3 +288,12 @@ def test_resume_trains_on_from_a_checkpoint_and_records_it(tmp_path):
     assert any(moved)
     with pytest.raises(SystemExit):  # a missing checkpoint is a usage error before any training
         script.parse_args(["--tasks", TASK, "--resume", str(tmp_path / "missing.pt")])
+
+
+def test_an_adopted_checkpoint_gets_a_name_that_play_finds():
+    make_pretrained = _script()
+    agent_cfg = {"agent": {"rollouts": 16}}
+    # a copy named by its user ends in the library's pattern but does not start with it
+    assert make_pretrained.checkpoint_name("/x/dance_agent_27200.pt", "skrl", 1700, agent_cfg) == "agent_27200.pt"
+    assert make_pretrained.checkpoint_name("/x/agent_800.pt", "skrl", 50, agent_cfg) == "agent_800.pt"
+    assert make_pretrained.checkpoint_name("/x/best_model_9.pt", "rsl_rl", 9, agent_cfg) == "model_9.pt"
