@@ -6,8 +6,9 @@ normal (orientation), its linear and angular velocity, and the hands' and feet's
 to the torso. skrl's ``AMP`` agent rewards the policy by a discriminator that tells the env's
 frames (``extras["amp_obs"]``, the last ``num_amp_observations`` frames) from the clip's
 (``collect_reference_motions``); the env's own reward is a constant 1 (the agent's task reward
-weight is 0). Episodes start in reference states of the clip (``reset_strategy``) and end when the
-torso drops below ``termination_height`` or after ``episode_length_s``.
+weight is 0), or with ``imitation_reward`` a reward for the clip's poses and pace. Episodes start in
+reference states of the clip (``reset_strategy``) and end when the torso drops below
+``termination_height`` or after ``episode_length_s``.
 
 Differences from Isaac Lab: the robot is simlab's 21-joint humanoid, with clips made for it; the
 frames of an AMP observation are one env step apart in the env and in the reference motions
