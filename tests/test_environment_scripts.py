@@ -5,6 +5,7 @@ Teleop tab in headless Chromium)."""
 from __future__ import annotations
 
 import importlib.util
+import json
 import os
 import re
 import shutil
@@ -15,6 +16,7 @@ import time
 from pathlib import Path
 
 import pytest
+from headless_browser import CHROMIUM, HeadlessChromium, free_port
 
 ROOT = Path(__file__).resolve().parents[1]
 LIFT_SM = "scripts/environments/state_machine/lift_cube_sm.py"
@@ -119,80 +121,38 @@ def test_keys_typed_in_the_native_viewer_move_the_arm(tmp_path):
     assert abs(after[1] - before[1]) < 0.01, (before, after)
 
 
-CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+def _hold_button_in_browser(url: str, tab: str, button: str, seconds: float) -> None:
+    """Open ``url`` in headless Chromium, click ``tab``, hold ``button`` down for ``seconds``."""
+    with HeadlessChromium((1100, 750)) as browser:
+        browser.open(url)
 
+        def centre_of(text: str) -> tuple[float, float] | None:
+            value = browser.evaluate(
+                "(() => { const e = [...document.querySelectorAll('button, [role=tab]')].find("
+                f"b => b.textContent.trim() === {json.dumps(text)}); if (!e) return null;"
+                " const r = e.getBoundingClientRect();"
+                " return [r.x + r.width / 2, r.y + r.height / 2]; })()"
+            )
+            return tuple(value) if value else None
 
-def _free_port() -> int:
-    import socket
+        def mouse(kind: str, x: float, y: float) -> None:
+            browser.call("Input.dispatchMouseEvent", type=kind, x=x, y=y, button="left", clickCount=1)
 
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
-async def _hold_button_in_browser(url: str, tab: str, button: str, seconds: float) -> None:
-    """Open ``url`` in headless Chromium, click ``tab``, hold ``button`` down for ``seconds`` (DevTools protocol)."""
-    import asyncio
-    import json
-    import urllib.request
-
-    import websockets
-
-    debug_port = _free_port()
-    chrome = subprocess.Popen([CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu", "--use-angle=swiftshader",
-                               "--enable-unsafe-swiftshader", "--window-size=1100,750",
-                               f"--remote-debugging-port={debug_port}", url],
-                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)  # fmt: skip
-    try:
-        for _ in range(100):
-            try:
-                pages = json.loads(urllib.request.urlopen(f"http://127.0.0.1:{debug_port}/json").read())
-                page = next(p for p in pages if p["type"] == "page")
+        for _ in range(120):  # the page builds its panel from the server's messages: open the tab until it shows
+            target = centre_of(button)
+            if target is not None:
                 break
-            except (OSError, StopIteration):
-                await asyncio.sleep(0.2)
-        async with websockets.connect(page["webSocketDebuggerUrl"], max_size=None) as ws:
-            calls = 0
-
-            async def call(method: str, **params):
-                nonlocal calls
-                calls += 1
-                await ws.send(json.dumps({"id": calls, "method": method, "params": params}))
-                while True:
-                    reply = json.loads(await ws.recv())
-                    if reply.get("id") == calls:
-                        return reply.get("result", {})
-
-            async def centre_of(text: str) -> tuple[float, float] | None:
-                found = await call("Runtime.evaluate", returnByValue=True, expression=(
-                    "(() => { const e = [...document.querySelectorAll('button, [role=tab]')].find("
-                    f"b => b.textContent.trim() === {json.dumps(text)}); if (!e) return null;"
-                    " const r = e.getBoundingClientRect();"
-                    " return [r.x + r.width / 2, r.y + r.height / 2]; })()"))  # fmt: skip
-                value = found.get("result", {}).get("value")
-                return tuple(value) if value else None
-
-            async def mouse(kind: str, x: float, y: float) -> None:
-                await call("Input.dispatchMouseEvent", type=kind, x=x, y=y, button="left", clickCount=1)
-
-            for _ in range(120):  # the page builds its panel from the server's messages: open the tab until it shows
-                target = await centre_of(button)
-                if target is not None:
-                    break
-                tab_centre = await centre_of(tab)
-                if tab_centre is not None:
-                    await mouse("mouseMoved", *tab_centre)
-                    await mouse("mousePressed", *tab_centre)
-                    await mouse("mouseReleased", *tab_centre)
-                await asyncio.sleep(0.5)
-            assert target is not None, f"no '{button}' button under the '{tab}' tab"
-            await mouse("mouseMoved", *target)
-            await mouse("mousePressed", *target)
-            await asyncio.sleep(seconds)
-            await mouse("mouseReleased", *target)
-    finally:
-        chrome.kill()
-        chrome.wait(timeout=30)
+            tab_centre = centre_of(tab)
+            if tab_centre is not None:
+                mouse("mouseMoved", *tab_centre)
+                mouse("mousePressed", *tab_centre)
+                mouse("mouseReleased", *tab_centre)
+            time.sleep(0.5)
+        assert target is not None, f"no '{button}' button under the '{tab}' tab"
+        mouse("mouseMoved", *target)
+        mouse("mousePressed", *target)
+        time.sleep(seconds)
+        mouse("mouseReleased", *target)
 
 
 @pytest.mark.skipif(
@@ -200,9 +160,7 @@ async def _hold_button_in_browser(url: str, tab: str, button: str, seconds: floa
     reason="needs Debian's chromium and simlab[viewer] (scripts/setup.sh dev installs both)",
 )
 def test_holding_a_teleop_button_in_the_browser_moves_the_arm():
-    import asyncio
-
-    port = _free_port()
+    port = free_port()
     cmd = [sys.executable, str(ROOT / TELEOP), "--task", "simlab/Reach-Franka-IK-Rel-v0", "--device", "cpu",
            "--viewer", "web", "--viewer_port", str(port), "--max_app_steps", "100000"]  # fmt: skip
     env = dict(os.environ, PYTHONUNBUFFERED="1")
@@ -223,7 +181,7 @@ def test_holding_a_teleop_button_in_the_browser_moves_the_arm():
         # down: reachable from any start pose of the reset (the hand starts 0.4 to 0.8 m up). A loaded
         # machine simulates fewer steps per second of holding, so hold again until it has moved.
         for _ in range(4):
-            asyncio.run(_hold_button_in_browser(f"http://127.0.0.1:{port}", "Teleop", "E: -z", 0.6))
+            _hold_button_in_browser(f"http://127.0.0.1:{port}", "Teleop", "E: -z", 0.6)
             settled = time.monotonic() + 1.0
             while len(positions_since(settled)) < 1:
                 assert time.monotonic() < deadline and run.poll() is None, "".join(line for _, line in received)

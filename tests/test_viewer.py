@@ -16,37 +16,18 @@ import mujoco
 import numpy as np
 import pytest
 import torch
+from headless_browser import CHROMIUM, HeadlessChromium, free_port
 
 from simlab.cli.main import main
 from simlab.viewer import SimSource, open_viewer, resolve_viewer_kind
 from simlab.viewer.live import LiveViewer
 
-CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser") or shutil.which("google-chrome")
 HAVE_VISER = importlib.util.find_spec("viser") is not None and importlib.util.find_spec("mjviser") is not None
 needs_browser = pytest.mark.skipif(
     CHROMIUM is None or not HAVE_VISER,
     reason="needs Debian's chromium and simlab[viewer] (scripts/setup.sh dev installs both where apt-get works)",
 )
 WINDOW = (900, 650)
-
-
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
-def _screenshot(url: str, path: str) -> np.ndarray:
-    """The page as headless Chromium draws it (software WebGL), after its scripts ran for a while."""
-    import imageio.v3 as iio
-
-    subprocess.run(
-        [CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu", "--use-angle=swiftshader",
-         "--enable-unsafe-swiftshader", f"--window-size={WINDOW[0]},{WINDOW[1]}", "--virtual-time-budget=6000",
-         f"--screenshot={path}", url],
-        capture_output=True, timeout=300, check=True,
-    )  # fmt: skip
-    return iio.imread(path)[..., :3]
 
 
 def _scene(image: np.ndarray) -> np.ndarray:
@@ -58,6 +39,11 @@ def _coloured_pixels(image: np.ndarray) -> int:
     """Pixels of a colour (the cartpoles' navy poles, orange rails): viser's floor and grid are grey."""
     scene = _scene(image)
     return int((scene.max(axis=-1) - scene.min(axis=-1) > 40).sum())
+
+
+def _floor_drawn(image: np.ndarray) -> bool:
+    """viser's grey grid lines show in the 3D view: the page has loaded and drawn a scene."""
+    return int((_scene(image).max(axis=-1) < 235).sum()) > 500
 
 
 def _wait_for_line(proc: subprocess.Popen, text: str, timeout_s: float) -> list[str]:
@@ -87,32 +73,35 @@ class _StillPhysics:
 
 @needs_browser
 def test_web_viewer_shows_the_robots_moving_in_a_browser(tmp_path):
-    port = _free_port()
+    port = free_port()
     cmd = [sys.executable, "-m", "simlab", "random", "--task", "simlab/Cartpole-v0", "--num_envs", "4",
            "--device", "cpu", "--viewer", "web", "--viewer_port", str(port)]  # fmt: skip
     proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     try:
         _wait_for_line(proc, f"Web viewer: http://localhost:{port}", 120)
-        url = f"http://127.0.0.1:{port}"
-        first = _screenshot(url, str(tmp_path / "first.png"))
-        for attempt in range(3):  # the first load of the page can take longer than the time budget
-            if _coloured_pixels(first) > 200:
-                break
-            first = _screenshot(url, str(tmp_path / f"first{attempt}.png"))
-        second = _screenshot(url, str(tmp_path / "second.png"))
+        with HeadlessChromium(WINDOW) as browser:
+            browser.open(f"http://127.0.0.1:{port}")
+            # the page loads viser's client, which then receives the scene over its websocket: wait for it
+            robots_drawn = lambda image: _coloured_pixels(image) > 200  # noqa: E731
+            first = browser.screenshot_when(robots_drawn, 120, str(tmp_path / "first.png"))
+            time.sleep(1.0)
+            second = browser.screenshot(str(tmp_path / "second.png"))
     finally:
         proc.send_signal(signal.SIGINT)
         proc.wait(timeout=60)
 
-    empty_port = _free_port()
+    empty_port = free_port()
     ground = mujoco.MjModel.from_xml_string('<mujoco><worldbody><geom type="plane" size="0 0 1"/></worldbody></mujoco>')
     viewer = open_viewer(SimSource(ground, _StillPhysics(ground), torch.zeros(1, 3), 0.02), "web", empty_port)
     try:
         viewer.after_step()
-        empty = _screenshot(f"http://127.0.0.1:{empty_port}", str(tmp_path / "empty.png"))
+        with HeadlessChromium(WINDOW) as browser:
+            browser.open(f"http://127.0.0.1:{empty_port}")
+            empty = browser.screenshot_when(_floor_drawn, 120, str(tmp_path / "empty.png"))
     finally:
         viewer.close()
 
+    assert _floor_drawn(empty), "the empty scene's page never drew its floor: nothing to compare the robots with"
     assert _coloured_pixels(first) > max(200, 10 * _coloured_pixels(empty)), "the robots are not drawn"
     moved = (np.abs(_scene(first) - _scene(second)).sum(axis=-1) > 60).sum()
     assert moved > 100, "the picture does not change while the sim runs"
@@ -213,7 +202,7 @@ def test_render_mode_human_uses_the_apps_viewer():
     from simlab.tasks.utils import load_cfg_from_registry
     from simlab.viewer.web import WebViewer
 
-    port = _free_port()
+    port = free_port()
     launcher = AppLauncher(viewer="web", viewer_port=port)
     assert launcher.viewer == "web" and launcher.viewer_port == port
     for task in ("simlab/Cartpole-v0", "simlab/Cartpole-Direct-v0"):
@@ -290,7 +279,7 @@ def test_the_app_loop_shows_the_simulation(cartpole_source):
     from simlab.app import AppLauncher
     from simlab.viewer.web import WebViewer
 
-    launcher = AppLauncher(viewer="web", viewer_port=_free_port())
+    launcher = AppLauncher(viewer="web", viewer_port=free_port())
     app = launcher.app
     try:
         for _ in range(3):
