@@ -384,10 +384,10 @@ def checkpoint_iteration(checkpoint: str, library: str, agent_cfg: dict) -> int:
 
 def checkpoint_name(checkpoint: str, library: str, iteration: int, agent_cfg: dict) -> str:
     """A file name that play's checkpoint search finds (locomotion_walk.py saves ``model_final.pt``)."""
-    from simlab.cli.runs import CHECKPOINT_LAYOUT
+    from simlab.cli.runs import is_checkpoint_name
 
     name = os.path.basename(checkpoint)
-    if re.match(CHECKPOINT_LAYOUT[library][1], name):  # anchored at the start, as play's search
+    if is_checkpoint_name(name, library):
         return name
     return f"model_{iteration}.pt" if library == "rsl_rl" else f"agent_{iteration * agent_cfg['agent']['rollouts']}.pt"
 

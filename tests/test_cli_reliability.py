@@ -310,16 +310,23 @@ def _policy_weights(checkpoint: str) -> dict[str, torch.Tensor]:
         from stable_baselines3 import PPO
 
         return PPO.load(checkpoint, device="cpu").policy.state_dict()
+    if checkpoint.endswith(".pth"):  # rl_games; its running mean normalizers learn without the optimizer
+        weights = torch.load(checkpoint, map_location="cpu", weights_only=False)["model"]
+        return {name: w for name, w in weights.items() if "mean_std" not in name}
     return torch.load(checkpoint, map_location="cpu", weights_only=False)["policy"]  # skrl
 
 
 @pytest.mark.parametrize(
     ("library", "pattern", "learning_rate"),
-    [("skrl", "checkpoints/agent_*.pt", "agent.agent.learning_rate"), ("sb3", "model_*.zip", "agent.learning_rate")],
+    [
+        ("skrl", "checkpoints/agent_*.pt", "agent.agent.learning_rate"),
+        ("sb3", "model_*.zip", "agent.learning_rate"),
+        ("rl_games", "nn/*.pth", "agent.params.config.learning_rate"),
+    ],
 )
 def test_a_resumed_run_takes_the_learning_rate_it_is_given(tmp_path, library, pattern, learning_rate):
-    """skrl and Stable-Baselines3 restore the saved learning rate with the checkpoint; a rate given
-    for the resumed run must apply (at 0 the policy may not change)."""
+    """skrl and Stable-Baselines3 restore the saved learning rate with the checkpoint, rl_games its
+    optimizer's; a rate given for the resumed run must apply (at 0 the policy may not change)."""
     first = _train(tmp_path, library=library)
     ckpt = max(glob.glob(os.path.join(first, pattern)), key=os.path.getmtime)
     second = _train(tmp_path, "--checkpoint", ckpt, f"{learning_rate}=0.0", library=library)

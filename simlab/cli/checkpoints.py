@@ -19,7 +19,7 @@ from typing import Any
 
 import gymnasium as gym
 
-from simlab.cli.runs import CHECKPOINT_LAYOUT, find_run_info
+from simlab.cli.runs import CHECKPOINT_LAYOUT, find_run_info, is_checkpoint_name
 from simlab.rl.utils import is_multi_agent
 from simlab.utils.errors import CheckpointError, CheckpointNotFoundError
 
@@ -85,12 +85,12 @@ def checkpoint_library(loaded: Any) -> str | None:
 
 def _candidates(run_dirs: list[str], library: str) -> Iterator[str]:
     """Checkpoint files of ``run_dirs`` (given newest first), newest first within each run."""
-    sub, pattern = CHECKPOINT_LAYOUT[library]
     for run in run_dirs:
-        folder = os.path.join(run, *sub)
+        folder = os.path.join(run, *CHECKPOINT_LAYOUT[library][0])
         if not os.path.isdir(folder):
             continue
-        names = [f for f in os.listdir(folder) if re.match(pattern, f) and os.path.isfile(os.path.join(folder, f))]
+        names = [f for f in os.listdir(folder) if is_checkpoint_name(f, library)]
+        names = [f for f in names if os.path.isfile(os.path.join(folder, f))]
         for name in sorted(names, key=_natural_key, reverse=True):
             yield os.path.join(folder, name)
 

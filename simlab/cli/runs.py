@@ -18,6 +18,7 @@ __all__ = [
     "dump_params",
     "find_run_info",
     "holds_checkpoint",
+    "is_checkpoint_name",
     "make_run_dir",
     "remove_if_empty_run",
     "run_dir_of_checkpoint",
@@ -81,11 +82,15 @@ def find_run_info(checkpoint: str) -> dict[str, Any] | None:
     return None
 
 
+def is_checkpoint_name(name: str, library: str) -> bool:
+    """True if a file named ``name`` is one of ``library``'s checkpoints (the whole name must match)."""
+    return re.match(CHECKPOINT_LAYOUT[library][1], name) is not None
+
+
 def holds_checkpoint(run_dir: str, library: str) -> bool:
     """True if the run folder holds at least one checkpoint file of ``library``."""
-    sub, pattern = CHECKPOINT_LAYOUT[library]
-    folder = os.path.join(run_dir, *sub)
-    return os.path.isdir(folder) and any(re.match(pattern, f) for f in os.listdir(folder))
+    folder = os.path.join(run_dir, *CHECKPOINT_LAYOUT[library][0])
+    return os.path.isdir(folder) and any(is_checkpoint_name(f, library) for f in os.listdir(folder))
 
 
 def remove_if_empty_run(run_dir: str, library: str) -> bool:

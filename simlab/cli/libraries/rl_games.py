@@ -107,12 +107,13 @@ def _train(env: gym.Env, agent_cfg: dict, run_dir: str, args: argparse.Namespace
     agent = runner.algo_factory.create(runner.algo_name, base_name="run", params=runner.params)
     if config.get("multi_gpu"):  # the agent has started the process group
         distributed.check_same_settings(args.shared_settings)
-    if resume_path:
-        agent.restore(resume_path)
-        print(f"[simlab] Resumed from {resume_path} at epoch {agent.epoch_num}")
     optimizers = [agent.optimizer]
     if getattr(agent, "has_central_value", False):
         optimizers.append(agent.central_value_net.optimizer)
+    if resume_path:
+        agent.restore(resume_path)
+        _use_configured_learning_rates(agent)
+        print(f"[simlab] Resumed from {resume_path} at epoch {agent.epoch_num}")
     guard_optimizers(optimizers, "agent.params.config.learning_rate")
     verbose = bool(getattr(args, "verbose", False))
     try:
@@ -148,6 +149,17 @@ class _RlGamesActor(nn.Module):
         mu = self.model.a2c_network({"obs": self.model.norm_obs(obs)})[0]
         # the player clamps the mean to [-1, 1] and rescales it to the action space [-clip, clip]
         return torch.clamp(mu, -1.0, 1.0) * self.clip_actions
+
+
+def _use_configured_learning_rates(agent: Any) -> None:
+    """rl_games' ``restore`` loads the optimizers with the learning rates they had when saved, and the
+    configured one (``agent.params.config.learning_rate``, kept as ``last_lr``) only takes over after
+    the first epoch: that epoch would silently train at the checkpoint's rate. It applies at once."""
+    for group in agent.optimizer.param_groups:
+        group["lr"] = float(agent.last_lr)
+    if getattr(agent, "has_central_value", False):
+        for group in agent.central_value_net.optimizer.param_groups:
+            group["lr"] = float(agent.central_value_net.lr)
 
 
 def _restore_on_device(player: Any, checkpoint: str, device: str) -> None:
