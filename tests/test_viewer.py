@@ -166,9 +166,11 @@ def test_a_failing_viewer_leaves_the_run_going(cartpole_source, capsys):
         time.sleep(0.05)
     assert viewer.failed
     assert "the browser went away" in capsys.readouterr().err
-    start = time.perf_counter()
-    viewer.after_step()  # a failed viewer costs nothing
-    assert time.perf_counter() - start < 0.01
+    # a failed viewer costs the run nothing: no snapshot, no episode bookkeeping
+    viewer._snapshot = viewer._track_episodes = lambda *args: pytest.fail("a failed viewer still does work")
+    viewer.controls.render_every = 1
+    viewer._next_frame = 0.0
+    viewer.after_step(torch.ones(9), torch.zeros(9, dtype=torch.bool))
     viewer.close()
 
 
