@@ -56,3 +56,31 @@ def test_bench_train_runs_the_ppo_update_and_rollout_step_asked_for(tmp_path):
     assert rows["fast"]["rollout_step"] == "fast (eager)"  # on the CPU it runs eagerly when asked for
     assert rows["rsl_rl"]["ppo_update"] == "rsl_rl" and rows["rsl_rl"]["rollout_policy"] == "eager"
     assert rows["rsl_rl"]["rollout_step"].startswith("rsl_rl (agent.fast_rollout=true: simlab's, opt-in")
+
+
+def test_bench_refuses_bad_input_before_measuring(capsys):
+    from simlab.cli.main import main as simlab_main
+
+    assert simlab_main(["bench", "env", "--device", "cpu", "--tasks", "simlab/Cartpol-v0", "--num_envs", "8"]) == 2
+    err = capsys.readouterr().err
+    assert "Unknown task 'simlab/Cartpol-v0'" in err and "simlab/Cartpole-v0" in err and "Traceback" not in err
+    for bad in (["physics", "--robots", "cartpol"], ["env", "--num_envs", "0"], ["env", "--steps", "0"]):
+        with pytest.raises(SystemExit) as stopped:
+            main([*bad, "--device", "cpu"])
+        assert stopped.value.code == 2, bad
+    err = capsys.readouterr().err
+    assert "invalid choice: 'cartpol' (choose from 'cartpole', 'ant', 'humanoid')" in err
+    assert "--num_envs takes counts >= 1" in err and "--steps takes a count >= 1" in err
+
+
+def test_a_failed_measurement_is_a_row_and_a_failing_exit_code(monkeypatch, capsys):
+    from simlab.benchmarks import env_suites
+
+    def out_of_memory(*args, **kwargs):
+        raise RuntimeError("CUDA out of memory (pretend)")
+
+    monkeypatch.setattr(env_suites, "bench_env", out_of_memory)
+    assert main(["env", "--device", "cpu", "--tasks", "simlab/Cartpole-v0", "--num_envs", "8"]) == 1
+    captured = capsys.readouterr()
+    assert "CUDA out of memory (pretend)" in captured.out
+    assert "1 measurement(s) failed" in captured.err

@@ -14,10 +14,12 @@ import argparse
 import json
 import os
 import platform
+import sys
 from collections.abc import Callable
 
 SUITES = ("physics", "env", "inference", "train", "solve")
 DEFAULT_SUITES = ("physics", "env", "inference", "train")  # solve trains to the end: asked for by name
+ROBOTS = ("cartpole", "ant", "humanoid")  # the physics suite's robots (benchmarks/physics.py builds them)
 
 
 def _print_table(rows: list[dict], columns: list[tuple[str, str, str]]) -> None:
@@ -140,7 +142,7 @@ def main(argv: list[str] | None = None) -> int:
     )
     parser.add_argument("--device", default=None, help="cpu or cuda:N (default: the GPU when there is one)")
     parser.add_argument("--num_envs", type=int, nargs="+", default=None, help="env counts (default: by device)")
-    parser.add_argument("--robots", nargs="+", default=["cartpole", "ant", "humanoid"], help="physics suite robots")
+    parser.add_argument("--robots", nargs="+", choices=ROBOTS, default=list(ROBOTS), help="physics suite robots")
     parser.add_argument("--tasks", nargs="+", default=None, help="env/train suite tasks (Gymnasium ids)")
     parser.add_argument("--steps", type=int, default=None, help="timed steps per round")
     parser.add_argument("--iterations", type=int, default=10, help="timed training iterations")
@@ -211,6 +213,15 @@ def main(argv: list[str] | None = None) -> int:
         parser.error("--rollout_step both is for the train suite; give solve fast, rsl_rl or default")
     if (args.pycache_prefix or args.warp_cache) and not args.processes:
         parser.error("--pycache_prefix and --warp_cache set up fresh processes: give --processes N (N >= 1)")
+    if any(n < 1 for n in args.num_envs or []):
+        parser.error(f"--num_envs takes counts >= 1, got {args.num_envs}")
+    if args.steps is not None and args.steps < 1:
+        parser.error(f"--steps takes a count >= 1, got {args.steps}")
+    if args.tasks:
+        from simlab.tasks.utils.parse_cfg import task_spec
+
+        for task in args.tasks:
+            task_spec(task)  # an unknown id: one error naming the closest registered ones, before any measurement
 
     from simlab.app.app_launcher import resolve_device
 
@@ -241,6 +252,7 @@ def main(argv: list[str] | None = None) -> int:
         if name == "solve":
             _print_solve_breakdown(rows)
         results[name] = rows
+    failed = sum("error" in row for rows in results.values() for row in rows)
     if args.json:
         meta = {"device": device, "machine": platform.node(), "cpu_count": os.cpu_count()}
         if gpu:
@@ -250,6 +262,9 @@ def main(argv: list[str] | None = None) -> int:
         with open(args.json, "w") as f:
             json.dump({"meta": meta, "results": results}, f, indent=2)
         print(f"\nwrote {args.json}")
+    if failed:
+        print(f"\nsimlab bench: {failed} measurement(s) failed: their errors are above", file=sys.stderr)
+        return 1
     return 0
 
 

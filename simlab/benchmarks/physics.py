@@ -15,11 +15,12 @@ from simlab.assets import AssetBaseCfg
 from simlab.scene import InteractiveScene, InteractiveSceneCfg
 from simlab.utils import configclass
 
+from .cli import ROBOTS
 from .timing import gpu_memory_mb, interleaved, reset_gpu_memory_peak
 
 
 def robot_cfg(name: str):
-    """The articulation config of a benchmark robot, by name."""
+    """The articulation config of a benchmark robot (one of ``ROBOTS``), and whether it needs a floor."""
     if name == "cartpole":
         from simlab.robots.cartpole import CARTPOLE_CFG
 
@@ -32,7 +33,7 @@ def robot_cfg(name: str):
         from simlab.robots.ant import ANT_CFG
 
         return ANT_CFG, True
-    raise ValueError(f"Unknown benchmark robot '{name}'; available: cartpole, humanoid, ant")
+    raise ValueError(f"Unknown benchmark robot '{name}'; available: {', '.join(ROBOTS)}")
 
 
 def build_scene(robot: str, num_envs: int, device: str) -> tuple[sim_utils.SimulationContext, InteractiveScene]:
@@ -43,7 +44,7 @@ def build_scene(robot: str, num_envs: int, device: str) -> tuple[sim_utils.Simul
         robot = cfg.replace(prim_path="{ENV_REGEX_NS}/Robot")
         ground = AssetBaseCfg(prim_path="/World/ground", spawn=sim_utils.GroundPlaneCfg()) if needs_ground else None
 
-    sim_cfg = sim_utils.SimulationCfg(dt=1 / 120 if robot == "cartpole" else 1 / 120, device=device)
+    sim_cfg = sim_utils.SimulationCfg(dt=1 / 120, device=device)
     sim_cfg.mujoco.disable_contacts = not needs_ground
     sim_utils.SimulationContext.clear_instance()
     sim = sim_utils.SimulationContext(sim_cfg)

@@ -25,7 +25,7 @@ import signal
 import sys
 import threading
 import traceback
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from typing import Any
 
 from simlab.cli.distributed import add_launch_args, end_torchrun_worker
@@ -268,25 +268,27 @@ def _main(argv: list[str]) -> int:
     if argv and argv[0] == "bench":
         from simlab.benchmarks.cli import main as bench_main
 
-        try:  # `bench solve` trains: SIGTERM saves its checkpoint as for `simlab train`
-            with _sigterm_as_interrupt():
-                return int(bench_main(argv[1:]) or 0)
-        except Terminated:
-            return EXIT_TERMINATED
+        return _run_command("bench", False, lambda: bench_main(argv[1:]))  # `bench solve` trains
     parser = build_parser()
     args, rest = parser.parse_known_args(argv)
     bad = [a for a in rest if "=" not in a or a.startswith("-")]
     if bad:
         parser.error(f"unrecognized arguments: {' '.join(bad)} (overrides look like env.x.y=1 or agent.z=2)")
+    return _run_command(args.command, getattr(args, "debug", False), lambda: _dispatch(parser, args, rest, argv))
+
+
+def _run_command(command: str, debug: bool, run: Callable[[], int | None]) -> int:
+    """Run a command with SIGTERM handled as Ctrl+C (a training saves its checkpoint), and errors
+    reported by :func:`_report`; the command's exit code."""
     try:
         with _sigterm_as_interrupt():
-            return _dispatch(parser, args, rest, argv)
+            return int(run() or 0)
     except Terminated:
         return EXIT_TERMINATED
     except KeyboardInterrupt:
         return EXIT_INTERRUPTED
     except Exception as e:  # noqa: BLE001 - the one place that turns errors into messages
-        return _report(args.command, e, getattr(args, "debug", False))
+        return _report(command, e, debug)
 
 
 def _dispatch(parser: argparse.ArgumentParser, args: argparse.Namespace, rest: list[str], argv: list[str]) -> int:
