@@ -80,10 +80,24 @@ def test_errors_are_clear(tmp_path, capsys):
         _run(tmp_path, "train", *SMALL, "--no_such_flag")
 
 
+def test_output_to_a_reader_that_went_away_ends_quietly():
+    """`simlab list | head -1`: the pipe closes before simlab writes; no traceback, the shell's exit code."""
+    env = {**os.environ, "PYTHONPATH": os.path.dirname(os.path.dirname(os.path.abspath(__file__)))}
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "simlab", "list"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env
+    )
+    proc.stdout.close()
+    err = proc.stderr.read()
+    assert proc.wait(timeout=120) == 141 and err == "", err
+
+
 def test_list_random_zero(tmp_path, capsys):
     assert main(["list", "--keyword", "cartpole"]) == 0
     out = capsys.readouterr().out
     assert "simlab/Cartpole-v0" in out and "simlab/Ant-Direct-v0" not in out
+    assert main(["list", "GO2"]) == 0  # the word alone, in any case
+    out = capsys.readouterr().out
+    assert "simlab/Velocity-Rough-Unitree-Go2-v0" in out and "Cartpole" not in out
     assert _run(tmp_path, "random", *SMALL, "--steps", "3") == 0
     assert (
         _run(

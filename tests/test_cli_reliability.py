@@ -140,8 +140,16 @@ def test_play_seconds_runs_that_much_simulated_time(tmp_path):
     [
         (["train", "--max_iterations", "0"], "--max_iterations must be at least 1, got 0"),
         (["train", "--max_iterations", "-3"], "--max_iterations must be at least 1, got -3"),
-        (["train", "agent.max_iterations=0"], "agent.max_iterations must be at least 1 to train, got 0"),
-        (["train", "--library", "skrl", "agent.trainer.timesteps=0"], "agent.trainer.timesteps must be at least 1"),
+        (["train", "agent.max_iterations=0"], "agent.max_iterations must be a whole number >= 1 to train, got 0"),
+        (["train", "--library", "skrl", "agent.trainer.timesteps=0"], "agent.trainer.timesteps must be a whole number"),
+        (
+            ["train", "agent.num_steps_per_env=-5"],
+            "agent.num_steps_per_env must be a whole number >= 1 to train, got -5",
+        ),
+        (["train", "agent.algorithm.num_mini_batches=0"], "agent.algorithm.num_mini_batches must be a whole number"),
+        (["train", "--library", "skrl", "agent.agent.rollouts=2.5"], "agent.agent.rollouts must be a whole number"),
+        (["train", "--library", "sb3", "agent.n_epochs=0"], "agent.n_epochs must be a whole number >= 1 to train"),
+        (["train", "--library", "rl_games", "agent.params.config.horizon_length=-1"], "horizon_length must be a"),
         (["train", "--video", "--video_length", "0"], "--video_length must be at least 1, got 0"),
         (["train", "--video", "--video_length", "-5"], "--video_length must be at least 1, got -5"),
         (["train", "--video", "--video_length", "50", "--video_interval", "20"], "longer than --video_interval 20"),

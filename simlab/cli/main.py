@@ -21,6 +21,7 @@ from __future__ import annotations
 import argparse
 import contextlib
 import gc
+import os
 import signal
 import sys
 import threading
@@ -158,7 +159,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--real-time", action="store_true", help="Step no faster than simulated time (for watching).")
 
     p = sub.add_parser("list", help="List the registered tasks.")
-    p.add_argument("--keyword", default=None, help="Only tasks whose id contains this word.")
+    p.add_argument("keyword", nargs="?", default=None, help="Only tasks whose id contains this word (any case).")
+    p.add_argument("--keyword", dest="keyword_flag", default=None, help="The same (Isaac Lab's list_envs.py flag).")
     _add_debug(p)
 
     for name, text in (("random", "random actions"), ("zero", "zero actions")):
@@ -194,6 +196,7 @@ class Terminated(KeyboardInterrupt):
 
 # exit codes of a process stopped by SIGINT / SIGTERM (128 + signal number), as shells report them
 EXIT_INTERRUPTED = 130
+EXIT_BROKEN_PIPE = 141  # the reader of the output went away (`simlab list | head`)
 EXIT_TERMINATED = 143
 EXIT_ERROR = 2  # a wrong input or a state the user can fix; argparse uses 2 for wrong flags too
 EXIT_BUG = 1  # an unexpected exception, as Python exits on one
@@ -238,6 +241,11 @@ def main(argv: list[str] | None = None) -> int:
         pause_collector_for_start_up()
     try:
         code = _main(words)
+        if argv is None:
+            sys.stdout.flush()  # here, where a reader that went away is caught
+    except BrokenPipeError:  # stdout's reader closed it (`simlab list | head -1`): stop quietly
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # Python's own flush at exit would fail too
+        code = EXIT_BROKEN_PIPE
     finally:
         resume_collector_after_start_up()  # training resumes it itself; this is for an error before
     if argv is None:  # the process ends next: not when a caller (a test, a script) goes on
@@ -287,6 +295,8 @@ def _run_command(command: str, debug: bool, run: Callable[[], int | None]) -> in
         return EXIT_TERMINATED
     except KeyboardInterrupt:
         return EXIT_INTERRUPTED
+    except BrokenPipeError:
+        raise  # main() ends the command quietly
     except Exception as e:  # noqa: BLE001 - the one place that turns errors into messages
         return _report(command, e, debug)
 
@@ -295,7 +305,7 @@ def _dispatch(parser: argparse.ArgumentParser, args: argparse.Namespace, rest: l
     if args.command == "list":
         from simlab.cli.list_tasks import list_tasks
 
-        return list_tasks(args.keyword)
+        return list_tasks(args.keyword or args.keyword_flag)
     if args.command in ("random", "zero"):
         if rest:
             parser.error("random/zero take no overrides")

@@ -17,7 +17,7 @@ __all__ = [
     "LIBRARIES",
     "agent_entry_point",
     "check_flags",
-    "check_training_length",
+    "check_training_counts",
     "load_configs",
     "make_env",
     "resolve_seed",
@@ -66,10 +66,17 @@ def check_flags(args: argparse.Namespace) -> None:
             )
 
 
-def check_training_length(args: argparse.Namespace, value: Any, key: str) -> None:
-    """When training, refuse an agent config that trains for less than one iteration (set by an override)."""
-    if hasattr(args, "max_iterations") and not (isinstance(value, (int, float)) and value >= 1):
-        raise ConfigError(f"{key} must be at least 1 to train, got {value!r}.")
+def check_training_counts(args: argparse.Namespace, counts: dict[str, Any]) -> None:
+    """When training, refuse agent settings that count something (rollout steps, epochs, mini-batches,
+    iterations) and are not a whole number >= 1: an override such as ``agent.num_steps_per_env=-5``
+    would otherwise fail deep inside the library, or train nothing. ``counts``: the override key of
+    each setting and its value (None: the config has no such setting)."""
+    if not hasattr(args, "max_iterations"):
+        return
+    for key, value in counts.items():
+        whole = isinstance(value, (int, float)) and not isinstance(value, bool) and float(value).is_integer()
+        if value is not None and not (whole and value >= 1):
+            raise ConfigError(f"{key} must be a whole number >= 1 to train, got {value!r}.")
 
 
 def resolve_seed(seed: int | None) -> int | None:

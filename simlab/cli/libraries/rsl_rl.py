@@ -17,7 +17,7 @@ import torch
 from simlab.cli.libraries.divergence import detached, non_finite
 from simlab.cli.libraries.progress import ProgressBar
 from simlab.cli.policy import ClampActions, Policy
-from simlab.cli.session import check_training_length
+from simlab.cli.session import check_training_counts
 from simlab.rl.utils import require
 from simlab.utils.errors import ConfigError, TrainingDivergedError
 from simlab.utils.io import atomic_torch_saves
@@ -45,7 +45,17 @@ def configure(agent_cfg: RslRlOnPolicyRunnerCfg, args: argparse.Namespace, env_c
         agent_cfg.max_iterations = args.max_iterations
     if getattr(args, "run_name", None):
         agent_cfg.run_name = args.run_name
-    check_training_length(args, agent_cfg.max_iterations, "agent.max_iterations")
+    algorithm = agent_cfg.algorithm
+    check_training_counts(
+        args,
+        {
+            "agent.num_steps_per_env": agent_cfg.num_steps_per_env,
+            "agent.algorithm.num_learning_epochs": getattr(algorithm, "num_learning_epochs", None),
+            "agent.algorithm.num_mini_batches": getattr(algorithm, "num_mini_batches", None),
+            "agent.save_interval": agent_cfg.save_interval,
+            "agent.max_iterations": agent_cfg.max_iterations,
+        },
+    )
     env_cfg.seed = agent_cfg.seed
 
 

@@ -24,7 +24,7 @@ import torch.nn as nn
 
 from simlab.cli.libraries.divergence import detached, non_finite
 from simlab.cli.policy import Policy
-from simlab.cli.session import check_training_length
+from simlab.cli.session import check_training_counts
 from simlab.rl.skrl import SkrlVecEnvWrapper
 from simlab.rl.utils import require
 from simlab.utils.errors import TrainingDivergedError
@@ -152,7 +152,16 @@ def configure(agent_cfg: dict, args: argparse.Namespace, env_cfg: Any) -> None:
             raise ValueError("--distributed trains skrl on torch; drop --ml_framework or use --ml_framework torch.")
         _join_process_group()
     agent_cfg["trainer"]["close_environment_at_exit"] = False
-    check_training_length(args, agent_cfg["trainer"]["timesteps"], "agent.trainer.timesteps")
+    settings = agent_cfg["agent"]
+    check_training_counts(
+        args,
+        {
+            "agent.agent.rollouts": settings.get("rollouts"),
+            "agent.agent.learning_epochs": settings.get("learning_epochs"),
+            "agent.agent.mini_batches": settings.get("mini_batches"),
+            "agent.trainer.timesteps": agent_cfg["trainer"]["timesteps"],
+        },
+    )
     # skrl's "auto" intervals are timesteps/100 and /10, which is 0 (never) in short runs: keep them >= 1
     timesteps, rollouts = agent_cfg["trainer"]["timesteps"], agent_cfg["agent"]["rollouts"]
     exp = agent_cfg["agent"]["experiment"]
