@@ -150,6 +150,8 @@ def test_play_seconds_runs_that_much_simulated_time(tmp_path):
         (["train", "--library", "skrl", "agent.agent.rollouts=2.5"], "agent.agent.rollouts must be a whole number"),
         (["train", "--library", "sb3", "agent.n_epochs=0"], "agent.n_epochs must be a whole number >= 1 to train"),
         (["train", "--library", "rl_games", "agent.params.config.horizon_length=-1"], "horizon_length must be a"),
+        (["train", "agent.algorithm.learning_rate=-1"], "agent.algorithm.learning_rate must be a finite number >= 0"),
+        (["train", "--library", "skrl", "agent.agent.learning_rate=nan"], "agent.agent.learning_rate must be a finite"),
         (["train", "--video", "--video_length", "0"], "--video_length must be at least 1, got 0"),
         (["train", "--video", "--video_length", "-5"], "--video_length must be at least 1, got -5"),
         (["train", "--video", "--video_length", "50", "--video_interval", "20"], "longer than --video_interval 20"),

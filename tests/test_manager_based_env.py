@@ -114,3 +114,14 @@ def test_invalid_decimation_is_rejected():
     cfg.decimation = 0
     with pytest.raises(ValueError, match="decimation must be an int >= 1"):
         ManagerBasedEnv(cfg)
+
+
+@pytest.mark.parametrize("seconds", [0.0, -1.0])
+def test_an_episode_that_is_not_positive_is_rejected(seconds):
+    from simlab.envs import ManagerBasedRLEnv
+    from simlab.tasks.manager_based.classic.cartpole.cartpole_env_cfg import CartpoleEnvCfg
+
+    cfg = CartpoleEnvCfg()
+    cfg.scene.num_envs, cfg.sim.device, cfg.episode_length_s = 2, "cpu", seconds
+    with pytest.raises(ValueError, match="episode_length_s must be a positive number of seconds"):
+        ManagerBasedRLEnv(cfg)

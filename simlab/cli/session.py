@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import warnings
 from typing import Any
@@ -17,7 +18,7 @@ __all__ = [
     "LIBRARIES",
     "agent_entry_point",
     "check_flags",
-    "check_training_counts",
+    "check_training_settings",
     "load_configs",
     "make_env",
     "resolve_seed",
@@ -66,17 +67,20 @@ def check_flags(args: argparse.Namespace) -> None:
             )
 
 
-def check_training_counts(args: argparse.Namespace, counts: dict[str, Any]) -> None:
-    """When training, refuse agent settings that count something (rollout steps, epochs, mini-batches,
-    iterations) and are not a whole number >= 1: an override such as ``agent.num_steps_per_env=-5``
-    would otherwise fail deep inside the library, or train nothing. ``counts``: the override key of
-    each setting and its value (None: the config has no such setting)."""
+def check_training_settings(args: argparse.Namespace, counts: dict[str, Any], rates: dict[str, Any]) -> None:
+    """When training, refuse agent settings an override can break before the library trips on them deep
+    inside (or trains nothing): ``counts`` (rollout steps, epochs, mini-batches, iterations) must be whole
+    numbers >= 1, ``rates`` (learning rates) finite numbers >= 0. Both map an override key to its value
+    (None: the config has no such setting; a rate given as text, an SB3 schedule, is the library's)."""
     if not hasattr(args, "max_iterations"):
         return
     for key, value in counts.items():
         whole = isinstance(value, (int, float)) and not isinstance(value, bool) and float(value).is_integer()
         if value is not None and not (whole and value >= 1):
             raise ConfigError(f"{key} must be a whole number >= 1 to train, got {value!r}.")
+    for key, value in rates.items():
+        if isinstance(value, (int, float)) and not (math.isfinite(value) and value >= 0):
+            raise ConfigError(f"{key} must be a finite number >= 0, got {value!r}.")
 
 
 def resolve_seed(seed: int | None) -> int | None:

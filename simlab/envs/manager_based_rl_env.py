@@ -51,6 +51,8 @@ class ManagerBasedRLEnv(ManagerBasedEnv, gym.Env):
         if render_mode not in self.metadata["render_modes"]:
             raise ValueError(f"render_mode must be one of {self.metadata['render_modes']}, got {render_mode!r}")
         self.render_mode = render_mode
+        if not (isinstance(cfg.episode_length_s, (int, float)) and cfg.episode_length_s > 0):
+            raise ValueError(f"cfg.episode_length_s must be a positive number of seconds, got {cfg.episode_length_s!r}")
         self.common_step_counter = 0
         self.episode_length_buf = torch.zeros(cfg.scene.num_envs, dtype=torch.long)
         super().__init__(cfg)

@@ -19,7 +19,7 @@ from simlab.cli import distributed
 from simlab.cli.libraries.divergence import guard_optimizers
 from simlab.cli.libraries.progress import ProgressBar
 from simlab.cli.policy import Policy
-from simlab.cli.session import check_training_counts
+from simlab.cli.session import check_training_settings
 from simlab.rl.utils import require
 from simlab.utils.errors import TrainingDivergedError
 from simlab.utils.io import atomic_torch_saves
@@ -44,12 +44,13 @@ def configure(agent_cfg: dict, args: argparse.Namespace, env_cfg: Any) -> None:
     config.setdefault("torch_compile", False)
     if getattr(args, "max_iterations", None) is not None:
         config["max_epochs"] = args.max_iterations
-    check_training_counts(
+    check_training_settings(
         args,
         {
             f"agent.params.config.{key}": config.get(key)
             for key in ("horizon_length", "minibatch_size", "mini_epochs", "max_epochs")
         },
+        {"agent.params.config.learning_rate": config.get("learning_rate")},
     )
     num_envs = env_cfg.scene.num_envs
     config["num_actors"] = num_envs

@@ -17,7 +17,7 @@ import torch
 from simlab.cli.libraries.divergence import detached, non_finite
 from simlab.cli.libraries.progress import ProgressBar
 from simlab.cli.policy import ClampActions, Policy
-from simlab.cli.session import check_training_counts
+from simlab.cli.session import check_training_settings
 from simlab.rl.utils import require
 from simlab.utils.errors import ConfigError, TrainingDivergedError
 from simlab.utils.io import atomic_torch_saves
@@ -46,7 +46,7 @@ def configure(agent_cfg: RslRlOnPolicyRunnerCfg, args: argparse.Namespace, env_c
     if getattr(args, "run_name", None):
         agent_cfg.run_name = args.run_name
     algorithm = agent_cfg.algorithm
-    check_training_counts(
+    check_training_settings(
         args,
         {
             "agent.num_steps_per_env": agent_cfg.num_steps_per_env,
@@ -55,6 +55,7 @@ def configure(agent_cfg: RslRlOnPolicyRunnerCfg, args: argparse.Namespace, env_c
             "agent.save_interval": agent_cfg.save_interval,
             "agent.max_iterations": agent_cfg.max_iterations,
         },
+        {"agent.algorithm.learning_rate": getattr(algorithm, "learning_rate", None)},
     )
     env_cfg.seed = agent_cfg.seed
 

@@ -15,7 +15,7 @@ import torch.nn as nn
 
 from simlab.cli.libraries.divergence import guard_optimizers
 from simlab.cli.policy import ClampActions, Policy
-from simlab.cli.session import check_training_counts
+from simlab.cli.session import check_training_settings
 from simlab.rl.utils import require
 from simlab.utils.errors import TrainingDivergedError
 from simlab.utils.io import atomic_path
@@ -43,9 +43,10 @@ def configure(agent_cfg: dict, args: argparse.Namespace, env_cfg: Any) -> None:
     agent_cfg["device"] = env_cfg.sim.device
     if getattr(args, "max_iterations", None) is not None:
         agent_cfg["n_timesteps"] = args.max_iterations * agent_cfg["n_steps"] * env_cfg.scene.num_envs
-    check_training_counts(
+    check_training_settings(
         args,
         {f"agent.{key}": agent_cfg.get(key) for key in ("n_steps", "batch_size", "n_epochs", "n_timesteps")},
+        {"agent.learning_rate": agent_cfg.get("learning_rate")},
     )
     env_cfg.seed = agent_cfg["seed"]
 

@@ -24,7 +24,7 @@ import torch.nn as nn
 
 from simlab.cli.libraries.divergence import detached, non_finite
 from simlab.cli.policy import Policy
-from simlab.cli.session import check_training_counts
+from simlab.cli.session import check_training_settings
 from simlab.rl.skrl import SkrlVecEnvWrapper
 from simlab.rl.utils import require
 from simlab.utils.errors import TrainingDivergedError
@@ -153,7 +153,7 @@ def configure(agent_cfg: dict, args: argparse.Namespace, env_cfg: Any) -> None:
         _join_process_group()
     agent_cfg["trainer"]["close_environment_at_exit"] = False
     settings = agent_cfg["agent"]
-    check_training_counts(
+    check_training_settings(
         args,
         {
             "agent.agent.rollouts": settings.get("rollouts"),
@@ -161,6 +161,7 @@ def configure(agent_cfg: dict, args: argparse.Namespace, env_cfg: Any) -> None:
             "agent.agent.mini_batches": settings.get("mini_batches"),
             "agent.trainer.timesteps": agent_cfg["trainer"]["timesteps"],
         },
+        {"agent.agent.learning_rate": settings.get("learning_rate")},
     )
     # skrl's "auto" intervals are timesteps/100 and /10, which is 0 (never) in short runs: keep them >= 1
     timesteps, rollouts = agent_cfg["trainer"]["timesteps"], agent_cfg["agent"]["rollouts"]
