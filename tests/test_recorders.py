@@ -3,6 +3,8 @@ recorded and replayed bit-identically (``simlab record`` / ``simlab replay``).""
 
 from __future__ import annotations
 
+import os
+
 import h5py
 import pytest
 import torch
@@ -170,3 +172,18 @@ def test_recorded_demos_replay_bit_identically(tmp_path, capsys):
     assert main(["replay", *common, "--validate_states"]) == 0
     out = capsys.readouterr().out
     assert out.count("30 steps replayed, states bit-identical") == 2
+
+
+def test_record_keeps_an_existing_dataset_and_writes_the_file_it_names(tmp_path, capsys):
+    dataset = tmp_path / "demos.hdf5"
+    dataset.write_bytes(b"the user's demonstrations")
+    common = ["--task", "simlab/Cartpole-v0", "--device", "cpu", "--headless", "env.episode_length_s=0.1"]
+    assert main(["record", *common, "--dataset_file", str(dataset)]) == 2
+    assert "demos.hdf5 exists: give another --dataset_file, or --overwrite" in capsys.readouterr().err
+    assert dataset.read_bytes() == b"the user's demonstrations"
+    assert main(["record", *common, "--dataset_file", str(tmp_path / "demos.h5")]) == 2
+    assert "--dataset_file must end with .hdf5" in capsys.readouterr().err
+    assert sorted(os.listdir(tmp_path)) == ["demos.hdf5"]
+    assert main(["record", *common, "--dataset_file", str(dataset), "--overwrite"]) == 0
+    assert f"into {dataset}" in capsys.readouterr().out
+    assert dataset.read_bytes()[:8] == b"\x89HDF\r\n\x1a\n"  # an HDF5 file now

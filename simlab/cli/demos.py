@@ -35,10 +35,15 @@ def run_record(args: argparse.Namespace, overrides: list[str]) -> int:
 
     if args.num_demos < 1:
         raise ConfigError(f"--num_demos must be at least 1, got {args.num_demos}.")
+    path = os.path.abspath(args.dataset_file)
+    stem, extension = os.path.splitext(path)
+    if extension != ".hdf5":  # the recorder names its file <stem>.hdf5
+        raise ConfigError(f"--dataset_file must end with .hdf5 (the recorder writes HDF5), got '{args.dataset_file}'.")
+    if os.path.exists(path) and not args.overwrite:
+        raise ConfigError(f"{path} exists: give another --dataset_file, or --overwrite to replace its episodes.")
     env_cfg, _ = load_configs(args, overrides, with_agent=False)
-    directory, filename = os.path.split(os.path.abspath(args.dataset_file))
     env_cfg.recorders = ActionStateRecorderManagerCfg(
-        dataset_export_dir_path=directory, dataset_filename=os.path.splitext(filename)[0]
+        dataset_export_dir_path=os.path.dirname(stem), dataset_filename=os.path.basename(stem)
     )
     env_cfg.seed = args.seed if args.seed is not None else 0
     env = gym.make(args.task, cfg=env_cfg).unwrapped
@@ -58,7 +63,7 @@ def run_record(args: argparse.Namespace, overrides: list[str]) -> int:
             recorded = manager.exported_successful_episode_count + manager.exported_failed_episode_count
     finally:
         env.close()
-    print(f"[simlab] recorded {recorded} episodes of {args.task} into {os.path.abspath(args.dataset_file)}")
+    print(f"[simlab] recorded {recorded} episodes of {args.task} into {path}")
     return 0
 
 

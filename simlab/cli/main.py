@@ -179,6 +179,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--dataset_file", default="./datasets/dataset.hdf5", help="HDF5 file to write.")
     p.add_argument("--num_demos", type=int, default=1, help="Finished episodes to record (default: 1).")
     p.add_argument("--actions", choices=("random", "zero"), default="random", help="Seeded random or zero actions.")
+    p.add_argument("--overwrite", action="store_true", help="Replace an existing --dataset_file.")
 
     p = sub.add_parser("replay", help="Replay the episodes of an HDF5 dataset (and check the states).")
     _add_common(p, video=False)
