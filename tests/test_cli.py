@@ -182,3 +182,15 @@ def test_video_without_a_working_gl_backend_fails_before_training(tmp_path, caps
     err = capsys.readouterr().err
     assert "MUJOCO_GL=bogus" in err and "unset MUJOCO_GL" in err
     assert not glob.glob(str(tmp_path / "logs" / "rsl_rl" / "*" / "*" / "model_*.pt"))  # nothing was trained
+
+
+def test_the_progress_bar_rate_is_steps_over_the_librarys_iteration_time():
+    """The bar is made after the first iteration: its rate must come from the iterations' own times,
+    or the first iteration's steps count in no time (a 1-iteration rl_games run showed 7 million steps/s)."""
+    from simlab.cli.libraries.progress import ProgressBar
+
+    bar = ProgressBar(total=3, desc="test")
+    bar.update(1, steps=1000, seconds=0.5)
+    bar.update(1, steps=1000, seconds=1.5)
+    assert "steps/s=1,000" in bar._bar.postfix
+    bar.close()

@@ -93,7 +93,7 @@ class _ProgressLogger(Logger):
         reward = statistics.mean(self.rewbuffer) if self.rewbuffer else None
         length = statistics.mean(self.lenbuffer) if self.lenbuffer else None
         steps = self.cfg["num_steps_per_env"] * self.num_envs * self.gpu_world_size  # all ranks' steps
-        self._bar.update(1, steps=steps, reward=reward, ep_len=length)
+        self._bar.update(1, steps=steps, seconds=collect_time + learn_time, reward=reward, ep_len=length)
 
     def process_env_step(self, rewards, dones, extras, intrinsic_rewards=None) -> None:
         """rsl_rl's bookkeeping without its per-step device-to-host copies.
