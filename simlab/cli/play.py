@@ -19,7 +19,7 @@ from simlab.cli.checkpoints import (
 )
 from simlab.cli.libraries import get_library
 from simlab.cli.runs import run_dir_of_checkpoint
-from simlab.cli.session import check_flags, load_configs, make_env
+from simlab.cli.session import ONE_VIDEO_INTERVAL, check_flags, load_configs, make_env
 from simlab.cli.train import uses_multi_agent_learner
 from simlab.utils.errors import CheckpointError, ConfigError, SimlabError
 
@@ -128,7 +128,7 @@ def run_play(
     force = getattr(args, "force", False)
     check_checkpoint_source(checkpoint, args.library, args.task, force=force)
     run_dir = run_dir_of_checkpoint(checkpoint, args.library)
-    args.video_interval = 10**12  # one video, from the first step
+    args.video_interval = ONE_VIDEO_INTERVAL
     env = make_env(
         args, env_cfg, os.path.join(run_dir, "videos", "play"), single_agent=not uses_multi_agent_learner(args)
     )

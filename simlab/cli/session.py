@@ -15,6 +15,7 @@ from simlab.tasks.utils import apply_overrides, load_cfg_from_registry
 from simlab.utils.errors import ConfigError
 
 __all__ = [
+    "ONE_VIDEO_INTERVAL",
     "LIBRARIES",
     "agent_entry_point",
     "check_flags",
@@ -23,6 +24,8 @@ __all__ = [
     "make_env",
     "resolve_seed",
 ]
+
+ONE_VIDEO_INTERVAL = 10**12  # a --video_interval no run reaches: one video, from the first step (play)
 
 LIBRARIES = ("rsl_rl", "skrl", "sb3", "rl_games")
 SKRL_ALGORITHMS = ("PPO", "AMP", "IPPO", "MAPPO")
@@ -163,7 +166,8 @@ def make_env(args: argparse.Namespace, env_cfg: Any, video_dir: str | None, sing
             name_prefix=_free_video_prefix(video_dir, "rl-video"),
             disable_logger=True,
         )
-        print(f"[simlab] Recording {args.video_length}-step videos every {interval} steps to {video_dir}")
+        every = f"videos every {interval} steps" if interval < ONE_VIDEO_INTERVAL else "video from the first step"
+        print(f"[simlab] Recording {args.video_length}-step {every} to {video_dir}")
     return with_viewer(args, env)
 
 
