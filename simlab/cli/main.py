@@ -2,7 +2,7 @@
 
     simlab train --task simlab/Cartpole-v0 --headless [--library rsl_rl|skrl|sb3|rl_games] [overrides]
     simlab play  --task simlab/Cartpole-v0 --use_last_checkpoint [--video] [--eval]
-    simlab list  [--keyword cart]
+    simlab list  [cart]
     simlab random|zero --task simlab/Cartpole-v0
     simlab record --task simlab/Cartpole-v0 --dataset_file demos.hdf5 --num_demos 5
     simlab replay --task simlab/Cartpole-v0 --dataset_file demos.hdf5 --validate_states
@@ -94,6 +94,12 @@ def _add_agent(p: argparse.ArgumentParser) -> None:
     p.add_argument("--verbose", action="store_true", help="Print the libraries' own per-iteration logs.")
 
 
+OVERRIDES_HELP = (
+    "After the flags, Hydra-style overrides of any config field: env.<path>=value, agent.<path>=value "
+    "(e.g. env.scene.num_envs=64 agent.seed=2024; null removes a term)."
+)
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="simlab",
@@ -104,7 +110,7 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", metavar="{train,play,list,random,zero,record,replay,bench}")
     sub.required = True
 
-    p = sub.add_parser("train", help="Train a policy.")
+    p = sub.add_parser("train", help="Train a policy.", epilog=OVERRIDES_HELP)
     _add_common(p)
     _add_agent(p)
     p.add_argument("--max_iterations", type=int, default=None, help="Training iterations (default: the agent's).")
@@ -129,7 +135,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     add_launch_args(p)
 
-    p = sub.add_parser("play", help="Run a trained policy; export it to ONNX and TorchScript.")
+    p = sub.add_parser("play", help="Run a trained policy; export it to ONNX and TorchScript.", epilog=OVERRIDES_HELP)
     _add_common(p)
     _add_agent(p)
     p.add_argument(
