@@ -17,6 +17,7 @@ Body poses and other derived quantities are recomputed only if a term reads them
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import MISSING
 from typing import Any, ClassVar
 
 import gymnasium as gym
@@ -51,7 +52,8 @@ class ManagerBasedRLEnv(ManagerBasedEnv, gym.Env):
         if render_mode not in self.metadata["render_modes"]:
             raise ValueError(f"render_mode must be one of {self.metadata['render_modes']}, got {render_mode!r}")
         self.render_mode = render_mode
-        if not (isinstance(cfg.episode_length_s, (int, float)) and cfg.episode_length_s > 0):
+        length = cfg.episode_length_s  # MISSING is left to the config's validation, which names every missing field
+        if length is not MISSING and not (isinstance(length, (int, float)) and length > 0):
             raise ValueError(f"cfg.episode_length_s must be a positive number of seconds, got {cfg.episode_length_s!r}")
         self.common_step_counter = 0
         self.episode_length_buf = torch.zeros(cfg.scene.num_envs, dtype=torch.long)
