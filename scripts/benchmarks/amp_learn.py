@@ -152,15 +152,13 @@ def main() -> int:
     rollouts = load_cfg_from_registry(task, "skrl_amp_cfg_entry_point")["agent"]["rollouts"]
     iterations = int(os.path.basename(checkpoint)[len("agent_") : -len(".pt")]) // rollouts
 
-    env_cfg = load_cfg_from_registry(task, "env_cfg_entry_point")
-    steps = round(args.eval_seconds / (env_cfg.sim.dt * env_cfg.decimation))
     play_argv = ["play", "--task", task, "--library", "skrl", "--algorithm", "AMP", "--checkpoint", checkpoint]
-    play_argv += ["--headless", "--num_envs", str(args.eval_envs), "--steps", str(steps), "--no_export"]
+    play_argv += ["--headless", "--num_envs", str(args.eval_envs), "--seconds", str(args.eval_seconds), "--no_export"]
     play_argv += ["--log_root", args.log_root]
     if args.device:
         play_argv += ["--device", args.device]
     if args.video:
-        play_argv += ["--video", "--video_length", str(min(steps, 300))]
+        play_argv += ["--video", "--video_length", "300"]  # cut short by a shorter play
     recorder = GaitRecorder(args.settle_seconds)
     # the trained env's settings
     run_play(build_parser().parse_args(play_argv), env_overrides_in(overrides), on_step=recorder)
