@@ -33,8 +33,6 @@ class HeadlessChromium:
     """One browser tab (software WebGL) at ``window`` pixels; use as a context manager."""
 
     def __init__(self, window: tuple[int, int] = (900, 650), start_timeout_s: float = 60.0):
-        from websockets.sync.client import connect
-
         self._profile = tempfile.TemporaryDirectory(prefix="simlab-chromium-", ignore_cleanup_errors=True)
         debug_port = free_port()
         self._process = subprocess.Popen(
@@ -44,7 +42,17 @@ class HeadlessChromium:
              f"--user-data-dir={self._profile.name}", "about:blank"],
             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
         )  # fmt: skip
-        deadline = time.monotonic() + start_timeout_s
+        self._socket = None
+        try:
+            self._connect(debug_port, window, start_timeout_s)
+        except BaseException:
+            self.close()  # no browser left behind
+            raise
+
+    def _connect(self, debug_port: int, window: tuple[int, int], timeout_s: float) -> None:
+        from websockets.sync.client import connect
+
+        deadline = time.monotonic() + timeout_s
         while True:
             try:
                 targets = json.loads(urllib.request.urlopen(f"http://127.0.0.1:{debug_port}/json").read())
@@ -52,10 +60,9 @@ class HeadlessChromium:
                 break
             except (OSError, StopIteration, ValueError) as error:
                 if time.monotonic() > deadline or self._process.poll() is not None:
-                    self.close()
-                    raise RuntimeError(f"headless Chromium gave no page to drive within {start_timeout_s} s") from error
+                    raise RuntimeError(f"headless Chromium gave no page to drive within {timeout_s} s") from error
                 time.sleep(0.2)
-        self._socket = connect(page["webSocketDebuggerUrl"], max_size=None, open_timeout=start_timeout_s)
+        self._socket = connect(page["webSocketDebuggerUrl"], max_size=None, open_timeout=timeout_s)
         self._calls = 0
         # the window's size includes the browser's frame; the page's own size is set here
         self.call(
@@ -116,7 +123,7 @@ class HeadlessChromium:
         return self.call("Runtime.evaluate", expression=expression, returnByValue=True).get("result", {}).get("value")
 
     def close(self) -> None:
-        if getattr(self, "_socket", None) is not None:
+        if self._socket is not None:
             self._socket.close()
         self._process.kill()
         self._process.wait(timeout=30)
