@@ -213,6 +213,22 @@ def test_a_write_that_fails_keeps_the_previous_file(tmp_path):
     assert not os.path.exists(tmp_path / "policy.onnx")
 
 
+def test_an_unreadable_checkpoint_whose_error_has_no_message_is_still_one_line(tmp_path, monkeypatch):
+    """Corrupt bytes can make pickle raise an error without a message (a MemoryError, seen in CI)."""
+    from simlab.cli.checkpoints import read_checkpoint
+    from simlab.utils.errors import CheckpointError
+
+    path = tmp_path / "model_3.pt"
+    path.write_bytes(b"not a checkpoint")
+
+    def load(*args, **kwargs):
+        raise MemoryError
+
+    monkeypatch.setattr(torch, "load", load)
+    with pytest.raises(CheckpointError, match=r"cannot be read \(MemoryError\): it is truncated, corrupt"):
+        read_checkpoint(str(path))
+
+
 def test_torn_newest_checkpoint_is_skipped_with_a_warning(tmp_path, capsys):
     run = _train(tmp_path, "agent.save_interval=1")
     newest, previous = os.path.join(run, "model_1.pt"), os.path.join(run, "model_0.pt")
@@ -235,7 +251,7 @@ def test_torn_newest_checkpoint_is_skipped_with_a_warning(tmp_path, capsys):
     assert "cannot be read" in err and "truncated" in err and "Traceback" not in err
 
     with open(previous, "wb") as f:
-        f.write(os.urandom(2000))  # corrupt
+        f.write(bytes(range(256)) * 8)  # corrupt (fixed bytes: random ones made pickle raise anything)
     with open(newest, "wb"):
         pass  # empty
     assert _run(tmp_path, "play", *SMALL, "--use_last_checkpoint", "--steps", "2") == 2

@@ -21,7 +21,7 @@ import gymnasium as gym
 
 from simlab.cli.runs import CHECKPOINT_LAYOUT, find_run_info, is_checkpoint_name
 from simlab.rl.utils import is_multi_agent
-from simlab.utils.errors import CheckpointError, CheckpointNotFoundError
+from simlab.utils.errors import CheckpointError, CheckpointNotFoundError, describe
 
 __all__ = [
     "check_checkpoint_sizes",
@@ -62,9 +62,8 @@ def read_checkpoint(path: str) -> Any:
     try:
         return torch.load(path, map_location="cpu", weights_only=False)
     except Exception as e:  # noqa: BLE001 - whatever torch/pickle raise, the file cannot be used
-        raise CheckpointError(
-            f"Checkpoint '{path}' cannot be read ({type(e).__name__}: {str(e).strip().splitlines()[0]}): "
-            "it is truncated, corrupt or not a torch checkpoint."
+        raise CheckpointError(  # corrupt bytes make pickle raise anything, a MemoryError with no message too
+            f"Checkpoint '{path}' cannot be read ({describe(e)}): it is truncated, corrupt or not a torch checkpoint."
         ) from e
 
 

@@ -18,6 +18,7 @@ __all__ = [
     "MissingDependencyError",
     "SimlabError",
     "TrainingDivergedError",
+    "describe",
     "is_intended_error",
 ]
 
@@ -73,3 +74,10 @@ def is_intended_error(error: BaseException) -> bool:
     innermost = traceback.extract_tb(error.__traceback__)[-1]
     in_simlab = os.path.abspath(innermost.filename).startswith(_SIMLAB_ROOT)
     return in_simlab and (innermost.line or "").lstrip().startswith("raise ")
+
+
+def describe(error: BaseException) -> str:
+    """``"<type>: <first line of the message>"``, or the type alone for an error without a message
+    (``MemoryError()``): for one-line reports of an error caught from a library."""
+    first_line = next(iter(str(error).strip().splitlines()), "")
+    return f"{type(error).__name__}: {first_line}" if first_line else type(error).__name__

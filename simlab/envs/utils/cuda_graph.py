@@ -41,7 +41,7 @@ import torch
 from torch.overrides import TorchFunctionMode
 
 from simlab.utils.cuda import gc_paused
-from simlab.utils.errors import SimlabError
+from simlab.utils.errors import SimlabError, describe
 
 
 class SimulationDivergedError(SimlabError, RuntimeError):
@@ -186,7 +186,7 @@ class EnvStepper:
                 if "site-packages" not in f.filename and f.filename != __file__  # the hook, not this module
             ]
             where = f" at {frames[-1].filename}:{frames[-1].lineno}" if frames else ""
-            self.eager_reason = f"capture failed: {type(err).__name__}: {str(err).splitlines()[0]}{where}"
+            self.eager_reason = f"capture failed: {describe(err)}{where}"
             self.failed_traceback = traceback.format_exc()
             self._packed = None
             torch.cuda.synchronize()

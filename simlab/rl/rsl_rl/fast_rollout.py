@@ -24,6 +24,7 @@ import torch
 
 from simlab.rl.utils import require
 from simlab.utils.cuda import gc_paused
+from simlab.utils.errors import describe
 
 require("rsl_rl")
 from rsl_rl.algorithms import PPO  # noqa: E402
@@ -158,7 +159,7 @@ class FastRolloutStep:
         except Exception as error:  # noqa: BLE001 - a capture records kernels and runs none: nothing to undo on the device
             self.cuda_graph = False
             self._graphs.clear()
-            self.eager_reason = f"capture failed: {str(error).splitlines()[0] if str(error) else type(error).__name__}"
+            self.eager_reason = f"capture failed: {describe(error)}"
             print(f"[simlab] CUDA-graph capture of the rollout step failed, running it eagerly: {self.eager_reason}")
             captured = False
         else:
