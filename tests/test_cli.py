@@ -82,10 +82,8 @@ def test_errors_are_clear(tmp_path, capsys):
 
 def test_output_to_a_reader_that_went_away_ends_quietly():
     """`simlab list | head -1`: the pipe closes before simlab writes; no traceback, the shell's exit code."""
-    env = {**os.environ, "PYTHONPATH": os.path.dirname(os.path.dirname(os.path.abspath(__file__)))}
-    proc = subprocess.Popen(
-        [sys.executable, "-m", "simlab", "list"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env
-    )
+    command = [sys.executable, "-m", "simlab", "list"]
+    proc = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     proc.stdout.close()
     err = proc.stderr.read()
     assert proc.wait(timeout=120) == 141 and err == "", err

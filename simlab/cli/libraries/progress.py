@@ -16,6 +16,11 @@ class ProgressBar:
         self._steps = 0
         self._seconds = 0.0
 
+    @property
+    def seconds(self) -> float:
+        """The training time counted so far (the sum of ``update``'s ``seconds``)."""
+        return self._seconds
+
     def update(self, n: int = 1, steps: int = 0, seconds: float = 0.0, **stats: float) -> None:
         """``steps`` env steps taken in ``seconds`` of training (the library's own timing of the iteration:
         the bar is made after the first one, so its clock would count that one's steps in no time)."""

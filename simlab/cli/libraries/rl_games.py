@@ -97,7 +97,7 @@ def _train(env: gym.Env, agent_cfg: dict, run_dir: str, args: argparse.Namespace
     cfg = copy.deepcopy(agent_cfg)
     config = cfg["params"]["config"]
     config["train_dir"], config["full_experiment_name"] = os.path.split(run_dir)
-    bar: dict[str, Any] = {"seconds": 0.0}  # the bar, made at the first epoch; rl_games' training time so far
+    bar: dict[str, ProgressBar] = {}  # made at the first epoch
     world_size = int(os.environ.get("WORLD_SIZE", "1")) if config.get("multi_gpu") else 1
     steps_per_epoch = config["horizon_length"] * env.unwrapped.num_envs * world_size  # all ranks' steps
 
@@ -108,8 +108,8 @@ def _train(env: gym.Env, agent_cfg: dict, run_dir: str, args: argparse.Namespace
             bar["bar"] = ProgressBar(total=config["max_epochs"], initial=epoch - 1, desc="rl_games")
         rewards = getattr(agent, "game_rewards", None)
         reward = float(rewards.get_mean()[0]) if rewards is not None and rewards.current_size > 0 else None
-        seconds, bar["seconds"] = total_time - bar["seconds"], total_time  # rl_games' total_time: since train()
-        bar["bar"].update(1, steps=steps_per_epoch, seconds=seconds, reward=reward)
+        # rl_games' total_time counts from train(), as the bar's own sum does
+        bar["bar"].update(1, steps=steps_per_epoch, seconds=total_time - bar["bar"].seconds, reward=reward)
 
     runner, _ = _runner(env, cfg, SimlabAlgoObserver(on_epoch=on_epoch))
     agent = runner.algo_factory.create(runner.algo_name, base_name="run", params=runner.params)
