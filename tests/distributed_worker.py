@@ -16,6 +16,7 @@ import gymnasium as gym
 import torch
 
 import simlab.cli.train as train_module
+from simlab.cli.distributed import end_torchrun_worker
 from simlab.cli.main import main
 
 RANK = int(os.environ["RANK"])
@@ -87,4 +88,7 @@ if code == 0:
         tensors = module.named_parameters() if library == "rl_games" else module.state_dict().items()
         weights.update({f"{name}.{k}": v.detach().cpu().clone() for k, v in tensors})
     torch.save({"weights": weights, "first_obs": captured["first_obs"]}, os.path.join(out_dir, f"rank{RANK}.pt"))
+# as `simlab train` itself ends a torchrun worker (main(argv) leaves that to its caller): without the
+# interpreter's teardown, in which a finished gloo rank sometimes aborted on 2 cores (seen in CI)
+end_torchrun_worker(code)
 sys.exit(code)

@@ -49,8 +49,8 @@ def _subprocess_env() -> dict[str, str]:
 
 
 def test_two_processes_started_together_get_their_own_run_folder(tmp_path):
-    # both processes wait for the same wall-clock instant, then create their run folder
-    start = time.time() + 3.0
+    # both processes wait for the same wall-clock instant, early in a second, then create their run folder
+    start = int(time.time()) + 3.2
     code = (
         "import sys, time; from simlab.cli.runs import make_run_dir; "
         f"time.sleep(max(0.0, {start} - time.time())); "
