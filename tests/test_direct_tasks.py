@@ -16,6 +16,7 @@ from simlab.tasks.direct.cart_double_pendulum.cart_double_pendulum_env import (
 from simlab.tasks.direct.cartpole.cartpole_env import CartpoleEnv, CartpoleEnvCfg, compute_rewards
 from simlab.tasks.direct.humanoid.humanoid_env import HumanoidEnv, HumanoidEnvCfg
 from simlab.tasks.direct.locomotion.locomotion_env import resolve_joint_gears
+from simlab.terrains import TerrainImporterCfg
 
 SINGLE_AGENT = {"cartpole": (CartpoleEnv, CartpoleEnvCfg, 1, 4), "ant": (AntEnv, AntEnvCfg, 8, 36),
                 "humanoid": (HumanoidEnv, HumanoidEnvCfg, 21, 75)}  # fmt: skip
@@ -169,6 +170,21 @@ def test_humanoid_falls_and_terminates_under_zero_action():
     torch.testing.assert_close(reward, torch.full((2,), env.cfg.death_cost))
     assert (extras["final_obs"]["policy"][:, 0] < env.cfg.termination_height).all()
     assert env.torso_position[:, 2].tolist() == pytest.approx([1.34, 1.34]), "reset to the spawn height"
+
+
+@pytest.mark.parametrize(("env_class", "cfg_class"), [(AntEnv, AntEnvCfg), (HumanoidEnv, HumanoidEnvCfg)])
+def test_locomotion_stands_on_a_terrain_importers_plane_as_on_a_ground_plane(env_class, cfg_class):
+    """Isaac Lab's ant and humanoid configs give the terrain as a ``TerrainImporterCfg`` plane."""
+    heights = []
+    for terrain in (None, TerrainImporterCfg(prim_path="/World/ground", terrain_type="plane", collision_group=-1)):
+        env = make(env_class, cfg_class, num_envs=2, **({} if terrain is None else {"terrain": terrain}))
+        env.reset()
+        for _ in range(20):  # zero torques: the robot settles onto the floor
+            env.step(torch.zeros(2, env.cfg.action_space))
+        heights.append(env.robot.data.root_pos_w[:, 2].clone())
+        env.close()
+    assert (heights[1] > 0.2).all()  # on the plane, not fallen through it
+    torch.testing.assert_close(heights[1], heights[0], atol=0.02, rtol=0)
 
 
 @pytest.mark.parametrize(("env_class", "cfg_class"), [(AntEnv, AntEnvCfg), (HumanoidEnv, HumanoidEnvCfg)])

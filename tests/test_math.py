@@ -277,3 +277,72 @@ def test_constant_tensor_is_made_once_per_value_and_device():
     assert ranges.dtype == torch.float32 and ranges.tolist() == [[0.0, 1.0], [-2.0, 3.0]]
     assert constant_tensor(((0, 1), (-2.0, 3.0)), torch.device("cpu")) is ranges  # equal numbers, same tensor
     assert constant_tensor([(0.0, 1.5), (-2.0, 3.0)], "cpu") is not ranges
+
+
+# Isaac Lab compiles these with @torch.jit.script, so a task's own scripted functions call them.
+def _scripted_math_calls() -> dict[str, tuple]:
+    q, q2 = rand_quat(8).float(), rand_quat(8).float()
+    v, v2 = torch.randn(8, 3), torch.randn(8, 3)
+    angles = torch.randn(8)
+    points, depth = torch.randn(8, 5, 3), torch.rand(2, 6, 7) + 0.5
+    intrinsics = torch.tensor([[[50.0, 0.0, 3.5], [0.0, 50.0, 3.0], [0.0, 0.0, 1.0]]]).repeat(2, 1, 1)
+    return {
+        "scale_transform": (v, -torch.ones(3), torch.ones(3) * 2),
+        "unscale_transform": (v, -torch.ones(3), torch.ones(3) * 2),
+        "saturate": (v, -torch.ones(3) * 0.5, torch.ones(3) * 0.5),
+        "normalize": (v,),
+        "wrap_to_pi": (angles * 10,),
+        "copysign": (2.0, angles),
+        "quat_unique": (q,),
+        "matrix_from_quat": (q,),
+        "quat_conjugate": (q,),
+        "quat_inv": (q,),
+        "quat_from_euler_xyz": (angles, angles * 0.5, -angles),
+        "quat_from_matrix": (math_utils.matrix_from_quat(q),),
+        "euler_xyz_from_quat": (q,),
+        "axis_angle_from_quat": (q,),
+        "quat_from_angle_axis": (angles, v),
+        "quat_mul": (q, q2),
+        "yaw_quat": (q,),
+        "quat_box_minus": (q, q2),
+        "quat_box_plus": (q, v * 0.3),
+        "quat_apply": (q, v),
+        "quat_apply_inverse": (q, v),
+        "quat_rotate": (q, v),
+        "quat_rotate_inverse": (q, v),
+        "quat_apply_yaw": (q, v),
+        "quat_error_magnitude": (q, q2),
+        "skew_symmetric_matrix": (v,),
+        "combine_frame_transforms": (v, q, v2, q2),
+        "subtract_frame_transforms": (v, q, v2, q2),
+        "compute_pose_error": (v, q, v2, q2),
+        "apply_delta_pose": (v, q, torch.cat((v2, v2 * 0.2), dim=-1)),
+        "transform_points": (points, v, q),
+        "orthogonalize_perspective_depth": (depth, intrinsics),
+        "unproject_depth": (depth, intrinsics),
+        "project_points": (points[:2], intrinsics),
+    }
+
+
+@pytest.mark.parametrize("name", sorted(_scripted_math_calls()))
+def test_the_functions_isaac_lab_scripts_compile_with_torchscript_and_agree(name):
+    function = getattr(math_utils, name)
+    args = _scripted_math_calls()[name]
+    eager, scripted = function(*args), torch.jit.script(function)(*args)
+    for a, b in zip(*((r,) if isinstance(r, torch.Tensor) else r for r in (eager, scripted))):
+        assert torch.allclose(a, b, atol=1e-5), (a, b)
+
+
+@torch.jit.script
+def _heading_and_up(root_quat: torch.Tensor, target_dir: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
+    # a task's own TorchScript, the way Isaac Lab's locomotion and AMP tasks write theirs
+    forward = math_utils.quat_apply(math_utils.yaw_quat(root_quat), torch.tensor([1.0, 0.0, 0.0]).expand_as(target_dir))
+    up = math_utils.quat_apply(root_quat, torch.tensor([0.0, 0.0, 1.0]).expand_as(target_dir))
+    return (forward * target_dir).sum(-1), up[:, 2]
+
+
+def test_a_tasks_scripted_function_calls_the_math_functions():
+    quat = math_utils.quat_from_euler_xyz(torch.zeros(2), torch.zeros(2), torch.tensor([0.0, math.pi / 2]))
+    heading, up = _heading_and_up(quat, torch.tensor([[1.0, 0.0, 0.0], [1.0, 0.0, 0.0]]))
+    assert torch.allclose(heading, torch.tensor([1.0, 0.0]), atol=1e-6)
+    assert torch.allclose(up, torch.ones(2))

@@ -135,6 +135,23 @@ def test_root_observations_in_the_right_frames(env):
     assert (mdp.root_quat_w(env, make_quat_unique=True)[:, 0] >= 0).all()
 
 
+def test_body_and_time_observations(env):
+    yaw90 = (math.cos(math.pi / 4), 0.0, 0.0, math.sin(math.pi / 4))
+    set_root(env, quat=yaw90, height=0.9)
+    torso = resolved(env, SceneEntityCfg("robot", body_names=["torso"]))
+    pose = mdp.body_pose_w(env, asset_cfg=torso)
+    assert pose.shape == (N, 7)
+    torch.testing.assert_close(pose[:, :3], torch.tensor([[0.0, 0.0, 0.9]]).repeat(N, 1), atol=1e-6, rtol=0)
+    torch.testing.assert_close(pose[:, 3:], torch.tensor([yaw90]).repeat(N, 1), atol=1e-6, rtol=0)
+    legs = resolved(env, SceneEntityCfg("robot", body_names=["torso", "front_left_leg"]))
+    gravity = mdp.body_projected_gravity_b(env, asset_cfg=legs).reshape(N, 2, 3)
+    torch.testing.assert_close(gravity[:, 0], mdp.projected_gravity(env))  # the torso is the root
+    torch.testing.assert_close(gravity.norm(dim=-1), torch.ones(N, 2))
+    env.episode_length_buf[:] = torch.tensor([0, 1, 10, 20])
+    torch.testing.assert_close(mdp.current_time_s(env), env.episode_length_buf.unsqueeze(1) * env.step_dt)
+    torch.testing.assert_close(mdp.remaining_time_s(env), 10.0 - mdp.current_time_s(env))
+
+
 def test_joint_observations(env):
     robot = env.scene["robot"]
     limits = robot.data.soft_joint_pos_limits
@@ -273,6 +290,43 @@ def test_contact_sensor_and_contact_terms(env):
     assert sensor.compute_first_air(env.step_dt * 6).any()
 
 
+def test_desired_contacts_penalizes_no_foot_on_the_ground(env):
+    settle(env)
+    sensor = env.scene["robot_contacts"]
+    feet = resolved(env, SceneEntityCfg("robot_contacts", body_names=".*_foot"))
+    assert sensor.num_bodies > len(feet.body_ids)
+    torch.testing.assert_close(mdp.desired_contacts(env, sensor_cfg=feet), torch.zeros(N))  # standing
+    set_root(env, height=3.0)
+    settle(env, 5)  # in the air, longer than the sensor's history
+    torch.testing.assert_close(mdp.desired_contacts(env, sensor_cfg=feet), torch.ones(N))
+
+
+def test_command_resample_ends_the_episode_at_the_nth_command(env):
+    @configclass
+    class Commands:
+        vel = mdp.UniformVelocityCommandCfg(
+            asset_name="robot",
+            resampling_time_range=(0.4, 0.4),
+            ranges=mdp.UniformVelocityCommandCfg.Ranges(lin_vel_x=(1.0, 1.0), lin_vel_y=(0.0, 0.0), ang_vel_z=(0, 0)),
+        )
+
+    env.close()
+    cfg = AntEnvCfg()
+    cfg.commands = Commands()
+    cfg.terminations.two_commands = DoneTerm(
+        func=mdp.command_resample, params={"command_name": "vel", "num_resamples": 2}
+    )
+    env = ManagerBasedRLEnv(cfg)
+    env.reset()
+    steps_per_command = round(0.4 / env.step_dt)  # 20 env steps of 20 ms
+    for step in range(1, 3 * steps_per_command):  # noqa: B007 - the count is checked
+        _, _, terminated, _, _ = env.step(torch.zeros(N, 8))
+        if terminated.any():
+            break
+    assert terminated.all() and step == 2 * steps_per_command  # as the second command runs out
+    env.close()
+
+
 # -- events ----------------------------------------------------------------------------------------
 
 
@@ -289,6 +343,21 @@ def test_reset_root_state_uniform_and_push(env):
     mdp.push_by_setting_velocity(env, torch.tensor([1]), {"x": (3.0, 3.0)}, asset_cfg=resolved(env, ROBOT))
     torch.testing.assert_close(data.root_lin_vel_w[1], before[1] + torch.tensor([3.0, 0.0, 0.0]))
     torch.testing.assert_close(data.root_lin_vel_w[[0, 2, 3]], before[[0, 2, 3]])
+
+
+def test_reset_root_state_with_random_orientation(env):
+    robot = env.scene["robot"]
+    mdp.reset_root_state_with_random_orientation(
+        env, torch.arange(N), {"z": (0.5, 0.5)}, {"yaw": (1.0, 1.0)}, asset_cfg=resolved(env, ROBOT)
+    )
+    data = robot.data
+    offset = data.root_pos_w - env.scene.env_origins - data.default_root_state[:, :3]
+    torch.testing.assert_close(offset, torch.tensor([[0.0, 0.0, 0.5]]).repeat(N, 1), atol=1e-6, rtol=0)
+    torch.testing.assert_close(data.root_ang_vel_w[:, 2], torch.ones(N))
+    up = math_utils.quat_apply(data.root_quat_w, torch.tensor([[0.0, 0.0, 1.0]]).repeat(N, 1))
+    assert up[:, 2].std() > 0.1  # tilted every which way, not only turned about z
+    with pytest.raises(ValueError, match=r"\['roll'\] are not used .*allowed: \['x', 'y', 'z'\]"):
+        mdp.reset_root_state_with_random_orientation(env, torch.arange(N), {"roll": (0, 1)}, {})
 
 
 def test_reset_joints_by_scale_and_offset(env):

@@ -5,6 +5,7 @@ IMU on a box in free fall, at rest and spinning; contact air and contact times o
 from __future__ import annotations
 
 import math
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -301,6 +302,11 @@ def test_imu_in_free_fall_and_at_rest(device):
     d = imu.data  # read after the updates: computed now (Isaac Lab's lazy data)
     torch.testing.assert_close(d.lin_acc_b.cpu(), torch.tensor([[0.0, 0, 9.81]] * 2), atol=0.05, rtol=0)
     torch.testing.assert_close(d.lin_vel_b.cpu(), torch.zeros(2, 3), atol=1e-3, rtol=0)
+    # Isaac Lab's IMU observation terms read the same data
+    env = SimpleNamespace(scene=scene)
+    for term, field in [("imu_lin_acc", "lin_acc_b"), ("imu_ang_vel", "ang_vel_b"), ("imu_orientation", "quat_w"),
+                        ("imu_projected_gravity", "projected_gravity_b")]:  # fmt: skip
+        torch.testing.assert_close(getattr(mdp, term)(env), getattr(d, field))
 
 
 @pytest.mark.parametrize("device", DEVICES)

@@ -38,6 +38,31 @@ def test_build_simulation_context_takes_a_cfg_and_adds_ground_and_light():
         assert len(sim.spec.lights) == 1
 
 
+def test_isaac_lab_material_and_physx_settings_load_and_the_material_sets_friction():
+    """Isaac Lab's task configs write ``self.sim.physx.*`` and ``self.sim.physics_material.*`` in
+    ``__post_init__``: both exist; the material is the friction of geoms spawned without their own,
+    and by default MuJoCo's own (the compiled model is the same as with none)."""
+    frictions = []
+    for material in ("default", None, 0.3):
+        cfg = sim_utils.SimulationCfg(dt=0.01, device="cpu")
+        cfg.physx.bounce_threshold_velocity = 0.2  # PhysX's: accepted, not used
+        cfg.physx.gpu_max_rigid_patch_count = 10 * 2**15
+        if material is None:
+            cfg.physics_material = None
+        elif material != "default":
+            cfg.physics_material.static_friction = material
+        with sim_utils.build_simulation_context(sim_cfg=cfg) as sim:
+            box = sim_utils.CuboidCfg(size=(0.1, 0.1, 0.1))
+            box.func("/World/Box", box)
+            rubber = sim_utils.CuboidCfg(size=(0.1, 0.1, 0.1), physics_material=sim_utils.RigidBodyMaterialCfg(2.0))
+            rubber.func("/World/Rubber", rubber, translation=(0.5, 0.0, 0.0))
+            sim.reset()
+            frictions.append(sim.model.geom_friction.copy())
+    default, none, set_to = frictions
+    assert (default == none).all() and default[0].tolist() == [1.0, 0.005, 0.0001]
+    assert set_to[0, 0] == 0.3 and set_to[1, 0] == 2.0  # a geom's own material is kept
+
+
 def test_an_explicit_device_overrides_the_cfg():
     cfg = sim_utils.SimulationCfg(dt=0.002, gravity=(0.0, 0.0, -1.0), device="auto")
     with sim_utils.build_simulation_context(sim_cfg=cfg, device="cpu", gravity_enabled=True, dt=0.5) as sim:

@@ -390,3 +390,47 @@ def test_without_a_seed_of_its_own_the_global_numpy_seed_fixes_the_terrain():
     first, again, other = heights(11), heights(11), heights(12)
     assert all(np.array_equal(a, b) for a, b in zip(first, again, strict=True))
     assert not all(np.array_equal(a, b) for a, b in zip(first, other, strict=True))
+
+
+def test_reset_root_state_from_terrain_puts_the_asset_on_its_tiles_flat_patches():
+    from types import SimpleNamespace
+
+    from simlab.envs import mdp
+    from simlab.managers import SceneEntityCfg
+    from simlab.terrains import FlatPatchSamplingCfg
+
+    spots = {"init_pos": FlatPatchSamplingCfg(num_patches=5, patch_radius=0.2, max_height_diff=0.01)}
+    cfg = small_terrain().replace(num_rows=2, num_cols=2)
+    cfg.sub_terrains = {
+        "stairs": MeshPyramidStairsTerrainCfg(**STAIRS, flat_patch_sampling=spots),
+        "slope": HfPyramidSlopedTerrainCfg(**SLOPE, flat_patch_sampling=spots),
+    }
+
+    @configclass
+    class SceneCfg(InteractiveSceneCfg):
+        terrain = TerrainImporterCfg(prim_path="/World/ground", terrain_generator=cfg)
+        robot = RigidObjectCfg(
+            prim_path="{ENV_REGEX_NS}/Ball",
+            spawn=sim_utils.SphereCfg(radius=0.1, rigid_props=sim_utils.RigidBodyPropertiesCfg()),
+            init_state=RigidObjectCfg.InitialStateCfg(pos=(0.0, 0.0, 0.1)),
+        )
+
+    sim = sim_utils.SimulationContext(sim_utils.SimulationCfg(dt=0.005, device="cpu"))
+    scene = InteractiveScene(SceneCfg(num_envs=6, env_spacing=2.0))
+    sim.reset()
+    env = SimpleNamespace(scene=scene, device="cpu", num_envs=6)
+    robot, terrain = SceneEntityCfg("robot"), scene.terrain
+    mask = torch.tensor([True, True, True, True, False, True])
+    before = scene["robot"].data.root_pos_w[4].clone()
+    mdp.reset_root_state_from_terrain(env, mask, {"yaw": (1.0, 1.0)}, {}, asset_cfg=robot)
+    pos = scene["robot"].data.root_pos_w
+    patches = terrain.flat_patches["init_pos"][terrain.terrain_levels, terrain.terrain_types]  # (envs, 5, 3)
+    for env_id in mask.nonzero().flatten().tolist():  # on one of its own tile's patches, 0.1 m up
+        distance = (patches[env_id] + torch.tensor([0.0, 0.0, 0.1]) - pos[env_id]).norm(dim=-1)
+        assert distance.min() < 1e-5, (env_id, pos[env_id], patches[env_id])
+    torch.testing.assert_close(pos[4], before)  # not reset
+    yaw = scene["robot"].data.heading_w[mask]
+    torch.testing.assert_close(yaw, torch.ones_like(yaw))
+    with pytest.raises(ValueError, match=r"\['x'\] are not used .*allowed: \['roll', 'pitch', 'yaw'\]"):
+        mdp.reset_root_state_from_terrain(env, mask, {"x": (0.0, 1.0)}, {}, asset_cfg=robot)
+    sim_utils.SimulationContext.clear_instance()

@@ -53,6 +53,16 @@ def test_simulation_seed_is_refused_with_where_to_seed():
     sim_utils.SimulationContext(sim_utils.SimulationCfg(device="cpu", seed=None))  # the default loads
 
 
+def test_physx_ccd_is_refused_and_physx_tuning_is_accepted():
+    cfg = sim_utils.SimulationCfg(device="cpu")
+    cfg.physx.enable_ccd = True
+    with pytest.raises(ConfigError, match=r"SimulationCfg.physx.enable_ccd=True .*no continuous collision detection"):
+        sim_utils.SimulationContext(cfg)
+    cfg = sim_utils.SimulationCfg(device="cpu")
+    cfg.physx.bounce_threshold_velocity, cfg.physx.gpu_max_rigid_patch_count = 0.01, 10 * 2**15  # PhysX's tuning
+    sim_utils.SimulationContext(cfg)
+
+
 # -- collision_group ----------------------------------------------------------------------------------
 
 

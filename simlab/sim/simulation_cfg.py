@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from dataclasses import field
 from typing import TYPE_CHECKING, Literal
 
 from simlab.utils import configclass
@@ -34,6 +35,45 @@ class MujocoCfg:
 
 
 @configclass
+class PhysxCfg:
+    """Isaac Lab's PhysX solver and GPU buffer settings, so that task configs which set them load
+    unchanged (``self.sim.physx.bounce_threshold_velocity = 0.2``). They tune PhysX's own solver and
+    memory, which simlab does not run, and take any value without changing a simlab simulation:
+    MuJoCo's solver is set by ``SimulationCfg.mujoco`` and its buffers by ``mujoco.nconmax`` /
+    ``njmax``. ``enable_ccd=True`` asks for something MuJoCo lacks and is refused."""
+
+    solver_type: Literal[0, 1] = 1
+    min_position_iteration_count: int = 1
+    max_position_iteration_count: int = 255
+    min_velocity_iteration_count: int = 0
+    max_velocity_iteration_count: int = 255
+    enable_ccd: bool = False
+    enable_stabilization: bool = False
+    enable_enhanced_determinism: bool = False
+    bounce_threshold_velocity: float = 0.5
+    friction_offset_threshold: float = 0.04
+    friction_correlation_distance: float = 0.025
+    gpu_max_rigid_contact_count: int = 2**23
+    gpu_max_rigid_patch_count: int = 5 * 2**15
+    gpu_found_lost_pairs_capacity: int = 2**21
+    gpu_found_lost_aggregate_pairs_capacity: int = 2**25
+    gpu_total_aggregate_pairs_capacity: int = 2**21
+    gpu_collision_stack_size: int = 2**26
+    gpu_heap_capacity: int = 2**26
+    gpu_temp_buffer_capacity: int = 2**24
+    gpu_max_num_partitions: int = 8
+    gpu_max_soft_body_contacts: int = 2**20
+    gpu_max_particle_contacts: int = 2**20
+    solve_articulation_contact_last: bool = False
+
+
+def _mujoco_default_material() -> RigidBodyMaterialCfg:
+    from simlab.sim.spawners.materials import RigidBodyMaterialCfg  # here: the spawners import this module
+
+    return RigidBodyMaterialCfg(static_friction=1.0, dynamic_friction=1.0)
+
+
+@configclass
 class SimulationCfg:
     """The physics step, gravity, device and solver options of a simulation."""
 
@@ -59,7 +99,10 @@ class SimulationCfg:
     with an error."""
     seed: int | None = None
     """Refused unless None: MuJoCo's physics has no random numbers. Seed the env (``env_cfg.seed``)."""
-    physics_material: RigidBodyMaterialCfg | None = None
+    physics_material: RigidBodyMaterialCfg | None = field(default_factory=_mujoco_default_material)
     """Isaac Lab's default material of colliders that have none: the friction of the geoms spawned
-    without their own ``physics_material`` (robot files keep theirs). None keeps MuJoCo's (1.0).
-    MuJoCo takes the larger friction of two touching geoms, whatever the combine mode."""
+    without their own ``physics_material`` (robot files keep theirs). The default is MuJoCo's own
+    friction, 1.0 (Isaac Lab's is PhysX's 0.5); None leaves MuJoCo's default class alone. MuJoCo
+    takes the larger friction of two touching geoms, whatever the combine mode."""
+    physx: PhysxCfg = PhysxCfg()
+    """PhysX's settings, accepted for Isaac Lab's configs and not used (see :class:`PhysxCfg`)."""

@@ -67,6 +67,14 @@ class SimulationContext:
             "MuJoCo's physics draws no random numbers, so there is nothing in the simulation to seed",
             "Seed the environment instead: env_cfg.seed, the override env.seed=N or `simlab train --seed N`.",
         )
+        refuse_unless_default(
+            "SimulationCfg.physx",
+            "enable_ccd",
+            self.cfg.physx.enable_ccd,
+            False,
+            "MuJoCo has no continuous collision detection",
+            "For fast, thin objects use a smaller sim.dt or thicker collision geoms.",
+        )
         self.device = resolve_device(self.cfg.device)
         self.cfg.device = self.device
         if self.device.startswith("cuda"):

@@ -81,9 +81,9 @@ __all__ = [
 Device = str | torch.device | None
 
 
-def _check_last_dim(name: str, x: torch.Tensor | np.ndarray, size: int) -> None:
+def _check_last_dim(name: str, x: torch.Tensor, size: int) -> None:
     if x.shape[-1] != size:
-        raise ValueError(f"{name} must have last dimension {size}, got shape {tuple(x.shape)}.")
+        raise ValueError(f"{name} must have last dimension {size}, got shape {list(x.shape)}.")
 
 
 # -- basics ----------------------------------------------------------------------------------------
@@ -109,20 +109,20 @@ def copysign(mag: float, other: torch.Tensor) -> torch.Tensor:
     return torch.copysign(torch.full_like(other, abs(mag)), other)
 
 
-def saturate(x: torch.Tensor, lower: torch.Tensor | float, upper: torch.Tensor | float) -> torch.Tensor:
-    """Clamp ``x`` to ``[lower, upper]`` (bounds may be tensors that broadcast against ``x``)."""
+def saturate(x: torch.Tensor, lower: torch.Tensor, upper: torch.Tensor) -> torch.Tensor:
+    """Clamp ``x`` to ``[lower, upper]``: tensors that broadcast against ``x`` (numbers too, outside TorchScript)."""
     lower = torch.as_tensor(lower, dtype=x.dtype, device=x.device)
     upper = torch.as_tensor(upper, dtype=x.dtype, device=x.device)
     return torch.maximum(torch.minimum(x, upper), lower)
 
 
-def scale_transform(x: torch.Tensor, lower: torch.Tensor | float, upper: torch.Tensor | float) -> torch.Tensor:
-    """Map ``[lower, upper]`` linearly to ``[-1, 1]``."""
+def scale_transform(x: torch.Tensor, lower: torch.Tensor, upper: torch.Tensor) -> torch.Tensor:
+    """Map ``[lower, upper]`` linearly to ``[-1, 1]`` (numbers work as bounds outside TorchScript)."""
     offset = (lower + upper) * 0.5
     return 2 * (x - offset) / (upper - lower)
 
 
-def unscale_transform(x: torch.Tensor, lower: torch.Tensor | float, upper: torch.Tensor | float) -> torch.Tensor:
+def unscale_transform(x: torch.Tensor, lower: torch.Tensor, upper: torch.Tensor) -> torch.Tensor:
     """Map ``[-1, 1]`` linearly to ``[lower, upper]`` (inverse of :func:`scale_transform`)."""
     offset = (lower + upper) * 0.5
     return x * (upper - lower) * 0.5 + offset
@@ -140,7 +140,8 @@ def convert_quat(quat: torch.Tensor | np.ndarray, to: Literal["xyzw", "wxyz"] = 
         raise ValueError(f"convert_quat: 'to' must be 'xyzw' or 'wxyz', got {to!r}.")
     shift = -1 if to == "xyzw" else 1
     if isinstance(quat, np.ndarray):
-        _check_last_dim("quat", quat, 4)
+        if quat.shape[-1] != 4:
+            raise ValueError(f"quat must have last dimension 4, got shape {list(quat.shape)}.")
         return np.roll(quat, shift, axis=-1)
     if not isinstance(quat, torch.Tensor):
         quat = torch.tensor(quat, dtype=torch.float64)
@@ -154,6 +155,13 @@ def quat_mul(q1: torch.Tensor, q2: torch.Tensor) -> torch.Tensor:
     _check_last_dim("q2", q2, 4)
     # q1 * q2 = L(q1) q2 with L(q1)[i, j] = sign[i, j] q1[index[i, j]]: four kernels, not thirty
     # (each is a launch on the GPU); no matmul, which may run in reduced precision (TF32)
+    if torch.jit.is_scripting():  # TorchScript cannot call the cached tables: the product written out
+        w1, x1, y1, z1 = q1.unbind(-1)
+        w2, x2, y2, z2 = q2.unbind(-1)
+        w = w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2
+        x = w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2
+        y = w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2
+        return torch.stack((w, x, y, z1 * w2 + w1 * z2 + x1 * y2 - y1 * x2), dim=-1)
     index, sign = _quat_mul_tables(q1.device, torch.promote_types(q1.dtype, q2.dtype))
     return (q1[..., index] * sign * q2[..., None, :]).sum(dim=-1)
 
@@ -227,6 +235,12 @@ def quat_from_euler_xyz(roll: torch.Tensor, pitch: torch.Tensor, yaw: torch.Tens
     # of three of the half angles' cosines and sines, gathered from one tensor (nine kernels, not 34)
     half = torch.stack(torch.broadcast_tensors(roll, pitch, yaw), dim=-1) * 0.5
     cos_sin = torch.cat((torch.cos(half), torch.sin(half)), dim=-1)  # cr, cp, cy, sr, sp, sy
+    if torch.jit.is_scripting():  # TorchScript cannot call the cached tables: the sums written out
+        cr, cp, cy, sr, sp, sy = cos_sin.unbind(-1)
+        w = cy * cr * cp + sy * sr * sp
+        x = cy * sr * cp - sy * cr * sp
+        y = cy * cr * sp + sy * sr * cp
+        return torch.stack((w, x, y, sy * cr * cp - cy * sr * sp), dim=-1)
     index, sign = _euler_tables(cos_sin.device, cos_sin.dtype)
     return (cos_sin[..., index].prod(dim=-1) * sign).sum(dim=-1)
 
@@ -262,13 +276,24 @@ def euler_xyz_from_quat(
     yaw = torch.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
     # At the lock both atan2 arguments are ~cos(pitch), i.e. round-off: take yaw from w and z alone
     # (for roll = 0, q = qz(yaw) qy(+-pi/2) has w ~ cos(yaw/2), z ~ sin(yaw/2)).
-    locked = (1.0 - sin_pitch.abs()) < 2 * torch.finfo(quat.dtype).eps
+    locked = (1.0 - sin_pitch.abs()) < 2 * _machine_epsilon(quat.dtype)
     roll = torch.where(locked, torch.zeros_like(roll), roll)
     yaw = torch.where(locked, wrap_to_pi(2.0 * torch.atan2(z, w)), yaw)
     if wrap_to_2pi:
         two_pi = 2 * math.pi
         return roll % two_pi, pitch % two_pi, yaw % two_pi
     return roll, pitch, yaw
+
+
+def _machine_epsilon(dtype: torch.dtype) -> float:
+    """``torch.finfo(dtype).eps`` (which TorchScript lacks) for the floating-point dtypes."""
+    if dtype == torch.float64:
+        return 2.220446049250313e-16
+    if dtype == torch.float16:
+        return 0.0009765625
+    if dtype == torch.bfloat16:
+        return 0.0078125
+    return 1.1920928955078125e-07  # float32
 
 
 def quat_from_angle_axis(angle: torch.Tensor, axis: torch.Tensor) -> torch.Tensor:
@@ -282,7 +307,7 @@ def axis_angle_from_quat(quat: torch.Tensor, eps: float = 1.0e-6) -> torch.Tenso
     """Rotation vector (axis * angle, angle in ``[0, pi]``) of a unit quaternion."""
     _check_last_dim("quat", quat, 4)
     quat = quat_unique(quat)  # the short way round
-    xyz_norm = quat[..., 1:].norm(dim=-1)
+    xyz_norm = torch.linalg.vector_norm(quat[..., 1:], dim=-1)
     half_angle = torch.atan2(xyz_norm, quat[..., 0])
     angle = 2.0 * half_angle
     # sin(angle/2) / angle, with its Taylor expansion near zero to avoid 0/0
@@ -292,7 +317,7 @@ def axis_angle_from_quat(quat: torch.Tensor, eps: float = 1.0e-6) -> torch.Tenso
 
 def quat_error_magnitude(q1: torch.Tensor, q2: torch.Tensor) -> torch.Tensor:
     """Angle (radians, in ``[0, pi]``) of the rotation between ``q1`` and ``q2``."""
-    return axis_angle_from_quat(quat_mul(q1, quat_conjugate(q2))).norm(dim=-1)
+    return torch.linalg.vector_norm(axis_angle_from_quat(quat_mul(q1, quat_conjugate(q2))), dim=-1)
 
 
 def quat_box_minus(q1: torch.Tensor, q2: torch.Tensor) -> torch.Tensor:
@@ -303,7 +328,7 @@ def quat_box_minus(q1: torch.Tensor, q2: torch.Tensor) -> torch.Tensor:
 def quat_box_plus(q: torch.Tensor, delta: torch.Tensor, eps: float = 1.0e-6) -> torch.Tensor:
     """``q [+] delta``: ``q`` turned by the rotation vector ``delta`` (..., 3) in the world frame, ``w >= 0``."""
     _check_last_dim("delta", delta, 3)
-    angle = delta.norm(dim=-1, keepdim=True).clamp(min=eps)
+    angle = torch.linalg.vector_norm(delta, dim=-1, keepdim=True).clamp(min=eps)
     delta_quat = quat_from_angle_axis(angle.squeeze(-1), delta / angle)
     return quat_unique(quat_mul(delta_quat, q))
 
@@ -336,8 +361,8 @@ def matrix_from_quat(quaternions: torch.Tensor) -> torch.Tensor:
 
 def quat_from_matrix(matrix: torch.Tensor) -> torch.Tensor:
     """Unit quaternion of a rotation matrix (..., 3, 3); the sign is not standardized."""
-    if matrix.shape[-2:] != (3, 3):
-        raise ValueError(f"matrix must have shape (..., 3, 3), got {tuple(matrix.shape)}.")
+    if matrix.dim() < 2 or matrix.shape[-1] != 3 or matrix.shape[-2] != 3:
+        raise ValueError(f"matrix must have shape (..., 3, 3), got {list(matrix.shape)}.")
     m = matrix.unbind(-1)
     m00, m10, m20 = m[0].unbind(-1)
     m01, m11, m21 = m[1].unbind(-1)
@@ -386,7 +411,7 @@ def matrix_from_euler(euler_angles: torch.Tensor, convention: str) -> torch.Tens
     ``"XYZ"``: turn about x, then about the new y, then about the newest z (``R = Rx Ry Rz``).
     """
     if euler_angles.dim() == 0 or euler_angles.shape[-1] != 3:
-        raise ValueError(f"euler_angles must have shape (..., 3), got {tuple(euler_angles.shape)}.")
+        raise ValueError(f"euler_angles must have shape (..., 3), got {list(euler_angles.shape)}.")
     if len(convention) != 3 or any(c not in "XYZ" for c in convention):
         raise ValueError(f"convention must be three letters from 'X', 'Y', 'Z' (e.g. 'XYZ'), got {convention!r}.")
     if convention[1] in (convention[0], convention[2]):
@@ -463,7 +488,7 @@ def compute_pose_error(
     q01: torch.Tensor,
     t02: torch.Tensor,
     q02: torch.Tensor,
-    rot_error_type: Literal["quat", "axis_angle"] = "axis_angle",
+    rot_error_type: str = "axis_angle",
 ) -> tuple[torch.Tensor, torch.Tensor]:
     """Error from a source pose ``(t01, q01)`` to a target pose ``(t02, q02)``, both in frame 0.
 
@@ -471,7 +496,7 @@ def compute_pose_error(
     quaternion (``rot_error_type="quat"``) or a rotation vector (``"axis_angle"``).
     """
     if rot_error_type not in ("quat", "axis_angle"):
-        raise ValueError(f"rot_error_type must be 'quat' or 'axis_angle', got {rot_error_type!r}.")
+        raise ValueError(f"rot_error_type must be 'quat' or 'axis_angle', got '{rot_error_type}'.")
     quat_error = quat_mul(q02, quat_inv(q01))
     pos_error = t02 - t01
     if rot_error_type == "quat":
@@ -489,7 +514,7 @@ def apply_delta_pose(
     _check_last_dim("delta_pose", delta_pose, 6)
     target_pos = source_pos + delta_pose[..., 0:3]
     rot_vec = delta_pose[..., 3:6]
-    angle = rot_vec.norm(dim=-1)
+    angle = torch.linalg.vector_norm(rot_vec, dim=-1)
     delta_quat = quat_from_angle_axis(angle, rot_vec)  # normalize() keeps a zero axis at zero
     identity = torch.zeros_like(delta_quat)
     identity[..., 0] = 1.0
@@ -505,11 +530,11 @@ def transform_points(
     A missing ``pos`` or ``quat`` is no translation or no rotation. The output has the points' shape.
     """
     if points.dim() not in (2, 3) or points.shape[-1] != 3:
-        raise ValueError(f"points must have shape (P, 3) or (N, P, 3), got {tuple(points.shape)}.")
+        raise ValueError(f"points must have shape (P, 3) or (N, P, 3), got {list(points.shape)}.")
     if pos is not None and (pos.dim() not in (1, 2) or pos.shape[-1] != 3):
-        raise ValueError(f"pos must have shape (3,) or (N, 3), got {tuple(pos.shape)}.")
+        raise ValueError(f"pos must have shape (3,) or (N, 3), got {list(pos.shape)}.")
     if quat is not None and (quat.dim() not in (1, 2) or quat.shape[-1] != 4):
-        raise ValueError(f"quat must have shape (4,) or (N, 4), got {tuple(quat.shape)}.")
+        raise ValueError(f"quat must have shape (4,) or (N, 4), got {list(quat.shape)}.")
     batched = points.dim() == 3
     out = points if batched else points.unsqueeze(0)
     if quat is not None:
@@ -650,7 +675,7 @@ def _depth_as_batch(depth: torch.Tensor) -> tuple[torch.Tensor, bool, bool]:
     has_channel = depth.dim() == 4 or (depth.dim() == 3 and depth.shape[-1] == 1)
     if depth.dim() not in (2, 3, 4) or (depth.dim() == 4 and depth.shape[-1] != 1):
         raise ValueError(
-            f"depth must have shape (H, W), (H, W, 1), (N, H, W) or (N, H, W, 1), got {tuple(depth.shape)}."
+            f"depth must have shape (H, W), (H, W, 1), (N, H, W) or (N, H, W, 1), got {list(depth.shape)}."
         )
     batch = depth.squeeze(-1) if has_channel else depth
     is_batched = batch.dim() == 3
@@ -659,7 +684,7 @@ def _depth_as_batch(depth: torch.Tensor) -> tuple[torch.Tensor, bool, bool]:
 
 def _intrinsics_as_batch(intrinsics: torch.Tensor) -> torch.Tensor:
     if intrinsics.shape[-2:] != (3, 3) or intrinsics.dim() not in (2, 3):
-        raise ValueError(f"intrinsics must have shape (3, 3) or (N, 3, 3), got {tuple(intrinsics.shape)}.")
+        raise ValueError(f"intrinsics must have shape (3, 3) or (N, 3, 3), got {list(intrinsics.shape)}.")
     return intrinsics if intrinsics.dim() == 3 else intrinsics.unsqueeze(0)
 
 
@@ -714,7 +739,7 @@ def unproject_depth(depth: torch.Tensor, intrinsics: torch.Tensor, is_ortho: boo
 def project_points(points: torch.Tensor, intrinsics: torch.Tensor) -> torch.Tensor:
     """Pinhole projection of camera-frame points (P, 3) or (N, P, 3) to ``(u, v, depth)``, same shape."""
     if points.dim() not in (2, 3) or points.shape[-1] != 3:
-        raise ValueError(f"points must have shape (P, 3) or (N, P, 3), got {tuple(points.shape)}.")
+        raise ValueError(f"points must have shape (P, 3) or (N, P, 3), got {list(points.shape)}.")
     batch = points if points.dim() == 3 else points.unsqueeze(0)
     k = _intrinsics_as_batch(intrinsics).to(points.dtype)
     pixels = batch @ k.transpose(-1, -2)  # (N, P, 3): K p for every point
@@ -798,7 +823,7 @@ def make_pose(pos: torch.Tensor, rot: torch.Tensor) -> torch.Tensor:
     if pos.shape[-1] != 3 or rot.shape[-2:] != (3, 3) or pos.shape[:-1] != rot.shape[:-2]:
         raise ValueError(
             f"make_pose needs pos (..., 3) and rot (..., 3, 3) with the same batch shape, "
-            f"got {tuple(pos.shape)} and {tuple(rot.shape)}."
+            f"got {list(pos.shape)} and {list(rot.shape)}."
         )
     pose = torch.zeros(pos.shape[:-1] + (4, 4), dtype=pos.dtype, device=pos.device)
     pose[..., :3, :3] = rot

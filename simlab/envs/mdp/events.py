@@ -99,6 +99,17 @@ def _cols(ids, count: int, device) -> torch.Tensor:
 # -- resets ----------------------------------------------------------------------------------------
 
 
+def _only_keys(term: str, ranges: dict[str, tuple[float, float]], allowed: tuple[str, ...], why: str) -> None:
+    unused = [k for k in ranges if k not in allowed]
+    if unused:
+        raise ValueError(f"{term}: pose_range key(s) {unused} are not used ({why}); allowed: {list(allowed)}")
+
+
+def _root_velocities(root: torch.Tensor, velocity_range: dict[str, tuple[float, float]], device) -> torch.Tensor:
+    ranges = _range_tensor(velocity_range, device)
+    return root[:, 7:13] + math_utils.sample_uniform(ranges[:, 0], ranges[:, 1], (root.shape[0], 6), device)
+
+
 @takes_env_mask
 def reset_root_state_uniform(
     env: ManagerBasedEnv,
@@ -117,10 +128,63 @@ def reset_root_state_uniform(
     positions = root[:, 0:3] + env.scene.env_origins[env_ids] + pose[:, 0:3]
     delta = math_utils.quat_from_euler_xyz(pose[:, 3], pose[:, 4], pose[:, 5])
     orientations = math_utils.quat_mul(root[:, 3:7], delta)
-    ranges = _range_tensor(velocity_range, env.device)
-    velocities = root[:, 7:13] + math_utils.sample_uniform(ranges[:, 0], ranges[:, 1], (root.shape[0], 6), env.device)
     asset.write_root_pose_to_sim(torch.cat([positions, orientations], dim=-1), env_ids=write_ids)
-    asset.write_root_velocity_to_sim(velocities, env_ids=write_ids)
+    asset.write_root_velocity_to_sim(_root_velocities(root, velocity_range, env.device), env_ids=write_ids)
+
+
+@takes_env_mask
+def reset_root_state_with_random_orientation(
+    env: ManagerBasedEnv,
+    env_ids: torch.Tensor,
+    pose_range: dict[str, tuple[float, float]],
+    velocity_range: dict[str, tuple[float, float]],
+    asset_cfg: SceneEntityCfg = _ROBOT,
+) -> None:
+    """Default root position (at the env origin) plus uniform offsets (``x``, ``y``, ``z``), an
+    orientation drawn uniformly from all rotations, and the default velocity plus uniform offsets."""
+    _only_keys("reset_root_state_with_random_orientation", pose_range, _POSE_KEYS[:3], "the orientation is uniform")
+    env_ids, write_ids = _selection(env, env_ids)
+    asset = env.scene[asset_cfg.name]
+    root = asset.data.default_root_state[env_ids]
+    ranges = _range_tensor(pose_range, env.device)
+    offsets = math_utils.sample_uniform(ranges[:3, 0], ranges[:3, 1], (root.shape[0], 3), env.device)
+    positions = root[:, 0:3] + env.scene.env_origins[env_ids] + offsets
+    orientations = math_utils.random_orientation(root.shape[0], env.device)
+    asset.write_root_pose_to_sim(torch.cat([positions, orientations], dim=-1), env_ids=write_ids)
+    asset.write_root_velocity_to_sim(_root_velocities(root, velocity_range, env.device), env_ids=write_ids)
+
+
+@takes_env_mask
+def reset_root_state_from_terrain(
+    env: ManagerBasedEnv,
+    env_ids: torch.Tensor,
+    pose_range: dict[str, tuple[float, float]],
+    velocity_range: dict[str, tuple[float, float]],
+    asset_cfg: SceneEntityCfg = _ROBOT,
+) -> None:
+    """The root at a random flat patch ``"init_pos"`` of the env's terrain tile (plus the default root
+    position), turned by uniform ``roll``, ``pitch``, ``yaw``, with the default velocity plus uniform
+    offsets. The terrain's sub-terrains must sample flat patches named ``init_pos``."""
+    _only_keys("reset_root_state_from_terrain", pose_range, _POSE_KEYS[3:], "the position is a flat patch")
+    terrain = env.scene.terrain
+    patches = None if terrain is None else terrain.flat_patches.get("init_pos")
+    if patches is None:
+        found = [] if terrain is None else list(terrain.flat_patches)
+        raise ValueError(
+            "reset_root_state_from_terrain needs flat patches named 'init_pos' (FlatPatchSamplingCfg in the "
+            f"sub-terrains' flat_patch_sampling); the terrain has {found}"
+        )
+    env_ids, write_ids = _selection(env, env_ids)
+    asset = env.scene[asset_cfg.name]
+    root = asset.data.default_root_state[env_ids]
+    count = root.shape[0]
+    pick = torch.randint(0, patches.shape[2], (count,), device=env.device)
+    positions = patches[terrain.terrain_levels[env_ids], terrain.terrain_types[env_ids], pick] + root[:, 0:3]
+    ranges = _range_tensor(pose_range, env.device)
+    angles = math_utils.sample_uniform(ranges[3:, 0], ranges[3:, 1], (count, 3), env.device)
+    orientations = math_utils.quat_from_euler_xyz(angles[:, 0], angles[:, 1], angles[:, 2])
+    asset.write_root_pose_to_sim(torch.cat([positions, orientations], dim=-1), env_ids=write_ids)
+    asset.write_root_velocity_to_sim(_root_velocities(root, velocity_range, env.device), env_ids=write_ids)
 
 
 def _write_joints(asset, env_ids: torch.Tensor, write_ids, joint_ids, pos: torch.Tensor, vel: torch.Tensor) -> None:

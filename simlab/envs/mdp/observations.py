@@ -69,6 +69,25 @@ def root_ang_vel_w(env: ManagerBasedEnv, asset_cfg: SceneEntityCfg = _ROBOT) -> 
     return env.scene[asset_cfg.name].data.root_ang_vel_w
 
 
+# -- body state ------------------------------------------------------------------------------------
+
+
+def body_pose_w(env: ManagerBasedEnv, asset_cfg: SceneEntityCfg = _ROBOT) -> torch.Tensor:
+    """Poses of the bodies ``asset_cfg.body_ids``, positions relative to the env origin: (N, 7 * bodies),
+    ``(x, y, z, qw, qx, qy, qz)`` per body."""
+    pose = env.scene[asset_cfg.name].data.body_pose_w[:, asset_cfg.body_ids, :7].clone()
+    pose[..., :3] -= env.scene.env_origins.unsqueeze(1)
+    return pose.reshape(env.num_envs, -1)
+
+
+def body_projected_gravity_b(env: ManagerBasedEnv, asset_cfg: SceneEntityCfg = _ROBOT) -> torch.Tensor:
+    """Gravity direction (unit vector) in the frame of each body ``asset_cfg.body_ids``: (N, 3 * bodies)."""
+    data = env.scene[asset_cfg.name].data
+    body_quat = data.body_quat_w[:, asset_cfg.body_ids]
+    gravity = data.GRAVITY_VEC_W.unsqueeze(1).expand(-1, body_quat.shape[1], -1)
+    return math_utils.quat_apply_inverse(body_quat, gravity).reshape(env.num_envs, -1)
+
+
 # -- joint state -----------------------------------------------------------------------------------
 
 
@@ -120,6 +139,19 @@ def generated_commands(env: ManagerBasedRLEnv, command_name: str) -> torch.Tenso
     return env.command_manager.get_command(command_name)
 
 
+# -- time ------------------------------------------------------------------------------------------
+
+
+def current_time_s(env: ManagerBasedRLEnv) -> torch.Tensor:
+    """Time since the episode began, in seconds (N, 1)."""
+    return env.episode_length_buf.unsqueeze(1) * env.step_dt
+
+
+def remaining_time_s(env: ManagerBasedRLEnv) -> torch.Tensor:
+    """Time left until the episode's time limit, in seconds (N, 1)."""
+    return env.max_episode_length_s - current_time_s(env)
+
+
 # -- sensors ---------------------------------------------------------------------------------------
 
 
@@ -128,6 +160,29 @@ def height_scan(env: ManagerBasedEnv, sensor_cfg: SceneEntityCfg, offset: float 
     ground when the scanner is ``offset`` metres up."""
     sensor = env.scene.sensors[sensor_cfg.name]
     return sensor.data.pos_w[:, 2].unsqueeze(1) - sensor.data.ray_hits_w[..., 2] - offset
+
+
+_IMU = SceneEntityCfg("imu")
+
+
+def imu_orientation(env: ManagerBasedEnv, asset_cfg: SceneEntityCfg = _IMU) -> torch.Tensor:
+    """An IMU's orientation (w, x, y, z) in the world frame (N, 4)."""
+    return env.scene[asset_cfg.name].data.quat_w
+
+
+def imu_projected_gravity(env: ManagerBasedEnv, asset_cfg: SceneEntityCfg = _IMU) -> torch.Tensor:
+    """Gravity direction (unit vector) in an IMU's frame (N, 3)."""
+    return env.scene[asset_cfg.name].data.projected_gravity_b
+
+
+def imu_ang_vel(env: ManagerBasedEnv, asset_cfg: SceneEntityCfg = _IMU) -> torch.Tensor:
+    """An IMU's angular velocity in its own frame, rad/s (N, 3)."""
+    return env.scene[asset_cfg.name].data.ang_vel_b
+
+
+def imu_lin_acc(env: ManagerBasedEnv, asset_cfg: SceneEntityCfg = _IMU) -> torch.Tensor:
+    """An IMU's linear acceleration in its own frame, m/s^2 (N, 3)."""
+    return env.scene[asset_cfg.name].data.lin_acc_b
 
 
 _TILED_CAMERA = SceneEntityCfg("tiled_camera")

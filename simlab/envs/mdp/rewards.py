@@ -154,6 +154,11 @@ def undesired_contacts(env: ManagerBasedRLEnv, threshold: float, sensor_cfg: Sce
     return torch.sum(_peak_contact_force(env, sensor_cfg) > threshold, dim=1).float()
 
 
+def desired_contacts(env: ManagerBasedRLEnv, sensor_cfg: SceneEntityCfg, threshold: float = 1.0) -> torch.Tensor:
+    """1 where none of the selected bodies touches with more than ``threshold`` newtons, else 0."""
+    return (_peak_contact_force(env, sensor_cfg) <= threshold).all(dim=1).float()
+
+
 def contact_forces(env: ManagerBasedRLEnv, threshold: float, sensor_cfg: SceneEntityCfg) -> torch.Tensor:
     """Contact force above ``threshold`` newtons, summed over the selected bodies."""
     return torch.sum((_peak_contact_force(env, sensor_cfg) - threshold).clip(min=0.0), dim=1)

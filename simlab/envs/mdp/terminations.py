@@ -19,6 +19,13 @@ def time_out(env: ManagerBasedRLEnv) -> torch.Tensor:
     return env.episode_length_buf >= env.max_episode_length
 
 
+def command_resample(env: ManagerBasedRLEnv, command_name: str, num_resamples: int = 1) -> torch.Tensor:
+    """The ``num_resamples``-th command of ``command_name`` since the reset (the reset draws the first)
+    runs out within this step: episodes of that many commands."""
+    command = env.command_manager.get_term(command_name)
+    return (command.time_left <= env.step_dt) & (command.command_counter == num_resamples)
+
+
 def bad_orientation(env: ManagerBasedRLEnv, limit_angle: float, asset_cfg: SceneEntityCfg = _ROBOT) -> torch.Tensor:
     """The root tilted more than ``limit_angle`` radians from upright."""
     gravity_b = env.scene[asset_cfg.name].data.projected_gravity_b

@@ -1,5 +1,6 @@
 """Spawners: configs whose ``func(prim_path, cfg)`` adds a ground, light, robot or shape to the spec."""
 
+from ..schemas import ArticulationRootPropertiesCfg, CollisionPropertiesCfg, MassPropertiesCfg, RigidBodyPropertiesCfg
 from .from_files import (
     GroundPlaneCfg,
     MjcfFileCfg,
@@ -8,6 +9,7 @@ from .from_files import (
     entity_name,
     spawn_from_mjcf,
     spawn_from_urdf,
+    spawn_from_usd,
     spawn_ground_plane,
 )
 from .lights import DistantLightCfg, DomeLightCfg, LightCfg, spawn_light
@@ -23,11 +25,4 @@ from .meshes import (
 )
 from .sensors import PinholeCameraCfg, spawn_camera
 from .shapes import CapsuleCfg, ConeCfg, CuboidCfg, CylinderCfg, ShapeCfg, SphereCfg, spawn_shape
-from .spawner_cfg import (
-    ArticulationRootPropertiesCfg,
-    CollisionPropertiesCfg,
-    MassPropertiesCfg,
-    RigidBodyPropertiesCfg,
-    RigidObjectSpawnerCfg,
-    SpawnerCfg,
-)
+from .spawner_cfg import RigidObjectSpawnerCfg, SpawnerCfg

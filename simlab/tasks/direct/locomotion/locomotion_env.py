@@ -17,6 +17,7 @@ import simlab.sim as sim_utils
 from simlab.assets import Articulation
 from simlab.envs import DirectRLEnv, DirectRLEnvCfg
 from simlab.sim.spawners.from_files import spawn_ground_plane
+from simlab.terrains import TerrainImporterCfg
 from simlab.utils.env_mask import masked_copy_
 from simlab.utils.math import (
     euler_xyz_from_quat,
@@ -35,8 +36,9 @@ def normalize_angle(x: torch.Tensor) -> torch.Tensor:
 
 
 class LocomotionEnv(DirectRLEnv):
-    """Needs in its config: ``robot``, ``terrain`` (a ground plane cfg), ``action_scale``, ``joint_gears``
-    and the reward weights of ``compute_rewards``.
+    """Needs in its config: ``robot``, ``terrain``, ``action_scale``, ``joint_gears`` and the reward weights
+    of ``compute_rewards``. ``terrain`` is a ground plane's cfg, or a ``TerrainImporterCfg`` (Isaac Lab's
+    ant and humanoid configs give one with ``terrain_type="plane"``).
 
     ``joint_gears`` is either a list in the robot's joint order (Isaac Lab's: by depth in the tree) or a dict
     ``{joint name or regex: gear}``, which does not depend on the order.
@@ -66,7 +68,12 @@ class LocomotionEnv(DirectRLEnv):
 
     def _setup_scene(self):
         self.robot = Articulation(self.cfg.robot)
-        spawn_ground_plane(prim_path="/World/ground", cfg=self.cfg.terrain)
+        terrain = self.cfg.terrain
+        if isinstance(terrain, TerrainImporterCfg):
+            terrain.num_envs, terrain.env_spacing = self.scene.cfg.num_envs, self.scene.cfg.env_spacing
+            self.terrain = terrain.class_type(terrain)
+        else:
+            spawn_ground_plane(prim_path="/World/ground", cfg=terrain)
         self.scene.articulations["robot"] = self.robot
         light_cfg = sim_utils.DomeLightCfg(intensity=2000.0, color=(0.75, 0.75, 0.75))
         light_cfg.func("/World/Light", light_cfg)

@@ -9,16 +9,17 @@ fixed base; it becomes a MuJoCo mocap body so that writing its root pose still m
 from __future__ import annotations
 
 import os
-from dataclasses import MISSING
+from typing import TYPE_CHECKING
 
 import mujoco
 
-from simlab.utils import configclass
 from simlab.utils.assets import refuse_remote_path
 
-from ..simulation_context import current_spec
-from .materials import PreviewSurfaceCfg, RigidBodyMaterialCfg
-from .spawner_cfg import ArticulationRootPropertiesCfg, RigidObjectSpawnerCfg, SpawnerCfg
+from ...simulation_context import current_spec
+
+if TYPE_CHECKING:
+    from ..spawner_cfg import RigidObjectSpawnerCfg
+    from .from_files_cfg import GroundPlaneCfg, MjcfFileCfg, UrdfFileCfg
 
 
 def entity_name(prim_path: str) -> str:
@@ -141,51 +142,8 @@ def spawn_ground_plane(prim_path: str, cfg: GroundPlaneCfg, translation=None, or
     )
 
 
-@configclass
-class FileCfg(RigidObjectSpawnerCfg):
-    asset_path: str = MISSING
-    scale: tuple[float, float, float] | None = None
-    articulation_props: ArticulationRootPropertiesCfg | None = None
-    visual_material: PreviewSurfaceCfg | None = None
-
-
-@configclass
-class MjcfFileCfg(FileCfg):
-    """A robot described in MJCF: one root body under ``<worldbody>``."""
-
-    func: object = spawn_from_mjcf
-    drop_actuators: bool = True
-
-
-@configclass
-class UrdfFileCfg(FileCfg):
-    """A robot described in URDF, compiled by MuJoCo's URDF reader."""
-
-    func: object = spawn_from_urdf
-    fix_base: bool = True
-
-
-def _usd_unsupported(prim_path, cfg, translation=None, orientation=None):
+def spawn_from_usd(prim_path, cfg, translation=None, orientation=None):
     raise NotImplementedError(
         f"'{prim_path}': simlab reads MJCF and URDF, not USD. Use sim_utils.MjcfFileCfg(asset_path=...) "
         "or sim_utils.UrdfFileCfg(asset_path=...)."
     )
-
-
-@configclass
-class UsdFileCfg(FileCfg):
-    """USD needs Omniverse; kept so that ported configs fail with a clear message."""
-
-    func: object = _usd_unsupported
-    usd_path: str = MISSING
-    asset_path: str | None = None
-    """Unused: a USD file is named by ``usd_path`` (and refused when spawned, saying what to use)."""
-
-
-@configclass
-class GroundPlaneCfg(SpawnerCfg):
-    func: object = spawn_ground_plane
-    usd_path: str | None = None
-    color: tuple[float, float, float] = (0.25, 0.3, 0.35)
-    size: tuple[float, float] = (100.0, 100.0)
-    physics_material: RigidBodyMaterialCfg = RigidBodyMaterialCfg()

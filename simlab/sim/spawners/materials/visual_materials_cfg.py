@@ -1,4 +1,4 @@
-"""Visual and physics materials: colours and friction of geoms."""
+"""Visual materials: the colours of geoms."""
 
 from __future__ import annotations
 
@@ -32,19 +32,3 @@ class MdlFileCfg:
 
     def rgba(self) -> list[float]:
         return [*self.fallback_color, 1.0]
-
-
-@configclass
-class RigidBodyMaterialCfg:
-    """MuJoCo has one sliding friction per geom: ``static_friction`` sets it."""
-
-    static_friction: float = 0.5
-    dynamic_friction: float = 0.5
-    restitution: float = 0.0
-    friction_combine_mode: str = "average"
-    restitution_combine_mode: str = "average"
-    compliant_contact_stiffness: float = 0.0
-    compliant_contact_damping: float = 0.0
-
-    def friction(self) -> list[float]:
-        return [self.static_friction, 0.005, 0.0001]

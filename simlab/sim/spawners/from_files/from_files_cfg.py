@@ -1,0 +1,55 @@
+"""Configs of the spawners that read robot files (MJCF, URDF; USD is refused) and of the ground plane."""
+
+from __future__ import annotations
+
+from dataclasses import MISSING
+
+from simlab.utils import configclass
+
+from ...schemas.schemas_cfg import ArticulationRootPropertiesCfg
+from ..materials import PreviewSurfaceCfg, RigidBodyMaterialCfg
+from ..spawner_cfg import RigidObjectSpawnerCfg, SpawnerCfg
+from . import from_files
+
+
+@configclass
+class FileCfg(RigidObjectSpawnerCfg):
+    asset_path: str = MISSING
+    scale: tuple[float, float, float] | None = None
+    articulation_props: ArticulationRootPropertiesCfg | None = None
+    visual_material: PreviewSurfaceCfg | None = None
+
+
+@configclass
+class MjcfFileCfg(FileCfg):
+    """A robot described in MJCF: one root body under ``<worldbody>``."""
+
+    func: object = from_files.spawn_from_mjcf
+    drop_actuators: bool = True
+
+
+@configclass
+class UrdfFileCfg(FileCfg):
+    """A robot described in URDF, compiled by MuJoCo's URDF reader."""
+
+    func: object = from_files.spawn_from_urdf
+    fix_base: bool = True
+
+
+@configclass
+class UsdFileCfg(FileCfg):
+    """USD needs Omniverse; kept so that ported configs fail with a clear message."""
+
+    func: object = from_files.spawn_from_usd
+    usd_path: str = MISSING
+    asset_path: str | None = None
+    """Unused: a USD file is named by ``usd_path`` (and refused when spawned, saying what to use)."""
+
+
+@configclass
+class GroundPlaneCfg(SpawnerCfg):
+    func: object = from_files.spawn_ground_plane
+    usd_path: str | None = None
+    color: tuple[float, float, float] = (0.25, 0.3, 0.35)
+    size: tuple[float, float] = (100.0, 100.0)
+    physics_material: RigidBodyMaterialCfg = RigidBodyMaterialCfg()
