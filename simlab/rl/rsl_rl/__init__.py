@@ -13,6 +13,7 @@ from .rl_cfg import (
     RslRlOnPolicyRunnerCfg,
     RslRlPpoActorCriticCfg,
     RslRlPpoAlgorithmCfg,
+    RslRlSymmetryCfg,
 )
 
 __all__ = [
@@ -21,6 +22,7 @@ __all__ = [
     "RslRlOnPolicyRunnerCfg",
     "RslRlPpoActorCriticCfg",
     "RslRlPpoAlgorithmCfg",
+    "RslRlSymmetryCfg",
     "RslRlVecEnvWrapper",
     "export_policy_as_jit",
     "export_policy_as_onnx",

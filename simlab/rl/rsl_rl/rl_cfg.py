@@ -9,6 +9,7 @@ The pre-4.0 ``policy = RslRlPpoActorCriticCfg(...)`` form is still accepted and 
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Callable
 from dataclasses import MISSING, field
 from typing import Any, Literal
 
@@ -20,6 +21,7 @@ __all__ = [
     "RslRlOnPolicyRunnerCfg",
     "RslRlPpoActorCriticCfg",
     "RslRlPpoAlgorithmCfg",
+    "RslRlSymmetryCfg",
 ]
 
 
@@ -95,6 +97,20 @@ class RslRlPpoActorCriticCfg:
 
 
 @configclass
+class RslRlSymmetryCfg:
+    """Symmetry in training (rsl_rl's ``Symmetry`` extension, Mittal et al. 2024): mirrored copies of the
+    samples in every mini-batch (``use_data_augmentation``) and/or a loss on the policy's disagreement with
+    its mirror image (``use_mirror_loss``); with both off the symmetry loss is only logged."""
+
+    use_data_augmentation: bool = False
+    use_mirror_loss: bool = False
+    data_augmentation_func: Callable = MISSING
+    """``f(env, obs, actions) -> (obs, actions)``: the batch followed by its mirrored copies (either may
+    be None); e.g. ``simlab.tasks.manager_based.classic.cartpole.mdp.symmetry.compute_symmetric_states``."""
+    mirror_loss_coeff: float = 0.0
+
+
+@configclass
 class RslRlPpoAlgorithmCfg:
     """PPO hyperparameters (the keyword arguments of ``rsl_rl.algorithms.PPO``)."""
 
@@ -116,8 +132,8 @@ class RslRlPpoAlgorithmCfg:
     normalize_advantage_per_mini_batch: bool = False
     rnd_cfg: dict | None = None
     """Random network distillation settings (rsl_rl's dict form), or None."""
-    symmetry_cfg: dict | None = None
-    """Symmetry augmentation settings (rsl_rl's dict form), or None."""
+    symmetry_cfg: RslRlSymmetryCfg | dict | None = None
+    """Symmetry augmentation (:class:`RslRlSymmetryCfg`, or rsl_rl's dict form), or None."""
 
 
 @configclass

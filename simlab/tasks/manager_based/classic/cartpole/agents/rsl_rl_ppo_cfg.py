@@ -1,7 +1,9 @@
 """rsl_rl PPO for the manager-based cartpole (Isaac Lab's published hyperparameters for the same task)."""
 
-from simlab.rl.rsl_rl import RslRlMLPModelCfg, RslRlOnPolicyRunnerCfg, RslRlPpoAlgorithmCfg
+from simlab.rl.rsl_rl import RslRlMLPModelCfg, RslRlOnPolicyRunnerCfg, RslRlPpoAlgorithmCfg, RslRlSymmetryCfg
 from simlab.utils import configclass
+
+from ..mdp.symmetry import compute_symmetric_states
 
 
 @configclass
@@ -31,3 +33,14 @@ class CartpolePPORunnerCfg(RslRlOnPolicyRunnerCfg):
         desired_kl=0.01,
         max_grad_norm=1.0,
     )
+
+
+@configclass
+class CartpolePPORunnerWithSymmetryCfg(CartpolePPORunnerCfg):
+    """The same PPO, every mini-batch doubled by its left-right mirror image (``--agent
+    rsl_rl_with_symmetry_cfg_entry_point``)."""
+
+    def __post_init__(self):
+        self.algorithm.symmetry_cfg = RslRlSymmetryCfg(
+            use_data_augmentation=True, data_augmentation_func=compute_symmetric_states
+        )
