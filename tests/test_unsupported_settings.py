@@ -5,6 +5,7 @@ Each refused setting still loads with its default value (Isaac Lab configs that 
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 import torch
 from conftest import DEVICES, rendering_available
@@ -16,8 +17,8 @@ from simlab.assets import AssetBaseCfg
 from simlab.envs import ManagerBasedRLEnv
 from simlab.robots.cartpole import CARTPOLE_CFG
 from simlab.scene import InteractiveScene, InteractiveSceneCfg
-from simlab.sensors import ContactSensorCfg
-from simlab.tasks.manager_based.classic.cartpole.cartpole_env_cfg import CartpoleEnvCfg
+from simlab.sensors import ContactSensorCfg, FrameTransformerCfg
+from simlab.tasks.manager_based.classic.cartpole.cartpole_env_cfg import CartpoleEnvCfg, CartpoleSceneCfg
 from simlab.utils import configclass
 from simlab.utils.errors import ConfigError
 
@@ -95,7 +96,7 @@ def test_debug_vis_on_assets_and_sensors_is_refused():
         robot = CARTPOLE_CFG.replace(prim_path="{ENV_REGEX_NS}/Robot")
         contacts = ContactSensorCfg(prim_path="{ENV_REGEX_NS}/Robot/.*", debug_vis=True)
 
-    with pytest.raises(ConfigError, match=r"ContactSensorCfg\(.*\).debug_vis=True .*sensors draw no debug"):
+    with pytest.raises(ConfigError, match=r"ContactSensorCfg\(.*\).debug_vis=True .*ContactSensor draws no debug"):
         build_scene(SensorSceneCfg(num_envs=2, env_spacing=4.0))
 
 
@@ -158,6 +159,39 @@ def test_velocity_command_debug_vis_draws_the_commanded_velocity():
     assert _green_pixels(debug_vis=False) == 0
     assert _green_pixels(debug_vis=True) > 30  # a 1.5 m arrow seen from the side
     assert _green_pixels(debug_vis=False) == 0  # a closed env's arrows are gone
+
+
+def _frame_marker_image(debug_vis: bool) -> np.ndarray:
+    @configclass
+    class SceneCfg(CartpoleSceneCfg):
+        pole_frame = FrameTransformerCfg(  # Isaac Lab's cabinet config draws its frames so
+            prim_path="{ENV_REGEX_NS}/Robot/cart",
+            debug_vis=debug_vis,
+            target_frames=[FrameTransformerCfg.FrameCfg(prim_path="{ENV_REGEX_NS}/Robot/pole")],
+        )
+
+    cfg = _cartpole_env_cfg()
+    cfg.scene = SceneCfg(num_envs=1, env_spacing=4.0)
+    env = ManagerBasedRLEnv(cfg, render_mode="rgb_array")
+    try:
+        env.reset()
+        env.step(torch.zeros(1, 1))
+        assert env.scene["pole_frame"].has_debug_vis_implementation
+        return env.render()
+    finally:
+        env.close()
+
+
+def test_frame_transformer_debug_vis_draws_its_target_frames():
+    if not rendering_available():
+        pytest.skip("no offscreen OpenGL backend (install libosmesa6 or an EGL driver)")
+    plain, drawn = (_frame_marker_image(v).astype(int) for v in (False, True))
+    changed = np.abs(drawn - plain).sum(-1) > 60
+    assert changed.sum() > 50  # the marker at the pole's frame (and its reflection in the floor)
+    for axis in range(3):  # x red, y green, z blue: each axis drawn in its own colour
+        others = np.delete(drawn, axis, axis=-1)
+        coloured = (drawn[..., axis] > 50) & (drawn[..., axis] > 2 * others.max(-1))
+        assert (coloured & changed).sum() > 3, f"no {'xyz'[axis]} axis"
 
 
 # -- InteractiveSceneCfg ------------------------------------------------------------------------------

@@ -21,21 +21,22 @@ class SensorBaseCfg:
     """Seconds between updates; 0 updates every physics step."""
     history_length: int = 0
     debug_vis: bool = False
-    """Refused unless False: simlab's sensors draw no debug visualization."""
+    """Draw the sensor's markers in renders and videos; refused for a sensor that draws none."""
 
 
 class SensorBase:
     def __init__(self, cfg: SensorBaseCfg, scene=None):
         cfg.validate()
-        refuse_unless_default(
-            f"{type(cfg).__name__}('{cfg.prim_path}')",
-            "debug_vis",
-            cfg.debug_vis,
-            False,
-            "simlab's sensors draw no debug visualization",
-            "Leave debug_vis=False; read the sensor's data, or draw it with simlab.markers.VisualizationMarkers"
-            " (shown in env.render() and --video).",
-        )
+        if not self.has_debug_vis_implementation:
+            refuse_unless_default(
+                f"{type(cfg).__name__}('{cfg.prim_path}')",
+                "debug_vis",
+                cfg.debug_vis,
+                False,
+                f"simlab's {type(self).__name__} draws no debug visualization",
+                "Leave debug_vis=False; read the sensor's data, or draw it with simlab.markers.VisualizationMarkers"
+                " (shown in env.render() and --video).",
+            )
         self.cfg = cfg
         self._scene = scene
         self._sim = SimulationContext.instance()
@@ -44,6 +45,10 @@ class SensorBase:
         self._is_initialized = False
         self._sim.add_compile_callback(self._on_compile)
         self._sim.add_reset_callback(self._initialize)
+        self._debug_vis = False
+        self._debug_vis_hooked = False
+        if cfg.debug_vis:
+            self.set_debug_vis(True)
 
     @property
     def device(self) -> str:
@@ -68,11 +73,33 @@ class SensorBase:
 
     @property
     def has_debug_vis_implementation(self) -> bool:
-        return False
+        """Whether the sensor draws itself (overrides ``_set_debug_vis_impl``)."""
+        return type(self)._set_debug_vis_impl is not SensorBase._set_debug_vis_impl
 
     def set_debug_vis(self, debug_vis: bool) -> bool:
-        """Isaac Lab's switch for debug drawing; simlab's sensors draw none (returns False)."""
-        return False
+        """Show or hide the sensor's markers in offscreen renders; False when it draws nothing.
+
+        As in Isaac Lab, ``_set_debug_vis_impl`` creates or hides the markers and
+        ``_debug_vis_callback`` places them, here before each rendered image (not at every step).
+        """
+        if not self.has_debug_vis_implementation:
+            return False
+        self._debug_vis = bool(debug_vis)
+        self._set_debug_vis_impl(self._debug_vis)
+        if self._debug_vis and not self._debug_vis_hooked:
+            self._sim.add_render_callback(self._draw_debug_vis)
+            self._debug_vis_hooked = True
+        return True
+
+    def _draw_debug_vis(self) -> None:
+        if self._debug_vis and self._is_initialized:
+            self._debug_vis_callback(None)
+
+    def _set_debug_vis_impl(self, debug_vis: bool) -> None:
+        raise NotImplementedError(f"Debug visualization is not implemented for {type(self).__name__}.")
+
+    def _debug_vis_callback(self, event) -> None:
+        raise NotImplementedError(f"Debug visualization is not implemented for {type(self).__name__}.")
 
     def update(self, dt: float, force_recompute: bool = False) -> None:
         pass

@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING
 import torch
 
 import simlab.utils.math as math_utils
+from simlab.markers import VisualizationMarkers
 
 from ..sensor_base import SensorBase
 from .frame_transformer_data import FrameTransformerData
@@ -51,6 +52,18 @@ class FrameTransformer(SensorBase):
     @property
     def data(self) -> FrameTransformerData:
         return self._data
+
+    # -- debug visualization: a frame marker at every target frame ---------------------------------
+
+    def _set_debug_vis_impl(self, debug_vis: bool) -> None:
+        if debug_vis and not hasattr(self, "frame_visualizer"):
+            self.frame_visualizer = VisualizationMarkers(self.cfg.visualizer_cfg)
+        if hasattr(self, "frame_visualizer"):
+            self.frame_visualizer.set_visibility(debug_vis)
+
+    def _debug_vis_callback(self, event) -> None:
+        data = self.data
+        self.frame_visualizer.visualize(data.target_pos_w.reshape(-1, 3), data.target_quat_w.reshape(-1, 4))
 
     def _initialize(self, sim) -> None:
         super()._initialize(sim)

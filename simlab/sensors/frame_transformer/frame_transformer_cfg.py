@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from dataclasses import MISSING
 
+from simlab.markers import FRAME_MARKER_CFG, VisualizationMarkersCfg
 from simlab.utils import configclass
 
 from ..sensor_base import SensorBaseCfg
@@ -32,5 +33,5 @@ class FrameTransformerCfg(SensorBaseCfg):
     class_type: type = FrameTransformer
     source_frame_offset: OffsetCfg = OffsetCfg()
     target_frames: list[FrameCfg] = MISSING
-    visualizer_cfg: object | None = None
-    """Isaac Lab's frame markers (drawn with ``debug_vis``, which simlab refuses); accepted and unused."""
+    visualizer_cfg: VisualizationMarkersCfg = FRAME_MARKER_CFG.replace(prim_path="/Visuals/FrameTransformer")
+    """The markers ``debug_vis`` draws at every target frame (x red, y green, z blue)."""
