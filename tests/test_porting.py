@@ -257,3 +257,141 @@ def test_isaac_lab_cartpole_runs_after_the_import_mapping(tmp_path):
         torch.testing.assert_close(torch.stack(ported_obs), torch.stack(native_obs))
     finally:
         sys.modules.pop("isaaclab_cartpole_env", None)
+
+
+# A manager-based task written the Isaac Lab way, with the deep import paths and the __post_init__
+# settings Isaac Lab's own task configs use (PhysX tuning, the default material, schema configs).
+ISAACLAB_ANT_WITH_BOX = """
+from __future__ import annotations
+
+import isaaclab.envs.mdp as mdp
+import isaaclab.sim as sim_utils
+from isaaclab.assets import AssetBaseCfg, DeformableObjectCfg, RigidObjectCfg
+from isaaclab.envs import ManagerBasedRLEnvCfg
+from isaaclab.managers import EventTermCfg as EventTerm
+from isaaclab.managers import ObservationGroupCfg as ObsGroup
+from isaaclab.managers import ObservationTermCfg as ObsTerm
+from isaaclab.managers import RewardTermCfg as RewTerm
+from isaaclab.managers import SceneEntityCfg
+from isaaclab.managers import TerminationTermCfg as DoneTerm
+from isaaclab.scene import InteractiveSceneCfg
+from isaaclab.sim.schemas.schemas_cfg import MassPropertiesCfg, RigidBodyPropertiesCfg
+from isaaclab.sim.spawners.from_files.from_files_cfg import GroundPlaneCfg
+from isaaclab.sim.spawners.materials.physics_materials_cfg import RigidBodyMaterialCfg
+from isaaclab.terrains import TerrainImporterCfg
+from isaaclab.utils import configclass
+
+from isaaclab_assets.robots.ant import ANT_CFG
+
+
+@configclass
+class AntSceneCfg(InteractiveSceneCfg):
+    terrain = TerrainImporterCfg(
+        prim_path="/World/ground",
+        terrain_type="plane",
+        collision_group=-1,
+        physics_material=RigidBodyMaterialCfg(static_friction=1.0, dynamic_friction=1.0, restitution=0.0),
+    )
+    robot = ANT_CFG.replace(prim_path="{ENV_REGEX_NS}/Robot")
+    box: RigidObjectCfg | DeformableObjectCfg = RigidObjectCfg(
+        prim_path="{ENV_REGEX_NS}/Box",
+        spawn=sim_utils.CuboidCfg(
+            size=(0.2, 0.2, 0.2), rigid_props=RigidBodyPropertiesCfg(), mass_props=MassPropertiesCfg(mass=1.0)
+        ),
+        init_state=RigidObjectCfg.InitialStateCfg(pos=(1.5, 0.0, 0.1)),
+    )
+    light = AssetBaseCfg(prim_path="/World/light", spawn=sim_utils.DistantLightCfg(intensity=3000.0))
+
+
+@configclass
+class ActionsCfg:
+    joint_effort = mdp.JointEffortActionCfg(asset_name="robot", joint_names=[".*"], scale=7.5)
+
+
+@configclass
+class ObservationsCfg:
+    @configclass
+    class PolicyCfg(ObsGroup):
+        base_lin_vel = ObsTerm(func=mdp.base_lin_vel)
+        torso_pose = ObsTerm(func=mdp.body_pose_w, params={"asset_cfg": SceneEntityCfg("robot", body_names="torso")})
+        legs_gravity = ObsTerm(
+            func=mdp.body_projected_gravity_b, params={"asset_cfg": SceneEntityCfg("robot", body_names=".*_leg")}
+        )
+        time = ObsTerm(func=mdp.current_time_s)
+        time_left = ObsTerm(func=mdp.remaining_time_s)
+        joint_pos = ObsTerm(func=mdp.joint_pos_limit_normalized)
+        actions = ObsTerm(func=mdp.last_action)
+
+    policy: PolicyCfg = PolicyCfg()
+
+
+@configclass
+class EventCfg:
+    reset_base = EventTerm(
+        func=mdp.reset_root_state_uniform,
+        mode="reset",
+        params={"pose_range": {"yaw": (-3.14, 3.14)}, "velocity_range": {}},
+    )
+    tumble_box = EventTerm(
+        func=mdp.reset_root_state_with_random_orientation,
+        mode="reset",
+        params={"pose_range": {"z": (0.2, 0.2)}, "velocity_range": {}, "asset_cfg": SceneEntityCfg("box")},
+    )
+
+
+@configclass
+class RewardsCfg:
+    alive = RewTerm(func=mdp.is_alive, weight=0.5)
+
+
+@configclass
+class TerminationsCfg:
+    time_out = DoneTerm(func=mdp.time_out, time_out=True)
+
+
+@configclass
+class AntWithBoxEnvCfg(ManagerBasedRLEnvCfg):
+    scene: AntSceneCfg = AntSceneCfg(num_envs=64, env_spacing=5.0)
+    observations: ObservationsCfg = ObservationsCfg()
+    actions: ActionsCfg = ActionsCfg()
+    events: EventCfg = EventCfg()
+    rewards: RewardsCfg = RewardsCfg()
+    terminations: TerminationsCfg = TerminationsCfg()
+
+    def __post_init__(self):
+        self.decimation = 2
+        self.episode_length_s = 16.0
+        self.sim.dt = 1 / 120.0
+        self.sim.render_interval = self.decimation
+        self.sim.physx.bounce_threshold_velocity = 0.2
+        self.sim.physx.gpu_max_rigid_patch_count = 10 * 2**15
+        self.sim.physics_material.static_friction = 1.0
+        self.sim.physics_material.dynamic_friction = 1.0
+        self.sim.physics_material.restitution = 0.0
+"""
+
+
+def test_an_isaac_lab_manager_based_config_runs_after_the_import_mapping(tmp_path):
+    path = tmp_path / "isaaclab_ant_with_box_env_cfg.py"
+    path.write_text(port(ISAACLAB_ANT_WITH_BOX))
+    module = import_file(path, "isaaclab_ant_with_box_env_cfg")
+    try:
+        from simlab.envs import ManagerBasedRLEnv
+
+        cfg = module.AntWithBoxEnvCfg()
+        cfg.scene.num_envs, cfg.sim.device, cfg.seed = 4, "cpu", 0
+        env = ManagerBasedRLEnv(cfg)
+        obs, _ = env.reset()
+        # 3 + 7 (torso pose) + 4 x 3 (legs' gravity) + 1 + 1 + 8 + 8
+        assert obs["policy"].shape == (4, 40)
+        for _ in range(30):
+            obs, *_ = env.step(torch.zeros(4, 8))
+        time, time_left = obs["policy"][:, 22], obs["policy"][:, 23]
+        torch.testing.assert_close(time, torch.full((4,), 30 * env.step_dt))
+        torch.testing.assert_close(time + time_left, torch.full((4,), 16.0))
+        assert (env.scene["robot"].data.root_pos_w[:, 2] > 0.2).all()  # standing on the terrain's plane
+        box_up = env.scene["box"].data.projected_gravity_b
+        assert box_up.std(dim=0).max() > 0.1  # the boxes were reset at random orientations, settled on a face
+        env.close()
+    finally:
+        sys.modules.pop("isaaclab_ant_with_box_env_cfg", None)
