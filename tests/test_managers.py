@@ -14,6 +14,7 @@ from simlab.managers import ObservationTermCfg as ObsTerm
 from simlab.managers import RewardTermCfg as RewTerm
 from simlab.managers import SceneEntityCfg
 from simlab.managers import TerminationTermCfg as DoneTerm
+from simlab.managers.manager_base import ManagerTermBase
 from simlab.tasks.manager_based.classic.cartpole.cartpole_env_cfg import CartpoleEnvCfg
 from simlab.utils import configclass
 from simlab.utils.modifiers import DigitalFilterCfg, ModifierCfg
@@ -450,3 +451,49 @@ def test_observation_history_counts_appended_steps_only():
     env.reset(env_ids=torch.tensor([1]))
     assert history.current_length.tolist() == [3, 1, 3, 3]
     env.close()
+
+
+class _CallCount(ManagerTermBase):
+    """A stateful observation term: how often it was called since the env's reset."""
+
+    def __init__(self, cfg, env):
+        super().__init__(cfg, env)
+        self.calls = torch.zeros(env.num_envs)
+
+    def reset(self, env_ids=None):
+        self.calls[slice(None) if env_ids is None else env_ids] = 0.0
+
+    def __call__(self, env):
+        self.calls += 1.0
+        return self.calls.unsqueeze(1).clone()
+
+
+def test_measuring_the_terms_leaves_stateful_terms_as_reset():
+    @configclass
+    class CountingObsCfg:
+        @configclass
+        class PolicyCfg(ObsGroup):
+            calls = ObsTerm(func=_CallCount)
+
+        policy: PolicyCfg = PolicyCfg()
+
+    env = ManagerBasedRLEnv(cartpole_cfg(observations=CountingObsCfg()))
+    # the manager called the term to learn its shape; its first observation is still its first call
+    torch.testing.assert_close(env.observation_manager.compute()["policy"], torch.ones(N, 1))
+    env.close()
+
+
+def test_a_modifiers_params_are_checked_against_its_function():
+    from simlab.utils.errors import ConfigError
+    from simlab.utils.modifiers import clip
+
+    @configclass
+    class ObsCfg:
+        @configclass
+        class PolicyCfg(ObsGroup):
+            pos = ObsTerm(func=mdp.joint_pos, modifiers=[ModifierCfg(func=clip, params={"min": -1.0, "max": 1.0})])
+
+        policy: PolicyCfg = PolicyCfg()
+
+    with pytest.raises(ConfigError, match=r"term 'policy/pos modifier': .*unknown parameter\(s\) \['min', 'max'\]"):
+        ManagerBasedRLEnv(cartpole_cfg(observations=ObsCfg()))

@@ -443,6 +443,32 @@ def test_contact_sensor_selects_bodies_by_regex_and_names_missing_ones():
         make_scene(FilteredCfg(num_envs=1, env_spacing=3.0))
 
 
+def test_a_contact_sensor_over_several_objects_by_a_regex_of_their_names():
+    """Isaac Lab's ``{ENV_REGEX_NS}/Obstacle.*`` selects every obstacle's body."""
+
+    @configclass
+    class SceneCfg(InteractiveSceneCfg):
+        ground = AssetBaseCfg(prim_path="/World/ground", spawn=sim_utils.GroundPlaneCfg())
+        obstacle_1 = box_cfg("{ENV_REGEX_NS}/Obstacle1", z=0.1)
+        obstacle_2 = box_cfg("{ENV_REGEX_NS}/Obstacle2", z=0.1).replace(
+            init_state=RigidObjectCfg.InitialStateCfg(pos=(0.5, 0.0, 0.1))
+        )
+        robot = box_cfg("{ENV_REGEX_NS}/Robot", z=0.1).replace(
+            init_state=RigidObjectCfg.InitialStateCfg(pos=(-0.5, 0.0, 0.1))
+        )
+        contacts = ContactSensorCfg(prim_path="{ENV_REGEX_NS}/Obstacle.*")
+
+    sim, scene = make_scene(SceneCfg(num_envs=2, env_spacing=3.0))
+    sensor = scene["contacts"]
+    assert sensor.num_bodies == 2  # the two obstacles, not the robot
+    for _ in range(100):
+        sim.step()
+        scene.update(DT)
+    weight = torch.full((2, 2), 9.81)  # each 1 kg box rests on the ground
+    torch.testing.assert_close(sensor.data.net_forces_w[..., 2], weight, rtol=0.02, atol=0.0)
+    sim_utils.SimulationContext.clear_instance()
+
+
 def _engines():
     from test_engine_choice import _warp_on_cpu
 

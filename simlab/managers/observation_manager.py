@@ -237,6 +237,11 @@ class ObservationManager(ManagerBase):
                         f" got {type(term_cfg).__name__}"
                     )
                 self._resolve_common_term_cfg(f"{group_name}/{name}", term_cfg, min_argc=1)
+                for modifier in term_cfg.modifiers or []:
+                    if not inspect.isclass(modifier.func):  # a function of (data, **params); classes are checked later
+                        if not callable(modifier.func):
+                            raise self._term_error(f"{group_name}/{name}", f"modifier {modifier.func!r} is not callable")
+                        self._check_params(f"{group_name}/{name} modifier", modifier.func, modifier.params, 1)
                 if group_cfg.history_length is not None:
                     term_cfg.history_length = group_cfg.history_length
                     term_cfg.flatten_history_dim = group_cfg.flatten_history_dim
@@ -297,6 +302,7 @@ class ObservationManager(ManagerBase):
                 self._group_obs_dim[group_name] = tuple(sample.shape[1:])
             else:
                 self._group_obs_dim[group_name] = dims
+        self.reset()  # the calls above that measured the terms leave no trace in stateful terms and modifiers
 
 
 def _column_key(cfg: ObservationTermCfg) -> tuple:

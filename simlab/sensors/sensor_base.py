@@ -123,14 +123,18 @@ def model_body_names(model: mujoco.MjModel) -> list[str]:
 
 def match_body_names(names: list[str], root_names: set[str], prim_path: str) -> list[int]:
     """Indices of the ``names`` (the model's body names, world excluded) that ``prim_path`` selects
-    (``{ENV_REGEX_NS}/Robot/.*``); an asset's own path (``{ENV_REGEX_NS}/Robot``) selects its root
-    body, the one of ``root_names`` (the world's children) named ``Robot/...``."""
+    (``{ENV_REGEX_NS}/Robot/.*``); an asset's own path (``{ENV_REGEX_NS}/Robot``, or a regex over assets,
+    ``{ENV_REGEX_NS}/Obstacle.*``) selects their root bodies, those of ``root_names`` (the world's
+    children) named ``Robot/...``."""
     path = prim_path_in_model(prim_path)
     entity, _, bodies = path.partition("/")
+    entity_pattern = re.compile(entity)  # a regex too: ``{ENV_REGEX_NS}/Obstacle.*`` is every obstacle
     if bodies:
-        pattern = re.compile(re.escape(entity) + "/" + bodies)
+        pattern = re.compile(f"(?:{entity})/(?:{bodies})")
         return [i for i, name in enumerate(names) if pattern.fullmatch(name)]
-    return [i for i, name in enumerate(names) if name in root_names and name.startswith(entity + "/")]
+    return [
+        i for i, name in enumerate(names) if name in root_names and entity_pattern.fullmatch(name.partition("/")[0])
+    ]
 
 
 def find_sensor_bodies(model: mujoco.MjModel, prim_path: str, owner: str) -> tuple[list[int], list[str]]:
