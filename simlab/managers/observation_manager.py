@@ -237,11 +237,12 @@ class ObservationManager(ManagerBase):
                         f" got {type(term_cfg).__name__}"
                     )
                 self._resolve_common_term_cfg(f"{group_name}/{name}", term_cfg, min_argc=1)
-                for modifier in term_cfg.modifiers or []:
-                    if not inspect.isclass(modifier.func):  # a function of (data, **params); classes are checked later
-                        if not callable(modifier.func):
-                            raise self._term_error(f"{group_name}/{name}", f"modifier {modifier.func!r} is not callable")
-                        self._check_params(f"{group_name}/{name} modifier", modifier.func, modifier.params, 1)
+                for modifier in term_cfg.modifiers or []:  # functions of (data, **params); classes come later
+                    if inspect.isclass(modifier.func):
+                        continue
+                    if not callable(modifier.func):
+                        raise self._term_error(f"{group_name}/{name}", f"modifier {modifier.func!r} is not callable")
+                    self._check_params(f"{group_name}/{name} modifier", modifier.func, modifier.params, 1)
                 if group_cfg.history_length is not None:
                     term_cfg.history_length = group_cfg.history_length
                     term_cfg.flatten_history_dim = group_cfg.flatten_history_dim
