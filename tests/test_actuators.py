@@ -69,6 +69,19 @@ def test_dc_motor_curve_against_a_case_by_case_oracle(speed, torque):
     lower, upper = dc_motor_bounds(speed, 100.0, 60.0, 50.0)
     assert motor.computed_effort[0, 0].item() == torque
     assert motor.applied_effort[0, 0].item() == pytest.approx(min(max(torque, lower), upper))
+    # Isaac Lab's way to probe the curve: the last joint velocities, then _clip_effort alone
+    motor._joint_vel[:] = speed
+    assert motor._clip_effort(torch.full((1, 2), torque))[0, 0].item() == pytest.approx(min(max(torque, lower), upper))
+
+
+@pytest.mark.parametrize(("effort_limit", "effort_limit_sim", "expected"), [(None, None, 1e9), (None, 400.0, 400.0)])
+def test_an_explicit_models_effort_limit_comes_from_its_config(effort_limit, effort_limit_sim, expected):
+    """As in Isaac Lab: unset, it is effort_limit_sim (1e9 unset), whatever the robot file says (5000 here)."""
+    cfg = IdealPDActuatorCfg(
+        joint_names_expr=NAMES, stiffness=1.0, damping=0.0, effort_limit=effort_limit, effort_limit_sim=effort_limit_sim
+    )
+    pd = build(cfg, effort_limit=5000.0)
+    assert pd.effort_limit.unique().item() == expected and pd.effort_limit_sim.unique().item() == expected
 
 
 def test_implicit_drive_has_one_effort_limit():

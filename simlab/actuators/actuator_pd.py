@@ -24,7 +24,9 @@ class ActuatorBase:
     Isaac Lab passes the USD values). Tensors are ``(num_envs, num_joints)``. Explicit models turn
     targets into torque with :meth:`compute`, keeping ``computed_effort`` (the model's torque) and
     ``applied_effort`` (after the model's limits). ``effort_limit`` is the model's own limit;
-    ``effort_limit_sim`` and ``velocity_limit_sim`` are what the simulation enforces.
+    ``effort_limit_sim`` and ``velocity_limit_sim`` are what the simulation enforces. As in Isaac Lab,
+    an explicit model's limits come from its config alone: without ``effort_limit`` it clips at
+    ``effort_limit_sim``, itself ``1e9`` when unset (the robot file's limit is for implicit drives).
     """
 
     is_implicit_model: ClassVar[bool] = False
@@ -64,7 +66,7 @@ class ActuatorBase:
             self.effort_limit = self.effort_limit_sim
         else:
             self.effort_limit_sim = self._parse_joint_parameter(cfg.effort_limit_sim, self._DEFAULT_MAX_EFFORT_SIM)
-            self.effort_limit = self._parse_joint_parameter(cfg.effort_limit, effort_limit)
+            self.effort_limit = self._parse_joint_parameter(cfg.effort_limit, self.effort_limit_sim)
         # ``velocity_limit`` is the model's own (a DC motor's no-load speed), else the simulation's cap.
         self.velocity_limit_sim = self._parse_joint_parameter(cfg.velocity_limit_sim, velocity_limit)
         model_velocity = cfg.velocity_limit if cfg.velocity_limit is not None else cfg.velocity_limit_sim
@@ -105,10 +107,10 @@ class ActuatorBase:
         effort.addcmul_(self.damping, control_action.joint_velocities - joint_vel)
         if control_action.joint_efforts is not None:
             effort.add_(control_action.joint_efforts)
-        self._clip_effort(effort, joint_vel, out=self.applied_effort)
+        self._clip_effort(effort, out=self.applied_effort)
 
-    def _clip_effort(self, effort: torch.Tensor, joint_vel: torch.Tensor, out: torch.Tensor) -> torch.Tensor:
-        """``effort`` within the model's limits, written into ``out``."""
+    def _clip_effort(self, effort: torch.Tensor, out: torch.Tensor | None = None) -> torch.Tensor:
+        """``effort`` within the model's limits (written into ``out`` when given)."""
         return torch.clamp(effort, min=-self.effort_limit, max=self.effort_limit, out=out)
 
     def _parse_joint_parameter(self, cfg_value, default) -> torch.Tensor:
@@ -174,11 +176,18 @@ class DCMotor(IdealPDActuator):
         self._saturation_effort = float(cfg.saturation_effort)
         if not torch.isfinite(self.velocity_limit).all():
             raise ValueError(f"DCMotorCfg for {joint_names} needs a finite velocity_limit (the no-load speed)")
+        self._joint_vel = torch.zeros_like(self.computed_effort)
+        """The joint velocities of the last ``compute``: where the torque-speed lines are read."""
 
-    def _clip_effort(self, effort: torch.Tensor, joint_vel: torch.Tensor, out: torch.Tensor) -> torch.Tensor:
+    def compute(self, control_action, joint_pos, joint_vel):
+        self._joint_vel.copy_(joint_vel)
+        return super().compute(control_action, joint_pos, joint_vel)
+
+    def _clip_effort(self, effort: torch.Tensor, out: torch.Tensor | None = None) -> torch.Tensor:
         # The torque-speed lines bound the torque in all four quadrants: beyond the no-load speed the
         # motor can only brake. Past the corner speed, where the braking line crosses the other
         # side's effort limit, the line's value applies (the same for either direction of motion).
+        joint_vel = self._joint_vel
         speed_ratio = joint_vel / self.velocity_limit
         saturation = self._saturation_effort
         max_effort = torch.minimum(torch.rsub(speed_ratio, saturation, alpha=saturation), self.effort_limit)
