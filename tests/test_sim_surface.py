@@ -207,3 +207,41 @@ def test_physics_and_render_step_callbacks_follow_the_render_interval():
         assert len(physics_dts) == 10 and len(render_dts) == 3
     finally:
         env.close()
+
+
+def test_lights_take_isaac_lab_settings():
+    """Exposure doubles the brightness per stop, a colour temperature tints, sphere and disk lights
+    shine from where they are put."""
+    with sim_utils.build_simulation_context(device="cpu") as sim:
+        for name, cfg, pos, rot in [
+            ("dim", sim_utils.DistantLightCfg(intensity=600.0), None, None),
+            ("bright", sim_utils.DistantLightCfg(intensity=600.0, exposure=1.0), None, None),
+            ("warm", sim_utils.DistantLightCfg(intensity=600.0, enable_color_temperature=True, color_temperature=2500.0),
+             None, None),
+            ("bulb", sim_utils.SphereLightCfg(intensity=900.0, radius=0.1), (1.0, 2.0, 3.0), None),
+            ("spot", sim_utils.DiskLightCfg(intensity=900.0), (0.0, 0.0, 2.0), (0.0, 1.0, 0.0, 0.0)),  # turned over
+        ]:  # fmt: skip
+            cfg.func(f"/World/{name}", cfg, translation=pos, orientation=rot)
+        sim.reset()
+        model = sim.model
+        light = {model.light(i).name: i for i in range(model.nlight)}
+        diffuse = model.light_diffuse
+        assert diffuse[light["bright"]].tolist() == pytest.approx((2 * diffuse[light["dim"]]).tolist())
+        red, _, blue = diffuse[light["warm"]]
+        assert red > 2 * blue  # 2500 K is orange
+        assert model.light_type[light["bulb"]] == mujoco.mjtLightType.mjLIGHT_POINT
+        assert model.light_pos[light["bulb"]].tolist() == pytest.approx([1.0, 2.0, 3.0])
+        assert model.light_type[light["spot"]] == mujoco.mjtLightType.mjLIGHT_SPOT
+        assert model.light_dir[light["spot"]].tolist() == pytest.approx([0.0, 0.0, 1.0])  # -z turned over: up
+
+
+def test_clear_empties_the_stage_for_a_new_scene():
+    with sim_utils.build_simulation_context(device="cpu", add_ground_plane=True) as sim:
+        sim.reset()
+        assert sim.is_playing() and sim_utils.is_prim_path_valid("/World/defaultGroundPlane")
+        sim.clear()
+        assert sim.is_stopped() and not sim_utils.is_prim_path_valid("/World/defaultGroundPlane")
+        box = sim_utils.CuboidCfg(size=(0.1, 0.1, 0.1))
+        box.func("/World/Box", box)  # spawning works again, on the empty stage
+        sim.reset()
+        assert sim.model.ngeom == 1

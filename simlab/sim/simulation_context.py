@@ -303,6 +303,19 @@ class SimulationContext:
         self._physics_callbacks.clear()
         self._render_step_callbacks.clear()
 
+    def clear(self) -> None:
+        """Empty the stage (Isaac Sim's ``clear``): a new, empty spec; what was spawned, the assets and
+        sensors made on it (their callbacks) and the started simulation are gone. ``reset()`` starts
+        what is built next."""
+        self.clear_all_callbacks()
+        for callback in self._on_clear:
+            callback()
+        self._on_clear.clear()
+        if self.backend is not None:
+            self.backend.close()
+        self.backend, self.model, self.env_origins, self.num_envs = None, None, None, 1
+        self.spec = self._new_spec()
+
     def run_render_callbacks(self) -> None:
         for callback in self._on_render:
             callback()

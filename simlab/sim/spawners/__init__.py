@@ -12,7 +12,15 @@ from .from_files import (
     spawn_from_usd,
     spawn_ground_plane,
 )
-from .lights import DistantLightCfg, DomeLightCfg, LightCfg, spawn_light
+from .lights import (
+    CylinderLightCfg,
+    DiskLightCfg,
+    DistantLightCfg,
+    DomeLightCfg,
+    LightCfg,
+    SphereLightCfg,
+    spawn_light,
+)
 from .materials import MdlFileCfg, PreviewSurfaceCfg, RigidBodyMaterialCfg
 from .meshes import (
     DeformableBodyMaterialCfg,

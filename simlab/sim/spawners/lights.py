@@ -1,8 +1,18 @@
-"""Lights. MuJoCo lights only matter for rendering; intensities map onto diffuse brightness."""
+"""Lights. MuJoCo lights only matter for rendering; intensities map onto diffuse brightness.
+
+Isaac Lab's (USD) light settings carry over: the brightness is ``intensity * 2**exposure``, and
+``enable_color_temperature`` tints the colour with a black body's at ``color_temperature`` kelvin.
+Dome and distant lights shine from above (a dome adds ambient light); a sphere or cylinder light is
+a point light at its position, a disk light a spot light along its prim's -z axis.
+"""
 
 from __future__ import annotations
 
+import math
+from typing import Literal
+
 import mujoco
+import numpy as np
 
 from simlab.utils import configclass
 
@@ -15,36 +25,95 @@ def _brightness(intensity: float) -> float:
     return float(min(1.0, max(0.05, intensity / 3000.0)))
 
 
+def black_body_rgb(kelvin: float) -> tuple[float, float, float]:
+    """The colour (0-1) of a black body at ``kelvin`` (1000-40000 K), by Tanner Helland's fit."""
+    t = min(max(kelvin, 1000.0), 40000.0) / 100.0
+    if t <= 66.0:
+        red, green = 255.0, 99.4708025861 * math.log(t) - 161.1195681661
+        blue = 0.0 if t <= 19.0 else 138.5177312231 * math.log(t - 10.0) - 305.0447927307
+    else:
+        red, green = 329.698727446 * (t - 60.0) ** -0.1332047592, 288.1221695283 * (t - 60.0) ** -0.0755148492
+        blue = 255.0
+    return tuple(min(max(c, 0.0), 255.0) / 255.0 for c in (red, green, blue))
+
+
 def spawn_light(prim_path: str, cfg: LightCfg, translation=None, orientation=None):
-    """Add a directional light (dome or distant) to the spec being built."""
+    """Add the light to the spec being built."""
     spec = current_spec()
-    diffuse = [c * _brightness(cfg.intensity) for c in cfg.color]
+    color = cfg.color
+    if cfg.enable_color_temperature:
+        color = [c * t for c, t in zip(color, black_body_rgb(cfg.color_temperature))]
+    diffuse = [c * _brightness(cfg.intensity * 2.0**cfg.exposure) for c in color]
+    position = list(translation) if translation is not None else [0.0, 0.0, 10.0]
+    kind, direction = mujoco.mjtLightType.mjLIGHT_DIRECTIONAL, [0.0, 0.0, -1.0]
+    if isinstance(cfg, (SphereLightCfg, CylinderLightCfg)):
+        kind = mujoco.mjtLightType.mjLIGHT_POINT
+    elif isinstance(cfg, DiskLightCfg):
+        kind = mujoco.mjtLightType.mjLIGHT_SPOT
+        if orientation is not None:  # (w, x, y, z)
+            quat = np.asarray(orientation, dtype=np.float64)
+            rotated = np.zeros(3)
+            mujoco.mju_rotVecQuat(rotated, np.array([0.0, 0.0, -1.0]), quat / np.linalg.norm(quat))
+            direction = rotated.tolist()
     if isinstance(cfg, DomeLightCfg):
         # A dome light is light from everywhere: MuJoCo's headlight ambient term plus a top light.
         spec.visual.headlight.ambient = [0.4 * c for c in diffuse]
-    light = spec.worldbody.add_light(
+    return spec.worldbody.add_light(
         name=prim_path.rstrip("/").split("/")[-1] or "light",
-        type=mujoco.mjtLightType.mjLIGHT_DIRECTIONAL,
-        pos=list(translation) if translation is not None else [0.0, 0.0, 10.0],
-        dir=[0.0, 0.0, -1.0],
+        type=kind,
+        pos=position,
+        dir=direction,
         diffuse=diffuse,
         castshadow=False,
     )
-    return light
 
 
 @configclass
 class LightCfg(SpawnerCfg):
     func: object = spawn_light
+    prim_type: str | None = None
+    """USD's light type; the config class says which light it is here."""
     color: tuple[float, float, float] = (1.0, 1.0, 1.0)
+    enable_color_temperature: bool = False
+    color_temperature: float = 6500.0
+    """Kelvin; tints ``color`` when ``enable_color_temperature``."""
+    normalize: bool = False
+    """USD's: brightness independent of the light's size. MuJoCo lights have no size, so either holds."""
+    exposure: float = 0.0
+    """Brightness is ``intensity * 2**exposure``."""
     intensity: float = 1000.0
 
 
 @configclass
 class DomeLightCfg(LightCfg):
+    prim_type: str | None = "DomeLight"
     texture_file: str | None = None
+    texture_format: Literal["automatic", "latlong", "mirroredBall", "angular", "cubeMapVerticalCross"] = "automatic"
+    visible_in_primary_ray: bool = True
 
 
 @configclass
 class DistantLightCfg(LightCfg):
+    prim_type: str | None = "DistantLight"
     angle: float = 0.53
+
+
+@configclass
+class SphereLightCfg(LightCfg):
+    prim_type: str | None = "SphereLight"
+    radius: float = 0.5
+    treat_as_point: bool = False
+
+
+@configclass
+class CylinderLightCfg(LightCfg):
+    prim_type: str | None = "CylinderLight"
+    length: float = 1.0
+    radius: float = 0.5
+    treat_as_line: bool = False
+
+
+@configclass
+class DiskLightCfg(LightCfg):
+    prim_type: str | None = "DiskLight"
+    radius: float = 0.5
