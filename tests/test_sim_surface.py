@@ -111,20 +111,24 @@ def test_usd_only_helpers_say_what_to_use(name):
         helper("/World/Robot")
 
 
-def test_assets_under_translated_xform_groups_get_one_world_each():
-    """Isaac Lab's tutorials spawn ``/World/Origin.*/Robot`` under groups made with create_prim."""
+@pytest.mark.parametrize(
+    ("group", "pattern"), [("/World/Origin{}", "/World/Origin.*"), ("/World/envs/env_{}", "/World/envs/env_.*")]
+)
+def test_assets_under_translated_xform_groups_get_one_world_each(group, pattern):
+    """Isaac Lab's tutorials spawn ``/World/Origin.*/Robot`` under groups made with create_prim (its
+    tests make ``/World/envs/env_<i>`` groups without a scene)."""
     from simlab.assets import RigidObject, RigidObjectCfg
 
     with sim_utils.build_simulation_context(device="cpu", dt=0.01) as sim:
         origins = [(1.0, 0.0, 0.0), (-1.0, 2.0, 0.0), (0.0, -2.0, 0.0)]
         for i, origin in enumerate(origins):
-            sim_utils.create_prim(f"/World/Origin{i}", "Xform", translation=origin)
+            sim_utils.create_prim(group.format(i), "Xform", translation=origin)
         sim_utils.create_prim("/World/Elsewhere", "Xform", translation=(9.0, 9.0, 0.0))  # not matched
         ground = sim_utils.GroundPlaneCfg()
         ground.func("/World/defaultGroundPlane", ground)
         cone = sim_utils.ConeCfg(radius=0.1, height=0.2, rigid_props=sim_utils.RigidBodyPropertiesCfg())
         init = RigidObjectCfg.InitialStateCfg(pos=(0.0, 0.0, 0.3))
-        ball = RigidObject(RigidObjectCfg(prim_path="/World/Origin.*/Ball", spawn=cone, init_state=init))
+        ball = RigidObject(RigidObjectCfg(prim_path=f"{pattern}/Ball", spawn=cone, init_state=init))
         sim.reset()
         assert ball.num_instances == 3
         expected = torch.tensor(origins) + torch.tensor([0.0, 0.0, 0.3])
@@ -216,8 +220,8 @@ def test_lights_take_isaac_lab_settings():
         for name, cfg, pos, rot in [
             ("dim", sim_utils.DistantLightCfg(intensity=600.0), None, None),
             ("bright", sim_utils.DistantLightCfg(intensity=600.0, exposure=1.0), None, None),
-            ("warm", sim_utils.DistantLightCfg(intensity=600.0, enable_color_temperature=True, color_temperature=2500.0),
-             None, None),
+            ("warm", sim_utils.DistantLightCfg(intensity=600.0, enable_color_temperature=True,
+                                               color_temperature=2500.0), None, None),
             ("bulb", sim_utils.SphereLightCfg(intensity=900.0, radius=0.1), (1.0, 2.0, 3.0), None),
             ("spot", sim_utils.DiskLightCfg(intensity=900.0), (0.0, 0.0, 2.0), (0.0, 1.0, 0.0, 0.0)),  # turned over
         ]:  # fmt: skip

@@ -95,11 +95,13 @@ class AssetBase(ABC):
 
     def _place_in_xform_groups(self, sim: SimulationContext) -> None:
         """Outside a scene, an asset under ``create_prim`` groups gets one world per group (Isaac Lab's
-        ``/World/Origin.*/Robot``), each offset by its group's translation."""
+        ``/World/Origin.*/Robot``, or ``/World/envs/env_.*/Robot`` under groups a script made itself),
+        each offset by its group's translation. In a scene, the scene's env origins hold."""
         from simlab.sim.utils import xform_group_origins
 
         origins = xform_group_origins(self.cfg.prim_path)
-        if origins is None or str(self.cfg.prim_path).startswith(_PER_ENV_PREFIXES):
+        in_scene = str(self.cfg.prim_path).startswith(_PER_ENV_PREFIXES) and sim.env_origins is not None
+        if origins is None or in_scene:
             return
         origins = torch.tensor(origins, dtype=torch.float32, device=sim.device)
         if sim.model is not None:
