@@ -497,3 +497,24 @@ def test_a_modifiers_params_are_checked_against_its_function():
 
     with pytest.raises(ConfigError, match=r"term 'policy/pos modifier': .*unknown parameter\(s\) \['min', 'max'\]"):
         ManagerBasedRLEnv(cartpole_cfg(observations=ObsCfg()))
+
+
+def test_observation_manager_serializes_its_terms():
+    class Described(_CallCount):
+        def serialize(self) -> dict:
+            return {"counts": "calls"}
+
+    @configclass
+    class ObsCfg:
+        @configclass
+        class PolicyCfg(ObsGroup):
+            calls = ObsTerm(func=Described)
+            pos = ObsTerm(func=mdp.joint_pos, scale=2.0)
+
+        policy: PolicyCfg = PolicyCfg()
+
+    env = ManagerBasedRLEnv(cartpole_cfg(observations=ObsCfg()))
+    serialized = env.observation_manager.serialize()["policy"]
+    assert serialized["calls"] == {"counts": "calls"}
+    assert serialized["pos"]["cfg"]["scale"] == 2.0 and serialized["pos"]["cfg"]["func"].endswith(":joint_pos")
+    env.close()

@@ -85,8 +85,9 @@ def test_episodes_are_written_at_reset_and_read_back_exactly(tmp_path):
     env = ManagerBasedEnv(cfg)  # no reset: a reset would record (and export) a "reset_id" episode
     for _ in range(3):
         env.step(torch.zeros(2, 1))
-    assert env.recorder_manager.get_episode(1).data["count"]["post"].flatten().tolist() == [1.0, 2.0, 3.0]
-    in_memory = env.recorder_manager.get_episode(1).data["count"]["pre"].clone()
+    recorded = env.recorder_manager.get_episode(1).data["count"]  # Isaac Lab's: lists of steps while recording
+    assert torch.stack(recorded["post"]).flatten().tolist() == [1.0, 2.0, 3.0]
+    in_memory = torch.stack(recorded["pre"])
     env.reset(env_ids=[1])  # exports env 1's episode only
     files = _read(str(tmp_path / "counts.hdf5"))
     assert sorted(files) == ["data/demo_0/count/post", "data/demo_0/count/pre", "data/demo_0/reset_id"]

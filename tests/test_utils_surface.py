@@ -163,12 +163,17 @@ def test_episode_data_nested_keys_and_replay_order():
     for k in range(3):
         ep.add("actions", torch.tensor([k, k]))
         ep.add("states", {"robot": {"joint_pos": torch.full((2,), float(k))}})
-    assert ep.data["actions"].shape == (3, 2)
+    assert torch.stack(ep.data["actions"]).shape == (3, 2)  # Isaac Lab's: a list of steps while recording
     assert [ep.get_next_action()[0].item() for _ in range(3)] == [0, 1, 2] and ep.get_next_action() is None
     assert ep.get_next_state()["robot"]["joint_pos"].tolist() == [0.0, 0.0]
     assert ep.get_state(3) is None
-    with pytest.raises(ValueError, match="already holds a tensor"):
+    with pytest.raises(ValueError, match="already holds data"):
         ep.add("actions/x", torch.zeros(1))
+    ep.pre_export()  # stacked for writing: time first
+    assert ep.data["actions"].shape == (3, 2) and ep.data["states"]["robot"]["joint_pos"].shape == (3, 2)
+    assert ep.get_state(2)["robot"]["joint_pos"].tolist() == [2.0, 2.0]
+    with pytest.raises(ValueError, match="add before pre_export"):
+        ep.add("actions", torch.zeros(2))
 
 
 def test_hdf5_round_trip_is_exact(tmp_path):

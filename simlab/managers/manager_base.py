@@ -56,7 +56,8 @@ class ManagerTermBase:
         pass
 
     def serialize(self) -> dict:
-        return {}
+        """What describes the term (Isaac Lab's: its config as a dict)."""
+        return {"cfg": self.cfg.to_dict() if hasattr(self.cfg, "to_dict") else self.cfg}
 
     def __call__(self, *args: Any, **kwargs: Any) -> Any:
         raise NotImplementedError(f"{type(self).__name__} must implement __call__")

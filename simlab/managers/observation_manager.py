@@ -117,6 +117,16 @@ class ObservationManager(ManagerBase):
     def group_obs_concatenate(self) -> dict[str, bool]:
         return {group: cfg.concatenate_terms for group, cfg in self._group_cfgs.items()}
 
+    def serialize(self) -> dict[str, dict[str, dict]]:
+        """Per group and term: a class term's ``serialize()``, else ``{"cfg": <the term's config as a dict>}``."""
+        return {
+            group: {
+                name: cfg.func.serialize() if isinstance(cfg.func, ManagerTermBase) else {"cfg": cfg.to_dict()}
+                for name, cfg in terms
+            }
+            for group, terms in self._group_terms.items()
+        }
+
     def get_term_cfg(self, group: str, name: str) -> ObservationTermCfg:
         for term_name, term_cfg in self._group_terms[group]:
             if term_name == name:

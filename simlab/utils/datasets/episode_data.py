@@ -6,10 +6,13 @@ import torch
 
 
 class EpisodeData:
-    """Tensors recorded step by step, stored stacked along a new first (time) dimension.
+    """Tensors recorded step by step under (nested) keys.
 
-    Keys may be nested with ``"/"`` (``"obs/policy/joint_pos"`` is ``data["obs"]["policy"]["joint_pos"]``).
-    ``"actions"``, ``"states"`` and ``"initial_state"`` are the keys replay reads.
+    As in Isaac Lab, a key holds a list of the steps' tensors while recording (appending copies no
+    earlier step), and one tensor stacked along a new first (time) dimension after :meth:`pre_export`
+    (which writing to a file runs) or when read from a file. Keys may be nested with ``"/"``
+    (``"obs/policy/joint_pos"`` is ``data["obs"]["policy"]["joint_pos"]``). ``"actions"``, ``"states"``
+    and ``"initial_state"`` are the keys replay reads.
     """
 
     def __init__(self) -> None:
@@ -44,21 +47,23 @@ class EpisodeData:
         for name in parents:
             node = node.setdefault(name, {})
             if not isinstance(node, dict):
-                raise ValueError(f"EpisodeData key '{key}': '{name}' already holds a tensor, not a group of keys.")
-        step = value.unsqueeze(0)
-        node[leaf] = step.clone() if leaf not in node else torch.cat((node[leaf], step.to(node[leaf].device)))
+                raise ValueError(f"EpisodeData key '{key}': '{name}' already holds data, not a group of keys.")
+        steps = node.setdefault(leaf, [])
+        if not isinstance(steps, list):
+            raise ValueError(f"EpisodeData key '{key}' holds exported (stacked) data; add before pre_export().")
+        steps.append(value.clone())
 
     def pre_export(self) -> None:
-        """Make the stored tensors contiguous before they are written (kept as they are otherwise)."""
+        """Stack each key's recorded steps into one tensor (time first), ready to be written."""
 
-        def contiguous(node: dict) -> None:
+        def stack(node: dict) -> None:
             for key, value in node.items():
                 if isinstance(value, dict):
-                    contiguous(value)
-                else:
-                    node[key] = value.contiguous()
+                    stack(value)
+                elif isinstance(value, list):
+                    node[key] = torch.stack(value)
 
-        contiguous(self._data)
+        stack(self._data)
 
     def get_initial_state(self) -> torch.Tensor | dict | None:
         return self._data.get("initial_state")
@@ -80,8 +85,8 @@ class EpisodeData:
         if "states" not in self._data:
             return None
 
-        def at(node: dict | torch.Tensor) -> dict | torch.Tensor | None:
-            if isinstance(node, torch.Tensor):
+        def at(node: dict | list | torch.Tensor) -> dict | torch.Tensor | None:
+            if not isinstance(node, dict):  # recorded steps, or their stacked tensor
                 return node[state_index] if state_index < len(node) else None
             out = {}
             for key, value in node.items():

@@ -114,6 +114,7 @@ class HDF5DatasetFileHandler(DatasetFileHandlerBase):
         self._require_open()
         if episode.is_empty():
             return
+        episode.pre_export()
         group = self._data_group.create_group(f"demo_{self._demo_count}")
         num_samples = len(episode.data["actions"]) if "actions" in episode.data else 0
         group.attrs["num_samples"] = num_samples
