@@ -47,8 +47,8 @@ def dc_motor_bounds(speed: float, saturation: float, limit: float, no_load: floa
     upper_line = saturation * (1 - speed / no_load)
     lower_line = saturation * (-1 - speed / no_load)
     upper, lower = min(upper_line, limit), max(lower_line, -limit)
-    if lower > upper:  # past the corner speed: only the braking line's value
-        return (upper, upper) if speed > 0 else (lower, lower)
+    if lower > upper:  # past the corner speed: braking at the effort limit (Isaac Lab's)
+        return (-limit, -limit) if speed > 0 else (limit, limit)
     return lower, upper
 
 

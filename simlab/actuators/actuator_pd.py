@@ -169,7 +169,8 @@ class IdealPDActuator(ActuatorBase):
 
 class DCMotor(IdealPDActuator):
     """The torque available shrinks linearly with speed: ``tau_max(qd) = tau_sat (1 - qd / qd_max)``,
-    and never exceeds ``effort_limit`` (Isaac Lab's four-quadrant DC motor)."""
+    and never exceeds ``effort_limit`` (Isaac Lab's four-quadrant DC motor). Past the corner speed,
+    where a line reaches the other side's effort limit, the motor brakes at that limit."""
 
     def __init__(self, cfg, joint_names, joint_ids, num_envs, device, **defaults):
         super().__init__(cfg, joint_names, joint_ids, num_envs, device, **defaults)
@@ -178,6 +179,8 @@ class DCMotor(IdealPDActuator):
             raise ValueError(f"DCMotorCfg for {joint_names} needs a finite velocity_limit (the no-load speed)")
         self._joint_vel = torch.zeros_like(self.computed_effort)
         """The joint velocities of the last ``compute``: where the torque-speed lines are read."""
+        self._vel_at_effort_lim = self.velocity_limit * (1 + self.effort_limit / self._saturation_effort)
+        """The corner speed: where the torque-speed line meets the effort limit of the other sign."""
 
     def compute(self, control_action, joint_pos, joint_vel):
         self._joint_vel.copy_(joint_vel)
@@ -185,16 +188,14 @@ class DCMotor(IdealPDActuator):
 
     def _clip_effort(self, effort: torch.Tensor, out: torch.Tensor | None = None) -> torch.Tensor:
         # The torque-speed lines bound the torque in all four quadrants: beyond the no-load speed the
-        # motor can only brake. Past the corner speed, where the braking line crosses the other
-        # side's effort limit, the line's value applies (the same for either direction of motion).
-        joint_vel = self._joint_vel
-        speed_ratio = joint_vel / self.velocity_limit
+        # motor can only brake. Read at a speed clipped to the corner speed, both bounds meet at the
+        # braking side's effort limit there and beyond.
+        corner = self._vel_at_effort_lim
+        speed_ratio = torch.clamp(self._joint_vel, min=-corner, max=corner) / self.velocity_limit
         saturation = self._saturation_effort
         max_effort = torch.minimum(torch.rsub(speed_ratio, saturation, alpha=saturation), self.effort_limit)
         min_effort = torch.maximum(torch.rsub(speed_ratio, -saturation, alpha=saturation), -self.effort_limit)
-        # clamp(e, lo, hi) gives hi where lo > hi, the corner value when moving forward; backward it is lo
-        clipped = torch.clamp(effort, min=min_effort, max=max_effort, out=out)
-        return torch.where((joint_vel <= 0) & (min_effort > max_effort), min_effort, clipped, out=out)
+        return torch.clamp(effort, min=min_effort, max=max_effort, out=out)
 
 
 def _first_set(*values):
