@@ -16,6 +16,8 @@ from typing import Any, ClassVar
 import gymnasium as gym
 import torch
 
+from simlab.utils.debug_vis import DebugVisHooks
+
 from .common import SimulatedEnv
 from .direct_marl_env_cfg import DirectMARLEnvCfg
 from .direct_rl_env import (
@@ -30,7 +32,7 @@ from .utils.cuda_graph import EnvStepper
 from .utils.spaces import sample_space, spec_to_gym_space
 
 
-class DirectMARLEnv(SimulatedEnv, gym.Env):
+class DirectMARLEnv(DebugVisHooks, SimulatedEnv, gym.Env):
     """``num_envs`` environments, each with the agents of ``cfg.possible_agents``."""
 
     metadata: ClassVar[dict[str, Any]] = {
@@ -50,8 +52,6 @@ class DirectMARLEnv(SimulatedEnv, gym.Env):
         check_agents(cfg)
         build_simulation(self, cfg, render_mode)
 
-        self._debug_vis = False
-        self._debug_vis_hooked = False
         self.extras: dict[str, dict] = {agent: {} for agent in cfg.possible_agents}
         self._sim_step_counter = 0
         self.common_step_counter = 0
@@ -173,11 +173,7 @@ class DirectMARLEnv(SimulatedEnv, gym.Env):
     # Rendering, closing and debug visualisation work as in the single-agent direct env.
     render = DirectRLEnv.render
     close = DirectRLEnv.close
-    has_debug_vis_implementation = DirectRLEnv.has_debug_vis_implementation
-    set_debug_vis = DirectRLEnv.set_debug_vis
-    _draw_debug_vis = DirectRLEnv._draw_debug_vis
-    _set_debug_vis_impl = DirectRLEnv._set_debug_vis_impl
-    _debug_vis_callback = DirectRLEnv._debug_vis_callback
+    _debug_vis_simulation = DirectRLEnv._debug_vis_simulation
 
     # -- helpers ----------------------------------------------------------------------------------
 

@@ -37,6 +37,7 @@ import torch
 
 from simlab.scene import InteractiveScene
 from simlab.sim import SimulationContext
+from simlab.utils.debug_vis import DebugVisHooks
 from simlab.utils.env_mask import env_mask, masked_copy_
 
 from .common import SimulatedEnv
@@ -50,7 +51,7 @@ logger = logging.getLogger(__name__)
 RENDER_MODES = [None, "human", "rgb_array"]
 
 
-class DirectRLEnv(SimulatedEnv, gym.Env):
+class DirectRLEnv(DebugVisHooks, SimulatedEnv, gym.Env):
     """A vectorized environment of ``num_envs`` copies; tensors have the env dimension first."""
 
     is_vector_env: ClassVar[bool] = True
@@ -70,8 +71,6 @@ class DirectRLEnv(SimulatedEnv, gym.Env):
         check_env_cfg(cfg)
         build_simulation(self, cfg, render_mode)
 
-        self._debug_vis = False
-        self._debug_vis_hooked = False
         self.extras: dict[str, Any] = {}
         self._sim_step_counter = 0
         self.common_step_counter = 0
@@ -188,30 +187,8 @@ class DirectRLEnv(SimulatedEnv, gym.Env):
             SimulationContext.clear_instance()
         self._is_closed = True
 
-    @property
-    def has_debug_vis_implementation(self) -> bool:
-        """Whether the task draws debug markers (it overrides ``_set_debug_vis_impl``)."""
-        return not getattr(type(self)._set_debug_vis_impl, "draws_nothing", False)
-
-    def set_debug_vis(self, debug_vis: bool) -> bool:
-        """Show or hide the task's debug markers (``simlab.markers``) in offscreen renders and videos.
-
-        As in Isaac Lab, ``_set_debug_vis_impl`` creates or hides the markers and
-        ``_debug_vis_callback`` places them; simlab calls it before each rendered image (Isaac Lab:
-        each viewport update), so the step itself does no drawing. False when the task draws nothing.
-        """
-        if not self.has_debug_vis_implementation:
-            return False
-        self._debug_vis = bool(debug_vis)
-        self._set_debug_vis_impl(self._debug_vis)
-        if self._debug_vis and not self._debug_vis_hooked:
-            self.sim.add_render_callback(self._draw_debug_vis)
-            self._debug_vis_hooked = True
-        return True
-
-    def _draw_debug_vis(self) -> None:
-        if self._debug_vis:
-            self._debug_vis_callback(None)
+    def _debug_vis_simulation(self) -> SimulationContext:
+        return self.sim
 
     # -- helpers ----------------------------------------------------------------------------------
 
@@ -274,14 +251,6 @@ class DirectRLEnv(SimulatedEnv, gym.Env):
 
     def _get_dones(self) -> tuple[torch.Tensor, torch.Tensor]:
         raise NotImplementedError(f"Please implement the '_get_dones' method for {type(self).__name__}.")
-
-    def _set_debug_vis_impl(self, debug_vis: bool) -> None:
-        raise NotImplementedError(f"Debug visualization is not implemented for {type(self).__name__}.")
-
-    _set_debug_vis_impl.draws_nothing = True
-
-    def _debug_vis_callback(self, event) -> None:
-        raise NotImplementedError(f"Debug visualization is not implemented for {type(self).__name__}.")
 
 
 # -- shared with the multi-agent env -----------------------------------------------------------------

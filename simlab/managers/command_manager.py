@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING
 
 import torch
 
+from simlab.utils.debug_vis import DebugVisHooks
 from simlab.utils.env_mask import env_mask, masked_copy_, rows
 from simlab.utils.errors import ConfigError
 
@@ -21,7 +22,7 @@ if TYPE_CHECKING:
     from simlab.envs import ManagerBasedRLEnv
 
 
-class CommandTerm(ManagerTermBase):
+class CommandTerm(ManagerTermBase, DebugVisHooks):
     """Subclasses implement ``command``, ``_resample_command``, ``_update_command``, ``_update_metrics``.
 
     ``_resample_command(env_ids)`` gets ids (Isaac Lab's convention: eager, a host read per step)
@@ -39,8 +40,6 @@ class CommandTerm(ManagerTermBase):
                 " debug visualization. Set debug_vis=False (override: env.commands.<term>.debug_vis=false), or"
                 " implement _set_debug_vis_impl and _debug_vis_callback in the term (simlab.markers)."
             )
-        self._debug_vis = False
-        self._debug_vis_hooked = False
         self.metrics: dict[str, torch.Tensor] = {}
         self.time_left = torch.zeros(self.num_envs, device=self.device)
         self.command_counter = torch.zeros(self.num_envs, dtype=torch.long, device=self.device)
@@ -88,36 +87,8 @@ class CommandTerm(ManagerTermBase):
     def _update_metrics(self) -> None:
         raise NotImplementedError
 
-    @property
-    def has_debug_vis_implementation(self) -> bool:
-        """Whether the term draws itself (overrides ``_set_debug_vis_impl``)."""
-        return type(self)._set_debug_vis_impl is not CommandTerm._set_debug_vis_impl
-
-    def set_debug_vis(self, debug_vis: bool) -> bool:
-        """Show or hide the term's markers in offscreen renders; False when the term draws nothing.
-
-        As in Isaac Lab, ``_set_debug_vis_impl`` creates or hides the markers and
-        ``_debug_vis_callback`` places them; simlab calls it before each rendered image, so the step
-        itself does no drawing work.
-        """
-        if not self.has_debug_vis_implementation:
-            return False
-        self._debug_vis = bool(debug_vis)
-        self._set_debug_vis_impl(self._debug_vis)
-        if self._debug_vis and not self._debug_vis_hooked:
-            self._env.sim.add_render_callback(self._draw_debug_vis)
-            self._debug_vis_hooked = True
-        return True
-
-    def _draw_debug_vis(self) -> None:
-        if self._debug_vis:
-            self._debug_vis_callback(None)
-
-    def _set_debug_vis_impl(self, debug_vis: bool) -> None:
-        raise NotImplementedError(f"Debug visualization is not implemented for {type(self).__name__}.")
-
-    def _debug_vis_callback(self, event) -> None:
-        raise NotImplementedError(f"Debug visualization is not implemented for {type(self).__name__}.")
+    def _debug_vis_simulation(self):
+        return self._env.sim
 
 
 class CommandManager(ManagerBase):

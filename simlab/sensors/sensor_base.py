@@ -10,6 +10,7 @@ import torch
 
 from simlab.sim import SimulationContext
 from simlab.utils import configclass
+from simlab.utils.debug_vis import DebugVisHooks
 from simlab.utils.unsupported import refuse_unless_default
 
 
@@ -24,7 +25,7 @@ class SensorBaseCfg:
     """Draw the sensor's markers in renders and videos; refused for a sensor that draws none."""
 
 
-class SensorBase:
+class SensorBase(DebugVisHooks):
     def __init__(self, cfg: SensorBaseCfg, scene=None):
         cfg.validate()
         if not self.has_debug_vis_implementation:
@@ -45,8 +46,6 @@ class SensorBase:
         self._is_initialized = False
         self._sim.add_compile_callback(self._on_compile)
         self._sim.add_reset_callback(self._initialize)
-        self._debug_vis = False
-        self._debug_vis_hooked = False
         if cfg.debug_vis:
             self.set_debug_vis(True)
 
@@ -71,35 +70,11 @@ class SensorBase:
     def reset(self, env_ids: torch.Tensor | None = None) -> None:
         pass
 
-    @property
-    def has_debug_vis_implementation(self) -> bool:
-        """Whether the sensor draws itself (overrides ``_set_debug_vis_impl``)."""
-        return type(self)._set_debug_vis_impl is not SensorBase._set_debug_vis_impl
+    def _debug_vis_simulation(self) -> SimulationContext:
+        return self._sim
 
-    def set_debug_vis(self, debug_vis: bool) -> bool:
-        """Show or hide the sensor's markers in offscreen renders; False when it draws nothing.
-
-        As in Isaac Lab, ``_set_debug_vis_impl`` creates or hides the markers and
-        ``_debug_vis_callback`` places them, here before each rendered image (not at every step).
-        """
-        if not self.has_debug_vis_implementation:
-            return False
-        self._debug_vis = bool(debug_vis)
-        self._set_debug_vis_impl(self._debug_vis)
-        if self._debug_vis and not self._debug_vis_hooked:
-            self._sim.add_render_callback(self._draw_debug_vis)
-            self._debug_vis_hooked = True
-        return True
-
-    def _draw_debug_vis(self) -> None:
-        if self._debug_vis and self._is_initialized:
-            self._debug_vis_callback(None)
-
-    def _set_debug_vis_impl(self, debug_vis: bool) -> None:
-        raise NotImplementedError(f"Debug visualization is not implemented for {type(self).__name__}.")
-
-    def _debug_vis_callback(self, event) -> None:
-        raise NotImplementedError(f"Debug visualization is not implemented for {type(self).__name__}.")
+    def _debug_vis_ready(self) -> bool:
+        return self._is_initialized
 
     def update(self, dt: float, force_recompute: bool = False) -> None:
         pass
