@@ -105,9 +105,12 @@ def _only_keys(term: str, ranges: dict[str, tuple[float, float]], allowed: tuple
         raise ValueError(f"{term}: pose_range key(s) {unused} are not used ({why}); allowed: {list(allowed)}")
 
 
-def _root_velocities(root: torch.Tensor, velocity_range: dict[str, tuple[float, float]], device) -> torch.Tensor:
+def _write_root_state(asset, write_ids, positions, orientations, root, velocity_range, device) -> None:
+    """Write the root poses, and the default root velocities plus uniform ``velocity_range`` offsets."""
     ranges = _range_tensor(velocity_range, device)
-    return root[:, 7:13] + math_utils.sample_uniform(ranges[:, 0], ranges[:, 1], (root.shape[0], 6), device)
+    velocities = root[:, 7:13] + math_utils.sample_uniform(ranges[:, 0], ranges[:, 1], (root.shape[0], 6), device)
+    asset.write_root_pose_to_sim(torch.cat([positions, orientations], dim=-1), env_ids=write_ids)
+    asset.write_root_velocity_to_sim(velocities, env_ids=write_ids)
 
 
 @takes_env_mask
@@ -128,8 +131,7 @@ def reset_root_state_uniform(
     positions = root[:, 0:3] + env.scene.env_origins[env_ids] + pose[:, 0:3]
     delta = math_utils.quat_from_euler_xyz(pose[:, 3], pose[:, 4], pose[:, 5])
     orientations = math_utils.quat_mul(root[:, 3:7], delta)
-    asset.write_root_pose_to_sim(torch.cat([positions, orientations], dim=-1), env_ids=write_ids)
-    asset.write_root_velocity_to_sim(_root_velocities(root, velocity_range, env.device), env_ids=write_ids)
+    _write_root_state(asset, write_ids, positions, orientations, root, velocity_range, env.device)
 
 
 @takes_env_mask
@@ -150,8 +152,7 @@ def reset_root_state_with_random_orientation(
     offsets = math_utils.sample_uniform(ranges[:3, 0], ranges[:3, 1], (root.shape[0], 3), env.device)
     positions = root[:, 0:3] + env.scene.env_origins[env_ids] + offsets
     orientations = math_utils.random_orientation(root.shape[0], env.device)
-    asset.write_root_pose_to_sim(torch.cat([positions, orientations], dim=-1), env_ids=write_ids)
-    asset.write_root_velocity_to_sim(_root_velocities(root, velocity_range, env.device), env_ids=write_ids)
+    _write_root_state(asset, write_ids, positions, orientations, root, velocity_range, env.device)
 
 
 @takes_env_mask
@@ -183,8 +184,7 @@ def reset_root_state_from_terrain(
     ranges = _range_tensor(pose_range, env.device)
     angles = math_utils.sample_uniform(ranges[3:, 0], ranges[3:, 1], (count, 3), env.device)
     orientations = math_utils.quat_from_euler_xyz(angles[:, 0], angles[:, 1], angles[:, 2])
-    asset.write_root_pose_to_sim(torch.cat([positions, orientations], dim=-1), env_ids=write_ids)
-    asset.write_root_velocity_to_sim(_root_velocities(root, velocity_range, env.device), env_ids=write_ids)
+    _write_root_state(asset, write_ids, positions, orientations, root, velocity_range, env.device)
 
 
 def _write_joints(asset, env_ids: torch.Tensor, write_ids, joint_ids, pos: torch.Tensor, vel: torch.Tensor) -> None:
