@@ -375,3 +375,17 @@ def test_ant_rests_on_its_legs():
         assert ground in (c.geom1, c.geom2)
         assert torso_sphere not in (c.geom1, c.geom2)
     assert data.ncon >= 3
+
+
+@pytest.mark.parametrize(
+    "config",
+    ["anymal:ANYMAL_C_CFG", "unitree:UNITREE_GO2_CFG", "ant:ANT_CFG", "humanoid:HUMANOID_CFG", "cartpole:CARTPOLE_CFG"],
+)
+def test_robot_configs_carry_articulation_props_as_isaac_labs_do(config):
+    """Ported task configs edit them (``robot.spawn.articulation_props.solver_position_iteration_count = 32``)."""
+    import importlib
+
+    module, name = config.split(":")
+    cfg = getattr(importlib.import_module(f"simlab.robots.{module}"), name).copy()
+    cfg.spawn.articulation_props.solver_position_iteration_count = 32
+    assert cfg.spawn.articulation_props.fix_root_link is None  # the model's own base, floating or fixed

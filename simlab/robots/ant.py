@@ -10,7 +10,13 @@ ASSETS_DIR = os.path.join(os.path.dirname(__file__), "assets")
 
 ANT_CFG = ArticulationCfg(
     prim_path="{ENV_REGEX_NS}/Robot",
-    spawn=sim_utils.MjcfFileCfg(asset_path=os.path.join(ASSETS_DIR, "ant.xml")),
+    spawn=sim_utils.MjcfFileCfg(
+        asset_path=os.path.join(ASSETS_DIR, "ant.xml"),
+        # PhysX's solver settings, as Isaac Lab's config has them (MuJoCo's solver is sim.mujoco)
+        articulation_props=sim_utils.ArticulationRootPropertiesCfg(
+            solver_position_iteration_count=4, solver_velocity_iteration_count=0
+        ),
+    ),
     init_state=ArticulationCfg.InitialStateCfg(
         pos=(0.0, 0.0, 0.5),
         joint_pos={

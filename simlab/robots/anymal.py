@@ -39,7 +39,13 @@ within each step); with kd 11, 0.116 m/s after 250 iterations (docs/locomotion.m
 
 
 ANYMAL_C_CFG = ArticulationCfg(
-    spawn=sim_utils.MjcfFileCfg(asset_path=os.path.join(ASSETS_DIR, "anybotics_anymal_c.xml")),
+    spawn=sim_utils.MjcfFileCfg(
+        asset_path=os.path.join(ASSETS_DIR, "anybotics_anymal_c.xml"),
+        # PhysX's solver settings, as Isaac Lab's config has them (MuJoCo's solver is sim.mujoco)
+        articulation_props=sim_utils.ArticulationRootPropertiesCfg(
+            solver_position_iteration_count=4, solver_velocity_iteration_count=0
+        ),
+    ),
     init_state=ArticulationCfg.InitialStateCfg(
         pos=(0.0, 0.0, 0.6),
         joint_pos={

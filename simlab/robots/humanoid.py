@@ -28,7 +28,13 @@ tasks, i.e. the strength of its motor (the AMP task's drives are limited to them
 
 HUMANOID_CFG = ArticulationCfg(
     prim_path="{ENV_REGEX_NS}/Robot",
-    spawn=sim_utils.MjcfFileCfg(asset_path=os.path.join(ASSETS_DIR, "humanoid.xml")),
+    spawn=sim_utils.MjcfFileCfg(
+        asset_path=os.path.join(ASSETS_DIR, "humanoid.xml"),
+        # PhysX's solver settings, as Isaac Lab's config has them (MuJoCo's solver is sim.mujoco)
+        articulation_props=sim_utils.ArticulationRootPropertiesCfg(
+            solver_position_iteration_count=4, solver_velocity_iteration_count=0
+        ),
+    ),
     init_state=ArticulationCfg.InitialStateCfg(pos=(0.0, 0.0, 1.34), joint_pos={".*": 0.0}),
     actuators={
         # Isaac Lab's gains: the joint springs/dampers of the MuJoCo model, as implicit PD drives

@@ -9,7 +9,13 @@ from simlab.assets import ArticulationCfg
 ASSETS_DIR = os.path.join(os.path.dirname(__file__), "assets")
 
 UNITREE_GO2_CFG = ArticulationCfg(
-    spawn=sim_utils.MjcfFileCfg(asset_path=os.path.join(ASSETS_DIR, "unitree_go2.xml")),
+    spawn=sim_utils.MjcfFileCfg(
+        asset_path=os.path.join(ASSETS_DIR, "unitree_go2.xml"),
+        # PhysX's solver settings, as Isaac Lab's config has them (MuJoCo's solver is sim.mujoco)
+        articulation_props=sim_utils.ArticulationRootPropertiesCfg(
+            solver_position_iteration_count=4, solver_velocity_iteration_count=0
+        ),
+    ),
     init_state=ArticulationCfg.InitialStateCfg(
         pos=(0.0, 0.0, 0.4),
         joint_pos={
