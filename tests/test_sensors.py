@@ -28,6 +28,7 @@ from simlab.terrains import TerrainImporterCfg
 from simlab.terrains.box_terrains import boxes_to_heights
 from simlab.terrains.terrain_generator import TerrainGenerator
 from simlab.utils import configclass
+from simlab.utils.errors import ConfigError
 from simlab.utils.math import quat_apply_yaw, quat_from_euler_xyz
 
 DT = 0.005
@@ -522,6 +523,46 @@ def test_contact_force_matrix_separates_the_partners(device, engine):
     torch.testing.assert_close(d.force_matrix_w_history[:, 0], d.force_matrix_w)
     sensor.reset(torch.tensor([True, False], device=sim.device))
     assert bool((d.force_matrix_w[0] == 0).all()) and bool((d.force_matrix_w[1] != 0).any())
+
+
+@pytest.mark.parametrize(("device", "engine"), _engines())
+def test_contact_points_are_where_the_boxes_touch(device, engine):
+    @configclass
+    class PointsSceneCfg(StackSceneCfg):
+        contacts = ContactSensorCfg(
+            prim_path="{ENV_REGEX_NS}/Lower",
+            filter_prim_paths_expr=["/World/ground", "{ENV_REGEX_NS}/Upper"],
+            track_contact_points=True,
+        )
+
+    sim = sim_utils.SimulationContext(sim_utils.SimulationCfg(dt=DT, device=device, engine=engine))
+    scene = InteractiveScene(PointsSceneCfg(num_envs=2, env_spacing=3.0))
+    sim.reset()
+    for _ in range(100):
+        sim.step()
+        scene.update(DT)
+    points = scene["contacts"].data.contact_pos_w  # (N, B=1, M=2, 3): the lower box on the ground, under the upper
+    assert points.shape == (2, 1, 2, 3)
+    origins = scene.env_origins[:, :2]
+    torch.testing.assert_close(points[:, 0, 0, :2], origins, atol=1e-3, rtol=0)  # the middle of its bottom face
+    torch.testing.assert_close(points[:, 0, 0, 2], torch.zeros(2, device=sim.device), atol=2e-3, rtol=0)
+    torch.testing.assert_close(points[:, 0, 1, 2], torch.full((2,), 0.2, device=sim.device), atol=2e-3, rtol=0)
+    scene["upper"].write_root_pose_to_sim(  # lift the upper box away: no contact, no point
+        torch.tensor([[0.0, 0.0, 2.0, 1.0, 0.0, 0.0, 0.0]], device=sim.device).repeat(2, 1)
+        + torch.cat([scene.env_origins, torch.zeros(2, 4, device=sim.device)], dim=1)
+    )
+    sim.step()
+    scene.update(DT)
+    assert torch.isnan(points[:, 0, 1]).all() and not torch.isnan(points[:, 0, 0]).any()
+    scene["contacts"].reset(torch.tensor([True, False], device=sim.device))
+    assert torch.isnan(points[0]).all() and not torch.isnan(points[1, 0, 0]).any()
+    sim_utils.SimulationContext.clear_instance()
+
+
+def test_contact_points_need_partners():
+    with pytest.raises(ConfigError, match=r"track_contact_points=True needs filter_prim_paths_expr"):
+        make_scene(StackSceneCfg(num_envs=1, env_spacing=3.0).replace(
+            contacts=ContactSensorCfg(prim_path="{ENV_REGEX_NS}/Lower", track_contact_points=True)))  # fmt: skip
 
 
 def test_contact_sensor_bodies_in_the_articulations_order():

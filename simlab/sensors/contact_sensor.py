@@ -33,15 +33,18 @@ import torch
 
 from simlab.utils import configclass
 from simlab.utils.env_mask import env_mask, masked_copy_
+from simlab.utils.errors import ConfigError
 from simlab.utils.string import resolve_matching_names
 
 from .sensor_base import SensorBase, SensorBaseCfg, find_sensor_bodies, match_body_names, prim_path_in_model
 
 _TRIGGER_SITE = "simlab/contact_forces"
 _FILTER_SENSOR = "simlab/contact_filter"
-# a MuJoCo contact sensor's settings (mjsSensor.intprm): its data (bit 1: force), its reduction
-# (3: netforce, the sum of the matching contacts' forces in the world frame) and one slot
+# a MuJoCo contact sensor's settings (mjsSensor.intprm): its data (bit 1: force; bit 4: the point,
+# for netforce the force-weighted centroid of the contacts), its reduction (3: netforce, the sum of
+# the matching contacts' forces in the world frame) and one slot
 _NET_FORCE_SENSOR = [2, 3, 1]
+_NET_FORCE_AND_POINT_SENSOR = [2 | 16, 3, 1]
 
 
 def _order_breadth_first(model: mujoco.MjModel, ids: list[int]) -> list[int]:
@@ -103,6 +106,9 @@ class ContactSensorData:
         None without filters."""
         self.force_matrix_w_history: torch.Tensor | None = None
         """(N, T, B, M, 3) the last T values of ``force_matrix_w``, newest first."""
+        self.contact_pos_w: torch.Tensor | None = None
+        """(N, B, M, 3) where each body touches each partner: the force-weighted centre of their contact
+        points, world frame; NaN where they do not touch (with ``track_contact_points``)."""
 
 
 class ContactSensor(SensorBase):
@@ -114,6 +120,11 @@ class ContactSensor(SensorBase):
         super().__init__(cfg, scene)
         self._partners: list[str] = []
         self._filter_prefix = ""
+        if cfg.track_contact_points and not cfg.filter_prim_paths_expr:
+            raise ConfigError(
+                f"ContactSensorCfg('{cfg.prim_path}').track_contact_points=True needs filter_prim_paths_expr: the"
+                " points are reported per partner (as in Isaac Lab), e.g. filter_prim_paths_expr=['/World/ground']."
+            )
         if cfg.filter_prim_paths_expr:
             self._sim.add_build_callback(self._add_filter_sensors)
         # An acceleration-stage sensor makes MuJoCo's forward pass compute cfrc_ext.
@@ -178,6 +189,8 @@ class ContactSensor(SensorBase):
             buffers += [self._current_times, self._last_times]
         for buffer in buffers:
             masked_copy_(buffer, mask, 0.0)
+        if d.contact_pos_w is not None:
+            masked_copy_(d.contact_pos_w, mask, torch.nan)  # no contact known yet
 
     def update(self, dt: float, force_recompute: bool = False) -> None:
         """Read this step's forces (called by the scene every physics step)."""
@@ -198,6 +211,10 @@ class ContactSensor(SensorBase):
             matrix = self._sensordata[:, self._filter_index]  # (N, B, M, 3)
             d.force_matrix_w.copy_(matrix)
             _push_history(d.force_matrix_w_history, matrix)
+            if d.contact_pos_w is not None:
+                touching = torch.linalg.vector_norm(matrix, dim=-1, keepdim=True) > 0.0
+                points = self._sensordata[:, self._point_index] + self._sim.env_origins[:, None, None]
+                d.contact_pos_w.copy_(points.masked_fill_(~touching, torch.nan))
         if self.cfg.track_pose:
             self._sim.physics.ensure_forward()  # body poses of the current state
             d.pos_w.copy_(self._xpos[:, self._body_ids] + self._sim.env_origins[:, None])
@@ -237,7 +254,7 @@ class ContactSensor(SensorBase):
                     objname=objname,
                     reftype=mujoco.mjtObj.mjOBJ_BODY,
                     refname=body,
-                    intprm=_NET_FORCE_SENSOR,
+                    intprm=_NET_FORCE_AND_POINT_SENSOR if self.cfg.track_contact_points else _NET_FORCE_SENSOR,
                 )
 
     def _filter_sensor_name(self, body: str, partner: str) -> str:
@@ -281,6 +298,10 @@ class ContactSensor(SensorBase):
                 addresses.append([adr, adr + 1, adr + 2])
         index = torch.tensor(addresses, dtype=torch.long, device=self.device).view(len(body_names), m, 3)
         self._filter_index = index
+        if self.cfg.track_contact_points:  # the point follows the force in each sensor's values
+            self._point_index = index + 3
+            shape = (self.num_instances, len(body_names), m, 3)
+            self._data.contact_pos_w = torch.full(shape, torch.nan, device=self.device)
         self._sensordata = sim.physics.data("sensordata")
         n, hist = self.num_instances, max(1, self.cfg.history_length)
         self._data.force_matrix_w = torch.zeros(n, len(body_names), m, 3, device=self.device)
@@ -304,4 +325,8 @@ class ContactSensorCfg(SensorBaseCfg):
     force_threshold: float = 1.0
     """Newtons above which a body counts as touching (for air times)."""
     filter_prim_paths_expr: list[str] = list()
+    track_contact_points: bool = False
+    """Also report where each body touches each partner of ``filter_prim_paths_expr`` (``contact_pos_w``)."""
+    max_contact_data_count_per_prim: int = 4
+    """Isaac Lab's buffer size for PhysX's contact points; MuJoCo reports their force-weighted centre."""
     visualizer_cfg: object | None = None
