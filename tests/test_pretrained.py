@@ -52,3 +52,17 @@ def test_a_play_variant_plays_the_policy_of_its_task(tmp_path):
     argv += ["--device", "cpu", "--num_envs", "2", "--steps", "3", "--log_root", str(tmp_path / "logs")]
     result = run_play(build_parser().parse_args(argv), [])
     assert result["checkpoint"].startswith(str(tmp_path / "logs" / "pretrained" / "rsl_rl" / "Reach-Franka-v0"))
+
+
+def test_isaac_labs_pretrained_checkpoint_lookup_finds_the_shipped_policies(capsys):
+    """Isaac Lab's play scripts call get_published_pretrained_checkpoint(workflow, task)."""
+    import os
+
+    from simlab.pretrained import PRETRAINED_DIR
+    from simlab.utils.pretrained_checkpoint import get_published_pretrained_checkpoint, has_pretrained_checkpoint
+
+    path = get_published_pretrained_checkpoint("rsl_rl", "Isaac-Cartpole-v0")
+    assert path.startswith(PRETRAINED_DIR) and os.path.isfile(path) and path.endswith(".pt")
+    assert has_pretrained_checkpoint("rsl_rl", "Isaac-Velocity-Rough-Unitree-Go2-Play-v0")  # the task's own
+    assert get_published_pretrained_checkpoint("sb3", "Isaac-Cartpole-v0") is None
+    assert "unavailable for this task. No pretrained sb3 policy for simlab/Cartpole-v0" in capsys.readouterr().out

@@ -1,0 +1,49 @@
+"""Isaac Lab's pretrained-checkpoint lookup over the policies simlab ships (``simlab/pretrained/``).
+
+Isaac Lab's play scripts call ``get_published_pretrained_checkpoint(workflow, task)``, which fetches
+NVIDIA's published checkpoint from Nucleus. Here it returns the checkpoint of the policy trained for
+simlab and shipped with it, or None (saying so) when there is none. Task ids may be Isaac Lab's
+(``Isaac-Cartpole-v0``) or simlab's (``simlab/Cartpole-v0``); a ``-Play`` variant gets its task's.
+"""
+
+from __future__ import annotations
+
+WORKFLOWS = ["rl_games", "rsl_rl", "sb3", "skrl"]
+"""The RL libraries ("workflows") with scripts in ``scripts/reinforcement_learning/``."""
+WORKFLOW_TRAINER = {w: f"scripts/reinforcement_learning/{w}/train.py" for w in WORKFLOWS}
+WORKFLOW_PLAYER = {w: f"scripts/reinforcement_learning/{w}/play.py" for w in WORKFLOWS}
+
+
+def _simlab_task(task_name: str) -> str:
+    if task_name.startswith("Isaac-"):
+        return "simlab/" + task_name.removeprefix("Isaac-")
+    return task_name if "/" in task_name else f"simlab/{task_name}"
+
+
+def get_published_pretrained_checkpoint_path(workflow: str, task_name: str) -> str:
+    """The folder of the shipped policy (raises, listing what is shipped, when there is none)."""
+    from simlab.pretrained import pretrained_run_dir
+
+    if workflow not in WORKFLOWS:
+        raise ValueError(f"Unknown workflow '{workflow}'; one of {WORKFLOWS}.")
+    return pretrained_run_dir(_simlab_task(task_name), workflow)
+
+
+def get_published_pretrained_checkpoint(workflow: str, task_name: str) -> str | None:
+    """The checkpoint file of the policy simlab ships for ``task_name`` trained with ``workflow``, or None."""
+    from simlab.cli.checkpoints import resolve_checkpoint
+
+    try:
+        run_dir = get_published_pretrained_checkpoint_path(workflow, task_name)
+    except FileNotFoundError as error:
+        print(f"A pre-trained checkpoint is currently unavailable for this task. {error}")
+        return None
+    return resolve_checkpoint(run_dir, workflow)
+
+
+def has_pretrained_checkpoint(workflow: str, task_name: str) -> bool:
+    """Whether simlab ships a ``workflow`` policy for ``task_name``."""
+    from simlab.pretrained import list_pretrained
+
+    task = _simlab_task(task_name).replace("-Play", "")
+    return (task, workflow) in list_pretrained()
