@@ -153,8 +153,6 @@ def quat_mul(q1: torch.Tensor, q2: torch.Tensor) -> torch.Tensor:
     """Hamilton product ``q1 * q2`` (apply ``q2`` first, then ``q1``)."""
     _check_last_dim("q1", q1, 4)
     _check_last_dim("q2", q2, 4)
-    # q1 * q2 = L(q1) q2 with L(q1)[i, j] = sign[i, j] q1[index[i, j]]: four kernels, not thirty
-    # (each is a launch on the GPU); no matmul, which may run in reduced precision (TF32)
     if torch.jit.is_scripting():  # TorchScript cannot call the cached tables: the product written out
         w1, x1, y1, z1 = q1.unbind(-1)
         w2, x2, y2, z2 = q2.unbind(-1)
@@ -162,6 +160,8 @@ def quat_mul(q1: torch.Tensor, q2: torch.Tensor) -> torch.Tensor:
         x = w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2
         y = w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2
         return torch.stack((w, x, y, z1 * w2 + w1 * z2 + x1 * y2 - y1 * x2), dim=-1)
+    # q1 * q2 = L(q1) q2 with L(q1)[i, j] = sign[i, j] q1[index[i, j]]: four kernels, not thirty
+    # (each is a launch on the GPU); no matmul, which may run in reduced precision (TF32)
     index, sign = _quat_mul_tables(q1.device, torch.promote_types(q1.dtype, q2.dtype))
     return (q1[..., index] * sign * q2[..., None, :]).sum(dim=-1)
 
