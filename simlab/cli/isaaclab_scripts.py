@@ -90,11 +90,12 @@ def _simlab_task(task: str | None) -> str:
     """Isaac Lab's ``Isaac-<Name>`` ids as simlab's ``simlab/<Name>`` (other ids unchanged)."""
     if not task:
         raise ValueError("--task is required, e.g. --task simlab/Cartpole-v0 (or Isaac Lab's Isaac-Cartpole-v0).")
-    if task.startswith("Isaac-"):
-        mapped = "simlab/" + task[len("Isaac-") :]
+    from simlab.tasks.utils.parse_cfg import simlab_task_id
+
+    mapped = simlab_task_id(task)
+    if mapped != task:
         print(f"[simlab] Task {task} -> {mapped}")
-        return mapped
-    return task
+    return mapped
 
 
 def _rsl_rl_checkpoint(args: argparse.Namespace, task: str, log_root: str) -> str | None:

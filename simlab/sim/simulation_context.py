@@ -110,11 +110,7 @@ class SimulationContext:
     @classmethod
     def clear_instance(cls) -> None:
         if cls._instance is not None:
-            for callback in cls._instance._on_clear:
-                callback()
-            cls._instance._on_clear.clear()
-            if cls._instance.backend is not None:
-                cls._instance.backend.close()
+            cls._instance._release()
         cls._instance = None
 
     def get_physics_dt(self) -> float:
@@ -308,13 +304,17 @@ class SimulationContext:
         sensors made on it (their callbacks) and the started simulation are gone. ``reset()`` starts
         what is built next."""
         self.clear_all_callbacks()
+        self._release()
+        self.backend, self.model, self.env_origins, self.num_envs = None, None, None, 1
+        self.spec = self._new_spec()
+
+    def _release(self) -> None:
+        """Run what releases resources (``add_clear_callback``) once, and close the backend."""
         for callback in self._on_clear:
             callback()
         self._on_clear.clear()
         if self.backend is not None:
             self.backend.close()
-        self.backend, self.model, self.env_origins, self.num_envs = None, None, None, 1
-        self.spec = self._new_spec()
 
     def run_render_callbacks(self) -> None:
         for callback in self._on_render:

@@ -14,19 +14,14 @@ WORKFLOW_TRAINER = {w: f"scripts/reinforcement_learning/{w}/train.py" for w in W
 WORKFLOW_PLAYER = {w: f"scripts/reinforcement_learning/{w}/play.py" for w in WORKFLOWS}
 
 
-def _simlab_task(task_name: str) -> str:
-    if task_name.startswith("Isaac-"):
-        return "simlab/" + task_name.removeprefix("Isaac-")
-    return task_name if "/" in task_name else f"simlab/{task_name}"
-
-
 def get_published_pretrained_checkpoint_path(workflow: str, task_name: str) -> str:
     """The folder of the shipped policy (raises, listing what is shipped, when there is none)."""
     from simlab.pretrained import pretrained_run_dir
+    from simlab.tasks.utils.parse_cfg import simlab_task_id
 
     if workflow not in WORKFLOWS:
         raise ValueError(f"Unknown workflow '{workflow}'; one of {WORKFLOWS}.")
-    return pretrained_run_dir(_simlab_task(task_name), workflow)
+    return pretrained_run_dir(simlab_task_id(task_name), workflow)
 
 
 def get_published_pretrained_checkpoint(workflow: str, task_name: str) -> str | None:
@@ -43,7 +38,8 @@ def get_published_pretrained_checkpoint(workflow: str, task_name: str) -> str | 
 
 def has_pretrained_checkpoint(workflow: str, task_name: str) -> bool:
     """Whether simlab ships a ``workflow`` policy for ``task_name``."""
-    from simlab.pretrained import list_pretrained
-
-    task = _simlab_task(task_name).replace("-Play", "")
-    return (task, workflow) in list_pretrained()
+    try:
+        get_published_pretrained_checkpoint_path(workflow, task_name)
+    except FileNotFoundError:
+        return False
+    return True

@@ -15,7 +15,12 @@ from simlab.utils.errors import ConfigError
 from simlab.utils.io import ConfigYamlLoader
 from simlab.utils.string import closest_matches
 
-__all__ = ["get_checkpoint_path", "load_cfg_from_registry", "parse_env_cfg", "registered_task_ids"]
+__all__ = ["get_checkpoint_path", "load_cfg_from_registry", "parse_env_cfg", "registered_task_ids", "simlab_task_id"]
+
+
+def simlab_task_id(task: str) -> str:
+    """Isaac Lab's ``Isaac-<Name>`` id as simlab's ``simlab/<Name>`` (the porting map); other ids unchanged."""
+    return "simlab/" + task.removeprefix("Isaac-") if task.startswith("Isaac-") else task
 
 
 def registered_task_ids(keyword: str | None = None) -> list[str]:
@@ -39,8 +44,8 @@ def task_spec(task_name: str) -> gym.envs.registration.EnvSpec:
         ids = registered_task_ids()
         close = closest_matches(name, ids, n=3, cutoff=0.3)
         hint = f" Closest: {close}." if close else ""
-        simlab_id = "simlab/" + name.removeprefix("Isaac-")
-        if name.startswith("Isaac-") and simlab_id in ids:
+        simlab_id = simlab_task_id(name)
+        if simlab_id != name and simlab_id in ids:
             hint = f" That is Isaac Lab's id; simlab's is '{simlab_id}' (scripts/reinforcement_learning/ takes either)."
         raise ConfigError(f"Unknown task '{task_name}'.{hint} Registered tasks: {ids} (see `simlab list`).")
     return gym.spec(name)
