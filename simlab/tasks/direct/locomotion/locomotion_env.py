@@ -19,20 +19,9 @@ from simlab.envs import DirectRLEnv, DirectRLEnvCfg
 from simlab.sim.spawners.from_files import spawn_ground_plane
 from simlab.terrains import TerrainImporterCfg
 from simlab.utils.env_mask import masked_copy_
-from simlab.utils.math import (
-    euler_xyz_from_quat,
-    normalize,
-    quat_apply,
-    quat_apply_inverse,
-    quat_conjugate,
-    quat_mul,
-    scale_transform,
-)
+from simlab.utils.math import quat_conjugate, scale_transform
 from simlab.utils.string import resolve_matching_names_values
-
-
-def normalize_angle(x: torch.Tensor) -> torch.Tensor:
-    return torch.atan2(torch.sin(x), torch.cos(x))
+from simlab.utils.torch_utils.rotations import compute_heading_and_up, compute_rot, normalize_angle
 
 
 class LocomotionEnv(DirectRLEnv):
@@ -277,17 +266,12 @@ def compute_intermediate_values(
     to_target[:, 2] = 0.0
 
     # heading and up: the torso's x and z axes, projected on the target direction and on world z
-    torso_quat = quat_mul(torso_rotation, inv_start_rot)
-    up_vec = quat_apply(torso_quat, basis_vec1)
-    heading_vec = quat_apply(torso_quat, basis_vec0)
-    up_proj = up_vec[:, 2]
-    heading_proj = torch.sum(heading_vec * normalize(to_target), dim=-1)
-
-    vel_loc = quat_apply_inverse(torso_quat, velocity)
-    angvel_loc = quat_apply_inverse(torso_quat, ang_velocity)
-    roll, pitch, yaw = euler_xyz_from_quat(torso_quat, wrap_to_2pi=True)
-    walk_target_angle = torch.atan2(targets[:, 1] - torso_position[:, 1], targets[:, 0] - torso_position[:, 0])
-    angle_to_target = walk_target_angle - yaw
+    torso_quat, up_proj, heading_proj, up_vec, heading_vec = compute_heading_and_up(
+        torso_rotation, inv_start_rot, to_target, basis_vec0, basis_vec1, 2
+    )
+    vel_loc, angvel_loc, roll, pitch, yaw, angle_to_target = compute_rot(
+        torso_quat, velocity, ang_velocity, targets, torso_position
+    )
 
     # joint positions mapped from their limits to [-1, 1]
     dof_pos_scaled = scale_transform(dof_pos, dof_lower_limits, dof_upper_limits)
