@@ -18,7 +18,7 @@ import torch
 from torch.utils._python_dispatch import TorchDispatchMode
 
 import simlab.tasks  # noqa: F401 - registers the tasks
-from simlab.cli.libraries.rsl_rl import install_progress_logger, make_runner, use_fast_rollout
+from simlab.cli.libraries.rsl_rl import install_progress_logger, make_runner
 from simlab.tasks.utils import load_cfg_from_registry, parse_env_cfg
 
 READ_BACKS = ("aten._local_scalar_dense", "aten.nonzero")
@@ -65,7 +65,6 @@ def main() -> None:
     runner = make_runner(env, agent_cfg, log_dir=None)
     # simlab train's logger (it keeps finished episodes on the device), writing to a throw-away folder
     install_progress_logger(runner, tempfile.mkdtemp(prefix="update_ops_"))
-    use_fast_rollout(runner, None if args.update == "fast" else False)  # None: the agent's default (rsl_rl's step)
     runner.learn(num_learning_iterations=1)  # warm-up: lazy state, first graph capture
     alg, obs = runner.alg, runner.env.get_observations()
 

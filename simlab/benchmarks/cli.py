@@ -77,7 +77,6 @@ TRAIN_COLUMNS = [
     ("Warp MB", "warp_memory_mb", ".0f"),
     ("PPO update", "ppo_update", ""),
     ("rollout policy", "rollout_policy", ""),
-    ("rollout step", "rollout_step", ""),
 ]
 SOLVE_COLUMNS = [
     ("task", "task", ""),
@@ -197,20 +196,10 @@ def main(argv: list[str] | None = None) -> int:
         "policy as a CUDA graph; rsl_rl's own update and act; or the agent config's choice (agent.fast_update, "
         "agent.graph_act: both on CUDA)",
     )
-    parser.add_argument(
-        "--rollout_step",
-        choices=("default", "fast", "rsl_rl", "both"),
-        default="default",
-        help="train/solve: simlab's rollout step (rsl_rl's process_env_step and the episode sums as one CUDA "
-        "graph per step where the policy is graphed), rsl_rl's own, the agent config's choice "
-        "(agent.fast_rollout), or (train only) both, one row each",
-    )
     parser.add_argument("--json", default=None, help="write the results to this JSON file")
     args = parser.parse_args(argv)
     if args.processes < 0:
         parser.error(f"--processes takes a count >= 0, got {args.processes}")
-    if args.rollout_step == "both" and "solve" in (args.suites or []):
-        parser.error("--rollout_step both is for the train suite; give solve fast, rsl_rl or default")
     if (args.pycache_prefix or args.warp_cache) and not args.processes:
         parser.error("--pycache_prefix and --warp_cache set up fresh processes: give --processes N (N >= 1)")
     if any(n < 1 for n in args.num_envs or []):
@@ -246,7 +235,6 @@ def main(argv: list[str] | None = None) -> int:
             graphs={"on": [True], "off": [False], "both": [True, False]}[args.cuda_graph],
             solve_args=args,
             fast_update={"default": None, "fast": True, "rsl_rl": False}[args.ppo_update],
-            fast_rollout={"default": None, "fast": True, "rsl_rl": False, "both": "both"}[args.rollout_step],
         )
         _print_table(rows, columns)
         if name == "solve":

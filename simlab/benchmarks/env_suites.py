@@ -200,13 +200,12 @@ def bench_train(
     iterations: int,
     cuda_graph: bool = True,
     fast_update: bool | None = None,
-    fast_rollout: bool | None = None,
 ) -> dict:
     """Wall time of rsl_rl PPO iterations (rollout + update), after one warm-up iteration.
 
     ``fast_update``: False runs rsl_rl's own update and act, True simlab's fast update (and the act
     graph on CUDA), None the agent config's choice."""
-    from simlab.cli.libraries.rsl_rl import make_runner, use_fast_rollout
+    from simlab.cli.libraries.rsl_rl import make_runner
     from simlab.tasks.utils import load_cfg_from_registry
 
     reset_gpu_memory_peak(device)
@@ -216,10 +215,7 @@ def bench_train(
     if fast_update is not None:  # rsl_rl's own code (False) or simlab's fast paths (True; the act graph on CUDA)
         agent_cfg.fast_update = fast_update
         agent_cfg.graph_act = None if fast_update else False
-    if fast_rollout is not None:
-        agent_cfg.fast_rollout = fast_rollout
     runner = make_runner(env, agent_cfg, log_dir=None)  # as `simlab train` builds it, without logging
-    rollout_step = use_fast_rollout(runner, agent_cfg.fast_rollout)
     if hasattr(env, "log_refresh_on_device"):  # as `simlab train` steps it: no log flag read per step
         env.log_refresh_on_device = True
     runner.learn(num_learning_iterations=1)
@@ -241,7 +237,6 @@ def bench_train(
         "cuda_graph": _graph_state(env),
         "ppo_update": runner.update_kind,
         "rollout_policy": runner.act_kind,
-        "rollout_step": rollout_step,
     }
     env.close()
     return row

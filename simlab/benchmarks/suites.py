@@ -57,18 +57,16 @@ def train(device: str, num_envs: list[int], tasks: list[str] | None, iterations:
     from .env_suites import bench_train
 
     rows: list[dict] = []
-    rollout_steps = [True, False] if kw.get("fast_rollout") == "both" else [kw.get("fast_rollout")]
     for task in tasks or ["simlab/Cartpole-v0", "simlab/Humanoid-Direct-v0"]:
         for n in num_envs:
             for graph in kw.get("graphs", [True]):
-                for fast_rollout in rollout_steps:
-                    _guarded(
-                        rows,
-                        {"task": task, "device": device, "num_envs": n},
-                        lambda task=task, n=n, graph=graph, fast_rollout=fast_rollout: bench_train(
-                            task, n, device, iterations, graph, kw.get("fast_update"), fast_rollout
-                        ),
-                    )
+                _guarded(
+                    rows,
+                    {"task": task, "device": device, "num_envs": n},
+                    lambda task=task, n=n, graph=graph: bench_train(
+                        task, n, device, iterations, graph, kw.get("fast_update")
+                    ),
+                )
     return rows
 
 
@@ -92,7 +90,6 @@ def solve(
     tasks: list[str] | None,
     solve_args,
     fast_update=None,
-    fast_rollout=None,
     **_,
 ) -> list[dict]:
     """Time to a solved task: one row per task and env count (``None``: the task's own).
@@ -123,7 +120,7 @@ def solve(
             task,
             device=device,
             num_envs=n,
-            overrides=[*a.overrides, *_fast_path_overrides(fast_update), *_rollout_step_overrides(fast_rollout)],
+            overrides=[*a.overrides, *_fast_path_overrides(fast_update)],
             **{flag: getattr(a, flag) for flag in SOLVE_FLAGS},
         ),
     )
@@ -141,11 +138,6 @@ def _fast_path_overrides(fast_update: bool | None) -> list[str]:
     )
 
 
-def _rollout_step_overrides(fast_rollout: bool | None) -> list[str]:
-    """``--rollout_step``: simlab's rollout step (True), rsl_rl's (False), or the agent config's (None)."""
-    return [] if fast_rollout is None else [f"agent.fast_rollout={str(fast_rollout).lower()}"]
-
-
 def _solve_in_child(task: str, num_envs: int | None, device: str, a) -> dict:
     import json
     import subprocess
@@ -160,7 +152,7 @@ def _solve_in_child(task: str, num_envs: int | None, device: str, a) -> dict:
                 argv += [f"--{flag}", str(getattr(a, flag))]
         if num_envs is not None:
             argv += ["--num_envs", str(num_envs)]
-        argv += ["--ppo_update", a.ppo_update, "--rollout_step", a.rollout_step]
+        argv += ["--ppo_update", a.ppo_update]
         if a.overrides:
             argv += ["--overrides", *a.overrides]
         proc = subprocess.run(argv, env=_child_environment(a))

@@ -28,7 +28,6 @@ from rsl_rl.runners import OnPolicyRunner  # noqa: E402
 from rsl_rl.utils.logger import Logger  # noqa: E402
 
 from simlab.rl.rsl_rl import RslRlOnPolicyRunnerCfg, RslRlVecEnvWrapper  # noqa: E402
-from simlab.rl.rsl_rl.fast_rollout import FastRolloutStep, fast_rollout_unsupported  # noqa: E402
 from simlab.rl.rsl_rl.fast_update import FastPPOUpdate, fast_update_unsupported  # noqa: E402
 from simlab.rl.rsl_rl.graphed_act import GraphedAct, graphed_act_unsupported  # noqa: E402
 
@@ -72,7 +71,6 @@ class _ProgressLogger(Logger):
         # that count until the next refresh (what extras["log"] would hold in Isaac Lab's way)
         self._env_logs: list[tuple[torch.Tensor, dict]] = []
         self.current_env_log: dict | None = None
-        self.episode_sums_in_rollout = False  # True: simlab's rollout step keeps them (fast_rollout)
         self.rollout_seconds = 0.0  # rsl_rl's collect_time, summed over the iterations
         self.update_seconds = 0.0  # rsl_rl's learn_time, summed
 
@@ -111,30 +109,14 @@ class _ProgressLogger(Logger):
             self._env_logs.append((extras["log_refreshed"], extras["log"]))
         elif "log" in extras:
             self.ep_extras.append(extras["log"])
-        if not self.episode_sums_in_rollout:
-            self.add_episode_step(rewards, dones)
+        self._add_episode_step(rewards, dones)
 
-    def add_episode_step(
-        self,
-        rewards: torch.Tensor,
-        dones: torch.Tensor,
-        into: tuple[torch.Tensor, torch.Tensor, torch.Tensor] | None = None,
-    ) -> None:
-        """Add a step's rewards to the running episode sums and restart the episodes that ended.
-
-        The step's (done, returns, lengths) go to ``into`` (buffers a CUDA graph writes at fixed
-        addresses, kept until ``log``) or to fresh tensors."""
+    def _add_episode_step(self, rewards: torch.Tensor, dones: torch.Tensor) -> None:
+        """Add a step's rewards to the running episode sums and restart the episodes that ended."""
         self.cur_reward_sum += rewards
         self.cur_episode_length += 1
-        if into is None:
-            done = dones > 0
-            into = (done, self.cur_reward_sum.clone(), self.cur_episode_length.clone())
-        else:
-            done, returns, lengths = into
-            torch.gt(dones, 0, out=done)
-            returns.copy_(self.cur_reward_sum)
-            lengths.copy_(self.cur_episode_length)
-        self._finished.append(into)
+        done = dones > 0
+        self._finished.append((done, self.cur_reward_sum.clone(), self.cur_episode_length.clone()))
         self.cur_reward_sum.masked_fill_(done, 0.0)
         self.cur_episode_length.masked_fill_(done, 0.0)
 
@@ -211,31 +193,6 @@ def use_graphed_act(alg: Any, setting: bool | None) -> str:
     return "CUDA graph"
 
 
-def use_fast_rollout(runner: OnPolicyRunner, setting: bool | None) -> str:
-    """Give the runner simlab's rollout step where ``setting`` (agent.fast_rollout) asks; says which runs.
-
-    Call it once ``runner.logger`` is the logger that trains: with simlab's logger the step also
-    keeps its episode sums."""
-    alg = runner.alg
-    if setting is False:
-        return "rsl_rl"
-    graphed = isinstance(alg.act, GraphedAct)
-    if setting is None:
-        # off unless asked: on an H100 it made `simlab train` 9x slower (docs/performance.md)
-        return "rsl_rl (agent.fast_rollout=true: simlab's, opt-in)"
-    reason = fast_rollout_unsupported(alg)
-    if reason is not None:
-        if setting:
-            raise ValueError(
-                f"agent.fast_rollout=true, but simlab's rollout step does not cover {reason}. "
-                "Set agent.fast_rollout=null (use it where it applies) or false (rsl_rl's own)."
-            )
-        return f"rsl_rl ({reason})"
-    logger = runner.logger if isinstance(runner.logger, _ProgressLogger) else None
-    alg.process_env_step = FastRolloutStep(alg, logger, cuda_graph=graphed)
-    return "fast (CUDA graph per step)" if graphed else "fast (eager)"
-
-
 def use_fast_update(alg: Any, setting: bool | None) -> str:
     """Give ``alg`` simlab's fast PPO update where ``setting`` (agent.fast_update) asks; says which runs."""
     if setting is False:
@@ -285,11 +242,9 @@ def train(
     logger = install_progress_logger(runner, run_dir)
     logger.verbose = bool(getattr(args, "verbose", False))
     _logs_without_host_sync(runner, logger)
-    runner.rollout_kind = use_fast_rollout(runner, agent_cfg.fast_rollout)
     if run_dir is not None:
         print(
-            f"[simlab] PPO update: {runner.update_kind}; policy in the rollout: {runner.act_kind}; "
-            f"rollout step: {runner.rollout_kind}",
+            f"[simlab] PPO update: {runner.update_kind}; policy in the rollout: {runner.act_kind}",
             flush=True,
         )
     import simlab

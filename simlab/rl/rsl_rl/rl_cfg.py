@@ -162,14 +162,6 @@ class RslRlOnPolicyRunnerCfg:
     """rsl_rl's ``alg.act`` (the policy's sample, value and log-probability each rollout step)
     replayed as one CUDA graph (:mod:`simlab.rl.rsl_rl.graphed_act`). None: on CUDA for feed-forward
     models; True: required (an error says why not); False: eager."""
-    fast_rollout: bool | None = None
-    """simlab's rollout step (:mod:`simlab.rl.rsl_rl.fast_rollout`): the same transitions, rewards
-    and logged episodes as rsl_rl's runner loop, with fewer torch ops per env step (observations
-    in a reused ``TensorDict``, rsl_rl's bootstrap and storage add as one CUDA graph per step of the
-    rollout on the GPU, episode sums folded per iteration). None or False: rsl_rl's and the
-    wrapper's own per-step code; True: simlab's (an error says what it does not cover). Off by
-    default: measured on an H100 it made cartpole training 9x slower, cause not yet found
-    (docs/performance.md, "The rollout step on the GPU")."""
     actor: RslRlMLPModelCfg = MISSING
     critic: RslRlMLPModelCfg = MISSING
     algorithm: RslRlPpoAlgorithmCfg = MISSING
@@ -197,7 +189,7 @@ class RslRlOnPolicyRunnerCfg:
         cfg = _convert_deprecated(self)
         cfg.validate()
         d = cfg.to_dict()
-        for key in ("policy", "empirical_normalization", "fast_update", "graph_act", "fast_rollout"):
+        for key in ("policy", "empirical_normalization", "fast_update", "graph_act"):
             d.pop(key, None)
         if not d["obs_groups"]:
             groups = obs_group_names or ["policy"]
