@@ -33,6 +33,7 @@ class RigidBodyPropertiesCfg:
     solver_velocity_iteration_count: int | None = None
     sleep_threshold: float | None = None
     stabilization_threshold: float | None = None
+    max_contact_impulse: float | None = None
 
 
 @configclass
@@ -53,3 +54,27 @@ class ArticulationRootPropertiesCfg:
     sleep_threshold: float | None = None
     stabilization_threshold: float | None = None
     fix_root_link: bool | None = None
+
+
+@configclass
+class JointDrivePropertiesCfg:
+    """Accepted for compatibility: simlab's joint drives are the actuators of ``ArticulationCfg.actuators``."""
+
+    drive_type: str | None = None
+    max_effort: float | None = None
+    max_velocity: float | None = None
+    stiffness: float | None = None
+    damping: float | None = None
+
+
+@configclass
+class FixedTendonPropertiesCfg:
+    """Accepted for compatibility: a robot file couples its joints itself (MuJoCo equality constraints or
+    tendons, e.g. the Shadow Hand's distal joints)."""
+
+    tendon_enabled: bool | None = None
+    stiffness: float | None = None
+    damping: float | None = None
+    limit_stiffness: float | None = None
+    offset: float | None = None
+    rest_length: float | None = None

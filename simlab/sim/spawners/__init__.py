@@ -1,6 +1,13 @@
 """Spawners: configs whose ``func(prim_path, cfg)`` adds a ground, light, robot or shape to the spec."""
 
-from ..schemas import ArticulationRootPropertiesCfg, CollisionPropertiesCfg, MassPropertiesCfg, RigidBodyPropertiesCfg
+from ..schemas import (
+    ArticulationRootPropertiesCfg,
+    CollisionPropertiesCfg,
+    FixedTendonPropertiesCfg,
+    JointDrivePropertiesCfg,
+    MassPropertiesCfg,
+    RigidBodyPropertiesCfg,
+)
 from .from_files import (
     GroundPlaneCfg,
     MjcfFileCfg,

@@ -6,7 +6,7 @@ from dataclasses import MISSING
 
 from simlab.utils import configclass
 
-from ...schemas.schemas_cfg import ArticulationRootPropertiesCfg
+from ...schemas.schemas_cfg import ArticulationRootPropertiesCfg, FixedTendonPropertiesCfg, JointDrivePropertiesCfg
 from ..materials import PreviewSurfaceCfg, RigidBodyMaterialCfg
 from ..spawner_cfg import RigidObjectSpawnerCfg, SpawnerCfg
 from . import from_files
@@ -17,6 +17,8 @@ class FileCfg(RigidObjectSpawnerCfg):
     asset_path: str = MISSING
     scale: tuple[float, float, float] | None = None
     articulation_props: ArticulationRootPropertiesCfg | None = None
+    joint_drive_props: JointDrivePropertiesCfg | None = None
+    fixed_tendons_props: FixedTendonPropertiesCfg | None = None
     visual_material: PreviewSurfaceCfg | None = None
 
 
