@@ -17,10 +17,12 @@ is played again on the CPU (MuJoCo C, ``--cpu_eval_envs`` envs for ``--eval_seco
 ``--use_pretrained_checkpoint`` plays it after install, and shipped only if it passes there too.
 
 Shipped into ``<out>/<task name>/rsl_rl/``: the run's ``params/`` (its configs and command), the
-checkpoint with the policy's weights only (what play loads; without critic and optimizer state it
-is a third of the size, so training cannot resume from it), ``exported/policy.onnx``, and
-``record.json``: this script's command, the training command, seed, iterations, device, the
-criterion and its value on both devices, the files' sizes, the ``env.*`` overrides of
+policy's weights in one file, ``policy.pt`` (:mod:`simlab.pretrained.weights`: what play loads, the
+matrices as int8 rows; no critic, no optimizer state, so training cannot resume from it; play makes
+the ONNX and TorchScript exports wherever it plays it), and ``record.json``: this script's command,
+the training command, seed, iterations, device, the criterion and its value on both devices (the CPU
+replay plays the stored weights, as ``--use_pretrained_checkpoint`` will), the files' sizes, the
+``env.*`` overrides of
 ``--overrides`` (``env_overrides``), which ``simlab play --use_pretrained_checkpoint`` applies too,
 and after ``--resume`` the checkpoint it went on from and the command that trained that one.
 
@@ -59,17 +61,11 @@ from typing import Any
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 LIBRARY = "rsl_rl"  # what this script trains with (simlab bench solve)
-# what play loads from a checkpoint (the critic, value and discriminator and the optimizers' moments,
-# two thirds of a file, are left out): rsl_rl's load_cfg={"actor": True}; skrl's policy and its
-# observation normalizer
-SHIPPED_CHECKPOINT_KEYS = {
-    "rsl_rl": ("actor_state_dict", "iter", "infos"),
-    "skrl": ("policy", "observation_preprocessor"),
-}
 
 
 def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
     from simlab.pretrained import PRETRAINED_DIR
+    from simlab.pretrained.weights import PLAY_KEYS
 
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--tasks", nargs="+", default=None, help="Gymnasium ids of the tasks to train and ship.")
@@ -94,9 +90,7 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
     parser.add_argument(
         "--resume", default=None, help="Train on from this checkpoint (one task), e.g. one a time budget stopped."
     )
-    parser.add_argument(
-        "--library", choices=sorted(SHIPPED_CHECKPOINT_KEYS), default=LIBRARY, help="With --checkpoint: its library."
-    )
+    parser.add_argument("--library", choices=sorted(PLAY_KEYS), default=LIBRARY, help="With --checkpoint: its library.")
     parser.add_argument("--trained_by", default=None, help="With --checkpoint: how it was trained, for record.json.")
     parser.add_argument(
         "--overrides",
@@ -249,33 +243,40 @@ def evaluate_on_cpu(task: str, checkpoint: str, iteration: int, args: argparse.N
     }
 
 
-def export_policy(task: str, checkpoint: str, library: str, overrides: list[str]) -> str:
-    """``simlab play`` writes ``exported/policy.onnx`` and ``policy.pt`` beside the checkpoint."""
-    command = [sys.executable, "-m", "simlab", "play", "--task", task, "--library", library, "--headless"]
-    command += ["--checkpoint", checkpoint, "--steps", "1", "--num_envs", "1", "--device", "cpu", *overrides]
-    subprocess.run(command, check=True, capture_output=True, cwd=REPO)
-    return os.path.join(os.path.dirname(checkpoint), "exported")
-
-
-def ship(task: str, checkpoint: str, record: dict[str, Any], out: str) -> str:
-    """Copy the run's params, the checkpoint (what play loads of it) and its exports into ``out``."""
+def stage(task: str, checkpoint: str, library: str, log_root: str) -> str:
+    """Write the shipped form of ``checkpoint`` into ``<log_root>/stored/<task name>/<library>/`` (the
+    run's ``params/`` and ``policy.pt``) and beside it the checkpoint play will make of it; returns that
+    checkpoint, which the CPU replay plays."""
     import torch
 
     from simlab.cli.runs import CHECKPOINT_LAYOUT, run_dir_of_checkpoint
+    from simlab.pretrained import POLICY_FILE
+    from simlab.pretrained.weights import pack_policy, unpack_policy
+
+    run_dir = run_dir_of_checkpoint(checkpoint, library)
+    staged = os.path.join(log_root, "stored", task.split("/")[-1], library)
+    shutil.rmtree(staged, ignore_errors=True)
+    shutil.copytree(os.path.join(run_dir, "params"), os.path.join(staged, "params"))
+    name = os.path.join(*CHECKPOINT_LAYOUT[library][0], os.path.basename(checkpoint))  # skrl's: checkpoints/
+    state = torch.load(checkpoint, map_location="cpu", weights_only=False)
+    torch.save(pack_policy(state, library, name), os.path.join(staged, POLICY_FILE))
+    name, played = unpack_policy(os.path.join(staged, POLICY_FILE))
+    os.makedirs(os.path.dirname(os.path.join(staged, name)), exist_ok=True)
+    torch.save(played, os.path.join(staged, name))
+    return os.path.join(staged, name)
+
+
+def ship(task: str, staged_checkpoint: str, record: dict[str, Any], out: str) -> str:
+    """Copy the staged run (:func:`stage`) into ``out``, less the checkpoint play makes of ``policy.pt``."""
+    from simlab.cli.runs import run_dir_of_checkpoint
+    from simlab.pretrained import POLICY_FILE
 
     library = record["library"]
-    # the ONNX policy first (a failing export leaves nothing behind), from play, which writes it
-    # beside the checkpoint; play writes the TorchScript one again wherever it plays the copy
-    onnx = os.path.join(export_policy(task, checkpoint, library, record.get("env_overrides", [])), "policy.onnx")
+    staged = run_dir_of_checkpoint(staged_checkpoint, library)
     target = os.path.join(out, task.split("/")[-1], library)
     shutil.rmtree(target, ignore_errors=True)
-    shutil.copytree(os.path.join(run_dir_of_checkpoint(checkpoint, library), "params"), os.path.join(target, "params"))
-    state = torch.load(checkpoint, map_location="cpu", weights_only=False)
-    state = {key: state[key] for key in SHIPPED_CHECKPOINT_KEYS[library]}
-    folder = os.path.join(target, *CHECKPOINT_LAYOUT[library][0])  # skrl's go in checkpoints/
-    os.makedirs(os.path.join(folder, "exported"))
-    torch.save(state, os.path.join(folder, os.path.basename(checkpoint)))
-    shutil.copy2(onnx, os.path.join(folder, "exported"))
+    shutil.copytree(os.path.join(staged, "params"), os.path.join(target, "params"))
+    shutil.copy2(os.path.join(staged, POLICY_FILE), target)
     files = [os.path.join(root, name) for root, _, names in os.walk(target) for name in names]
     record["files_bytes"] = {os.path.relpath(f, target): os.path.getsize(f) for f in sorted(files)}
     with open(os.path.join(target, "record.json"), "w") as f:
@@ -299,11 +300,14 @@ def resumed_run_command(checkpoint: str) -> str | None:
 def record_header(task: str, args: argparse.Namespace, argv: list[str]) -> dict[str, Any]:
     """The fields of ``record.json`` that say what was shipped and by which command, when, and the env
     overrides play must apply to it."""
+    from simlab.pretrained.weights import FORMAT
+
     header: dict[str, Any] = {
         "task": task,
         "library": args.library,  # rsl_rl when this script trained it (parse_args sees to that)
         "made_by": shlex.join(["python", "scripts/make_pretrained.py", *argv]),
         "date": datetime.date.today().isoformat(),
+        "weights": FORMAT,
     }
     if args.resume:
         header["resumed_from"] = args.resume
@@ -326,8 +330,9 @@ def make_one(task: str, args: argparse.Namespace, log_root: str, argv: list[str]
     if not row["solved"]:
         return f"not solved in {row['iteration'] + 1} iterations ({row['criterion']}: {row['score']:.3f})"
     solved = next(e for e in row["evaluations"] if e["passed"])
+    staged = stage(task, solved["checkpoint"], LIBRARY, log_root)
     try:
-        cpu = evaluate_on_cpu(task, solved["checkpoint"], solved["iteration"], args)
+        cpu = evaluate_on_cpu(task, staged, solved["iteration"], args)
     except (RuntimeError, SimlabError) as e:  # e.g. a camera task on a host without OpenGL
         raise RuntimeError(
             f"{os.path.basename(solved['checkpoint'])} passed on {args.device} ({solved['score']:.3f}), but its"
@@ -360,7 +365,7 @@ def make_one(task: str, args: argparse.Namespace, log_root: str, argv: list[str]
     if not cpu["passed"]:
         print(json.dumps(record, indent=2))
         return f"passed on {args.device} ({solved['score']:.3f}) but not on the CPU ({cpu['score']:.3f})"
-    target = ship(task, solved["checkpoint"], record, args.out)
+    target = ship(task, staged, record, args.out)
     took = time.perf_counter() - start
     sizes = ", ".join(f"{name} {size / 1024:.0f} KiB" for name, size in record["files_bytes"].items())
     print(
@@ -423,7 +428,8 @@ def adopt_checkpoint(task: str, args: argparse.Namespace, log_root: str, argv: l
     os.makedirs(folder, exist_ok=True)
     checkpoint = os.path.join(folder, checkpoint_name(args.checkpoint, args.library, iteration, agent_cfg))
     shutil.copy2(args.checkpoint, checkpoint)
-    cpu = evaluate_on_cpu(task, checkpoint, iteration, args)
+    staged = stage(task, checkpoint, args.library, log_root)
+    cpu = evaluate_on_cpu(task, staged, iteration, args)
     record = {
         **record_header(task, args, argv),
         "algorithm": algorithm,
@@ -437,7 +443,7 @@ def adopt_checkpoint(task: str, args: argparse.Namespace, log_root: str, argv: l
     if not cpu["passed"]:
         print(json.dumps(record, indent=2))
         return f"failed on the CPU ({cpu['score']:.3f})"
-    target = ship(task, checkpoint, record, args.out)
+    target = ship(task, staged, record, args.out)
     print(f"[make_pretrained] {task}: shipped in {target} ({record['criterion']}: {cpu['score']:.3f} on the CPU)")
     return None
 

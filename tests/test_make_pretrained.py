@@ -21,6 +21,7 @@ import simlab.pretrained
 from simlab.benchmarks.criteria import criterion_for
 from simlab.cli.main import build_parser
 from simlab.cli.play import run_play
+from simlab.pretrained.weights import FORMAT, PLAY_KEYS, pack_policy, unpack_policy
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 TASK = "simlab/Cartpole-Direct-v0"
@@ -45,9 +46,15 @@ def test_make_pretrained_ships_a_policy_that_play_finds(tmp_path, monkeypatch):
     assert record["cpu_evaluation"]["passed"] and record["cpu_evaluation"]["envs"] == 4
     assert record["train_command"].startswith("simlab bench solve --tasks simlab/Cartpole-Direct-v0")
     assert record["made_by"].startswith("python scripts/make_pretrained.py --tasks simlab/Cartpole-Direct-v0")
-    checkpoint = shipped / record["checkpoint"]
-    assert record["files_bytes"][record["checkpoint"]] == os.path.getsize(checkpoint)
-    assert set(torch.load(checkpoint, weights_only=False)) == set(script.SHIPPED_CHECKPOINT_KEYS["rsl_rl"])
+    # one file of weights, what play loads (no critic, no optimizer), read with weights_only=True
+    assert sorted(record["files_bytes"]) == ["params/agent.yaml", "params/command.txt", "params/env.yaml"] + [
+        "params/run.yaml",
+        "policy.pt",
+    ]
+    assert record["files_bytes"]["policy.pt"] == os.path.getsize(shipped / "policy.pt")
+    assert record["weights"] == FORMAT
+    name, checkpoint = unpack_policy(str(shipped / "policy.pt"))
+    assert name == record["checkpoint"] and set(checkpoint) == set(PLAY_KEYS["rsl_rl"])
 
     # simlab play --use_pretrained_checkpoint finds it (the package's folder pointed at the output)
     monkeypatch.setattr(simlab.pretrained, "PRETRAINED_DIR", str(out))
@@ -63,9 +70,9 @@ def test_make_pretrained_ships_a_policy_that_play_finds(tmp_path, monkeypatch):
     on_step, state = criterion_for(TASK, -1e9).make_hook()
     result = run_play(build_parser().parse_args([*argv, "--log_root", str(tmp_path / "logs")]), [], on_step=on_step)
     assert criterion_for(TASK, -1e9).judge(result, state)[0] == replay["score"]
-    # the shipped ONNX policy is the checkpoint's: it acts as the TorchScript policy play exported from it
+    # play exported the shipped policy into the user's folder: ONNX and TorchScript act alike
     observations = torch.randn(16, 4)
-    session = onnxruntime.InferenceSession(str(shipped / "exported" / "policy.onnx"))
+    session = onnxruntime.InferenceSession(os.path.join(played, "exported", "policy.onnx"))
     (onnx_actions,) = session.run(None, {session.get_inputs()[0].name: observations.numpy()})
     torch_actions = torch.jit.load(os.path.join(played, "exported", "policy.pt"))(observations)
     np.testing.assert_allclose(onnx_actions, torch_actions.detach().numpy(), atol=1e-5)
@@ -137,9 +144,9 @@ def test_a_policy_trained_elsewhere_is_judged_on_the_cpu_and_shipped(tmp_path, c
     assert record["trained_by"] == "a one-iteration test run" and record["cpu_evaluation"]["passed"]
     assert record["checkpoint"] == f"model_{record['iterations']}.pt"  # a name play's checkpoint search finds
     assert "simlab/Cartpole-Direct-v0" in (shipped / "params" / "run.yaml").read_text()
-    shipped_keys = set(torch.load(shipped / record["checkpoint"], weights_only=False))
-    assert shipped_keys == set(script.SHIPPED_CHECKPOINT_KEYS["rsl_rl"])
-    assert (shipped / "exported" / "policy.onnx").is_file()
+    name, checkpoint = unpack_policy(str(shipped / "policy.pt"))
+    assert name == record["checkpoint"] and set(checkpoint) == set(PLAY_KEYS["rsl_rl"])
+    assert not (shipped / "exported").exists()
 
     # judged by the task's own criterion, a one-iteration policy is not shipped
     refused = tmp_path / "refused"
@@ -165,10 +172,9 @@ def test_an_skrl_policy_trained_elsewhere_is_shipped_in_skrls_layout(tmp_path):
     shipped = out / "Cartpole-Direct-v0" / "skrl"
     record = json.loads((shipped / "record.json").read_text())
     assert record["library"] == "skrl" and record["algorithm"] == "PPO" and record["cpu_evaluation"]["passed"]
-    # skrl's layout: the checkpoint (policy and its normalizer only) and its export in checkpoints/
-    saved = shipped / "checkpoints" / record["checkpoint"]
-    assert set(torch.load(saved, weights_only=False)) == set(script.SHIPPED_CHECKPOINT_KEYS["skrl"])
-    assert (shipped / "checkpoints" / "exported" / "policy.onnx").is_file()
+    # skrl's layout: play writes the checkpoint (policy and its normalizer only) into checkpoints/
+    name, checkpoint = unpack_policy(str(shipped / "policy.pt"))
+    assert name == f"checkpoints/{record['checkpoint']}" and set(checkpoint) == set(PLAY_KEYS["skrl"])
 
 
 def test_a_policy_trained_with_env_overrides_is_shipped_and_played_with_them(tmp_path, monkeypatch):
@@ -281,9 +287,11 @@ def test_resume_trains_on_from_a_checkpoint_and_records_it(tmp_path):
     assert record["resumed_from_command"] == first_command and "--resume" not in first_command
     # trained on: counted on from the resumed iteration (rsl_rl numbers the first iteration after a resume
     # as the checkpoint's own), with weights that moved away from the checkpoint's
-    shipped = torch.load(out / "Cartpole-Direct-v0" / "rsl_rl" / record["checkpoint"], weights_only=False)
+    _, shipped = unpack_policy(str(out / "Cartpole-Direct-v0" / "rsl_rl" / "policy.pt"))
     resumed = torch.load(checkpoint, weights_only=False)
     assert shipped["iter"] >= resumed["iter"] == 1
+    torch.save(pack_policy(resumed, "rsl_rl", "model_1.pt"), tmp_path / "resumed.pt")  # stored alike
+    _, resumed = unpack_policy(str(tmp_path / "resumed.pt"))
     moved = [not torch.equal(shipped["actor_state_dict"][k], v) for k, v in resumed["actor_state_dict"].items()]
     assert any(moved)
     with pytest.raises(SystemExit):  # a missing checkpoint is a usage error before any training

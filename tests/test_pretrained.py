@@ -54,15 +54,55 @@ def test_a_play_variant_plays_the_policy_of_its_task(tmp_path):
     assert result["checkpoint"].startswith(str(tmp_path / "logs" / "pretrained" / "rsl_rl" / "Reach-Franka-v0"))
 
 
-def test_isaac_labs_pretrained_checkpoint_lookup_finds_the_shipped_policies(capsys):
-    """Isaac Lab's play scripts call get_published_pretrained_checkpoint(workflow, task)."""
-    import os
+def test_isaac_labs_pretrained_checkpoint_lookup_finds_the_shipped_policies(tmp_path, monkeypatch, capsys):
+    """Isaac Lab's play scripts call get_published_pretrained_checkpoint(workflow, task); the checkpoint
+    is written where Isaac Lab downloads it, .pretrained_checkpoints/ in the working folder."""
+    import torch
 
-    from simlab.pretrained import PRETRAINED_DIR
     from simlab.utils.pretrained_checkpoint import get_published_pretrained_checkpoint, has_pretrained_checkpoint
 
+    monkeypatch.chdir(tmp_path)
     path = get_published_pretrained_checkpoint("rsl_rl", "Isaac-Cartpole-v0")
-    assert path.startswith(PRETRAINED_DIR) and os.path.isfile(path) and path.endswith(".pt")
+    assert path.startswith(str(tmp_path / ".pretrained_checkpoints")) and path.endswith(".pt")
+    assert torch.load(path, weights_only=True)["actor_state_dict"]["mlp.0.weight"].dtype == torch.float32
     assert has_pretrained_checkpoint("rsl_rl", "Isaac-Velocity-Rough-Unitree-Go2-Play-v0")  # the task's own
     assert get_published_pretrained_checkpoint("sb3", "Isaac-Cartpole-v0") is None
     assert "unavailable for this task. No pretrained sb3 policy for simlab/Cartpole-v0" in capsys.readouterr().out
+
+
+def test_each_shipped_policy_is_one_weights_only_file():
+    """One stored file per policy, read with weights_only=True; no exports (play makes them)."""
+    import torch
+
+    from simlab.pretrained import POLICY_FILE, pretrained_run_dir
+    from simlab.pretrained.weights import FORMAT
+
+    for task, library in list_pretrained():
+        folder = pretrained_run_dir(task, library)
+        files = [os.path.relpath(os.path.join(r, n), folder) for r, _, names in os.walk(folder) for n in names]
+        weights = [f for f in files if f.endswith((".pt", ".pth", ".onnx", ".zip", ".pkl"))]
+        assert weights == [POLICY_FILE], f"{task} ({library}): {weights}"
+        assert torch.load(os.path.join(folder, POLICY_FILE), weights_only=True)["format"] == FORMAT
+
+
+def test_a_stored_policy_unpacks_to_the_checkpoint_within_half_a_step_of_int8(tmp_path):
+    import torch
+
+    from simlab.pretrained.weights import pack_policy, unpack_policy
+
+    torch.manual_seed(0)
+    actor = {"mlp.0.weight": torch.randn(64, 10) * 3.0, "mlp.0.bias": torch.randn(64), "zero": torch.zeros(4, 4)}
+    checkpoint = {"actor_state_dict": actor, "critic_state_dict": {"w": torch.ones(3)}, "iter": 7, "infos": None}
+    checkpoint["optimizer_state_dict"] = {"state": {}}
+    torch.save(pack_policy(checkpoint, "rsl_rl", "model_7.pt"), tmp_path / "policy.pt")
+    name, back = unpack_policy(str(tmp_path / "policy.pt"))
+    assert name == "model_7.pt" and set(back) == {"actor_state_dict", "iter", "infos"} and back["iter"] == 7
+    restored = back["actor_state_dict"]
+    assert torch.equal(restored["mlp.0.bias"], actor["mlp.0.bias"])  # vectors stay float32
+    assert torch.equal(restored["zero"], actor["zero"])
+    half_step = actor["mlp.0.weight"].abs().amax(dim=1, keepdim=True) / 254
+    error = (restored["mlp.0.weight"] - actor["mlp.0.weight"]).abs()
+    assert bool((error <= half_step * 1.0001).all()) and float(error.max()) > 0
+    torch.save({"actor_state_dict": actor}, tmp_path / "model_7.pt")
+    with pytest.raises(ValueError, match="not a stored simlab policy"):
+        unpack_policy(str(tmp_path / "model_7.pt"))

@@ -1,7 +1,9 @@
 """Policies trained here and shipped with simlab: ``simlab play --use_pretrained_checkpoint``.
 
-Each is a run folder, ``simlab/pretrained/<task name>/<library>/``, as ``simlab train`` writes it
-(``params/``, the checkpoint, ``exported/policy.onnx``), plus its record: ``record.json`` (how
+Each is a run folder, ``simlab/pretrained/<task name>/<library>/``: ``params/`` as ``simlab train``
+writes it, the policy's weights in one file, ``policy.pt`` (:mod:`simlab.pretrained.weights`; play
+turns it back into the library's checkpoint in the user's log folder and exports it there), and
+its record: ``record.json`` (how
 ``scripts/make_pretrained.py`` made it: commands, seed, iterations, the task's criterion and the
 value the policy reached on the CPU; :func:`pretrained_record`; the env overrides it was trained
 with, which play applies: :func:`pretrained_env_overrides`), or ``record.txt`` for the first
@@ -16,6 +18,7 @@ import shutil
 from typing import Any
 
 __all__ = [
+    "POLICY_FILE",
     "PRETRAINED_DIR",
     "copy_pretrained_run",
     "list_pretrained",
@@ -25,6 +28,7 @@ __all__ = [
 ]
 
 PRETRAINED_DIR = os.path.dirname(os.path.abspath(__file__))
+POLICY_FILE = "policy.pt"  # the stored weights in each shipped run folder
 
 
 def _task_folder(task: str) -> str:
@@ -72,8 +76,17 @@ def pretrained_env_overrides(task: str, library: str) -> list[str]:
 
 def copy_pretrained_run(task: str, library: str, log_root: str) -> str:
     """Copy the shipped run into ``<log_root>/pretrained/<library>/<task name>`` (where play writes its
-    exports and videos; outside the training runs, so ``--use_last_checkpoint`` never picks it) and
-    return that folder."""
+    exports and videos; outside the training runs, so ``--use_last_checkpoint`` never picks it), with
+    its ``policy.pt`` written out as the library's checkpoint, and return that folder."""
+    import torch
+
+    from simlab.pretrained.weights import unpack_policy
+
+    source = pretrained_run_dir(task, library)
     target = os.path.abspath(os.path.join(log_root, "pretrained", library, _task_folder(task)))
-    shutil.copytree(pretrained_run_dir(task, library), target, dirs_exist_ok=True)
+    shutil.copytree(source, target, dirs_exist_ok=True, ignore=shutil.ignore_patterns(POLICY_FILE))
+    name, checkpoint = unpack_policy(os.path.join(source, POLICY_FILE))
+    path = os.path.join(target, name)
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    torch.save(checkpoint, path)
     return target

@@ -25,15 +25,23 @@ def get_published_pretrained_checkpoint_path(workflow: str, task_name: str) -> s
 
 
 def get_published_pretrained_checkpoint(workflow: str, task_name: str) -> str | None:
-    """The checkpoint file of the policy simlab ships for ``task_name`` trained with ``workflow``, or None."""
+    """The checkpoint file of the policy simlab ships for ``task_name`` trained with ``workflow``, or None.
+
+    As Isaac Lab's download does, it is written under ``.pretrained_checkpoints/`` in the working
+    folder (where the play scripts export it), from the weights stored in the package."""
     from simlab.cli.checkpoints import resolve_checkpoint
+    from simlab.pretrained import copy_pretrained_run
 
     try:
-        run_dir = get_published_pretrained_checkpoint_path(workflow, task_name)
+        get_published_pretrained_checkpoint_path(workflow, task_name)
     except FileNotFoundError as error:
         print(f"A pre-trained checkpoint is currently unavailable for this task. {error}")
         return None
-    return resolve_checkpoint(run_dir, workflow)
+    from simlab.tasks.utils.parse_cfg import simlab_task_id
+
+    return resolve_checkpoint(
+        copy_pretrained_run(simlab_task_id(task_name), workflow, ".pretrained_checkpoints"), workflow
+    )
 
 
 def has_pretrained_checkpoint(workflow: str, task_name: str) -> bool:
