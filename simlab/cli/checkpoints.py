@@ -4,11 +4,13 @@ A checkpoint is *readable* when its library's loader can open it (``torch.load``
 ``.pth``, a complete zip archive for Stable-Baselines3). A torn or corrupt newest file is skipped
 with a warning that names the file used instead. A checkpoint *fits* when it was written by the
 same library for the same task with the same observation and action sizes (``params/run.yaml``
-of its run); ``--force`` uses it anyway.
+of its run); ``--force`` uses it anyway. Torch files are read as weights only: one that needs more
+(it could run code) is refused unless the user passes ``--trust_checkpoint``.
 """
 
 from __future__ import annotations
 
+import contextlib
 import os
 import re
 import shlex
@@ -21,12 +23,15 @@ import gymnasium as gym
 
 from simlab.cli.runs import CHECKPOINT_LAYOUT, find_run_info, is_checkpoint_name
 from simlab.rl.utils import is_multi_agent
-from simlab.utils.errors import CheckpointError, CheckpointNotFoundError, describe
+from simlab.utils.errors import CheckpointError, CheckpointNotFoundError, SimlabError, UntrustedFileError, describe
+from simlab.utils.trust import torch_load
 
 __all__ = [
     "check_checkpoint_sizes",
     "check_checkpoint_source",
     "checkpoint_library",
+    "checkpoint_load_errors",
+    "layer_mismatch",
     "env_sizes",
     "find_last_checkpoint",
     "read_checkpoint",
@@ -38,8 +43,9 @@ def _natural_key(name: str) -> list:
     return [int(t) if t.isdigit() else t for t in re.split(r"(\d+)", name)]
 
 
-def read_checkpoint(path: str) -> Any:
-    """Open ``path`` as its library would; a :class:`CheckpointError` says why it cannot be read.
+def read_checkpoint(path: str, trust: bool = False) -> Any:
+    """Open ``path`` as its library would, weights only unless ``trust``; a :class:`CheckpointError`
+    says why it cannot be read (:class:`UntrustedFileError`: it needs more than weights).
 
     Returns the loaded object (a dict for torch checkpoints, the zip's member names for SB3).
     """
@@ -57,10 +63,10 @@ def read_checkpoint(path: str) -> Any:
         if bad is not None or "policy.pth" not in names:
             raise CheckpointError(f"Checkpoint '{path}' is damaged or not a Stable-Baselines3 model.")
         return names
-    import torch
-
     try:
-        return torch.load(path, map_location="cpu", weights_only=False)
+        return torch_load(path, map_location="cpu", trust=trust)
+    except UntrustedFileError:
+        raise
     except Exception as e:  # noqa: BLE001 - whatever torch/pickle raise, the file cannot be used
         raise CheckpointError(  # corrupt bytes make pickle raise anything, a MemoryError with no message too
             f"Checkpoint '{path}' cannot be read ({describe(e)}): it is truncated, corrupt or not a torch checkpoint."
@@ -94,11 +100,13 @@ def _candidates(run_dirs: list[str], library: str) -> Iterator[str]:
             yield os.path.join(folder, name)
 
 
-def _first_readable(candidates: Iterator[str], where: str) -> str:
+def _first_readable(candidates: Iterator[str], where: str, trust: bool = False) -> str:
     skipped: list[str] = []
     for path in candidates:
         try:
-            read_checkpoint(path)
+            read_checkpoint(path, trust)
+        except UntrustedFileError:
+            raise  # not a torn file to skip: the user decides
         except CheckpointError as e:
             skipped.append(str(e))
             continue
@@ -112,7 +120,7 @@ def _first_readable(candidates: Iterator[str], where: str) -> str:
     raise CheckpointNotFoundError(f"No checkpoint in {where}.")
 
 
-def find_last_checkpoint(log_root: str, library: str, experiment: str) -> str:
+def find_last_checkpoint(log_root: str, library: str, experiment: str, trust: bool = False) -> str:
     """The newest readable checkpoint of the newest run of ``experiment`` that has one."""
     log_path = os.path.abspath(os.path.join(log_root, library, experiment))
     hint = f"Train first (simlab train --task ... --library {library}) or pass --checkpoint PATH."
@@ -122,18 +130,18 @@ def find_last_checkpoint(log_root: str, library: str, experiment: str) -> str:
         )
     runs = sorted((e.path for e in os.scandir(log_path) if e.is_dir()), key=_natural_key, reverse=True)
     try:
-        return _first_readable(_candidates(runs, library), f"the runs of '{log_path}'")
+        return _first_readable(_candidates(runs, library), f"the runs of '{log_path}'", trust)
     except CheckpointNotFoundError as e:
         raise CheckpointNotFoundError(f"No checkpoint of '{experiment}' trained with {library}: {e} {hint}") from e
 
 
-def resolve_checkpoint(path: str, library: str) -> str:
+def resolve_checkpoint(path: str, library: str, trust: bool = False) -> str:
     """``path`` if it is a readable checkpoint file; for a run folder, its newest readable checkpoint."""
     if os.path.isfile(path):
-        read_checkpoint(path)
+        read_checkpoint(path, trust)
         return os.path.abspath(path)
     if os.path.isdir(path):
-        return _first_readable(_candidates([os.path.abspath(path)], library), f"the run folder '{path}'")
+        return _first_readable(_candidates([os.path.abspath(path)], library), f"the run folder '{path}'", trust)
     raise CheckpointNotFoundError(f"Checkpoint '{path}' does not exist (looked at '{os.path.abspath(path)}').")
 
 
@@ -153,14 +161,14 @@ def env_sizes(env: gym.Env) -> dict[str, Any]:
     }
 
 
-def check_checkpoint_source(checkpoint: str, library: str, task: str, force: bool = False) -> None:
+def check_checkpoint_source(checkpoint: str, library: str, task: str, force: bool = False, trust: bool = False) -> None:
     """Refuse (``CheckpointError``) a checkpoint written by another library or trained on another task.
 
     The library is read from the file's contents, the task from its run's ``params/run.yaml``.
     ``force`` turns the refusal into a warning.
     """
     problems: list[str] = []
-    written_by = checkpoint_library(read_checkpoint(checkpoint))
+    written_by = checkpoint_library(read_checkpoint(checkpoint, trust))
     if written_by is not None and written_by != library:
         problems.append(f"it was written by {written_by}, not {library} (use --library {written_by})")
     info = find_run_info(checkpoint) or {}
@@ -193,3 +201,53 @@ def _refuse(checkpoint: str, problems: list[str], force: bool) -> None:
         print(f"[simlab] WARNING (--force): {text}", file=sys.stderr)
         return
     raise CheckpointError(f"{text} Nothing was loaded or written. Pass --force to use it anyway.")
+
+
+# what torch's load_state_dict says of the first layer whose shape differs (then one line per other layer)
+_SIZE_MISMATCH = re.compile(
+    r"size mismatch for ([\w.]+): copying a param with shape torch\.Size\(\[([\d, ]*)\]\) from checkpoint, "
+    r"the shape in current model is torch\.Size\(\[([\d, ]*)\]\)"
+)
+_KEY_MISMATCH = re.compile(r"(Missing|Unexpected) key\(s\) in state_dict: ([^\n]*)")
+
+
+def layer_mismatch(checkpoint: str, task: str, layer: str, in_checkpoint: str, here: str) -> str:
+    """One line: ``checkpoint``'s ``layer`` has another size than the policy of ``task`` has."""
+    return (
+        f"Checkpoint '{checkpoint}' does not fit {task}: its layer '{layer}' has the size [{in_checkpoint}], "
+        f"this task's policy [{here}] (a checkpoint of another task, or trained with other env overrides?)."
+    )
+
+
+def _load_error_line(checkpoint: str, library: str, task: str, error: BaseException) -> str | None:
+    """The one line that says why a library could not load ``checkpoint``'s state dicts, or None."""
+    text = str(error)
+    if m := _SIZE_MISMATCH.search(text):
+        return layer_mismatch(checkpoint, task, m[1], m[2], m[3])
+    if m := _KEY_MISMATCH.search(text):
+        keys = [k.strip('" ') for k in m[2].rstrip(". ").split(",")]
+        shown = ", ".join(keys[:3]) + (f" and {len(keys) - 3} more" if len(keys) > 3 else "")
+        return f"Checkpoint '{checkpoint}' does not fit a {library} policy of {task}: {m[1].lower()} layers {shown}."
+    return None
+
+
+@contextlib.contextmanager
+def checkpoint_load_errors(
+    checkpoint: str | None, library: str, task: str, only_state_dicts: bool = False
+) -> Iterator[None]:
+    """Turn a library's failure to load ``checkpoint`` into one line (a :class:`CheckpointError`): the
+    first layer of another size, with both sizes, instead of torch's list of every layer. With
+    ``only_state_dicts`` (a training block) other errors pass through unchanged."""
+    try:
+        yield
+    except SimlabError:
+        raise
+    except (RuntimeError, KeyError, ValueError, TypeError) as e:
+        if checkpoint is None:
+            raise
+        line = _load_error_line(checkpoint, library, task, e)
+        if line is None:
+            if only_state_dicts:
+                raise
+            line = f"Cannot load '{checkpoint}' as a {library} policy of {task}: {describe(e)}."
+        raise CheckpointError(f"{line} Nothing was loaded.") from e

@@ -69,6 +69,14 @@ def _add_common(p: argparse.ArgumentParser, video: bool = True) -> None:
         p.add_argument("--video_length", type=int, default=200, help="Steps per recorded video.")
         p.add_argument("--video_interval", type=int, default=2000, help="Env steps between recordings.")
     p.add_argument("--log_root", default="logs", help="Root folder of the runs (default: ./logs).")
+    p.add_argument(
+        "--allow_module",
+        action="append",
+        default=[],
+        metavar="MODULE",
+        help="Let 'module:name' values in overrides name MODULE's functions (beside simlab's and the task's "
+        "package). Repeatable.",
+    )
 
 
 def _add_agent(p: argparse.ArgumentParser) -> None:
@@ -85,6 +93,11 @@ def _add_agent(p: argparse.ArgumentParser) -> None:
         "--force",
         action="store_true",
         help="Use a checkpoint even if it was trained with another library, task or observation/action size.",
+    )
+    p.add_argument(
+        "--trust_checkpoint",
+        action="store_true",
+        help="Load a checkpoint that holds more than weights (pickled objects can run code): only for files you trust.",
     )
     p.add_argument(
         "--agent",

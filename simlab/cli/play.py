@@ -13,6 +13,7 @@ import torch
 from simlab.cli.checkpoints import (
     check_checkpoint_sizes,
     check_checkpoint_source,
+    checkpoint_load_errors,
     env_sizes,
     find_last_checkpoint,
     resolve_checkpoint,
@@ -21,16 +22,17 @@ from simlab.cli.libraries import get_library
 from simlab.cli.runs import run_dir_of_checkpoint
 from simlab.cli.session import ONE_VIDEO_INTERVAL, check_flags, load_configs, make_env
 from simlab.cli.train import uses_multi_agent_learner
-from simlab.utils.errors import CheckpointError, ConfigError, SimlabError
+from simlab.utils.errors import ConfigError
 
 __all__ = ["RealTimePacer", "locate_checkpoint", "rollout", "run_play"]
 
 
 def locate_checkpoint(args: argparse.Namespace, experiment: str) -> str:
+    trust = getattr(args, "trust_checkpoint", False)
     if args.checkpoint:
-        return resolve_checkpoint(args.checkpoint, args.library)
+        return resolve_checkpoint(args.checkpoint, args.library, trust)
     if args.use_last_checkpoint:
-        return find_last_checkpoint(args.log_root, args.library, experiment)
+        return find_last_checkpoint(args.log_root, args.library, experiment, trust)
     if getattr(args, "use_pretrained_checkpoint", False):
         from simlab.pretrained import copy_pretrained_run
 
@@ -125,8 +127,8 @@ def run_play(
     env_cfg, agent_cfg = load_configs(args, overrides)
     lib.configure(agent_cfg, args, env_cfg)
     checkpoint = locate_checkpoint(args, lib.experiment_name(agent_cfg, args.task))
-    force = getattr(args, "force", False)
-    check_checkpoint_source(checkpoint, args.library, args.task, force=force)
+    force, trust = getattr(args, "force", False), getattr(args, "trust_checkpoint", False)
+    check_checkpoint_source(checkpoint, args.library, args.task, force=force, trust=trust)
     run_dir = run_dir_of_checkpoint(checkpoint, args.library)
     args.video_interval = ONE_VIDEO_INTERVAL
     env = make_env(
@@ -135,14 +137,8 @@ def run_play(
     try:
         check_checkpoint_sizes(checkpoint, env_sizes(env), force=force)
         print(f"[simlab] Playing {checkpoint} on {env_cfg.sim.device}")
-        try:
-            policy = lib.load_policy(env, agent_cfg, checkpoint)
-        except SimlabError:
-            raise
-        except (RuntimeError, KeyError, ValueError, TypeError) as e:  # e.g. a state dict of other shapes
-            raise CheckpointError(
-                f"Cannot load '{checkpoint}' as a {args.library} policy of {args.task}: {type(e).__name__}: {e}"
-            ) from e
+        with checkpoint_load_errors(checkpoint, args.library, args.task):
+            policy = lib.load_policy(env, agent_cfg, checkpoint, trust=trust)
         result: dict[str, Any] = {"checkpoint": checkpoint}
         if not args.no_export:
             folder = os.path.join(os.path.dirname(checkpoint), "exported")

@@ -18,7 +18,9 @@ __all__ = [
     "ONE_VIDEO_INTERVAL",
     "LIBRARIES",
     "agent_entry_point",
+    "check_at_least",
     "check_flags",
+    "check_mini_batches",
     "check_training_settings",
     "load_configs",
     "make_env",
@@ -84,6 +86,24 @@ def check_training_settings(args: argparse.Namespace, counts: dict[str, Any], ra
     for key, value in rates.items():
         if isinstance(value, (int, float)) and not (math.isfinite(value) and value >= 0):
             raise ConfigError(f"{key} must be a finite number >= 0, got {value!r}.")
+
+
+def check_mini_batches(args: argparse.Namespace, key: str, mini_batches: Any, samples: int, rollout: str) -> None:
+    """When training, refuse more mini-batches than a rollout holds samples: each would be empty and the
+    library would train on nothing (rsl_rl's losses turn NaN, skrl's updates fail). ``rollout`` says how
+    the ``samples`` arise (``"8 envs x 16 steps"``)."""
+    if not hasattr(args, "max_iterations") or not isinstance(mini_batches, (int, float)) or mini_batches <= samples:
+        return
+    raise ConfigError(
+        f"{key}={mini_batches:g} leaves the mini-batches empty: a rollout holds {samples} samples ({rollout}). "
+        f"Use at most {key}={samples}, or more envs or rollout steps."
+    )
+
+
+def check_at_least(args: argparse.Namespace, key: str, value: Any, least: int, why: str) -> None:
+    """When training, refuse a ``value`` of ``key`` below ``least``, saying ``why`` the library needs that many."""
+    if hasattr(args, "max_iterations") and isinstance(value, (int, float)) and value < least:
+        raise ConfigError(f"{key}={value:g} is too small: {why}. Use at least {least}.")
 
 
 def resolve_seed(seed: int | None) -> int | None:

@@ -8,7 +8,13 @@ import time
 from typing import Any
 
 from simlab.cli import distributed
-from simlab.cli.checkpoints import check_checkpoint_sizes, check_checkpoint_source, env_sizes, resolve_checkpoint
+from simlab.cli.checkpoints import (
+    check_checkpoint_sizes,
+    check_checkpoint_source,
+    checkpoint_load_errors,
+    env_sizes,
+    resolve_checkpoint,
+)
 from simlab.cli.libraries import get_library
 from simlab.cli.runs import dump_params, make_run_dir, remove_if_empty_run, write_run_info
 from simlab.cli.session import check_flags, load_configs, make_env, resolve_seed
@@ -128,9 +134,10 @@ def run_train(args: argparse.Namespace, overrides: list[str], argv: list[str] | 
     # seed + rank: each rank simulates other episodes (the env seeds torch with it; skrl and rl_games
     # add the rank to their own seeds themselves)
     env_cfg.seed = None if env_cfg.seed is None else env_cfg.seed + ranks.rank
-    resume = resolve_checkpoint(args.checkpoint, args.library) if args.checkpoint else None
+    trust = getattr(args, "trust_checkpoint", False)
+    resume = resolve_checkpoint(args.checkpoint, args.library, trust) if args.checkpoint else None
     if resume:
-        check_checkpoint_source(resume, args.library, args.task, force=getattr(args, "force", False))
+        check_checkpoint_source(resume, args.library, args.task, force=getattr(args, "force", False), trust=trust)
     run_dir = None
     if ranks.is_main:  # only rank 0 writes the run folder
         run_dir = make_run_dir(args.log_root, args.library, lib.experiment_name(agent_cfg, args.task), args.run_name)
@@ -202,7 +209,8 @@ def _train_in(
         resume_collector_after_start_up()  # paused by the `simlab` command for its imports and env build
         startup = seconds_since_process_start()
         start = time.perf_counter()
-        lib.train(env, agent_cfg, run_dir, args, resume)
+        with checkpoint_load_errors(resume, args.library, args.task, only_state_dicts=True):
+            lib.train(env, agent_cfg, run_dir, args, resume)
     finally:
         env.close()
     return startup, start

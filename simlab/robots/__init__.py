@@ -1,5 +1,6 @@
 """Robot configurations and their MJCF models (``simlab.robots.<robot>``)."""
 
+from .allegro import ALLEGRO_HAND_CFG
 from .ant import ANT_CFG
 from .cabinet import SEKTION_CABINET_CFG
 from .cart_double_pendulum import CART_DOUBLE_PENDULUM_CFG
@@ -7,3 +8,4 @@ from .cartpole import CARTPOLE_CFG
 from .franka import FRANKA_PANDA_CFG, FRANKA_PANDA_HIGH_PD_CFG
 from .humanoid import HUMANOID_CFG
 from .quadcopter import CRAZYFLIE_CFG
+from .shadow_hand import SHADOW_HAND_CFG

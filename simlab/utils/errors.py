@@ -18,6 +18,7 @@ __all__ = [
     "MissingDependencyError",
     "SimlabError",
     "TrainingDivergedError",
+    "UntrustedFileError",
     "describe",
     "is_intended_error",
 ]
@@ -45,6 +46,10 @@ class CheckpointError(SimlabError, ValueError):
 
 class CheckpointNotFoundError(CheckpointError, FileNotFoundError):
     """No checkpoint where one was looked for."""
+
+
+class UntrustedFileError(CheckpointError):
+    """A checkpoint or statistics file that needs more than data to load (it could run code)."""
 
 
 class MissingDependencyError(SimlabError, ImportError):

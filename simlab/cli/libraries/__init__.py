@@ -1,7 +1,9 @@
 """One adapter per RL library: configure, train (with resume and Ctrl+C saves) and load a policy.
 
 Each module has ``experiment_name(agent_cfg, task)``, ``configure(agent_cfg, args, env_cfg)``,
-``train(env, agent_cfg, run_dir, args, resume_path)`` and ``load_policy(env, agent_cfg, checkpoint)``.
+``train(env, agent_cfg, run_dir, args, resume_path)`` and ``load_policy(env, agent_cfg, checkpoint, trust)``.
+Checkpoints load as weights only unless ``trust`` (``args.trust_checkpoint`` when training):
+:mod:`simlab.utils.trust`.
 """
 
 from __future__ import annotations

@@ -23,6 +23,7 @@ from simlab.cli.session import check_training_settings
 from simlab.rl.utils import require
 from simlab.utils.errors import TrainingDivergedError
 from simlab.utils.io import atomic_torch_saves
+from simlab.utils.trust import torch_load, weights_only_torch_loads
 
 require("rl_games")
 from rl_games.torch_runner import Runner  # noqa: E402
@@ -119,7 +120,8 @@ def _train(env: gym.Env, agent_cfg: dict, run_dir: str, args: argparse.Namespace
     if getattr(agent, "has_central_value", False):
         optimizers.append(agent.central_value_net.optimizer)
     if resume_path:
-        agent.restore(resume_path)
+        with weights_only_torch_loads(getattr(args, "trust_checkpoint", False)):
+            agent.restore(resume_path)
         _use_configured_learning_rates(agent)
         print(f"[simlab] Resumed from {resume_path} at epoch {agent.epoch_num}")
     guard_optimizers(optimizers, "agent.params.config.learning_rate")
@@ -170,22 +172,23 @@ def _use_configured_learning_rates(agent: Any) -> None:
             group["lr"] = float(agent.central_value_net.lr)
 
 
-def _restore_on_device(player: Any, checkpoint: str, device: str) -> None:
-    """rl_games' ``restore`` without ``map_location``: load a GPU-trained checkpoint on any device."""
-    state = torch.load(checkpoint, map_location=device, weights_only=False)
+def _restore_on_device(player: Any, checkpoint: str, device: str, trust: bool = False) -> None:
+    """rl_games' ``restore`` without ``map_location``: load a GPU-trained checkpoint on any device
+    (weights only unless ``trust``)."""
+    state = torch_load(checkpoint, map_location=device, trust=trust)
     model_state = {k.replace("_orig_mod.", ""): v for k, v in state["model"].items()}
     player.model.load_state_dict(model_state)
     if player.normalize_input and "running_mean_std" in state:
         player.model.running_mean_std.load_state_dict(state["running_mean_std"])
 
 
-def load_policy(env: gym.Env, agent_cfg: dict, checkpoint: str) -> Policy:
+def load_policy(env: gym.Env, agent_cfg: dict, checkpoint: str, trust: bool = False) -> Policy:
     runner, wrapped = _runner(env, agent_cfg)
     runner.params["config"]["env_info"] = wrapped.get_env_info()
     runner.params["config"]["vec_env"] = wrapped
     with contextlib.redirect_stdout(io.StringIO()):
         player = runner.create_player()
-    _restore_on_device(player, checkpoint, agent_cfg["params"]["config"]["device"])
+    _restore_on_device(player, checkpoint, agent_cfg["params"]["config"]["device"], trust)
     player.model.eval()
     clip_obs, clip_actions = _clips(agent_cfg)
     if not math.isfinite(clip_actions):

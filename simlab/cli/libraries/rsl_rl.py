@@ -17,11 +17,12 @@ import torch
 from simlab.cli.libraries.divergence import detached, non_finite
 from simlab.cli.libraries.progress import ProgressBar
 from simlab.cli.policy import ClampActions, Policy
-from simlab.cli.session import check_training_settings
+from simlab.cli.session import check_mini_batches, check_training_settings
 from simlab.rl.utils import require
 from simlab.utils.errors import ConfigError, TrainingDivergedError
 from simlab.utils.io import atomic_torch_saves
 from simlab.utils.startup import mark
+from simlab.utils.trust import weights_only_torch_loads
 
 require("rsl_rl")
 from rsl_rl.runners import OnPolicyRunner  # noqa: E402
@@ -56,7 +57,19 @@ def configure(agent_cfg: RslRlOnPolicyRunnerCfg, args: argparse.Namespace, env_c
         },
         {"agent.algorithm.learning_rate": getattr(algorithm, "learning_rate", None)},
     )
+    num_envs, steps = env_cfg.scene.num_envs, agent_cfg.num_steps_per_env
+    if _recurrent(agent_cfg):  # rsl_rl splits a recurrent model's rollout by env, keeping each env's sequence
+        samples, rollout = num_envs, f"{num_envs} envs, split by env for a recurrent model"
+    else:
+        samples, rollout = num_envs * steps, f"{num_envs} envs x {steps} steps"
+    mini_batches = getattr(algorithm, "num_mini_batches", None)
+    check_mini_batches(args, "agent.algorithm.num_mini_batches", mini_batches, samples, rollout)
     env_cfg.seed = agent_cfg.seed
+
+
+def _recurrent(agent_cfg: RslRlOnPolicyRunnerCfg) -> bool:
+    models = (getattr(agent_cfg, "actor", None), getattr(agent_cfg, "critic", None))
+    return any("RNN" in str(getattr(model, "class_name", "")) for model in models)
 
 
 class _ProgressLogger(Logger):
@@ -251,7 +264,8 @@ def train(
 
     runner.add_git_repo_to_log(simlab.__file__)
     if resume_path:
-        runner.load(resume_path, map_location=agent_cfg.device)
+        with weights_only_torch_loads(getattr(args, "trust_checkpoint", False)):
+            runner.load(resume_path, map_location=agent_cfg.device)
         print(f"[simlab] Resumed from {resume_path} at iteration {runner.current_learning_iteration}")
     guard_divergence(runner, run_dir)
     on_checkpoint = getattr(args, "on_checkpoint", None)
@@ -356,9 +370,10 @@ def guard_divergence(runner: OnPolicyRunner, run_dir: str) -> None:
     runner.alg.update = checked_update
 
 
-def load_policy(env: gym.Env, agent_cfg: RslRlOnPolicyRunnerCfg, checkpoint: str) -> Policy:
+def load_policy(env: gym.Env, agent_cfg: RslRlOnPolicyRunnerCfg, checkpoint: str, trust: bool = False) -> Policy:
     runner = make_runner(env, agent_cfg, None)
-    runner.load(checkpoint, load_cfg={"actor": True}, map_location=agent_cfg.device)
+    with weights_only_torch_loads(trust):
+        runner.load(checkpoint, load_cfg={"actor": True}, map_location=agent_cfg.device)
     actor = runner.alg.get_policy()
     groups = runner.cfg["obs_groups"]["actor"]
     if getattr(actor, "obs_groups_2d", None):  # a CNN actor: it reads one image group

@@ -24,11 +24,12 @@ import torch.nn as nn
 
 from simlab.cli.libraries.divergence import detached, non_finite
 from simlab.cli.policy import Policy
-from simlab.cli.session import check_training_settings
+from simlab.cli.session import check_mini_batches, check_training_settings
 from simlab.rl.skrl import SkrlVecEnvWrapper
 from simlab.rl.utils import require
 from simlab.utils.errors import TrainingDivergedError
 from simlab.utils.io import atomic_torch_saves
+from simlab.utils.trust import weights_only_torch_loads
 
 ML_FRAMEWORKS = ("torch", "jax", "jax-numpy")
 
@@ -163,6 +164,9 @@ def configure(agent_cfg: dict, args: argparse.Namespace, env_cfg: Any) -> None:
         },
         {"agent.agent.learning_rate": settings.get("learning_rate")},
     )
+    num_envs, rollouts = env_cfg.scene.num_envs, settings.get("rollouts")
+    rollout = f"{num_envs} envs x {rollouts} rollouts"
+    check_mini_batches(args, "agent.agent.mini_batches", settings.get("mini_batches"), num_envs * rollouts, rollout)
     # skrl's "auto" intervals are timesteps/100 and /10, which is 0 (never) in short runs: keep them >= 1
     timesteps, rollouts = agent_cfg["trainer"]["timesteps"], agent_cfg["agent"]["rollouts"]
     exp = agent_cfg["agent"]["experiment"]
@@ -300,7 +304,8 @@ def train(
     runner = make_runner(env, agent_cfg, run_dir, ml_framework)
     start = 0
     if resume_path:
-        runner.agent.load(resume_path)
+        with weights_only_torch_loads(getattr(args, "trust_checkpoint", False)):
+            runner.agent.load(resume_path)
         _use_configured_learning_rate(runner.agent, agent_cfg["agent"].get("learning_rate"))
         start = _timestep_of(resume_path)
         _continue_counting(runner.agent, start)
@@ -355,14 +360,15 @@ class _SkrlActor(nn.Module):
         return mean
 
 
-def load_policy(env: gym.Env, agent_cfg: dict, checkpoint: str) -> Policy:
+def load_policy(env: gym.Env, agent_cfg: dict, checkpoint: str, trust: bool = False) -> Policy:
     agent_cfg = copy.deepcopy(agent_cfg)
     for memory in ("motion_dataset", "reply_buffer"):  # AMP's training memories: playing fills none
         if memory in agent_cfg:
             agent_cfg[memory]["memory_size"] = agent_cfg["agent"].get("amp_batch_size", 512)
     runner = make_runner(env, agent_cfg, None)  # torch models: play and export run on torch
     agent = runner.agent
-    agent.load(checkpoint)
+    with weights_only_torch_loads(trust):
+        agent.load(checkpoint)
     agent.enable_training_mode(False)
     device = str(agent.device)
     if hasattr(agent, "policies"):  # IPPO / MAPPO: one actor per agent, fed its own observation

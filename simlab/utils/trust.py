@@ -1,0 +1,127 @@
+"""Files from elsewhere are data: load checkpoints and pickles without running code in them.
+
+A pickle can call any function while it loads (``os.system`` included), so a checkpoint or a
+statistics file someone else wrote is read the way PyTorch and Hugging Face read them: torch files
+with ``torch.load(weights_only=True)`` (tensors, containers, numbers and the few numpy types real
+checkpoints hold), other pickles through an unpickler that knows only harmless names. A file that
+needs more is refused with one line; ``trust=True`` (the CLI's ``--trust_checkpoint``) loads a file
+the user vouches for as its library would.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import os
+import pickle
+import re
+from collections.abc import Callable, Iterator
+from typing import Any
+
+from simlab.utils.errors import CheckpointError, UntrustedFileError
+
+__all__ = [
+    "NUMPY_GLOBALS",
+    "TRUST_HINT",
+    "restricted_loads",
+    "torch_load",
+    "weights_only_torch_loads",
+]
+
+TRUST_HINT = "pass --trust_checkpoint if you trust the file (loading it may run code)"
+
+# numpy arrays and scalars as pickle stores them (numpy 1.x and 2.x module names)
+NUMPY_GLOBALS = frozenset(
+    f"{core}.{name}"
+    for core in ("numpy.core.multiarray", "numpy._core.multiarray", "numpy.core.numeric", "numpy._core.numeric")
+    for name in ("_reconstruct", "scalar", "_frombuffer")
+) | {"numpy.ndarray", "numpy.dtype"}
+
+
+def _torch_safe_globals() -> list[Any]:
+    """numpy's array, scalar and dtype types: rl_games stores its best reward as a numpy scalar."""
+    import numpy as np
+
+    core = getattr(np, "_core", None) or np.core
+    dtypes = [type(np.dtype(t)) for t in ("float16", "float32", "float64", "int32", "int64", "uint8", "bool")]
+    return [core.multiarray.scalar, core.multiarray._reconstruct, np.ndarray, np.dtype, *dtypes]
+
+
+def _first_reason(error: BaseException) -> str:
+    """The one line of torch's weights-only refusal that names what the file needed."""
+    text = str(error)
+    match = re.search(r"(unsupported GLOBAL [^\s]+|Unsupported global: GLOBAL [^\s]+|Unsupported operand \d+)", text)
+    return match.group(1) if match else (text.strip().splitlines() or [type(error).__name__])[0][:200]
+
+
+def torch_load(f: Any, map_location: Any = None, trust: bool = False, what: str | None = None) -> Any:
+    """``torch.load`` of weights only (``trust``: any pickle); a file that needs more raises
+    :class:`UntrustedFileError` naming it and what it needed."""
+    import torch
+
+    if trust:
+        return _plain_torch_load(f, map_location=map_location, weights_only=False)
+    try:
+        with torch.serialization.safe_globals(_torch_safe_globals()):
+            return _plain_torch_load(f, map_location=map_location, weights_only=True)
+    except pickle.UnpicklingError as e:
+        name = what or (f"'{os.fspath(f)}'" if isinstance(f, (str, os.PathLike)) else "the checkpoint")
+        raise UntrustedFileError(
+            f"Refused to load {name}: it holds more than weights ({_first_reason(e)}); {TRUST_HINT}."
+        ) from None
+
+
+_PLAIN_LOADS: list[Callable[..., Any]] = []  # torch.load as it was before weights_only_torch_loads
+
+
+def _plain_torch_load(*args: Any, **kwargs: Any) -> Any:
+    import torch
+
+    return (_PLAIN_LOADS[0] if _PLAIN_LOADS else torch.load)(*args, **kwargs)
+
+
+@contextlib.contextmanager
+def weights_only_torch_loads(trust: bool = False) -> Iterator[None]:
+    """Within the block, every ``torch.load`` (the RL libraries' own, which ask for ``weights_only=False``)
+    loads weights only, as :func:`torch_load`; ``trust`` leaves ``torch.load`` as it is."""
+    import torch
+
+    if trust:
+        yield
+        return
+    _PLAIN_LOADS.append(torch.load)
+
+    def load(f: Any, map_location: Any = None, *args: Any, **kwargs: Any) -> Any:
+        kwargs.pop("weights_only", None)
+        kwargs.pop("pickle_module", None)
+        return torch_load(f, map_location=map_location)
+
+    torch.load = load
+    try:
+        yield
+    finally:
+        torch.load = _PLAIN_LOADS.pop()
+
+
+class _RestrictedUnpickler(pickle.Unpickler):
+    def __init__(self, file: Any, allowed: Callable[[str, str], bool], what: str):
+        super().__init__(file)
+        self._allowed, self._what = allowed, what
+
+    def find_class(self, module: str, name: str) -> Any:
+        if not self._allowed(module, name):
+            raise UntrustedFileError(
+                f"Refused to load {self._what}: it needs {module}.{name}, which is not plain data; {TRUST_HINT}."
+            )
+        return super().find_class(module, name)
+
+
+def restricted_loads(data: bytes, allowed: Callable[[str, str], bool], what: str) -> Any:
+    """Unpickle ``data`` when every global it names passes ``allowed(module, name)``; else
+    :class:`UntrustedFileError` naming the first one that does not (nothing outside ``allowed`` runs)."""
+    try:
+        return _RestrictedUnpickler(io.BytesIO(data), allowed, what).load()
+    except UntrustedFileError:
+        raise
+    except Exception as e:  # noqa: BLE001 - corrupt bytes make pickle raise anything
+        raise CheckpointError(f"Cannot read {what}: {type(e).__name__}: {e}".splitlines()[0]) from None

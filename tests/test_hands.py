@@ -1,0 +1,151 @@
+"""The dexterous hands (simlab.robots.allegro, simlab.robots.shadow_hand) and the DexCube they hold.
+
+Names are Isaac Lab's (its in-hand tasks look joints and fingertips up by name); the Shadow Hand's
+distal joints follow their middle joints while the hand moves; a grasp posture keeps the cube on the
+upturned palm for 5 s of simulated time on the CPU backend.
+"""
+
+from __future__ import annotations
+
+import re
+
+import pytest
+import torch
+
+import simlab.sim as sim_utils
+from simlab.assets import ArticulationCfg, AssetBaseCfg, RigidObjectCfg
+from simlab.robots.allegro import ALLEGRO_FINGERTIP_BODIES, ALLEGRO_HAND_CFG
+from simlab.robots.dex_cube import DEX_CUBE_SIZE, dex_cube_cfg
+from simlab.robots.shadow_hand import SHADOW_HAND_CFG, SHADOW_HAND_COUPLED_JOINTS, SHADOW_HAND_FINGERTIP_BODIES
+from simlab.scene import InteractiveScene, InteractiveSceneCfg
+from simlab.utils import configclass
+
+DT = 1.0 / 120.0  # sim.dt of Isaac Lab's in-hand tasks
+
+# Isaac Lab's actuated_joint_names of the Allegro and Shadow in-hand tasks
+ALLEGRO_JOINTS = [f"{finger}_joint_{i}" for finger in ("index", "middle", "ring", "thumb") for i in range(4)]
+SHADOW_ACTUATED = (
+    ["robot0_WRJ1", "robot0_WRJ0"]
+    + [f"robot0_{f}J{i}" for f in ("FF", "MF", "RF") for i in (3, 2, 1)]
+    + [f"robot0_LFJ{i}" for i in (4, 3, 2, 1)]
+    + [f"robot0_THJ{i}" for i in (4, 3, 2, 1, 0)]
+)
+SHADOW_JOINTS = SHADOW_ACTUATED + list(SHADOW_HAND_COUPLED_JOINTS)
+
+# (robot config, cube scale and density, cube spawn position, a grasp posture) as Isaac Lab's tasks set them up
+HANDS = {
+    "allegro": (
+        ALLEGRO_HAND_CFG,
+        (1.2, 400.0),
+        (0.0, -0.17, 0.56),
+        {
+            "(index|middle|ring)_joint_1": 0.5,
+            "(index|middle|ring)_joint_[23]": 0.8,
+            "thumb_joint_0": 1.3,
+            "thumb_joint_[123]": 0.6,
+        },
+    ),
+    "shadow": (
+        SHADOW_HAND_CFG,
+        (1.0, 567.0),
+        (0.0, -0.39, 0.6),
+        {"robot0_(FF|MF|RF|LF)J2": 0.4, "robot0_(FF|MF|RF|LF)J1": 0.6, "robot0_THJ[43]": 1.0, "robot0_THJ0": 0.5},
+    ),
+}
+
+
+def make_scene(hand: str, num_envs: int = 1):
+    robot_cfg, (scale, density), cube_pos, _ = HANDS[hand]
+
+    @configclass
+    class HandSceneCfg(InteractiveSceneCfg):
+        ground = AssetBaseCfg(prim_path="/World/ground", spawn=sim_utils.GroundPlaneCfg())
+        robot: ArticulationCfg = robot_cfg.replace(prim_path="{ENV_REGEX_NS}/Robot")
+        object = RigidObjectCfg(
+            prim_path="{ENV_REGEX_NS}/object",
+            spawn=dex_cube_cfg(scale, density),
+            init_state=RigidObjectCfg.InitialStateCfg(pos=cube_pos),
+        )
+
+    sim = sim_utils.SimulationContext(sim_utils.SimulationCfg(dt=DT, device="cpu"))
+    scene = InteractiveScene(HandSceneCfg(num_envs=num_envs, env_spacing=0.75))
+    sim.reset()
+    return sim, scene
+
+
+def step(sim, scene, n: int = 1):
+    for _ in range(n):
+        scene.write_data_to_sim()
+        sim.step()
+        scene.update(sim.get_physics_dt())
+
+
+def posture(robot, targets: dict[str, float]) -> torch.Tensor:
+    pose = robot.data.default_joint_pos.clone()
+    for pattern, value in targets.items():
+        ids = [i for i, name in enumerate(robot.joint_names) if re.fullmatch(pattern, name)]
+        assert ids, pattern
+        pose[:, ids] = value
+    return pose
+
+
+def test_allegro_has_isaac_lab_joints_fingertips_and_pose():
+    _, scene = make_scene("allegro")
+    robot = scene["robot"]
+    assert sorted(robot.joint_names) == sorted(ALLEGRO_JOINTS)
+    assert robot.find_bodies(ALLEGRO_FINGERTIP_BODIES, preserve_order=True)[1] == ALLEGRO_FINGERTIP_BODIES
+    assert robot.is_fixed_base and set(robot.actuators) == {"fingers"}
+    torch.testing.assert_close(robot.data.joint_stiffness[0], torch.full((16,), 3.0))
+    torch.testing.assert_close(robot.data.joint_effort_limits[0], torch.full((16,), 0.5))
+    thumb = robot.joint_names.index("thumb_joint_0")
+    assert robot.data.default_joint_pos[0, thumb] == pytest.approx(0.28)
+    # the Allegro URDF's link masses: 0.4154 kg palm, four fingers (thumb 0.1231 kg, others 0.1388 kg)
+    assert float(robot.data.default_mass[0].sum()) == pytest.approx(0.4154 + 3 * 0.1388 + 0.1231, abs=1e-4)
+
+
+def test_shadow_hand_has_isaac_lab_joints_fingertips_and_20_actuated_joints():
+    _, scene = make_scene("shadow")
+    robot = scene["robot"]
+    assert sorted(robot.joint_names) == sorted(SHADOW_JOINTS)
+    assert robot.find_bodies(SHADOW_HAND_FINGERTIP_BODIES, preserve_order=True)[1] == SHADOW_HAND_FINGERTIP_BODIES
+    assert sorted(robot.actuators["fingers"].joint_names) == sorted(SHADOW_ACTUATED)
+    stiffness = dict(zip(robot.joint_names, robot.data.joint_stiffness[0].tolist()))
+    assert stiffness["robot0_WRJ1"] == 5.0 and stiffness["robot0_FFJ1"] == 1.0
+    assert all(stiffness[distal] == 0.0 for distal in SHADOW_HAND_COUPLED_JOINTS)  # driven by the coupling only
+    effort = dict(zip(robot.joint_names, robot.data.joint_effort_limits[0].tolist()))
+    assert effort["robot0_THJ4"] == pytest.approx(2.3722) and effort["robot0_FFJ1"] == pytest.approx(0.7245)
+
+
+def test_shadow_distal_joints_follow_the_middle_joints_while_they_move():
+    sim, scene = make_scene("shadow")
+    robot = scene["robot"]
+    middle = [robot.joint_names.index(j) for j in SHADOW_HAND_COUPLED_JOINTS.values()]
+    distal = [robot.joint_names.index(j) for j in SHADOW_HAND_COUPLED_JOINTS]
+    worst, travelled = 0.0, torch.zeros(4)
+    for target in (1.4, 0.2, 1.0):  # flex, open, flex again: 0.5 s each
+        robot.set_joint_position_target(posture(robot, {"robot0_(FF|MF|RF|LF)J1": target}))
+        for _ in range(60):
+            before = robot.data.joint_pos[0, middle].clone()
+            step(sim, scene)
+            travelled += (robot.data.joint_pos[0, middle] - before).abs()
+            gap = (robot.data.joint_pos[0, distal] - robot.data.joint_pos[0, middle]).abs().max()
+            worst = max(worst, float(gap))
+    assert (travelled > 2.0).all(), travelled  # the middle joints really moved (1.2 + 0.8 rad and more)
+    assert worst < 0.02, worst
+
+
+@pytest.mark.parametrize("hand", list(HANDS))
+def test_a_grasp_posture_holds_the_cube_on_the_upturned_palm_for_5_s(hand):
+    sim, scene = make_scene(hand)
+    robot, cube = scene["robot"], scene["object"]
+    robot.set_joint_position_target(posture(robot, HANDS[hand][3]))
+    step(sim, scene, 60)  # the fingers close and the cube settles (0.5 s)
+    settled = cube.data.root_pos_w[0].clone()
+    palm_height = float(robot.data.root_pos_w[0, 2])
+    for _ in range(10):
+        step(sim, scene, 60)
+        position = cube.data.root_pos_w[0]
+        assert torch.isfinite(position).all()
+        assert float(position[2]) > palm_height + DEX_CUBE_SIZE / 2  # above the palm, not beside or below it
+        assert float((position - settled).norm()) < 0.02  # held: it neither slides nor rolls away
+    assert float(cube.data.root_lin_vel_w[0].norm()) < 0.01
