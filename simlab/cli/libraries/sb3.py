@@ -27,7 +27,7 @@ import torch.nn as nn
 from simlab.cli.checkpoints import layer_mismatch
 from simlab.cli.libraries.divergence import guard_optimizers
 from simlab.cli.policy import ClampActions, Policy
-from simlab.cli.session import check_training_settings
+from simlab.cli.session import check_at_least, check_training_settings
 from simlab.rl.utils import require
 from simlab.utils.errors import CheckpointError, TrainingDivergedError, UntrustedFileError
 from simlab.utils.io import atomic_path
@@ -62,6 +62,15 @@ def configure(agent_cfg: dict, args: argparse.Namespace, env_cfg: Any) -> None:
         {f"agent.{key}": agent_cfg.get(key) for key in ("n_steps", "batch_size", "n_epochs", "n_timesteps")},
         {"agent.learning_rate": agent_cfg.get("learning_rate")},
     )
+    if agent_cfg.get("normalize_advantage", True):
+        # SB3 normalizes the advantages of each mini-batch, which needs two samples (it asserts so); a
+        # batch_size above the rollout's samples is fine: SB3 then takes the whole rollout as one mini-batch
+        why = "SB3's PPO normalizes the advantages of each mini-batch, which needs 2 samples"
+        check_at_least(args, "agent.batch_size", agent_cfg.get("batch_size"), 2, why)
+        num_envs = env_cfg.scene.num_envs
+        least = -(-2 // num_envs)  # n_steps x num_envs samples: at least 2
+        rollout = f"{why}; a rollout holds {num_envs} envs x n_steps"
+        check_at_least(args, "agent.n_steps", agent_cfg["n_steps"], least, rollout)
     env_cfg.seed = agent_cfg["seed"]
 
 
