@@ -19,9 +19,12 @@ A graph reads and writes fixed addresses, which leaves two things to handle here
   a list to the device on every call, which a capture cannot record. While warming up and capturing,
   :class:`DeviceListIndices` (a ``TorchFunctionMode``, active on this thread only) indexes through
   cached device tensors instead.
-* Direct tasks rebind attributes (``self.potentials = ...``). After the capture, each tensor the step
-  assigned to an attribute of the env is copied back into the tensor the attribute held before, and
-  the attribute keeps that one, so the next replay reads this step's values, as eager code does.
+* Isaac Lab code rebinds tensors (``self.potentials = ...``, ``self.metrics["error"] = ...``) in the env,
+  its managers, terms, commands, sensors and assets. Inside the capture, each tensor the step put in a
+  slot of any object reachable from the env is copied back into the tensor the slot held before, and
+  the slot keeps that one, so the next replay reads this step's values, as eager code does
+  (:mod:`simlab.envs.utils.tensor_slots`; a rebinding that cannot be replayed keeps the step eager,
+  naming the slot). docs/env_step.md states the contract.
 
 Finite checks: actions (and observations, where a diverged simulation shows first) are checked
 every step. Eagerly the check raises at once; graphed, flags accumulate on the device and are read
@@ -42,6 +45,8 @@ from torch.overrides import TorchFunctionMode
 
 from simlab.utils.cuda import gc_paused
 from simlab.utils.errors import SimlabError, describe
+
+from .tensor_slots import GraphContractError, TensorSlots
 
 
 class SimulationDivergedError(SimlabError, RuntimeError):
@@ -73,6 +78,7 @@ class EnvStepper:
         self._index_cache: dict[tuple[int, ...], torch.Tensor] = {}
         self._static_action: torch.Tensor | None = None
         self._packed: PackedOutputs | None = None
+        self.write_backs = 0  # tensors the step rebinds, copied back at each replay (see TensorSlots)
         self._check_actions = bool(getattr(env.cfg, "check_finite_actions", True))
         self._bad_action = torch.zeros((), dtype=torch.bool, device=env.device)
         self._bad_obs = torch.zeros((), dtype=torch.bool, device=env.device)
@@ -162,7 +168,7 @@ class EnvStepper:
         graph = torch.cuda.CUDAGraph()
         generator = torch.cuda.default_generators[torch.device(env.device).index or 0]
         rng_state = generator.clone_state()  # a failed capture leaves the generator mid-capture
-        before = {name: value for name, value in vars(env).items() if isinstance(value, torch.Tensor)}
+        slots = TensorSlots(env, "env", skip=(self,))  # where every tensor of the env's objects sits now
         try:
             torch.cuda.synchronize()
             env.sim.physics.before_capture()
@@ -173,9 +179,9 @@ class EnvStepper:
                 torch.cuda.graph(graph, capture_error_mode="thread_local"),
             ):
                 outputs = self.body(self._static_action)
-                _write_back_rebound(env, before)
                 self._bad_obs.logical_or_(_any_nonfinite(_observations(outputs)))
-                self._packed = PackedOutputs(outputs)
+                self._packed = PackedOutputs(outputs)  # before the write-back, which may overwrite an output
+                self.write_backs = slots.write_back(env.device)
             self.graph = graph
         except Exception as err:  # noqa: BLE001 - any capture failure means: stay eager
             while err.__context__ is not None:  # the first error, not the failed end of the capture
@@ -186,13 +192,14 @@ class EnvStepper:
                 if "site-packages" not in f.filename and f.filename != __file__  # the hook, not this module
             ]
             where = f" at {frames[-1].filename}:{frames[-1].lineno}" if frames else ""
+            if isinstance(err, GraphContractError):
+                where = ""  # the message names the slot; the frame would be the write-back
             self.eager_reason = f"capture failed: {describe(err)}{where}"
             self.failed_traceback = traceback.format_exc()
             self._packed = None
             torch.cuda.synchronize()
             generator.graphsafe_set_state(rng_state)
-            for name, value in before.items():  # the failed body may have rebound them to capture memory
-                setattr(env, name, value)
+            slots.restore()  # the failed body may have rebound slots to capture memory
             logger.warning("CUDA-graph capture of the env step failed; stepping eagerly. (%s)", self.eager_reason)
             print(f"[simlab] CUDA-graph capture of the env step failed, stepping eagerly: {self.eager_reason}")
 
@@ -224,21 +231,6 @@ def _any_nonfinite(value: Any) -> torch.Tensor:
 def _observations(outputs: Any) -> Any:
     """The observations and rewards of a step's outputs (what a diverged simulation spoils)."""
     return outputs[:2] if isinstance(outputs, tuple) else outputs
-
-
-def _write_back_rebound(env, before: dict[str, torch.Tensor]) -> None:
-    """Inside the capture: copy each env tensor attribute the step rebound into its old tensor."""
-    for name, old in before.items():
-        new = getattr(env, name, None)
-        if new is old or not isinstance(new, torch.Tensor):
-            continue
-        if new.shape != old.shape or new.dtype != old.dtype:
-            raise RuntimeError(
-                f"the step replaces env.{name} with a tensor of another shape or dtype "
-                f"({tuple(old.shape)} {old.dtype} -> {tuple(new.shape)} {new.dtype}); a graph needs fixed buffers"
-            )
-        old.copy_(new)
-        setattr(env, name, old)
 
 
 class DeviceListIndices(TorchFunctionMode):

@@ -1,0 +1,366 @@
+"""The CUDA graph's contract: a step that rebinds tensors (Isaac Lab's idiom) replays like eager code.
+
+On the CPU: :class:`TensorSlots` finds and writes back rebound tensors anywhere under the env
+(attributes, dict entries, lists, tuples; swaps), names the slot it cannot replay; a real env's walk
+reaches the class-based reward term and the command term; and the env stepper's real capture path,
+run with an emulated CUDA graph (replays the recorded torch ops at the recorded tensors), gives the
+eager results with the write-back and stale ones without it. On the GPU: a manager-based cartpole
+with an Isaac Lab-style reward term and command term, graphed and eager, step for step.
+"""
+
+from __future__ import annotations
+
+import contextlib
+from types import SimpleNamespace
+
+import pytest
+import torch
+from conftest import cuda_available
+from torch.utils._python_dispatch import TorchDispatchMode
+
+from simlab.envs import ManagerBasedRLEnv
+from simlab.envs.mdp import generated_commands
+from simlab.envs.utils.cuda_graph import EnvStepper
+from simlab.envs.utils.tensor_slots import GraphContractError, TensorSlots
+from simlab.managers import CommandTerm, CommandTermCfg, ManagerTermBase
+from simlab.managers import ObservationTermCfg as ObsTerm
+from simlab.managers import RewardTermCfg as RewTerm
+from simlab.tasks.manager_based.classic.cartpole.cartpole_env_cfg import CartpoleEnvCfg
+from simlab.utils import configclass
+from simlab.utils.env_mask import masked_copy_
+
+gpu = pytest.mark.skipif(not cuda_available(), reason="needs an NVIDIA GPU and mujoco-warp")
+
+
+# -- TensorSlots on a plain object graph ----------------------------------------------------------
+
+
+def test_write_back_copies_rebound_tensors_into_the_old_ones_wherever_they_sit():
+    term = SimpleNamespace(metrics={"error": torch.zeros(3)}, buf=torch.zeros(3), pair=(torch.zeros(2), 1.0))
+    root = SimpleNamespace(manager=SimpleNamespace(terms=[term]), logs={"a": torch.zeros(1)})
+    old = {"error": term.metrics["error"], "buf": term.buf, "pair": term.pair[0], "a": root.logs["a"]}
+    slots = TensorSlots(root, "env")
+    term.metrics["error"] = torch.full((3,), 2.0)  # Isaac Lab's idiom
+    term.buf = term.buf + 1.0
+    term.pair = (torch.ones(2), 1.0)  # a rebuilt tuple
+    root.logs = {"a": torch.full((1,), 5.0)}  # a rebuilt dict
+    paths = {path for path, _, _ in slots.rebound()}
+    assert paths == {
+        "env.manager.terms[0].metrics['error']",
+        "env.manager.terms[0].buf",
+        "env.manager.terms[0].pair",
+        "env.logs",
+    }
+    assert slots.write_back("cpu") == 4
+    assert term.metrics["error"] is old["error"] and torch.equal(old["error"], torch.full((3,), 2.0))
+    assert term.buf is old["buf"] and torch.equal(old["buf"], torch.ones(3))
+    assert term.pair[0] is old["pair"] and torch.equal(old["pair"], torch.ones(2))
+    assert root.logs["a"] is old["a"] and float(old["a"]) == 5.0
+
+
+def test_write_back_reads_swapped_tensors_before_writing_any():
+    """``prev = cur; cur = new``: the old ``cur`` is both a source and a target."""
+    state = SimpleNamespace(prev=torch.zeros(2), cur=torch.ones(2))
+    prev, cur = state.prev, state.cur
+    slots = TensorSlots(state, "env")
+    state.prev, state.cur = state.cur, torch.full((2,), 7.0)
+    slots.write_back("cpu")
+    assert state.prev is prev and state.cur is cur
+    assert torch.equal(prev, torch.ones(2)) and torch.equal(cur, torch.full((2,), 7.0))
+
+
+def test_a_rebinding_that_cannot_replay_names_its_slot_and_restore_undoes_the_step():
+    term = SimpleNamespace(metrics={"error": torch.zeros(4)})
+    root = SimpleNamespace(command_manager=SimpleNamespace(_terms={"pose": term}))
+    before = term.metrics["error"]
+    slots = TensorSlots(root, "env")
+    term.metrics["error"] = torch.zeros(4, 2)
+    with pytest.raises(GraphContractError, match=r"env.command_manager._terms\['pose'\].metrics\['error'\]"):
+        slots.write_back("cpu")
+    slots.restore()
+    assert term.metrics["error"] is before
+    term.metrics["error"] = torch.ones(4)  # made on another device than the step's: not replayed
+    with pytest.raises(GraphContractError, match=r"\['error'\] to a tensor on cpu.*the graph replays work on meta"):
+        slots.write_back("meta")
+
+
+# -- a real env: the walk reaches every object the step touches ------------------------------------
+
+
+class SmoothedPoleReward(ManagerTermBase):
+    """A class-based reward term written Isaac Lab's way: it rebinds its tensors every step."""
+
+    def __init__(self, cfg, env):
+        super().__init__(cfg, env)
+        self.metrics = {"pole_error": torch.zeros(env.num_envs, device=env.device)}
+        self._smoothed = torch.zeros(env.num_envs, device=env.device)
+
+    def reset(self, env_ids=None):
+        masked_copy_(self._smoothed, env_ids, 0.0)
+
+    def __call__(self, env):
+        target = env.command_manager.get_command("target")[:, 0]
+        error = (env.scene["robot"].data.joint_pos[:, 0] - target).abs()
+        self.metrics["pole_error"] = error  # rebinds a dict entry
+        self._smoothed = 0.8 * self._smoothed + 0.2 * error  # reads the old tensor, then rebinds
+        return -self._smoothed
+
+
+class DriftingTargetCommand(CommandTerm):
+    """A command term written Isaac Lab's way: it rebinds its command and metrics every step."""
+
+    resamples_by_mask = True
+
+    def __init__(self, cfg, env):
+        super().__init__(cfg, env)
+        self.target = torch.zeros(self.num_envs, 1, device=self.device)
+        self.metrics["error"] = torch.zeros(self.num_envs, device=self.device)
+
+    @property
+    def command(self) -> torch.Tensor:
+        return self.target
+
+    def _resample_command(self, mask):
+        draw = torch.empty_like(self.target).uniform_(-0.5, 0.5)
+        self.target = torch.where(mask[:, None], draw, self.target)
+
+    def _update_command(self):
+        self.target = self.target * 0.98 + 0.01
+
+    def _update_metrics(self):
+        cart = self._env.scene["robot"].data.joint_pos[:, :1]
+        self.metrics["error"] = torch.norm(cart - self.target, dim=-1)
+
+
+@configclass
+class TargetCommandsCfg:
+    target = CommandTermCfg(class_type=DriftingTargetCommand, resampling_time_range=(0.3, 0.6))
+
+
+def isaac_style_cartpole(device: str, num_envs: int, use_cuda_graph: bool = True) -> ManagerBasedRLEnv:
+    cfg = CartpoleEnvCfg()
+    cfg.scene.num_envs = num_envs
+    cfg.sim.device = device
+    cfg.sim.use_cuda_graph = use_cuda_graph
+    cfg.seed = 3
+    cfg.episode_length_s = 1.0  # episodes end within the rollouts: the comparison crosses resets
+    cfg.commands = TargetCommandsCfg()
+    cfg.rewards.smoothed_pole = RewTerm(func=SmoothedPoleReward, weight=1.0)
+    cfg.observations.policy.target = ObsTerm(func=generated_commands, params={"command_name": "target"})
+    return ManagerBasedRLEnv(cfg)
+
+
+def test_the_walk_finds_what_isaac_lab_style_terms_rebind_in_a_real_env():
+    env = isaac_style_cartpole("cpu", 8)
+    env.reset(seed=1)
+    actions = torch.zeros(8, 1)
+    env.step(actions)
+    slots = TensorSlots(env, "env", skip=(env._stepper,))
+    env.step(actions)
+    paths = {path for path, _, _ in slots.rebound()}
+    assert "env.command_manager._terms['target'].target" in paths
+    assert "env.command_manager._terms['target'].metrics['error']" in paths
+    reward_terms = [p for p in paths if p.startswith("env.reward_manager.") and p.endswith("._smoothed")]
+    assert reward_terms and any(p.endswith(".metrics['pole_error']") for p in paths), paths
+    env.close()
+
+
+# -- the stepper's capture path with an emulated CUDA graph (CPU) ------------------------------------
+
+
+class _RecordingGraph(TorchDispatchMode):
+    """A CPU stand-in for ``torch.cuda.CUDAGraph``: capture records each torch op with its tensors;
+    replay runs them again on the same tensors, writing each result into the tensor recorded then
+    (as a graph's kernels write fixed addresses). As on a GPU, capture leaves the tensors that existed
+    before it unchanged, and a read back to the host fails it."""
+
+    def __init__(self):
+        super().__init__()
+        self.ops: list[tuple] = []
+        self._undo: list[tuple[torch.Tensor, torch.Tensor]] = []
+        self._made: set[int] = set()
+
+    def __torch_dispatch__(self, func, types, args=(), kwargs=None):
+        kwargs = kwargs or {}
+        if func.__name__.startswith(("_local_scalar_dense", "nonzero", "is_nonzero")):
+            raise RuntimeError(f"{func.__name__}: operation not permitted when stream is capturing")
+        schema = func._schema
+        given = {**{a.name: v for a, v in zip(schema.arguments, args)}, **kwargs}
+        for arg in schema.arguments:
+            value = given.get(arg.name)
+            written = arg.alias_info is not None and arg.alias_info.is_write
+            if written and isinstance(value, torch.Tensor) and value.untyped_storage().data_ptr() not in self._made:
+                self._undo.append((value, value.clone()))
+        out = func(*args, **kwargs)
+        outs = out if isinstance(out, (tuple, list)) else (out,)
+        fresh = [r.alias_info is None for r in schema.returns]
+        for tensor, is_fresh in zip(outs, fresh):
+            if isinstance(tensor, torch.Tensor) and is_fresh:
+                self._made.add(tensor.untyped_storage().data_ptr())
+        self.ops.append((func, args, kwargs, outs, fresh))
+        return out
+
+    def end_capture(self) -> None:
+        for tensor, value in reversed(self._undo):  # a capture runs nothing
+            tensor.copy_(value)
+
+    def replay(self) -> None:
+        for func, args, kwargs, outs, fresh in self.ops:
+            out = func(*args, **kwargs)
+            for target, result, is_fresh in zip(outs, out if isinstance(out, (tuple, list)) else (out,), fresh):
+                if is_fresh and isinstance(target, torch.Tensor):
+                    target.copy_(result)
+
+
+@contextlib.contextmanager
+def _capture(graph: _RecordingGraph, **_):
+    with graph:
+        yield
+    graph.end_capture()
+
+
+@pytest.fixture
+def emulated_cuda_graph(monkeypatch):
+    monkeypatch.setattr(torch.cuda, "CUDAGraph", _RecordingGraph)
+    monkeypatch.setattr(torch.cuda, "graph", _capture)
+    monkeypatch.setattr(torch.cuda, "synchronize", lambda *a: None)
+    generator = SimpleNamespace(clone_state=torch.get_rng_state, graphsafe_set_state=torch.set_rng_state)
+    monkeypatch.setattr(torch.cuda, "default_generators", (generator,))
+
+
+class _Sim:
+    can_capture_steps = True
+    has_step_callbacks = False
+    on_divergence = "reset"
+
+    def __init__(self):
+        noop = lambda *a: None  # noqa: E731
+        self.physics = SimpleNamespace(
+            before_capture=noop, before_replay=noop, check_overflow=noop, diverged_count=torch.zeros(())
+        )
+
+
+class ToyEnv:
+    """An env-shaped object whose step is torch ops only, written Isaac Lab's way: a point mass
+    (asset data rebound each step), a command term and a class-based reward term that rebind."""
+
+    device = "cpu"
+
+    def __init__(self, n: int = 4):
+        self.sim = _Sim()
+        self.cfg = SimpleNamespace(sim=SimpleNamespace(use_cuda_graph=True), check_finite_actions=True)
+        data = SimpleNamespace(pos=torch.zeros(n, 2), vel=torch.zeros(n, 2))
+        self.scene = SimpleNamespace(articulations={"robot": SimpleNamespace(data=data)})
+        command = SimpleNamespace(target=torch.ones(n, 2), metrics={"error": torch.zeros(n)})
+        reward = SimpleNamespace(smoothed=torch.zeros(n), metrics={})
+        self.command_manager = SimpleNamespace(_terms={"target": command})
+        self.reward_manager = SimpleNamespace(_class_terms=[reward])
+        self.prev_action, self.action = torch.zeros(n, 2), torch.zeros(n, 2)
+
+    def graph_blockers(self) -> list[str]:
+        return []
+
+    def _step_body(self, action):
+        self.prev_action, self.action = self.action, action.clone()  # a swap through the old tensor
+        data = self.scene.articulations["robot"].data
+        data.vel.add_(0.1 * self.action - 0.05 * self.prev_action)  # in place
+        data.pos = data.pos + 0.1 * data.vel  # rebinds after reading
+        command = self.command_manager._terms["target"]
+        command.metrics["error"] = torch.norm(data.pos - command.target, dim=-1)
+        command.target = command.target * 0.9 + 0.05 * data.pos
+        reward = self.reward_manager._class_terms[0]
+        reward.smoothed = 0.5 * reward.smoothed + command.metrics["error"]
+        reward.metrics["smoothed"] = reward.smoothed
+        return {"policy": torch.cat([data.pos, command.target], dim=-1)}, -reward.smoothed
+
+
+def _toy_rollout(graphed: bool, steps: int = 8) -> list[torch.Tensor]:
+    env = ToyEnv()
+    env.cfg.sim.use_cuda_graph = graphed
+    if not graphed:
+        env.sim.can_capture_steps = False
+    stepper = EnvStepper(env, env._step_body, warmup=2)
+    outputs = []
+    for i in range(steps):
+        obs, reward = stepper(torch.full((4, 2), 0.1 * (i + 1)))
+        outputs.append(torch.cat([obs["policy"].flatten(), reward]))
+    outputs.append(env.command_manager._terms["target"].metrics["error"].clone())
+    assert stepper.is_graphed == graphed, stepper.mode
+    return outputs
+
+
+def test_graphed_steps_that_rebind_tensors_agree_with_eager_ones(emulated_cuda_graph):
+    eager, graphed = _toy_rollout(graphed=False), _toy_rollout(graphed=True)
+    for i, (a, b) in enumerate(zip(graphed, eager)):
+        torch.testing.assert_close(a, b, msg=lambda m, i=i: f"step {i}: {m}")
+
+
+def test_without_the_write_back_the_replays_read_stale_tensors(emulated_cuda_graph, monkeypatch):
+    """The emulation is faithful enough to show the bug the write-back fixes."""
+    monkeypatch.setattr(TensorSlots, "write_back", lambda self, device: 0)
+    eager, graphed = _toy_rollout(graphed=False), _toy_rollout(graphed=True)
+    assert not all(torch.allclose(a, b) for a, b in zip(graphed, eager))
+
+
+def test_a_rebinding_to_another_shape_keeps_the_step_eager_naming_the_slot(emulated_cuda_graph, capsys):
+    env = ToyEnv()
+    body = env._step_body
+
+    calls = []
+
+    def reshaping_body(action):  # a metric whose shape changes from step to step
+        calls.append(1)
+        out = body(action)
+        env.reward_manager._class_terms[0].metrics["smoothed"] = torch.zeros(5 + len(calls) % 2)
+        return out
+
+    stepper = EnvStepper(env, reshaping_body, warmup=1)
+    for _ in range(4):
+        stepper(torch.zeros(4, 2))
+    assert not stepper.is_graphed
+    assert "env.reward_manager._class_terms[0].metrics['smoothed']" in stepper.eager_reason
+    assert "stepping eagerly" in capsys.readouterr().out
+
+
+def test_the_emulated_graph_fails_a_capture_that_reads_back(emulated_cuda_graph):
+    env = ToyEnv()
+    body = env._step_body
+    stepper = EnvStepper(env, lambda a: body(a * float(a.abs().sum() >= 0)), warmup=1)  # a host read
+    for _ in range(3):
+        stepper(torch.zeros(4, 2))
+    assert not stepper.is_graphed and "not permitted when stream is capturing" in stepper.eager_reason
+
+
+# -- on the GPU ------------------------------------------------------------------------------------
+
+
+def _isaac_style_rollout(use_cuda_graph: bool, steps: int = 150):
+    env = isaac_style_cartpole("cuda:0", 64, use_cuda_graph)
+    env.reset(seed=4)
+    generator = torch.Generator(device="cuda:0").manual_seed(0)
+    outputs = []
+    for _ in range(steps):
+        obs, reward, terminated, truncated, _ = env.step(
+            torch.rand(64, 1, device="cuda:0", generator=generator) * 2 - 1
+        )
+        term = env.command_manager.get_term("target")
+        outputs.append([obs["policy"].clone(), reward.clone(), terminated | truncated, term.metrics["error"].clone()])
+    result = outputs, env.step_is_graphed, env._stepper.mode, env._stepper.write_backs
+    env.close()
+    return result
+
+
+@pytest.mark.gpu
+@gpu
+def test_isaac_lab_style_terms_replay_like_eager_on_the_gpu():
+    graphed, is_graphed, mode, write_backs = _isaac_style_rollout(True)
+    eager, *_ = _isaac_style_rollout(False)
+    assert is_graphed, mode
+    assert write_backs >= 4  # the command's target and metric, the reward term's buffer and metric
+    assert sum(int(out[2].sum()) for out in graphed) > 0, "the comparison must cross resets"
+    for i, (out_g, out_e) in enumerate(zip(graphed, eager)):
+        for a, b in zip(out_g, out_e):
+            if a.dtype == torch.bool:
+                assert torch.equal(a, b), f"step {i}: dones differ"
+            else:
+                torch.testing.assert_close(a, b, rtol=1e-4, atol=1e-4, msg=lambda m, i=i: f"step {i}: {m}")
