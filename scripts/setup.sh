@@ -6,7 +6,7 @@
 # (on this project's CPU machines `pip install torch==2.13.0` takes a local CPU wheel).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-extras="train,rsl_rl,skrl,sb3,render,viewer,teleop"
+extras="train,rsl_rl,skrl,sb3,render,viewer,teleop,datasets"  # datasets: simlab record / replay (h5py)
 [ "${1:-}" = "dev" ] && extras="$extras,dev"
 # Offscreen rendering: simlab tries EGL (GPU drivers), then OSMesa (software); install OSMesa where we can.
 if ! ldconfig -p 2>/dev/null | grep -q libOSMesa; then

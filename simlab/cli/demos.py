@@ -19,6 +19,7 @@ import gymnasium as gym
 import torch
 
 from simlab.cli.session import load_configs
+from simlab.utils.datasets import EpisodeData
 from simlab.utils.errors import ConfigError
 
 __all__ = ["run_record", "run_replay"]
@@ -32,6 +33,7 @@ def _manager_based(env: gym.Env, command: str) -> None:
 def run_record(args: argparse.Namespace, overrides: list[str]) -> int:
     """Record ``args.num_demos`` finished episodes of ``args.task`` into ``args.dataset_file``."""
     from simlab.envs.mdp.recorders import ActionStateRecorderManagerCfg
+    from simlab.utils.datasets import HDF5DatasetFileHandler  # noqa: F401 - without h5py: say so before recording
 
     if args.num_demos < 1:
         raise ConfigError(f"--num_demos must be at least 1, got {args.num_demos}.")
@@ -46,6 +48,7 @@ def run_record(args: argparse.Namespace, overrides: list[str]) -> int:
         dataset_export_dir_path=os.path.dirname(stem), dataset_filename=os.path.basename(stem)
     )
     env_cfg.seed = args.seed if args.seed is not None else 0
+    env_cfg.env_name = args.task  # the recorder stores it: replay refuses another task's episodes
     env = gym.make(args.task, cfg=env_cfg).unwrapped
     _manager_based(env, "record")
     generator = torch.Generator(device=env.device).manual_seed(env_cfg.seed)
@@ -79,6 +82,12 @@ def run_replay(args: argparse.Namespace, overrides: list[str], on_episode: Calla
     missing = [n for n in selected if n not in names]
     if missing:
         raise ConfigError(f"{args.dataset_file} has no episode {missing}; it has {names}.")
+    recorded_task = handler.get_env_name()
+    if recorded_task and recorded_task != args.task:
+        raise ConfigError(
+            f"{args.dataset_file} holds episodes of {recorded_task}, not {args.task}: "
+            f"replay it with --task {recorded_task}."
+        )
     args.num_envs = 1
     env_cfg, _ = load_configs(args, overrides, with_agent=False)
     env_cfg.recorders = None
@@ -90,6 +99,7 @@ def run_replay(args: argparse.Namespace, overrides: list[str], on_episode: Calla
     try:
         for name in selected:
             episode = handler.load_episode(name, env.device)
+            _check_episode(episode, name, args.dataset_file, env.action_manager.total_action_dim)
             env.reset_to(episode.get_initial_state(), torch.tensor([0], device=env.device), is_relative=True)
             steps, deviation = 0, 0.0
             while (action := episode.get_next_action()) is not None:
@@ -110,6 +120,21 @@ def run_replay(args: argparse.Namespace, overrides: list[str], on_episode: Calla
         env.close()
         handler.close()
     return 0 if all_identical else 1
+
+
+def _check_episode(episode: EpisodeData, name: str, path: str, action_dim: int) -> None:
+    """Refuse an episode this env cannot replay: no initial state, or actions of another width (a file
+    recorded on another task before simlab stored the task's name)."""
+    actions = episode.data.get("actions")
+    if not isinstance(actions, torch.Tensor) or actions.ndim != 2 or episode.get_initial_state() is None:
+        raise ConfigError(
+            f"{path} {name} is not a recorded episode: it needs 'actions' (steps x width) and 'initial_state'."
+        )
+    if actions.shape[1] != action_dim:
+        raise ConfigError(
+            f"{path} {name} has actions of width {actions.shape[1]}; this task's are {action_dim} wide: "
+            "it was recorded on another task."
+        )
 
 
 def _deviation(state: dict | torch.Tensor, recorded: dict | torch.Tensor | None) -> float:

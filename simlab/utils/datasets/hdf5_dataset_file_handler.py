@@ -6,12 +6,24 @@ import json
 import os
 from collections.abc import Iterable
 
-import h5py
 import numpy as np
 import torch
 
 from simlab.utils.datasets.dataset_file_handler_base import DatasetFileHandlerBase
 from simlab.utils.datasets.episode_data import EpisodeData
+from simlab.utils.errors import MissingDependencyError
+from simlab.utils.memory import available_memory, format_bytes
+
+try:
+    import h5py
+except ImportError as error:
+    raise MissingDependencyError(
+        'HDF5 datasets (simlab record / replay) need h5py: pip install "simlab[datasets]" (or bash scripts/setup.sh).'
+    ) from error
+
+# gzip, the filter these files use, shrinks data at most ~1030-fold: a dataset that declares more bytes
+# than that times what the file stores for it cannot be there (unwritten rows would read as zeros)
+MAX_COMPRESSION_RATIO = 1100
 
 
 class HDF5DatasetFileHandler(DatasetFileHandlerBase):
@@ -24,6 +36,7 @@ class HDF5DatasetFileHandler(DatasetFileHandlerBase):
 
     def __init__(self) -> None:
         self._file: h5py.File | None = None
+        self._path = ""
         self._data_group: h5py.Group | None = None
         self._demo_count = 0
         self._env_args: dict = {}
@@ -33,13 +46,26 @@ class HDF5DatasetFileHandler(DatasetFileHandlerBase):
             raise RuntimeError("This HDF5DatasetFileHandler already has a file open: close() it first.")
         if not os.path.isfile(file_path):
             raise FileNotFoundError(f"Dataset file not found: '{file_path}'.")
-        self._file = h5py.File(file_path, mode)
-        if "data" not in self._file:
+        try:
+            self._file = h5py.File(file_path, mode)
+        except OSError as error:  # h5py's "file signature not found", a truncated file, ...
+            raise ValueError(f"'{file_path}' is not a readable HDF5 file ({error}).") from None
+        self._path = file_path
+        data = self._file.get("data")
+        if not isinstance(data, h5py.Group):
             self.close()
             raise ValueError(f"'{file_path}' is not an episode dataset: it has no 'data' group.")
-        self._data_group = self._file["data"]
+        self._data_group = data
         self._demo_count = len(self._data_group)
-        self._env_args = json.loads(self._data_group.attrs.get("env_args", "{}"))
+        try:
+            self._env_args = json.loads(self._data_group.attrs.get("env_args", "{}"))
+            if not isinstance(self._env_args, dict):
+                raise ValueError
+        except (TypeError, ValueError):
+            self.close()
+            raise ValueError(
+                f"'{file_path}' is not an episode dataset: its data/env_args is not a JSON object."
+            ) from None
 
     def create(self, file_path: str, env_name: str | None = None) -> None:
         if self._file is not None:
@@ -50,6 +76,7 @@ class HDF5DatasetFileHandler(DatasetFileHandlerBase):
         if directory:
             os.makedirs(directory, exist_ok=True)
         self._file = h5py.File(file_path, "w")
+        self._path = file_path
         self._data_group = self._file.create_group("data")
         self._data_group.attrs["total"] = 0
         self._demo_count = 0
@@ -72,7 +99,7 @@ class HDF5DatasetFileHandler(DatasetFileHandlerBase):
 
     def get_env_name(self) -> str | None:
         self._require_open()
-        return json.loads(self._data_group.attrs["env_args"]).get("env_name")
+        return self._env_args.get("env_name")
 
     def get_episode_names(self) -> Iterable[str]:
         self._require_open()
@@ -92,6 +119,10 @@ class HDF5DatasetFileHandler(DatasetFileHandlerBase):
         if episode_name not in self._data_group:
             return None
         group = self._data_group[episode_name]
+        where = f"'{self._path}' {episode_name}"
+        if not isinstance(group, h5py.Group):
+            raise ValueError(f"{where} is not an episode: a dataset where a group of datasets belongs.")
+        self._check_sizes(group, where)
 
         def read(node: h5py.Group) -> dict:
             # np.array first: building a tensor from an h5py dataset element by element is slow
@@ -101,13 +132,39 @@ class HDF5DatasetFileHandler(DatasetFileHandlerBase):
             }
 
         episode = EpisodeData()
-        episode.data = read(group)
+        try:
+            episode.data = read(group)
+        except OSError as error:  # HDF5 cannot read the bytes: a truncated or corrupt file
+            raise ValueError(f"{where} cannot be read ({error}): the file is truncated or corrupt.") from None
         if "seed" in group.attrs:
             episode.seed = group.attrs["seed"].item()
         if "success" in group.attrs:
             episode.success = bool(group.attrs["success"])
         episode.env_id = self.get_env_name()
         return episode
+
+    def _check_sizes(self, group: h5py.Group, where: str) -> None:
+        """Refuse an episode whose datasets are not plain numbers, declare more bytes than the file holds
+        for them, or would not fit in memory: checked on the declared shapes, before anything is read."""
+        datasets: list[h5py.Dataset] = []
+        group.visititems(lambda name, node: datasets.append(node) if isinstance(node, h5py.Dataset) else None)
+        total = 0
+        for dataset in datasets:
+            if dataset.dtype.kind not in "biuf":
+                raise ValueError(f"{where}: {dataset.name} holds {dataset.dtype}, not numbers.")
+            declared = dataset.size * dataset.dtype.itemsize
+            stored = dataset.id.get_storage_size()
+            if declared > MAX_COMPRESSION_RATIO * stored + 2**16:
+                raise ValueError(
+                    f"{where}: {dataset.name} declares shape {dataset.shape} ({format_bytes(declared)}) but the "
+                    f"file stores {format_bytes(stored)} for it: the file is corrupt or crafted."
+                )
+            total += declared
+        free = available_memory()
+        if free is not None and total > free:
+            raise ValueError(
+                f"{where} holds {format_bytes(total)} of data, more than the {format_bytes(free)} of memory available."
+            )
 
     def write_episode(self, episode: EpisodeData) -> None:
         """Append ``episode`` as ``demo_<n>`` (an empty episode writes nothing)."""
