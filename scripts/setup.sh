@@ -1,13 +1,13 @@
 #!/usr/bin/env bash
 # Create .venv and install simlab into it.
 #   bash scripts/setup.sh          # simlab with the RL libraries (train and play)
-#   bash scripts/setup.sh dev      # the same plus the test tools
+#   bash scripts/setup.sh dev      # the same plus the test and documentation tools
 # torch is pinned by constraints.txt in every install path, so pip never swaps in a CUDA build
 # (on this project's CPU machines `pip install torch==2.13.0` takes a local CPU wheel).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 extras="train,rsl_rl,skrl,sb3,render,viewer,teleop,datasets"  # datasets: simlab record / replay (h5py)
-[ "${1:-}" = "dev" ] && extras="$extras,dev"
+[ "${1:-}" = "dev" ] && extras="$extras,dev,docs"
 # Offscreen rendering: simlab tries EGL (GPU drivers), then OSMesa (software); install OSMesa where we can.
 if ! ldconfig -p 2>/dev/null | grep -q libOSMesa; then
   if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
