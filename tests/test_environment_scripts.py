@@ -181,7 +181,8 @@ def test_holding_a_teleop_button_in_the_browser_moves_the_arm():
         # down: reachable from any start pose of the reset (the hand starts 0.4 to 0.8 m up). A loaded
         # machine simulates fewer steps per second of holding, so hold again until it has moved.
         for _ in range(4):
-            _hold_button_in_browser(f"http://127.0.0.1:{port}", "Teleop", "E: -z", 0.6)
+            printed = (line.split("Web viewer: ", 1)[1] for _, line in list(received) if "Web viewer: h" in line)
+            _hold_button_in_browser(next(printed).strip(), "Teleop", "E: -z", 0.6)  # its URL carries the token
             settled = time.monotonic() + 1.0
             while len(positions_since(settled)) < 1:
                 assert time.monotonic() < deadline and run.poll() is None, "".join(line for _, line in received)

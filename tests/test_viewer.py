@@ -78,9 +78,10 @@ def test_web_viewer_shows_the_robots_moving_in_a_browser(tmp_path):
            "--device", "cpu", "--viewer", "web", "--viewer_port", str(port)]  # fmt: skip
     proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     try:
-        _wait_for_line(proc, f"Web viewer: http://localhost:{port}", 120)
+        line = _wait_for_line(proc, f"Web viewer: http://localhost:{port}/?token=", 120)[-1]
+        url = line.split("Web viewer: ", 1)[1].strip()
         with HeadlessChromium(WINDOW) as browser:
-            browser.open(f"http://127.0.0.1:{port}")
+            browser.open(url)  # the printed URL, token included: the page and its websocket get in
             # the page loads viser's client, which then receives the scene over its websocket: wait for it
             robots_drawn = lambda image: _coloured_pixels(image) > 200  # noqa: E731
             first = browser.screenshot_when(robots_drawn, 120, str(tmp_path / "first.png"))
@@ -96,7 +97,7 @@ def test_web_viewer_shows_the_robots_moving_in_a_browser(tmp_path):
     try:
         viewer.after_step()
         with HeadlessChromium(WINDOW) as browser:
-            browser.open(f"http://127.0.0.1:{empty_port}")
+            browser.open(viewer.url)
             empty = browser.screenshot_when(_floor_drawn, 120, str(tmp_path / "empty.png"))
     finally:
         viewer.close()
@@ -105,6 +106,149 @@ def test_web_viewer_shows_the_robots_moving_in_a_browser(tmp_path):
     assert _coloured_pixels(first) > max(200, 10 * _coloured_pixels(empty)), "the robots are not drawn"
     moved = (np.abs(_scene(first) - _scene(second)).sum(axis=-1) > 60).sum()
     assert moved > 100, "the picture does not change while the sim runs"
+
+
+def _ground_source() -> SimSource:
+    ground = mujoco.MjModel.from_xml_string('<mujoco><worldbody><geom type="plane" size="0 0 1"/></worldbody></mujoco>')
+    return SimSource(ground, _StillPhysics(ground), torch.zeros(1, 3), 0.02)
+
+
+def _outside_address() -> str | None:
+    """This machine's address on its network (not loopback), or None where it has none."""
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as probe:
+        try:
+            probe.connect(("192.0.2.123", 9))  # a UDP "connection" sends nothing: it only picks the route
+        except OSError:
+            return None
+        address = probe.getsockname()[0]
+    return None if address.startswith("127.") else address
+
+
+_CAMERA = {"type": "ViewerCameraMessage", "wxyz": [1.0, 0.0, 0.0, 0.0], "position": [3.0, 3.0, 3.0], "fov": 1.0,
+           "near": 0.01, "far": 1000.0, "image_height": 480, "image_width": 640, "look_at": [0.0, 0.0, 0.0],
+           "up_direction": [0.0, 0.0, 1.0]}  # fmt: skip
+
+
+def _viser_session(url: str, cookie: str | None = None, press: tuple[str, ...] = (), seconds: float = 3.0) -> list:
+    """Be viser's page on a websocket: say where the camera is, read what the server sends for ``seconds``
+    (decoded messages), and press the buttons whose uuids are in ``press``."""
+    import msgspec
+    import viser
+    import zstandard
+    from websockets.sync.client import connect
+
+    messages: list[dict] = []
+    headers = {"Cookie": cookie} if cookie else None
+    with connect(url, subprotocols=[f"viser-v{viser.__version__}"], additional_headers=headers, max_size=None,
+                 open_timeout=30) as ws:  # fmt: skip
+        ws.send(msgspec.msgpack.encode(_CAMERA))  # viser counts a client from its first camera message
+        for uuid in press:
+            ws.send(msgspec.msgpack.encode({"type": "GuiUpdateMessage", "uuid": uuid, "updates": {"value": True}}))
+        deadline = time.monotonic() + seconds
+        while time.monotonic() < deadline:
+            try:
+                raw = ws.recv(timeout=0.2)
+            except TimeoutError:
+                continue
+            size, packed = int.from_bytes(raw[:8], "little"), int.from_bytes(raw[8:16], "little")
+            inner = zstandard.ZstdDecompressor().decompress(raw[16 : 16 + packed], max_output_size=size)
+            messages += msgspec.msgpack.decode(inner)["messages"]
+    return messages
+
+
+def _button_uuid(messages: list[dict], label: str) -> str:
+    return next(m["uuid"] for m in messages if m["type"] == "GuiButtonMessage" and m["props"]["label"] == label)
+
+
+@pytest.mark.skipif(not HAVE_VISER, reason="simlab[viewer] (viser, mjviser) is not installed")
+def test_the_web_viewer_listens_on_loopback_and_shows_nothing_without_its_token():
+    import urllib.error
+    import urllib.request
+
+    from websockets.exceptions import InvalidStatus
+
+    port = free_port()
+    viewer = open_viewer(_ground_source(), "web", port)
+    try:
+        assert viewer.server.get_host() == "127.0.0.1" and viewer.port == port
+        token = viewer.token
+        assert len(token) >= 40 and viewer.url == f"http://localhost:{port}/?token={token}"
+        outside = _outside_address()
+        if outside is not None:  # from the network: no one listens there
+            with pytest.raises(ConnectionRefusedError):
+                socket.create_connection((outside, port), timeout=5).close()
+
+        # the page, without its token, with a wrong one, or a wrong cookie: 403 and no viser client
+        for url, cookie in ((f"http://127.0.0.1:{port}/", None), (f"http://127.0.0.1:{port}/?token=x{token}", None),
+                            (f"http://127.0.0.1:{port}/", f"simlab-viewer-{port}=x{token}")):  # fmt: skip
+            request = urllib.request.Request(url, headers={"Cookie": cookie} if cookie else {})
+            with pytest.raises(urllib.error.HTTPError) as refused:
+                urllib.request.urlopen(request, timeout=30)
+            assert refused.value.code == 403 and b"<html" not in refused.value.read().lower()
+
+        # with the token the websocket gets the scene and the buttons, and Pause pauses
+        ws = f"ws://127.0.0.1:{port}/"
+        seen = _viser_session(f"{ws}?token={token}")
+        types = {m["type"] for m in seen}
+        assert {"GuiButtonMessage", "GridMessage", "FrameMessage"} <= types, " ".join(sorted(types))  # GUI and scene
+        pause, step = _button_uuid(seen, "Pause"), _button_uuid(seen, "Step")
+        _viser_session(ws, cookie=f"simlab-viewer-{port}={token}", press=(pause,), seconds=0.5)  # the page's way
+        deadline = time.monotonic() + 10
+        while not viewer.controls.paused and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert viewer.controls.paused, "the Pause button pressed with the token did not pause"
+
+        # the attack: a websocket without the token, or with a wrong one, that knows the buttons' ids
+        for url, cookie in ((ws, None), (f"{ws}?token=x{token}", None), (ws, f"simlab-viewer-{port}=x{token}")):
+            with pytest.raises(InvalidStatus) as refused:
+                _viser_session(url, cookie=cookie, press=(pause, step), seconds=0.5)
+            assert refused.value.response.status_code == 403
+        time.sleep(1.0)
+        assert viewer.controls.paused and viewer.controls.steps_to_run == 0, "a client without the token pressed"
+    finally:
+        viewer.close()
+
+
+@pytest.mark.skipif(not HAVE_VISER, reason="simlab[viewer] (viser, mjviser) is not installed")
+def test_viewer_host_opens_the_web_viewer_to_the_network_still_behind_its_token():
+    import urllib.error
+    import urllib.request
+
+    outside = _outside_address()
+    if outside is None:
+        pytest.skip("this machine has no network address besides loopback")
+    port = free_port()
+    viewer = open_viewer(_ground_source(), "web", port, host="0.0.0.0")
+    try:
+        with pytest.raises(urllib.error.HTTPError) as refused:
+            urllib.request.urlopen(f"http://{outside}:{port}/", timeout=30)
+        assert refused.value.code == 403
+        page = urllib.request.urlopen(f"http://{outside}:{port}/?token={viewer.token}", timeout=30)
+        assert page.status == 200 and b"<html" in page.read().lower()
+        assert viewer.url == f"http://{socket.gethostname()}:{port}/?token={viewer.token}"
+    finally:
+        viewer.close()
+
+
+def test_an_unusable_viewer_port_or_headless_with_a_viewer_is_refused(capsys):
+    small = ["--task", "simlab/Cartpole-v0", "--num_envs", "2", "--device", "cpu"]
+    length = {"random": ["--steps", "1"], "train": ["--max_iterations", "1"], "play": ["--steps", "1"]}
+    for command in ("random", "train", "play"):
+        for flags, words in ((["--viewer_port", "70000"], ["--viewer_port", "1 to 65535", "70000"]),
+                             (["--viewer_port", "0"], ["--viewer_port", "1 to 65535"]),
+                             (["--headless", "--viewer", "web"], ["--headless", "--viewer web"]),
+                             (["--headless", "--viewer", "native"], ["--headless", "--viewer native"]),
+                             (["--viewer_host", ""], ["--viewer_host"])):  # fmt: skip
+            argv = [command, *small, *length[command], *flags]
+            assert main(argv) == 2, argv
+            err = capsys.readouterr().err.strip()
+            assert len(err.splitlines()) == 1 and all(word in err for word in words), err
+    from simlab.app import AppLauncher
+
+    with pytest.raises(ValueError, match="--headless shows no viewer"):
+        AppLauncher(headless=True, viewer="web")
+    with pytest.raises(ValueError, match="1 to 65535"):
+        AppLauncher(viewer_port=70000)
 
 
 class _CountingViewer(LiveViewer):
@@ -178,7 +322,7 @@ def test_a_failing_viewer_leaves_the_run_going(cartpole_source, capsys):
 def test_viewer_problems_are_warnings_and_the_run_goes_on(tmp_path, capsys, monkeypatch):
     small = ["--task", "simlab/Cartpole-v0", "--num_envs", "2", "--device", "cpu", "--steps", "3"]
     with socket.socket() as taken:
-        taken.bind(("0.0.0.0", 0))
+        taken.bind(("127.0.0.1", 0))
         taken.listen()
         port = taken.getsockname()[1]
         assert main(["random", *small, "--viewer", "web", "--viewer_port", str(port)]) == 0

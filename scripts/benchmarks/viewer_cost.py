@@ -16,7 +16,9 @@ from __future__ import annotations
 
 import argparse
 import asyncio
+import os
 import re
+import secrets
 import shutil
 import socket
 import subprocess
@@ -26,6 +28,8 @@ import time
 
 _TOOK = re.compile(r"Training took ([0-9.]+) s")
 _URL = re.compile(r"Web viewer: (http://\S+)")
+# the viewer's token, given to it as SIMLAB_VIEWER_TOKEN: the clients start before its URL is printed
+_TOKEN = secrets.token_urlsafe(32)
 
 
 def free_port() -> int:
@@ -70,7 +74,7 @@ class ViserClient(threading.Thread):
         import viser
         import websockets
 
-        uri = f"ws://127.0.0.1:{self.port}"
+        uri = f"ws://127.0.0.1:{self.port}/?token={_TOKEN}"
         camera = _camera_message()
         protocol = f"viser-v{viser.__version__}"
         for _ in range(300):  # the server starts with the env: retry until it listens
@@ -110,12 +114,12 @@ def train(task: str, args: argparse.Namespace, viewer: str) -> tuple[float, str]
             raise SystemExit("--chromium needs Debian's chromium")
         browser = subprocess.Popen(
             [chromium, "--headless", "--no-sandbox", "--disable-gpu-sandbox", f"--remote-debugging-port={free_port()}",
-             f"http://127.0.0.1:{port}"],
+             f"http://127.0.0.1:{port}/?token={_TOKEN}"],
             stdout=subprocess.DEVNULL,
             stderr=subprocess.DEVNULL,
         )  # fmt: skip
     try:
-        done = subprocess.run(cmd, capture_output=True, text=True)
+        done = subprocess.run(cmd, capture_output=True, text=True, env=dict(os.environ, SIMLAB_VIEWER_TOKEN=_TOKEN))
     finally:
         if client is not None:
             client.stop()

@@ -43,10 +43,12 @@ def _gpu_backend_available() -> bool:
     if importlib.util.find_spec("mujoco_warp") is None:
         return False  # decided without importing torch
     import torch
+        viewer_host: str = "127.0.0.1",
 
     return torch.cuda.is_available()
 
 
+        self._viewer_host = viewer_host
 def resolve_device(device: str | None) -> str:
     """The device to simulate on: ``"cpu"`` or ``"cuda:N"``.
 
@@ -148,10 +150,12 @@ class SimulationApp:
                 self._viewer.close()
             self._viewer = self._viewer_sim = None
             if sim is not None and getattr(sim, "physics", None) is not None:  # built (sim.reset() ran)
+        "viewer_host": ("127.0.0.1", "Address the web viewer listens on (0.0.0.0: every network); its printed URL "
+                        "carries the token that opens it."),
                 from simlab.viewer import open_viewer
 
                 self._viewer_sim = sim
-                self._viewer = open_viewer(sim, self._viewer_kind, self._viewer_port)
+                self._viewer = open_viewer(sim, self._viewer_kind, self._viewer_port, host=self._viewer_host)
         if self._viewer is not None:
             self._viewer.after_step()
 
@@ -233,6 +237,7 @@ class AppLauncher:
                 cfg[name] = False
             if not isinstance(cfg[name], bool):
                 raise TypeError(f"AppLauncher: '{name}' must be a bool, got {cfg[name]!r}.")
+            "viewer_host": {"type": str},
         steps = cfg["max_app_steps"]
         if steps is not None and (isinstance(steps, bool) or not isinstance(steps, int) or steps < 0):
             raise ValueError(f"AppLauncher: 'max_app_steps' must be None or an int >= 0, got {steps!r}.")
@@ -242,15 +247,16 @@ class AppLauncher:
         if livestream > 0:
             print("[simlab] --livestream is ignored: simlab has no livestreaming (use the MuJoCo viewer).")
 
-        from simlab.viewer import resolve_viewer_kind, set_app_viewer
+        from simlab.viewer import check_viewer_flags, resolve_viewer_kind, set_app_viewer
 
         self._headless: bool = cfg["headless"]
-        self._viewer: str = resolve_viewer_kind(cfg["viewer"], self._headless)
         port = cfg["viewer_port"] if cfg["viewer_port"] is not None else 8080
-        if isinstance(port, bool) or not isinstance(port, int) or not 1 <= port <= 65535:
-            raise ValueError(f"AppLauncher: 'viewer_port' must be a TCP port (1..65535), got {port!r}.")
+        host = cfg["viewer_host"] if cfg["viewer_host"] is not None else "127.0.0.1"
+        check_viewer_flags(cfg["viewer"], port, host, self._headless)
+        self._viewer: str = resolve_viewer_kind(cfg["viewer"], self._headless)
         self._viewer_port: int = port
-        set_app_viewer(self._viewer, port)
+        self._viewer_host: str = host
+        set_app_viewer(self._viewer, port, host)
         self._enable_cameras: bool = cfg["enable_cameras"]
         self._verbose: bool = cfg["verbose"]
         self._max_app_steps: int | None = steps
@@ -263,9 +269,13 @@ class AppLauncher:
             self.global_rank = int(os.environ.get("RANK", "0")) + int(os.environ.get("JAX_RANK", "0"))
             if self._device.startswith("cuda"):
                 self._device = resolve_device(f"cuda:{self.local_rank}")
-        self._app = SimulationApp(max_steps=steps, viewer=self._viewer, viewer_port=port)
+        self._app = SimulationApp(max_steps=steps, viewer=self._viewer, viewer_port=port, viewer_host=host)
         if self._verbose:
             print(
+    @property
+    def viewer_host(self) -> str:
+        return self._viewer_host
+
                 f"[simlab] AppLauncher: device={self._device} headless={self._headless} viewer={self._viewer} "
                 f"enable_cameras={self._enable_cameras} max_app_steps={steps}"
             )

@@ -118,7 +118,7 @@ def script_to_simlab_argv(library: str, mode: str, args: argparse.Namespace, ove
     task = _simlab_task(args.task)
     log_root = "logs"  # Isaac Lab's scripts log to ./logs/<library>/<experiment>, as simlab does
     argv = [mode, "--task", task, "--library", library, "--log_root", log_root]
-    for name in ("num_envs", "seed", "device", "agent", "video_length"):
+    for name in ("num_envs", "seed", "device", "agent", "video_length", "viewer", "viewer_port", "viewer_host"):
         value = getattr(args, name, None)
         if value is not None:
             argv += [f"--{name}", str(value)]

@@ -33,7 +33,7 @@ from simlab.cli.distributed import add_launch_args, end_torchrun_worker
 from simlab.cli.session import LIBRARIES, SKRL_ALGORITHMS
 from simlab.utils.errors import is_intended_error
 from simlab.utils.startup import pause_collector_for_start_up, resume_collector_after_start_up
-from simlab.viewer import VIEWER_KINDS
+from simlab.viewer import DEFAULT_HOST, DEFAULT_PORT, VIEWER_KINDS
 
 __all__ = ["build_parser", "main"]
 
@@ -60,7 +60,13 @@ def _add_common(p: argparse.ArgumentParser, video: bool = True) -> None:
         default="auto",
         help="Live viewer: native (MuJoCo's window), web (in a browser), none; auto: native with a display, else web.",
     )
-    p.add_argument("--viewer_port", type=int, default=8080, help="Port of the web viewer (default: 8080).")
+    p.add_argument("--viewer_port", type=int, default=DEFAULT_PORT, help="Port of the web viewer (default: 8080).")
+    p.add_argument(
+        "--viewer_host",
+        default=DEFAULT_HOST,
+        help="Address the web viewer listens on (default: 127.0.0.1, this machine only; 0.0.0.0: every network). "
+        "Its printed URL carries the token that opens it.",
+    )
     p.add_argument(
         "--enable_cameras", action="store_true", help="Accepted as in Isaac Lab: simlab's cameras always render."
     )

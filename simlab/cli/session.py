@@ -13,6 +13,7 @@ import gymnasium as gym
 from simlab.rl.utils import is_multi_agent
 from simlab.tasks.utils import apply_overrides, load_cfg_from_registry
 from simlab.utils.errors import ConfigError
+from simlab.viewer.choice import check_viewer_flags
 
 __all__ = [
     "ONE_VIDEO_INTERVAL",
@@ -57,6 +58,8 @@ def check_flags(args: argparse.Namespace) -> None:
 
     for flag in ("num_envs", "max_iterations", "steps"):
         at_least_one(flag)
+    if hasattr(args, "viewer_port"):
+        check_viewer_flags(args.viewer, args.viewer_port, args.viewer_host, args.headless)
     seconds = getattr(args, "seconds", None)
     if seconds is not None and args.steps is not None:
         raise ConfigError("--seconds and --steps both set how long to play: give one of them.")
@@ -194,11 +197,15 @@ def make_env(args: argparse.Namespace, env_cfg: Any, video_dir: str | None, sing
 def with_viewer(args: argparse.Namespace, env: gym.Env) -> gym.Env:
     """``env`` shown in the live viewer ``--viewer`` asks for (none with ``--headless``); play runs in
     real time. A viewer that cannot open warns, and the run goes on without it."""
-    from simlab.viewer import ViewerWrapper, open_viewer, resolve_viewer_kind
+    from simlab.viewer import DEFAULT_HOST, DEFAULT_PORT, ViewerWrapper, open_viewer, resolve_viewer_kind
 
     kind = resolve_viewer_kind(getattr(args, "viewer", "none"), getattr(args, "headless", True))
     viewer = open_viewer(
-        env.unwrapped, kind, getattr(args, "viewer_port", 8080), realtime=getattr(args, "command", None) == "play"
+        env.unwrapped,
+        kind,
+        getattr(args, "viewer_port", DEFAULT_PORT),
+        realtime=getattr(args, "command", None) == "play",
+        host=getattr(args, "viewer_host", DEFAULT_HOST),
     )
     return env if viewer is None else ViewerWrapper(env, viewer)
 

@@ -1,12 +1,14 @@
 """Live viewers: watch envs while they train or play.
 
 * ``native``: MuJoCo's own window, where there is a display.
-* ``web``: the scene in a browser (viser / mjviser), for remote machines without one.
+* ``web``: the scene in a browser (viser / mjviser), for remote machines without one; it listens on
+  127.0.0.1 unless given another ``host`` (``--viewer_host``) and shows the scene only to whoever
+  opens its printed URL, which carries a random token (``simlab.viewer.access``).
 * ``auto``: native with a display, else web. ``none``: no viewer.
 
 ``open_viewer`` opens one on an env (or a bare simulation); ``ViewerWrapper`` drives it from a
 gymnasium env's steps. A viewer that cannot open warns and returns None: runs never depend on it.
-``AppLauncher`` records the ``--viewer`` / ``--viewer_port`` flags here (``set_app_viewer``), so
+``AppLauncher`` records the ``--viewer`` / ``--viewer_port`` / ``--viewer_host`` flags here (``set_app_viewer``), so
 ``render_mode="human"`` and the tutorial scripts' app loop use the same choice.
 """
 
@@ -17,15 +19,18 @@ import sys
 from typing import Any
 
 from simlab.viewer.choice import (
+    DEFAULT_HOST,
     DEFAULT_PORT,
     VIEWER_KINDS,
     app_viewer,
+    check_viewer_flags,
     display_available,
     resolve_viewer_kind,
     set_app_viewer,
 )
 
 __all__ = [
+    "DEFAULT_HOST",
     "DEFAULT_PORT",
     "VIEWER_KINDS",
     "LiveViewer",
@@ -34,6 +39,7 @@ __all__ = [
     "ViewerError",
     "ViewerWrapper",
     "app_viewer",
+    "check_viewer_flags",
     "display_available",
     "open_viewer",
     "resolve_viewer_kind",
@@ -56,9 +62,16 @@ def __getattr__(name: str) -> Any:
     raise AttributeError(f"module 'simlab.viewer' has no attribute '{name}'")
 
 
-def open_viewer(source, kind: str = "auto", port: int = DEFAULT_PORT, realtime: bool = False, follow: int = 0):
+def open_viewer(
+    source,
+    kind: str = "auto",
+    port: int = DEFAULT_PORT,
+    realtime: bool = False,
+    follow: int = 0,
+    host: str = DEFAULT_HOST,
+):
     """A live viewer on ``source`` (an env, a ``SimulationContext`` or a ``SimSource``), or None
-    (``kind="none"``, or it could not open: a warning says why)."""
+    (``kind="none"``, or it could not open: a warning says why). The web viewer listens on ``host:port``."""
     from simlab.viewer.live import ViewerError
     from simlab.viewer.source import SimSource
 
@@ -74,7 +87,7 @@ def open_viewer(source, kind: str = "auto", port: int = DEFAULT_PORT, realtime: 
             return NativeViewer(source, realtime=realtime, follow=follow)
         from simlab.viewer.web import WebViewer
 
-        return WebViewer(source, port=port, realtime=realtime, follow=follow)
+        return WebViewer(source, port=port, realtime=realtime, follow=follow, host=host)
     except ViewerError as err:
         print(f"[simlab] WARNING: no {kind} viewer: {err}. Running without a viewer.", file=sys.stderr)
         return None

@@ -4,12 +4,22 @@ from __future__ import annotations
 
 import os
 
-__all__ = ["DEFAULT_PORT", "VIEWER_KINDS", "app_viewer", "display_available", "resolve_viewer_kind", "set_app_viewer"]
+__all__ = [
+    "DEFAULT_HOST",
+    "DEFAULT_PORT",
+    "VIEWER_KINDS",
+    "app_viewer",
+    "check_viewer_flags",
+    "display_available",
+    "resolve_viewer_kind",
+    "set_app_viewer",
+]
 
 VIEWER_KINDS = ("auto", "native", "web", "none")
 DEFAULT_PORT = 8080
+DEFAULT_HOST = "127.0.0.1"  # this machine only; --viewer_host 0.0.0.0 opens the web viewer to the network
 
-_app_choice: dict[str, object] = {"kind": "auto", "port": DEFAULT_PORT}
+_app_choice: dict[str, object] = {"kind": "auto", "port": DEFAULT_PORT, "host": DEFAULT_HOST}
 
 
 def display_available() -> bool:
@@ -29,11 +39,25 @@ def resolve_viewer_kind(kind: str | None, headless: bool = False) -> str:
     return kind
 
 
-def set_app_viewer(kind: str, port: int = DEFAULT_PORT) -> None:
+def check_viewer_flags(viewer: str | None, port: object, host: object, headless: bool) -> None:
+    """Refuse viewer settings that cannot work: a port outside 1..65535, an empty host, and a viewer
+    asked for together with ``--headless`` (which shows none)."""
+    from simlab.utils.errors import ConfigError
+
+    if isinstance(port, bool) or not isinstance(port, int) or not 1 <= port <= 65535:
+        raise ConfigError(f"--viewer_port must be a TCP port, 1 to 65535, got {port!r}.")
+    if not isinstance(host, str) or not host.strip():
+        raise ConfigError(f"--viewer_host must be an address to listen on, e.g. 127.0.0.1 or 0.0.0.0, got {host!r}.")
+    if headless and (viewer or "auto").lower() in ("native", "web"):
+        raise ConfigError(f"--headless shows no viewer, but --viewer {viewer} asks for one: give one of them.")
+
+
+def set_app_viewer(kind: str, port: int = DEFAULT_PORT, host: str = DEFAULT_HOST) -> None:
     """Record the viewer the app asked for (``AppLauncher``); ``render_mode="human"`` uses it."""
-    _app_choice.update(kind=kind, port=port)
+    _app_choice.update(kind=kind, port=port, host=host)
 
 
-def app_viewer() -> tuple[str, int]:
-    """The resolved kind and port the app asked for (``auto`` until an ``AppLauncher`` says)."""
-    return resolve_viewer_kind(str(_app_choice["kind"])), int(_app_choice["port"])  # type: ignore[call-overload]
+def app_viewer() -> tuple[str, int, str]:
+    """The resolved kind, port and host the app asked for (``auto`` until an ``AppLauncher`` says)."""
+    kind = resolve_viewer_kind(str(_app_choice["kind"]))
+    return kind, int(_app_choice["port"]), str(_app_choice["host"])  # type: ignore[call-overload]

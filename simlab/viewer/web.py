@@ -10,12 +10,17 @@ key's button acts while held down (viser repeats its event), the others act once
 
 from __future__ import annotations
 
+import contextlib
+import errno
+import io
 import socket
 import sys
 
 import mujoco
 import numpy as np
 
+from simlab.viewer.access import UngatedServerError, new_token, start_gated_viser
+from simlab.viewer.choice import DEFAULT_HOST
 from simlab.viewer.keys import KeyEvent, key_hub
 from simlab.viewer.live import MAX_SHOWN_ENVS, LiveViewer, ViewerError
 from simlab.viewer.source import EnvSnapshot, HostKinematics, SimSource
@@ -25,36 +30,61 @@ __all__ = ["WebViewer"]
 TELEOP_REPEAT_HZ = 10.0  # a held teleop button's event rate; Se3Keyboard holds a tap for 0.2 s
 
 
-def _port_in_use(port: int) -> bool:
-    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as probe:
+def _check_can_listen(host: str, port: int) -> None:
+    """Raise ViewerError unless this machine can listen on ``host:port``."""
+    try:
+        family = socket.getaddrinfo(host, port, type=socket.SOCK_STREAM)[0][0]
+    except socket.gaierror as err:
+        raise ViewerError(f"--viewer_host {host!r} is not an address ({err.strerror})") from err
+    with socket.socket(family, socket.SOCK_STREAM) as probe:
         probe.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
         try:
-            probe.bind(("0.0.0.0", port))
-        except OSError:
-            return True
-    return False
+            probe.bind((host, port))
+        except OSError as err:
+            if err.errno == errno.EADDRINUSE:
+                raise ViewerError(f"Port {port} is in use: choose a free one with --viewer_port") from err
+            raise ViewerError(f"cannot listen on {host}:{port} ({err.strerror}): check --viewer_host") from err
+
+
+def _url(host: str, port: int, token: str) -> str:
+    """The address to open: this machine's name when listening on every address."""
+    if host in ("0.0.0.0", "::", ""):
+        host = socket.gethostname()
+    elif host == "127.0.0.1":
+        host = "localhost"
+    elif ":" in host:
+        host = f"[{host}]"
+    return f"http://{host}:{port}/?token={token}"
 
 
 class WebViewer(LiveViewer):
-    """A viser server on ``port`` showing the followed env and its neighbours."""
+    """A viser server on ``host:port`` showing the followed env and its neighbours, to whoever opens
+    its URL with the token in it (``simlab.viewer.access``)."""
 
     kind = "web"
 
-    def __init__(self, source: SimSource, port: int = 8080, realtime: bool = False, follow: int = 0):
+    def __init__(
+        self, source: SimSource, port: int = 8080, realtime: bool = False, follow: int = 0, host: str = DEFAULT_HOST
+    ):
         try:
-            import viser
+            import viser  # noqa: F401 - the server, started by simlab.viewer.access
             from mjviser import ViserMujocoScene
         except ImportError as err:
             raise ViewerError(f'The web viewer needs viser and mjviser: pip install "simlab[viewer]" ({err})') from err
         if not 1 <= port <= 65535:
             raise ViewerError(f"--viewer_port must be a TCP port (1..65535), got {port}")
-        if _port_in_use(port):
-            raise ViewerError(f"Port {port} is in use: choose a free one with --viewer_port")
+        _check_can_listen(host, port)
         super().__init__(source, realtime=realtime, follow=follow)
-        self.port = port
+        self.host = host
         self._kinematics = HostKinematics(source.model)
         self.num_shown = min(MAX_SHOWN_ENVS, source.num_envs)
-        self.server = viser.ViserServer(host="0.0.0.0", port=port, verbose=False)
+        self.token = new_token()
+        try:
+            with contextlib.redirect_stdout(io.StringIO()):  # viser prints its address without the token
+                self.server = start_gated_viser(host, port, self.token, verbose=False)
+        except UngatedServerError as err:
+            raise ViewerError(str(err)) from err
+        self.port = self.server.get_port()  # viser moves to the next port if this one was taken meanwhile
         # mjviser edits visual scales of the model it is given; it gets its own copy.
         self.scene = ViserMujocoScene(self.server, _copy_model(source.model), num_envs=self.num_shown)
         self.scene.env_idx = 0  # row 0 is always the followed env
@@ -62,7 +92,7 @@ class WebViewer(LiveViewer):
         self._offsets_drawn: np.ndarray | None = None
         self._build_gui()
         self.server.on_client_connect(lambda client: print("[simlab] Web viewer: a browser connected", file=sys.stderr))
-        self.url = f"http://localhost:{port}"
+        self.url = _url(host, self.port, self.token)
         print(f"[simlab] Web viewer: {self.url}", file=sys.stderr, flush=True)
         self._start()
 

@@ -161,8 +161,8 @@ def show_in_viewer(env) -> None:
     if viewer is None:
         from simlab.viewer import app_viewer, open_viewer
 
-        kind, port = app_viewer()
-        viewer = env._viewer = open_viewer(env, kind, port)
+        kind, port, host = app_viewer()
+        viewer = env._viewer = open_viewer(env, kind, port, host=host)
         if viewer is None:
             env._viewer = _NO_VIEWER
             return
