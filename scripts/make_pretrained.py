@@ -12,8 +12,9 @@
 
 For each task, ``simlab bench solve`` trains it with rsl_rl (the task's agent config; ``--num_envs``,
 ``--max_iterations`` override it) and plays every saved checkpoint on the training device, stopping
-at the first one that meets the task's criterion (``simlab.benchmarks.criteria``). That checkpoint
-is played again on the CPU (MuJoCo C, ``--cpu_eval_envs`` envs for ``--eval_seconds``), where
+at the first one that meets the task's criterion (registered with the task,
+``success_criterion_entry_point``: ``simlab.tasks.utils.criteria``). That checkpoint is played again
+on the CPU (MuJoCo C, ``--cpu_eval_envs`` envs for ``--eval_seconds``), where
 ``--use_pretrained_checkpoint`` plays it after install, and shipped only if it passes there too.
 
 Shipped into ``<out>/<task name>/rsl_rl/``: the run's ``params/`` (its configs and command), the
@@ -322,7 +323,7 @@ def record_header(task: str, args: argparse.Namespace, argv: list[str]) -> dict[
 
 def make_one(task: str, args: argparse.Namespace, log_root: str, argv: list[str]) -> str | None:
     """Train, judge and ship ``task``; None when shipped, else why not."""
-    from simlab.benchmarks.criteria import criterion_for
+    from simlab.tasks.utils.criteria import criterion_for
     from simlab.utils.errors import SimlabError
 
     start = time.perf_counter()
@@ -401,11 +402,11 @@ def adopt_checkpoint(task: str, args: argparse.Namespace, log_root: str, argv: l
     """Judge ``args.checkpoint`` on the CPU and ship it; None when shipped, else why not."""
     import gymnasium as gym
 
-    from simlab.benchmarks.criteria import criterion_for
     from simlab.cli.checkpoints import env_sizes
     from simlab.cli.main import build_parser
     from simlab.cli.runs import CHECKPOINT_LAYOUT, dump_params, write_run_info
     from simlab.cli.session import load_configs
+    from simlab.tasks.utils.criteria import criterion_for
 
     # the task's registered configs as play loads them (skrl on an AMP-only task: its AMP agent)
     play_args = build_parser().parse_args(["play", "--task", task, "--library", args.library, "--device", "cpu"])
@@ -454,8 +455,8 @@ def task_table() -> list[dict[str, Any]]:
     import gymnasium as gym
 
     import simlab.tasks  # noqa: F401 - registers the tasks
-    from simlab.benchmarks.criteria import criterion_for
     from simlab.pretrained import list_pretrained
+    from simlab.tasks.utils.criteria import criterion_for
 
     shipped = list_pretrained()
     rows = []
@@ -479,7 +480,7 @@ def check_trainable(tasks: list[str], reward_threshold: float | None, library: s
     """Before hours of training start: every task exists, has a criterion and a config for ``library``."""
     import gymnasium as gym
 
-    from simlab.benchmarks.criteria import criterion_for
+    from simlab.tasks.utils.criteria import criterion_for
 
     for task in tasks:
         if task not in gym.registry:

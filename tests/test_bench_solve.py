@@ -11,10 +11,10 @@ import pytest
 import torch
 
 from simlab.benchmarks.cli import main
-from simlab.benchmarks.criteria import criterion_for
 from simlab.benchmarks.solve import time_to_policy
 from simlab.cli.main import build_parser
 from simlab.cli.train import run_train
+from simlab.tasks.utils.criteria import criterion_for
 
 TINY = ["--device", "cpu", "--num_envs", "32", "--eval_envs", "8", "--eval_seconds", "0.5", "--seed", "3"]
 
@@ -82,7 +82,7 @@ def test_training_stops_at_the_first_checkpoint_that_passes(tmp_path):
 def test_bad_input_says_what_is_allowed(tmp_path):
     with pytest.raises(ValueError, match="trains with \\['rsl_rl'\\]; got --library sb3"):
         time_to_policy("simlab/Cartpole-v0", library="sb3", log_root=str(tmp_path))
-    with pytest.raises(ValueError, match="No solve criterion for simlab/Nope-v0"):
+    with pytest.raises(ValueError, match="Unknown task simlab/Nope-v0"):
         criterion_for("simlab/Nope-v0")
 
 

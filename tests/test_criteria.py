@@ -10,8 +10,8 @@ import pytest
 import torch
 
 import simlab.tasks  # noqa: F401 - registers the tasks
-from simlab.benchmarks.criteria import criterion_for
 from simlab.tasks.utils import parse_env_cfg
+from simlab.tasks.utils.criteria import criterion_for
 
 
 def _env(task: str, num_envs: int = 4, **cfg_changes):
@@ -206,3 +206,32 @@ def test_amp_criterion_judges_the_motion_against_the_clip():
     assert criterion.judge({}, Summary(**good)) == (0.6, True)
     for bad in ({"forward_speed_m_s": 0.9}, {"joint_rms_error_rad": 0.2}, {"falls_per_env_minute": 2.0}):
         assert not criterion.judge({}, Summary(**{**good, **bad}))[1], bad
+
+
+def test_a_new_task_brings_its_criterion_in_its_registration():
+    """benchmarks reads the criterion from the registry: a new task edits nothing there."""
+    kwargs = {"env_cfg_entry_point": "simlab.tasks.direct.ant.ant_env:AntEnvCfg"}
+    gym.register(id="simlab/Test-Criterion-v0", entry_point="simlab.tasks.direct.ant.ant_env:AntEnv", kwargs=kwargs)
+    try:
+        with pytest.raises(ValueError, match="No solve criterion for simlab/Test-Criterion-v0: it registers no "):
+            criterion_for("simlab/Test-Criterion-v0")
+        kwargs["success_criterion_entry_point"] = "simlab.tasks.direct.quadcopter.criterion:reaches_goal"
+        assert criterion_for("simlab/Test-Criterion-v0").description.startswith("from 2 s into an episode")
+        assert criterion_for("simlab/Test-Criterion-v0", reward_threshold=0.5).description.startswith("mean reward")
+    finally:
+        del gym.registry["simlab/Test-Criterion-v0"]
+
+
+def test_every_task_and_its_play_variant_register_a_criterion():
+    tasks = [task for task in gym.registry if task.startswith("simlab/")]
+    assert len(tasks) >= 43
+    for task in tasks:
+        assert criterion_for(task).description, task
+
+
+def test_tasks_do_not_import_benchmarks():
+    import pathlib
+
+    tasks = pathlib.Path(simlab.tasks.__file__).parent
+    importing = [str(p) for p in tasks.rglob("*.py") if "simlab.benchmarks" in p.read_text()]
+    assert not importing, f"the tasks layer lies below benchmarks: {importing}"

@@ -21,7 +21,8 @@ import pytest
 import torch
 from conftest import load_script
 
-from simlab.benchmarks import criteria
+from simlab.tasks.manager_based.locomotion.velocity.criterion import tracks_velocity
+from simlab.tasks.utils.criteria import pole_upright
 
 SCRIPT = Path(__file__).resolve().parents[1] / "scripts" / "benchmarks" / "mjlab_time_to_policy.py"
 
@@ -225,9 +226,9 @@ def test_velocity_tracking_error_in_the_plane():
 
 
 def test_criteria_are_simlabs():
-    pole = inspect.signature(criteria.pole_upright).parameters
+    pole = inspect.signature(pole_upright).parameters
     assert (pole["threshold"].default, pole["fraction"].default) == (ttp.POLE_ANGLE_RAD, ttp.POLE_UPRIGHT_FRACTION)
-    assert inspect.signature(criteria.tracks_velocity).parameters["max_error"].default == ttp.VELOCITY_ERROR_M_S
+    assert inspect.signature(tracks_velocity).parameters["max_error"].default == ttp.VELOCITY_ERROR_M_S
     assert ttp.criterion_for("Mjlab-Cartpole-Balance") is ttp.PoleUpright
     assert ttp.criterion_for("Mjlab-Velocity-Flat-Unitree-Go1") is ttp.TracksVelocity
     with pytest.raises(ValueError, match="Cartpole and Velocity"):

@@ -1,5 +1,5 @@
 """The shipped pretrained policies: ``simlab play --use_pretrained_checkpoint`` plays them at once on
-the CPU and they meet their task's criterion (``simlab.benchmarks.criteria``)."""
+the CPU and they meet the criterion their task registers (``simlab.tasks.utils.criteria``)."""
 
 from __future__ import annotations
 
@@ -7,10 +7,10 @@ import os
 
 import pytest
 
-from simlab.benchmarks.criteria import criterion_for
 from simlab.cli.main import build_parser
 from simlab.cli.play import run_play
 from simlab.pretrained import list_pretrained, pretrained_record
+from simlab.tasks.utils.criteria import criterion_for
 
 
 @pytest.mark.parametrize(("task", "library"), list_pretrained())

@@ -40,11 +40,11 @@ import subprocess
 import sys
 import time
 
-from simlab.benchmarks.criteria import GaitRecorder
 from simlab.cli.libraries.skrl import STYLE_REWARD_TAG
 from simlab.cli.main import build_parser
 from simlab.cli.play import run_play
 from simlab.rl.utils import require
+from simlab.tasks.direct.humanoid_amp.criterion import GaitRecorder
 from simlab.tasks.utils import load_cfg_from_registry
 from simlab.tasks.utils.hydra import env_overrides_in
 

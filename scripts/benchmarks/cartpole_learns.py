@@ -17,9 +17,9 @@ import subprocess
 import sys
 import time
 
-from simlab.benchmarks.criteria import pole_angle_tracker
 from simlab.cli.main import build_parser
 from simlab.cli.play import run_play
+from simlab.tasks.utils.criteria import pole_angle_tracker
 
 LIBRARIES = ("rsl_rl", "skrl", "sb3", "rl_games")
 

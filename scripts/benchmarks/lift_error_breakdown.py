@@ -4,7 +4,7 @@
     python scripts/benchmarks/lift_error_breakdown.py --log_root logs/lift --eval_envs 128 --eval_seconds 11
 
 Plays the newest rsl_rl checkpoint under ``--log_root`` (its mean actions, seed 12345) and follows every
-episode that runs to its time limit. The criterion (``simlab.benchmarks.criteria``) asks that >= 80 % of
+episode that runs to its time limit. The criterion (the lift task's ``criterion.py``) asks that >= 80 % of
 the episodes end with the cube within 5 cm of its commanded position; this says where the others end:
 
 * the share of episodes ending within 5 cm of the goal (the criterion's score, episodes ended by a

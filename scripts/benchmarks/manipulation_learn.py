@@ -42,9 +42,11 @@ from typing import Any
 
 import torch
 
-from simlab.benchmarks.criteria import command_window_tracker, cube_near_goal, episode_end_tracker
 from simlab.cli.main import EXIT_TERMINATED, build_parser
 from simlab.cli.play import run_play
+from simlab.tasks.manager_based.manipulation.lift.criterion import cube_near_goal
+from simlab.tasks.manager_based.manipulation.reach.criterion import command_window_tracker
+from simlab.tasks.utils.criteria import episode_end_tracker
 
 TASKS = {
     "reach": "simlab/Reach-Franka-v0",

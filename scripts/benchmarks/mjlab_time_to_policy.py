@@ -7,7 +7,7 @@
    checkpoint, in mjlab's own play env (``load_env_cfg(task, play=True)``), ``--eval-envs`` (64)
    envs for ``--eval-seconds`` (5 s) with the deterministic policy, all from the same seeded
    initial states, judged by simlab's criterion for the same kind of task
-   (``simlab/benchmarks/criteria.py``):
+   (``simlab/tasks/utils/criteria.py`` and the velocity tasks' ``criterion.py``):
    - cartpole: |pole angle| < 0.2 rad in >= 95 % of the env-steps (mjlab's ``hinge_1`` joint);
    - velocity: mean |v_xy command - v_xy| <= 0.25 m/s over the env-steps, falls included (mjlab's
      ``twist`` command against the base's ``root_link_lin_vel_b``, the error mjlab logs itself);
@@ -41,7 +41,7 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
-# simlab's criteria (simlab/benchmarks/criteria.py: pole_upright, tracks_velocity); tested to agree.
+# simlab's criteria (pole_upright, tracks_velocity: registered with simlab's tasks); tested to agree.
 POLE_ANGLE_RAD = 0.2
 POLE_UPRIGHT_FRACTION = 0.95
 VELOCITY_ERROR_M_S = 0.25

@@ -2,9 +2,9 @@
 
 Training is ``simlab train``'s own (:func:`simlab.cli.train.run_train` with rsl_rl); after each
 checkpoint the policy is played (``simlab play``'s loader and rollout) on a separate evaluation env
-and judged by the task's criterion (:mod:`simlab.benchmarks.criteria`). Training stops at the first
-checkpoint that passes. The time to policy is when that checkpoint was written, less the time spent
-evaluating the earlier ones: what ``simlab train`` alone would have taken to write it.
+and judged by the criterion the task registers (:mod:`simlab.tasks.utils.criteria`). Training stops
+at the first checkpoint that passes. The time to policy is when that checkpoint was written, less the
+time spent evaluating the earlier ones: what ``simlab train`` alone would have taken to write it.
 
 The evaluation runs with its own random streams and leaves training's untouched, so a run here
 trains as ``simlab train`` with the same seed does; every checkpoint is played from the same
@@ -22,8 +22,8 @@ from typing import Any
 import numpy as np
 import torch
 
-from simlab.benchmarks.criteria import criterion_for
 from simlab.cli.train import seconds_since_process_start
+from simlab.tasks.utils.criteria import criterion_for
 from simlab.utils.io import load_yaml
 from simlab.utils.startup import cache_report, milestones, phases
 

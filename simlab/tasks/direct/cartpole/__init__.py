@@ -10,6 +10,7 @@ gym.register(
     disable_env_checker=True,
     kwargs={
         "env_cfg_entry_point": "simlab.tasks.direct.cartpole.cartpole_env:CartpoleEnvCfg",
+        "success_criterion_entry_point": "simlab.tasks.utils.criteria:pole_upright",
         "rsl_rl_cfg_entry_point": f"{agents.__name__}.rsl_rl_ppo_cfg:CartpolePPORunnerCfg",
         "skrl_cfg_entry_point": f"{agents.__name__}:skrl_ppo_cfg.yaml",
         "sb3_cfg_entry_point": f"{agents.__name__}:sb3_ppo_cfg.yaml",
@@ -24,6 +25,7 @@ for _kind in ("RGB", "Depth"):
         disable_env_checker=True,
         kwargs={
             "env_cfg_entry_point": f"simlab.tasks.direct.cartpole.cartpole_camera_env:Cartpole{_kind}CameraEnvCfg",
+            "success_criterion_entry_point": "simlab.tasks.utils.criteria:pole_upright",
             "rl_games_cfg_entry_point": f"{agents.__name__}:rl_games_camera_ppo_cfg.yaml",
             "skrl_cfg_entry_point": f"{agents.__name__}:skrl_camera_ppo_cfg.yaml",
             "rsl_rl_cfg_entry_point": f"{agents.__name__}.rsl_rl_camera_ppo_cfg:CartpoleCameraPPORunnerCfg",

@@ -11,6 +11,7 @@ for _suffix, _cfg in (("-v0", "FrankaCabinetEnvCfg"), ("-Play-v0", "FrankaCabine
         disable_env_checker=True,
         kwargs={
             "env_cfg_entry_point": f"{__name__}.franka_cabinet_env:{_cfg}",
+            "success_criterion_entry_point": f"{__name__}.criterion:drawer_opens",
             "rsl_rl_cfg_entry_point": f"{agents.__name__}.rsl_rl_ppo_cfg:FrankaCabinetPPORunnerCfg",
             "skrl_cfg_entry_point": f"{agents.__name__}:skrl_ppo_cfg.yaml",
             "rl_games_cfg_entry_point": f"{agents.__name__}:rl_games_ppo_cfg.yaml",

@@ -14,6 +14,7 @@ for _motion in ("Dance", "Run", "Walk"):
         disable_env_checker=True,
         kwargs={
             "env_cfg_entry_point": f"{__name__}.humanoid_amp_env_cfg:HumanoidAmp{_motion}EnvCfg",
+            "success_criterion_entry_point": f"{__name__}.criterion:imitates_clip",
             "skrl_amp_cfg_entry_point": f"{agents.__name__}:skrl_{_motion.lower()}_amp_cfg.yaml",
         },
     )

@@ -59,7 +59,7 @@ class HumanoidAmpEnv(DirectRLEnv):
         self.motion_key_body_indexes = self._motion_loader.get_body_index(key_bodies)
 
         # the clip's poses (frames, joints) in the robot's joint order and its mean forward speed, for
-        # the imitation reward and for judging a played policy (simlab.benchmarks.criteria)
+        # the imitation reward and for judging a played policy (criterion.py)
         motion = self._motion_loader
         self.clip_joint_pos = motion.dof_positions[:, self.motion_dof_indexes]
         advance = (

@@ -4,6 +4,8 @@ import gymnasium as gym
 
 from . import agents
 
+_CRITERION = "simlab.tasks.manager_based.locomotion.velocity.criterion:tracks_velocity"
+
 for terrain in ("Flat", "Rough"):
     for suffix, play in (("", ""), ("-Play", "_PLAY")):
         gym.register(
@@ -12,6 +14,7 @@ for terrain in ("Flat", "Rough"):
             disable_env_checker=True,
             kwargs={
                 "env_cfg_entry_point": f"{__name__}.{terrain.lower()}_env_cfg:AnymalC{terrain}EnvCfg{play}",
+                "success_criterion_entry_point": _CRITERION,
                 "rsl_rl_cfg_entry_point": f"{agents.__name__}.rsl_rl_ppo_cfg:AnymalC{terrain}PPORunnerCfg",
             },
         )
