@@ -34,9 +34,10 @@ def locate_checkpoint(args: argparse.Namespace, experiment: str) -> str:
     if args.use_last_checkpoint:
         return find_last_checkpoint(args.log_root, args.library, experiment, trust)
     if getattr(args, "use_pretrained_checkpoint", False):
-        from simlab.pretrained import copy_pretrained_run
+        from simlab.pretrained import unpack_pretrained_checkpoint
 
-        return resolve_checkpoint(copy_pretrained_run(args.task, args.library, args.log_root), args.library)
+        # the file written from the package's policy.pt: a newer one planted beside it is never picked
+        return resolve_checkpoint(unpack_pretrained_checkpoint(args.task, args.library, args.log_root), args.library)
     raise ConfigError("play needs --checkpoint PATH, --use_last_checkpoint or --use_pretrained_checkpoint.")
 
 

@@ -25,6 +25,7 @@ __all__ = [
     "pretrained_env_overrides",
     "pretrained_record",
     "pretrained_run_dir",
+    "unpack_pretrained_checkpoint",
 ]
 
 PRETRAINED_DIR = os.path.dirname(os.path.abspath(__file__))
@@ -78,6 +79,16 @@ def copy_pretrained_run(task: str, library: str, log_root: str) -> str:
     """Copy the shipped run into ``<log_root>/pretrained/<library>/<task name>`` (where play writes its
     exports and videos; outside the training runs, so ``--use_last_checkpoint`` never picks it), with
     its ``policy.pt`` written out as the library's checkpoint, and return that folder."""
+    return _unpack(task, library, log_root)[0]
+
+
+def unpack_pretrained_checkpoint(task: str, library: str, log_root: str) -> str:
+    """:func:`copy_pretrained_run`, returning the checkpoint file it wrote: the shipped policy, never
+    another file someone put in that folder of the log root."""
+    return _unpack(task, library, log_root)[1]
+
+
+def _unpack(task: str, library: str, log_root: str) -> tuple[str, str]:
     import torch
 
     from simlab.pretrained.weights import unpack_policy
@@ -89,4 +100,4 @@ def copy_pretrained_run(task: str, library: str, log_root: str) -> str:
     path = os.path.join(target, name)
     os.makedirs(os.path.dirname(path), exist_ok=True)
     torch.save(checkpoint, path)
-    return target
+    return target, path

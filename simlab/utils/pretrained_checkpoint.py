@@ -8,6 +8,8 @@ simlab and shipped with it, or None (saying so) when there is none. Task ids may
 
 from __future__ import annotations
 
+from simlab.utils.string import simlab_task_id
+
 WORKFLOWS = ["rl_games", "rsl_rl", "sb3", "skrl"]
 """The RL libraries ("workflows") with scripts in ``scripts/reinforcement_learning/``."""
 WORKFLOW_TRAINER = {w: f"scripts/reinforcement_learning/{w}/train.py" for w in WORKFLOWS}
@@ -17,7 +19,6 @@ WORKFLOW_PLAYER = {w: f"scripts/reinforcement_learning/{w}/play.py" for w in WOR
 def get_published_pretrained_checkpoint_path(workflow: str, task_name: str) -> str:
     """The folder of the shipped policy (raises, listing what is shipped, when there is none)."""
     from simlab.pretrained import pretrained_run_dir
-    from simlab.tasks.utils.parse_cfg import simlab_task_id
 
     if workflow not in WORKFLOWS:
         raise ValueError(f"Unknown workflow '{workflow}'; one of {WORKFLOWS}.")
@@ -29,19 +30,15 @@ def get_published_pretrained_checkpoint(workflow: str, task_name: str) -> str | 
 
     As Isaac Lab's download does, it is written under ``.pretrained_checkpoints/`` in the working
     folder (where the play scripts export it), from the weights stored in the package."""
-    from simlab.cli.checkpoints import resolve_checkpoint
-    from simlab.pretrained import copy_pretrained_run
+    from simlab.pretrained import unpack_pretrained_checkpoint
 
     try:
         get_published_pretrained_checkpoint_path(workflow, task_name)
     except FileNotFoundError as error:
         print(f"A pre-trained checkpoint is currently unavailable for this task. {error}")
         return None
-    from simlab.tasks.utils.parse_cfg import simlab_task_id
-
-    return resolve_checkpoint(
-        copy_pretrained_run(simlab_task_id(task_name), workflow, ".pretrained_checkpoints"), workflow
-    )
+    # the file written from the package's weights (never another one found in that folder)
+    return unpack_pretrained_checkpoint(simlab_task_id(task_name), workflow, ".pretrained_checkpoints")
 
 
 def has_pretrained_checkpoint(workflow: str, task_name: str) -> bool:

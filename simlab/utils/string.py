@@ -24,6 +24,7 @@ __all__ = [
     "is_lambda_expression",
     "resolve_matching_names",
     "resolve_matching_names_values",
+    "simlab_task_id",
     "string_to_callable",
     "string_to_slice",
     "to_camel_case",
@@ -369,3 +370,8 @@ def find_root_prim_path_from_regex(prim_path_regex: str) -> tuple[str, int]:
         if any(c in part for c in "[]*|^"):
             return "/".join(parts[:depth]), depth
     return prim_path_regex, len(parts) - 1
+
+
+def simlab_task_id(task: str) -> str:
+    """Isaac Lab's ``Isaac-<Name>`` id as simlab's ``simlab/<Name>`` (the porting map); other ids unchanged."""
+    return "simlab/" + task.removeprefix("Isaac-") if task.startswith("Isaac-") else task

@@ -13,14 +13,9 @@ import yaml
 
 from simlab.utils.errors import ConfigError
 from simlab.utils.io import ConfigYamlLoader
-from simlab.utils.string import closest_matches
+from simlab.utils.string import closest_matches, simlab_task_id
 
 __all__ = ["get_checkpoint_path", "load_cfg_from_registry", "parse_env_cfg", "registered_task_ids", "simlab_task_id"]
-
-
-def simlab_task_id(task: str) -> str:
-    """Isaac Lab's ``Isaac-<Name>`` id as simlab's ``simlab/<Name>`` (the porting map); other ids unchanged."""
-    return "simlab/" + task.removeprefix("Isaac-") if task.startswith("Isaac-") else task
 
 
 def registered_task_ids(keyword: str | None = None) -> list[str]:
@@ -98,7 +93,7 @@ def parse_env_cfg(
 
     ``use_fabric`` is accepted for Isaac Lab compatibility and ignored (simlab has no USD stage).
     """
-    from simlab.app.app_launcher import resolve_device
+    from simlab.utils.device import resolve_device
 
     cfg = load_cfg_from_registry(task_name, "env_cfg_entry_point")
     if isinstance(cfg, dict):
