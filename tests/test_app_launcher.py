@@ -88,9 +88,9 @@ def test_resolve_device(monkeypatch):
 
 
 def test_cuda_without_gpu_is_a_clear_error(monkeypatch):
-    import simlab.app.app_launcher as app_launcher
+    import simlab.utils.device as device_rules
 
-    monkeypatch.setattr(app_launcher, "_gpu_backend_available", lambda: False)
+    monkeypatch.setattr(device_rules, "gpu_backend_available", lambda: False)
     monkeypatch.delenv("SIMLAB_DEVICE", raising=False)
     assert resolve_device(None) == "cpu"
     with pytest.raises(RuntimeError, match=r"simlab\[gpu\]|no CUDA GPU"):

@@ -15,8 +15,9 @@ import pytest
 import torch
 
 import simlab.tasks  # noqa: F401 - registers the tasks
-from simlab.sim.backends.buffer_peaks import BufferPeaks, measure_task_buffers
+from simlab.sim.backends.buffer_peaks import BufferPeaks
 from simlab.tasks.utils import parse_env_cfg
+from simlab.tasks.utils.contact_buffers import measure_task_buffers
 
 try:
     import mujoco_warp  # noqa: F401

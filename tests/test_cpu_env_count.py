@@ -29,7 +29,7 @@ def test_the_cpu_env_count_applies_only_when_no_count_is_given(argv, overrides, 
 
 
 def test_other_devices_keep_num_envs(monkeypatch):
-    import simlab.app.app_launcher as launcher
+    import simlab.utils.device as device_rules
 
-    monkeypatch.setattr(launcher, "resolve_device", lambda device: device)  # no GPU needed to read the config
+    monkeypatch.setattr(device_rules, "resolve_device", lambda device: device)  # no GPU needed to read the config
     assert _num_envs("--device", "cuda:0") == 4096

@@ -33,7 +33,7 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
 
     import simlab.tasks  # noqa: F401 - registers the tasks
-    from simlab.sim.backends.buffer_peaks import measure_task_buffers
+    from simlab.tasks.utils.contact_buffers import measure_task_buffers
 
     ok = True
     for task in args.tasks:

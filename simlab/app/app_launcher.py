@@ -23,66 +23,15 @@ from __future__ import annotations
 import argparse
 import atexit
 import difflib
-import importlib.util
 import os
-import re
 import signal
 import sys
 import threading
 from typing import Any
 
-from simlab.utils.errors import ConfigError, DeviceError
+from simlab.utils.device import resolve_device
 
 __all__ = ["AppLauncher", "SimulationApp", "resolve_device"]
-
-_DEVICE_RE = re.compile(r"^(cpu|cuda(:\d+)?)$")
-
-
-def _gpu_backend_available() -> bool:
-    """True if mujoco_warp is installed and torch sees a CUDA device."""
-    if importlib.util.find_spec("mujoco_warp") is None:
-        return False  # decided without importing torch
-    import torch
-        viewer_host: str = "127.0.0.1",
-
-    return torch.cuda.is_available()
-
-
-        self._viewer_host = viewer_host
-def resolve_device(device: str | None) -> str:
-    """The device to simulate on: ``"cpu"`` or ``"cuda:N"``.
-
-    ``None`` (or ``"auto"``) reads the ``SIMLAB_DEVICE`` environment variable, and without it picks
-    ``"cuda:0"`` when a GPU and mujoco_warp are available, else ``"cpu"``. ``"cuda"`` means
-    ``"cuda:0"``. A CUDA device asked for where there is no GPU or no mujoco-warp is an error that
-    says how to install the GPU backend.
-    """
-    if device is None or device == "auto":
-        device = os.environ.get("SIMLAB_DEVICE") or None
-        if device is None or device == "auto":
-            return "cuda:0" if _gpu_backend_available() else "cpu"
-    if not isinstance(device, str):
-        raise ConfigError(f"device must be a string such as 'cpu' or 'cuda:0', got {type(device).__name__}.")
-    device = device.strip().lower()
-    if not _DEVICE_RE.match(device):
-        raise ConfigError(f"Invalid device '{device}'. Allowed: 'cpu', 'cuda', 'cuda:N' (N = GPU index), 'auto'.")
-    if device == "cpu":
-        return device
-    if device == "cuda":
-        device = "cuda:0"
-    if importlib.util.find_spec("mujoco_warp") is None:
-        raise DeviceError(
-            f"Device '{device}' needs MuJoCo Warp, which is not installed: pip install \"simlab[gpu]\" "
-            "(or run on the CPU with --device cpu)."
-        )
-    if not _gpu_backend_available():
-        raise DeviceError(f"Device '{device}' asked for, but torch sees no CUDA GPU here; use --device cpu.")
-    import torch
-
-    index = int(device.split(":")[1])
-    if index >= torch.cuda.device_count():
-        raise DeviceError(f"Device '{device}' does not exist: {torch.cuda.device_count()} CUDA device(s) visible.")
-    return device
 
 
 class SimulationApp:
@@ -94,10 +43,12 @@ class SimulationApp:
         install_signal_handler: bool = True,
         viewer: str = "none",
         viewer_port: int = 8080,
+        viewer_host: str = "127.0.0.1",
     ):
         self.max_steps = max_steps
         self._viewer_kind = viewer
         self._viewer_port = viewer_port
+        self._viewer_host = viewer_host
         self._viewer = None  # opened on the first poll that finds a simulation
         self._viewer_sim = None
         self.num_polls = 0  # calls of is_running()
@@ -150,8 +101,6 @@ class SimulationApp:
                 self._viewer.close()
             self._viewer = self._viewer_sim = None
             if sim is not None and getattr(sim, "physics", None) is not None:  # built (sim.reset() ran)
-        "viewer_host": ("127.0.0.1", "Address the web viewer listens on (0.0.0.0: every network); its printed URL "
-                        "carries the token that opens it."),
                 from simlab.viewer import open_viewer
 
                 self._viewer_sim = sim
@@ -201,6 +150,8 @@ class AppLauncher:
         "viewer": ("auto", "Live viewer: native (MuJoCo's window, needs a display), web (in a browser) or none; "
                    "auto: native with a display, else web."),
         "viewer_port": (8080, "Port of the web viewer."),
+        "viewer_host": ("127.0.0.1", "Address the web viewer listens on (0.0.0.0: every network); its printed URL "
+                        "carries the token that opens it."),
         "device": (None, "Simulation device: 'cpu', 'cuda' or 'cuda:N'. Default: $SIMLAB_DEVICE, else "
                    "'cuda:0' if a GPU with mujoco_warp is available, else 'cpu'."),
         "enable_cameras": (False, "Enable camera sensors and offscreen rendering."),
@@ -237,7 +188,6 @@ class AppLauncher:
                 cfg[name] = False
             if not isinstance(cfg[name], bool):
                 raise TypeError(f"AppLauncher: '{name}' must be a bool, got {cfg[name]!r}.")
-            "viewer_host": {"type": str},
         steps = cfg["max_app_steps"]
         if steps is not None and (isinstance(steps, bool) or not isinstance(steps, int) or steps < 0):
             raise ValueError(f"AppLauncher: 'max_app_steps' must be None or an int >= 0, got {steps!r}.")
@@ -272,10 +222,6 @@ class AppLauncher:
         self._app = SimulationApp(max_steps=steps, viewer=self._viewer, viewer_port=port, viewer_host=host)
         if self._verbose:
             print(
-    @property
-    def viewer_host(self) -> str:
-        return self._viewer_host
-
                 f"[simlab] AppLauncher: device={self._device} headless={self._headless} viewer={self._viewer} "
                 f"enable_cameras={self._enable_cameras} max_app_steps={steps}"
             )
@@ -291,6 +237,7 @@ class AppLauncher:
             "headless": {"action": "store_true"},
             "viewer": {"type": str.lower, "choices": ["auto", "native", "web", "none"]},
             "viewer_port": {"type": int},
+            "viewer_host": {"type": str},
             "device": {"type": str},
             "enable_cameras": {"action": "store_true"},
             "livestream": {"type": int, "choices": [-1, 0, 1, 2]},
@@ -324,6 +271,10 @@ class AppLauncher:
     @property
     def viewer_port(self) -> int:
         return self._viewer_port
+
+    @property
+    def viewer_host(self) -> str:
+        return self._viewer_host
 
     @property
     def enable_cameras(self) -> bool:

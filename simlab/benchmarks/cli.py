@@ -212,7 +212,7 @@ def main(argv: list[str] | None = None) -> int:
         for task in args.tasks:
             task_spec(task)  # an unknown id: one error naming the closest registered ones, before any measurement
 
-    from simlab.app.app_launcher import resolve_device
+    from simlab.utils.device import resolve_device
 
     device = resolve_device(args.device)
     gpu = device.startswith("cuda")

@@ -137,7 +137,7 @@ def load_configs(args: argparse.Namespace, overrides: list[str], with_agent: boo
     As in Isaac Lab's scripts, a flag that is given (``--num_envs``, ``--device``, ``--seed``)
     wins over the same setting in an override.
     """
-    from simlab.app.app_launcher import resolve_device
+    from simlab.utils.device import resolve_device
 
     env_cfg = load_cfg_from_registry(args.task, "env_cfg_entry_point")
     agent_cfg = None
@@ -146,6 +146,8 @@ def load_configs(args: argparse.Namespace, overrides: list[str], with_agent: boo
         entry_point = getattr(args, "agent", None) or agent_entry_point(args.library, args.algorithm)
         agent_cfg = load_cfg_from_registry(args.task, entry_point)
     apply_overrides(env_cfg, agent_cfg, overrides)
+    if with_agent:
+        _check_policy_group(env_cfg, agent_cfg)
     if getattr(args, "num_envs", None) is not None:
         if args.num_envs < 1:
             raise ConfigError(f"--num_envs must be at least 1, got {args.num_envs}.")
@@ -161,6 +163,22 @@ def load_configs(args: argparse.Namespace, overrides: list[str], with_agent: boo
     if cpu_envs is not None and env_cfg.sim.device == "cpu" and not envs_set:
         env_cfg.scene.num_envs = cpu_envs  # the task's CPU default (docs/performance.md, "Time to policy")
     return env_cfg, agent_cfg
+
+
+def _check_policy_group(env_cfg: Any, agent_cfg: Any) -> None:
+    """Refuse a manager-based env whose "policy" observation group an override removed: every learner
+    reads it (rsl_rl unless its ``obs_groups`` name other groups), and would fail deep inside."""
+    if not hasattr(env_cfg, "observations"):
+        return  # a direct env: its policy observations are its own code's
+    if getattr(env_cfg.observations, "policy", None) is not None:
+        return
+    obs_groups = getattr(agent_cfg, "obs_groups", None)
+    if obs_groups and all("policy" not in groups for groups in obs_groups.values()):
+        return  # rsl_rl reads the groups its obs_groups name
+    raise ConfigError(
+        "env.observations.policy is None: the learner reads the 'policy' observation group. "
+        "Remove single terms instead (env.observations.policy.<term>=null)."
+    )
 
 
 def make_env(args: argparse.Namespace, env_cfg: Any, video_dir: str | None, single_agent: bool) -> gym.Env:

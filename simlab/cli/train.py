@@ -64,7 +64,7 @@ def needs_launch(args: argparse.Namespace) -> bool:
 
 def launch_distributed(args: argparse.Namespace, argv: list[str]) -> int:
     """Run this ``simlab train`` command under torchrun, one process per GPU (or ``--nproc_per_node``)."""
-    from simlab.app.app_launcher import resolve_device
+    from simlab.utils.device import resolve_device
 
     device = resolve_device(args.device)
     _check_distributed_library(args, device)

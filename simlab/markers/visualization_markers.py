@@ -23,6 +23,7 @@ import mujoco
 import numpy as np
 import torch
 
+from simlab.sim.renderer import add_scene_decor
 from simlab.sim.spawners import CapsuleCfg, CuboidCfg, CylinderCfg, PreviewSurfaceCfg, SphereCfg, UsdFileCfg
 from simlab.utils import configclass
 
@@ -265,3 +266,6 @@ def add_markers_to_scene(scene: mujoco.MjvScene, env_index: int, env_origins: to
     origins = None if env_origins is None else env_origins.detach().to("cpu", torch.float64).numpy()
     for markers in list(_ACTIVE):
         markers.add_to_scene(scene, env_index, origins)
+
+
+add_scene_decor(add_markers_to_scene)  # the offscreen renderer (a layer below) draws them so

@@ -2,45 +2,13 @@
 
 from __future__ import annotations
 
-import importlib
-from types import ModuleType
 from typing import Any
 
 import gymnasium as gym
 
-from simlab.utils.errors import MissingDependencyError
+from simlab.utils.optional import require
 
 __all__ = ["check_single_agent", "is_multi_agent", "require", "unwrapped_env"]
-
-# library module -> (pip distribution, simlab extra)
-_LIBRARIES = {
-    "rsl_rl": ("rsl-rl-lib", "rsl_rl"),
-    "tensordict": ("tensordict", "rsl_rl"),
-    "skrl": ("skrl", "skrl"),
-    "stable_baselines3": ("stable-baselines3", "sb3"),
-    "rl_games": ("rl-games", "rl_games"),
-    "onnx": ("onnx", "train"),
-    "onnxruntime": ("onnxruntime", "train"),
-    "tensorboard": ("tensorboard", "train"),
-    "tqdm": ("tqdm", "train"),
-    "rich": ("rich", "sb3"),
-    "imageio": ("imageio", "render"),
-    "imageio_ffmpeg": ("imageio-ffmpeg", "render"),
-    "moviepy": ("moviepy", "render"),
-}
-
-
-def require(module: str) -> ModuleType:
-    """Import ``module``, or raise a ``MissingDependencyError`` (an ``ImportError``) naming its pip install."""
-    try:
-        return importlib.import_module(module)
-    except ImportError as e:
-        top = module.split(".")[0]
-        dist, extra = _LIBRARIES.get(top, (top, "all"))
-        raise MissingDependencyError(
-            f"This feature needs the '{dist}' library, which is not installed ({e}). "
-            f'Install it with: pip install "simlab[{extra}]"'
-        ) from e
 
 
 def unwrapped_env(env: Any) -> Any:

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import copy
 import math
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 
 import mujoco
@@ -26,6 +26,7 @@ from simlab.utils.gl_backend import GLBackendError, choose_gl_backend
 __all__ = [
     "EnvSceneBuilder",
     "OffscreenRenderer",
+    "add_scene_decor",
     "gather_env_states",
     "look_at",
     "open_mujoco_renderer",
@@ -33,6 +34,16 @@ __all__ = [
 ]
 
 _STATE_FIELDS = ("qpos", "qvel", "mocap_pos", "mocap_quat")
+
+# What layers above draw on top of the model's own geoms (simlab.markers registers its debug markers
+# when it is imported): ``draw(scene, env_index, env_origins)`` after each render's geoms are built.
+_SCENE_DECOR: list[Callable[[mujoco.MjvScene, int, torch.Tensor | None], None]] = []
+
+
+def add_scene_decor(draw: Callable[[mujoco.MjvScene, int, torch.Tensor | None], None]) -> None:
+    """Have every offscreen render call ``draw(scene, env_index, env_origins)`` (once per function)."""
+    if draw not in _SCENE_DECOR:
+        _SCENE_DECOR.append(draw)
 
 
 def look_at(eye, lookat) -> tuple[np.ndarray, float, float, float]:
@@ -246,14 +257,13 @@ class OffscreenRenderer:
         offsets = np.asarray(offsets, dtype=np.float32)
         with near_clip_limited(self.model):  # the camera's frustum is set when the scene is built
             self._builder.build(self._renderer.scene, states, offsets, self._camera, looks)
-        # debug markers (simlab.markers) are decor geoms added on top of the model's own
-        from simlab.markers.visualization_markers import add_markers_to_scene
         from simlab.sim.simulation_context import SimulationContext
 
         sim = SimulationContext.instance()
         if sim is not None:
             sim.run_render_callbacks()  # debug visualization (e.g. command arrows) places its markers
-        add_markers_to_scene(self._renderer.scene, int(env_ids[0]), sim.env_origins if sim is not None else None)
+        for draw in _SCENE_DECOR:  # debug markers: decor geoms on top of the model's own
+            draw(self._renderer.scene, int(env_ids[0]), sim.env_origins if sim is not None else None)
         return self._renderer.render()
 
     def close(self) -> None:

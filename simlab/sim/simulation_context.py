@@ -18,7 +18,7 @@ from typing import Any
 import mujoco
 import torch
 
-from simlab.app.app_launcher import resolve_device
+from simlab.utils.device import resolve_device
 from simlab.utils.errors import ConfigError
 from simlab.utils.startup import mark
 from simlab.utils.unsupported import refuse_unless_default

@@ -26,7 +26,7 @@ __all__ = [
 
 
 def _default_device() -> str:
-    from simlab.app.app_launcher import resolve_device
+    from simlab.utils.device import resolve_device
 
     return resolve_device(None)
 

@@ -45,7 +45,7 @@ def tile_images(images: torch.Tensor, columns: int | None = None, gap: int = 2) 
 
 def save_images_to_file(images: torch.Tensor, file_path: str) -> None:
     """Save (N, H, W, C) images as one tiled PNG (Isaac Lab's helper; float RGB in [0, 1] is scaled to 0-255)."""
-    from simlab.rl.utils import require
+    from simlab.utils.optional import require
 
     iio = require("imageio.v3")  # the "render" extra; a clear install hint when missing
 
