@@ -1,0 +1,333 @@
+"""In-hand reorientation, direct workflow (Isaac Lab's ``direct/inhand_manipulation``): turn a cube in a
+palm-up hand until it matches a goal orientation, then the next one.
+
+The env serves every hand whose config names its ``actuated_joint_names`` and ``fingertip_body_names``
+(``simlab.tasks.direct.allegro_hand``, ``shadow_hand``). Actions in [-1, 1] are joint position targets
+spread over each actuated joint's range, smoothed by ``act_moving_average``. Observations
+(``obs_type``): "full" (joint positions scaled to [-1, 1] and velocities; the cube's position,
+orientation and velocities; the in-hand position, goal orientation and the rotation between them;
+fingertip positions, orientations and velocities; the last actions) or "openai" (fingertip positions,
+the cube's position, the rotation to the goal, the last actions: OpenAI's table 2).
+
+Reward (Isaac Lab's terms): ``dist_reward_scale`` times the cube's distance from the in-hand position,
+``rot_reward_scale / (|rotation to the goal| + rot_eps)``, ``action_penalty_scale`` times the squared
+actions, ``reach_goal_bonus`` when the rotation is within ``success_tolerance`` (the goal is then
+redrawn at once and the env's success count grows), ``fall_penalty`` when the cube is ``fall_dist`` from
+the in-hand position, which also ends the episode. ``consecutive_successes``, the running mean
+(``av_factor``) of the success counts of the episodes that end, is logged as Isaac Lab logs it.
+
+Differences from Isaac Lab's file, none visible to a policy: resets and goal redraws select envs by a
+mask (draws made for every env, kept where it is set), so the step has fixed shapes and replays as one
+CUDA graph; the goal marker is placed when an image is rendered, not in the step; the count of goals
+reached in each episode that ended is kept per env (``episode_successes``) for ``simlab bench solve``.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING
+
+import torch
+
+import simlab.sim as sim_utils
+from simlab.assets import Articulation, RigidObject
+from simlab.envs import DirectRLEnv
+from simlab.markers import VisualizationMarkers
+from simlab.sim.spawners.from_files import GroundPlaneCfg, spawn_ground_plane
+from simlab.utils.env_mask import masked_copy_
+from simlab.utils.math import quat_conjugate, quat_from_angle_axis, quat_mul, sample_uniform, saturate
+
+if TYPE_CHECKING:
+    from simlab.tasks.direct.allegro_hand.allegro_hand_env_cfg import AllegroHandEnvCfg
+
+GOAL_MARKER_POS = (-0.2, -0.45, 0.68)
+"""Where the goal cube is drawn, in each env's frame (beside the hand)."""
+
+
+class InHandManipulationEnv(DirectRLEnv):
+    cfg: AllegroHandEnvCfg
+
+    def __init__(self, cfg: AllegroHandEnvCfg, render_mode: str | None = None, **kwargs):
+        super().__init__(cfg, render_mode, **kwargs)
+        n, device = self.num_envs, self.device
+        self.num_hand_dofs = self.hand.num_joints
+
+        # position targets: the last applied (prev) and the current ones
+        self.hand_dof_targets = torch.zeros((n, self.num_hand_dofs), device=device)
+        self.prev_targets = torch.zeros((n, self.num_hand_dofs), device=device)
+        self.cur_targets = torch.zeros((n, self.num_hand_dofs), device=device)
+
+        # actuated joints and fingertips in the model's order (Isaac Lab sorts the ids the same way)
+        self.actuated_dof_indices = sorted(self.hand.joint_names.index(name) for name in cfg.actuated_joint_names)
+        self.finger_bodies = sorted(self.hand.body_names.index(name) for name in cfg.fingertip_body_names)
+        self.num_fingertips = len(self.finger_bodies)
+
+        limits = self.hand.data.joint_pos_limits.to(device)
+        self.hand_dof_lower_limits = limits[..., 0]
+        self.hand_dof_upper_limits = limits[..., 1]
+
+        self.reset_goal_buf = torch.zeros(n, dtype=torch.bool, device=device)
+        # where the cube belongs: 4 cm below its spawn point (env frame)
+        self.in_hand_pos = self.object.data.default_root_state[:, 0:3].clone()
+        self.in_hand_pos[:, 2] -= 0.04
+        self.goal_rot = torch.zeros((n, 4), device=device)
+        self.goal_rot[:, 0] = 1.0
+        self.goal_pos = torch.tensor(GOAL_MARKER_POS, device=device).repeat((n, 1))
+        self.goal_markers = VisualizationMarkers(self.cfg.goal_object_cfg)
+        self.sim.add_render_callback(self._place_goal_markers)
+
+        self.successes = torch.zeros(n, device=device)
+        self.episode_successes = torch.zeros(n, device=device)
+        """Goals reached in each env's last finished episode."""
+        self.consecutive_successes = torch.zeros(1, device=device)
+
+        self.x_unit_tensor = torch.tensor([1.0, 0.0, 0.0], device=device).repeat((n, 1))
+        self.y_unit_tensor = torch.tensor([0.0, 1.0, 0.0], device=device).repeat((n, 1))
+        self.z_unit_tensor = torch.tensor([0.0, 0.0, 1.0], device=device).repeat((n, 1))
+        self._compute_intermediate_values()
+
+    def _setup_scene(self):
+        self.hand = Articulation(self.cfg.robot_cfg)
+        self.object = RigidObject(self.cfg.object_cfg)
+        spawn_ground_plane(prim_path="/World/ground", cfg=GroundPlaneCfg())
+        self.scene.clone_environments(copy_from_source=False)
+        self.scene.articulations["robot"] = self.hand
+        self.scene.rigid_objects["object"] = self.object
+        light_cfg = sim_utils.DomeLightCfg(intensity=2000.0, color=(0.75, 0.75, 0.75))
+        light_cfg.func("/World/Light", light_cfg)
+
+    def step(self, action: torch.Tensor):
+        obs, reward, terminated, truncated, extras = super().step(action)
+        extras["log"]["consecutive_successes"] = self.consecutive_successes.mean()
+        return obs, reward, terminated, truncated, extras
+
+    # actions
+
+    def _pre_physics_step(self, actions: torch.Tensor) -> None:
+        self.actions = actions.clone()
+
+    def _apply_action(self) -> None:
+        act = self.actuated_dof_indices
+        lower, upper = self.hand_dof_lower_limits[:, act], self.hand_dof_upper_limits[:, act]
+        targets = scale(self.actions, lower, upper)
+        alpha = self.cfg.act_moving_average
+        targets = alpha * targets + (1.0 - alpha) * self.prev_targets[:, act]
+        targets = saturate(targets, lower, upper)
+        self.cur_targets[:, act] = targets
+        self.prev_targets[:, act] = targets
+        self.hand.set_joint_position_target(targets, joint_ids=act)
+
+    # observations, rewards, dones
+
+    def _get_observations(self) -> dict:
+        if self.cfg.obs_type == "openai":
+            obs = self.compute_reduced_observations()
+        elif self.cfg.obs_type == "full":
+            obs = self.compute_full_observations()
+        else:
+            raise ValueError(f"obs_type must be 'openai' or 'full', got '{self.cfg.obs_type}'")
+        return {"policy": obs}
+
+    def _get_rewards(self) -> torch.Tensor:
+        reward, goal_reached, successes, consecutive = compute_rewards(
+            self.reset_buf,
+            self.reset_goal_buf,
+            self.successes,
+            self.consecutive_successes,
+            self.object_pos,
+            self.object_rot,
+            self.in_hand_pos,
+            self.goal_rot,
+            self.cfg.dist_reward_scale,
+            self.cfg.rot_reward_scale,
+            self.cfg.rot_eps,
+            self.actions,
+            self.cfg.action_penalty_scale,
+            self.cfg.success_tolerance,
+            self.cfg.reach_goal_bonus,
+            self.cfg.fall_dist,
+            self.cfg.fall_penalty,
+            self.cfg.av_factor,
+        )
+        self.reset_goal_buf.copy_(goal_reached)
+        self.successes.copy_(successes)
+        self.consecutive_successes.copy_(consecutive)
+        # a reached goal is replaced by a new one at once
+        self._reset_target_pose(self.reset_goal_buf)
+        return reward
+
+    def _get_dones(self) -> tuple[torch.Tensor, torch.Tensor]:
+        self._compute_intermediate_values()
+        # the cube fell: too far from where it belongs in the hand
+        out_of_reach = torch.norm(self.object_pos - self.in_hand_pos, p=2, dim=-1) >= self.cfg.fall_dist
+        time_out = self.episode_length_buf >= self.max_episode_length - 1
+        if self.cfg.max_consecutive_success > 0:
+            # a goal within tolerance restarts the episode clock; enough successes end the episode
+            rot_dist = rotation_distance(self.object_rot, self.goal_rot)
+            self.episode_length_buf.masked_fill_(rot_dist.abs() <= self.cfg.success_tolerance, 0)
+            time_out = time_out | (self.successes >= self.cfg.max_consecutive_success)
+        return out_of_reach, time_out
+
+    # resets
+
+    def _reset_mask(self, env_mask: torch.Tensor) -> None:
+        super()._reset_mask(env_mask)
+        n, device = self.num_envs, self.device
+        self._reset_target_pose(env_mask)
+
+        # cube: its default pose shifted by up to reset_position_noise, a random orientation, at rest
+        state = self.object.data.default_root_state.clone()
+        pos_noise = sample_uniform(-1.0, 1.0, (n, 3), device=device)
+        state[:, 0:3] += self.cfg.reset_position_noise * pos_noise + self.scene.env_origins
+        rot_noise = sample_uniform(-1.0, 1.0, (n, 2), device=device)
+        state[:, 3:7] = randomize_rotation(rot_noise[:, 0], rot_noise[:, 1], self.x_unit_tensor, self.y_unit_tensor)
+        state[:, 7:] = 0.0
+        self.object.write_root_pose_to_sim(state[:, :7], env_mask)
+        self.object.write_root_velocity_to_sim(state[:, 7:], env_mask)
+
+        # hand: the default pose moved towards a random point of each joint's range
+        default_pos = self.hand.data.default_joint_pos
+        delta_max = self.hand_dof_upper_limits - default_pos
+        delta_min = self.hand_dof_lower_limits - default_pos
+        dof_pos_noise = sample_uniform(-1.0, 1.0, (n, self.num_hand_dofs), device=device)
+        rand_delta = delta_min + (delta_max - delta_min) * 0.5 * dof_pos_noise
+        dof_pos = default_pos + self.cfg.reset_dof_pos_noise * rand_delta
+        dof_vel_noise = sample_uniform(-1.0, 1.0, (n, self.num_hand_dofs), device=device)
+        dof_vel = self.hand.data.default_joint_vel + self.cfg.reset_dof_vel_noise * dof_vel_noise
+        for buffer in (self.prev_targets, self.cur_targets, self.hand_dof_targets):
+            masked_copy_(buffer, env_mask, dof_pos)
+        self.hand.set_joint_position_target(dof_pos, env_ids=env_mask)
+        self.hand.write_joint_state_to_sim(dof_pos, dof_vel, env_ids=env_mask)
+
+        masked_copy_(self.episode_successes, env_mask, self.successes)
+        self.successes.masked_fill_(env_mask, 0.0)
+        self._compute_intermediate_values()
+
+    def _reset_target_pose(self, env_mask: torch.Tensor) -> None:
+        """A new random goal orientation where ``env_mask`` is set."""
+        rand = sample_uniform(-1.0, 1.0, (self.num_envs, 2), device=self.device)
+        new_rot = randomize_rotation(rand[:, 0], rand[:, 1], self.x_unit_tensor, self.y_unit_tensor)
+        masked_copy_(self.goal_rot, env_mask, new_rot)
+        self.reset_goal_buf.masked_fill_(env_mask, False)
+
+    def _place_goal_markers(self) -> None:
+        """The goal cube beside the hand, drawn in rendered images (called before each one)."""
+        self.goal_markers.visualize(self.goal_pos + self.scene.env_origins, self.goal_rot)
+
+    # helpers
+
+    def _compute_intermediate_values(self) -> None:
+        hand, cube, origins = self.hand.data, self.object.data, self.scene.env_origins
+        self.fingertip_pos = hand.body_pos_w[:, self.finger_bodies] - origins.unsqueeze(1)
+        self.fingertip_rot = hand.body_quat_w[:, self.finger_bodies]
+        self.fingertip_velocities = hand.body_vel_w[:, self.finger_bodies]
+        self.hand_dof_pos = hand.joint_pos
+        self.hand_dof_vel = hand.joint_vel
+        self.object_pos = cube.root_pos_w - origins
+        self.object_rot = cube.root_quat_w
+        self.object_velocities = cube.root_vel_w
+        self.object_linvel = cube.root_lin_vel_w
+        self.object_angvel = cube.root_ang_vel_w
+
+    def compute_reduced_observations(self) -> torch.Tensor:
+        """OpenAI's observations (arXiv:1808.00177, table 2): fingertips, cube position, rotation to the goal."""
+        return torch.cat(
+            (
+                self.fingertip_pos.reshape(self.num_envs, self.num_fingertips * 3),
+                self.object_pos,
+                quat_mul(self.object_rot, quat_conjugate(self.goal_rot)),
+                self.actions,
+            ),
+            dim=-1,
+        )
+
+    def compute_full_observations(self) -> torch.Tensor:
+        n, tips = self.num_envs, self.num_fingertips
+        return torch.cat(
+            (
+                unscale(self.hand_dof_pos, self.hand_dof_lower_limits, self.hand_dof_upper_limits),
+                self.cfg.vel_obs_scale * self.hand_dof_vel,
+                self.object_pos,
+                self.object_rot,
+                self.object_linvel,
+                self.cfg.vel_obs_scale * self.object_angvel,
+                self.in_hand_pos,
+                self.goal_rot,
+                quat_mul(self.object_rot, quat_conjugate(self.goal_rot)),
+                self.fingertip_pos.reshape(n, tips * 3),
+                self.fingertip_rot.reshape(n, tips * 4),
+                self.fingertip_velocities.reshape(n, tips * 6),
+                self.actions,
+            ),
+            dim=-1,
+        )
+
+
+def scale(x: torch.Tensor, lower: torch.Tensor, upper: torch.Tensor) -> torch.Tensor:
+    """[-1, 1] onto [lower, upper]."""
+    return 0.5 * (x + 1.0) * (upper - lower) + lower
+
+
+def unscale(x: torch.Tensor, lower: torch.Tensor, upper: torch.Tensor) -> torch.Tensor:
+    """[lower, upper] onto [-1, 1]."""
+    return (2.0 * x - upper - lower) / (upper - lower)
+
+
+def randomize_rotation(
+    rand0: torch.Tensor, rand1: torch.Tensor, x_unit: torch.Tensor, y_unit: torch.Tensor
+) -> torch.Tensor:
+    """A rotation about x by ``rand0 * pi`` followed by one about y by ``rand1 * pi`` (rand in [-1, 1])."""
+    return quat_mul(quat_from_angle_axis(rand0 * math.pi, x_unit), quat_from_angle_axis(rand1 * math.pi, y_unit))
+
+
+def rotation_distance(object_rot: torch.Tensor, target_rot: torch.Tensor) -> torch.Tensor:
+    """The angle [rad] of the rotation between two orientations (w, x, y, z)."""
+    quat_diff = quat_mul(object_rot, quat_conjugate(target_rot))
+    return 2.0 * torch.asin(torch.clamp(torch.norm(quat_diff[:, 1:4], p=2, dim=-1), max=1.0))
+
+
+def compute_rewards(
+    reset_buf: torch.Tensor,
+    reset_goal_buf: torch.Tensor,
+    successes: torch.Tensor,
+    consecutive_successes: torch.Tensor,
+    object_pos: torch.Tensor,
+    object_rot: torch.Tensor,
+    target_pos: torch.Tensor,
+    target_rot: torch.Tensor,
+    dist_reward_scale: float,
+    rot_reward_scale: float,
+    rot_eps: float,
+    actions: torch.Tensor,
+    action_penalty_scale: float,
+    success_tolerance: float,
+    reach_goal_bonus: float,
+    fall_dist: float,
+    fall_penalty: float,
+    av_factor: float,
+) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor, torch.Tensor]:
+    """Isaac Lab's in-hand reward. Returns the reward, which envs reached their goal, the success counts
+    and the running mean of the success counts of the episodes that end in this step."""
+    goal_dist = torch.norm(object_pos - target_pos, p=2, dim=-1)
+    rot_dist = rotation_distance(object_rot, target_rot)
+    reward = (
+        goal_dist * dist_reward_scale
+        + rot_reward_scale / (rot_dist.abs() + rot_eps)
+        + torch.sum(actions**2, dim=-1) * action_penalty_scale
+    )
+    goal_reached = (rot_dist.abs() <= success_tolerance) | reset_goal_buf
+    successes = successes + goal_reached.float()
+    reward = reward + reach_goal_bonus * goal_reached.float()
+    fell = goal_dist >= fall_dist
+    reward = reward + fall_penalty * fell.float()
+
+    # running mean over the episodes that end now (the fallen ones included) of their success counts
+    resets = (fell | reset_buf).float()
+    num_resets = resets.sum()
+    finished_successes = (successes * resets).sum()
+    consecutive_successes = torch.where(
+        num_resets > 0,
+        av_factor * finished_successes / num_resets.clamp(min=1.0) + (1.0 - av_factor) * consecutive_successes,
+        consecutive_successes,
+    )
+    return reward, goal_reached, successes, consecutive_successes

@@ -1,0 +1,113 @@
+"""In-hand cube reorientation (simlab.tasks.direct.inhand_manipulation with the Allegro Hand).
+
+The task builds, resets and steps on the CPU with finite values and Isaac Lab's spaces; a cube turned
+to its goal earns the bonus, gets a new goal at once and counts as a success, which the episode's end
+carries into ``consecutive_successes`` and the solve criterion; the agent configs are Isaac Lab's.
+"""
+
+from __future__ import annotations
+
+import gymnasium as gym
+import pytest
+import torch
+
+import simlab.tasks  # noqa: F401 - registers the tasks
+from simlab.tasks.direct.inhand_manipulation.inhand_manipulation_env import rotation_distance, unscale
+from simlab.tasks.utils import parse_env_cfg
+
+ALLEGRO = "simlab/Repose-Cube-Allegro-Direct-v0"
+NUM_ENVS = 4
+
+
+def make(task: str, num_envs: int = NUM_ENVS):
+    cfg = parse_env_cfg(task, device="cpu", num_envs=num_envs)
+    cfg.seed = 0
+    env = gym.make(task, cfg=cfg).unwrapped
+    env.reset(seed=0)
+    return env
+
+
+@pytest.fixture(scope="module")
+def allegro():
+    env = make(ALLEGRO)
+    yield env
+    env.close()
+
+
+def hold_actions(env) -> torch.Tensor:
+    """Actions whose targets are the joints' current positions (the hand keeps still)."""
+    act = env.actuated_dof_indices
+    lower, upper = env.hand_dof_lower_limits[:, act], env.hand_dof_upper_limits[:, act]
+    return unscale(env.hand.data.joint_pos[:, act], lower, upper)
+
+
+def test_allegro_direct_steps_with_finite_values_and_resets_by_mask(allegro):
+    env = allegro
+    assert env.single_observation_space["policy"].shape == (124,)
+    assert env.single_action_space.shape == (16,)
+    assert env.graph_blockers() == []  # resets and goal redraws select envs by mask: the step can be one graph
+    generator = torch.Generator().manual_seed(0)
+    for _ in range(20):
+        actions = 2 * torch.rand(NUM_ENVS, 16, generator=generator) - 1
+        obs, reward, terminated, truncated, extras = env.step(actions)
+        assert torch.isfinite(obs["policy"]).all() and torch.isfinite(reward).all()
+    assert "consecutive_successes" in extras["log"]
+    # the cube starts on the fingers of the palm-up hand and has not fallen from a few random moves
+    assert (env.object_pos - env.in_hand_pos).norm(dim=-1).max() < env.cfg.fall_dist
+
+
+def test_a_reached_goal_earns_the_bonus_is_redrawn_and_counts_at_the_episode_end(allegro):
+    env = allegro
+    env.reset(seed=1)
+    old_goal = env.goal_rot.clone()
+    # env 0's cube turned to its goal, where it rests on the fingers now
+    pose = torch.cat((env.object.data.root_pos_w, env.goal_rot), dim=-1)[:1]
+    env.object.write_root_pose_to_sim(pose, env_ids=torch.tensor([0]))
+    env.object.write_root_velocity_to_sim(torch.zeros(1, 6), env_ids=torch.tensor([0]))
+    assert float(rotation_distance(env.object.data.root_quat_w, old_goal)[0]) < 1e-3
+    before = float(env.consecutive_successes)
+    _, reward, terminated, truncated, _ = env.step(hold_actions(env))
+    assert not (terminated | truncated).any()
+    assert float(rotation_distance(env.object_rot, old_goal)[0]) < env.cfg.success_tolerance  # still there
+    assert float(reward[0]) > env.cfg.reach_goal_bonus  # the bonus, on top of the closeness terms
+    assert float(reward[1:].max()) < env.cfg.reach_goal_bonus
+    assert env.successes.tolist() == [1.0, 0.0, 0.0, 0.0]
+    assert not torch.allclose(env.goal_rot[0], old_goal[0])  # a new goal at once
+    torch.testing.assert_close(env.goal_rot[1:], old_goal[1:])  # the others keep theirs
+    # env 0's episode ends (time-out): its count goes into the running mean and the criterion's record
+    env.episode_length_buf[0] = env.max_episode_length - 1
+    _, _, _, truncated, _ = env.step(hold_actions(env))
+    assert bool(truncated[0])
+    assert float(env.episode_successes[0]) == 1.0 and float(env.successes[0]) == 0.0
+    expected = env.cfg.av_factor * 1.0 + (1.0 - env.cfg.av_factor) * before
+    assert float(env.consecutive_successes) == pytest.approx(expected)
+
+
+def test_solve_criterion_counts_the_goals_of_finished_episodes(allegro):
+    from simlab.tasks.utils.criteria import criterion_for
+
+    criterion = criterion_for(ALLEGRO)
+    assert ">= 5 goal orientations" in criterion.description and criterion.min_seconds > 10.0
+    on_step, sums = criterion.make_hook()
+    env = allegro
+    env.reset_buf[:] = torch.tensor([True, True, False, False])
+    env.episode_successes[:] = torch.tensor([6.0, 2.0, 9.0, 9.0])  # envs 2 and 3 are still running
+    on_step(env, None, None)
+    assert sums == {"successes": 8.0, "episodes": 2}
+    assert criterion.judge({}, sums) == (4.0, False)
+    sums["successes"] += 3.0
+    assert criterion.judge({}, sums) == (5.5, True)
+
+
+def test_allegro_agent_configs_follow_isaac_lab():
+    from simlab.tasks.utils import load_cfg_from_registry
+
+    rsl = load_cfg_from_registry(ALLEGRO, "rsl_rl_cfg_entry_point")
+    rsl.to_rsl_rl_dict()  # validates: no MISSING field left
+    assert (rsl.num_steps_per_env, rsl.max_iterations, rsl.experiment_name) == (16, 10000, "allegro_hand")
+    assert rsl.actor.hidden_dims == [1024, 512, 256, 128] and rsl.algorithm.desired_kl == 0.016
+    skrl = load_cfg_from_registry(ALLEGRO, "skrl_cfg_entry_point")
+    assert skrl["agent"]["rollouts"] == 16 and skrl["trainer"]["timesteps"] == 80000
+    rlg = load_cfg_from_registry(ALLEGRO, "rl_games_cfg_entry_point")
+    config = rlg["params"]["config"]
+    assert config["minibatch_size"] == 32768 and config["max_epochs"] == 5000 and config["torch_compile"] is False
