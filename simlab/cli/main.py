@@ -42,7 +42,7 @@ def _add_debug(p: argparse.ArgumentParser) -> None:
     p.add_argument("--debug", action="store_true", help="Show the full traceback of every error.")
 
 
-def _add_common(p: argparse.ArgumentParser, video: bool = True) -> None:
+def _add_common(p: argparse.ArgumentParser, video: bool = True, seed_default: str = "the agent config's") -> None:
     _add_debug(p)
     p.add_argument("--task", required=True, help="Task id, e.g. simlab/Cartpole-v0 (see `simlab list`).")
     p.add_argument("--num_envs", type=int, default=None, help="Number of parallel envs (default: the task's).")
@@ -51,7 +51,7 @@ def _add_common(p: argparse.ArgumentParser, video: bool = True) -> None:
         default=None,
         help="cpu, cuda or cuda:N (default: $SIMLAB_DEVICE, else the GPU if there is one, else cpu).",
     )
-    p.add_argument("--seed", type=int, default=None, help="Seed (-1 draws one; default: the agent config's).")
+    p.add_argument("--seed", type=int, default=None, help=f"Seed (-1 draws one; default: {seed_default}).")
     p.add_argument("--headless", action="store_true", help="No live viewer (same as --viewer none).")
     p.add_argument(
         "--viewer",
@@ -190,8 +190,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     for name, text in (("random", "random actions"), ("zero", "zero actions")):
         p = sub.add_parser(name, help=f"Step a task with {text} (a quick check that it runs).")
-        _add_common(p, video=False)
-        p.add_argument("--steps", type=int, default=None, help="Env steps to run (default: until Ctrl+C).")
+        _add_common(p, video=False, seed_default="0")
+        p.add_argument("--steps", type=int, default=None, help="Env steps to run, then stop (default: until Ctrl+C).")
         p.add_argument(
             "--save_camera_frames",
             metavar="DIR",

@@ -8,11 +8,12 @@ import os
 import gymnasium as gym
 import torch
 
-from simlab.cli.session import check_flags, load_configs, make_env
+from simlab.cli.session import check_flags, load_configs, make_env, resolve_seed
 
 __all__ = ["run_random", "save_camera_frames"]
 
 MAX_TILED_ENVS = 16
+DEFAULT_SEED = 0  # as simlab record: a run without --seed repeats itself
 
 
 def _sample(space: gym.Space, n: int, device: str, zero: bool) -> torch.Tensor:
@@ -26,16 +27,20 @@ def _sample(space: gym.Space, n: int, device: str, zero: bool) -> torch.Tensor:
 
 
 def run_random(args: argparse.Namespace, zero: bool = False) -> int:
-    """Step ``args.task`` with actions in [-1, 1] (within the action space) or zeros."""
+    """Step ``args.task`` with actions in [-1, 1] (within the action space) or zeros, ``args.steps``
+    times or until Ctrl+C."""
     check_flags(args)
     args.library, args.algorithm = "rsl_rl", None
     env_cfg, _ = load_configs(args, [], with_agent=False)
-    if args.seed is not None:
-        env_cfg.seed = args.seed
+    env_cfg.seed = resolve_seed(args.seed) if args.seed is not None else DEFAULT_SEED
     env = make_env(args, env_cfg, None, single_agent=False)
     base = env.unwrapped
     spaces = getattr(base, "action_spaces", None)
-    print(f"[simlab] {args.task}: {base.num_envs} envs on {base.device}, {'zero' if zero else 'random'} actions")
+    until = f"{args.steps} steps" if args.steps is not None else "until Ctrl+C"
+    print(
+        f"[simlab] {args.task}: {base.num_envs} envs on {base.device}, {'zero' if zero else 'random'} actions, "
+        f"seed {env_cfg.seed}, {until}"
+    )
     env.reset()
     frames_dir = getattr(args, "save_camera_frames", None)
     if frames_dir is not None:
