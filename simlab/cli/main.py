@@ -327,7 +327,36 @@ def _run_command(command: str, debug: bool, run: Callable[[], int | None]) -> in
         return _report(command, e, debug)
 
 
+def _allowed_modules(args: argparse.Namespace) -> list[str]:
+    """The packages whose functions ``module:name`` values may name: simlab, the task's own package
+    (of its registered env and env config) and those given with ``--allow_module``."""
+    packages = ["simlab", *getattr(args, "allow_module", [])]
+    if getattr(args, "task", None):
+        import gymnasium as gym
+
+        import simlab.tasks  # noqa: F401 - registers the tasks
+        from simlab.utils.string import simlab_task_id
+
+        try:
+            spec = gym.spec(simlab_task_id(args.task))
+        except gym.error.Error:
+            return packages  # the command names the unknown task itself
+        for entry in (spec.entry_point, spec.kwargs.get("env_cfg_entry_point")):
+            module = entry if isinstance(entry, str) else getattr(entry, "__module__", None)
+            if module:
+                packages.append(module.split(":")[0].split(".")[0])
+    return packages
+
+
 def _dispatch(parser: argparse.ArgumentParser, args: argparse.Namespace, rest: list[str], argv: list[str]) -> int:
+    from simlab.utils.string import callable_modules
+
+    # a "module:name" value (an override, a run's params) names functions of these packages only
+    with callable_modules(_allowed_modules(args)):
+        return _run(parser, args, rest, argv)
+
+
+def _run(parser: argparse.ArgumentParser, args: argparse.Namespace, rest: list[str], argv: list[str]) -> int:
     if args.command == "list":
         from simlab.cli.list_tasks import list_tasks
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import ast
 import builtins
+import contextlib
 import difflib
 import functools
 import importlib
@@ -11,11 +12,12 @@ import inspect
 import re
 import sys
 import textwrap
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from typing import Any
 
 __all__ = [
     "ResolvableString",
+    "callable_modules",
     "callable_to_string",
     "clear_resolve_matching_names_cache",
     "closest_matches",
@@ -231,11 +233,43 @@ def _safe_lambda(source: str) -> Callable:
     return eval(compile(tree, "<lambda string>", "eval"), {"__builtins__": dict(_SAFE_LAMBDA_BUILTINS)})
 
 
+# the packages whose functions a "module:name" text may name; None: any (Python code naming its own)
+_ALLOWED_MODULES: list[tuple[str, ...] | None] = [None]
+
+
+@contextlib.contextmanager
+def callable_modules(packages: Iterable[str]) -> Iterator[None]:
+    """Within the block, :func:`string_to_callable` resolves ``"module:name"`` only inside ``packages``
+    (and their sub-modules), and refuses any other module before importing it.
+
+    The ``simlab`` command runs each command inside this block with simlab, the task's own package and
+    the modules given with ``--allow_module``: a value in an override or a run's ``params/env.yaml``
+    (``env.rewards.alive.func=pydoc:pipepager``) cannot reach ``os``, ``subprocess`` or ``pydoc``.
+    """
+    _ALLOWED_MODULES.append(tuple(sorted(set(packages))))
+    try:
+        yield
+    finally:
+        _ALLOWED_MODULES.pop()
+
+
+def _check_module(name: str, module_name: str) -> None:
+    allowed = _ALLOWED_MODULES[-1]
+    if allowed is None or any(module_name == p or module_name.startswith(p + ".") for p in allowed):
+        return
+    root = module_name.split(".")[0]
+    raise ValueError(
+        f"'{name}' names the module '{module_name}', which is outside {', '.join(allowed)}: a 'module:name' value"
+        f" may name only those; pass --allow_module {root} to allow it."
+    )
+
+
 def string_to_callable(name: str) -> Callable:
     """Resolve ``"module:qualname"`` (or ``"module.attr"``) to the object it names.
 
     A lambda expression string (``"lambda x: x + 1"``) is evaluated in a sandbox that only lets it
-    compute on its arguments (see :func:`_safe_lambda`).
+    compute on its arguments (see :func:`_safe_lambda`). Inside :func:`callable_modules` only the
+    modules it allows resolve.
     """
     if not isinstance(name, str):
         raise TypeError(f"Expected a string 'module:qualname', got {type(name).__name__}: {name!r}.")
@@ -250,6 +284,7 @@ def string_to_callable(name: str) -> Callable:
             f"Could not resolve '{name}': expected 'module:qualname' (e.g. 'simlab.envs.mdp:joint_pos')"
             " or 'module.attr'."
         )
+    _check_module(name, module_name)
     try:
         obj: Any = importlib.import_module(module_name)
     except ImportError as e:

@@ -28,7 +28,7 @@ from typing import Any
 
 from simlab.utils.dict import MISSING_STR, class_to_dict, replace_strings_with_slices, update_class_from_dict
 from simlab.utils.errors import ConfigError
-from simlab.utils.string import closest_matches
+from simlab.utils.string import callable_modules, closest_matches
 
 __all__ = ["OverrideError", "apply_overrides", "hydra_task_config", "parse_override", "register_task_to_hydra"]
 
@@ -271,8 +271,11 @@ def hydra_task_config(task_name: str, agent_cfg_entry_point: str | None) -> Call
         @functools.wraps(func)
         def wrapper(*args: Any, **kwargs: Any) -> Any:
             env_cfg, agent_cfg = register_task_to_hydra(task_name.split(":")[-1], agent_cfg_entry_point)
-            apply_overrides(env_cfg, agent_cfg, sys.argv[1:])
-            return func(env_cfg, agent_cfg, *args, **kwargs)
+            # "module:name" values name functions of simlab, the task's package or the script's only
+            packages = {"simlab", type(env_cfg).__module__.split(".")[0], func.__module__.split(".")[0]}
+            with callable_modules(packages):
+                apply_overrides(env_cfg, agent_cfg, sys.argv[1:])
+                return func(env_cfg, agent_cfg, *args, **kwargs)
 
         return wrapper
 
