@@ -253,13 +253,14 @@ def stage(task: str, checkpoint: str, library: str, log_root: str) -> str:
     from simlab.cli.runs import CHECKPOINT_LAYOUT, run_dir_of_checkpoint
     from simlab.pretrained import POLICY_FILE
     from simlab.pretrained.weights import pack_policy, unpack_policy
+    from simlab.utils.trust import torch_load
 
     run_dir = run_dir_of_checkpoint(checkpoint, library)
     staged = os.path.join(log_root, "stored", task.split("/")[-1], library)
     shutil.rmtree(staged, ignore_errors=True)
     shutil.copytree(os.path.join(run_dir, "params"), os.path.join(staged, "params"))
     name = os.path.join(*CHECKPOINT_LAYOUT[library][0], os.path.basename(checkpoint))  # skrl's: checkpoints/
-    state = torch.load(checkpoint, map_location="cpu", weights_only=False)
+    state = torch_load(checkpoint, map_location="cpu")  # weights only: a run's file is data
     torch.save(pack_policy(state, library, name), os.path.join(staged, POLICY_FILE))
     name, played = unpack_policy(os.path.join(staged, POLICY_FILE))
     os.makedirs(os.path.dirname(os.path.join(staged, name)), exist_ok=True)
@@ -380,10 +381,10 @@ def make_one(task: str, args: argparse.Namespace, log_root: str, argv: list[str]
 
 def checkpoint_iteration(checkpoint: str, library: str, agent_cfg: dict) -> int:
     """The training iteration a checkpoint was saved at: rsl_rl stores it; skrl names the timestep."""
-    import torch
+    from simlab.utils.trust import torch_load
 
     if library == "rsl_rl":
-        return int(torch.load(checkpoint, map_location="cpu", weights_only=False).get("iter", 0))
+        return int(torch_load(checkpoint, map_location="cpu").get("iter", 0))
     timestep = re.search(r"(\d+)\.pt$", os.path.basename(checkpoint))
     return int(timestep.group(1)) // agent_cfg["agent"]["rollouts"] if timestep else 0
 
