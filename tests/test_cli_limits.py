@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import re
 
 import pytest
 
@@ -51,6 +52,90 @@ def test_empty_mini_batches_are_refused_before_training(tmp_path, capsys, flags,
 def test_the_largest_allowed_number_of_mini_batches_trains(tmp_path):
     argv = ["train", *SMALL, "--max_iterations", "1", "agent.algorithm.num_mini_batches=128"]
     assert _run(tmp_path, *argv) == 0
+
+
+# --- item 7: overrides and env counts that used to end in a traceback ------------------------------
+
+
+@pytest.mark.parametrize(
+    ("flags", "message"),
+    [
+        (
+            ["env.observations.policy=null"],
+            "env.observations.policy is None: the learner reads the 'policy' observation",
+        ),
+        (["env.observations=null"], "env.observations.policy is None"),
+        (
+            ["env.episode_length_s=${env.nope}"],
+            "'env.episode_length_s=${env.nope}': Interpolation key 'env.nope' not found",
+        ),
+    ],
+)
+def test_overrides_that_break_the_env_are_one_line(tmp_path, capsys, flags, message):
+    assert _run(tmp_path, "train", *SMALL, "--max_iterations", "1", *flags) == 2
+    assert message in _one_line_error(capsys)
+    assert not os.path.exists(tmp_path / "logs")
+
+
+def test_play_refuses_a_removed_policy_group_too(tmp_path, capsys):
+    assert _run(tmp_path, "play", *SMALL, "--use_last_checkpoint", "env.observations.policy=null") == 2
+    assert "env.observations.policy is None" in _one_line_error(capsys)
+
+
+def test_more_envs_than_memory_holds_are_refused_before_allocating(tmp_path, capsys, monkeypatch):
+    import simlab.sim.backends.cpu as cpu
+
+    monkeypatch.setattr(cpu, "available_memory", lambda: 64 * 2**20)
+    allocated = []
+    monkeypatch.setattr(cpu.mjbatch, "Batch", lambda *args, **kwargs: allocated.append(args))
+    assert _run(tmp_path, "train", *SMALL[:2], "--num_envs", "100000", *SMALL[4:], "--max_iterations", "1") == 2
+    err = _one_line_error(capsys)
+    assert not allocated
+    # the cartpole's MjData holds 6592 bytes
+    needed = float(
+        re.search(r"100000 envs need about (\d+\.\d) MiB of memory \(6\.4 KiB per env for this model\)", err)[1]
+    )
+    assert 628.7 < needed < 628.7 + 16 * 14  # and each worker thread's MjData with its 13 MiB arena
+    assert "but 64.0 MiB is available" in err
+    fits = int(err.split("at most about ")[1].split()[0])
+    assert 0 < fits < 64 * 2**20 // 6592  # less the worker threads' own MjData and arena
+    assert err.rstrip().endswith("envs fit (--num_envs or env.scene.num_envs).")
+
+
+_ENV_MEMORY = """
+import sys, gymnasium as gym, mujoco, torch
+import simlab.tasks
+from simlab.tasks.utils import parse_env_cfg
+def rss():
+    return int(open("/proc/self/statm").read().split()[1]) * 4096
+task, n = sys.argv[1], int(sys.argv[2])
+cfg = parse_env_cfg(task, device="cpu", num_envs=n)
+before = rss()
+env = gym.make(task, cfg=cfg)
+env.reset()
+for _ in range(3):
+    env.step(torch.zeros((n, *env.unwrapped.single_action_space.shape)))
+print(rss() - before, mujoco.MjData(env.unwrapped.sim.model).nbuffer)
+"""
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(not os.path.exists("/proc/self/statm"), reason="reads the resident memory from /proc")
+def test_the_memory_estimate_covers_what_an_env_holds_per_world():
+    """The estimate counts one MjData per world; an env of the CPU backend holds less (measured per world
+    as the growth of the resident memory from 256 to 2304 envs, in fresh processes)."""
+    import subprocess
+    import sys
+
+    grown = []
+    for n in (256, 2304):
+        out = subprocess.run(
+            [sys.executable, "-c", _ENV_MEMORY, TASK, str(n)], capture_output=True, text=True, check=True
+        )
+        used, per_world = (int(v) for v in out.stdout.split()[-2:])
+        grown.append(used)
+    measured = (grown[1] - grown[0]) / 2048
+    assert 0 < measured < per_world, (measured, per_world)
 
 
 # --- items 10 and 11: HDF5 datasets ---------------------------------------------------------------
@@ -180,8 +265,6 @@ def test_without_h5py_record_and_replay_say_how_to_install_it(tmp_path, capsys, 
 
 def test_the_main_install_includes_the_datasets_extra():
     """The README's first command is `bash scripts/setup.sh`; `simlab record` / `replay` need h5py."""
-    import re
-
     with open(os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "scripts", "setup.sh")) as f:
         extras = re.search(r'^extras="([^"]+)"', f.read(), re.M).group(1).split(",")
     assert "datasets" in extras

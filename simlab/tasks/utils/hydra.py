@@ -227,6 +227,7 @@ def apply_overrides(env_cfg: Any, agent_cfg: Any, overrides: Sequence[str]) -> N
     if not overrides:
         return  # without importing OmegaConf (0.03 s of every start-up)
     from omegaconf import OmegaConf
+    from omegaconf.errors import OmegaConfBaseException
 
     parsed = _parse(overrides)
     roots = {"env": env_cfg, "agent": agent_cfg}
@@ -241,8 +242,14 @@ def apply_overrides(env_cfg: Any, agent_cfg: Any, overrides: Sequence[str]) -> N
         path = override.key_or_group.split(".")
         value = None
         if not override.is_delete():
-            node = OmegaConf.select(composed, override.key_or_group, throw_on_missing=False)
-            value = OmegaConf.to_container(node, resolve=True) if OmegaConf.is_config(node) else node
+            try:
+                node = OmegaConf.select(composed, override.key_or_group, throw_on_missing=False)
+                value = OmegaConf.to_container(node, resolve=True) if OmegaConf.is_config(node) else node
+            except OmegaConfBaseException as err:  # an interpolation to a key that does not exist, ...
+                raise OverrideError(
+                    f"'{override.input_line}': {str(err).splitlines()[0]} "
+                    "(an interpolation names an existing key, e.g. ${env.sim.dt})."
+                ) from err
             value = replace_strings_with_slices(value)
         obj = _parent(override.input_line, path, roots, override.is_add() or override.is_force_add())
         _write(override.input_line, obj, path, value)
