@@ -177,10 +177,37 @@ def dump_pickle(filename: str | os.PathLike, data: Any) -> None:
         pickle.dump(data, f)
 
 
-def load_pickle(filename: str | os.PathLike) -> Any:
-    """Load a pickle file. Only load files you trust: unpickling can run arbitrary code."""
+_PLAIN_BUILTINS = frozenset({"set", "frozenset", "complex", "slice", "range", "bytearray"})
+
+
+def _plain_global(module: str, name: str) -> bool:
+    """What :func:`dump_pickle` writes of configs and data: containers, numpy arrays, config classes
+    (dataclasses, built without calling them) of simlab or of modules already imported. No function,
+    no other class, and no module imported for the file's sake."""
+    import importlib
+    import sys
+
+    from simlab.utils.trust import NUMPY_GLOBALS
+
+    if (module == "builtins" and name in _PLAIN_BUILTINS) or f"{module}.{name}" in NUMPY_GLOBALS:
+        return True
+    if module == "collections" and name in ("OrderedDict", "deque"):
+        return True
+    if module in sys.modules or module == "simlab" or module.startswith("simlab."):
+        obj = getattr(sys.modules.get(module) or importlib.import_module(module), name, None)
+        return isinstance(obj, type) and dataclasses.is_dataclass(obj)
+    return False
+
+
+def load_pickle(filename: str | os.PathLike, trust: bool = False) -> Any:
+    """Load a pickle file of data (containers, numbers, numpy arrays, simlab configs); one that names
+    anything else (a function, another class: unpickling could run it) is refused unless ``trust``."""
+    from simlab.utils.trust import restricted_loads
+
     filename = os.fspath(filename)
     if not os.path.isfile(filename):
         raise FileNotFoundError(f"pickle file not found: '{filename}'.")
     with open(filename, "rb") as f:
-        return pickle.load(f)
+        if trust:
+            return pickle.load(f)
+        return restricted_loads(f.read(), _plain_global, f"'{filename}'", "pass trust=True if you trust the file")

@@ -104,23 +104,23 @@ def weights_only_torch_loads(trust: bool = False) -> Iterator[None]:
 
 
 class _RestrictedUnpickler(pickle.Unpickler):
-    def __init__(self, file: Any, allowed: Callable[[str, str], bool], what: str):
+    def __init__(self, file: Any, allowed: Callable[[str, str], bool], what: str, hint: str):
         super().__init__(file)
-        self._allowed, self._what = allowed, what
+        self._allowed, self._what, self._hint = allowed, what, hint
 
     def find_class(self, module: str, name: str) -> Any:
         if not self._allowed(module, name):
             raise UntrustedFileError(
-                f"Refused to load {self._what}: it needs {module}.{name}, which is not plain data; {TRUST_HINT}."
+                f"Refused to load {self._what}: it needs {module}.{name}, which is not plain data; {self._hint}."
             )
         return super().find_class(module, name)
 
 
-def restricted_loads(data: bytes, allowed: Callable[[str, str], bool], what: str) -> Any:
+def restricted_loads(data: bytes, allowed: Callable[[str, str], bool], what: str, hint: str = TRUST_HINT) -> Any:
     """Unpickle ``data`` when every global it names passes ``allowed(module, name)``; else
     :class:`UntrustedFileError` naming the first one that does not (nothing outside ``allowed`` runs)."""
     try:
-        return _RestrictedUnpickler(io.BytesIO(data), allowed, what).load()
+        return _RestrictedUnpickler(io.BytesIO(data), allowed, what, hint).load()
     except UntrustedFileError:
         raise
     except Exception as e:  # noqa: BLE001 - corrupt bytes make pickle raise anything
