@@ -178,6 +178,24 @@ def feet_air_time(
     return reward * moving
 
 
+def feet_air_time_positive_biped(
+    env: ManagerBasedRLEnv, command_name: str, threshold: float, sensor_cfg: SceneEntityCfg
+) -> torch.Tensor:
+    """For two feet: while exactly one touches, the shorter of the two feet's times in their current
+    phase (the stance foot's contact time, the swing foot's air time), capped at ``threshold`` seconds;
+    0 in double support or flight, and while the command's planar speed is below 0.1 m/s. It pays for
+    alternating single-support steps, up to ``threshold`` long each."""
+    data = env.scene.sensors[sensor_cfg.name].data
+    air_time = data.current_air_time[:, sensor_cfg.body_ids]
+    contact_time = data.current_contact_time[:, sensor_cfg.body_ids]
+    in_contact = contact_time > 0.0
+    phase_time = torch.where(in_contact, contact_time, air_time)
+    single_stance = in_contact.sum(dim=1) == 1
+    reward = torch.where(single_stance, phase_time.min(dim=1).values, 0.0).clamp(max=threshold)
+    moving = torch.linalg.norm(env.command_manager.get_command(command_name)[:, :2], dim=1) > 0.1
+    return reward * moving
+
+
 def feet_slide(env: ManagerBasedRLEnv, sensor_cfg: SceneEntityCfg, asset_cfg: SceneEntityCfg = _ROBOT) -> torch.Tensor:
     """Planar speed of the selected feet while they touch (more than 1 N in the sensor's
     history), summed. ``asset_cfg`` selects the same feet as bodies of the robot."""

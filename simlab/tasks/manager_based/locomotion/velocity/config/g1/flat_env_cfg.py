@@ -1,0 +1,44 @@
+"""Unitree G1 velocity tracking on flat ground (Isaac Lab's ``Isaac-Velocity-Flat-G1-v0``)."""
+
+from simlab.managers import SceneEntityCfg
+from simlab.utils import configclass
+
+from .rough_env_cfg import G1RoughEnvCfg
+
+
+@configclass
+class G1FlatEnvCfg(G1RoughEnvCfg):
+    def __post_init__(self):
+        super().__post_init__()
+        # a plane, no height scan, no terrain curriculum
+        self.scene.terrain.terrain_type = "plane"
+        self.scene.terrain.terrain_generator = None
+        self.scene.height_scanner = None
+        self.observations.policy.height_scan = None
+        self.curriculum.terrain_levels = None
+        # rewards
+        self.rewards.track_ang_vel_z_exp.weight = 1.0
+        self.rewards.lin_vel_z_l2.weight = -0.2
+        self.rewards.action_rate_l2.weight = -0.005
+        self.rewards.dof_acc_l2.weight = -1.0e-7
+        self.rewards.feet_air_time.weight = 0.75
+        self.rewards.feet_air_time.params["threshold"] = 0.4
+        self.rewards.dof_torques_l2.weight = -2.0e-6
+        self.rewards.dof_torques_l2.params["asset_cfg"] = SceneEntityCfg(
+            "robot", joint_names=[".*_hip_.*", ".*_knee_joint"]
+        )
+        # commands: sideways steps too
+        self.commands.base_velocity.ranges.lin_vel_x = (0.0, 1.0)
+        self.commands.base_velocity.ranges.lin_vel_y = (-0.5, 0.5)
+        self.commands.base_velocity.ranges.ang_vel_z = (-1.0, 1.0)
+
+
+@configclass
+class G1FlatEnvCfg_PLAY(G1FlatEnvCfg):  # noqa: N801 - Isaac Lab's name
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        self.scene.num_envs = 50
+        self.scene.env_spacing = 2.5
+        self.observations.policy.enable_corruption = False
+        self.events.base_external_force_torque = None
+        self.events.push_robot = None

@@ -1,0 +1,118 @@
+"""The G1 and H1 velocity tasks: registration, a few steps of each, the biped air-time reward on
+known contact states, and Isaac Lab's own g1 and h1 task configs run after the import mapping
+(``tests/ported/isaaclab_velocity_{g1,h1}``) with the same terms and weights as simlab's."""
+
+from __future__ import annotations
+
+import importlib
+import sys
+from pathlib import Path
+
+import gymnasium as gym
+import pytest
+import torch
+
+import simlab.tasks  # noqa: F401 - registers the tasks
+from simlab.envs import ManagerBasedRLEnv
+from simlab.managers import SceneEntityCfg
+from simlab.tasks.manager_based.locomotion.velocity import mdp
+from simlab.tasks.utils.parse_cfg import parse_env_cfg
+
+N = 4
+PORTED = Path(__file__).parent / "ported"
+
+# policy observation size: 9 (base velocities, gravity) + 3 (command) + 3 x joints, + the height scan
+OBS = {"G1": 9 + 3 + 3 * 37, "H1": 9 + 3 + 3 * 19}
+SCAN = 17 * 11
+
+
+def make(task: str, num_envs: int = N) -> ManagerBasedRLEnv:
+    cfg = parse_env_cfg(task, device="cpu", num_envs=num_envs)
+    cfg.seed = 0
+    return gym.make(task, cfg=cfg).unwrapped
+
+
+def test_task_ids():
+    for robot in ("G1", "H1"):
+        for terrain in ("Flat", "Rough"):
+            for play in ("", "-Play"):
+                assert f"simlab/Velocity-{terrain}-{robot}{play}-v0" in gym.registry
+
+
+@pytest.mark.parametrize("robot", ["G1", "H1"])
+@pytest.mark.parametrize("task", ["Flat", "Rough", "Flat-Play"])
+def test_task_resets_and_steps(robot, task):
+    terrain, _, play = task.partition("-")
+    env = make(f"simlab/Velocity-{terrain}-{robot}{'-' + play if play else ''}-v0")
+    try:
+        obs, _ = env.reset()
+        assert obs["policy"].shape == (N, OBS[robot] + (SCAN if terrain == "Rough" else 0))
+        assert env.graph_blockers() == [], "the step can be captured as a CUDA graph"
+        actions = env.action_manager.total_action_dim
+        for _ in range(20):
+            obs, reward, terminated, truncated, _ = env.step(0.3 * torch.randn(N, actions))
+            assert torch.isfinite(obs["policy"]).all() and torch.isfinite(reward).all()
+        terms = env.reward_manager.active_terms
+        assert {"feet_air_time", "feet_slide", "dof_pos_limits", "joint_deviation_hip"} <= set(terms)
+        assert env.reward_manager.get_term_cfg("feet_air_time").func is mdp.feet_air_time_positive_biped
+    finally:
+        env.close()
+
+
+def test_feet_air_time_positive_biped_pays_single_support_up_to_the_threshold():
+    env = make("simlab/Velocity-Flat-G1-v0")
+    try:
+        env.reset()
+        sensor = env.scene["contact_forces"]
+        feet = SceneEntityCfg("contact_forces", body_names=".*_ankle_roll_link")
+        feet.resolve(env.scene)
+        left, right = feet.body_ids
+        air, contact = sensor.data.current_air_time, sensor.data.current_contact_time
+        air.zero_(), contact.zero_()
+        # env 0: left stance 0.3 s, right swing 0.2 s -> 0.2; env 1: the same longer than the threshold -> 0.4;
+        # env 2: both feet down (double support) -> 0; env 3: both in the air -> 0
+        contact[0, left], air[0, right] = 0.3, 0.2
+        contact[1, left], air[1, right] = 0.9, 0.7
+        contact[2, left], contact[2, right] = 0.3, 0.5
+        air[3, left], air[3, right] = 0.1, 0.1
+        command = env.command_manager.get_command("base_velocity")
+        command[:] = torch.tensor([0.5, 0.0, 0.0])
+        reward = mdp.feet_air_time_positive_biped(env, "base_velocity", threshold=0.4, sensor_cfg=feet)
+        torch.testing.assert_close(reward, torch.tensor([0.2, 0.4, 0.0, 0.0]))
+        command[:] = torch.tensor([0.05, 0.05, 1.0])  # turning in place: no steps asked for
+        assert not mdp.feet_air_time_positive_biped(env, "base_velocity", threshold=0.4, sensor_cfg=feet).any()
+    finally:
+        env.close()
+
+
+def ported(robot: str, terrain: str):
+    sys.path.insert(0, str(PORTED))
+    try:
+        module = importlib.import_module(f"isaaclab_velocity_{robot.lower()}.{terrain.lower()}_env_cfg")
+    finally:
+        sys.path.remove(str(PORTED))
+    return getattr(module, f"{robot}{terrain}EnvCfg")()
+
+
+def weights(cfg) -> dict[str, float]:
+    return {name: term.weight for name, term in vars(cfg.rewards).items() if term is not None}
+
+
+@pytest.mark.parametrize("robot", ["G1", "H1"])
+@pytest.mark.parametrize("terrain", ["Flat", "Rough"])
+def test_isaac_labs_own_task_config_runs_after_the_import_mapping(robot, terrain):
+    cfg = ported(robot, terrain)
+    # the same task as simlab's registered one: terms, weights, commands
+    ours = parse_env_cfg(f"simlab/Velocity-{terrain}-{robot}-v0", device="cpu", num_envs=N)
+    assert weights(cfg) == weights(ours)
+    assert cfg.commands.base_velocity.ranges == ours.commands.base_velocity.ranges
+    cfg.scene.num_envs, cfg.sim.device, cfg.seed = N, "cpu", 0
+    env = ManagerBasedRLEnv(cfg)
+    try:
+        obs, _ = env.reset()
+        assert obs["policy"].shape == (N, OBS[robot] + (SCAN if terrain == "Rough" else 0))
+        for _ in range(5):
+            obs, reward, *_ = env.step(torch.zeros(N, env.action_manager.total_action_dim))
+            assert torch.isfinite(obs["policy"]).all() and torch.isfinite(reward).all()
+    finally:
+        env.close()
