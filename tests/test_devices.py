@@ -21,9 +21,9 @@ from simlab.devices import (
     Se3SpaceMouseCfg,
     create_teleop_device,
 )
+from simlab.devices.keys import KeyEvent, key_hub
 from simlab.devices.spacemouse.se3_spacemouse import axis_value
 from simlab.tasks.utils.parse_cfg import parse_env_cfg
-from simlab.viewer.keys import KeyEvent, key_hub
 from simlab.viewer.native import forward_key_to_listeners
 
 # Isaac Lab's key map: key -> (index in the command, sign); position 0.4, rotation 0.8 by default

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 import torch
 
-from simlab.viewer.keys import KeyEvent
+from simlab.devices.keys import KeyEvent
 
 from .device_base import DeviceBase, DeviceCfg
 from .keyboard.se3_keyboard import KEY_MAP_KEYS, Se3Keyboard, Se3KeyboardCfg

@@ -62,7 +62,7 @@ class ActionTerm(ManagerTermBase):
     def IO_descriptor(self):  # noqa: N802 - Isaac Lab's name
         """What this term's slice of the action means: its type, size, and the joints, scale, offset
         and clip of joint terms (read from the term where it has them)."""
-        from simlab.envs.utils.io_descriptors import GenericActionIODescriptor
+        from .io_descriptors import GenericActionIODescriptor
 
         desc = GenericActionIODescriptor(
             full_path=f"{type(self).__module__}.{type(self).__qualname__}",

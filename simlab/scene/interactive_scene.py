@@ -7,7 +7,6 @@ origins, and the per-step calls that move data between the entities and the simu
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from dataclasses import fields
 
@@ -25,6 +24,7 @@ from simlab.assets import (
 from simlab.assets.asset_base import check_asset_cfg
 from simlab.sensors import SensorBase, SensorBaseCfg
 from simlab.sim import SimulationContext
+from simlab.terrains.terrain_importer import grid_origins
 from simlab.utils.string import closest_matches
 from simlab.utils.unsupported import refuse_unless_default
 
@@ -32,17 +32,6 @@ from .interactive_scene_cfg import InteractiveSceneCfg
 
 ENV_NS = "/World/envs/env_0"
 ENV_REGEX_NS = "/World/envs/env_.*"
-
-
-def grid_origins(num_envs: int, spacing: float, device) -> torch.Tensor:
-    """Environment origins on a square-ish grid in the xy plane, centred on zero."""
-    rows = math.ceil(math.sqrt(num_envs))
-    cols = math.ceil(num_envs / rows)
-    ii, jj = torch.meshgrid(torch.arange(rows, device=device), torch.arange(cols, device=device), indexing="ij")
-    origins = torch.zeros(num_envs, 3, device=device)
-    origins[:, 0] = -(ii.flatten()[:num_envs] - (rows - 1) / 2) * spacing
-    origins[:, 1] = (jj.flatten()[:num_envs] - (cols - 1) / 2) * spacing
-    return origins
 
 
 def check_scene_cfg(cfg: InteractiveSceneCfg) -> None:

@@ -10,6 +10,7 @@ Per-env state: ``terrain_levels`` and ``env_origins`` persist across episodes; o
 
 from __future__ import annotations
 
+import math
 from typing import TYPE_CHECKING
 
 import torch
@@ -22,9 +23,19 @@ if TYPE_CHECKING:
 TERRAIN_TYPES = ("plane", "generator")
 
 
+def grid_origins(num_envs: int, spacing: float, device) -> torch.Tensor:
+    """Environment origins on a square-ish grid in the xy plane, centred on zero."""
+    rows = math.ceil(math.sqrt(num_envs))
+    cols = math.ceil(num_envs / rows)
+    ii, jj = torch.meshgrid(torch.arange(rows, device=device), torch.arange(cols, device=device), indexing="ij")
+    origins = torch.zeros(num_envs, 3, device=device)
+    origins[:, 0] = -(ii.flatten()[:num_envs] - (rows - 1) / 2) * spacing
+    origins[:, 1] = (jj.flatten()[:num_envs] - (cols - 1) / 2) * spacing
+    return origins
+
+
 class TerrainImporter:
     def __init__(self, cfg: TerrainImporterCfg, device: str = "cpu"):
-        from simlab.scene.interactive_scene import grid_origins
         from simlab.sim.simulation_context import current_spec
         from simlab.sim.spawners.from_files import GroundPlaneCfg, entity_name
 

@@ -18,6 +18,7 @@ import importlib
 import sys
 from typing import Any
 
+from simlab.utils.human_viewer import set_human_viewer_opener
 from simlab.viewer.choice import (
     DEFAULT_HOST,
     DEFAULT_PORT,
@@ -91,3 +92,12 @@ def open_viewer(
     except ViewerError as err:
         print(f"[simlab] WARNING: no {kind} viewer: {err}. Running without a viewer.", file=sys.stderr)
         return None
+
+
+def _open_for_human_render(env):
+    """``render_mode="human"``: the viewer the app asked for (``--viewer``; else native with a display, web without)."""
+    kind, port, host = app_viewer()
+    return open_viewer(env, kind, port, host=host)
+
+
+set_human_viewer_opener(_open_for_human_render)  # the envs, a layer below, open viewers through it

@@ -5,7 +5,7 @@ scene at their origins. Keys: space pauses / resumes, the right arrow steps once
 ``[`` / ``]`` follow the previous / next env, ``-`` / ``=`` draw less / more often, ``V`` turns
 drawing off and on (training at full speed). Letter and digit keys that a teleoperation device
 listens for (``simlab.devices.Se3Keyboard``: W, S, A, D, ...) go to it instead, through
-:data:`simlab.viewer.keys.key_hub`, as taps: MuJoCo's window reports presses, not releases.
+:data:`simlab.devices.keys.key_hub`, as taps: MuJoCo's window reports presses, not releases.
 """
 
 from __future__ import annotations
@@ -14,9 +14,9 @@ import copy
 
 import mujoco
 
+from simlab.devices.keys import KeyEvent, glfw_key_name, key_hub
 from simlab.sim.renderer import EnvSceneBuilder, set_free_camera, view_znear
 from simlab.viewer.choice import display_available
-from simlab.viewer.keys import KeyEvent, glfw_key_name, key_hub
 from simlab.viewer.live import LiveViewer, ViewerError
 from simlab.viewer.source import EnvSnapshot, SimSource
 

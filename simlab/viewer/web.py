@@ -19,9 +19,9 @@ import sys
 import mujoco
 import numpy as np
 
+from simlab.devices.keys import KeyEvent, key_hub
 from simlab.viewer.access import UngatedServerError, new_token, start_gated_viser
 from simlab.viewer.choice import DEFAULT_HOST
-from simlab.viewer.keys import KeyEvent, key_hub
 from simlab.viewer.live import MAX_SHOWN_ENVS, LiveViewer, ViewerError
 from simlab.viewer.source import EnvSnapshot, HostKinematics, SimSource
 

@@ -2,7 +2,7 @@
 
 Isaac Lab reads the keyboard of its Omniverse window; simlab reads the keys typed in its live
 viewer (``--viewer native``: MuJoCo's window; ``--viewer web``: the buttons of the page's Teleop
-tab) through :data:`simlab.viewer.keys.key_hub`. Those viewers report presses only, so a key they
+tab) through :data:`simlab.devices.keys.key_hub`. Those viewers report presses only, so a key they
 send moves the arm for ``key_hold_time`` seconds of simulated time after its last event (one
 ``advance()`` per env step; a simulation may run faster than the wall clock, and a tap should move
 the arm as far however fast it runs): tap it to nudge, and on the web page hold its button down
@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 import torch
 
-from simlab.viewer.keys import KeyEvent, key_hub
+from simlab.devices.keys import KeyEvent, key_hub
 
 from ..device_base import DeviceBase, DeviceCfg
 from ..se3_command import se3_command

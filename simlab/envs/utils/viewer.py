@@ -159,10 +159,9 @@ def show_in_viewer(env) -> None:
     ``--viewer``; else native with a display, web without), opened on the first call."""
     viewer = getattr(env, "_viewer", None)
     if viewer is None:
-        from simlab.viewer import app_viewer, open_viewer
+        from simlab.utils.human_viewer import open_human_viewer
 
-        kind, port, host = app_viewer()
-        viewer = env._viewer = open_viewer(env, kind, port, host=host)
+        viewer = env._viewer = open_human_viewer(env)
         if viewer is None:
             env._viewer = _NO_VIEWER
             return
