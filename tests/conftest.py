@@ -6,7 +6,10 @@ import importlib.util
 import os
 import signal
 import sys
+import time
+from collections.abc import Callable
 from types import ModuleType
+from typing import Any
 
 import pytest
 
@@ -42,6 +45,21 @@ def run_logs(scalars: list[tuple[str, float, int]], prefixes: tuple[str, ...]) -
         for tag, value, step in scalars
         if tag.startswith(prefixes)
     ]
+
+
+def wait_for(condition: Callable[[], Any], timeout: float, what: str, interval: float = 0.05) -> Any:
+    """Poll ``condition()`` until it returns something true, and return that; fail naming ``what``
+    after ``timeout`` seconds. Tests wait for the event they need (a file, a line of output) this
+    way rather than sleeping a fixed time, which is too short on a loaded machine and wasted on an
+    idle one. ``condition`` may itself fail (e.g. assert that a child process still runs)."""
+    deadline = time.monotonic() + timeout
+    while True:
+        value = condition()
+        if value:
+            return value
+        if time.monotonic() > deadline:
+            pytest.fail(f"timed out after {timeout:g} s waiting for {what}")
+        time.sleep(interval)
 
 
 def cuda_available() -> bool:

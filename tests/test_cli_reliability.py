@@ -12,7 +12,7 @@ import warnings
 
 import pytest
 import torch
-from conftest import rendering_available
+from conftest import rendering_available, wait_for
 
 from simlab.cli.checkpoints import find_last_checkpoint
 from simlab.cli.main import main
@@ -265,18 +265,25 @@ def test_torn_newest_checkpoint_is_skipped_with_a_warning(tmp_path, capsys):
 def test_sigterm_saves_a_checkpoint(tmp_path):
     logs = tmp_path / "logs"
     cmd = [sys.executable, "-m", "simlab", "train", *SMALL, "--max_iterations", "100000", "--log_root", str(logs)]
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, env=_subprocess_env())
-    deadline = time.time() + 120
-    while time.time() < deadline and not glob.glob(str(logs / "rsl_rl" / "*" / "*" / "model_0.pt")):
-        time.sleep(0.2)
-    time.sleep(2.0)  # a few iterations past the first checkpoint
-    proc.send_signal(signal.SIGTERM)
-    out, _ = proc.communicate(timeout=60)
-    assert proc.returncode == 143, out.decode()[-2000:]
+    with open(tmp_path / "out.txt", "wb") as log:
+        proc = subprocess.Popen(
+            [*cmd, "agent.save_interval=1"], stdout=log, stderr=subprocess.STDOUT, env=_subprocess_env()
+        )
+
+        def past_the_first_iteration():  # checkpoints every iteration: model_1.pt is iteration 1 done
+            assert proc.poll() is None, (tmp_path / "out.txt").read_text()[-2000:]
+            return glob.glob(str(logs / "rsl_rl" / "*" / "*" / "model_1.pt"))
+
+        wait_for(past_the_first_iteration, 120, "the training's second checkpoint")
+        proc.send_signal(signal.SIGTERM)
+        proc.wait(timeout=60)
+    out = (tmp_path / "out.txt").read_text()
+    assert proc.returncode == 143, out[-2000:]
     (run,) = _runs(tmp_path)
-    saved = [f for f in os.listdir(run) if f.startswith("model_") and f != "model_0.pt"]
-    assert saved and b"Interrupted: saved" in out, out.decode()[-2000:]
-    torch.load(os.path.join(run, saved[0]), weights_only=False)  # complete
+    assert "Interrupted: saved " in out, out[-2000:]
+    saved = out.split("Interrupted: saved ")[1].split()[0]
+    assert os.path.dirname(saved) == run
+    assert torch.load(saved, weights_only=False)["iter"] >= 1  # the iteration it was at, saved whole
 
 
 def test_a_stop_whose_saved_checkpoint_meets_the_goal_ends_as_solved(tmp_path):

@@ -12,6 +12,7 @@ import time
 
 import pytest
 import torch
+from conftest import wait_for
 
 from simlab.cli import distributed
 from simlab.cli.main import main
@@ -74,7 +75,7 @@ def test_two_gloo_ranks_train_in_sync_and_resume(tmp_path, library, args, checkp
     assert glob.glob(os.path.join(runs[0], "**", "events.out.tfevents.*"), recursive=True)
     checkpoint = sorted(glob.glob(os.path.join(runs[0], checkpoint_glob)))[0]
 
-    time.sleep(1.1)  # a new time-stamped run folder
+    # the resumed run gets a new run folder, even within the same second (`<time>_1`), sorted after the first
     resumed = _torchrun(tmp_path, "--library", library, *args, "--checkpoint", checkpoint)
     assert resumed.returncode == 0, resumed.stdout[-3000:] + resumed.stderr[-3000:]
     assert "Resumed" in resumed.stdout
@@ -165,16 +166,17 @@ def test_distributed_errors_say_what_is_supported(tmp_path, capsys):
 
 def test_ctrl_c_on_the_launcher_saves_rank_0s_checkpoint(tmp_path):
     cmd = [sys.executable, "-m", "simlab", "train", *SMALL, "--library", "rsl_rl", "--max_iterations", "100000"]
-    cmd += ["--log_root", str(tmp_path / "logs"), "--distributed", "--nproc_per_node", "2"]
+    cmd += ["--log_root", str(tmp_path / "logs"), "--distributed", "--nproc_per_node", "2", "agent.save_interval=1"]
     with open(tmp_path / "out.txt", "w") as out:
         launcher = subprocess.Popen(
             cmd, env=_env(PYTHONUNBUFFERED="1"), stdout=out, stderr=out, cwd=tmp_path, start_new_session=True
         )
-        deadline = time.time() + 120
-        while "Synchronizing parameters for rank 0" not in (tmp_path / "out.txt").read_text():
-            assert time.time() < deadline and launcher.poll() is None, (tmp_path / "out.txt").read_text()[-3000:]
-            time.sleep(0.5)
-        time.sleep(3)  # a few iterations
+
+        def past_the_first_iteration():  # rank 0 checkpoints every iteration: model_1.pt is iteration 1 done
+            assert launcher.poll() is None, (tmp_path / "out.txt").read_text()[-3000:]
+            return glob.glob(str(tmp_path / "logs" / "rsl_rl" / "*" / "*" / "model_1.pt"))
+
+        wait_for(past_the_first_iteration, 120, "rank 0's second checkpoint")
         os.killpg(launcher.pid, signal.SIGINT)  # the terminal's Ctrl+C: the whole foreground group
         assert launcher.wait(timeout=120) == 130
     text = (tmp_path / "out.txt").read_text()
