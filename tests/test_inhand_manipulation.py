@@ -111,3 +111,75 @@ def test_allegro_agent_configs_follow_isaac_lab():
     rlg = load_cfg_from_registry(ALLEGRO, "rl_games_cfg_entry_point")
     config = rlg["params"]["config"]
     assert config["minibatch_size"] == 32768 and config["max_epochs"] == 5000 and config["torch_compile"] is False
+
+
+# -- manager-based: simlab/Repose-Cube-Allegro-v0 ---------------------------------------------------------
+
+ALLEGRO_MANAGER = "simlab/Repose-Cube-Allegro-v0"
+
+
+@pytest.fixture(scope="module")
+def allegro_manager():
+    env = make(ALLEGRO_MANAGER)
+    yield env
+    env.close()
+
+
+def test_allegro_manager_steps_with_finite_values_and_targets_within_limits(allegro_manager):
+    env = allegro_manager
+    assert env.single_observation_space["policy"].shape == (72,)
+    assert env.single_action_space.shape == (16,)
+    assert env.graph_blockers() == []
+    robot = env.scene["robot"]
+    limits = robot.data.soft_joint_pos_limits
+    generator = torch.Generator().manual_seed(0)
+    for _ in range(20):
+        obs, reward, *_ = env.step(3 * torch.rand(NUM_ENVS, 16, generator=generator) - 1.5)  # beyond [-1, 1] too
+        assert torch.isfinite(obs["policy"]).all() and torch.isfinite(reward).all()
+        targets = robot.data.joint_pos_target
+        assert ((targets >= limits[..., 0] - 1e-6) & (targets <= limits[..., 1] + 1e-6)).all()
+
+
+def test_allegro_manager_goal_is_redrawn_on_success_and_counted(allegro_manager):
+    env = allegro_manager
+    env.reset(seed=2)
+    command = env.command_manager.get_term("object_pose")
+    cube = env.scene["object"]
+    old_goal = command.quat_command_w.clone()
+    pose = torch.cat((cube.data.root_pos_w, old_goal), dim=-1)[:1]
+    cube.write_root_pose_to_sim(pose, env_ids=torch.tensor([0]))
+    cube.write_root_velocity_to_sim(torch.zeros(1, 6), env_ids=torch.tensor([0]))
+    robot = env.scene["robot"]
+    lower, upper = robot.data.soft_joint_pos_limits[..., 0], robot.data.soft_joint_pos_limits[..., 1]
+    hold = unscale(robot.data.joint_pos, lower, upper)  # targets at the joints' positions (alpha 0.95 keeps them)
+    _, reward, terminated, truncated, _ = env.step(hold)
+    assert not (terminated | truncated).any()
+    bonus = 250.0 * env.step_dt  # manager-based rewards are weight * term * dt
+    assert float(reward[0]) > bonus and float(reward[1:].max()) < bonus
+    assert command.metrics["consecutive_success"].tolist() == [1.0, 0.0, 0.0, 0.0]
+    assert not torch.allclose(command.quat_command_w[0], old_goal[0])
+    torch.testing.assert_close(command.quat_command_w[1:], old_goal[1:])
+    # the episode's end keeps its count for the criterion
+    env.episode_length_buf[0] = env.max_episode_length - 1
+    _, _, _, truncated, _ = env.step(unscale(robot.data.joint_pos, lower, upper))
+    assert bool(truncated[0]) and float(command.episode_successes[0]) == 1.0
+    assert float(command.metrics["consecutive_success"][0]) == 0.0
+
+
+def test_allegro_manager_play_variant_and_agent_configs():
+    from simlab.tasks.utils import load_cfg_from_registry
+
+    play = parse_env_cfg("simlab/Repose-Cube-Allegro-Play-v0", device="cpu")
+    assert play.scene.num_envs == 50 and play.terminations.time_out is None
+    assert play.observations.policy.enable_corruption is False
+    rsl = load_cfg_from_registry(ALLEGRO_MANAGER, "rsl_rl_cfg_entry_point")
+    rsl.to_rsl_rl_dict()
+    assert (rsl.num_steps_per_env, rsl.max_iterations, rsl.experiment_name) == (24, 5000, "allegro_cube")
+    assert rsl.algorithm.gamma == 0.998 and rsl.actor.hidden_dims == [512, 256, 128]
+    skrl = load_cfg_from_registry(ALLEGRO_MANAGER, "skrl_cfg_entry_point")
+    assert skrl["agent"]["rollouts"] == 24 and skrl["agent"]["mini_batches"] == 12
+    rlg = load_cfg_from_registry(ALLEGRO_MANAGER, "rl_games_cfg_entry_point")
+    assert rlg["params"]["config"]["horizon_length"] == 24 and rlg["params"]["config"]["minibatch_size"] == 16384
+    from simlab.tasks.utils.criteria import criterion_for
+
+    assert criterion_for(ALLEGRO_MANAGER).min_seconds > 20.0

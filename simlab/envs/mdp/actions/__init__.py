@@ -5,9 +5,11 @@ from .actions_cfg import (
     BinaryJointPositionActionCfg,
     BinaryJointVelocityActionCfg,
     DifferentialInverseKinematicsActionCfg,
+    EMAJointPositionToLimitsActionCfg,
     JointActionCfg,
     JointEffortActionCfg,
     JointPositionActionCfg,
+    JointPositionToLimitsActionCfg,
     JointVelocityActionCfg,
     OperationalSpaceControllerActionCfg,
     RelativeJointPositionActionCfg,
@@ -20,6 +22,7 @@ from .joint_actions import (
     JointVelocityAction,
     RelativeJointPositionAction,
 )
+from .joint_actions_to_limits import EMAJointPositionToLimitsAction, JointPositionToLimitsAction
 from .task_space_actions import DifferentialInverseKinematicsAction, OperationalSpaceControllerAction
 
 __all__ = [
@@ -31,12 +34,16 @@ __all__ = [
     "BinaryJointVelocityActionCfg",
     "DifferentialInverseKinematicsAction",
     "DifferentialInverseKinematicsActionCfg",
+    "EMAJointPositionToLimitsAction",
+    "EMAJointPositionToLimitsActionCfg",
     "JointAction",
     "JointActionCfg",
     "JointEffortAction",
     "JointEffortActionCfg",
     "JointPositionAction",
     "JointPositionActionCfg",
+    "JointPositionToLimitsAction",
+    "JointPositionToLimitsActionCfg",
     "JointVelocityAction",
     "JointVelocityActionCfg",
     "OperationalSpaceControllerAction",

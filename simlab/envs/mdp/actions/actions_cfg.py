@@ -8,7 +8,7 @@ from simlab.controllers import DifferentialIKControllerCfg, OperationalSpaceCont
 from simlab.managers.manager_term_cfg import ActionTermCfg
 from simlab.utils import configclass
 
-from . import binary_joint_actions, joint_actions, task_space_actions
+from . import binary_joint_actions, joint_actions, joint_actions_to_limits, task_space_actions
 
 
 @configclass
@@ -43,6 +43,22 @@ class JointVelocityActionCfg(JointActionCfg):
 @configclass
 class JointEffortActionCfg(JointActionCfg):
     class_type: type = joint_actions.JointEffortAction
+
+
+@configclass
+class JointPositionToLimitsActionCfg(JointActionCfg):
+    """``offset`` must stay 0 (Isaac Lab's term has none)."""
+
+    class_type: type = joint_actions_to_limits.JointPositionToLimitsAction
+    rescale_to_limits: bool = True
+    """Map actions in [-1, 1] onto the joints' soft limits (else the scaled action is the target)."""
+
+
+@configclass
+class EMAJointPositionToLimitsActionCfg(JointPositionToLimitsActionCfg):
+    class_type: type = joint_actions_to_limits.EMAJointPositionToLimitsAction
+    alpha: float | dict[str, float] = 1.0
+    """Weight of the new target in the moving average (1: no smoothing), per joint pattern if a dict."""
 
 
 @configclass

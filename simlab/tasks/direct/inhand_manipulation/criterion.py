@@ -27,7 +27,14 @@ def episode_success_tracker() -> tuple[Callable[[Any, Any, Any], None], dict[str
     return on_step, sums
 
 
-def reorients_cube(min_successes: float = 5.0, episode_s: float = 10.0) -> Criterion:
+def reorients_cube(
+    min_successes: float = 5.0,
+    episode_s: float = 10.0,
+    tracker: Callable[[], tuple[Callable[[Any, Any, Any], None], dict[str, float]]] = episode_success_tracker,
+) -> Criterion:
+    """Judge by the mean count of goals reached per finished episode; ``tracker`` makes the hook that
+    sums them (``{"successes": ..., "episodes": ...}``)."""
+
     def judge(result: dict[str, float], sums: dict[str, float]) -> tuple[float, bool]:
         if not sums["episodes"]:
             return 0.0, False
@@ -36,7 +43,7 @@ def reorients_cube(min_successes: float = 5.0, episode_s: float = 10.0) -> Crite
 
     return Criterion(
         f"on average >= {min_successes:g} goal orientations reached per episode (score: the mean)",
-        episode_success_tracker,
+        tracker,
         judge,
         min_seconds=episode_s + 0.5,
     )

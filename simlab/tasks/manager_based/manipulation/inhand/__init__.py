@@ -1,0 +1,1 @@
+"""In-hand object reorientation, manager-based (Isaac Lab's ``manager_based/manipulation/inhand``)."""

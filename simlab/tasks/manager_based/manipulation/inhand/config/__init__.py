@@ -1,0 +1,1 @@
+"""Robot configs of the in-hand task."""
