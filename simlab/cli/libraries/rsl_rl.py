@@ -8,6 +8,7 @@ import io
 import math
 import os
 import statistics
+import warnings
 from collections.abc import Callable
 from typing import Any
 
@@ -215,7 +216,9 @@ def use_fast_update(alg: Any, setting: bool | None) -> str:
         return "rsl_rl (the fast update pays on CUDA; agent.fast_update=true runs it on the CPU too)"
     reason = fast_update_unsupported(alg)
     if reason is not None:
-        if setting:
+        if reason.startswith("rsl-rl-lib "):  # a copy of another release's update: never run it
+            warnings.warn(f"{reason}: training uses rsl_rl's own update.", stacklevel=2)
+        elif setting:
             raise ValueError(
                 f"agent.fast_update=true, but simlab's fast PPO update does not cover {reason}. "
                 "Set agent.fast_update=null (use it where it applies) or false (rsl_rl's own update)."
