@@ -116,3 +116,49 @@ def test_isaac_labs_own_task_config_runs_after_the_import_mapping(robot, terrain
             assert torch.isfinite(obs["policy"]).all() and torch.isfinite(reward).all()
     finally:
         env.close()
+
+
+def test_biped_criterion_counts_the_falls_of_an_idle_robot():
+    from simlab.tasks.utils.criteria import criterion_for
+
+    criterion = criterion_for("simlab/Velocity-Flat-G1-v0")
+    assert criterion is not criterion_for("simlab/Velocity-Rough-G1-v0")
+    assert criterion.play_seconds(5.0) == 20.0, "a verdict needs a whole episode"
+    on_step, sums = criterion.make_hook()
+    env = make("simlab/Velocity-Flat-G1-v0")
+    try:
+        obs, _ = env.reset()
+        actions = torch.zeros(N, env.action_manager.total_action_dim)
+        for _ in range(150):  # 3 s at the default pose targets: the G1 cannot balance without a policy
+            obs, *_ = env.step(actions)
+            on_step(env, obs, actions)
+    finally:
+        env.close()
+    assert sums["steps"] == 150 and sums["samples"] == 150 * N
+    assert sums["falls"] >= N, "each robot fell at least once"
+    score, passed = criterion.judge({}, sums)
+    assert score == sums["speed"] / sums["samples"] and not passed
+    # the same errors without the falls pass
+    assert criterion.judge({}, {**sums, "speed": 0.2 * sums["samples"], "yaw_rate": 0.2 * sums["samples"], "falls": 0})[
+        1
+    ]
+    # one fall per 20 env-seconds in 5 % of the envs is the limit
+    steady = {"speed": 0.0, "yaw_rate": 0.0, "samples": 1000 * 100, "steps": 1000, "seconds": 20.0}
+    assert criterion.judge({}, {**steady, "falls": 4})[1] and not criterion.judge({}, {**steady, "falls": 5})[1]
+
+
+def test_rough_criterion_reads_the_curriculum_level():
+    from simlab.tasks.utils.criteria import criterion_for
+
+    criterion = criterion_for("simlab/Velocity-Rough-H1-v0")
+    on_step, level = criterion.make_hook()
+    env = make("simlab/Velocity-Rough-H1-v0")
+    try:
+        obs, _ = env.reset()
+        levels = env.scene.terrain.terrain_levels
+        for rows, verdict in (([4, 4, 3, 2], True), ([3, 2, 3, 2], False)):
+            levels[:] = torch.tensor(rows)
+            on_step(env, obs, None)
+            assert criterion.judge({}, level) == (sum(rows) / N, verdict)
+    finally:
+        env.close()
