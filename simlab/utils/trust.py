@@ -50,8 +50,9 @@ def _torch_safe_globals() -> list[Any]:
 def _first_reason(error: BaseException) -> str:
     """The one line of torch's weights-only refusal that names what the file needed."""
     text = str(error)
-    match = re.search(r"(unsupported GLOBAL [^\s]+|Unsupported global: GLOBAL [^\s]+|Unsupported operand \d+)", text)
-    return match.group(1) if match else (text.strip().splitlines() or [type(error).__name__])[0][:200]
+    if match := re.search(r"GLOBAL ([\w.]+)", text):
+        return f"it needs {match.group(1)}"
+    return (text.strip().splitlines() or [type(error).__name__])[0][:200]
 
 
 def torch_load(f: Any, map_location: Any = None, trust: bool = False, what: str | None = None) -> Any:

@@ -1,0 +1,280 @@
+"""Someone else's file cannot run code here (issue 37.1-3, 5 and overrides), written as the attack.
+
+Each crafted file holds a pickle whose ``__reduce__`` creates a marker file when unpickled: the
+marker must not appear, and the refusal is one line (exit 2). Real checkpoints of the four
+libraries still load and play.
+"""
+
+from __future__ import annotations
+
+import base64
+import glob
+import json
+import os
+import pickle
+import shutil
+import zipfile
+
+import pytest
+import torch
+
+from simlab.cli.main import main
+from simlab.utils.errors import UntrustedFileError
+
+TASK = "simlab/Cartpole-v0"
+SMALL = ["--task", TASK, "--num_envs", "4", "--headless", "--device", "cpu"]
+# what the cartpole's policy sees without its joint velocities: 2 observations instead of 4
+FEWER_OBS = "env.observations.policy.joint_vel_rel=null"
+
+
+class MakesAFile:
+    """Unpickling this creates ``path``: what a crafted checkpoint would do (with a shell command)."""
+
+    def __init__(self, path: str):
+        self.path = path
+
+    def __reduce__(self):
+        return (open, (self.path, "w"))
+
+
+def _main(tmp_path, *argv: str) -> int:
+    return main([*argv, "--log_root", str(tmp_path / "logs")])
+
+
+def _one_line_error(capsys) -> str:
+    err = [line for line in capsys.readouterr().err.splitlines() if line.startswith("simlab ")]
+    assert len(err) == 1, err
+    return err[0]
+
+
+@pytest.fixture(scope="module")
+def runs(tmp_path_factory) -> dict[str, str]:
+    """One tiny run of each library on the cartpole (2 iterations, 4 envs): library -> its run folder;
+    "sb3_norm": an SB3 run with VecNormalize."""
+    root = tmp_path_factory.mktemp("trust_runs")
+    found = {}
+    for name, library, extra in (
+        ("rsl_rl", "rsl_rl", []),
+        ("skrl", "skrl", []),
+        ("sb3", "sb3", []),
+        ("rl_games", "rl_games", []),
+        ("sb3_norm", "sb3", ["+agent.normalize_input=true"]),
+    ):
+        log_root = str(root / name)
+        code = main(["train", *SMALL, "--library", library, "--max_iterations", "2", "--log_root", log_root, *extra])
+        assert code == 0, name
+        (found[name],) = glob.glob(os.path.join(log_root, library, "*", "*"))
+    return found
+
+
+def _checkpoint(run: str, library: str) -> str:
+    pattern = {"rsl_rl": "model_*.pt", "skrl": "checkpoints/agent_*.pt", "sb3": "model.zip", "rl_games": "nn/*.pth"}
+    return sorted(glob.glob(os.path.join(run, pattern[library])))[-1]
+
+
+# --- 1. checkpoints load weights only -------------------------------------------------------------
+
+
+def _crafted_torch_file(path, marker, real: dict | None = None) -> str:
+    torch.save({**(real or {"iter": 1}), "extra": MakesAFile(str(marker))}, str(path))
+    assert not os.path.exists(marker)
+    return str(path)
+
+
+def test_play_refuses_a_crafted_checkpoint(tmp_path, capsys, runs):
+    marker = tmp_path / "pwned"
+    real = torch.load(_checkpoint(runs["rsl_rl"], "rsl_rl"), weights_only=True)
+    crafted = _crafted_torch_file(tmp_path / "model_1.pt", marker, real)
+    assert _main(tmp_path, "play", *SMALL, "--checkpoint", crafted, "--steps", "2") == 2
+    line = _one_line_error(capsys)
+    assert "Refused" in line and "--trust_checkpoint" in line and "io.open" in line
+    assert not marker.exists()
+
+
+def test_use_last_checkpoint_refuses_a_crafted_newest_checkpoint(tmp_path, capsys, runs):
+    marker = tmp_path / "pwned"
+    run = tmp_path / "logs" / "rsl_rl" / "cartpole" / "2099-01-01_00-00-00"
+    shutil.copytree(runs["rsl_rl"], run)
+    _crafted_torch_file(run / "model_999.pt", marker)
+    assert _main(tmp_path, "play", *SMALL, "--use_last_checkpoint", "--steps", "2") == 2
+    assert "--trust_checkpoint" in _one_line_error(capsys)
+    assert not marker.exists()
+
+
+def test_train_refuses_to_resume_from_a_crafted_checkpoint(tmp_path, capsys):
+    marker = tmp_path / "pwned"
+    crafted = _crafted_torch_file(tmp_path / "model_5.pt", marker)
+    code = _main(tmp_path, "train", *SMALL, "--checkpoint", crafted, "--max_iterations", "1")
+    assert code == 2 and "--trust_checkpoint" in _one_line_error(capsys)
+    assert not marker.exists()
+    assert not glob.glob(str(tmp_path / "logs" / "rsl_rl" / "*" / "*"))  # no run folder either
+
+
+def test_rl_games_refuses_a_crafted_checkpoint(tmp_path, capsys):
+    marker = tmp_path / "pwned"
+    crafted = _crafted_torch_file(tmp_path / "last_cartpole_ep_2.pth", marker, {"model": {}, "epoch": 2})
+    code = _main(tmp_path, "play", *SMALL, "--library", "rl_games", "--checkpoint", crafted, "--steps", "2")
+    assert code == 2 and "--trust_checkpoint" in _one_line_error(capsys)
+    assert not marker.exists()
+    # the adapter's own loader (rl_games' restore asks torch for weights_only=False) loads weights only too
+    from simlab.cli.libraries.rl_games import _restore_on_device
+
+    with pytest.raises(UntrustedFileError):
+        _restore_on_device(None, crafted, "cpu")
+    assert not marker.exists()
+
+
+def test_libraries_own_loads_are_weights_only(tmp_path):
+    """rsl_rl, skrl and rl_games call torch.load(weights_only=False) themselves: inside simlab's block it
+    loads weights only, and --trust_checkpoint (trust=True) restores the library's own load."""
+    from simlab.utils.trust import weights_only_torch_loads
+
+    marker = tmp_path / "pwned"
+    crafted = _crafted_torch_file(tmp_path / "model.pt", marker)
+    with weights_only_torch_loads(), pytest.raises(UntrustedFileError):
+        torch.load(crafted, weights_only=False)
+    assert not marker.exists()
+    with weights_only_torch_loads(trust=True):
+        torch.load(crafted, weights_only=False)
+    assert marker.exists()  # the user vouched for the file: it loads as the library would
+
+
+def _crafted_sb3_zip(real: str, path, key: str, payload: object) -> str:
+    """``real`` with its ``data`` item ``key`` replaced by a cloudpickle-style serialized ``payload``."""
+    with zipfile.ZipFile(real) as z:
+        members = {name: z.read(name) for name in z.namelist()}
+    data = json.loads(members["data"])
+    data[key] = {":type:": "<class 'object'>", ":serialized:": base64.b64encode(pickle.dumps(payload)).decode()}
+    members["data"] = json.dumps(data).encode()
+    with zipfile.ZipFile(path, "w") as z:
+        for name, content in members.items():
+            z.writestr(name, content)
+    return str(path)
+
+
+@pytest.mark.parametrize("key", ["clip_range", "policy_class", "observation_space", "policy_extra_item"])
+def test_sb3_never_unpickles_a_crafted_zip(tmp_path, capsys, runs, key):
+    """Settings the task's config gives (clip_range, the policy class) are taken from it and the file's
+    are never unpickled; the spaces go through a restricted unpickler; anything else is refused."""
+    marker = tmp_path / "pwned"
+    crafted = _crafted_sb3_zip(_checkpoint(runs["sb3"], "sb3"), tmp_path / "model.zip", key, MakesAFile(str(marker)))
+    code = _main(tmp_path, "play", *SMALL, "--library", "sb3", "--checkpoint", crafted, "--steps", "2", "--no_export")
+    if key in ("clip_range", "policy_class"):
+        assert code == 0  # the config's value is used: the crafted one is never read
+    else:
+        assert code == 2 and "--trust_checkpoint" in _one_line_error(capsys)
+    assert not marker.exists()
+
+
+def test_sb3_refuses_pickled_normalizer_statistics(tmp_path, capsys, runs):
+    marker = tmp_path / "pwned"
+    run = tmp_path / "run"
+    shutil.copytree(runs["sb3_norm"], run)
+    for stats in glob.glob(str(run / "model_vecnormalize*.npz")):
+        os.remove(stats)  # a run of SB3's own format: statistics pickled beside the model
+    with open(run / "model_vecnormalize.pkl", "wb") as f:
+        pickle.dump(MakesAFile(str(marker)), f)
+    argv = ["play", *SMALL, "--library", "sb3", "--checkpoint", str(run / "model.zip"), "--steps", "2"]
+    assert _main(tmp_path, *argv, "+agent.normalize_input=true") == 2
+    line = _one_line_error(capsys)
+    assert "model_vecnormalize.pkl" in line and "--trust_checkpoint" in line
+    assert not marker.exists()
+
+
+def test_sb3_normalizer_statistics_are_plain_arrays(runs, tmp_path):
+    import numpy as np
+
+    from simlab.cli.libraries.sb3 import load_statistics
+
+    run = runs["sb3_norm"]
+    assert not glob.glob(os.path.join(run, "*.pkl"))
+    with np.load(os.path.join(run, "model_vecnormalize.npz"), allow_pickle=False) as data:
+        assert data["obs/mean"].shape == (4,) and float(data["obs/count"]) > 1
+        stats = load_statistics(os.path.join(run, "model.zip"))
+        assert np.array_equal(stats["obs"][""].var, data["obs/var"]) and stats["norm_obs"] is True
+        assert stats["clip_obs"] == float(data["clip_obs"])
+
+
+# --- real checkpoints still load, play and resume -------------------------------------------------
+
+
+@pytest.mark.parametrize("name", ["rsl_rl", "skrl", "sb3", "rl_games", "sb3_norm"])
+def test_real_checkpoints_of_each_library_play(tmp_path, runs, name):
+    library = "sb3" if name == "sb3_norm" else name
+    extra = ["+agent.normalize_input=true"] if name == "sb3_norm" else []
+    checkpoint = _checkpoint(runs[name], library)
+    argv = ["play", *SMALL, "--library", library, "--checkpoint", checkpoint, "--steps", "3", "--no_export"]
+    assert _main(tmp_path, *argv, *extra) == 0
+
+
+def test_sb3_resumes_from_its_checkpoint_and_statistics(tmp_path, capsys, runs):
+    argv = ["train", *SMALL, "--library", "sb3", "--max_iterations", "1", "--checkpoint", runs["sb3_norm"]]
+    assert _main(tmp_path, *argv, "+agent.normalize_input=true") == 0
+    assert "Resumed from" in capsys.readouterr().out
+
+
+# --- 2. shipped policies come from the package only -----------------------------------------------
+
+
+def test_a_planted_pretrained_checkpoint_is_ignored(tmp_path, capsys):
+    marker = tmp_path / "pwned"
+    planted = tmp_path / "logs" / "pretrained" / "rsl_rl" / "Cartpole-v0"
+    planted.mkdir(parents=True)
+    _crafted_torch_file(planted / "model_99999.pt", marker)  # newer than the shipped one's name
+    argv = ["play", *SMALL, "--use_pretrained_checkpoint", "--steps", "2", "--no_export"]
+    assert _main(tmp_path, *argv) == 0
+    out = capsys.readouterr().out
+    assert "model_99999" not in out and "Playing" in out
+    assert not marker.exists()
+
+
+# --- 5. a checkpoint of another task: one line naming the layer and both sizes ---------------------
+
+
+@pytest.mark.parametrize("library", ["rsl_rl", "skrl", "sb3", "rl_games"])
+def test_a_checkpoint_of_another_task_is_refused_in_one_line(tmp_path, capsys, runs, library):
+    real = _checkpoint(runs[library], library)
+    copied = str(tmp_path / os.path.basename(real))  # out of its run folder: no params/run.yaml beside it
+    shutil.copy(real, copied)
+    argv = ["play", *SMALL, "--library", library, "--checkpoint", copied, "--steps", "2", FEWER_OBS]
+    assert _main(tmp_path, *argv) == 2
+    line = _one_line_error(capsys)
+    assert "layer '" in line and "does not fit" in line, line
+    assert "4" in line.split("size")[1] and "2" in line.split("policy")[-1], line  # both sizes
+
+
+# --- overrides: module:name resolves inside simlab, the task's package and --allow_module ----------
+
+
+def test_an_override_naming_another_module_is_refused(tmp_path, capsys):
+    argv = ["train", *SMALL, "--max_iterations", "1", "env.rewards.alive.func=pydoc:pipepager"]
+    assert _main(tmp_path, *argv) == 2
+    line = _one_line_error(capsys)
+    assert "'pydoc'" in line and "--allow_module pydoc" in line
+
+
+def test_a_refused_module_is_never_imported():
+    import sys
+
+    from simlab.utils.string import callable_modules, string_to_callable
+
+    assert "antigravity" not in sys.modules  # importing it opens a web browser
+    with callable_modules(["simlab"]), pytest.raises(ValueError, match="--allow_module antigravity"):
+        string_to_callable("antigravity:geohash")
+    assert "antigravity" not in sys.modules
+    with callable_modules(["simlab"]):
+        assert callable(string_to_callable("simlab.envs.mdp:joint_pos_rel"))
+    assert string_to_callable("os.path:join") is os.path.join  # Python code outside the block names any
+
+
+def test_allow_module_lets_an_override_name_that_module(tmp_path, capsys, monkeypatch):
+    package = tmp_path / "trusted_rewards"
+    package.mkdir()
+    (package / "__init__.py").write_text(
+        "import torch\n\ndef alive(env):\n    return torch.ones(env.num_envs, device=env.device)\n"
+    )
+    monkeypatch.syspath_prepend(str(tmp_path))
+    argv = ["train", *SMALL, "--max_iterations", "1", "env.rewards.alive.func=trusted_rewards:alive"]
+    assert _main(tmp_path, *argv) == 2
+    assert "--allow_module trusted_rewards" in _one_line_error(capsys)
+    assert _main(tmp_path, *argv, "--allow_module", "trusted_rewards") == 0
