@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 import re
+import sys
 
 import pytest
 
@@ -17,9 +18,15 @@ def _run(tmp_path, *argv) -> int:
     return main([*argv, "--log_root", str(tmp_path / "logs")])
 
 
-def _one_line_error(capsys) -> str:
+def _one_line_error(capsys, after_progress: bool = False) -> str:
+    """The error line, checked to be the only line on stderr (or, ``after_progress``, the only line after
+    a progress bar's, on a line of its own)."""
     err = capsys.readouterr().err
+    if after_progress:
+        *bar, err = err.rstrip("\n").split("\n")
+        assert all(line.lstrip("\r").startswith("rsl_rl:") for line in bar), bar
     assert "Traceback" not in err and len(err.strip().splitlines()) == 1, err
+    assert err.startswith("simlab "), err
     return err
 
 
@@ -136,6 +143,142 @@ def test_the_memory_estimate_covers_what_an_env_holds_per_world():
         grown.append(used)
     measured = (grown[1] - grown[0]) / 2048
     assert 0 < measured < per_world, (measured, per_world)
+
+
+# --- item 9: a log folder that cannot be written, a full disk, a writer killed mid-write -----------
+
+
+def _as_root() -> bool:
+    return hasattr(os, "geteuid") and os.geteuid() == 0
+
+
+def test_a_log_root_under_a_file_is_one_line(tmp_path, capsys):
+    (tmp_path / "file").write_text("not a folder")
+    argv = ["train", *SMALL, "--max_iterations", "1", "--log_root", str(tmp_path / "file" / "logs")]
+    assert main(argv) == 2
+    err = _one_line_error(capsys)
+    assert f"Cannot create a run folder in '{tmp_path / 'file' / 'logs' / 'rsl_rl' / 'cartpole'}'" in err
+    assert "Give a --log_root you can write." in err
+
+
+@pytest.mark.skipif(_as_root() or os.name != "posix", reason="root writes into read-only folders")
+def test_a_read_only_log_root_is_one_line(tmp_path, capsys):
+    logs = tmp_path / "logs"
+    logs.mkdir()
+    logs.chmod(0o500)
+    try:
+        assert main(["train", *SMALL, "--max_iterations", "1", "--log_root", str(logs)]) == 2
+    finally:
+        logs.chmod(0o700)
+    err = _one_line_error(capsys)
+    assert "Cannot create a run folder in" in err and "Permission denied" in err
+
+
+def test_a_read_only_log_root_is_one_line_as_root_too(tmp_path, capsys, monkeypatch):
+    """As root chmod stops no write: the folder refuses through os.mkdir, as a read-only mount does."""
+    import errno
+
+    import simlab.cli.runs as runs
+
+    def mkdir(path, *args, **kwargs):
+        raise OSError(errno.EROFS, os.strerror(errno.EROFS), path)
+
+    monkeypatch.setattr(runs.os, "mkdir", mkdir)  # os.makedirs creates its folders with os.mkdir too
+    assert _run(tmp_path, "train", *SMALL, "--max_iterations", "1") == 2
+    assert "Cannot create a run folder in" in _one_line_error(capsys)
+
+
+def _files(folder) -> dict[str, bytes]:
+    return {name: (folder / name).read_bytes() for name in os.listdir(folder) if (folder / name).is_file()}
+
+
+def test_a_full_disk_during_training_keeps_the_last_checkpoint_and_no_temporary_file(tmp_path, capsys, monkeypatch):
+    import errno
+
+    import torch
+
+    saved: dict[str, bytes] = {}
+    real_save = torch.save
+
+    def save(obj, f, *args, **kwargs):
+        run = os.path.dirname(f)
+        saved.update({k: v for k, v in _files(type(tmp_path)(run)).items() if k.startswith("model_")})
+        if saved:  # the second checkpoint: the disk fills up halfway through
+            with open(f, "wb") as out:
+                out.write(b"\0" * 1000)
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+        real_save(obj, f, *args, **kwargs)
+
+    monkeypatch.setattr(torch, "save", save)
+    assert _run(tmp_path, "train", *SMALL, "--max_iterations", "3", "agent.save_interval=1") == 2
+    err = _one_line_error(capsys, after_progress=True)
+    (run,) = (tmp_path / "logs" / "rsl_rl" / "cartpole").iterdir()
+    assert f"Cannot write 'model_1.pt' into '{run}': No space left on device" in err
+    assert f"Training stopped; its last complete checkpoint is '{run / 'model_0.pt'}'." in err
+    assert list(saved) == ["model_0.pt"] and _files(run)["model_0.pt"] == saved["model_0.pt"]
+    assert not [name for name in os.listdir(run) if ".tmp" in name]
+
+
+_SLOW_WRITER = """
+import sys, time
+from simlab.utils.io import atomic_path
+with atomic_path(sys.argv[1]) as tmp, open(tmp, "wb") as f:
+    f.write(b"new" * 1000)
+    f.flush()
+    print("writing", flush=True)
+    time.sleep(120)
+"""
+
+
+def test_a_writer_killed_mid_write_leaves_the_old_file_and_its_temporary_file_is_removed(tmp_path):
+    import signal
+    import subprocess
+    import sys
+
+    import torch
+
+    from simlab.cli.checkpoints import resolve_checkpoint
+
+    old = tmp_path / "model_1.pt"
+    torch.save({"w": torch.ones(3)}, old)
+    before = old.read_bytes()
+    env = {**os.environ, "PYTHONPATH": os.path.dirname(os.path.dirname(os.path.abspath(__file__)))}
+    writer = subprocess.Popen([sys.executable, "-c", _SLOW_WRITER, str(old)], stdout=subprocess.PIPE, env=env)
+    try:
+        assert writer.stdout.readline() == b"writing\n"
+    finally:
+        writer.send_signal(signal.SIGKILL)
+        writer.wait(timeout=30)
+    left = [name for name in os.listdir(tmp_path) if ".tmp" in name]
+    assert left == [f".model_1.pt.{writer.pid}.tmp"]  # what the kill left
+    assert old.read_bytes() == before
+    # the next look for checkpoints in the folder (play, resume) removes it
+    assert resolve_checkpoint(str(tmp_path), "rsl_rl") == str(old)
+    assert os.listdir(tmp_path) == ["model_1.pt"] and old.read_bytes() == before
+
+
+@pytest.mark.skipif(not _as_root() or not sys.platform.startswith("linux"), reason="mounts a small tmpfs")
+def test_a_really_full_disk_during_training(tmp_path, capsys):
+    """torch reports a failed write as a RuntimeError without its cause: simlab finds the full disk."""
+    import subprocess
+
+    disk = tmp_path / "disk"
+    disk.mkdir()
+    if subprocess.run(["mount", "-t", "tmpfs", "-o", "size=256k", "tmpfs", str(disk)], capture_output=True).returncode:
+        pytest.skip("cannot mount a tmpfs here")
+    try:
+        argv = ["train", *SMALL, "--max_iterations", "30", "agent.save_interval=1", "--log_root", str(disk)]
+        assert main(argv) == 2
+        err = _one_line_error(capsys, after_progress=True)
+        (run,) = (disk / "rsl_rl" / "cartpole").iterdir()
+        assert f"into '{run}': No space left on device" in err and "its last complete checkpoint is" in err
+        last = err.split("its last complete checkpoint is '")[1].split("'")[0]
+        import torch
+
+        torch.load(last, weights_only=True)  # complete
+        assert not [name for name in os.listdir(run) if ".tmp" in name]
+    finally:
+        subprocess.run(["umount", str(disk)], check=True)
 
 
 # --- items 10 and 11: HDF5 datasets ---------------------------------------------------------------

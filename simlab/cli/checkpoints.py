@@ -24,6 +24,7 @@ import gymnasium as gym
 from simlab.cli.runs import CHECKPOINT_LAYOUT, find_run_info, is_checkpoint_name
 from simlab.rl.utils import is_multi_agent
 from simlab.utils.errors import CheckpointError, CheckpointNotFoundError, SimlabError, UntrustedFileError, describe
+from simlab.utils.io import remove_stale_temp_files
 from simlab.utils.trust import torch_load
 
 __all__ = [
@@ -94,6 +95,7 @@ def _candidates(run_dirs: list[str], library: str) -> Iterator[str]:
         folder = os.path.join(run, *CHECKPOINT_LAYOUT[library][0])
         if not os.path.isdir(folder):
             continue
+        remove_stale_temp_files(folder)  # of a save that was killed mid-write
         names = [f for f in os.listdir(folder) if is_checkpoint_name(f, library)]
         names = [f for f in names if os.path.isfile(os.path.join(folder, f))]
         for name in sorted(names, key=_natural_key, reverse=True):

@@ -10,6 +10,7 @@ import sys
 from datetime import datetime
 from typing import Any
 
+from simlab.utils.errors import StorageError
 from simlab.utils.io import dump_yaml, load_yaml, write_text
 
 __all__ = [
@@ -45,14 +46,19 @@ def make_run_dir(log_root: str, library: str, experiment: str, run_name: str = "
     stamp = datetime.now().strftime("%Y-%m-%d_%H-%M-%S")
     name = f"{stamp}_{run_name}" if run_name else stamp
     parent = os.path.abspath(os.path.join(log_root, library, experiment))
-    os.makedirs(parent, exist_ok=True)
-    for attempt in range(1000):
-        path = os.path.join(parent, name if attempt == 0 else f"{name}_{attempt}")
-        try:
-            os.mkdir(path)
-            return path
-        except FileExistsError:
-            continue
+    try:
+        os.makedirs(parent, exist_ok=True)
+        for attempt in range(1000):
+            path = os.path.join(parent, name if attempt == 0 else f"{name}_{attempt}")
+            try:
+                os.mkdir(path)
+                return path
+            except FileExistsError:
+                continue
+    except OSError as error:  # read-only, no permission, a file where a folder should be, a full disk
+        raise StorageError(
+            f"Cannot create a run folder in '{parent}': {error.strerror or error}. Give a --log_root you can write."
+        ) from error
     raise FileExistsError(f"Could not create a new run folder for '{name}' in '{parent}' (1000 taken).")
 
 

@@ -20,7 +20,7 @@ from simlab.cli.runs import dump_params, make_run_dir, remove_if_empty_run, writ
 from simlab.cli.session import check_flags, load_configs, make_env, resolve_seed
 from simlab.rl.utils import is_multi_agent
 from simlab.tasks.utils.hydra import env_overrides_in
-from simlab.utils.errors import ConfigError
+from simlab.utils.errors import CheckpointError, ConfigError, StorageError, is_storage_error
 from simlab.utils.startup import (
     bytecode_hint,
     clear_milestones,
@@ -143,9 +143,12 @@ def run_train(args: argparse.Namespace, overrides: list[str], argv: list[str] | 
         run_dir = make_run_dir(args.log_root, args.library, lib.experiment_name(agent_cfg, args.task), args.run_name)
     try:
         startup, start = _train_in(run_dir, ranks, lib, args, overrides, env_cfg, agent_cfg, resume, argv)
-    except BaseException:
-        if run_dir is not None and remove_if_empty_run(run_dir, args.library):
+    except BaseException as error:
+        removed = run_dir is not None and remove_if_empty_run(run_dir, args.library)
+        if removed:
             print(f"[simlab] Removed the run folder {run_dir}: the run stopped before its first checkpoint.")
+        if run_dir is not None and is_storage_error(error):
+            raise StorageError(_stopped_writing(run_dir, args.library, error, removed)) from error
         raise
     finally:
         distributed.shutdown()
@@ -158,6 +161,18 @@ def run_train(args: argparse.Namespace, overrides: list[str], argv: list[str] | 
             f"({startup + took:.1f} s in all). Run folder: {run_dir}"
         )
     return run_dir
+
+
+def _stopped_writing(run_dir: str, library: str, error: BaseException, removed: bool) -> str:
+    """One line for a training whose run folder could not be written: where, why, and what is kept."""
+    what = str(error) if isinstance(error, StorageError) else f"Cannot write into '{run_dir}': {error.strerror}."
+    if removed:
+        return f"{what} Training stopped before its first checkpoint."
+    try:
+        last = resolve_checkpoint(run_dir, library)
+    except CheckpointError:
+        return f"{what} Training stopped; no complete checkpoint is left in '{run_dir}'."
+    return f"{what} Training stopped; its last complete checkpoint is '{last}'."
 
 
 def _train_in(

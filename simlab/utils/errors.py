@@ -7,6 +7,7 @@ any other exception is a bug somewhere and keeps its traceback (see :func:`is_in
 
 from __future__ import annotations
 
+import errno
 import os
 import traceback
 
@@ -17,10 +18,12 @@ __all__ = [
     "DeviceError",
     "MissingDependencyError",
     "SimlabError",
+    "StorageError",
     "TrainingDivergedError",
     "UntrustedFileError",
     "describe",
     "is_intended_error",
+    "is_storage_error",
 ]
 
 
@@ -56,8 +59,23 @@ class MissingDependencyError(SimlabError, ImportError):
     """An optional library that the asked-for feature needs is not installed."""
 
 
+class StorageError(SimlabError, OSError):
+    """A file or folder that cannot be written: no permission, a read-only file system, a full disk."""
+
+
 class TrainingDivergedError(SimlabError, RuntimeError):
     """The learner's loss or policy became non-finite (too high a learning rate, exploding rewards)."""
+
+
+# errno values of a write the storage refused: the user frees space, or picks a folder they can write
+STORAGE_ERRNOS = frozenset(
+    getattr(errno, name) for name in ("EACCES", "EPERM", "EROFS", "ENOSPC", "EDQUOT", "EFBIG") if hasattr(errno, name)
+)
+
+
+def is_storage_error(error: BaseException) -> bool:
+    """True for a write refused by the storage: no permission, a read-only file system, a full disk."""
+    return isinstance(error, StorageError) or (isinstance(error, OSError) and error.errno in STORAGE_ERRNOS)
 
 
 _SIMLAB_ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__))) + os.sep
@@ -69,10 +87,11 @@ def is_intended_error(error: BaseException) -> bool:
     """True for errors simlab raises on purpose to report bad input.
 
     That is a :class:`SimlabError`, or a ``ValueError``-like built-in error raised by a ``raise``
-    statement in simlab's own source (many checks of configs and terms predate the family). An error
-    raised inside a library, by a failed operation in simlab, or in the user's code is not.
+    statement in simlab's own source (many checks of configs and terms predate the family), or a write
+    the storage refused (:func:`is_storage_error`, a state the user fixes). Any other error raised inside
+    a library, by a failed operation in simlab, or in the user's code is not.
     """
-    if isinstance(error, SimlabError):
+    if isinstance(error, SimlabError) or is_storage_error(error):
         return True
     if not isinstance(error, _INPUT_ERRORS) or error.__traceback__ is None:
         return False

@@ -10,12 +10,14 @@ import contextlib
 import dataclasses
 import os
 import pickle
+import re
 from collections.abc import Iterator
 from typing import Any
 
 import yaml
 
 from simlab.utils.dict import MISSING_STR, _value_to_plain, class_to_dict
+from simlab.utils.errors import StorageError, is_storage_error
 
 __all__ = [
     "ConfigYamlDumper",
@@ -26,6 +28,7 @@ __all__ = [
     "dump_yaml",
     "load_pickle",
     "load_yaml",
+    "remove_stale_temp_files",
     "write_text",
 ]
 
@@ -60,6 +63,67 @@ def _fsync_dir(folder: str) -> None:
         os.close(fd)
 
 
+# the temporary files of atomic_path (and of simlab's video writer): .<name>.<pid>.tmp[<suffix>]
+_TEMP_NAME = re.compile(r"^\..+\.(\d+)\.tmp")
+
+
+def _process_exists(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)  # signal 0: only asks whether the process exists
+    except ProcessLookupError:
+        return False
+    except OSError:  # exists, but belongs to another user
+        return True
+    return True
+
+
+def remove_stale_temp_files(folder: str | os.PathLike) -> list[str]:
+    """Remove the temporary files in ``folder`` that a writer killed mid-write left (its process is gone);
+    returns their paths. A writer that is still running keeps its file."""
+    if os.name != "posix":  # os.kill(pid, 0) would end the process on Windows
+        return []
+    try:
+        names = os.listdir(folder)
+    except OSError:
+        return []
+    removed = []
+    for name in names:
+        match = _TEMP_NAME.match(name)
+        if match is None or int(match.group(1)) == os.getpid() or _process_exists(int(match.group(1))):
+            continue
+        with contextlib.suppress(OSError):
+            os.remove(os.path.join(folder, name))
+            removed.append(os.path.join(folder, name))
+    return removed
+
+
+def _storage_problem(folder: str, error: BaseException) -> str | None:
+    """Why a write into ``folder`` failed when the storage refused it (no permission, read-only, full),
+    else None. torch reports a failed write as a ``RuntimeError`` without the cause: a small write
+    into the folder, while the failed file is still there, tells whether the storage is the cause."""
+    if is_storage_error(error):
+        return getattr(error, "strerror", None) or str(error)
+    if not isinstance(error, (OSError, RuntimeError)):
+        return None
+    probe = os.path.join(folder, f".probe.{os.getpid()}.tmp")
+    try:
+        with open(probe, "wb") as f:
+            f.write(bytes(2**16))
+            f.flush()
+            os.fsync(f.fileno())
+    except OSError as probe_error:
+        return probe_error.strerror or str(probe_error)
+    finally:
+        with contextlib.suppress(OSError):
+            os.remove(probe)
+    return None
+
+
+def _storage_error(path: str, reason: str) -> StorageError:
+    kept = " (the file already there is unchanged)" if os.path.isfile(path) else ""
+    return StorageError(f"Cannot write '{os.path.basename(path)}' into '{os.path.dirname(path)}': {reason}{kept}.")
+
+
 @contextlib.contextmanager
 def atomic_path(path: str | os.PathLike, suffix: str = "", durable: bool = True) -> Iterator[str]:
     """Yield a temporary path next to ``path``; once the block has written it, it replaces ``path``.
@@ -67,11 +131,17 @@ def atomic_path(path: str | os.PathLike, suffix: str = "", durable: bool = True)
     The temporary name starts with a dot (checkpoint patterns do not match it) and ends with
     ``suffix`` (for writers that insist on an extension, e.g. ``.zip``). ``durable`` flushes the
     file and its folder to disk before and after the rename, so a power cut leaves the old file or
-    the new one. If the block fails, the temporary file is removed and ``path`` is untouched.
+    the new one. If the block fails, the temporary file is removed and ``path`` is untouched; a
+    write the storage refused (no permission, read-only, full disk) raises :class:`StorageError`
+    naming the folder. Temporary files of writers that were killed are removed here too.
     """
     path = os.path.abspath(os.fspath(path))
     folder, name = os.path.split(path)
-    os.makedirs(folder, exist_ok=True)
+    try:
+        os.makedirs(folder, exist_ok=True)
+    except OSError as error:
+        raise _storage_error(path, error.strerror or str(error)) from error
+    remove_stale_temp_files(folder)
     tmp = os.path.join(folder, f".{name}.{os.getpid()}.tmp{suffix}")
     try:
         yield tmp
@@ -83,8 +153,13 @@ def atomic_path(path: str | os.PathLike, suffix: str = "", durable: bool = True)
         os.replace(tmp, path)
         if durable:
             _fsync_dir(folder)
+    except Exception as error:
+        reason = None if isinstance(error, StorageError) else _storage_problem(folder, error)
+        if reason is None:
+            raise
+        raise _storage_error(path, reason) from error
     finally:
-        if os.path.exists(tmp):
+        with contextlib.suppress(OSError):  # no temporary file left behind, whatever stopped the block
             os.remove(tmp)
 
 
@@ -94,9 +169,18 @@ def atomic_torch_saves() -> Iterator[None]:
 
     The RL libraries write their checkpoints with ``torch.save(obj, path)``; training runs inside
     this block, so a checkpoint on disk is always complete, even if the process dies mid-write.
+    The patch is process-wide while the block runs, so it is made only with the torch release it
+    was checked with (``simlab.utils.versions``); with another, saves are plain and a warning says so.
     """
     import torch
 
+    from simlab.utils.versions import release_mismatch, warn_once
+
+    mismatch = release_mismatch("torch")
+    if mismatch is not None:
+        warn_once(f"{mismatch}: checkpoints are written with torch's own torch.save, not atomically")
+        yield
+        return
     plain_save = torch.save
 
     def save(obj: Any, f: Any, *args: Any, **kwargs: Any) -> None:

@@ -8,7 +8,6 @@ import io
 import math
 import os
 import statistics
-import warnings
 from collections.abc import Callable
 from typing import Any
 
@@ -24,6 +23,7 @@ from simlab.utils.errors import ConfigError, TrainingDivergedError
 from simlab.utils.io import atomic_torch_saves
 from simlab.utils.startup import mark
 from simlab.utils.trust import weights_only_torch_loads
+from simlab.utils.versions import warn_once
 
 require("rsl_rl")
 from rsl_rl.runners import OnPolicyRunner  # noqa: E402
@@ -150,9 +150,13 @@ class _ProgressLogger(Logger):
         self.rewbuffer.extend(returns[done].tolist())  # step-major: the order rsl_rl keeps
         self.lenbuffer.extend(lengths[done].tolist())
 
-    def stop_logging_writer(self) -> None:
+    def close_bar(self) -> None:
+        """End the progress bar's line (so an error printed next starts on its own line)."""
         if hasattr(self, "_bar"):
             self._bar.close()
+
+    def stop_logging_writer(self) -> None:
+        self.close_bar()
         if self.writer is not None and hasattr(self.writer, "flush"):
             self.writer.flush()
         super().stop_logging_writer()
@@ -216,8 +220,8 @@ def use_fast_update(alg: Any, setting: bool | None) -> str:
         return "rsl_rl (the fast update pays on CUDA; agent.fast_update=true runs it on the CPU too)"
     reason = fast_update_unsupported(alg)
     if reason is not None:
-        if reason.startswith("rsl-rl-lib "):  # a copy of another release's update: never run it
-            warnings.warn(f"{reason}: training uses rsl_rl's own update.", stacklevel=2)
+        if reason.startswith(("rsl-rl-lib ", "torch ")):  # another release than the one checked: never run it
+            warn_once(f"{reason}; training uses rsl_rl's own update.")
         elif setting:
             raise ValueError(
                 f"agent.fast_update=true, but simlab's fast PPO update does not cover {reason}. "
@@ -296,6 +300,9 @@ def train(
         raise
     except TrainingDivergedError:
         logger.stop_logging_writer()
+        raise
+    except OSError:  # the run folder cannot be written (full disk, read-only): nothing more to flush there
+        logger.close_bar()
         raise
 
 
