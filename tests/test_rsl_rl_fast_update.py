@@ -115,14 +115,18 @@ def test_fast_update_picks_up_a_learning_rate_set_from_outside():
 
 def test_another_rsl_rl_release_falls_back_to_its_own_update_with_a_warning(monkeypatch):
     """The fast update copies one release's PPO.update: with another installed it never runs."""
-    from simlab.rl.rsl_rl import fast_update
+    import importlib.metadata
 
-    assert fast_update.rsl_rl_version_mismatch() is None  # the pinned release (constraints.txt) is installed
-    assert fast_update.rsl_rl_version_mismatch(fast_update.FOLLOWS_RSL_RL + ".7") is None
-    monkeypatch.setattr(fast_update.importlib.metadata, "version", lambda name: "5.6.0")
+    from simlab.utils import versions
+
+    assert versions.release_mismatch("rsl-rl-lib") is None  # the checked release (constraints.txt) is installed
+    installed = importlib.metadata.version
+    monkeypatch.setattr(
+        importlib.metadata, "version", lambda name: "5.6.0" if name == "rsl-rl-lib" else installed(name)
+    )
     alg = _learner(0)
     # even where asked for (agent.fast_update=true; the default on CUDA takes the same path)
-    with pytest.warns(UserWarning, match=r"rsl-rl-lib 5.6.0 is installed; simlab's fast update copies 5.5's"):
+    with pytest.warns(UserWarning, match=r"rsl-rl-lib 5.6.0 is installed, not 5.5: simlab's fast update copies"):
         kind = use_fast_update(alg, True)
     assert kind.startswith("rsl_rl (rsl-rl-lib 5.6.0") and not isinstance(alg.update, FastPPOUpdate)
 

@@ -173,7 +173,14 @@ class EnvSceneBuilder:
 
 
 def _install_gl_context(backend: str) -> None:
-    """Make MuJoCo's renderer use ``backend``'s context even if mujoco was imported before the choice."""
+    """Make MuJoCo's renderer use ``backend``'s context even if mujoco was imported before the choice.
+
+    This sets a module attribute of MuJoCo's (process-wide), so only with the release it was checked with."""
+    from simlab.utils.versions import release_mismatch, warn_once
+
+    if (mismatch := release_mismatch("mujoco")) is not None:
+        warn_once(f"{mismatch}: MuJoCo's renderer picks its GL context from MUJOCO_GL itself")
+        return
     from mujoco.rendering.classic import gl_context
 
     if backend == "osmesa":

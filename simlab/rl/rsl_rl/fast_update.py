@@ -25,7 +25,6 @@ optimizers other than Adam / AdamW, a subclass with its own ``update``) keep rsl
 from __future__ import annotations
 
 import contextlib
-import importlib.metadata
 import warnings
 from collections.abc import Iterator
 from typing import Any
@@ -34,8 +33,9 @@ import torch
 from torch import nn
 
 from simlab.rl.utils import require
+from simlab.utils.versions import release_mismatch
 
-from .capturable import capturable_distributions
+from .capturable import capturable_distributions, capturable_distributions_unsupported
 
 require("rsl_rl")
 TensorDict = require("tensordict").TensorDict
@@ -45,17 +45,11 @@ __all__ = ["FastPPOUpdate", "fast_update_unsupported"]
 
 _LOSSES = ("value", "surrogate", "entropy")
 
-FOLLOWS_RSL_RL = "5.5"
-"""The rsl-rl-lib release (major.minor) whose ``PPO.update`` this copy follows and was checked against
-(``tests/test_rsl_rl_fast_update.py``); with another installed, rsl_rl's own update runs."""
 
-
-def rsl_rl_version_mismatch(installed: str | None = None) -> str | None:
-    """Why the installed rsl-rl-lib (or ``installed``) is not the release this copy follows; None when it is."""
-    installed = installed or importlib.metadata.version("rsl-rl-lib")
-    if installed.split(".")[:2] == FOLLOWS_RSL_RL.split("."):
-        return None
-    return f"rsl-rl-lib {installed} is installed; simlab's fast update copies {FOLLOWS_RSL_RL}'s PPO.update"
+def rsl_rl_version_mismatch() -> str | None:
+    """Why the installed rsl-rl-lib is not the release this copy of ``PPO.update`` follows; None when it is."""
+    mismatch = release_mismatch("rsl-rl-lib")
+    return None if mismatch is None else f"{mismatch}: simlab's fast update copies that release's PPO.update"
 
 
 def fast_update_unsupported(alg: Any) -> str | None:
@@ -63,6 +57,8 @@ def fast_update_unsupported(alg: Any) -> str | None:
     mismatch = rsl_rl_version_mismatch()
     if mismatch is not None:
         return mismatch
+    if torch.device(alg.device).type == "cuda" and (reason := capturable_distributions_unsupported()):
+        return reason
     if not isinstance(alg, PPO) or type(alg).update is not PPO.update:
         return f"the algorithm {type(alg).__name__} has its own update"
     if alg.actor.is_recurrent or alg.critic.is_recurrent:

@@ -19,7 +19,7 @@ import torch
 
 from simlab.rl.utils import require
 
-from .capturable import capturable_distributions
+from .capturable import capturable_distributions, capturable_distributions_unsupported
 
 require("rsl_rl")
 TensorDict = require("tensordict").TensorDict
@@ -31,6 +31,8 @@ def graphed_act_unsupported(alg: Any) -> str | None:
     """Why ``alg.act`` must stay eager (None: it can be graphed)."""
     if torch.device(alg.device).type != "cuda":
         return "a CUDA graph needs a CUDA device"
+    if (reason := capturable_distributions_unsupported()) is not None:
+        return reason
     if alg.actor.is_recurrent or alg.critic.is_recurrent:
         return "recurrent models (their hidden state changes per step)"
     if alg.actor is not alg._raw_actor or alg.critic is not alg._raw_critic:

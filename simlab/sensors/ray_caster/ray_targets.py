@@ -227,7 +227,7 @@ class _WarpCaster:
         from simlab.sim.backends.cuda import require_cuda_backend
 
         wp, mjw = require_cuda_backend(device)
-        from mujoco_warp._src.types import vec6
+        vec6 = wp.types.vector(length=6, dtype=wp.float32)  # mujoco_warp's geom-group type (public warp)
 
         self._wp, self._mjw, self._physics = wp, mjw, physics
         data = mujoco.MjData(model)

@@ -120,6 +120,17 @@ def static_constraint_rows(model: mujoco.MjModel) -> int:
     return rows
 
 
+def _contact_rows_estimate(mjw: Any, model: mujoco.MjModel, mjdata: mujoco.MjData, static_rows: int) -> int | None:
+    """Constraint rows per world: the static ones plus MuJoCo Warp's own estimate for contacts (a
+    private helper: called only with the release it was checked with; else None, MuJoCo Warp's default)."""
+    from simlab.utils.versions import release_mismatch, warn_once
+
+    if (mismatch := release_mismatch("mujoco-warp")) is not None:
+        warn_once(f"{mismatch}: njmax is left to MuJoCo Warp's default (set sim.mujoco.njmax if it overflows)")
+        return None
+    return static_rows + mjw._src.io._default_njmax(model, mjdata)
+
+
 class CudaBackend(PhysicsBackend):
     """``num_envs`` worlds of one model in MuJoCo Warp, stepped by replaying CUDA graphs.
 
@@ -172,10 +183,11 @@ class CudaBackend(PhysicsBackend):
         if njmax is None:
             njmax = static_constraint_rows(model)
             if nconmax != 0:
-                njmax += mjw._src.io._default_njmax(model, mjdata)
+                njmax = _contact_rows_estimate(mjw, model, mjdata, njmax)
         if nconmax is not None:
             nconmax = max(nconmax, mjdata.ncon)
-        njmax = max(njmax, mjdata.nefc)
+        if njmax is not None:
+            njmax = max(njmax, mjdata.nefc)
 
         with wp.ScopedDevice(self._wp_device):
             self.wp_model = mjw.put_model(model)
