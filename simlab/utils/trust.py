@@ -50,9 +50,8 @@ def _torch_safe_globals() -> list[Any]:
 def _first_reason(error: BaseException) -> str:
     """The one line of torch's weights-only refusal that names what the file needed."""
     text = str(error)
-    if match := re.search(r"GLOBAL ([\w.]+)", text):
-        return f"it needs {match.group(1)}"
-    return (text.strip().splitlines() or [type(error).__name__])[0][:200]
+    match = re.search(r"GLOBAL ([\w.]+)", text)
+    return f"it needs {match.group(1)}" if match else "it needs a Python object"
 
 
 def torch_load(f: Any, map_location: Any = None, trust: bool = False, what: str | None = None) -> Any:
@@ -66,6 +65,8 @@ def torch_load(f: Any, map_location: Any = None, trust: bool = False, what: str 
         with torch.serialization.safe_globals(_torch_safe_globals()):
             return _plain_torch_load(f, map_location=map_location, weights_only=True)
     except pickle.UnpicklingError as e:
+        if "GLOBAL" not in str(e):
+            raise  # bytes that are no pickle torch reads (a corrupt file): the caller's error, not trust
         name = what or (f"'{os.fspath(f)}'" if isinstance(f, (str, os.PathLike)) else "the checkpoint")
         raise UntrustedFileError(
             f"Refused to load {name}: it holds more than weights ({_first_reason(e)}); {TRUST_HINT}."
