@@ -183,3 +183,32 @@ def test_allegro_manager_play_variant_and_agent_configs():
     from simlab.tasks.utils.criteria import criterion_for
 
     assert criterion_for(ALLEGRO_MANAGER).min_seconds > 20.0
+
+
+# -- direct Shadow Hand: simlab/Repose-Cube-Shadow-Direct-v0 ------------------------------------------------
+
+SHADOW = "simlab/Repose-Cube-Shadow-Direct-v0"
+
+
+def test_shadow_direct_steps_with_finite_values_and_coupled_distal_joints():
+    env = make(SHADOW)
+    try:
+        assert env.single_observation_space["policy"].shape == (157,)
+        assert env.single_action_space.shape == (20,)
+        assert env.graph_blockers() == []
+        assert len(env.actuated_dof_indices) == 20 and env.num_fingertips == 5
+        names = env.hand.joint_names
+        middle = [names.index(f"robot0_{f}J1") for f in ("FF", "MF", "RF", "LF")]
+        distal = [names.index(f"robot0_{f}J0") for f in ("FF", "MF", "RF", "LF")]
+        generator = torch.Generator().manual_seed(0)
+        for _ in range(20):
+            obs, reward, *_ = env.step(2 * torch.rand(NUM_ENVS, 20, generator=generator) - 1)
+            assert torch.isfinite(obs["policy"]).all() and torch.isfinite(reward).all()
+            gap = (env.hand.data.joint_pos[:, distal] - env.hand.data.joint_pos[:, middle]).abs().max()
+            assert float(gap) < 0.05  # the distal joints follow the middle ones under random actions
+        from simlab.tasks.utils import load_cfg_from_registry
+
+        rsl = load_cfg_from_registry(SHADOW, "rsl_rl_cfg_entry_point")
+        assert rsl.actor.hidden_dims == [512, 512, 256, 128] and rsl.experiment_name == "shadow_hand"
+    finally:
+        env.close()

@@ -58,6 +58,8 @@ class AllegroHandEnvCfg(DirectRLEnvCfg):
         "thumb_joint_2",
         "thumb_joint_3",
     ]
+    coupled_joints: dict[str, str] = {}
+    """Joints the model couples to another (follower: leader); a reset draws only the leader's position."""
     fingertip_body_names = list(ALLEGRO_FINGERTIP_BODIES)
 
     # in-hand object: Isaac Lab's DexCube scaled 1.2, density 400

@@ -60,6 +60,10 @@ class InHandManipulationEnv(DirectRLEnv):
         # actuated joints and fingertips in the model's order (Isaac Lab sorts the ids the same way)
         self.actuated_dof_indices = sorted(self.hand.joint_names.index(name) for name in cfg.actuated_joint_names)
         self.finger_bodies = sorted(self.hand.body_names.index(name) for name in cfg.fingertip_body_names)
+        # joints the model couples to another (follower: leader): a reset puts them where they belong
+        coupled = cfg.coupled_joints.items()
+        self._followers = [self.hand.joint_names.index(follower) for follower, _ in coupled]
+        self._leaders = [self.hand.joint_names.index(leader) for _, leader in coupled]
         self.num_fingertips = len(self.finger_bodies)
 
         limits = self.hand.data.joint_pos_limits.to(device)
@@ -194,6 +198,9 @@ class InHandManipulationEnv(DirectRLEnv):
         dof_pos = default_pos + self.cfg.reset_dof_pos_noise * rand_delta
         dof_vel_noise = sample_uniform(-1.0, 1.0, (n, self.num_hand_dofs), device=device)
         dof_vel = self.hand.data.default_joint_vel + self.cfg.reset_dof_vel_noise * dof_vel_noise
+        if self._followers:
+            dof_pos[:, self._followers] = dof_pos[:, self._leaders]
+            dof_vel[:, self._followers] = dof_vel[:, self._leaders]
         for buffer in (self.prev_targets, self.cur_targets, self.hand_dof_targets):
             masked_copy_(buffer, env_mask, dof_pos)
         self.hand.set_joint_position_target(dof_pos, env_ids=env_mask)

@@ -1,0 +1,20 @@
+"""Shadow Hand in-hand cube reorientation, direct workflow (Isaac Lab's ``direct/shadow_hand``)."""
+
+import gymnasium as gym
+
+from . import agents
+
+inhand_task_entry = "simlab.tasks.direct.inhand_manipulation"
+
+gym.register(
+    id="simlab/Repose-Cube-Shadow-Direct-v0",
+    entry_point=f"{inhand_task_entry}.inhand_manipulation_env:InHandManipulationEnv",
+    disable_env_checker=True,
+    kwargs={
+        "env_cfg_entry_point": f"{__name__}.shadow_hand_env_cfg:ShadowHandEnvCfg",
+        "success_criterion_entry_point": f"{inhand_task_entry}.criterion:reorients_cube",
+        "rl_games_cfg_entry_point": f"{agents.__name__}:rl_games_ppo_cfg.yaml",
+        "rsl_rl_cfg_entry_point": f"{agents.__name__}.rsl_rl_ppo_cfg:ShadowHandPPORunnerCfg",
+        "skrl_cfg_entry_point": f"{agents.__name__}:skrl_ppo_cfg.yaml",
+    },
+)
