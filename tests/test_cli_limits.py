@@ -219,6 +219,34 @@ def test_a_full_disk_during_training_keeps_the_last_checkpoint_and_no_temporary_
     assert not [name for name in os.listdir(run) if ".tmp" in name]
 
 
+@pytest.mark.parametrize("main_thread_fails", [True, False])
+def test_a_background_writer_on_a_full_disk_prints_no_traceback(capsys, main_thread_fails):
+    """TensorBoard's event writer dies in its own thread and raises again in the command's thread."""
+    import errno
+    import threading
+
+    from simlab.cli.main import _run_command
+
+    def command() -> int:
+        def write():
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+        thread = threading.Thread(target=write)
+        thread.start()
+        thread.join()
+        if main_thread_fails:
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), "/run/events.out.tfevents")
+        return 0
+
+    assert _run_command("train", False, command) == (2 if main_thread_fails else 0)
+    err = capsys.readouterr().err
+    assert "Traceback" not in err and "Exception in thread" not in err and len(err.strip().splitlines()) == 1
+    if main_thread_fails:
+        assert err == "simlab train: error: [Errno 28] No space left on device: '/run/events.out.tfevents'\n"
+    else:
+        assert err == "[simlab] WARNING: a background writer stopped: [Errno 28] No space left on device\n"
+
+
 _SLOW_WRITER = """
 import sys, time
 from simlab.utils.io import atomic_path

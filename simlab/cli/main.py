@@ -31,7 +31,7 @@ from typing import Any
 
 from simlab.cli.distributed import add_launch_args, end_torchrun_worker
 from simlab.cli.session import LIBRARIES, SKRL_ALGORITHMS
-from simlab.utils.errors import is_intended_error
+from simlab.utils.errors import is_intended_error, is_storage_error
 from simlab.utils.startup import pause_collector_for_start_up, resume_collector_after_start_up
 from simlab.viewer import DEFAULT_HOST, DEFAULT_PORT, VIEWER_KINDS
 
@@ -245,6 +245,27 @@ def _sigterm_as_interrupt() -> Iterator[None]:
         signal.signal(signal.SIGTERM, previous)
 
 
+@contextlib.contextmanager
+def _background_storage_errors() -> Iterator[list[BaseException]]:
+    """Within the block, a background thread that dies of a full disk or a read-only folder (TensorBoard's
+    event writer) prints no traceback: its writer raises the error again in the command's thread, which
+    reports it in one line. The errors are collected in the list the block gets."""
+    stopped: list[BaseException] = []
+    previous = threading.excepthook
+
+    def hook(args: threading.ExceptHookArgs) -> None:
+        if args.exc_value is not None and is_storage_error(args.exc_value):
+            stopped.append(args.exc_value)
+        else:
+            previous(args)
+
+    threading.excepthook = hook
+    try:
+        yield stopped
+    finally:
+        threading.excepthook = previous
+
+
 def _report(command: str, error: BaseException, debug: bool) -> int:
     """The CLI's one place for errors: simlab's own as one line (exit 2), anything else with its traceback (1)."""
     if not is_intended_error(error):
@@ -315,8 +336,11 @@ def _run_command(command: str, debug: bool, run: Callable[[], int | None]) -> in
     """Run a command with SIGTERM handled as Ctrl+C (a training saves its checkpoint), and errors
     reported by :func:`_report`; the command's exit code."""
     try:
-        with _sigterm_as_interrupt():
-            return int(run() or 0)
+        with _sigterm_as_interrupt(), _background_storage_errors() as stopped:
+            code = int(run() or 0)
+        for error in stopped:  # the command finished without the writer's output: say so
+            print(f"[simlab] WARNING: a background writer stopped: {error}", file=sys.stderr)
+        return code
     except Terminated:
         return EXIT_TERMINATED
     except KeyboardInterrupt:
