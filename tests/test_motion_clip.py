@@ -1,0 +1,125 @@
+"""Motion clips: the npz format and the converter from retargeted CSV (forward kinematics fills the
+body states), with one-line errors that name the row."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from simlab.robots.unitree import ASSETS_DIR
+from simlab.tasks.manager_based.tracking.motion_clip import MotionClip, clip_from_csv
+from simlab.utils.errors import ConfigError
+
+G1_29DOF = f"{ASSETS_DIR}/unitree_g1_29dof.xml"
+JOINTS = 29
+
+
+def write_csv(path, frames: np.ndarray) -> None:
+    path.write_text("\n".join(",".join(f"{v:.9f}" for v in row) for row in frames) + "\n")
+
+
+def walking_frames(fps: float, seconds: float) -> np.ndarray:
+    """The pelvis moving forward at 0.5 m/s and turning at 0.5 rad/s, the knees bending at 1 Hz."""
+    t = np.arange(int(seconds * fps) + 1) / fps
+    yaw = 0.5 * t
+    frames = np.zeros((len(t), 7 + JOINTS))
+    frames[:, 0], frames[:, 2] = 0.5 * t, 0.75
+    frames[:, 5], frames[:, 6] = np.sin(yaw / 2), np.cos(yaw / 2)  # quaternion x, y, z, w about z
+    frames[:, 7 + 3] = 0.3 + 0.2 * np.sin(2 * math.pi * t)  # left_knee_joint (the 4th joint)
+    return frames
+
+
+def test_csv_to_clip_by_forward_kinematics(tmp_path):
+    write_csv(tmp_path / "walk.csv", walking_frames(30.0, 2.0))
+    clip = clip_from_csv(tmp_path / "walk.csv", G1_29DOF, input_fps=30.0, output_fps=50.0)
+    assert clip.fps == 50.0 and clip.num_frames == 101 and clip.duration == pytest.approx(2.0)
+    assert clip.joint_names[3] == "left_knee_joint" and len(clip.joint_names) == JOINTS
+    assert clip.body_names[0] == "pelvis" and len(clip.body_names) == 30
+    t = np.arange(101) / 50.0
+    # resampled joints, and their speeds by differences (1 Hz sine: within 2 % inside the clip)
+    np.testing.assert_allclose(clip.joint_pos[:, 3], 0.3 + 0.2 * np.sin(2 * math.pi * t), atol=5e-3)
+    np.testing.assert_allclose(clip.joint_vel[5:-5, 3], 0.4 * math.pi * np.cos(2 * math.pi * t[5:-5]), atol=0.05)
+    # the pelvis is the root: its state is the CSV's
+    pelvis = 0
+    np.testing.assert_allclose(clip.body_pos_w[:, pelvis], np.stack([0.5 * t, 0 * t, 0.75 + 0 * t], 1), atol=1e-5)
+    np.testing.assert_allclose(clip.body_quat_w[:, pelvis, 0], np.cos(0.25 * t), atol=1e-5)
+    np.testing.assert_allclose(clip.body_lin_vel_w[1:-1, pelvis], [[0.5, 0, 0]] * 99, atol=1e-4)
+    np.testing.assert_allclose(clip.body_ang_vel_w[:, :, 2], 0.5, atol=1e-3)  # every body turns with it
+    # a foot follows the forward kinematics: in the pelvis's heading frame it sits where the knee puts
+    # it, the same at t = 0 s and t = 1 s (same knee angle, the pelvis moved and turned)
+    foot = clip.body_names.index("left_ankle_roll_link")
+    offset = clip.body_pos_w[:, foot] - clip.body_pos_w[:, pelvis]
+    yaw = 0.5 * t
+    local_x = np.cos(yaw) * offset[:, 0] + np.sin(yaw) * offset[:, 1]
+    local_y = -np.sin(yaw) * offset[:, 0] + np.cos(yaw) * offset[:, 1]
+    local = np.stack([local_x, local_y, offset[:, 2]], 1)
+    np.testing.assert_allclose(local[0], local[50], atol=1e-4)
+    assert not np.allclose(local[0], local[12], atol=1e-3), "and moves when the knee bends"
+    assert local[0, 1] > 0.05 and -0.8 < local[0, 2] < -0.7, "the left foot, below the pelvis"
+
+
+def test_clip_round_trip(tmp_path):
+    write_csv(tmp_path / "walk.csv", walking_frames(50.0, 1.0))
+    clip = clip_from_csv(tmp_path / "walk.csv", G1_29DOF, input_fps=50.0, output_fps=50.0)
+    clip.save(tmp_path / "walk.npz")
+    again = MotionClip.load(tmp_path / "walk.npz")
+    assert again.joint_names == clip.joint_names and again.body_names == clip.body_names
+    np.testing.assert_array_equal(again.body_quat_w, clip.body_quat_w)
+
+
+def test_joint_count_mismatch(tmp_path):
+    write_csv(tmp_path / "g1_23dof.csv", walking_frames(30.0, 0.5)[:, : 7 + 23])
+    with pytest.raises(ConfigError, match=r"23 joint columns per row, but the robot has 29 joints"):
+        clip_from_csv(tmp_path / "g1_23dof.csv", G1_29DOF, input_fps=30.0)
+
+
+def test_a_short_row_is_named(tmp_path):
+    lines = [",".join(["0"] * 36)] * 5
+    lines[2] = ",".join(["0"] * 35)
+    (tmp_path / "cut.csv").write_text("\n".join(lines))
+    with pytest.raises(ConfigError, match=r"row 3 has 35 columns, expected 36 \(7 root \+ 29 joints\)"):
+        clip_from_csv(tmp_path / "cut.csv", G1_29DOF, input_fps=30.0)
+
+
+def test_nan_and_text_are_named_by_row_and_column(tmp_path):
+    frames = walking_frames(30.0, 0.5)
+    frames[4, 7 + 3] = np.nan
+    write_csv(tmp_path / "nan.csv", frames)
+    with pytest.raises(ConfigError, match=r"row 5, column 11 \(left_knee_joint\) is nan"):
+        clip_from_csv(tmp_path / "nan.csv", G1_29DOF, input_fps=30.0)
+    (tmp_path / "text.csv").write_text(",".join(["0"] * 35 + ["knee"]))
+    with pytest.raises(ConfigError, match=r"row 1, column 36: 'knee' is not a number"):
+        clip_from_csv(tmp_path / "text.csv", G1_29DOF, input_fps=30.0)
+
+
+class _Payload:
+    def __init__(self, path):
+        self.path = path
+
+    def __reduce__(self):
+        return (open, (self.path, "w"))
+
+
+def test_a_clip_is_data_only(tmp_path):
+    """The attack: an npz whose object array would create a file when unpickled is refused unread."""
+    target = tmp_path / "pwned"
+    arrays = {"fps": np.array(50.0), "joint_pos": np.array([_Payload(str(target))], dtype=object)}
+    with open(tmp_path / "evil.npz", "wb") as f:
+        np.savez(f, **arrays)
+    with pytest.raises(ConfigError, match="not a readable npz of arrays"):
+        MotionClip.load(tmp_path / "evil.npz")
+    assert not target.exists()
+
+
+def test_missing_keys_and_bad_shapes(tmp_path):
+    np.savez(tmp_path / "partial.npz", fps=np.array(50.0))
+    with pytest.raises(ConfigError, match=r"missing \['body_ang_vel_w'"):
+        MotionClip.load(tmp_path / "partial.npz")
+    write_csv(tmp_path / "walk.csv", walking_frames(50.0, 0.5))
+    clip = clip_from_csv(tmp_path / "walk.csv", G1_29DOF, input_fps=50.0)
+    clip.body_pos_w = clip.body_pos_w[:, :5]
+    clip.save(tmp_path / "bad.npz")
+    with pytest.raises(ConfigError, match=r"body_pos_w has shape \(26, 5, 3\), expected \(26, 30, 3\)"):
+        MotionClip.load(tmp_path / "bad.npz")
