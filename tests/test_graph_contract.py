@@ -271,7 +271,7 @@ class ToyEnv:
         reward = self.reward_manager._class_terms[0]
         reward.smoothed = 0.5 * reward.smoothed + command.metrics["error"]
         reward.metrics["smoothed"] = reward.smoothed
-        return {"policy": torch.cat([data.pos, command.target], dim=-1)}, -reward.smoothed
+        return {"policy": torch.cat([data.pos, command.target], dim=-1)}, -reward.smoothed, command.metrics["error"]
 
 
 def _toy_rollout(graphed: bool, steps: int = 8) -> list[torch.Tensor]:
@@ -282,7 +282,7 @@ def _toy_rollout(graphed: bool, steps: int = 8) -> list[torch.Tensor]:
     stepper = EnvStepper(env, env._step_body, warmup=2)
     outputs = []
     for i in range(steps):
-        obs, reward = stepper(torch.full((4, 2), 0.1 * (i + 1)))
+        obs, reward, _ = stepper(torch.full((4, 2), 0.1 * (i + 1)))
         outputs.append(torch.cat([obs["policy"].flatten(), reward]))
     outputs.append(env.command_manager._terms["target"].metrics["error"].clone())
     assert stepper.is_graphed == graphed, stepper.mode
@@ -293,6 +293,20 @@ def test_graphed_steps_that_rebind_tensors_agree_with_eager_ones(emulated_cuda_g
     eager, graphed = _toy_rollout(graphed=False), _toy_rollout(graphed=True)
     for i, (a, b) in enumerate(zip(graphed, eager)):
         torch.testing.assert_close(a, b, msg=lambda m, i=i: f"step {i}: {m}")
+
+
+def test_what_the_warm_up_steps_returned_is_not_refilled_by_the_replays(emulated_cuda_graph):
+    """The env holds the tensors its step returns (here a metric): the write-back refills those, so
+    warm-up steps must return copies, as replays do."""
+    env = ToyEnv()
+    stepper = EnvStepper(env, env._step_body, warmup=2)
+    kept = [stepper(torch.full((4, 2), 0.5)) for _ in range(2)]
+    values = [error.clone() for *_, error in kept]
+    for _ in range(3):
+        stepper(torch.full((4, 2), -0.5))
+    assert stepper.is_graphed
+    for (*_, error), value in zip(kept, values):
+        assert torch.equal(error, value)
 
 
 def test_without_the_write_back_the_replays_read_stale_tensors(emulated_cuda_graph, monkeypatch):

@@ -122,6 +122,8 @@ class EnvStepper:
             with DeviceListIndices(torch.device(self.env.device), self._index_cache):
                 outputs = self.body(action)
             self._bad_obs |= _any_nonfinite(_observations(outputs))
+            # copies: the capture's write-back refills the tensors the env holds, which may be these
+            outputs = _map_tensors(outputs, torch.clone)
         if self._calls % self.check_interval == 0:
             self.check()
         return outputs
