@@ -112,6 +112,19 @@ def test_list_random_zero(tmp_path, capsys):
     )
 
 
+def test_random_ends_after_its_steps_seeded_without_a_warning(tmp_path, capsys, caplog):
+    """The README's ``simlab random`` with ``--steps`` ends by itself; without --seed it is seeded (0)."""
+    direct = ["--task", "simlab/Cartpole-Direct-v0", "--num_envs", "2", "--headless", "--device", "cpu"]
+    for command in ("random", "zero"):
+        caplog.clear()
+        assert _run(tmp_path, command, *direct, "--steps", "5") == 0
+        out = capsys.readouterr().out
+        assert "seed 0, 5 steps" in out and "[simlab] 5 steps done" in out, out
+        assert not [r for r in caplog.records if "Seed not set" in r.getMessage()]
+    assert _run(tmp_path, "random", *direct, "--steps", "1", "--seed", "-1") == 0
+    assert "seed 0," not in capsys.readouterr().out  # -1 draws a seed (0 only by a 1 in 2**32 chance)
+
+
 @pytest.mark.skipif(not rendering_available(), reason="no offscreen OpenGL (install libosmesa6 or an EGL driver)")
 def test_train_video(tmp_path):
     assert (
