@@ -79,6 +79,12 @@ def test_a_rebinding_that_cannot_replay_names_its_slot_and_restore_undoes_the_st
         slots.write_back("cpu")
     slots.restore()
     assert term.metrics["error"] is before
+    term.metrics["error"] = torch.zeros(1).expand(4)  # one element seen four times: cannot be refilled
+    slots = TensorSlots(root, "env")
+    term.metrics["error"] = torch.ones(4)
+    with pytest.raises(GraphContractError, match=r"\['error'\], and its old tensor cannot be refilled"):
+        slots.write_back("cpu")
+    slots.restore()
     term.metrics["error"] = torch.ones(4)  # made on another device than the step's: not replayed
     with pytest.raises(GraphContractError, match=r"\['error'\] to a tensor on cpu.*the graph replays work on meta"):
         slots.write_back("meta")

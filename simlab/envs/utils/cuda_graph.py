@@ -186,7 +186,8 @@ class EnvStepper:
                 self.write_backs = slots.write_back(env.device)
             self.graph = graph
         except Exception as err:  # noqa: BLE001 - any capture failure means: stay eager
-            while err.__context__ is not None:  # the first error, not the failed end of the capture
+            # the first error, not the failed end of the capture (a contract error names the slot itself)
+            while err.__context__ is not None and not isinstance(err, GraphContractError):
                 err = err.__context__
             frames = [
                 f

@@ -73,7 +73,7 @@ class TensorSlots:
         """Inside the capture, after the step on ``device``: copy each rebound tensor into the tensor its
         slot held before and point the slot at that one again. Returns how many tensors are copied per replay."""
         device = torch.device(device)
-        copies: list[tuple[torch.Tensor, torch.Tensor]] = []  # (old, new)
+        copies: list[tuple[torch.Tensor, torch.Tensor, str]] = []  # (old, new, path)
         for container, key, before, path in self.slots:
             now = _get(container, key)
             if now is before or now is _MISSING:
@@ -81,10 +81,15 @@ class TensorSlots:
             _set(container, key, _restored(before, now, path, copies, device))
         # A new tensor may share memory with another slot's old one (``self.prev = self.cur;
         # self.cur = new``): read every such source before anything is written.
-        targets = {old.untyped_storage().data_ptr() for old, _ in copies}
-        sources = [new.clone() if new.untyped_storage().data_ptr() in targets else new for _, new in copies]
-        for (old, _), new in zip(copies, sources):
-            old.copy_(new)
+        targets = {old.untyped_storage().data_ptr() for old, _, _ in copies}
+        sources = [new.clone() if new.untyped_storage().data_ptr() in targets else new for _, new, _ in copies]
+        for (old, _, path), new in zip(copies, sources):
+            try:
+                old.copy_(new)
+            except RuntimeError as error:  # e.g. an expanded tensor: its elements share memory
+                raise GraphContractError(
+                    f"the step rebinds {path}, and its old tensor cannot be refilled: {error}"
+                ) from error
         return len(copies)
 
     def restore(self) -> None:
@@ -141,7 +146,7 @@ def _restored(before: Any, now: Any, path: str, copies: list, device: torch.devi
                 f"{now.device}); a CUDA graph replays fixed buffers: keep it one shape, or write into it in place"
             )
         if not _same_memory(before, now):
-            copies.append((before, now))
+            copies.append((before, now, path))
         return before
     if isinstance(before, dict) and isinstance(now, dict):  # a rebuilt dict (``self.metrics = {...}``)
         for key in before.keys() & now.keys():
