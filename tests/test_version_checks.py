@@ -101,3 +101,22 @@ def test_mujoco_warps_private_row_estimate_is_used_only_with_the_checked_release
     other_release("mujoco-warp")
     with pytest.warns(UserWarning, match="njmax is left to MuJoCo Warp's default"):
         assert _contact_rows_estimate(mjw, model, data, 3) is None
+
+
+@pytest.mark.slow  # compiles MuJoCo Warp's ray kernels for Warp's CPU device (about 10 s, then cached)
+def test_the_warp_ray_caster_runs_without_mujoco_warps_private_types():
+    pytest.importorskip("mujoco_warp")
+    from types import SimpleNamespace
+
+    import mujoco
+
+    from simlab.sensors.ray_caster.ray_targets import _WarpCaster
+
+    model = mujoco.MjModel.from_xml_string(
+        "<mujoco><worldbody><geom type='plane' size='5 5 .1'/><geom type='box' pos='1 0 .5' size='.2 .2 .5'/>"
+        "</worldbody></mujoco>"
+    )
+    caster = _WarpCaster(model, 2, SimpleNamespace(run_warp=lambda key, launch: launch()), "cpu")
+    down = torch.tensor([[0.0, 0.0, -1.0], [0.0, 0.0, -1.0]])
+    distances = caster.cast(torch.tensor([[0.0, 0.0, 2.0], [1.0, 0.0, 2.0]]), down)
+    torch.testing.assert_close(distances, torch.tensor([2.0, 1.0]))  # the ground; the box's top
