@@ -86,6 +86,7 @@ def test_bad_input_says_what_is_allowed(tmp_path):
         criterion_for("simlab/Nope-v0")
 
 
+@pytest.mark.slow  # two fresh processes, the first compiling every module it imports
 def test_fresh_processes_start_with_the_bytecode_the_first_one_cached(tmp_path, capsys):
     """``--processes 2 --pycache_prefix DIR``: two solves one after the other in fresh processes; the
     first compiles every module into the empty DIR, the second finds them all there."""

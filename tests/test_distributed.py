@@ -65,6 +65,7 @@ def _assert_in_sync(tmp_path) -> None:
     ],
     ids=["rsl_rl", "skrl", "skrl-mappo"],
 )
+@pytest.mark.slow  # two torchrun launches of two training processes each, per library
 def test_two_gloo_ranks_train_in_sync_and_resume(tmp_path, library, args, checkpoint_glob):
     done = _torchrun(tmp_path, "--library", library, *args)
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]

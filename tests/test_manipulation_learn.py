@@ -9,10 +9,13 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parents[1]
 SCRIPT = ROOT / "scripts" / "benchmarks" / "manipulation_learn.py"
 
 
+@pytest.mark.slow  # a 30 s training budget, then its evaluation
 def test_lift_training_stopped_by_its_budget_is_evaluated_from_its_checkpoint(tmp_path):
     args = ["--tasks", "lift", "--device", "cpu", "--num_envs", "4", "--max_iterations", "100000"]
     args += ["--train_budget_s", "30", "--eval_envs", "2", "--eval_seconds", "5.1", "--log_root", str(tmp_path)]

@@ -21,6 +21,7 @@ def _episode_lengths(run_dir: str) -> list[float]:
     return [s.value for s in events.Scalars("Episode / Total timesteps (mean)")]
 
 
+@pytest.mark.slow  # a learning check: 70 iterations to balance the pole
 @pytest.mark.parametrize("ml_framework", ["jax", "jax-numpy"])
 def test_skrl_on_jax_learns_the_cartpole(tmp_path, caplog, ml_framework):
     argv = ["train", "--task", "simlab/Cartpole-v0", "--num_envs", "64", "--headless", "--device", "cpu"]
