@@ -90,3 +90,20 @@ def test_type_checking_imports_are_not_counted():
     tree = ast.parse(source)
     imports = [n for n in ast.walk(tree) if isinstance(n, ast.ImportFrom) and n.module == "simlab.envs"]
     assert {id(n) for n in imports} <= _type_checking_nodes(tree)
+
+
+def test_higher_layers_pass_their_pieces_down_when_imported(monkeypatch):
+    """The registries of simlab/_layers.py are filled by the layer above at its import."""
+    from simlab.markers.visualization_markers import add_markers_to_scene
+    from simlab.sim import renderer
+    from simlab.utils import human_viewer
+
+    assert add_markers_to_scene in renderer._SCENE_DECOR
+    import simlab.viewer
+
+    assert human_viewer._opener is simlab.viewer._open_for_human_render
+    monkeypatch.setattr(human_viewer, "_opener", None)
+    with pytest.raises(
+        ValueError, match="render_mode='human' shows the env in simlab's live viewer: import simlab.viewer"
+    ):
+        human_viewer.open_human_viewer(object())
