@@ -14,9 +14,9 @@ tensor the slot held before, then points the slot at that old tensor again: each
 this step's values where the next replay (and any reader) looks for them, as eager code does.
 
 What cannot be made so (a tensor rebound to one of another shape, dtype or device, or made on the
-host each step) raises
-:class:`GraphContractError` naming the slot (``env.reward_manager._terms['track'].metrics['error']``);
-the capture then fails and the step runs eagerly, saying why once. Python values (ints, floats) are
+host each step) raises :class:`GraphContractError` naming the slot
+(``env.reward_manager._terms['track'].metrics['error']``); the capture then fails and the step runs
+eagerly, saying why once. Python values (ints, floats) are
 not tensors and not replayed: a step must keep its per-step state in tensors.
 """
 
