@@ -402,6 +402,10 @@ class ArticulationDynamicsView(BodyPropertiesView):
         self.max_dofs = len(dofs)
         self.max_links = len(bodies) + int(self._fixed)
 
+    def get_dof_limits(self) -> torch.Tensor:
+        """(num_envs, num_joints, 2): each joint's lower and upper position limit (the model's range)."""
+        return self._asset.data.joint_pos_limits.clone()
+
     def get_jacobians(self) -> torch.Tensor:
         jac = self._tree.jacobians()
         if self._root_quat is not None:

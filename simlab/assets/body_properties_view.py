@@ -67,6 +67,7 @@ class BodyPropertiesView:
     def __getattr__(self, name: str):
         raise AttributeError(
             f"simlab's root_physx_view has no '{name}': it offers get_masses, set_masses and get_inertias"
-            " (articulations also get_jacobians, get_generalized_mass_matrices, the gravity and Coriolis forces);"
+            " (articulations also get_dof_limits, get_jacobians, get_generalized_mass_matrices, the gravity and"
+            " Coriolis forces);"
             " the state is in asset.data, the model in sim.model"
         )

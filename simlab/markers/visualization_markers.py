@@ -25,6 +25,7 @@ import torch
 
 from simlab.sim.renderer import add_scene_decor
 from simlab.sim.spawners import CapsuleCfg, CuboidCfg, CylinderCfg, PreviewSurfaceCfg, SphereCfg, UsdFileCfg
+from simlab.sim.spawners.from_files.usd_stand_ins import stand_in
 from simlab.utils import configclass
 
 __all__ = ["ArrowCfg", "FrameCfg", "VisualizationMarkers", "VisualizationMarkersCfg"]
@@ -84,6 +85,9 @@ def _prototype(name: str, cfg: Any) -> tuple[str, Any]:
     if isinstance(cfg, FrameCfg):
         return "frame", cfg
     if isinstance(cfg, UsdFileCfg):
+        shape = stand_in(cfg)
+        if shape is not None:
+            return "shape", shape
         kind = _USD_MARKER_SHAPES.get(os.path.basename(str(cfg.usd_path)))
         if kind == "arrow":
             return kind, ArrowCfg(scale=tuple(cfg.scale or (1.0, 1.0, 1.0)), visual_material=cfg.visual_material)
@@ -91,8 +95,8 @@ def _prototype(name: str, cfg: Any) -> tuple[str, Any]:
             return kind, FrameCfg(scale=tuple(cfg.scale or (1.0, 1.0, 1.0)))
     raise ValueError(
         f"Marker prototype '{name}' ({type(cfg).__name__}) cannot be drawn by simlab: use SphereCfg, CuboidCfg,"
-        " CylinderCfg, CapsuleCfg, simlab.markers.ArrowCfg or FrameCfg (Isaac Lab's arrow_x.usd and"
-        " frame_prim.usd are understood)."
+        " CylinderCfg, CapsuleCfg, simlab.markers.ArrowCfg or FrameCfg (Isaac Lab's arrow_x.usd,"
+        " frame_prim.usd and the USD props of simlab.sim.spawners.from_files.usd_stand_ins are understood)."
     )
 
 

@@ -2,16 +2,17 @@
 
 Isaac Lab spawns ``Props/Blocks/DexCube/dex_cube_instanceable.usd``, a 6 cm cube, scaled (1.2 for the
 Allegro hand) with a density (400 kg/m^3 for the Allegro hand, 567 for the Shadow hand). simlab's
-stand-in is a box of the same size and density on a free joint; :func:`dex_cube_cfg` builds its
-spawner and :func:`dex_cube_marker_cfg` the goal marker of the same size.
+stand-in is a box of the same size and density on a free joint (the one a ported config's
+``UsdFileCfg`` naming the DexCube also gets); :func:`dex_cube_cfg` builds its spawner and
+:func:`dex_cube_marker_cfg` the goal marker of the same size.
 """
 
 from __future__ import annotations
 
 import simlab.sim as sim_utils
+from simlab.sim.spawners.from_files.usd_stand_ins import DEX_CUBE_SIZE
 
-DEX_CUBE_SIZE = 0.06
-"""Edge length of the unscaled DexCube [m]."""
+__all__ = ["DEX_CUBE_SIZE", "dex_cube_cfg", "dex_cube_marker_cfg"]
 
 
 def dex_cube_cfg(scale: float = 1.0, density: float = 400.0) -> sim_utils.CuboidCfg:

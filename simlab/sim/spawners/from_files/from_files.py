@@ -143,7 +143,14 @@ def spawn_ground_plane(prim_path: str, cfg: GroundPlaneCfg, translation=None, or
 
 
 def spawn_from_usd(prim_path, cfg, translation=None, orientation=None):
+    """USD is not read; the few Isaac Lab props that are plain shapes spawn as their stand-ins
+    (``usd_stand_ins``), everything else raises saying what to use."""
+    from .usd_stand_ins import STAND_INS, stand_in
+
+    shape = stand_in(cfg)
+    if shape is not None:
+        return shape.func(prim_path, shape, translation, orientation)
     raise NotImplementedError(
         f"'{prim_path}': simlab reads MJCF and URDF, not USD. Use sim_utils.MjcfFileCfg(asset_path=...) "
-        "or sim_utils.UrdfFileCfg(asset_path=...)."
+        f"or sim_utils.UrdfFileCfg(asset_path=...) (USD props simlab stands in for: {', '.join(STAND_INS)})."
     )
