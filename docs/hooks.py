@@ -9,6 +9,7 @@ mkdocs.yml) and copied into the site; a task without a picture is listed with a 
 from __future__ import annotations
 
 import os
+import sys
 
 import gymnasium as gym
 from mkdocs.exceptions import PluginError
@@ -38,13 +39,22 @@ def on_files(files: Files, config) -> Files:
     return files
 
 
+def _description(cfg_class: type) -> str:
+    """The first paragraph of the env config's docstring, else of the task package that holds it
+    (a config class without a docstring has the signature dataclasses write in its place)."""
+    doc = cfg_class.__doc__ or ""
+    if not doc or doc.startswith(cfg_class.__name__ + "("):
+        package = cfg_class.__module__.rpartition(".")[0]
+        doc = sys.modules[package].__doc__ or ""
+    return " ".join(doc.strip().split("\n\n")[0].split())
+
+
 def _summary(task: str) -> tuple[str, str, str]:
-    """The task's workflow, its env config's one-line description and its agent configs."""
+    """The task's workflow, its one-line description and its agent configs."""
     from simlab.tasks.utils import load_cfg_from_registry
 
     spec = gym.spec(task)
-    cfg = load_cfg_from_registry(task, "env_cfg_entry_point")
-    doc = (type(cfg).__doc__ or "").strip().split("\n\n")[0].replace("\n", " ")
+    doc = _description(type(load_cfg_from_registry(task, "env_cfg_entry_point")))
     entry = spec.entry_point if isinstance(spec.entry_point, str) else ""
     workflow = "direct" if ".direct." in entry else "manager-based"
     agents = [k.removesuffix("_cfg_entry_point") for k in spec.kwargs if k.endswith("_cfg_entry_point")]
