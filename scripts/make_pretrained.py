@@ -7,19 +7,27 @@
     python scripts/make_pretrained.py --device cuda:0 --num_envs 1024 --eval_every 30 \
         --tasks simlab/Cartpole-RGB-Camera-Direct-v0 --overrides env.frame_stack=2   # trained (and played) so
     python scripts/make_pretrained.py --list      # every task: its criterion, whether rsl_rl trains it, shipped?
-    python scripts/make_pretrained.py --tasks simlab/Velocity-Rough-Unitree-Go2-v0 --checkpoint model_final.pt \
-        --trained_by "scripts/benchmarks/locomotion_walk.py --terrain rough ..."   # a policy trained elsewhere
+    python scripts/make_pretrained.py --device cuda:0 --time_budget 960 --tasks simlab/Velocity-Rough-Unitree-Go2-v0 \
+        --overrides env.scene.terrain.terrain_generator.seed=42   # train and play on one generated terrain
+    python scripts/make_pretrained.py --device cuda:0 --num_envs 4096 --time_budget 1120 --library skrl \
+        --tasks simlab/Humanoid-AMP-Walk-Direct-v0 --overrides agent.agent.learning_rate=1.0e-4 \
+        env.motion_file=<clip>.npz          # an AMP humanoid: the task's skrl AMP agent
+    python scripts/make_pretrained.py --tasks simlab/Velocity-Rough-Unitree-Go2-v0 --checkpoint model_700.pt \
+        --trained_by "..."                  # a policy trained elsewhere
 
-For each task, ``simlab bench solve`` trains it with rsl_rl (the task's agent config; ``--num_envs``,
-``--max_iterations`` override it) and plays every saved checkpoint on the training device, stopping
-at the first one that meets the task's criterion (registered with the task,
-``success_criterion_entry_point``: ``simlab.tasks.utils.criteria``). That checkpoint is played again
-on the CPU (MuJoCo C, ``--cpu_eval_envs`` envs for ``--eval_seconds``), where
-``--use_pretrained_checkpoint`` plays it after install, and shipped only if it passes there too.
+For each task, ``simlab train`` trains it in a child process (the task's registered agent config of
+``--library``, rsl_rl by default; ``--num_envs``, ``--max_iterations``, ``--seed`` and the Hydra
+``--overrides`` as ``simlab train`` takes them; ``--eval_every`` is rsl_rl's ``save_interval``).
+Its checkpoints are then played in order on the training device, up to the first one that meets
+the task's criterion (registered with the task, ``success_criterion_entry_point``:
+``simlab.tasks.utils.criteria``). That checkpoint is played again on the CPU (MuJoCo C,
+``--cpu_eval_envs`` envs for ``--eval_seconds``), where ``--use_pretrained_checkpoint`` plays it
+after install, and shipped only if it passes there too.
 
-Shipped into ``<out>/<task name>/rsl_rl/``: the run's ``params/`` (its configs and command), the
+Shipped into ``<out>/<task name>/<library>/``: the run's ``params/`` (its configs and command), the
 policy's weights in one file, ``policy.pt`` (:mod:`simlab.pretrained.weights`: what play loads, the
-matrices as int8 rows; no critic, no optimizer state, so training cannot resume from it; play makes
+matrices as int8 rows, or float16 where int8's replay misses the criterion; no critic, no optimizer
+state, so training cannot resume from it; play makes
 the ONNX and TorchScript exports wherever it plays it), and ``record.json``: this script's command,
 the training command, seed, iterations, device, the criterion and its value on both devices (the CPU
 replay plays the stored weights, as ``--use_pretrained_checkpoint`` will), the files' sizes, the
@@ -33,13 +41,12 @@ shipped when it solves the task; else the ``SKIPPED`` line names that checkpoint
 keeps it, and ``--resume PATH`` trains on from it). A task that
 fails (not solved in its iterations or budget, failed on the CPU, or an error) is skipped with one
 ``SKIPPED`` line saying why, and the next one trains.
-Every task must have a criterion and an rsl_rl config, checked before any training starts. The
+Every task must have a criterion and a config of ``--library``, checked before any training starts. The
 script exits with 1 when a task was not shipped.
 
-``--checkpoint PATH`` ships a policy trained elsewhere (one task; an rsl_rl checkpoint of the task's
-agent, e.g. the ``model_final.pt`` of ``scripts/benchmarks/locomotion_walk.py``, or with ``--library
-skrl`` an skrl one, e.g. an AMP humanoid's ``agent_<timestep>.pt`` from ``scripts/benchmarks/amp_learn.py``)
-without training: its run folder is written from the task's registered configs, and it is judged on
+``--checkpoint PATH`` ships a policy trained elsewhere (one task; a checkpoint of the task's agent for
+``--library``, e.g. an AMP humanoid's ``agent_<timestep>.pt`` with ``--library skrl``) without
+training: its run folder is written from the task's registered configs, and it is judged on
 the CPU only; ``--trained_by`` says in ``record.json`` how it was trained.
 """
 
@@ -61,7 +68,7 @@ import time
 from typing import Any
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-LIBRARY = "rsl_rl"  # what this script trains with (simlab bench solve)
+LIBRARY = "rsl_rl"  # the default library (--library)
 
 
 def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
@@ -91,7 +98,12 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
     parser.add_argument(
         "--resume", default=None, help="Train on from this checkpoint (one task), e.g. one a time budget stopped."
     )
-    parser.add_argument("--library", choices=sorted(PLAY_KEYS), default=LIBRARY, help="With --checkpoint: its library.")
+    parser.add_argument(
+        "--library",
+        choices=sorted(PLAY_KEYS),
+        default=LIBRARY,
+        help="The library that trains (its registered agent config) or wrote --checkpoint.",
+    )
     parser.add_argument("--trained_by", default=None, help="With --checkpoint: how it was trained, for record.json.")
     parser.add_argument(
         "--overrides",
@@ -112,8 +124,8 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
             parser.error("--checkpoint needs --trained_by: how the policy was trained (kept in record.json)")
     elif args.resume is not None and (len(args.tasks or []) != 1 or not os.path.isfile(args.resume)):
         parser.error(f"--resume {args.resume}: give one task with --tasks and an existing checkpoint file")
-    elif args.library != LIBRARY:
-        parser.error(f"this script trains with {LIBRARY}; --library {args.library} ships a --checkpoint only")
+    if args.eval_every is not None and args.library != "rsl_rl":
+        parser.error("--eval_every sets rsl_rl's save_interval; with skrl give its checkpoint_interval in --overrides")
     bad = [o for o in args.overrides if not o.startswith(("env.", "agent.")) or "=" not in o]
     if bad:
         parser.error(f"--overrides {' '.join(bad)}: each looks like env.x.y=1 or agent.z=2")
@@ -132,13 +144,14 @@ class OverBudget(RuntimeError):
 
 
 SAVE_GRACE_S = 120.0  # how long a training stopped by the budget may take to save its checkpoint
+RUN_NAME = "make_pretrained"  # the training's run folder: <log_root>/<library>/<experiment>/<time>_make_pretrained
 
 
 def stop_and_save(child: subprocess.Popen, log_root: str, started: float) -> str | None:
     """Stop the training at the budget; the checkpoint it saved on the way out, if any.
 
-    SIGTERM reaches the training as Ctrl+C does (``simlab bench solve`` saves the iteration it is
-    at); a training that has not saved within ``SAVE_GRACE_S`` is killed.
+    SIGTERM reaches ``simlab train`` as Ctrl+C does (it saves the iteration it is at); a training
+    that has not saved within ``SAVE_GRACE_S`` is killed.
     """
     os.killpg(child.pid, signal.SIGTERM)
     try:
@@ -149,11 +162,25 @@ def stop_and_save(child: subprocess.Popen, log_root: str, started: float) -> str
     return newest_checkpoint(log_root, started)
 
 
+def run_checkpoints(log_root: str, started: float) -> list[str]:
+    """The checkpoints this script's training under ``log_root`` wrote since ``started`` (a
+    time.time()), oldest first, whatever the library."""
+    from simlab.cli.runs import CHECKPOINT_LAYOUT, is_checkpoint_name
+
+    found = []
+    for library, (folder, _) in CHECKPOINT_LAYOUT.items():
+        for run_dir in glob.glob(os.path.join(log_root, library, "*", f"*_{RUN_NAME}")):
+            where = os.path.join(run_dir, *folder)
+            names = os.listdir(where) if os.path.isdir(where) else []
+            found += [os.path.join(where, n) for n in names if is_checkpoint_name(n, library)]
+    saved = [p for p in found if os.path.getmtime(p) >= started]
+    return sorted(saved, key=os.path.getmtime)
+
+
 def newest_checkpoint(log_root: str, started: float) -> str | None:
     """The newest checkpoint a training under ``log_root`` wrote since ``started`` (a time.time())."""
-    checkpoints = glob.glob(os.path.join(log_root, "*", "*", "*_solve", "model_*.pt"))
-    saved = [p for p in checkpoints if os.path.getmtime(p) >= started]
-    return max(saved, key=os.path.getmtime) if saved else None
+    saved = run_checkpoints(log_root, started)
+    return saved[-1] if saved else None
 
 
 def over_budget_text(task: str, args: argparse.Namespace, saved: str | None) -> str:
@@ -172,45 +199,95 @@ def kept_text(task: str, args: argparse.Namespace, saved: str | None) -> str:
 
 
 def script_command(task: str, args: argparse.Namespace, *flags: str) -> str:
-    """This script's command line for ``task`` with ``flags``, keeping the run's ``--overrides``."""
+    """This script's command line for ``task`` with ``flags``, keeping the run's library and ``--overrides``."""
     command = ["python", "scripts/make_pretrained.py", "--tasks", task, *flags]
+    command += ["--library", args.library] if args.library != LIBRARY else []
     command += ["--overrides", *args.overrides] if args.overrides else []
     return shlex.join(command)
 
 
-def train_until_solved(task: str, args: argparse.Namespace, log_root: str) -> dict[str, Any]:
-    """``simlab bench solve`` for ``task`` in a child process; its result row."""
-    from simlab.cli.main import EXIT_TERMINATED
-
-    result_file = os.path.join(log_root, f"{task.split('/')[-1]}_solve.json")
-    command = [sys.executable, "-m", "simlab", "bench", "solve", "--tasks", task, "--library", LIBRARY]
-    command += ["--device", args.device, "--seed", str(args.seed), "--log_root", log_root, "--json", result_file]
-    command += ["--eval_envs", str(args.eval_envs), "--eval_seconds", str(args.eval_seconds)]
-    for flag in ("num_envs", "max_iterations", "eval_every", "reward_threshold", "resume"):
+def train_command(task: str, args: argparse.Namespace, log_root: str) -> list[str]:
+    """``simlab train`` for ``task``: the task's registered agent config of ``--library``, with this
+    script's seed, sizes and ``--overrides`` (Hydra overrides, as ``simlab train`` takes them)."""
+    command = [sys.executable, "-m", "simlab", "train", "--task", task, "--library", args.library, "--headless"]
+    command += ["--device", args.device, "--seed", str(args.seed), "--log_root", log_root, "--run_name", RUN_NAME]
+    for flag in ("num_envs", "max_iterations"):
         if getattr(args, flag) is not None:
             command += [f"--{flag}", str(getattr(args, flag))]
-    if args.overrides:
-        command += ["--overrides", *args.overrides]
+    if args.resume is not None:
+        command += ["--checkpoint", args.resume]
+    if args.eval_every is not None:  # parse_args allows it for rsl_rl only
+        command.append(f"agent.save_interval={args.eval_every}")
+    return command + list(args.overrides)
+
+
+def judge_checkpoints(task: str, args: argparse.Namespace, checkpoints: list[str], started: float) -> dict[str, Any]:
+    """Play the training's checkpoints in order on the training device, up to the first that meets the
+    task's criterion; the result row (``solved``, ``evaluations``, ``run_dir``, ...)."""
+    from simlab.benchmarks.solve import CheckpointJudge
+    from simlab.cli.runs import run_dir_of_checkpoint
+    from simlab.utils.io import load_yaml
+
+    run_dir = run_dir_of_checkpoint(checkpoints[-1], args.library)
+    agent_cfg = load_yaml(os.path.join(run_dir, "params", "agent.yaml"))
+    num_envs = load_yaml(os.path.join(run_dir, "params", "env.yaml"))["scene"]["num_envs"]
+    judge = CheckpointJudge(
+        task, args.library, args.device, args.eval_envs, args.eval_seconds, args.seed, args.reward_threshold,
+        env_overrides(args),
+    )  # fmt: skip
+    try:
+        for checkpoint in checkpoints:
+            iteration = checkpoint_iteration(checkpoint, args.library, agent_cfg)
+            judge(checkpoint, iteration, {"rollout": 0.0, "update": 0.0})
+            judge.evaluations[-1]["time_to_checkpoint_s"] = os.path.getmtime(checkpoint) - started
+            print(f"[make_pretrained] {os.path.basename(checkpoint)}: {judge.evaluations[-1]['score']:.3f}", flush=True)
+            if judge.evaluations[-1]["passed"]:
+                break
+    finally:
+        judge.close()
+    last = judge.evaluations[-1]
+    return {
+        "solved": last["passed"],
+        "iteration": last["iteration"],
+        "score": last["score"],
+        "criterion": judge.criterion.description,
+        "evaluations": judge.evaluations,
+        "run_dir": run_dir,
+        "num_envs": num_envs,
+    }
+
+
+def train_until_solved(task: str, args: argparse.Namespace, log_root: str) -> dict[str, Any]:
+    """``simlab train`` for ``task`` in a child process (stopped at ``--time_budget``), then its
+    checkpoints judged in order; the result row."""
+    from simlab.cli.main import EXIT_TERMINATED
+
+    command = train_command(task, args, log_root)
     print(f"[make_pretrained] {shlex.join(command)}", flush=True)
+    started = time.time()
     # its own process group: the budget stops the training process and anything it started
     child = subprocess.Popen(command, cwd=REPO, start_new_session=True)
-    started = time.time()
+    over_budget = False
     try:
         code = child.wait(timeout=args.time_budget)
     except subprocess.TimeoutExpired:
-        saved = stop_and_save(child, log_root, started)
-        code = child.returncode  # 0: the checkpoint it saved on the way out solved the task
+        stop_and_save(child, log_root, started)
+        over_budget = True
+    else:
+        if code in (-signal.SIGTERM, EXIT_TERMINATED):  # someone else stopped it: say what it kept
+            raise RuntimeError(
+                "training was stopped by a SIGTERM" + kept_text(task, args, newest_checkpoint(log_root, started))
+            )
         if code != 0:
-            raise OverBudget(over_budget_text(task, args, saved)) from None
-    if code in (-signal.SIGTERM, EXIT_TERMINATED):  # someone else stopped it: say what it kept
-        saved = newest_checkpoint(log_root, started)
-        raise RuntimeError("training was stopped by a SIGTERM" + kept_text(task, args, saved))
-    if code != 0:
-        raise RuntimeError(f"training exited with status {code} (its output is above)")
-    with open(result_file) as f:
-        (row,) = json.load(f)["results"]["solve"]
-    if "error" in row:
-        raise RuntimeError(f"training {task} failed: {row['error']}")
+            raise RuntimeError(f"training exited with status {code} (its output is above)")
+    checkpoints = run_checkpoints(log_root, started)
+    if not checkpoints:
+        if over_budget:
+            raise OverBudget(over_budget_text(task, args, None))
+        raise RuntimeError(f"training {task} wrote no checkpoint under {log_root}")
+    row = judge_checkpoints(task, args, checkpoints, started)
+    if over_budget and not row["solved"]:
+        raise OverBudget(over_budget_text(task, args, checkpoints[-1]))
     return row
 
 
@@ -244,10 +321,10 @@ def evaluate_on_cpu(task: str, checkpoint: str, iteration: int, args: argparse.N
     }
 
 
-def stage(task: str, checkpoint: str, library: str, log_root: str) -> str:
-    """Write the shipped form of ``checkpoint`` into ``<log_root>/stored/<task name>/<library>/`` (the
-    run's ``params/`` and ``policy.pt``) and beside it the checkpoint play will make of it; returns that
-    checkpoint, which the CPU replay plays."""
+def stage(task: str, checkpoint: str, library: str, log_root: str, matrices: str) -> str:
+    """Write the shipped form of ``checkpoint`` (its matrices as ``matrices``) into
+    ``<log_root>/stored/<task name>/<library>/`` (the run's ``params/`` and ``policy.pt``) and beside it
+    the checkpoint play will make of it; returns that checkpoint, which the CPU replay plays."""
     import torch
 
     from simlab.cli.runs import CHECKPOINT_LAYOUT, run_dir_of_checkpoint
@@ -261,11 +338,28 @@ def stage(task: str, checkpoint: str, library: str, log_root: str) -> str:
     shutil.copytree(os.path.join(run_dir, "params"), os.path.join(staged, "params"))
     name = os.path.join(*CHECKPOINT_LAYOUT[library][0], os.path.basename(checkpoint))  # skrl's: checkpoints/
     state = torch_load(checkpoint, map_location="cpu")  # weights only: a run's file is data
-    torch.save(pack_policy(state, library, name), os.path.join(staged, POLICY_FILE))
+    torch.save(pack_policy(state, library, name, matrices), os.path.join(staged, POLICY_FILE))
     name, played = unpack_policy(os.path.join(staged, POLICY_FILE))
     os.makedirs(os.path.dirname(os.path.join(staged, name)), exist_ok=True)
     torch.save(played, os.path.join(staged, name))
     return os.path.join(staged, name)
+
+
+def stage_and_replay(
+    task: str, checkpoint: str, iteration: int, args: argparse.Namespace, log_root: str
+) -> tuple[str, dict[str, Any], str]:
+    """Stage ``checkpoint`` in the smallest stored form (:data:`simlab.pretrained.weights.MATRICES`)
+    whose CPU replay meets the criterion; (staged checkpoint, CPU evaluation, form). When none does,
+    the last form tried, which failed."""
+    from simlab.pretrained.weights import MATRICES
+
+    for matrices in MATRICES:
+        staged = stage(task, checkpoint, args.library, log_root, matrices)
+        cpu = evaluate_on_cpu(task, staged, iteration, args)
+        print(f"[make_pretrained] {task} stored as {matrices}: {cpu['score']:.3f} on the CPU", flush=True)
+        if cpu["passed"]:
+            break
+    return staged, cpu, matrices
 
 
 def ship(task: str, staged_checkpoint: str, record: dict[str, Any], out: str) -> str:
@@ -302,14 +396,11 @@ def resumed_run_command(checkpoint: str) -> str | None:
 def record_header(task: str, args: argparse.Namespace, argv: list[str]) -> dict[str, Any]:
     """The fields of ``record.json`` that say what was shipped and by which command, when, and the env
     overrides play must apply to it."""
-    from simlab.pretrained.weights import FORMAT
-
     header: dict[str, Any] = {
         "task": task,
         "library": args.library,  # rsl_rl when this script trained it (parse_args sees to that)
         "made_by": shlex.join(["python", "scripts/make_pretrained.py", *argv]),
         "date": datetime.date.today().isoformat(),
-        "weights": FORMAT,
     }
     if args.resume:
         header["resumed_from"] = args.resume
@@ -332,9 +423,8 @@ def make_one(task: str, args: argparse.Namespace, log_root: str, argv: list[str]
     if not row["solved"]:
         return f"not solved in {row['iteration'] + 1} iterations ({row['criterion']}: {row['score']:.3f})"
     solved = next(e for e in row["evaluations"] if e["passed"])
-    staged = stage(task, solved["checkpoint"], LIBRARY, log_root)
     try:
-        cpu = evaluate_on_cpu(task, staged, solved["iteration"], args)
+        staged, cpu, matrices = stage_and_replay(task, solved["checkpoint"], solved["iteration"], args, log_root)
     except (RuntimeError, SimlabError) as e:  # e.g. a camera task on a host without OpenGL
         raise RuntimeError(
             f"{os.path.basename(solved['checkpoint'])} passed on {args.device} ({solved['score']:.3f}), but its"
@@ -358,7 +448,8 @@ def make_one(task: str, args: argparse.Namespace, log_root: str, argv: list[str]
             "score": solved["score"],
             "passed": True,
         },
-        "cpu_evaluation": cpu,
+        "cpu_evaluation": cpu,  # of the stored weights, as play will load them
+        "weights": matrices,
     }
     if args.reward_threshold is not None:
         record["reward_threshold"] = args.reward_threshold
@@ -430,8 +521,7 @@ def adopt_checkpoint(task: str, args: argparse.Namespace, log_root: str, argv: l
     os.makedirs(folder, exist_ok=True)
     checkpoint = os.path.join(folder, checkpoint_name(args.checkpoint, args.library, iteration, agent_cfg))
     shutil.copy2(args.checkpoint, checkpoint)
-    staged = stage(task, checkpoint, args.library, log_root)
-    cpu = evaluate_on_cpu(task, staged, iteration, args)
+    staged, cpu, matrices = stage_and_replay(task, checkpoint, iteration, args, log_root)
     record = {
         **record_header(task, args, argv),
         "algorithm": algorithm,
@@ -440,7 +530,8 @@ def adopt_checkpoint(task: str, args: argparse.Namespace, log_root: str, argv: l
         "iterations": iteration,
         "checkpoint": os.path.basename(checkpoint),
         "criterion": criterion_for(task, args.reward_threshold).description,
-        "cpu_evaluation": cpu,
+        "cpu_evaluation": cpu,  # of the stored weights, as play will load them
+        "weights": matrices,
     }
     if not cpu["passed"]:
         print(json.dumps(record, indent=2))

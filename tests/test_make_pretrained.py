@@ -20,7 +20,7 @@ from conftest import load_script
 import simlab.pretrained
 from simlab.cli.main import build_parser
 from simlab.cli.play import run_play
-from simlab.pretrained.weights import FORMAT, PLAY_KEYS, pack_policy, unpack_policy
+from simlab.pretrained.weights import PLAY_KEYS, pack_policy, unpack_policy
 from simlab.tasks.utils.criteria import criterion_for
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -44,7 +44,9 @@ def test_make_pretrained_ships_a_policy_that_play_finds(tmp_path, monkeypatch):
     assert 1 <= record["iterations"] <= 2
     assert record["criterion"] == "mean reward per env-step >= -1e+09"
     assert record["cpu_evaluation"]["passed"] and record["cpu_evaluation"]["envs"] == 4
-    assert record["train_command"].startswith("simlab bench solve --tasks simlab/Cartpole-Direct-v0")
+    # trained by simlab train itself: the task's registered agent config, this script's settings
+    assert record["train_command"].startswith("simlab train --task simlab/Cartpole-Direct-v0 --library rsl_rl")
+    assert "agent.save_interval=1" in record["train_command"]
     assert record["made_by"].startswith("python scripts/make_pretrained.py --tasks simlab/Cartpole-Direct-v0")
     # one file of weights, what play loads (no critic, no optimizer), read with weights_only=True
     assert sorted(record["files_bytes"]) == ["params/agent.yaml", "params/command.txt", "params/env.yaml"] + [
@@ -52,7 +54,7 @@ def test_make_pretrained_ships_a_policy_that_play_finds(tmp_path, monkeypatch):
         "policy.pt",
     ]
     assert record["files_bytes"]["policy.pt"] == os.path.getsize(shipped / "policy.pt")
-    assert record["weights"] == FORMAT
+    assert record["weights"] == "int8_rows"  # the smallest form: its replay met the criterion
     name, checkpoint = unpack_policy(str(shipped / "policy.pt"))
     assert name == record["checkpoint"] and set(checkpoint) == set(PLAY_KEYS["rsl_rl"])
 
@@ -91,8 +93,8 @@ def test_make_pretrained_refuses_a_task_it_cannot_judge_or_train_before_training
     script = _script()
     with pytest.raises(ValueError, match="simlab/Humanoid-AMP-Walk-Direct-v0 has no rsl_rl config"):
         script.main(["--tasks", TASK, "simlab/Humanoid-AMP-Walk-Direct-v0", "--out", str(tmp_path)])
-    with pytest.raises(SystemExit):  # skrl policies are shipped from a --checkpoint, not trained here
-        script.main(["--tasks", TASK, "--library", "skrl", "--out", str(tmp_path)])
+    with pytest.raises(SystemExit):  # --eval_every is rsl_rl's save_interval; skrl's goes in --overrides
+        script.main(["--tasks", TASK, "--library", "skrl", "--eval_every", "5", "--out", str(tmp_path)])
     with pytest.raises(ValueError, match="Unknown task simlab/Nope-v0"):
         script.main(["--tasks", "simlab/Nope-v0", "--out", str(tmp_path)])
     assert not os.listdir(tmp_path)
@@ -187,7 +189,7 @@ def test_a_policy_trained_with_env_overrides_is_shipped_and_played_with_them(tmp
     assert script.main(["--tasks", task, *tiny, "--overrides", "env.frame_stack=2", "--out", str(out)]) == 0
     record = json.loads((out / "Cartpole-Depth-Camera-Direct-v0" / "rsl_rl" / "record.json").read_text())
     assert record["env_overrides"] == ["env.frame_stack=2"]
-    assert record["train_command"].endswith("--overrides env.frame_stack=2")
+    assert record["train_command"].endswith(" env.frame_stack=2")  # a Hydra override of simlab train
 
     monkeypatch.setattr(simlab.pretrained, "PRETRAINED_DIR", str(out))
     argv = ["play", "--task", task, "--use_pretrained_checkpoint", "--headless", "--device", "cpu"]
@@ -220,17 +222,16 @@ def test_a_failing_cpu_replay_names_the_passing_checkpoint_and_how_to_ship_it(tm
 
 def test_a_training_stopped_by_the_budget_saves_where_it_is_and_says_how_to_go_on(tmp_path):
     import subprocess
-    import sys
     import time
 
     script = _script()
     log_root = tmp_path / "logs"
-    command = [sys.executable, "-m", "simlab", "bench", "solve", "--tasks", TASK, "--device", "cpu", "--num_envs", "8"]
-    command += ["--eval_every", "100000", "--max_iterations", "100000", "--log_root", str(log_root)]
+    args = script.parse_args(["--tasks", TASK, "--device", "cpu", "--num_envs", "8", "--max_iterations", "100000"])
+    command = script.train_command(TASK, args, str(log_root))
     started = time.time()
     child = subprocess.Popen(command, cwd=REPO, start_new_session=True, stdout=subprocess.PIPE, text=True)
     deadline = time.time() + 300
-    while not list(log_root.glob("rsl_rl/*/*_solve/model_0.pt")):  # rsl_rl saves iteration 0: training runs
+    while not list(log_root.glob("rsl_rl/*/*_make_pretrained/model_0.pt")):  # rsl_rl saves iteration 0: training runs
         assert child.poll() is None and time.time() < deadline, "the training ended before its first checkpoint"
         time.sleep(0.2)
     saved = script.stop_and_save(child, str(log_root), started)
@@ -256,17 +257,17 @@ def test_a_training_someone_else_stops_is_skipped_naming_the_checkpoint_it_saved
 
     def stop_after_the_first_checkpoint() -> None:
         deadline = time.time() + 300
-        while not list(log_root.glob("rsl_rl/*/*_solve/model_0.pt")) and time.time() < deadline:
+        while not list(log_root.glob("rsl_rl/*/*_make_pretrained/model_0.pt")) and time.time() < deadline:
             time.sleep(0.2)
         time.sleep(1.0)
-        subprocess.run(["pkill", "-TERM", "-f", f"bench solve .*{log_root}"], check=True)
+        subprocess.run(["pkill", "-TERM", "-f", f"simlab train .*{log_root}"], check=True)
 
     threading.Thread(target=stop_after_the_first_checkpoint, daemon=True).start()
     argv = ["--tasks", TASK, "--device", "cpu", "--num_envs", "8", "--max_iterations", "100000"]
     argv += ["--eval_every", "100000", "--eval_envs", "4", "--eval_seconds", "0.5"]
     assert _script().main([*argv, "--log_root", str(log_root), "--out", str(tmp_path / "out")]) == 1
     out = capsys.readouterr().out
-    (saved,) = [p for p in log_root.glob("rsl_rl/*/*_solve/model_*.pt") if p.name != "model_0.pt"]
+    (saved,) = [p for p in log_root.glob("rsl_rl/*/*_make_pretrained/model_*.pt") if p.name != "model_0.pt"]
     assert f"training was stopped by a SIGTERM; its last checkpoint is {saved}: train on with" in out
     assert f"--resume {saved} --device cpu" in out
 
@@ -276,15 +277,15 @@ def test_resume_trains_on_from_a_checkpoint_and_records_it(tmp_path):
     logs = tmp_path / "logs"
     first = ["--tasks", TASK, *TINY, "--out", str(tmp_path / "none"), "--log_root", str(logs)]
     assert script.main(first) == 1  # two iterations do not balance the pole: its checkpoints stay in logs
-    (checkpoint,) = logs.glob("rsl_rl/*/*_solve/model_1.pt")
+    (checkpoint,) = logs.glob("rsl_rl/*/*_make_pretrained/model_1.pt")
     out = tmp_path / "pretrained"
     argv = ["--tasks", TASK, *TINY, "--reward_threshold=-1e9", "--out", str(out), "--resume", str(checkpoint)]
     assert script.main(argv) == 0
     record = json.loads((out / "Cartpole-Direct-v0" / "rsl_rl" / "record.json").read_text())
-    assert record["resumed_from"] == str(checkpoint) and f"--resume {checkpoint}" in record["train_command"]
+    assert record["resumed_from"] == str(checkpoint) and f"--checkpoint {checkpoint}" in record["train_command"]
     # and how the resumed checkpoint itself was trained (its run's command, not in the new run's)
     first_command = (checkpoint.parent / "params" / "command.txt").read_text().strip()
-    assert record["resumed_from_command"] == first_command and "--resume" not in first_command
+    assert record["resumed_from_command"] == first_command and "--checkpoint" not in first_command
     # trained on: counted on from the resumed iteration (rsl_rl numbers the first iteration after a resume
     # as the checkpoint's own), with weights that moved away from the checkpoint's
     _, shipped = unpack_policy(str(out / "Cartpole-Direct-v0" / "rsl_rl" / "policy.pt"))
@@ -305,3 +306,32 @@ def test_an_adopted_checkpoint_gets_a_name_that_play_finds():
     assert make_pretrained.checkpoint_name("/x/dance_agent_27200.pt", "skrl", 1700, agent_cfg) == "agent_27200.pt"
     assert make_pretrained.checkpoint_name("/x/agent_800.pt", "skrl", 50, agent_cfg) == "agent_800.pt"
     assert make_pretrained.checkpoint_name("/x/best_model_9.pt", "rsl_rl", 9, agent_cfg) == "model_9.pt"
+
+
+def test_a_policy_whose_int8_replay_misses_the_criterion_is_stored_as_float16(tmp_path, monkeypatch):
+    from simlab.cli.main import main as simlab_main
+
+    logs = tmp_path / "logs"
+    train = ["train", "--task", TASK, "--headless", "--device", "cpu", "--num_envs", "8", "--max_iterations", "1"]
+    assert simlab_main([*train, "--seed", "3", "--log_root", str(logs)]) == 0
+    checkpoint = max(logs.glob("rsl_rl/*/*/model_*.pt"), key=os.path.getmtime)
+    script = _script()
+    tried = []
+
+    def replay(task, staged, iteration, args):  # a task whose tolerance int8 rows miss, float16 meets
+        matrices = torch.load(os.path.join(os.path.dirname(staged), "policy.pt"), weights_only=True)["matrices"]
+        tried.append(matrices)
+        passed = matrices == "float16"
+        return {"device": "cpu", "envs": 4, "seconds": 0.5, "seed": 42, "score": float(passed), "passed": passed}
+
+    monkeypatch.setattr(script, "evaluate_on_cpu", replay)
+    out = tmp_path / "pretrained"
+    adopt = ["--tasks", TASK, "--checkpoint", str(checkpoint), "--trained_by", "a test run", "--out", str(out)]
+    assert script.main(adopt) == 0 and tried == ["int8_rows", "float16"]
+    record = json.loads((out / "Cartpole-Direct-v0" / "rsl_rl" / "record.json").read_text())
+    assert record["weights"] == "float16" and record["cpu_evaluation"]["score"] == 1.0
+    _, stored = unpack_policy(str(out / "Cartpole-Direct-v0" / "rsl_rl" / "policy.pt"))
+    original = torch.load(checkpoint, weights_only=True)["actor_state_dict"]
+    for key, value in stored["actor_state_dict"].items():
+        assert value.dtype == torch.float32
+        torch.testing.assert_close(value, original[key], rtol=1e-3, atol=1e-4)  # float16's precision
