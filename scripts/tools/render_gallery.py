@@ -70,7 +70,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--width", type=int, default=320)
     parser.add_argument("--height", type=int, default=240)
     parser.add_argument("--num_envs", type=int, default=4, help="envs per task: neighbours show in the picture")
-    parser.add_argument("--settle_s", type=float, default=0.5, help="sim seconds of zero actions before the picture")
+    parser.add_argument("--settle_s", type=float, default=0.2, help="sim seconds of zero actions before the picture")
     args = parser.parse_args(argv)
     if args.width < 16 or args.height < 16:
         parser.error(f"--width and --height must be at least 16 pixels, got {args.width}x{args.height}")
