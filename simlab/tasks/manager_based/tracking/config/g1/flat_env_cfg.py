@@ -1,0 +1,58 @@
+"""Unitree G1 (29-DoF) motion tracking on flat ground (mjlab's ``Mjlab-Tracking-Flat-Unitree-G1``).
+
+The clip defaults to ``motions/g1_twist.npz`` (made by ``scripts/tools/make_g1_clips.py``); train on
+another with ``env.commands.motion.motion_file=<path>``.
+"""
+
+import os
+
+from simlab.robots.unitree import G1_29DOF_ACTION_SCALE, G1_29DOF_CFG
+from simlab.tasks.manager_based.tracking.tracking_env_cfg import TrackingEnvCfg
+from simlab.utils import configclass
+
+MOTIONS_DIR = os.path.join(os.path.dirname(__file__), "motions")
+
+TRACKED_BODIES = [
+    "pelvis",
+    "left_hip_roll_link",
+    "left_knee_link",
+    "left_ankle_roll_link",
+    "right_hip_roll_link",
+    "right_knee_link",
+    "right_ankle_roll_link",
+    "torso_link",
+    "left_shoulder_roll_link",
+    "left_elbow_link",
+    "left_wrist_yaw_link",
+    "right_shoulder_roll_link",
+    "right_elbow_link",
+    "right_wrist_yaw_link",
+]
+END_EFFECTORS = ["left_ankle_roll_link", "right_ankle_roll_link", "left_wrist_yaw_link", "right_wrist_yaw_link"]
+
+
+@configclass
+class G1FlatTrackingEnvCfg(TrackingEnvCfg):
+    def __post_init__(self):
+        super().__post_init__()
+        self.scene.robot = G1_29DOF_CFG.replace(prim_path="{ENV_REGEX_NS}/Robot")
+        self.actions.joint_pos.scale = G1_29DOF_ACTION_SCALE
+        motion = self.commands.motion
+        motion.motion_file = os.path.join(MOTIONS_DIR, "g1_twist.npz")
+        motion.anchor_body_name = "torso_link"
+        motion.body_names = TRACKED_BODIES
+        self.terminations.ee_body_pos.params["body_names"] = END_EFFECTORS
+
+
+@configclass
+class G1FlatTrackingEnvCfg_PLAY(G1FlatTrackingEnvCfg):  # noqa: N801 - Isaac Lab's naming
+    def __post_init__(self):
+        super().__post_init__()
+        self.scene.num_envs = 50
+        self.observations.policy.enable_corruption = False
+        self.events.push_robot = None
+        # play the clip from its start, without the start-state noise
+        self.commands.motion.adaptive_sampling = False
+        self.commands.motion.pose_range = {}
+        self.commands.motion.velocity_range = {}
+        self.commands.motion.joint_position_range = (0.0, 0.0)
