@@ -139,6 +139,18 @@ def test_libraries_own_loads_are_weights_only(tmp_path):
     assert marker.exists()  # the user vouched for the file: it loads as the library would
 
 
+def test_numpy_values_real_checkpoints_hold_still_load(tmp_path):
+    """rl_games keeps its best mean reward as a numpy scalar once episodes finish: weights-only loads take it."""
+    import numpy as np
+
+    from simlab.utils.trust import torch_load
+
+    state = {"model": {"w": torch.ones(2)}, "epoch": 3, "last_mean_rewards": np.float32(1.5), "a": np.zeros(3)}
+    torch.save(state, str(tmp_path / "rl_games.pth"))
+    loaded = torch_load(str(tmp_path / "rl_games.pth"))
+    assert loaded["last_mean_rewards"] == np.float32(1.5) and loaded["a"].shape == (3,)
+
+
 def _crafted_sb3_zip(real: str, path, key: str, payload: object) -> str:
     """``real`` with its ``data`` item ``key`` replaced by a cloudpickle-style serialized ``payload``."""
     with zipfile.ZipFile(real) as z:
