@@ -59,6 +59,9 @@ class InHandManipulationEnv(DirectRLEnv):
 
         # actuated joints and fingertips in the model's order (Isaac Lab sorts the ids the same way)
         self.actuated_dof_indices = sorted(self.hand.joint_names.index(name) for name in cfg.actuated_joint_names)
+        # every joint actuated (the Allegro Hand): a slice, so that the targets are written without a gather
+        all_joints = self.actuated_dof_indices == list(range(self.num_hand_dofs))
+        self._actuated = slice(None) if all_joints else self.actuated_dof_indices
         self.finger_bodies = sorted(self.hand.body_names.index(name) for name in cfg.fingertip_body_names)
         # joints the model couples to another (follower: leader): a reset puts them where they belong
         coupled = cfg.coupled_joints.items()
@@ -111,7 +114,7 @@ class InHandManipulationEnv(DirectRLEnv):
         self.actions = actions.clone()
 
     def _apply_action(self) -> None:
-        act = self.actuated_dof_indices
+        act = self._actuated
         lower, upper = self.hand_dof_lower_limits[:, act], self.hand_dof_upper_limits[:, act]
         targets = scale(self.actions, lower, upper)
         alpha = self.cfg.act_moving_average
