@@ -12,6 +12,7 @@ import torch
 import simlab.utils.math as math_utils
 from simlab.managers import CommandTerm, CommandTermCfg
 from simlab.utils import configclass
+from simlab.utils.env_mask import masked_copy_
 
 from ..motion_clip import MotionClip
 
@@ -33,6 +34,7 @@ class MotionCommand(CommandTerm):
     """
 
     cfg: MotionCommandCfg
+    resamples_by_mask = True  # draws for every env, keeps the draws where the mask is set
 
     def __init__(self, cfg: MotionCommandCfg, env: ManagerBasedRLEnv):
         super().__init__(cfg, env)
@@ -143,57 +145,64 @@ class MotionCommand(CommandTerm):
     # -- CommandTerm ------------------------------------------------------------------------------
 
     def _update_metrics(self) -> None:
-        self.metrics["error_anchor_pos"] = torch.norm(self.anchor_pos_w - self.robot_anchor_pos_w, dim=-1)
-        self.metrics["error_anchor_rot"] = math_utils.quat_error_magnitude(self.anchor_quat_w, self.robot_anchor_quat_w)
-        self.metrics["error_body_pos"] = torch.norm(self.body_pos_relative_w - self.robot_body_pos_w, dim=-1).mean(-1)
-        self.metrics["error_body_rot"] = math_utils.quat_error_magnitude(
-            self.body_quat_relative_w, self.robot_body_quat_w
-        ).mean(-1)
-        self.metrics["error_joint_pos"] = torch.norm(self.joint_pos - self.robot.data.joint_pos, dim=-1)
-
-    def _sample_times(self, env_ids: torch.Tensor) -> None:
-        if self.cfg.adaptive_sampling:
-            failed = self._env.termination_manager.terminated[env_ids]
-            bins = (self.time_steps[env_ids][failed] * self.bin_count) // self.num_frames
-            self._bin_failed_now += torch.bincount(bins.clamp(max=self.bin_count - 1), minlength=self.bin_count)
-            weights = self.bin_failed + self.cfg.adaptive_uniform_ratio / self.bin_count
-            drawn = torch.multinomial(weights / weights.sum(), len(env_ids), replacement=True)
-            start = (drawn + torch.rand(len(env_ids), device=self.device)) / self.bin_count
-            self.time_steps[env_ids] = (start * (self.num_frames - 1)).long()
-        else:
-            self.time_steps[env_ids] = 0
-
-    def _resample_command(self, env_ids: torch.Tensor) -> None:
-        """Start the envs at clip times, the robot in the clip's state there, slightly perturbed."""
-        self._sample_times(env_ids)
-        n = len(env_ids)
-        steps = self.time_steps[env_ids]
-        root_pos = self.clip_body_pos_w[steps, 0] + self._env.scene.env_origins[env_ids]
-        root_quat = self.clip_body_quat_w[steps, 0]
-        root_lin_vel = self.clip_body_lin_vel_w[steps, 0]
-        root_ang_vel = self.clip_body_ang_vel_w[steps, 0]
-        pose = _uniform(self.cfg.pose_range, n, self.device)
-        root_pos = root_pos + pose[:, :3]
-        root_quat = math_utils.quat_mul(math_utils.quat_from_euler_xyz(pose[:, 3], pose[:, 4], pose[:, 5]), root_quat)
-        velocity = _uniform(self.cfg.velocity_range, n, self.device)
-        root_state = torch.cat(
-            [root_pos, root_quat, root_lin_vel + velocity[:, :3], root_ang_vel + velocity[:, 3:]], -1
+        self.metrics["error_anchor_pos"].copy_(torch.norm(self.anchor_pos_w - self.robot_anchor_pos_w, dim=-1))
+        self.metrics["error_anchor_rot"].copy_(
+            math_utils.quat_error_magnitude(self.anchor_quat_w, self.robot_anchor_quat_w)
         )
+        self.metrics["error_body_pos"].copy_(
+            torch.norm(self.body_pos_relative_w - self.robot_body_pos_w, dim=-1).mean(-1)
+        )
+        self.metrics["error_body_rot"].copy_(
+            math_utils.quat_error_magnitude(self.body_quat_relative_w, self.robot_body_quat_w).mean(-1)
+        )
+        self.metrics["error_joint_pos"].copy_(torch.norm(self.joint_pos - self.robot.data.joint_pos, dim=-1))
+
+    def _start_probabilities(self) -> torch.Tensor:
+        weights = self.bin_failed + self.cfg.adaptive_uniform_ratio / self.bin_count
+        return weights / weights.sum()
+
+    def _sample_times(self, mask: torch.Tensor) -> None:
+        """New clip times where ``mask`` is set (every env draws; fixed shapes, no host reads)."""
+        if not self.cfg.adaptive_sampling:
+            masked_copy_(self.time_steps, mask, 0)
+            return
+        failed = self._env.termination_manager.terminated & mask
+        bins = ((self.time_steps * self.bin_count) // self.num_frames).clamp(max=self.bin_count - 1)
+        self._bin_failed_now.scatter_add_(0, bins, failed.float())
+        # inverse-CDF draw of a bin, then a uniform time inside it
+        cdf = torch.cumsum(self._start_probabilities(), 0)
+        drawn = torch.searchsorted(cdf, torch.rand(self.num_envs, device=self.device) * cdf[-1]).clamp(
+            max=self.bin_count - 1
+        )
+        start = (drawn + torch.rand(self.num_envs, device=self.device)) / self.bin_count
+        masked_copy_(self.time_steps, mask, (start * (self.num_frames - 1)).long())
+
+    def _resample_command(self, mask: torch.Tensor) -> None:
+        """Start the envs where ``mask`` is set at clip times, in the clip's state there, slightly perturbed."""
+        self._sample_times(mask)
+        n, steps, origins = self.num_envs, self.time_steps, self._env.scene.env_origins
+        pose = _uniform(self.cfg.pose_range, n, self.device)
+        root_pos = self.clip_body_pos_w[steps, 0] + origins + pose[:, :3]
+        delta = math_utils.quat_from_euler_xyz(pose[:, 3], pose[:, 4], pose[:, 5])
+        root_quat = math_utils.quat_mul(delta, self.clip_body_quat_w[steps, 0])
+        velocity = _uniform(self.cfg.velocity_range, n, self.device)
+        root_lin_vel = self.clip_body_lin_vel_w[steps, 0] + velocity[:, :3]
+        root_ang_vel = self.clip_body_ang_vel_w[steps, 0] + velocity[:, 3:]
         low, high = self.cfg.joint_position_range
         joint_pos = self.clip_joint_pos[steps] + torch.empty_like(self.clip_joint_pos[steps]).uniform_(low, high)
-        limits = self.robot.data.soft_joint_pos_limits[env_ids]
+        limits = self.robot.data.soft_joint_pos_limits
         joint_pos = joint_pos.clamp(limits[..., 0], limits[..., 1])
-        self.robot.write_root_state_to_sim(root_state, env_ids=env_ids)
-        self.robot.write_joint_state_to_sim(joint_pos, self.clip_joint_vel[steps], env_ids=env_ids)
+        self.robot.write_root_state_to_sim(
+            torch.cat([root_pos, root_quat, root_lin_vel, root_ang_vel], -1), env_ids=mask
+        )
+        self.robot.write_joint_state_to_sim(joint_pos, self.clip_joint_vel[steps], env_ids=mask)
         # until the next update moves them onto the robot, the targets are the clip's own (where the robot starts)
-        self.body_pos_relative_w[env_ids] = self.clip_body_pos_w[steps] + self._env.scene.env_origins[env_ids, None]
-        self.body_quat_relative_w[env_ids] = self.clip_body_quat_w[steps]
+        masked_copy_(self.body_pos_relative_w, mask, self.clip_body_pos_w[steps] + origins[:, None])
+        masked_copy_(self.body_quat_relative_w, mask, self.clip_body_quat_w[steps])
 
     def _update_command(self) -> None:
         self.time_steps += 1
-        finished = torch.nonzero(self.time_steps >= self.num_frames).flatten()
-        if len(finished):
-            self._resample_command(finished)
+        self._resample_command(self.time_steps >= self.num_frames)
         # the clip's bodies, moved onto the robot's anchor (horizontal position and heading)
         anchor_pos = self.anchor_pos_w[:, None]
         anchor_quat = self.anchor_quat_w[:, None].expand_as(self.body_quat_relative_w)
@@ -201,17 +210,16 @@ class MotionCommand(CommandTerm):
         robot_pos[..., 2] = anchor_pos[..., 2]
         robot_quat = self.robot_anchor_quat_w[:, None].expand_as(anchor_quat)
         delta = math_utils.yaw_quat(math_utils.quat_mul(robot_quat, math_utils.quat_inv(anchor_quat)))
-        self.body_quat_relative_w = math_utils.quat_mul(delta, self.body_quat_w)
-        self.body_pos_relative_w = robot_pos + math_utils.quat_apply(delta, self.body_pos_w - anchor_pos)
+        self.body_quat_relative_w.copy_(math_utils.quat_mul(delta, self.body_quat_w))
+        self.body_pos_relative_w.copy_(robot_pos + math_utils.quat_apply(delta, self.body_pos_w - anchor_pos))
         # failures counted this step enter the bins' running average
         alpha = self.cfg.adaptive_alpha
-        self.bin_failed = alpha * self._bin_failed_now + (1 - alpha) * self.bin_failed
+        self.bin_failed.mul_(1 - alpha).add_(alpha * self._bin_failed_now)
         self._bin_failed_now.zero_()
 
     def sampling_entropy(self) -> float:
         """Normalized entropy of the start-time distribution (1: uniform)."""
-        p = self.bin_failed + self.cfg.adaptive_uniform_ratio / self.bin_count
-        p = p / p.sum()
+        p = self._start_probabilities()
         return float(-(p * (p + 1e-12).log()).sum() / math.log(max(self.bin_count, 2)))
 
 
