@@ -290,3 +290,13 @@ def test_allow_module_lets_an_override_name_that_module(tmp_path, capsys, monkey
     assert _main(tmp_path, *argv) == 2
     assert "--allow_module trusted_rewards" in _one_line_error(capsys)
     assert _main(tmp_path, *argv, "--allow_module", "trusted_rewards") == 0
+
+
+def test_isaac_lab_scripts_pass_the_trust_flags_on():
+    from simlab.cli.isaaclab_scripts import build_script_parser, script_to_simlab_argv
+
+    args, rest = build_script_parser("rl_games", "play").parse_known_args(
+        ["--task", "Isaac-Cartpole-v0", "--trust_checkpoint", "--allow_module", "mypkg", "--checkpoint", "m.pth"]
+    )
+    argv = script_to_simlab_argv("rl_games", "play", args, rest)
+    assert "--trust_checkpoint" in argv and argv[argv.index("--allow_module") + 1] == "mypkg"

@@ -67,6 +67,11 @@ def build_script_parser(library: str, mode: str) -> argparse.ArgumentParser:
         group.add_argument("--log_project_name", type=str, default=None, help="W&B / Neptune project name.")
     else:
         parser.add_argument("--checkpoint", type=str, default=None, help="Path to a model checkpoint.")
+    # simlab's trust flags (files from elsewhere are data): see docs/runs.md
+    parser.add_argument(
+        "--trust_checkpoint", action="store_true", help="Load a checkpoint that holds more than weights."
+    )
+    parser.add_argument("--allow_module", action="append", default=[], help="Let overrides name MODULE's functions.")
     if library == "skrl":
         parser.add_argument("--ml_framework", type=str, default="torch", choices=["torch", "jax", "jax-numpy"])
         parser.add_argument("--algorithm", type=str, default="PPO", choices=["AMP", "PPO", "IPPO", "MAPPO"])
@@ -122,9 +127,11 @@ def script_to_simlab_argv(library: str, mode: str, args: argparse.Namespace, ove
         value = getattr(args, name, None)
         if value is not None:
             argv += [f"--{name}", str(value)]
-    for name in ("headless", "video", "verbose"):
+    for name in ("headless", "video", "verbose", "trust_checkpoint"):
         if getattr(args, name, False):
             argv.append(f"--{name}")
+    for module in getattr(args, "allow_module", []):
+        argv += ["--allow_module", module]
     if library == "skrl":
         algorithm = args.algorithm.upper()
         argv += ["--algorithm", algorithm]
