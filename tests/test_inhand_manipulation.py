@@ -212,3 +212,18 @@ def test_shadow_direct_steps_with_finite_values_and_coupled_distal_joints():
         assert rsl.actor.hidden_dims == [512, 512, 256, 128] and rsl.experiment_name == "shadow_hand"
     finally:
         env.close()
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("task", [ALLEGRO, SHADOW])
+def test_contact_buffers_cover_the_peaks_of_random_play(task):
+    """MuJoCo Warp's kernels on Warp's CPU device, the task's own buffers (an overflow raises), short
+    episodes so that the rollout crosses resets: twice the peak contacts and constraint rows fit."""
+    pytest.importorskip("mujoco_warp")
+    from simlab.tasks.utils.contact_buffers import measure_task_buffers
+
+    peaks, diverged, reserved = measure_task_buffers(task, num_envs=4, env_steps=60, headroom=1, episode_length_s=0.5)
+    assert diverged == 0
+    assert peaks.contacts_per_world > 0  # the cube touches the hand: the count means something
+    assert reserved["nconmax"] >= 2 * peaks.contacts_per_world
+    assert reserved["njmax"] >= 2 * peaks.constraint_rows
