@@ -165,9 +165,10 @@ def time_to_policy(
     """
     if library not in SUPPORTED_LIBRARIES:
         raise ValueError(f"simlab bench solve trains with {list(SUPPORTED_LIBRARIES)}; got --library {library}.")
-    from simlab.cli.main import build_parser
+    from simlab.cli.main import allowed_modules, build_parser
     from simlab.cli.train import run_train
     from simlab.tasks.utils.hydra import env_overrides_in
+    from simlab.utils.string import callable_modules
 
     argv = ["train", "--task", task, "--library", library, "--headless", "--device", device]
     argv += ["--seed", str(seed), "--log_root", log_root, "--run_name", "solve"]
@@ -186,7 +187,8 @@ def time_to_policy(
     )
     args.on_checkpoint = judge
     try:
-        run_dir = run_train(args, overrides)
+        with callable_modules(allowed_modules(args)):  # as `simlab train`: module:name values of simlab's, the task's
+            run_dir = run_train(args, overrides)
     finally:
         judge.close()
     if num_envs is None:  # the task's own count, as the run recorded it

@@ -35,7 +35,7 @@ from simlab.utils.errors import is_intended_error, is_storage_error
 from simlab.utils.startup import pause_collector_for_start_up, resume_collector_after_start_up
 from simlab.viewer import DEFAULT_HOST, DEFAULT_PORT, VIEWER_KINDS
 
-__all__ = ["build_parser", "main"]
+__all__ = ["allowed_modules", "build_parser", "main"]
 
 
 def _add_debug(p: argparse.ArgumentParser) -> None:
@@ -351,7 +351,7 @@ def _run_command(command: str, debug: bool, run: Callable[[], int | None]) -> in
         return _report(command, e, debug)
 
 
-def _allowed_modules(args: argparse.Namespace) -> list[str]:
+def allowed_modules(args: argparse.Namespace) -> list[str]:
     """The packages whose functions ``module:name`` values may name: simlab, the task's own package
     (of its registered env and env config) and those given with ``--allow_module``."""
     packages = ["simlab", *getattr(args, "allow_module", [])]
@@ -376,7 +376,7 @@ def _dispatch(parser: argparse.ArgumentParser, args: argparse.Namespace, rest: l
     from simlab.utils.string import callable_modules
 
     # a "module:name" value (an override, a run's params) names functions of these packages only
-    with callable_modules(_allowed_modules(args)):
+    with callable_modules(allowed_modules(args)):
         return _run(parser, args, rest, argv)
 
 
