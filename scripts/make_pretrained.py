@@ -481,7 +481,7 @@ def checkpoint_iteration(checkpoint: str, library: str, agent_cfg: dict) -> int:
 
 
 def checkpoint_name(checkpoint: str, library: str, iteration: int, agent_cfg: dict) -> str:
-    """A file name that play's checkpoint search finds (locomotion_walk.py saves ``model_final.pt``)."""
+    """A file name that play's checkpoint search finds (a script of the user's may save ``model_final.pt``)."""
     from simlab.cli.runs import is_checkpoint_name
 
     name = os.path.basename(checkpoint)

@@ -82,3 +82,22 @@ def test_a_failed_measurement_is_a_row_and_a_failing_exit_code(monkeypatch, caps
     captured = capsys.readouterr()
     assert "CUDA out of memory (pretend)" in captured.out
     assert "1 measurement(s) failed" in captured.err
+
+
+@pytest.mark.parametrize(
+    ("argv", "printed"),
+    [
+        (["raycast", "--num_envs", "2", "--rounds", "1", "--casts", "2"], "binned cast"),
+        (["ops", "update", "--task", "simlab/Cartpole-v0", "--device", "cpu", "--num_envs", "8"], "aten."),
+        (["ops", "sync", "--device", "cpu", "--num_envs", "8", "--iterations", "1", "--rounds", "1"], "env steps/s"),
+        pytest.param(["terrain", "--steps", "20", "--rounds", "1"], "height_field", marks=pytest.mark.slow),
+    ],
+)
+def test_the_part_cost_tools_run_as_bench_subcommands(argv, printed, capsys):
+    assert main(argv) == 0
+    assert printed in capsys.readouterr().out
+
+
+def test_bench_ops_names_its_counters(capsys):
+    assert main(["ops", "nope"]) == 2
+    assert "give one of ['step', 'update', 'sync'] (got nope)" in capsys.readouterr().err

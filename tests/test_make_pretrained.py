@@ -133,7 +133,7 @@ def test_a_policy_trained_elsewhere_is_judged_on_the_cpu_and_shipped(tmp_path, c
     logs = tmp_path / "logs"
     train = ["train", "--task", TASK, "--headless", "--device", "cpu", "--num_envs", "8", "--max_iterations", "1"]
     assert simlab_main([*train, "--seed", "3", "--log_root", str(logs)]) == 0
-    checkpoint = tmp_path / "model_final.pt"  # the name locomotion_walk.py saves under
+    checkpoint = tmp_path / "model_final.pt"  # a name of its own, as a script of the user's saves
     shutil.copy2(max(logs.glob("rsl_rl/*/*/model_*.pt"), key=os.path.getmtime), checkpoint)
     script = _script()
     adopt = ["--tasks", TASK, "--checkpoint", str(checkpoint), "--trained_by", "a one-iteration test run"]

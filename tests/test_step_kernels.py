@@ -3,11 +3,8 @@ launch), and the mechanisms that keep it small without changing any value."""
 
 from __future__ import annotations
 
-import pathlib
-
 import pytest
 import torch
-from conftest import load_script
 
 import simlab.envs.mdp as mdp
 import simlab.sim as sim_utils
@@ -22,11 +19,12 @@ from simlab.tasks.manager_based.classic.cartpole.cartpole_env_cfg import Cartpol
 from simlab.utils import configclass
 from simlab.utils.noise import ConstantNoiseCfg, UniformNoiseCfg
 
-SCRIPT = pathlib.Path(__file__).resolve().parents[1] / "scripts" / "benchmarks" / "step_launch_count.py"
-
 
 def load_counter_script():
-    return load_script(SCRIPT)
+    """``simlab bench ops step``'s module."""
+    from simlab.benchmarks import step_ops
+
+    return step_ops
 
 
 def go2_scene(num_envs: int = 3):

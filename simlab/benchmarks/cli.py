@@ -4,6 +4,16 @@
     simlab bench --device cuda:0 --json bench.json       # every suite but solve
     simlab bench solve --tasks simlab/Cartpole-v0 --device cpu   # time to a policy that solves the task
 
+The costs of single parts, each with its own flags (``simlab bench <tool> --help``):
+
+    simlab bench ops step --task simlab/Velocity-Flat-Unitree-Go2-v0  # torch ops, Warp launches per step, by part
+    simlab bench ops update --task simlab/Cartpole-v0 --device cpu      # torch ops of a PPO update and rollout step
+    simlab bench ops sync --device cuda:0 --num_envs 4096               # the rollout's host read: per step or iteration
+    simlab bench startup --device cpu --runs 5                          # process start to the first iteration
+    simlab bench viewer --device cpu --tasks simlab/Cartpole-v0         # training time with the web viewer open
+    simlab bench terrain                                                # a step on plane, boxes and height fields
+    simlab bench raycast --num_envs 64                                  # one height scan against a physics step
+
 Figures are measured on the machine at hand. Ratios compare variants measured in alternating
 rounds within the same run, which is what holds up on a noisy machine.
 """
@@ -132,7 +142,39 @@ def _suite_functions() -> dict[str, tuple[Callable[..., list[dict]], list]]:
     }
 
 
+# the part-cost tools: ``simlab bench <tool> [<counter>] ...`` runs the module's main with the rest
+TOOLS = {
+    "startup": "simlab.benchmarks.startup",
+    "viewer": "simlab.benchmarks.viewer_cost",
+    "terrain": "simlab.benchmarks.terrain_cost",
+    "raycast": "simlab.benchmarks.ray_cast_cost",
+}
+OP_COUNTERS = {
+    "step": "simlab.benchmarks.step_ops",
+    "update": "simlab.benchmarks.update_ops",
+    "sync": "simlab.benchmarks.host_sync",
+}
+
+
+def _run_tool(argv: list[str]) -> int:
+    """``simlab bench ops <counter> ...`` or ``simlab bench <tool> ...``."""
+    import importlib
+
+    if argv[0] == "ops":
+        if len(argv) < 2 or argv[1] not in OP_COUNTERS:
+            got = argv[1] if len(argv) > 1 else "nothing"
+            print(f"simlab bench ops: give one of {list(OP_COUNTERS)} (got {got})", file=sys.stderr)
+            return 2
+        module, rest = OP_COUNTERS[argv[1]], argv[2:]
+    else:
+        module, rest = TOOLS[argv[0]], argv[1:]
+    return importlib.import_module(module).main(rest) or 0
+
+
 def main(argv: list[str] | None = None) -> int:
+    argv = sys.argv[1:] if argv is None else list(argv)
+    if argv and (argv[0] in TOOLS or argv[0] == "ops"):
+        return _run_tool(argv)
     parser = argparse.ArgumentParser(
         prog="simlab bench", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
     )

@@ -1,7 +1,7 @@
 """What the env step's host read costs in rsl_rl training: the episode-log flag read every step
 against the flags read once per iteration (``ManagerBasedRLEnv.log_refresh_on_device``).
 
-    python scripts/benchmarks/rollout_host_sync.py --device cuda:0 --num_envs 4096 --iterations 20 --rounds 3
+    simlab bench ops sync --device cuda:0 --num_envs 4096 --iterations 20 --rounds 3
 
 One env and one rsl_rl runner, built as ``simlab bench train`` builds them (the agent config's
 PPO update and act: on CUDA simlab's fast update and act graph). Rounds alternate the two
@@ -22,14 +22,16 @@ from simlab.cli.libraries.rsl_rl import make_runner
 from simlab.tasks.utils import load_cfg_from_registry
 
 
-def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(
+        prog="simlab bench ops sync", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     parser.add_argument("--task", default="simlab/Cartpole-v0", help="a manager-based task")
     parser.add_argument("--device", default="cuda:0")
     parser.add_argument("--num_envs", type=int, default=4096)
     parser.add_argument("--iterations", type=int, default=20, help="timed iterations per round and setting")
     parser.add_argument("--rounds", type=int, default=3)
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
 
     env = make_env(args.task, args.num_envs, args.device)
     if not hasattr(env, "log_refresh_on_device"):

@@ -4,7 +4,7 @@ The ant stands on its env origin in each of ``--num_envs`` envs; the scan is cas
 caster (vertical rays against the geoms of their bin) and against every target geom, in
 alternating rounds, next to one physics step of all envs for scale.
 
-    PYTHONPATH=$PWD python scripts/benchmarks/ray_cast_cost.py --num_envs 64
+    simlab bench raycast --num_envs 64
 """
 
 from __future__ import annotations
@@ -22,13 +22,13 @@ from simlab.terrains import ROUGH_TERRAINS_CFG, TerrainImporterCfg
 from simlab.utils import configclass
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def main(argv: list[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(prog="simlab bench raycast", description=__doc__.splitlines()[0])
     parser.add_argument("--num_envs", type=int, default=64)
     parser.add_argument("--box_tiles_as", default="height_field")
     parser.add_argument("--rounds", type=int, default=5)
     parser.add_argument("--casts", type=int, default=20, help="casts per round")
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
 
     @configclass
     class SceneCfg(InteractiveSceneCfg):

@@ -1,7 +1,7 @@
 """Where `simlab train` spends its start-up: fresh processes, median milestones, top import costs.
 
-    python scripts/benchmarks/startup_cost.py --device cpu --runs 5
-    python scripts/benchmarks/startup_cost.py --device cuda:0 --runs 5 --before .device/old
+    simlab bench startup --device cpu --runs 5
+    simlab bench startup --device cuda:0 --runs 5 --before .device/old
 
 Each run is a new process of ``simlab train --task <task> --headless --max_iterations 1 --verbose``
 (the task's env count unless ``--num_envs``), timed from the process start. Variants alternate
@@ -210,8 +210,10 @@ def print_phase_table(runs: dict[str, list[dict]]) -> None:
         print(f"{p:>18} | " + " | ".join(cells))
 
 
-def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(
+        prog="simlab bench startup", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     parser.add_argument("--task", default="simlab/Cartpole-v0")
     parser.add_argument("--device", default="cpu", help="cpu or cuda:N")
     parser.add_argument("--num_envs", type=int, default=None, help="default: the task's")
@@ -222,7 +224,7 @@ def main() -> int:
     parser.add_argument("--top", type=int, default=12, help="packages listed by import cost")
     parser.add_argument("--json", default=None, help="write the runs to this file")
     parser.add_argument("overrides", nargs="*", help="env.x=... / agent.y=... words passed to simlab train")
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
 
     variants = [{"name": "now", "tree": ROOT, "env": {}}]
     if args.pycache_prefix:

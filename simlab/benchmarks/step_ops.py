@@ -1,6 +1,6 @@
 """How many kernels one env step launches outside the physics, by component (CPU, reproducible).
 
-    python scripts/benchmarks/step_launch_count.py --task simlab/Velocity-Flat-Unitree-Go2-v0
+    simlab bench ops step --task simlab/Velocity-Flat-Unitree-Go2-v0
 
 On the GPU the part of a step outside the physics is launch-bound: each torch op or Warp launch
 costs a few microseconds even inside the CUDA graph, whatever the env count. This script builds the
@@ -275,8 +275,10 @@ def report(counter: LaunchCounter, steps: int, top_ops: int = 0) -> str:
     return "\n".join(lines)
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+def main(argv: list[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(
+        prog="simlab bench ops step", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     parser.add_argument("--task", default="simlab/Velocity-Flat-Unitree-Go2-v0")
     parser.add_argument("--num_envs", type=int, default=8)
     parser.add_argument("--steps", type=int, default=5)
@@ -288,7 +290,7 @@ def main() -> None:
         help="mujoco_warp: the GPU backend on Warp's CPU device (counts its Warp launches too); mujoco: the "
         "CPU backend (the same torch ops outside the physics, no Warp)",
     )
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     os.environ.setdefault("MUJOCO_GL", "osmesa")
     counter = count(args.task, args.num_envs, args.steps, engine=args.engine)
     print(

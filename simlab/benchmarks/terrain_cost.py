@@ -7,8 +7,8 @@ ROUGH_TERRAINS_CFG (seed 1, curriculum). On the CPU one world steps with ``mj_st
 The variants are timed in alternating rounds (the machine may be shared and noisy); the median
 round is reported.
 
-    PYTHONPATH=$PWD python scripts/benchmarks/terrain_step_cost.py
-    PYTHONPATH=$PWD python scripts/benchmarks/terrain_step_cost.py --device cuda --num_envs 4096
+    simlab bench terrain
+    simlab bench terrain --device cuda --num_envs 4096
 """
 
 from __future__ import annotations
@@ -81,14 +81,14 @@ class GpuStepper:
         return (time.perf_counter() - start) / self.steps * 1e6
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def main(argv: list[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(prog="simlab bench terrain", description=__doc__.splitlines()[0])
     parser.add_argument("--device", default="cpu")
     parser.add_argument("--num_envs", type=int, default=4096, help="worlds on the GPU")
     parser.add_argument("--steps", type=int, default=500, help="steps per round")
     parser.add_argument("--rounds", type=int, default=5)
     parser.add_argument("--fine_scale", type=float, default=None, help="also box tiles sampled this finely [m]")
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
 
     rough = ROUGH_TERRAINS_CFG.replace(seed=1, curriculum=True)
     variants = {

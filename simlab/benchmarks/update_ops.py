@@ -1,6 +1,6 @@
 """How much work one rsl_rl PPO update and one rollout step dispatch: torch ops counted per call.
 
-    python scripts/benchmarks/rsl_rl_update_ops.py --task simlab/Cartpole-v0 --device cpu [--update rsl_rl]
+    simlab bench ops update --task simlab/Cartpole-v0 --device cpu [--update rsl_rl]
 
 On the GPU each dispatched op is a kernel launch (or a host read-back, counted apart), so these
 counts bound how fast an iteration can run when the host, not the GPU, is the limit. The runner
@@ -44,8 +44,10 @@ class OpCounter(TorchDispatchMode):
         return sum(n for name, n in self.ops.items() if name.startswith(READ_BACKS))
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+def main(argv: list[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(
+        prog="simlab bench ops update", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     parser.add_argument("--task", default="simlab/Cartpole-v0")
     parser.add_argument("--num_envs", type=int, default=256)
     parser.add_argument("--device", default="cpu")
@@ -55,7 +57,7 @@ def main() -> None:
         default="fast",
         help="simlab's fast PPO update (and on CUDA the rollout's policy and step as CUDA graphs) or rsl_rl's own",
     )
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
 
     env = gym.make(args.task, cfg=parse_env_cfg(args.task, device=args.device, num_envs=args.num_envs))
     agent_cfg = load_cfg_from_registry(args.task, "rsl_rl_cfg_entry_point")

@@ -1,7 +1,7 @@
 """What the web viewer costs training: `simlab train` headless against `--viewer web` with a client.
 
-    python scripts/benchmarks/viewer_cost.py --device cpu --tasks simlab/Cartpole-v0 --num_envs 64 --iterations 200
-    python scripts/benchmarks/viewer_cost.py --device cuda --tasks simlab/Cartpole-v0 simlab/Humanoid-Direct-v0
+    simlab bench viewer --device cpu --tasks simlab/Cartpole-v0 --num_envs 64 --iterations 200
+    simlab bench viewer --device cuda --tasks simlab/Cartpole-v0 simlab/Humanoid-Direct-v0
 
 For each task, three trainings with the same seed, in turn: headless; the web viewer open with one
 client connected that receives everything a browser would (viser's websocket protocol, read by a
@@ -135,8 +135,10 @@ def train(task: str, args: argparse.Namespace, viewer: str) -> tuple[float, str]
     return float(took.group(1)), note
 
 
-def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(
+        prog="simlab bench viewer", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     parser.add_argument("--device", default="cpu")
     parser.add_argument("--tasks", nargs="+", default=["simlab/Cartpole-v0"])
     parser.add_argument("--num_envs", type=int, default=None, help="Default: the task's.")
@@ -144,7 +146,7 @@ def main() -> int:
     parser.add_argument("--repeats", type=int, default=2)
     parser.add_argument("--chromium", action="store_true", help="Also run with headless Chromium on the page.")
     parser.add_argument("--log_root", default="/tmp/simlab_viewer_cost")
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
 
     kinds = ["headless", "client"] + (["chromium"] if args.chromium else [])
     print("| task | run | training time | vs headless | note |")

@@ -1,7 +1,7 @@
 """Start-up milestones of a command, as seconds since its process started.
 
 ``simlab train`` marks when its configs, RL library, env, first env step and first training
-iteration are ready; ``--verbose`` prints them, and ``scripts/benchmarks/startup_cost.py`` reads
+iteration are ready; ``--verbose`` prints them, and ``simlab bench startup`` reads
 that line to say where start-up goes. Marking is a dict write: it costs nothing measurable.
 """
 
@@ -29,7 +29,7 @@ __all__ = [
 _MILESTONES: dict[str, float] = {}
 _COLLECTOR_PAUSED = False
 
-# the line `simlab train --verbose` prints; startup_cost.py parses it
+# the line `simlab train --verbose` prints; simlab bench startup parses it
 MILESTONES_PREFIX = "[simlab] Start-up milestones (s since the process started):"
 
 

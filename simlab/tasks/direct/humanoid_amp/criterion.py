@@ -9,7 +9,7 @@ from simlab.tasks.utils.criteria import Criterion
 
 
 class GaitRecorder:
-    """An ``on_step`` hook: the played AMP humanoid against its clip (``scripts/benchmarks/amp_learn.py``).
+    """An ``on_step`` hook: the played AMP humanoid against its clip (the AMP tasks' criterion).
 
     AMP imitates a style, not a clock, so each played pose is compared with the clip pose nearest to
     it; the standing zero pose's error is kept for scale. Steps less than ``settle_seconds`` into an
