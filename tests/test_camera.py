@@ -282,7 +282,8 @@ def test_bad_lens_and_resolution():
 # -- the GPU renderer against the CPU one ------------------------------------------------------
 
 WARP_DEVICES = [
-    pytest.param("cpu", id="warp-cpu"),  # MuJoCo Warp's CPU device: runs wherever mujoco_warp is installed
+    # MuJoCo Warp's CPU device runs wherever mujoco_warp is installed, but compiles the ray tracer for it first
+    pytest.param("cpu", id="warp-cpu", marks=[pytest.mark.slow]),
     pytest.param("cuda:0", id="warp-cuda", marks=[pytest.mark.gpu]),
 ]
 

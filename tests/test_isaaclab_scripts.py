@@ -23,6 +23,7 @@ def _script(tmp_path, library: str, mode: str, *argv: str) -> subprocess.Complet
     )
 
 
+@pytest.mark.slow  # four fresh processes; the rsl_rl script's run below keeps the scripts in the default set
 @pytest.mark.parametrize(
     ("library", "train_args"),
     [("skrl", ["--max_iterations", "2", "agent.agent.rollouts=8"]), ("sb3", ["--max_iterations", "2"])],
