@@ -1,11 +1,13 @@
-"""Isaac Lab's direct Allegro Hand task files, ported by the import mapping alone, run on simlab.
+"""Isaac Lab's Allegro Hand task files, ported by the import mapping alone, run on simlab.
 
 ``tests/ported/allegro_hand_env_cfg.py`` and ``tests/ported/inhand_manipulation_env.py`` are Isaac
 Lab's files with their ``isaaclab`` imports rewritten and nothing else: the config spawns the DexCube
 by its Nucleus USD path (simlab stands in a box of its size), reads joint limits with
 ``root_physx_view.get_dof_limits()``, resets by env ids and draws its goal marker in the step. The
 test steps the ported task beside simlab's own (same MuJoCo settings, same seed and actions) and
-checks that they observe and earn the same.
+checks that they observe and earn the same. ``tests/ported/inhand_env_cfg.py`` (the manager-based
+in-hand config, with the Allegro Hand set as Isaac Lab's ``allegro_env_cfg.py`` sets it) is checked
+the same way against ``simlab/Repose-Cube-Allegro-v0``.
 """
 
 from __future__ import annotations
@@ -35,7 +37,7 @@ def ported():
 
 
 def test_only_import_lines_name_simlab():
-    for name in ("allegro_hand_env_cfg.py", "inhand_manipulation_env.py"):
+    for name in ("allegro_hand_env_cfg.py", "inhand_manipulation_env.py", "inhand_env_cfg.py"):
         code = [line for line in (PORTED / name).read_text().splitlines() if line and not line.startswith("#")]
         assert not any("isaaclab" in line for line in code)
         simlab_lines = [line.strip() for line in code if "simlab" in line]
@@ -73,3 +75,40 @@ def test_ported_allegro_task_steps_as_simlab_s_own(ported):
     finally:
         for env in envs:
             env.close()
+
+
+def test_ported_manager_based_inhand_config_steps_as_simlab_s_own():
+    """Isaac Lab's manager-based in-hand config (``tests/ported/inhand_env_cfg.py``) with the Allegro
+    Hand, as Isaac Lab's ``allegro_env_cfg.py`` sets it, beside ``simlab/Repose-Cube-Allegro-v0``."""
+    from simlab.envs import ManagerBasedRLEnv
+    from simlab.robots import ALLEGRO_HAND_CFG
+    from simlab.tasks.manager_based.manipulation.inhand.config.allegro_hand.allegro_env_cfg import AllegroCubeEnvCfg
+
+    module = load_script(PORTED / "inhand_env_cfg.py", "isaaclab_inhand_env_cfg")
+    try:
+        ported_cfg = module.InHandObjectEnvCfg()
+        ported_cfg.scene.robot = ALLEGRO_HAND_CFG.replace(prim_path="{ENV_REGEX_NS}/Robot")
+        own_cfg = AllegroCubeEnvCfg()
+        ported_cfg.sim.mujoco = own_cfg.sim.mujoco  # simlab's MuJoCo settings for the task, on both
+        envs = []
+        for cfg in (ported_cfg, own_cfg):
+            cfg.seed = 0
+            cfg.scene.num_envs = NUM_ENVS
+            cfg.sim.device = "cpu"
+            cfg.observations.policy.enable_corruption = False  # noise: both envs draw from one generator
+            torch.manual_seed(0)  # the start-up randomization draws from torch's generator
+            envs.append(ManagerBasedRLEnv(cfg))
+        first = [env.reset(seed=0)[0]["policy"] for env in envs]
+        assert first[0].shape == (NUM_ENVS, 72)
+        torch.testing.assert_close(first[0], first[1])
+        generator = torch.Generator().manual_seed(0)
+        for _ in range(10):
+            actions = 0.2 * (2 * torch.rand(NUM_ENVS, 16, generator=generator) - 1)
+            (obs_a, rew_a, term_a, trunc_a, _), (obs_b, rew_b, term_b, trunc_b, _) = (env.step(actions) for env in envs)
+            assert not (term_a | trunc_a).any()
+            torch.testing.assert_close(obs_a["policy"], obs_b["policy"], atol=1e-4, rtol=1e-4)
+            torch.testing.assert_close(rew_a, rew_b, atol=1e-4, rtol=1e-4)
+        for env in envs:
+            env.close()
+    finally:
+        sys.modules.pop("isaaclab_inhand_env_cfg", None)
