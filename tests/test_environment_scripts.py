@@ -159,6 +159,7 @@ def _hold_button_in_browser(url: str, tab: str, button: str, seconds: float) -> 
     CHROMIUM is None or importlib.util.find_spec("viser") is None or importlib.util.find_spec("websockets") is None,
     reason="needs Debian's chromium and simlab[viewer] (scripts/setup.sh dev installs both)",
 )
+@pytest.mark.slow  # a headless browser drives the teleop script: about 15 s on the idle 2-core machine
 def test_holding_a_teleop_button_in_the_browser_moves_the_arm():
     port = free_port()
     cmd = [sys.executable, str(ROOT / TELEOP), "--task", "simlab/Reach-Franka-IK-Rel-v0", "--device", "cpu",

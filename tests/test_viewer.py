@@ -85,8 +85,8 @@ def test_web_viewer_shows_the_robots_moving_in_a_browser(tmp_path):
             # the page loads viser's client, which then receives the scene over its websocket: wait for it
             robots_drawn = lambda image: _coloured_pixels(image) > 200  # noqa: E731
             first = browser.screenshot_when(robots_drawn, 120, str(tmp_path / "first.png"))
-            time.sleep(1.0)
-            second = browser.screenshot(str(tmp_path / "second.png"))
+            moved_on = lambda image: (np.abs(_scene(first) - _scene(image)).sum(axis=-1) > 60).sum() > 100  # noqa: E731
+            second = browser.screenshot_when(moved_on, 60, str(tmp_path / "second.png"))
     finally:
         proc.send_signal(signal.SIGINT)
         proc.wait(timeout=60)
@@ -401,7 +401,6 @@ def test_native_viewer_under_xvfb_shows_the_robots_moving(tmp_path):
     run = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     shots: list[np.ndarray] = []
     try:
-        time.sleep(2.0)
         _wait_for_line(run, "random actions", 120)
         for _ in range(40):  # software OpenGL draws slowly: wait for two different pictures of the robots
             time.sleep(1.0)
