@@ -1,8 +1,9 @@
 """Make the G1 tracking clips shipped with simlab (``simlab/tasks/manager_based/tracking/config/g1/motions``).
 
-Each clip is written here as joint-angle curves of the 29-DoF G1; the pelvis is then placed, frame by
-frame, so that both soles rest flat on the ground where they started (forward kinematics of the MJCF:
-no floating, no sliding, no sinking), and the frames go through the retargeted-CSV converter.
+``g1_wave`` and ``g1_twist`` are joint-angle curves of the 29-DoF G1 on its planted feet (the pelvis
+placed, frame by frame, so that the soles rest flat where they started). ``g1_walk`` and ``g1_turn``
+are static gaits: foot and centre-of-mass paths (the weight shifted over the stance foot before the
+other one swings), the legs solved by inverse kinematics. All go through the retargeted-CSV converter.
 
     python scripts/tools/make_g1_clips.py            # rewrites the npz files
 """
