@@ -151,10 +151,37 @@ def test_train_video(tmp_path):
     import imageio.v3 as iio
 
     frames = iio.imread(sorted(videos)[0])  # (T, H, W, 3)
-    assert len(frames) == 5
+    assert len(frames) == 4  # every other step drawn (60 steps/s, 30 frames/s) of gymnasium's 5 + 1 steps
     # the robots move: an empty floor (the old bug with num_envs > 1) gives identical frames
     moved = np.abs(frames[0].astype(int) - frames[-1].astype(int)).sum(axis=-1) > 30
     assert moved.mean() > 0.001
+
+
+@pytest.mark.skipif(not rendering_available(), reason="no offscreen OpenGL (install libosmesa6 or an EGL driver)")
+def test_videos_draw_30_frames_per_simulated_second_not_every_step(tmp_path):
+    import gymnasium as gym
+    import imageio.v3 as iio
+
+    import simlab.tasks  # noqa: F401 - registers the tasks
+    from simlab.cli.session import _RecordVideo
+    from simlab.tasks.utils import load_cfg_from_registry
+
+    cfg = load_cfg_from_registry(TASK, "env_cfg_entry_point")
+    cfg.scene.num_envs, cfg.sim.device, cfg.viewer.resolution = 4, "cpu", (160, 120)
+    base = gym.make(TASK, cfg=cfg, render_mode="rgb_array")
+    assert base.unwrapped.metadata["render_fps"] == pytest.approx(60.0)  # a step is 1/60 s
+    drawn = []
+    render = base.unwrapped.render
+    base.unwrapped.render = lambda: drawn.append(1) or render()
+    env = _RecordVideo(base, video_folder=str(tmp_path), step_trigger=lambda step: step == 0, video_length=20)
+    env.reset()
+    for _ in range(30):
+        env.step(torch.zeros(4, 1))
+    env.close()
+    (video,) = glob.glob(str(tmp_path / "*.mp4"))
+    frames = iio.imread(video)
+    # 20 steps (1/3 s) of video: every other step drawn, the clip at 30 frames per second
+    assert len(drawn) == len(frames) == 11 and iio.immeta(video)["fps"] == pytest.approx(30.0)
 
 
 def test_python_m_simlab_and_ctrl_c_saves(tmp_path):

@@ -175,6 +175,39 @@ def test_origin_types_place_the_camera_as_isaac_lab_does(ants):
         camera_pose(ants, viewer)
 
 
+def test_a_world_camera_frames_the_shown_robots_and_lights_them():
+    """Cartpole's camera looks at the world origin on the ground from (8, 0, 5): the video's frames
+    turn it to the middle of the shown cartpoles (2 m up on their rails), and light them."""
+    from simlab.envs.utils.viewer import camera_pose, view_frame
+    from simlab.sim.renderer import OffscreenRenderer
+
+    if not rendering_available():
+        pytest.skip("no offscreen OpenGL backend (install libosmesa6 or an EGL driver)")
+    cfg = CartpoleEnvCfg()
+    cfg.scene.num_envs = 64  # env 0, the reference, lies in a corner 20 m from the origin looked at
+    cfg.sim.device = "cpu"
+    cfg.viewer.resolution = (320, 240)
+    env = ManagerBasedRLEnv(cfg, render_mode="rgb_array")
+    try:
+        env.reset()
+        frame = env.render()
+        shown = view_frame(env, env.cfg.viewer)
+        floor = _floor_only(env, shown, OffscreenRenderer, cfg.viewer.resolution)
+        configured_eye, configured_lookat = camera_pose(env, env.cfg.viewer)
+    finally:
+        env.close()
+    # the camera keeps its direction and distance, aimed at the rails' height
+    np.testing.assert_allclose(shown.eye - shown.lookat, configured_eye - configured_lookat, atol=1e-6)
+    assert 1.5 < shown.lookat[2] < 2.8
+    robots = _robot_mask(frame, floor)
+    rows = np.nonzero(robots)[0]
+    assert robots.mean() > 0.01
+    assert 0.3 < rows.mean() / frame.shape[0] < 0.7, "the robots are not in the middle of the frame"
+    assert robots[frame.shape[0] // 2 :].mean() > 0.005, "the lower half is empty floor"
+    luminance = frame.astype(float) @ [0.299, 0.587, 0.114]
+    assert luminance.mean() > 45, f"a dark frame (mean luminance {luminance.mean():.0f} of 255)"
+
+
 def test_gl_backend_is_chosen_and_explained(monkeypatch):
     from simlab.utils import gl_backend
 

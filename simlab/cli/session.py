@@ -29,6 +29,7 @@ __all__ = [
 ]
 
 ONE_VIDEO_INTERVAL = 10**12  # a --video_interval no run reaches: one video, from the first step (play)
+VIDEO_FPS = 30  # frames per simulated second of the recorded videos, at most
 
 LIBRARIES = ("rsl_rl", "skrl", "sb3", "rl_games")
 SKRL_ALGORITHMS = ("PPO", "AMP", "IPPO", "MAPPO")
@@ -239,8 +240,12 @@ def _free_video_prefix(folder: str, base: str) -> str:
 
 
 class _RecordVideo(gym.wrappers.RecordVideo):
-    """Gymnasium's ``RecordVideo``, writing each clip atomically into a folder that may already hold clips.
+    """Gymnasium's ``RecordVideo``, at most ``VIDEO_FPS`` frames per simulated second, writing each clip
+    atomically into a folder that may already hold clips.
 
+    Gymnasium renders every env step into the clip (``render_fps`` is the step rate, 60 for the
+    cartpole); rendering is most of a recording's cost, so only every k-th step is drawn and the clip
+    plays at ``render_fps / k``: the same duration with fewer frames. ``video_length`` stays in steps.
     Names never collide (:func:`_free_video_prefix`), so gymnasium's "Overwriting existing videos"
     warning about an existing folder does not apply and is silenced.
     """
@@ -249,6 +254,22 @@ class _RecordVideo(gym.wrappers.RecordVideo):
         with warnings.catch_warnings():
             warnings.filterwarnings("ignore", message=".*Overwriting existing videos")
             super().__init__(env, **kwargs)
+        step_rate = float(self.frames_per_sec)
+        self.frame_every = max(1, round(step_rate / VIDEO_FPS))
+        self.frames_per_sec = step_rate / self.frame_every
+        if self.video_length != float("inf"):
+            self.video_length = math.ceil(self.video_length / self.frame_every)  # frames, as gymnasium counts
+        self._captures = 0
+
+    def start_recording(self, video_name: str) -> None:
+        super().start_recording(video_name)
+        self._captures = 0
+
+    def _capture_frame(self) -> None:
+        """Gymnasium calls this on each step of a recording: draw every ``frame_every``-th."""
+        self._captures += 1
+        if (self._captures - 1) % self.frame_every == 0:
+            super()._capture_frame()
 
     def stop_recording(self) -> None:
         name = self._video_name

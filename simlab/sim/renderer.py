@@ -197,6 +197,10 @@ def _install_gl_context(backend: str) -> None:
 NEAR_CLIP_M = 0.05
 """Farthest distance [m] of the renderer's near clipping plane from the camera."""
 
+HEADLIGHT_AMBIENT, HEADLIGHT_DIFFUSE = 0.3, 0.6
+"""The least light of the camera's own lamp in the viewer's frames: the lights of a task's scene are
+set for its camera sensors and, taken from Isaac Lab's intensities, often leave a frame dark."""
+
 
 def view_znear(model: mujoco.MjModel) -> float:
     """``vis.map.znear`` that puts the near clipping plane at most ``NEAR_CLIP_M`` from the camera."""
@@ -240,6 +244,14 @@ def open_mujoco_renderer(model: mujoco.MjModel, width: int, height: int, max_geo
         ) from err
 
 
+def light_up(scene: mujoco.MjvScene) -> None:
+    """Raise the headlight (the lamp at the camera) of a built ``scene`` to at least the viewer's."""
+    for light in scene.lights[: scene.nlight]:
+        if light.headlight:
+            np.maximum(light.ambient, HEADLIGHT_AMBIENT, out=light.ambient)
+            np.maximum(light.diffuse, HEADLIGHT_DIFFUSE, out=light.diffuse)
+
+
 class OffscreenRenderer:
     """Renders RGB images of a few envs of a batched simulation, side by side."""
 
@@ -248,7 +260,13 @@ class OffscreenRenderer:
             raise ValueError(f"Render size must be positive, got {width}x{height}")
         self.model = model
         self.max_envs = max_envs
-        self._renderer = open_mujoco_renderer(model, width, height, max_geom=max(1000, 2 * model.ngeom * max_envs))
+        samples = model.vis.quality.offsamples
+        model.vis.quality.offsamples = 0  # no multisampling: it doubles the cost of a frame drawn on the CPU
+        try:
+            max_geom = max(1000, 2 * model.ngeom * max_envs)
+            self._renderer = open_mujoco_renderer(model, width, height, max_geom=max_geom)
+        finally:
+            model.vis.quality.offsamples = samples  # camera sensors keep the model's
         self._builder = EnvSceneBuilder(model)
         self._camera = mujoco.MjvCamera()
 
@@ -264,6 +282,7 @@ class OffscreenRenderer:
         offsets = np.asarray(offsets, dtype=np.float32)
         with near_clip_limited(self.model):  # the camera's frustum is set when the scene is built
             self._builder.build(self._renderer.scene, states, offsets, self._camera, looks)
+        light_up(self._renderer.scene)
         from simlab.sim.simulation_context import SimulationContext
 
         sim = SimulationContext.instance()

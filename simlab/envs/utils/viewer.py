@@ -6,6 +6,11 @@ the world (``"world"``), env ``env_index``'s origin (``"env"``), or the root / a
 ``asset_name`` in env ``env_index`` (``"asset_root"`` / ``"asset_body"``, following it as it moves).
 Each env is its own MuJoCo world, so a frame is drawn in env ``env_index``'s world, with the
 neighbouring envs nearest the look-at point drawn beside it at their origins.
+
+A world-frame camera names a fixed point of the world, often its origin on the ground, wherever the
+robots stand; the frames of ``env.render()`` keep its direction but look at the middle of the shown
+envs' robots, no farther away than configured and closer where they would fill less of the picture.
+The other origin types name a point on an env or a robot and are kept as given.
 """
 
 from __future__ import annotations
@@ -88,9 +93,41 @@ def view_frame(env, viewer, max_envs: int = MAX_SHOWN_ENVS) -> ViewFrame:
     ref = viewer.env_index
     offsets = frame_offsets - frame_offsets[ref]  # how far each world's geoms are moved when drawn
     distance = np.linalg.norm(origins[:, :2] - frame_offsets[ref, :2] - lookat[:2], axis=1)
-    distance[ref] = -1.0  # the reference env comes first
-    env_ids = np.argsort(distance, kind="stable")[: max(1, max_envs)].tolist()
-    return ViewFrame(env_ids, offsets[env_ids], eye, lookat)
+    order = distance.copy()
+    order[ref] = -1.0  # the reference env comes first
+    env_ids = np.argsort(order, kind="stable")[: max(1, max_envs)].tolist()
+    frame = ViewFrame(env_ids, offsets[env_ids], eye, lookat)
+    if viewer.origin_type != "world":
+        return frame
+    # the envs in the camera's reach of the look-at point (the reference env may stand far off)
+    reach = distance[env_ids] <= np.linalg.norm(eye - lookat)
+    return _aimed_at_robots(env, frame, reach if reach.any() else np.ones(len(env_ids), bool), viewer.resolution)
+
+
+def _aimed_at_robots(env, frame: ViewFrame, rows: np.ndarray, resolution: tuple[int, int]) -> ViewFrame:
+    """``frame`` with its camera turned to the middle of the visible geoms off the world body of its
+    envs ``rows`` (the box of their bounding spheres), at the configured distance or, if they fit
+    from nearer, there."""
+    import torch
+
+    towards_eye = frame.eye - frame.lookat
+    configured = float(np.linalg.norm(towards_eye))
+    model = env.sim.model
+    geoms = np.flatnonzero((model.geom_bodyid > 0) & (model.geom_rgba[:, 3] > 0) & (model.geom_group < 3))
+    if len(geoms) == 0 or configured < 1e-9:
+        return frame
+    ids = np.asarray(frame.env_ids)[rows]
+    xpos = env.sim.physics.data("geom_xpos")
+    xpos = xpos[torch.as_tensor(ids, device=xpos.device)].reshape(len(ids), model.ngeom, 3)
+    centres = xpos[:, geoms].cpu().numpy().astype(np.float64) + frame.offsets[rows, None]  # the reference's frame
+    radii = model.geom_rbound[geoms][None, :, None]
+    low, high = (centres - radii).min(axis=(0, 1)), (centres + radii).max(axis=(0, 1))
+    lookat = (low + high) / 2
+    half_fovy = np.radians(model.vis.global_.fovy) / 2
+    half_fovx = np.arctan(np.tan(half_fovy) * resolution[0] / resolution[1])
+    fits = float(np.linalg.norm(high - low)) / 2 / np.sin(min(half_fovy, half_fovx))
+    eye = lookat + towards_eye / configured * min(configured, fits)
+    return ViewFrame(frame.env_ids, frame.offsets, eye, lookat)
 
 
 def renderer_kind(uses_mujoco_warp: bool) -> str:
