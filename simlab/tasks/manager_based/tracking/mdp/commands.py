@@ -13,6 +13,7 @@ import simlab.utils.math as math_utils
 from simlab.managers import CommandTerm, CommandTermCfg
 from simlab.utils import configclass
 from simlab.utils.env_mask import masked_copy_
+from simlab.utils.errors import ConfigError
 
 from ..motion_clip import MotionClip
 
@@ -41,18 +42,18 @@ class MotionCommand(CommandTerm):
         self.robot = env.scene[cfg.asset_name]
         clip = MotionClip.load(cfg.motion_file)
         if abs(clip.fps * env.step_dt - 1.0) > 1e-3:
-            raise ValueError(
+            raise ConfigError(
                 f"{cfg.motion_file}: the clip runs at {clip.fps:g} fps but the env steps at {1 / env.step_dt:g} Hz;"
                 " convert it at the env's rate (clip_from_csv(..., output_fps=...))."
             )
         missing = sorted(set(self.robot.joint_names) - set(clip.joint_names))
         if missing:
-            raise ValueError(f"{cfg.motion_file}: the clip has no column for the robot's joints {missing}.")
+            raise ConfigError(f"{cfg.motion_file}: the clip has no column for the robot's joints {missing}.")
         unknown = sorted(set(cfg.body_names) - set(clip.body_names))
         if unknown:
-            raise ValueError(f"{cfg.motion_file}: the clip has no body {unknown}; it has {clip.body_names}.")
+            raise ConfigError(f"{cfg.motion_file}: the clip has no body {unknown}; it has {clip.body_names}.")
         if cfg.anchor_body_name not in cfg.body_names:
-            raise ValueError(f"anchor_body_name '{cfg.anchor_body_name}' must be one of body_names {cfg.body_names}.")
+            raise ConfigError(f"anchor_body_name '{cfg.anchor_body_name}' must be one of body_names {cfg.body_names}.")
         dev = self.device
         columns = [clip.joint_names.index(name) for name in self.robot.joint_names]  # the robot's joint order
         bodies = [clip.body_names.index(name) for name in cfg.body_names]
