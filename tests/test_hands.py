@@ -149,3 +149,28 @@ def test_a_grasp_posture_holds_the_cube_on_the_upturned_palm_for_5_s(hand):
         assert float(position[2]) > palm_height + DEX_CUBE_SIZE / 2  # above the palm, not beside or below it
         assert float((position - settled).norm()) < 0.02  # held: it neither slides nor rolls away
     assert float(cube.data.root_lin_vel_w[0].norm()) < 0.01
+
+
+@pytest.mark.parametrize("hand", list(HANDS))
+def test_hands_collide_with_themselves_but_not_in_their_default_pose(hand):
+    """Self collisions are on (as Isaac Lab's configs enable them); the pairs that overlap by design are
+    excluded, so the default pose touches nothing."""
+    import mujoco
+    import numpy as np
+
+    sim, scene = make_scene(hand)
+    model, robot = sim.model, scene["robot"]
+    data = mujoco.MjData(model)
+    hand_bodies = {model.body(f"Robot/{name}").id for name in robot.body_names}
+
+    def self_contacts(joint_pos: np.ndarray) -> int:
+        data.qpos[robot._qpos_cols] = joint_pos
+        mujoco.mj_forward(model, data)
+        pairs = [(model.geom_bodyid[c.geom1], model.geom_bodyid[c.geom2]) for c in data.contact[: data.ncon]]
+        return sum(b1 in hand_bodies and b2 in hand_bodies for b1, b2 in pairs)
+
+    assert self_contacts(robot.data.default_joint_pos[0].numpy()) == 0
+    limits = robot.data.joint_pos_limits[0].numpy()
+    rng = np.random.default_rng(0)
+    touching = sum(self_contacts(rng.uniform(limits[:, 0], limits[:, 1])) > 0 for _ in range(50))
+    assert touching > 5  # random poses press fingers into each other or into the palm
