@@ -300,3 +300,71 @@ def test_isaac_lab_scripts_pass_the_trust_flags_on():
     )
     argv = script_to_simlab_argv("rl_games", "play", args, rest)
     assert "--trust_checkpoint" in argv and argv[argv.index("--allow_module") + 1] == "mypkg"
+
+
+def _sb3_run_with_pickled_statistics(runs, tmp_path, payload) -> str:
+    """A copy of the SB3 VecNormalize run whose statistics are a pickle (SB3's own format) of ``payload``."""
+    run = tmp_path / "run"
+    shutil.copytree(runs["sb3_norm"], run)
+    for stats in glob.glob(str(run / "model_vecnormalize*.npz")):
+        os.remove(stats)
+    for name in ("model_vecnormalize.pkl", "model_vecnormalize_128_steps.pkl"):
+        with open(run / name, "wb") as f:
+            pickle.dump(payload, f)
+    return str(run)
+
+
+def test_train_refuses_pickled_statistics_when_resuming(tmp_path, capsys, runs):
+    marker = tmp_path / "pwned"
+    run = _sb3_run_with_pickled_statistics(runs, tmp_path, MakesAFile(str(marker)))
+    argv = ["train", *SMALL, "--library", "sb3", "--max_iterations", "1", "--checkpoint", run]
+    assert _main(tmp_path, *argv, "+agent.normalize_input=true") == 2
+    assert "--trust_checkpoint" in _one_line_error(capsys)
+    assert not marker.exists()
+
+
+def test_trust_checkpoint_loads_sb3s_own_pickled_statistics(tmp_path, capsys, runs):
+    """An SB3 run of the old format (VecNormalize pickled by SB3's save) plays once the user vouches for it."""
+    import gymnasium as gym
+    from stable_baselines3.common.vec_env import DummyVecEnv, VecNormalize
+
+    normalizer = VecNormalize(DummyVecEnv([lambda: gym.make("CartPole-v1")]))  # 4 observations, as the cartpole's
+    normalizer.obs_rms.mean[:] = 0.5
+    run = _sb3_run_with_pickled_statistics(runs, tmp_path, None)
+    normalizer.save(os.path.join(run, "model_vecnormalize.pkl"))
+    argv = ["play", *SMALL, "--library", "sb3", "--checkpoint", os.path.join(run, "model.zip"), "--steps", "2"]
+    argv += ["--no_export", "+agent.normalize_input=true"]
+    assert _main(tmp_path, *argv) == 2
+    assert "model_vecnormalize.pkl" in _one_line_error(capsys)
+    assert _main(tmp_path, *argv, "--trust_checkpoint") == 0
+
+
+def test_load_pickle_reads_data_and_refuses_code(tmp_path):
+    from simlab.utils.io import dump_pickle, load_pickle
+
+    marker = tmp_path / "pwned"
+    with open(tmp_path / "crafted.pkl", "wb") as f:
+        pickle.dump({"cfg": MakesAFile(str(marker))}, f)
+    with pytest.raises(UntrustedFileError, match="io.open"):
+        load_pickle(tmp_path / "crafted.pkl")
+    assert not marker.exists()
+
+    class WritesWithSimlab:  # a simlab function is no more allowed than os.system: it writes a file
+        def __reduce__(self):
+            from simlab.utils.io import write_text
+
+            return (write_text, (str(marker), "x"))
+
+    dump_pickle(tmp_path / "simlab_call.pkl", WritesWithSimlab())
+    with pytest.raises(UntrustedFileError, match="write_text"):
+        load_pickle(tmp_path / "simlab_call.pkl")
+    assert not marker.exists()
+
+    import numpy as np
+
+    from simlab.sim import SimulationCfg
+
+    data = {"cfg": SimulationCfg(dt=0.01), "x": np.arange(3), "t": (1, 2.0)}
+    dump_pickle(tmp_path / "env.pkl", data)
+    back = load_pickle(tmp_path / "env.pkl")
+    assert back["cfg"].dt == 0.01 and back["x"].tolist() == [0, 1, 2] and back["t"] == (1, 2.0)
