@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 
 import pytest
+from conftest import rendering_available
 
 from simlab.benchmarks.cli import main
 
@@ -96,6 +97,16 @@ def test_a_failed_measurement_is_a_row_and_a_failing_exit_code(monkeypatch, caps
 def test_the_part_cost_tools_run_as_bench_subcommands(argv, printed, capsys):
     assert main(argv) == 0
     assert printed in capsys.readouterr().out
+
+
+@pytest.mark.skipif(not rendering_available(), reason="no offscreen OpenGL (install libosmesa6 or an EGL driver)")
+def test_bench_video_counts_the_frames_each_recording_draws(capsys):
+    assert main(["video", "--num_envs", "2", "--steps", "4", "--repeats", "1"]) == 0
+    rows = [line.split("|") for line in capsys.readouterr().out.splitlines() if line.count("|") == 5]
+    drawn = {cells[1].strip(): cells[4].strip() for cells in rows}
+    # the cartpole steps at 60 Hz: gymnasium draws each of the 4 steps, simlab every other one
+    assert drawn == {"run": "frames drawn", "---": "---", "no video": "0", "gymnasium RecordVideo": "4",
+                     "simlab --video": "2"}  # fmt: skip
 
 
 def test_bench_ops_names_its_counters(capsys):

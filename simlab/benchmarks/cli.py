@@ -11,6 +11,7 @@ The costs of single parts, each with its own flags (``simlab bench <tool> --help
     simlab bench ops sync --device cuda:0 --num_envs 4096               # the rollout's host read: per step or iteration
     simlab bench startup --device cpu --runs 5                          # process start to the first iteration
     simlab bench viewer --device cpu --tasks simlab/Cartpole-v0         # training time with the web viewer open
+    simlab bench video --task simlab/Cartpole-v0 --device cpu           # env steps while recording a video
     simlab bench terrain                                                # a step on plane, boxes and height fields
     simlab bench raycast --num_envs 64                                  # one height scan against a physics step
 
@@ -146,6 +147,7 @@ def _suite_functions() -> dict[str, tuple[Callable[..., list[dict]], list]]:
 TOOLS = {
     "startup": "simlab.benchmarks.startup",
     "viewer": "simlab.benchmarks.viewer_cost",
+    "video": "simlab.benchmarks.video_cost",
     "terrain": "simlab.benchmarks.terrain_cost",
     "raycast": "simlab.benchmarks.ray_cast_cost",
 }
