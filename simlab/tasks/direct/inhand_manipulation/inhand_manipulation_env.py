@@ -61,13 +61,16 @@ class InHandManipulationEnv(DirectRLEnv):
         self.actuated_dof_indices = sorted(self.hand.joint_names.index(name) for name in cfg.actuated_joint_names)
         # every joint actuated (the Allegro Hand): a slice, so that the targets are written without a gather
         all_joints = self.actuated_dof_indices == list(range(self.num_hand_dofs))
-        self._actuated = slice(None) if all_joints else self.actuated_dof_indices
+        self._actuated = slice(None) if all_joints else torch.tensor(self.actuated_dof_indices, device=device)
         self.finger_bodies = sorted(self.hand.body_names.index(name) for name in cfg.fingertip_body_names)
         # joints the model couples to another (follower: leader): a reset puts them where they belong
-        coupled = cfg.coupled_joints.items()
-        self._followers = [self.hand.joint_names.index(follower) for follower, _ in coupled]
-        self._leaders = [self.hand.joint_names.index(leader) for _, leader in coupled]
+        follower_ids = [self.hand.joint_names.index(name) for name in cfg.coupled_joints]
+        leader_ids = [self.hand.joint_names.index(name) for name in cfg.coupled_joints.values()]
+        self._followers = torch.tensor(follower_ids, dtype=torch.long, device=device)
+        self._leaders = torch.tensor(leader_ids, dtype=torch.long, device=device)
         self.num_fingertips = len(self.finger_bodies)
+        # index tensors made once on the step's device (a Python list index is copied from the host each use)
+        self._tips = torch.tensor(self.finger_bodies, device=device)
 
         limits = self.hand.data.joint_pos_limits.to(device)
         self.hand_dof_lower_limits = limits[..., 0]
@@ -201,7 +204,7 @@ class InHandManipulationEnv(DirectRLEnv):
         dof_pos = default_pos + self.cfg.reset_dof_pos_noise * rand_delta
         dof_vel_noise = sample_uniform(-1.0, 1.0, (n, self.num_hand_dofs), device=device)
         dof_vel = self.hand.data.default_joint_vel + self.cfg.reset_dof_vel_noise * dof_vel_noise
-        if self._followers:
+        if len(self._followers):
             dof_pos[:, self._followers] = dof_pos[:, self._leaders]
             dof_vel[:, self._followers] = dof_vel[:, self._leaders]
         for buffer in (self.prev_targets, self.cur_targets, self.hand_dof_targets):
@@ -228,9 +231,9 @@ class InHandManipulationEnv(DirectRLEnv):
 
     def _compute_intermediate_values(self) -> None:
         hand, cube, origins = self.hand.data, self.object.data, self.scene.env_origins
-        self.fingertip_pos = hand.body_pos_w[:, self.finger_bodies] - origins.unsqueeze(1)
-        self.fingertip_rot = hand.body_quat_w[:, self.finger_bodies]
-        self.fingertip_velocities = hand.body_vel_w[:, self.finger_bodies]
+        self.fingertip_pos = hand.body_pos_w[:, self._tips] - origins.unsqueeze(1)
+        self.fingertip_rot = hand.body_quat_w[:, self._tips]
+        self.fingertip_velocities = hand.body_vel_w[:, self._tips]
         self.hand_dof_pos = hand.joint_pos
         self.hand_dof_vel = hand.joint_vel
         self.object_pos = cube.root_pos_w - origins
