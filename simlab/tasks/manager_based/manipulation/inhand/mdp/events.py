@@ -54,7 +54,7 @@ class reset_joints_within_limits_range(ManagerTermBase):
         )  # fmt: skip
 
     def _ranges(self, spec: dict, ranges: torch.Tensor, operation: str, default: torch.Tensor | None):
-        """The joint ids a spec names and their (low, high) ranges."""
+        """The joint ids a spec names (a tensor on the env's device) and their (low, high) ranges."""
         ids: list[int] = []
         for pattern, (low, high) in spec.items():
             joint_ids = self._asset.find_joints(pattern)[0]
@@ -64,7 +64,7 @@ class reset_joints_within_limits_range(ManagerTermBase):
                     ranges[joint_ids, col] = value if operation == "abs" else value * ranges[joint_ids, col]
             if default is not None:
                 ranges[joint_ids] += default[joint_ids].unsqueeze(1)
-        return ids, ranges[ids]
+        return torch.tensor(ids, dtype=torch.long, device=ranges.device), ranges[ids]
 
     def __call__(
         self,
@@ -79,12 +79,12 @@ class reset_joints_within_limits_range(ManagerTermBase):
         data, n = self._asset.data, self.num_envs
         joint_pos = data.default_joint_pos.clone()
         joint_vel = data.default_joint_vel.clone()
-        if self._pos_ids:
+        if len(self._pos_ids):
             low, high = self._pos_ranges[:, 0], self._pos_ranges[:, 1]
             limits = data.soft_joint_pos_limits[0, self._pos_ids]
             drawn = sample_uniform(low, high, (n, len(self._pos_ids)), device=env.device)
             joint_pos[:, self._pos_ids] = drawn.clamp(limits[:, 0], limits[:, 1])
-        if self._vel_ids:
+        if len(self._vel_ids):
             low, high = self._vel_ranges[:, 0], self._vel_ranges[:, 1]
             limits = data.soft_joint_vel_limits[0, self._vel_ids]
             drawn = sample_uniform(low, high, (n, len(self._vel_ids)), device=env.device)
