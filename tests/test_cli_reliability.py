@@ -472,6 +472,7 @@ def test_a_failed_start_leaves_no_run_folder(tmp_path, capsys):
     assert _runs(tmp_path) == []
 
 
+@pytest.mark.slow  # a training and two plays, each recording video offscreen
 @pytest.mark.skipif(not rendering_available(), reason="no offscreen OpenGL (install libosmesa6)")
 def test_videos_no_false_warning_and_never_overwritten(tmp_path, capsys):
     video = ["--video", "--video_length", "3", "--video_interval", "8"]

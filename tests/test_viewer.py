@@ -72,6 +72,7 @@ class _StillPhysics:
 
 
 @needs_browser
+@pytest.mark.slow  # a `simlab random` run watched through headless Chromium: ~10 s on the idle 2-core machine
 def test_web_viewer_shows_the_robots_moving_in_a_browser(tmp_path):
     port = free_port()
     cmd = [sys.executable, "-m", "simlab", "random", "--task", "simlab/Cartpole-v0", "--num_envs", "4",
