@@ -71,15 +71,17 @@ def test_every_task_renders_into_the_gallery(tmp_path):
     assert page.count("<img alt=") == len(registered_task_ids())
 
 
-def test_a_broken_link_or_anchor_fails_the_build(tmp_path):
-    """The site's own config and validation on a copy of docs/ with two bad links (without the API
-    reference and the gallery hook, which take seconds and check nothing here)."""
+def test_a_broken_link_or_anchor_or_a_page_left_out_of_the_nav_fails_the_build(tmp_path):
+    """The site's own config and validation on a copy of docs/ with two bad links and a page missing
+    from the nav (without the API reference and the gallery hook, which take seconds and check
+    nothing here)."""
     docs = tmp_path / "docs"
     shutil.copytree(os.path.join(REPO, "docs"), docs, ignore=shutil.ignore_patterns("bench", "__pycache__"))
     for page in (docs / "api").glob("*.md"):
         page.write_text(f"# {page.stem}\n")
     with open(docs / "usage.md", "a") as f:
         f.write("\nSee [a page](no_such_page.md) and [a section](env_step.md#no-such-section).\n")
+    (docs / "orphan.md").write_text("# A page the nav does not list\n")
     with open(os.path.join(REPO, "mkdocs.yml")) as f:
         config = yaml.safe_load(f)
     config["docs_dir"] = str(docs)
@@ -90,4 +92,4 @@ def test_a_broken_link_or_anchor_fails_the_build(tmp_path):
     built = _mkdocs(str(tmp_path / "mkdocs.yml"), str(tmp_path / "site"))
     log = built.stdout + built.stderr
     assert built.returncode != 0, log[-3000:]
-    assert "no_such_page.md" in log and "no-such-section" in log, log[-3000:]
+    assert "no_such_page.md" in log and "no-such-section" in log and "orphan.md" in log, log[-3000:]
