@@ -93,3 +93,15 @@ def test_a_broken_link_or_anchor_or_a_page_left_out_of_the_nav_fails_the_build(t
     log = built.stdout + built.stderr
     assert built.returncode != 0, log[-3000:]
     assert "no_such_page.md" in log and "no-such-section" in log and "orphan.md" in log, log[-3000:]
+
+
+def test_every_subpackage_has_an_api_page_in_the_nav():
+    """The API reference is one page per subpackage of simlab (``simlab.pretrained`` holds data)."""
+    packages = {
+        name for name in os.listdir(os.path.join(REPO, "simlab")) if name != "pretrained" and not name.startswith("_")
+    }
+    packages = {name for name in packages if os.path.isfile(os.path.join(REPO, "simlab", name, "__init__.py"))}
+    with open(os.path.join(REPO, "mkdocs.yml")) as f:
+        (api,) = [section["API reference"] for section in yaml.safe_load(f)["nav"] if "API reference" in section]
+    pages = {os.path.basename(next(iter(entry.values()))) for entry in api}
+    assert {f"{name}.md" for name in packages} <= pages, sorted({f"{name}.md" for name in packages} - pages)
