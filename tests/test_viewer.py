@@ -211,6 +211,31 @@ def test_the_web_viewer_listens_on_loopback_and_shows_nothing_without_its_token(
 
 
 @pytest.mark.skipif(not HAVE_VISER, reason="simlab[viewer] (viser, mjviser) is not installed")
+def test_a_viser_that_starts_its_server_past_the_token_check_is_refused(monkeypatch, capsys):
+    """The check sits on the websockets server viser starts; a viser that starts one otherwise would
+    serve everyone: the viewer refuses to open instead."""
+    import viser
+
+    from simlab.viewer import access
+
+    stopped = []
+
+    class UngatedViser:  # serves without calling websockets.asyncio.server.serve
+        def __init__(self, **kwargs):
+            pass
+
+        def stop(self):
+            stopped.append(True)
+
+    monkeypatch.setattr(viser, "ViserServer", UngatedViser)
+    with pytest.raises(access.UngatedServerError, match="without simlab's token check"):
+        access.start_gated_viser("127.0.0.1", free_port(), "token")
+    assert stopped == [True]
+    assert open_viewer(_ground_source(), "web", free_port()) is None
+    assert "no web viewer" in capsys.readouterr().err
+
+
+@pytest.mark.skipif(not HAVE_VISER, reason="simlab[viewer] (viser, mjviser) is not installed")
 def test_viewer_host_opens_the_web_viewer_to_the_network_still_behind_its_token():
     import urllib.error
     import urllib.request
