@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import glob
 
+import pytest
 import torch
 from tensordict import TensorDict
 
@@ -35,6 +36,7 @@ def _median_symmetry_loss(tmp_path, name: str, *overrides: str) -> float:
     return losses[len(losses) // 2]
 
 
+@pytest.mark.slow  # a learning check: two 15-iteration trainings, compared
 def test_symmetry_augmentation_makes_the_policy_mirror_symmetric(tmp_path):
     # the same mirror loss is logged either way; only augmentation trains on it
     augmented = _median_symmetry_loss(tmp_path, "augmented")
