@@ -91,11 +91,18 @@ def test_a_failed_measurement_is_a_row_and_a_failing_exit_code(monkeypatch, caps
         (["raycast", "--num_envs", "2", "--rounds", "1", "--casts", "2"], "binned cast"),
         (["ops", "update", "--task", "simlab/Cartpole-v0", "--device", "cpu", "--num_envs", "8"], "aten."),
         (["ops", "sync", "--device", "cpu", "--num_envs", "8", "--iterations", "1", "--rounds", "1"], "env steps/s"),
+        (["startup", "--device", "cpu", "--runs", "1", "--num_envs", "16", "--top", "3"], "first iteration per run"),
         pytest.param(["terrain", "--steps", "20", "--rounds", "1"], "height_field", marks=pytest.mark.slow),
+        pytest.param(
+            ["viewer", "--device", "cpu", "--tasks", "simlab/Cartpole-v0", "--num_envs", "16", "--iterations", "5"]
+            + ["--repeats", "1", "--log_root", "{tmp}"],
+            "client received",
+            marks=pytest.mark.slow,
+        ),
     ],
 )
-def test_the_part_cost_tools_run_as_bench_subcommands(argv, printed, capsys):
-    assert main(argv) == 0
+def test_the_part_cost_tools_run_as_bench_subcommands(argv, printed, tmp_path, capsys):
+    assert main([a.replace("{tmp}", str(tmp_path)) for a in argv]) == 0
     assert printed in capsys.readouterr().out
 
 
