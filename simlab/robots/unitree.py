@@ -46,6 +46,44 @@ UNITREE_GO2_CFG = ArticulationCfg(
 """Unitree Go2 with DC-motor legs (Isaac Lab's gains and limits: kp 25, kd 0.5, 23.5 N m, 30 rad/s)."""
 
 
+# Isaac Lab's quadrupeds below Go2 share its default pose.
+_UNITREE_QUADRUPED_POSE = {
+    ".*L_hip_joint": 0.1,
+    ".*R_hip_joint": -0.1,
+    "F[L,R]_thigh_joint": 0.8,
+    "R[L,R]_thigh_joint": 1.0,
+    ".*_calf_joint": -1.5,
+}
+
+GO1_DC_ACTUATOR_CFG = DCMotorCfg(
+    joint_names_expr=[".*_hip_joint", ".*_thigh_joint", ".*_calf_joint"],
+    effort_limit=23.7,
+    saturation_effort=23.7,
+    velocity_limit=30.0,
+    stiffness=25.0,
+    damping=0.5,
+    friction=0.0,
+)
+"""Go1's motors as a DC motor: the limits of Isaac Lab's ``GO1_ACTUATOR_CFG`` (23.7 N m, 30 rad/s, from
+Unitree's spec sheet) with the PD gains of Isaac Lab's Go2 and A1 (kp 25, kd 0.5). Isaac Lab drives Go1
+with an MLP actuator network (walk-these-ways' ``unitree_go1.pt``), a trained file simlab does not ship."""
+
+UNITREE_GO1_CFG = ArticulationCfg(
+    spawn=sim_utils.MjcfFileCfg(
+        asset_path=os.path.join(ASSETS_DIR, "unitree_go1.xml"),
+        articulation_props=sim_utils.ArticulationRootPropertiesCfg(
+            solver_position_iteration_count=4, solver_velocity_iteration_count=0
+        ),
+    ),
+    init_state=ArticulationCfg.InitialStateCfg(
+        pos=(0.0, 0.0, 0.4), joint_pos=dict(_UNITREE_QUADRUPED_POSE), joint_vel={".*": 0.0}
+    ),
+    soft_joint_pos_limit_factor=0.9,
+    actuators={"base_legs": GO1_DC_ACTUATOR_CFG},
+)
+"""Unitree Go1 (base body ``trunk``, as Isaac Lab's) with DC-motor legs (``GO1_DC_ACTUATOR_CFG``)."""
+
+
 H1_CFG = ArticulationCfg(
     spawn=sim_utils.MjcfFileCfg(
         asset_path=os.path.join(ASSETS_DIR, "unitree_h1.xml"),
