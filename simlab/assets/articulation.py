@@ -313,7 +313,10 @@ class Articulation(RootedAsset):
         self.data.soft_joint_pos_limits = soft_limits(self.data.joint_pos_limits, self.cfg.soft_joint_pos_limit_factor)
         jnt_range = self._physics.model_field("jnt_range")
         ids = torch.tensor(self._joint_model_ids, dtype=torch.long, device=self.device)
-        jnt_range[env, ids] = self.data.joint_pos_limits[env].clamp(-1e9, 1e9)
+        limits = self.data.joint_pos_limits[env].clamp(-1e9, 1e9)
+        if not isinstance(env, slice):  # env rows by index, broadcast against the joint columns
+            env = (env.nonzero().flatten() if env.dtype == torch.bool else env)[:, None]
+        jnt_range[env, ids] = limits
 
     # -- helpers ----------------------------------------------------------------------------------
 

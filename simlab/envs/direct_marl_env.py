@@ -248,3 +248,8 @@ def check_agents(cfg: DirectMARLEnvCfg) -> None:
         if not isinstance(spaces, dict) or set(spaces) != set(agents):
             keys = sorted(spaces) if isinstance(spaces, dict) else spaces
             raise ValueError(f"{type(cfg).__name__}.{field} must have one entry per agent {agents}, got {keys}")
+    for name in ("observation_noise_model", "action_noise_model"):
+        if getattr(cfg, name, None):
+            raise NotImplementedError(
+                f"{type(cfg).__name__}.{name}: per-agent noise models are not supported yet; set it to None"
+            )

@@ -39,6 +39,7 @@ from simlab.scene import InteractiveScene
 from simlab.sim import SimulationContext
 from simlab.utils.debug_vis import DebugVisHooks
 from simlab.utils.env_mask import env_mask, masked_copy_
+from simlab.utils.errors import ConfigError
 
 from .common import SimulatedEnv
 from .direct_rl_env_cfg import DirectRLEnvCfg
@@ -82,6 +83,10 @@ class DirectRLEnv(DebugVisHooks, SimulatedEnv, gym.Env):
         self._step_count = torch.zeros((), dtype=torch.long, device=self.device)
         """Env steps taken, on the device (what a graphed step's event terms read)."""
         self._configure_gym_env_spaces()
+        self._action_noise_model = self._noise_model(cfg.action_noise_model, self.single_action_space)
+        self._observation_noise_model = self._noise_model(
+            cfg.observation_noise_model, self.single_observation_space["policy"]
+        )
 
         if self.event_manager is not None and "startup" in self.event_manager.available_modes:
             self.event_manager.apply(mode="startup")
@@ -134,6 +139,8 @@ class DirectRLEnv(DebugVisHooks, SimulatedEnv, gym.Env):
 
     def _step_body(self, action: torch.Tensor):
         """The step (Isaac Lab's order), with fixed shapes: run eagerly or replayed as a graph."""
+        if self._action_noise_model is not None:
+            action = self._action_noise_model(action)
         self._pre_physics_step(action)
         self._physics_steps(self._apply_action)
         diverged = self._restart_diverged()
@@ -150,6 +157,8 @@ class DirectRLEnv(DebugVisHooks, SimulatedEnv, gym.Env):
         if self.event_manager is not None and "interval" in self.event_manager.available_modes:
             self.event_manager.apply(mode="interval", dt=self.step_dt)
         obs = self._observations()
+        if self._observation_noise_model is not None:  # as Isaac Lab: the step's policy obs, not reset()'s
+            obs["policy"] = self._observation_noise_model(obs["policy"])
         return obs, reward, self.reset_terminated, self.reset_time_outs, final_obs, diverged.sum()
 
     @property
@@ -206,6 +215,19 @@ class DirectRLEnv(DebugVisHooks, SimulatedEnv, gym.Env):
         # tasks whose observations include the last action read it before the first step
         self.actions = sample_space(self.single_action_space, self.device, batch_size=self.num_envs, fill_value=0)
 
+    def _noise_model(self, cfg, space: gym.spaces.Space):
+        """The noise model ``cfg`` describes (None for none), sized for a batch of ``space``."""
+        if cfg is None:
+            return None
+        if not isinstance(space, gym.spaces.Box) or len(space.shape) != 1:
+            raise ConfigError(
+                f"{type(self.cfg).__name__}: a noise model needs a flat Box space (one vector per env), got {space}"
+            )
+        model = cfg.class_type(cfg, num_envs=self.num_envs, device=self.device)
+        # a first batch sizes per-component state now, so that no step allocates it
+        model(torch.zeros((self.num_envs, space.shape[0]), device=self.device))
+        return model
+
     def _observations(self) -> dict:
         """The task's observations, with ``"critic"`` from ``_get_states`` when a state space is set."""
         obs = self._get_observations()
@@ -227,6 +249,9 @@ class DirectRLEnv(DebugVisHooks, SimulatedEnv, gym.Env):
         if self.event_manager is not None and "reset" in self.event_manager.available_modes:
             self.event_manager.apply(mode="reset", env_ids=env_mask, global_env_step_count=self._step_count)
         masked_copy_(self.episode_length_buf, env_mask, 0)
+        for model in (self._action_noise_model, self._observation_noise_model):
+            if model is not None:  # a new bias for each new episode
+                model.reset(env_mask)
 
     # -- the task's hooks -------------------------------------------------------------------------
 
@@ -297,11 +322,6 @@ def check_env_cfg(cfg) -> None:
         raise ValueError(f"{type(cfg).__name__}.decimation must be an int >= 1, got {cfg.decimation!r}")
     if not cfg.episode_length_s > 0:
         raise ValueError(f"{type(cfg).__name__}.episode_length_s must be positive, got {cfg.episode_length_s!r}")
-    for name in ("observation_noise_model", "action_noise_model"):
-        if getattr(cfg, name, None):
-            raise NotImplementedError(
-                f"{type(cfg).__name__}.{name}: noise models are not supported yet; set it to None"
-            )
 
 
 def check_action(action, space: gym.spaces.Space, num_envs: int, device: str) -> torch.Tensor:

@@ -55,13 +55,15 @@ class DirectRLEnvCfg:
     num_states: int | None = None
     """Deprecated (Isaac Lab): use ``state_space``."""
     observation_noise_model: object | None = None
-    """Noise added to the policy observations. Noise models are not supported yet: keep None."""
+    """A noise model config (``simlab.utils.noise.NoiseModelCfg``) applied to the ``"policy"`` observation
+    each step (not to the one ``reset()`` returns, as Isaac Lab); None for none."""
     action_space: SpaceType = MISSING
     """Space of the action of one environment."""
     num_actions: int | None = None
     """Deprecated (Isaac Lab): use ``action_space``."""
     action_noise_model: object | None = None
-    """Noise added to the actions. Noise models are not supported yet: keep None."""
+    """A noise model config applied to the actions each step, before ``_pre_physics_step``; None for none.
+    Per-env state (a bias) is redrawn where an episode restarts."""
     rerender_on_reset: bool = False
     """Kept for ported configs: rendering is on demand, so frames always show the current state."""
     num_rerenders_on_reset: int = 0

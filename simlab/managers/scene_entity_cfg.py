@@ -21,6 +21,7 @@ class SceneEntityCfg:
     """Filled from ``joint_names``; ``slice(None)`` means all joints (a view, no copy)."""
     fixed_tendon_names: str | list[str] | None = None
     fixed_tendon_ids: list[int] | slice = slice(None)
+    """Always empty once resolved: simlab's models have no fixed tendons."""
     body_names: str | list[str] | None = None
     body_ids: list[int] | slice = slice(None)
     """Filled from ``body_names`` (articulation bodies, or a contact sensor's bodies)."""
@@ -35,7 +36,8 @@ class SceneEntityCfg:
         self.joint_ids, self.joint_names = self._resolve(entity, "joint", self.joint_names, self.joint_ids)
         self.body_ids, self.body_names = self._resolve(entity, "body", self.body_names, self.body_ids)
         if self.fixed_tendon_names is not None:
-            raise ValueError(f"entity '{self.name}': simlab has no fixed tendons (fixed_tendon_names must be None)")
+            # simlab's models have no fixed tendons (coupled joints are equality constraints): nothing to select
+            self.fixed_tendon_ids = []
 
     def _resolve(self, entity, kind: str, names, ids):
         find = getattr(entity, "find_joints" if kind == "joint" else "find_bodies", None)

@@ -14,6 +14,7 @@ its own. Distributions are ``"uniform"``, ``"log_uniform"`` or ``"gaussian"``; o
 from __future__ import annotations
 
 import contextlib
+import logging
 from typing import TYPE_CHECKING, Literal
 
 import mujoco
@@ -26,6 +27,8 @@ from simlab.utils.env_mask import is_mask, takes_env_mask
 
 if TYPE_CHECKING:
     from simlab.envs import ManagerBasedEnv
+
+logger = logging.getLogger(__name__)
 
 _ROBOT = SceneEntityCfg("robot")
 _POSE_KEYS = ("x", "y", "z", "roll", "pitch", "yaw")
@@ -515,6 +518,27 @@ def randomize_physics_scene_gravity(
     high = torch.tensor(gravity_distribution_params[1], dtype=torch.float32, device=env.device)
     gravity = _randomize(default, (low, high), operation, distribution)
     env.sim.physics.model_field("opt.gravity")[env_ids] = gravity
+
+
+class randomize_fixed_tendon_parameters(ManagerTermBase):  # noqa: N801 - Isaac Lab's name
+    """Isaac Lab's randomization of PhysX fixed tendons (stiffness, damping, limits, rest length):
+    accepted and ignored, with one note when the event manager builds it.
+
+    simlab's models have no fixed tendons: where a robot's joints are coupled (the Shadow Hand's
+    distal joints), MuJoCo equality constraints hold the coupling rigidly, with no tendon stiffness
+    or damping to vary.
+    """
+
+    def __init__(self, cfg, env: ManagerBasedEnv):
+        super().__init__(cfg, env)
+        asset_cfg = cfg.params.get("asset_cfg", _ROBOT)
+        logger.warning(
+            f"randomize_fixed_tendon_parameters on '{asset_cfg.name}' is ignored: simlab's models have no fixed"
+            " tendons (coupled joints are MuJoCo equality constraints)"
+        )
+
+    def __call__(self, env: ManagerBasedEnv, env_ids, asset_cfg: SceneEntityCfg = _ROBOT, **kwargs) -> None:
+        pass
 
 
 # -- per-env shape and look (Isaac Lab's USD-level, 'prestartup' randomizations) -----------------------

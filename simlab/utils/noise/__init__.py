@@ -1,7 +1,15 @@
-"""Observation noise: configs whose ``func(data, cfg)`` returns a corrupted copy of ``data``."""
+"""Observation and action noise: configs whose ``func(data, cfg)`` returns a corrupted copy of ``data``,
+and noise models that keep per-env state (a bias drawn at reset) for the direct workflow."""
 
-from .noise_cfg import ConstantNoiseCfg, GaussianNoiseCfg, NoiseCfg, UniformNoiseCfg
-from .noise_model import constant_noise, gaussian_noise, uniform_noise
+from .noise_cfg import (
+    ConstantNoiseCfg,
+    GaussianNoiseCfg,
+    NoiseCfg,
+    NoiseModelCfg,
+    NoiseModelWithAdditiveBiasCfg,
+    UniformNoiseCfg,
+)
+from .noise_model import NoiseModel, NoiseModelWithAdditiveBias, constant_noise, gaussian_noise, uniform_noise
 
 # Isaac Lab's short names.
 AdditiveUniformNoiseCfg = UniformNoiseCfg
@@ -16,6 +24,10 @@ __all__ = [
     "GaussianNoiseCfg",
     "Gnoise",
     "NoiseCfg",
+    "NoiseModel",
+    "NoiseModelCfg",
+    "NoiseModelWithAdditiveBias",
+    "NoiseModelWithAdditiveBiasCfg",
     "UniformNoiseCfg",
     "Unoise",
     "constant_noise",

@@ -38,3 +38,24 @@ class GaussianNoiseCfg(NoiseCfg):
     func = noise_model.gaussian_noise
     mean: torch.Tensor | float = 0.0
     std: torch.Tensor | float = 1.0
+
+
+@configclass
+class NoiseModelCfg:
+    """A noise model: ``class_type(cfg, num_envs, device)`` applied to a whole batch each step."""
+
+    class_type: type = noise_model.NoiseModel
+    noise_cfg: NoiseCfg = MISSING
+    """The per-step noise."""
+    func: Callable[[torch.Tensor], torch.Tensor] | None = None
+    """Filled by the env with the built model (Isaac Lab's field); not set by hand."""
+
+
+@configclass
+class NoiseModelWithAdditiveBiasCfg(NoiseModelCfg):
+    """Per-step noise plus a per-env bias drawn from ``bias_noise_cfg`` at each reset."""
+
+    class_type: type = noise_model.NoiseModelWithAdditiveBias
+    bias_noise_cfg: NoiseCfg = MISSING
+    sample_bias_per_component: bool = True
+    """A bias per data component (True) or one shared by all components of an env."""

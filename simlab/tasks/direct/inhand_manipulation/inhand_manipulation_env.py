@@ -7,7 +7,9 @@ spread over each actuated joint's range, smoothed by ``act_moving_average``. Obs
 (``obs_type``): "full" (joint positions scaled to [-1, 1] and velocities; the cube's position,
 orientation and velocities; the in-hand position, goal orientation and the rotation between them;
 fingertip positions, orientations and velocities; the last actions) or "openai" (fingertip positions,
-the cube's position, the rotation to the goal, the last actions: OpenAI's table 2).
+the cube's position, the rotation to the goal, the last actions: OpenAI's table 2). With
+``asymmetric_obs`` the critic gets the full observations and the fingertips' force-torque readings
+(``"critic"``, ``state_space`` long).
 
 Reward (Isaac Lab's terms): ``dist_reward_scale`` times the cube's distance from the in-hand position,
 ``rot_reward_scale / (|rotation to the goal| + rot_eps)``, ``action_penalty_scale`` times the squared
@@ -37,6 +39,8 @@ from simlab.sim.spawners.from_files import GroundPlaneCfg, spawn_ground_plane
 from simlab.utils.env_mask import masked_copy_
 from simlab.utils.math import quat_conjugate, quat_from_angle_axis, quat_mul, sample_uniform, saturate
 
+from .joint_wrenches import IncomingJointWrenches
+
 if TYPE_CHECKING:
     from simlab.tasks.direct.allegro_hand.allegro_hand_env_cfg import AllegroHandEnvCfg
 
@@ -64,11 +68,15 @@ class InHandManipulationEnv(DirectRLEnv):
         self._actuated = slice(None) if all_joints else torch.tensor(self.actuated_dof_indices, device=device)
         self.finger_bodies = sorted(self.hand.body_names.index(name) for name in cfg.fingertip_body_names)
         # joints the model couples to another (follower: leader): a reset puts them where they belong
-        follower_ids = [self.hand.joint_names.index(name) for name in cfg.coupled_joints]
-        leader_ids = [self.hand.joint_names.index(name) for name in cfg.coupled_joints.values()]
+        coupled = getattr(cfg, "coupled_joints", {})  # simlab's field; Isaac Lab's configs have none
+        follower_ids = [self.hand.joint_names.index(name) for name in coupled]
+        leader_ids = [self.hand.joint_names.index(name) for name in coupled.values()]
         self._followers = torch.tensor(follower_ids, dtype=torch.long, device=device)
         self._leaders = torch.tensor(leader_ids, dtype=torch.long, device=device)
         self.num_fingertips = len(self.finger_bodies)
+        if cfg.asymmetric_obs:  # the sensors' rows in the fingertips' model order
+            tip_order = [cfg.fingertip_body_names.index(self.hand.body_names[b]) for b in self.finger_bodies]
+            self._wrench_order = torch.tensor(tip_order, dtype=torch.long, device=device)
         # index tensors made once on the step's device (a Python list index is copied from the host each use)
         self._tips = torch.tensor(self.finger_bodies, device=device)
 
@@ -103,6 +111,8 @@ class InHandManipulationEnv(DirectRLEnv):
         self.scene.clone_environments(copy_from_source=False)
         self.scene.articulations["robot"] = self.hand
         self.scene.rigid_objects["object"] = self.object
+        if self.cfg.asymmetric_obs:  # the critic's fingertip force-torque readings
+            self._tip_wrenches = IncomingJointWrenches(self.sim, self.hand.prefix, self.cfg.fingertip_body_names)
         light_cfg = sim_utils.DomeLightCfg(intensity=2000.0, color=(0.75, 0.75, 0.75))
         light_cfg.func("/World/Light", light_cfg)
 
@@ -136,6 +146,9 @@ class InHandManipulationEnv(DirectRLEnv):
             obs = self.compute_full_observations()
         else:
             raise ValueError(f"obs_type must be 'openai' or 'full', got '{self.cfg.obs_type}'")
+        if self.cfg.asymmetric_obs:
+            self.fingertip_force_sensors = self._tip_wrenches.read()[:, self._wrench_order]
+            return {"policy": obs, "critic": self.compute_full_state()}
         return {"policy": obs}
 
     def _get_rewards(self) -> torch.Tensor:
@@ -274,6 +287,14 @@ class InHandManipulationEnv(DirectRLEnv):
             ),
             dim=-1,
         )
+
+    def compute_full_state(self) -> torch.Tensor:
+        """The critic's observation: the full observations and the fingertips' force-torque readings
+        (the wrench each fingertip receives through its joint, in its own frame), before the actions."""
+        full = self.compute_full_observations()
+        wrenches = self.cfg.force_torque_obs_scale * self.fingertip_force_sensors.reshape(self.num_envs, -1)
+        num_actions = self.actions.shape[-1]
+        return torch.cat((full[:, :-num_actions], wrenches, self.actions), dim=-1)
 
 
 def scale(x: torch.Tensor, lower: torch.Tensor, upper: torch.Tensor) -> torch.Tensor:

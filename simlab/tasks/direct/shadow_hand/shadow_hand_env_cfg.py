@@ -5,11 +5,21 @@ coupled distal joints follow), 157 observations ("full"), a 6 cm DexCube (567 kg
 palm-up hand, a goal reached within 0.1 rad, a 250 bonus for it, a fall 0.24 m from the in-hand position.
 
 MuJoCo: elliptic friction cones with impratio 10, per-world buffers as measured under random actions
-(see ``sim.mujoco``). Isaac Lab's OpenAI variants (asymmetric critic, domain randomization) are not here.
+(see ``sim.mujoco``).
+
+``ShadowHandOpenAIEnvCfg`` is Isaac Lab's OpenAI variant (arXiv:1808.00177): 1/60 s physics, 3 physics
+steps per action, 8 s episodes, a 42-value policy observation ("openai") and a 187-value critic state
+(the full observations and the fingertips' force-torque readings), a goal within 0.4 rad, a -50 fall
+penalty, 50 goals at most per episode, Gaussian action and observation noise with a per-episode bias,
+and Isaac Lab's domain randomization (friction, joint gains and limits, cube mass, gravity; its fixed
+tendon randomization is accepted and ignored: the coupling here is an equality constraint).
 """
 
+import simlab.envs.mdp as mdp
 from simlab.assets import ArticulationCfg, RigidObjectCfg
 from simlab.envs import DirectRLEnvCfg, ViewerCfg
+from simlab.managers import EventTermCfg as EventTerm
+from simlab.managers import SceneEntityCfg
 from simlab.markers import VisualizationMarkersCfg
 from simlab.robots.dex_cube import dex_cube_cfg, dex_cube_marker_cfg
 from simlab.robots.shadow_hand import SHADOW_HAND_CFG, SHADOW_HAND_COUPLED_JOINTS, SHADOW_HAND_FINGERTIP_BODIES
@@ -17,6 +27,76 @@ from simlab.scene import InteractiveSceneCfg
 from simlab.sim import MujocoCfg, PhysxCfg, SimulationCfg
 from simlab.sim.spawners.materials.physics_materials_cfg import RigidBodyMaterialCfg
 from simlab.utils import configclass
+from simlab.utils.noise import GaussianNoiseCfg, NoiseModelWithAdditiveBiasCfg
+
+
+def _every_720_resets(func, **params) -> EventTerm:
+    """A reset randomization redrawn at most every 720 env steps (Isaac Lab's OpenAI settings)."""
+    return EventTerm(func=func, mode="reset", min_step_count_between_reset=720, params=params)
+
+
+@configclass
+class EventCfg:
+    """Isaac Lab's domain randomization for the OpenAI variant."""
+
+    robot_physics_material = _every_720_resets(
+        mdp.randomize_rigid_body_material,
+        asset_cfg=SceneEntityCfg("robot"),
+        static_friction_range=(0.7, 1.3),
+        dynamic_friction_range=(1.0, 1.0),
+        restitution_range=(1.0, 1.0),
+        num_buckets=250,
+    )
+    robot_joint_stiffness_and_damping = _every_720_resets(
+        mdp.randomize_actuator_gains,
+        asset_cfg=SceneEntityCfg("robot", joint_names=".*"),
+        stiffness_distribution_params=(0.75, 1.5),
+        damping_distribution_params=(0.3, 3.0),
+        operation="scale",
+        distribution="log_uniform",
+    )
+    robot_joint_limits = _every_720_resets(
+        mdp.randomize_joint_parameters,
+        asset_cfg=SceneEntityCfg("robot", joint_names=".*"),
+        lower_limit_distribution_params=(0.00, 0.01),
+        upper_limit_distribution_params=(0.00, 0.01),
+        operation="add",
+        distribution="gaussian",
+    )
+    robot_tendon_properties = _every_720_resets(
+        mdp.randomize_fixed_tendon_parameters,  # accepted and ignored (see the module docstring)
+        asset_cfg=SceneEntityCfg("robot", fixed_tendon_names=".*"),
+        stiffness_distribution_params=(0.75, 1.5),
+        damping_distribution_params=(0.3, 3.0),
+        operation="scale",
+        distribution="log_uniform",
+    )
+    object_physics_material = _every_720_resets(
+        mdp.randomize_rigid_body_material,
+        asset_cfg=SceneEntityCfg("object"),
+        static_friction_range=(0.7, 1.3),
+        dynamic_friction_range=(1.0, 1.0),
+        restitution_range=(1.0, 1.0),
+        num_buckets=250,
+    )
+    object_scale_mass = _every_720_resets(
+        mdp.randomize_rigid_body_mass,
+        asset_cfg=SceneEntityCfg("object"),
+        mass_distribution_params=(0.5, 1.5),
+        operation="scale",
+        distribution="uniform",
+    )
+    reset_gravity = EventTerm(
+        func=mdp.randomize_physics_scene_gravity,
+        mode="interval",
+        is_global_time=True,
+        interval_range_s=(36.0, 36.0),  # time_s = num_steps * (decimation * dt)
+        params={
+            "gravity_distribution_params": ([0.0, 0.0, 0.0], [0.0, 0.0, 0.4]),
+            "operation": "add",
+            "distribution": "gaussian",
+        },
+    )
 
 
 @configclass
@@ -103,3 +183,54 @@ class ShadowHandEnvCfg(DirectRLEnvCfg):
     av_factor = 0.1
     act_moving_average = 1.0
     force_torque_obs_scale = 10.0
+
+
+@configclass
+class ShadowHandOpenAIEnvCfg(ShadowHandEnvCfg):
+    # env
+    decimation = 3
+    episode_length_s = 8.0
+    action_space = 20
+    observation_space = 42
+    state_space = 187
+    asymmetric_obs = True
+    obs_type = "openai"
+    # simulation
+    sim: SimulationCfg = SimulationCfg(
+        dt=1 / 60,
+        render_interval=decimation,
+        physics_material=RigidBodyMaterialCfg(static_friction=1.0, dynamic_friction=1.0),
+        physx=PhysxCfg(
+            bounce_threshold_velocity=0.2, gpu_max_rigid_contact_count=2**23, gpu_max_rigid_patch_count=2**23
+        ),
+        mujoco=MujocoCfg(cone="elliptic", impratio=10.0, nconmax=48, njmax=256),
+    )
+    # reset
+    reset_position_noise = 0.01
+    reset_dof_pos_noise = 0.2
+    reset_dof_vel_noise = 0.0
+    # reward scales
+    dist_reward_scale = -10.0
+    rot_reward_scale = 1.0
+    rot_eps = 0.1
+    action_penalty_scale = -0.0002
+    reach_goal_bonus = 250
+    fall_penalty = -50
+    fall_dist = 0.24
+    vel_obs_scale = 0.2
+    success_tolerance = 0.4
+    max_consecutive_success = 50
+    av_factor = 0.1
+    act_moving_average = 0.3
+    force_torque_obs_scale = 10.0
+    # domain randomization
+    events: EventCfg = EventCfg()
+    # Gaussian noise each step plus a Gaussian bias drawn per env at reset
+    action_noise_model: NoiseModelWithAdditiveBiasCfg = NoiseModelWithAdditiveBiasCfg(
+        noise_cfg=GaussianNoiseCfg(mean=0.0, std=0.05, operation="add"),
+        bias_noise_cfg=GaussianNoiseCfg(mean=0.0, std=0.015, operation="abs"),
+    )
+    observation_noise_model: NoiseModelWithAdditiveBiasCfg = NoiseModelWithAdditiveBiasCfg(
+        noise_cfg=GaussianNoiseCfg(mean=0.0, std=0.002, operation="add"),
+        bias_noise_cfg=GaussianNoiseCfg(mean=0.0, std=0.0001, operation="abs"),
+    )
