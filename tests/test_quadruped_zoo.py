@@ -19,7 +19,7 @@ import simlab.sim as sim_utils
 import simlab.tasks  # noqa: F401 - registers the tasks
 from simlab.assets import ArticulationCfg, AssetBaseCfg
 from simlab.envs import ManagerBasedRLEnv
-from simlab.robots import unitree
+from simlab.robots import anymal, unitree
 from simlab.scene import InteractiveScene, InteractiveSceneCfg
 from simlab.sensors import ContactSensorCfg
 from simlab.tasks.manager_based.locomotion.velocity import criterion as velocity_criterion
@@ -68,6 +68,20 @@ ROBOTS = {
         ".*_foot",
         5.204 + 4 * (0.68 + 1.009 + 0.195862),
         (0.22, 0.36),
+    ),
+    # ANYbotics' anymal_d_simple_description URDF: the sum over its links
+    "anymal_d": Quadruped(
+        anymal.ANYMAL_D_CFG,
+        "Anymal-D",
+        "base",
+        ("LF", "LH", "RF", "RH"),
+        ("HAA", "HFE", "KFE"),
+        ("HIP", "THIGH", "SHANK", "FOOT"),
+        "{leg}_{part}",
+        "{leg}_{part}",
+        ".*_FOOT",
+        51.53921,
+        (0.48, 0.62),
     ),
 }
 IDS = sorted(ROBOTS)
@@ -171,7 +185,7 @@ def test_task_builds_and_steps(name, terrain):
 
 # -- Isaac Lab's own task files --------------------------------------------------------------------
 
-PORTED_CLASSES = {"go1": "UnitreeGo1"}
+PORTED_CLASSES = {"go1": "UnitreeGo1", "anymal_d": "AnymalD"}
 
 
 def ported(name: str, terrain: str):

@@ -1,4 +1,4 @@
-"""ANYbotics robots (Isaac Lab's ``isaaclab_assets.robots.anymal``): ANYmal-C."""
+"""ANYbotics robots (Isaac Lab's ``isaaclab_assets.robots.anymal``): ANYmal-C and ANYmal-D."""
 
 import os
 
@@ -62,3 +62,11 @@ ANYMAL_C_CFG = ArticulationCfg(
 """ANYmal-C. Isaac Lab drives it with an LSTM actuator network (``ANYDRIVE_3_LSTM_ACTUATOR_CFG``),
 a trained file simlab does not ship; here a stiffer DC-motor ANYdrive (``ANYDRIVE_3_STIFF_ACTUATOR_CFG``)
 that holds the robot in its default pose."""
+
+
+ANYMAL_D_CFG = ANYMAL_C_CFG.replace(
+    spawn=ANYMAL_C_CFG.spawn.replace(asset_path=os.path.join(ASSETS_DIR, "anybotics_anymal_d.xml"))
+)
+"""ANYmal-D (51.5 kg) with ANYmal-C's pose, spawn height and drives, as Isaac Lab's (which drives it with
+ANYmal-C's LSTM actuator network, there being no public one for ANYmal-D); here simlab's stiff DC-motor
+ANYdrive (``ANYDRIVE_3_STIFF_ACTUATOR_CFG``)."""
