@@ -10,3 +10,4 @@ from .humanoid import HUMANOID_CFG
 from .quadcopter import CRAZYFLIE_CFG
 from .shadow_hand import SHADOW_HAND_CFG
 from .unitree import G1_29DOF_CFG, G1_CFG, G1_MINIMAL_CFG, H1_CFG, H1_MINIMAL_CFG
+from .universal_robots import UR10_CFG

@@ -1,0 +1,49 @@
+"""The Universal Robots UR10 arm (no gripper), as Isaac Lab configures it.
+
+``UR10_CFG`` has Isaac Lab's joint names (``shoulder_pan_joint`` ... ``wrist_3_joint``), default pose
+and its single actuator group ``arm`` (implicit PD, kp 800, kd 40, 87 N m). The model is
+``simlab/robots/assets/universal_robots_ur10.xml`` (facts and sources in its header); the end
+effector is the body ``ee_link``, whose x axis is the tool axis.
+
+Isaac Lab's config also sets an armature of 1e-3 kg m^2; simlab keeps the model's 0.1 (the reflected
+rotor inertia of a harmonic-drive joint, as the Franka model has). With 1e-3 the wrists (0.0006 kg m^2
+of their own about wrist_3's axis) are driven at the 87 N m limit, where MuJoCo's implicit integrator
+no longer damps the drive: a joint-position step from the default pose to another reached 1,100 rad/s
+and did not settle (CPU, measured here); with 0.1 it settles in under 0.4 s.
+Under gravity the 87 N m limit leaves the PD a steady sag: a differential-IK target in the reach
+command's range was missed by 3.5-4.9 cm with gravity on and by 0.01 mm with it off on the arm
+(tests/test_ur10_reach.py).
+"""
+
+import os
+
+import simlab.sim as sim_utils
+from simlab.actuators import ImplicitActuatorCfg
+from simlab.assets import ArticulationCfg
+
+ASSETS_DIR = os.path.join(os.path.dirname(__file__), "assets")
+
+UR10_CFG = ArticulationCfg(
+    prim_path="{ENV_REGEX_NS}/Robot",
+    spawn=sim_utils.MjcfFileCfg(asset_path=os.path.join(ASSETS_DIR, "universal_robots_ur10.xml")),
+    init_state=ArticulationCfg.InitialStateCfg(
+        joint_pos={
+            "shoulder_pan_joint": 0.0,
+            "shoulder_lift_joint": -1.712,
+            "elbow_joint": 1.712,
+            "wrist_1_joint": 0.0,
+            "wrist_2_joint": 0.0,
+            "wrist_3_joint": 0.0,
+        },
+    ),
+    actuators={
+        "arm": ImplicitActuatorCfg(
+            joint_names_expr=[".*"],
+            effort_limit_sim=87.0,
+            stiffness=800.0,
+            damping=40.0,
+            friction=1e-5,
+        ),  # armature: the model's 0.1, not Isaac Lab's 1e-3 (see above)
+    },
+)
+"""UR10 as in Isaac Lab: joint-space PD (kp 800, kd 40), 87 N m on every joint."""

@@ -1,0 +1,1 @@
+"""Agent configs for the UR10 reach task."""
