@@ -9,7 +9,7 @@ Isaac Lab's config also sets an armature of 1e-3 kg m^2; simlab keeps the model'
 rotor inertia of a harmonic-drive joint, as the Franka model has). With 1e-3 the wrists (0.0006 kg m^2
 of their own about wrist_3's axis) are driven at the 87 N m limit, where MuJoCo's implicit integrator
 no longer damps the drive: a joint-position step from the default pose to another reached 1,100 rad/s
-and did not settle (CPU, measured here); with 0.1 it settles in under 0.4 s.
+and did not settle (CPU, measured here); with 0.1 the wrists reach their targets within 0.35 s.
 Under gravity the 87 N m limit leaves the PD a steady sag: a differential-IK target in the reach
 command's range was missed by 3.5-4.9 cm with gravity on and by 0.01 mm with it off on the arm
 (tests/test_ur10_reach.py).
