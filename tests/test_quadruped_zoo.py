@@ -69,6 +69,20 @@ ROBOTS = {
         5.204 + 4 * (0.68 + 1.009 + 0.195862),
         (0.22, 0.36),
     ),
+    # menagerie's unitree_a1: trunk 4.713 + 4 x (hip 0.696 + thigh 1.013 + calf and foot 0.226)
+    "a1": Quadruped(
+        unitree.UNITREE_A1_CFG,
+        "Unitree-A1",
+        "trunk",
+        ("FL", "FR", "RL", "RR"),
+        ("hip", "thigh", "calf"),
+        ("hip", "thigh", "calf", "foot"),
+        "{leg}_{part}_joint",
+        "{leg}_{part}",
+        ".*_foot",
+        4.713 + 4 * (0.696 + 1.013 + 0.226),
+        (0.2, 0.36),
+    ),
     # ANYbotics' anymal_d_simple_description URDF: the sum over its links
     "anymal_d": Quadruped(
         anymal.ANYMAL_D_CFG,
@@ -185,7 +199,7 @@ def test_task_builds_and_steps(name, terrain):
 
 # -- Isaac Lab's own task files --------------------------------------------------------------------
 
-PORTED_CLASSES = {"go1": "UnitreeGo1", "anymal_d": "AnymalD"}
+PORTED_CLASSES = {"go1": "UnitreeGo1", "a1": "UnitreeA1", "anymal_d": "AnymalD"}
 
 
 def ported(name: str, terrain: str):

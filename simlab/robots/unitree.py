@@ -83,6 +83,32 @@ UNITREE_GO1_CFG = ArticulationCfg(
 )
 """Unitree Go1 (base body ``trunk``, as Isaac Lab's) with DC-motor legs (``GO1_DC_ACTUATOR_CFG``)."""
 
+UNITREE_A1_CFG = ArticulationCfg(
+    spawn=sim_utils.MjcfFileCfg(
+        asset_path=os.path.join(ASSETS_DIR, "unitree_a1.xml"),
+        articulation_props=sim_utils.ArticulationRootPropertiesCfg(
+            solver_position_iteration_count=4, solver_velocity_iteration_count=0
+        ),
+    ),
+    init_state=ArticulationCfg.InitialStateCfg(
+        pos=(0.0, 0.0, 0.42), joint_pos=dict(_UNITREE_QUADRUPED_POSE), joint_vel={".*": 0.0}
+    ),
+    soft_joint_pos_limit_factor=0.9,
+    actuators={
+        "base_legs": DCMotorCfg(
+            joint_names_expr=[".*_hip_joint", ".*_thigh_joint", ".*_calf_joint"],
+            effort_limit=33.5,
+            saturation_effort=33.5,
+            velocity_limit=21.0,
+            stiffness=25.0,
+            damping=0.5,
+            friction=0.0,
+        ),
+    },
+)
+"""Unitree A1 (base body ``trunk``) with DC-motor legs (Isaac Lab's gains and limits: kp 25, kd 0.5,
+33.5 N m, 21 rad/s, from Trossen Robotics' A1 specifications)."""
+
 
 H1_CFG = ArticulationCfg(
     spawn=sim_utils.MjcfFileCfg(
