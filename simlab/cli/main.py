@@ -60,6 +60,13 @@ def _add_common(p: argparse.ArgumentParser, video: bool = True, seed_default: st
         default="auto",
         help="Live viewer: native (MuJoCo's window), web (in a browser), none; auto: native with a display, else web.",
     )
+    p.add_argument(
+        "--viz",
+        "--visualizer",
+        dest="visualizer",
+        default=None,
+        help="Isaac Lab 3.0's viewer flag: native, web, none, or its names newton_gl (native), viser (web).",
+    )
     p.add_argument("--viewer_port", type=int, default=DEFAULT_PORT, help="Port of the web viewer (default: 8080).")
     p.add_argument(
         "--viewer_host",
@@ -86,7 +93,13 @@ def _add_common(p: argparse.ArgumentParser, video: bool = True, seed_default: st
 
 
 def _add_agent(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--library", choices=LIBRARIES, default="rsl_rl", help="RL library (default: rsl_rl).")
+    p.add_argument(
+        "--library",
+        "--rl_library",
+        choices=LIBRARIES,
+        default="rsl_rl",
+        help="RL library (default: rsl_rl); --rl_library is Isaac Lab 3.0's name.",
+    )
     p.add_argument(
         "--algorithm",
         type=str.upper,
@@ -372,11 +385,52 @@ def allowed_modules(args: argparse.Namespace) -> list[str]:
     return packages
 
 
+def _isaaclab3_words(args: argparse.Namespace, rest: list[str]) -> list[str]:
+    """Isaac Lab 3.0's words in simlab's terms (:mod:`simlab.cli.isaaclab3`): the task id (version-less,
+    ``Isaac-`` ids), ``--viz``, and the ``physics=`` / ``renderer=`` / ``presets=`` selectors; the
+    overrides left."""
+    if not getattr(args, "task", None):
+        return rest
+    import simlab.tasks  # noqa: F401 - registers the tasks (their versions)
+    from simlab.cli.isaaclab3 import apply_selectors, apply_visualizer, split_selectors
+    from simlab.utils.string import simlab_task_id
+
+    task = simlab_task_id(args.task)
+    if task != args.task:
+        print(f"[simlab] Task {args.task} -> {task}")
+        args.task = task
+    apply_visualizer(args)
+    if args.command == "play":
+        _checkpoint_selector(args)
+    if args.command not in ("train", "play", "random", "zero"):
+        return rest
+    selectors, rest = split_selectors(rest)
+    apply_selectors(args, selectors)
+    return rest
+
+
+def _checkpoint_selector(args: argparse.Namespace) -> None:
+    """Isaac Lab 3.0's ``play --checkpoint latest`` / ``pretrained`` (where no such file exists)."""
+    selector = args.checkpoint
+    if selector not in ("latest", "best", "pretrained") or os.path.exists(selector):
+        return
+    if selector == "best":
+        from simlab.utils.errors import ConfigError
+
+        raise ConfigError("--checkpoint best: simlab keeps no best checkpoint; use --checkpoint latest or a path.")
+    args.checkpoint = None
+    flag = "use_last_checkpoint" if selector == "latest" else "use_pretrained_checkpoint"
+    setattr(args, flag, True)
+    print(f"[simlab] --checkpoint {selector} -> --{flag}")
+
+
 def _dispatch(parser: argparse.ArgumentParser, args: argparse.Namespace, rest: list[str], argv: list[str]) -> int:
+    from simlab.cli.isaaclab3 import renderer_choice
     from simlab.utils.string import callable_modules
 
+    rest = _isaaclab3_words(args, rest)
     # a "module:name" value (an override, a run's params) names functions of these packages only
-    with callable_modules(allowed_modules(args)):
+    with callable_modules(allowed_modules(args)), renderer_choice(getattr(args, "renderer", None)):
         return _run(parser, args, rest, argv)
 
 

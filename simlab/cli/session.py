@@ -140,12 +140,13 @@ def load_configs(args: argparse.Namespace, overrides: list[str], with_agent: boo
     """
     from simlab.utils.device import resolve_device
 
-    env_cfg = load_cfg_from_registry(args.task, "env_cfg_entry_point")
+    presets = getattr(args, "presets", None) or ()  # Isaac Lab 3.0's presets= (simlab.cli.isaaclab3)
+    env_cfg = load_cfg_from_registry(args.task, "env_cfg_entry_point", presets)
     agent_cfg = None
     if with_agent:
         _default_to_amp(args)
         entry_point = getattr(args, "agent", None) or agent_entry_point(args.library, args.algorithm)
-        agent_cfg = load_cfg_from_registry(args.task, entry_point)
+        agent_cfg = load_cfg_from_registry(args.task, entry_point, presets)
     apply_overrides(env_cfg, agent_cfg, overrides)
     if with_agent:
         _check_policy_group(env_cfg, agent_cfg)
@@ -153,6 +154,8 @@ def load_configs(args: argparse.Namespace, overrides: list[str], with_agent: boo
         if args.num_envs < 1:
             raise ConfigError(f"--num_envs must be at least 1, got {args.num_envs}.")
         env_cfg.scene.num_envs = args.num_envs
+    if getattr(args, "engine", None) is not None:  # physics= (simlab.cli.isaaclab3)
+        env_cfg.sim.engine = args.engine
     if getattr(args, "device", None) is not None:
         env_cfg.sim.device = resolve_device(args.device)
     else:

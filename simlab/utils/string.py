@@ -408,5 +408,15 @@ def find_root_prim_path_from_regex(prim_path_regex: str) -> tuple[str, int]:
 
 
 def simlab_task_id(task: str) -> str:
-    """Isaac Lab's ``Isaac-<Name>`` id as simlab's ``simlab/<Name>`` (the porting map); other ids unchanged."""
-    return "simlab/" + task.removeprefix("Isaac-") if task.startswith("Isaac-") else task
+    """Isaac Lab's ``Isaac-<Name>`` id as simlab's ``simlab/<Name>`` (the porting map), and an id without a
+    version (Isaac Lab 3.0's ``Isaac-Cartpole``, ``simlab/Cartpole``) as its highest registered version
+    (``simlab/Cartpole-v0``); other ids unchanged. Versions are looked up in Gymnasium's registry, so the
+    tasks are registered first (``import simlab.tasks``)."""
+    mapped = "simlab/" + task.removeprefix("Isaac-") if task.startswith("Isaac-") else task
+    if mapped.startswith("simlab/") and not re.search(r"-v\d+$", mapped):
+        from gymnasium.envs.registration import find_highest_version
+
+        version = find_highest_version("simlab", mapped.removeprefix("simlab/"))
+        if version is not None:
+            return f"{mapped}-v{version}"
+    return mapped

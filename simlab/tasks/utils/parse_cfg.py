@@ -6,6 +6,7 @@ import importlib
 import inspect
 import os
 import re
+from collections.abc import Sequence
 from typing import Any
 
 import gymnasium as gym
@@ -15,7 +16,14 @@ from simlab.utils.errors import ConfigError
 from simlab.utils.io import ConfigYamlLoader
 from simlab.utils.string import closest_matches, simlab_task_id
 
-__all__ = ["get_checkpoint_path", "load_cfg_from_registry", "parse_env_cfg", "registered_task_ids", "simlab_task_id"]
+__all__ = [
+    "get_checkpoint_path",
+    "load_cfg_from_registry",
+    "parse_env_cfg",
+    "registered_task_ids",
+    "registry_kwargs",
+    "simlab_task_id",
+]
 
 
 def registered_task_ids(keyword: str | None = None) -> list[str]:
@@ -70,16 +78,35 @@ def _load_entry_point(entry_point: Any, what: str) -> Any:
     return obj() if callable(obj) else obj
 
 
-def load_cfg_from_registry(task_name: str, entry_point_key: str) -> Any:
-    """Load the config that the task registered under ``entry_point_key``.
+def registry_kwargs(task_name: str, presets: Sequence[str] = ()) -> dict[str, Any]:
+    """The registration kwargs of ``task_name`` with the entry points of the named ``presets`` in place.
+
+    A task registers its variants (Isaac Lab 3.0's ``presets=``) as ``kwargs["presets"]``: a dict from
+    a preset name to the entry points it replaces, e.g. ``{"depth": {"env_cfg_entry_point": "m:DepthCfg"}}``.
+    Presets apply in the order given; an unknown name is a ConfigError naming the task's presets.
+    """
+    spec = task_spec(task_name)
+    kwargs = dict(spec.kwargs)
+    table = kwargs.get("presets") or {}
+    for name in presets:
+        if name not in table:
+            have = f"its presets are {', '.join(sorted(table))}" if table else "it registers no presets"
+            raise ConfigError(f"presets={name}: not a preset of {task_name} ({have}).")
+        kwargs.update(table[name])
+    return kwargs
+
+
+def load_cfg_from_registry(task_name: str, entry_point_key: str, presets: Sequence[str] = ()) -> Any:
+    """Load the config that the task registered under ``entry_point_key`` (with the entry points of the
+    named ``presets``, see :func:`registry_kwargs`).
 
     Config classes are instantiated; ``"module:file.yaml"`` entry points are read into a dict.
     E.g. ``load_cfg_from_registry("simlab/Cartpole-v0", "rsl_rl_cfg_entry_point")``.
     """
-    spec = task_spec(task_name)
-    entry_point = spec.kwargs.get(entry_point_key)
+    kwargs = registry_kwargs(task_name, presets)
+    entry_point = kwargs.get(entry_point_key)
     if entry_point is None:
-        keys = sorted(k for k in spec.kwargs if k.endswith("entry_point"))
+        keys = sorted(k for k in kwargs if k.endswith("entry_point"))
         close = closest_matches(entry_point_key, keys, n=1)
         hint = f" Did you mean '{close[0]}'?" if close else ""
         raise ConfigError(f"Task '{task_name}' has no '{entry_point_key}'.{hint} It registers: {keys}.")

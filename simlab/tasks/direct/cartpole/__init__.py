@@ -31,3 +31,22 @@ for _kind in ("RGB", "Depth"):
             "rsl_rl_cfg_entry_point": f"{agents.__name__}.rsl_rl_camera_ppo_cfg:CartpoleCameraPPORunnerCfg",
         },
     )
+
+# Isaac Lab 3.0's single camera task: the variants are presets (`presets=rgb`, `presets=depth`), RGB by default
+_CAMERA_CFG = "simlab.tasks.direct.cartpole.cartpole_camera_env:Cartpole{}CameraEnvCfg"
+gym.register(
+    id="simlab/Cartpole-Camera-Direct-v0",
+    entry_point="simlab.tasks.direct.cartpole.cartpole_camera_env:CartpoleCameraEnv",
+    disable_env_checker=True,
+    kwargs={
+        "env_cfg_entry_point": _CAMERA_CFG.format("RGB"),
+        "presets": {
+            "rgb": {"env_cfg_entry_point": _CAMERA_CFG.format("RGB")},
+            "depth": {"env_cfg_entry_point": _CAMERA_CFG.format("Depth")},
+        },
+        "success_criterion_entry_point": "simlab.tasks.utils.criteria:pole_upright",
+        "rl_games_cfg_entry_point": f"{agents.__name__}:rl_games_camera_ppo_cfg.yaml",
+        "skrl_cfg_entry_point": f"{agents.__name__}:skrl_camera_ppo_cfg.yaml",
+        "rsl_rl_cfg_entry_point": f"{agents.__name__}.rsl_rl_camera_ppo_cfg:CartpoleCameraPPORunnerCfg",
+    },
+)
