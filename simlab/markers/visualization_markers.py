@@ -86,7 +86,7 @@ def _prototype(name: str, cfg: Any) -> tuple[str, Any]:
         return "frame", cfg
     if isinstance(cfg, UsdFileCfg):
         shape = stand_in(cfg)
-        if shape is not None:
+        if isinstance(shape, _SHAPE_TYPES):
             return "shape", shape
         kind = _USD_MARKER_SHAPES.get(os.path.basename(str(cfg.usd_path)))
         if kind == "arrow":

@@ -1,8 +1,9 @@
 """Locating asset files. simlab ships its models inside the package, so only local paths exist.
 
-Isaac Lab's Nucleus directory constants (``ISAACLAB_NUCLEUS_DIR`` and friends) exist so that ported
-configs import, but they name no server simlab can read: any path under them is refused with an
-error saying to use an MJCF (or URDF) file instead.
+Isaac Lab's Nucleus directory constants (``ISAACLAB_NUCLEUS_DIR`` and friends) name no server simlab
+can read. A ``UsdFileCfg`` naming a Nucleus robot or prop that simlab ships spawns simlab's model of it
+(``simlab.sim.spawners.from_files.usd_stand_ins``); reading any other path under them is refused with
+an error saying to use an MJCF (or URDF) file instead.
 """
 
 from __future__ import annotations

@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING
 import mujoco
 
 from simlab.utils.assets import refuse_remote_path
+from simlab.utils.errors import ConfigError
 
 from ...simulation_context import current_spec
 
@@ -143,14 +144,11 @@ def spawn_ground_plane(prim_path: str, cfg: GroundPlaneCfg, translation=None, or
 
 
 def spawn_from_usd(prim_path, cfg, translation=None, orientation=None):
-    """USD is not read; the few Isaac Lab props that are plain shapes spawn as their stand-ins
-    (``usd_stand_ins``), everything else raises saying what to use."""
-    from .usd_stand_ins import STAND_INS, stand_in
+    """USD is not read: a Nucleus path of a robot or prop simlab ships spawns simlab's model of it
+    (``usd_stand_ins.USD_STAND_INS``); any other path raises, listing what is available."""
+    from .usd_stand_ins import stand_in, unknown_usd_message
 
-    shape = stand_in(cfg)
-    if shape is not None:
-        return shape.func(prim_path, shape, translation, orientation)
-    raise NotImplementedError(
-        f"'{prim_path}': simlab reads MJCF and URDF, not USD. Use sim_utils.MjcfFileCfg(asset_path=...) "
-        f"or sim_utils.UrdfFileCfg(asset_path=...) (USD props simlab stands in for: {', '.join(STAND_INS)})."
-    )
+    spawn = stand_in(cfg)
+    if spawn is None:
+        raise ConfigError(f"{prim_path}: {unknown_usd_message(cfg.usd_path)}")
+    return spawn.func(prim_path, spawn, translation, orientation)

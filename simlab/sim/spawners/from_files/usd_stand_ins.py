@@ -1,44 +1,197 @@
-"""simlab's stand-ins for the few Isaac Lab USD props that are plain shapes, so that ported configs
-naming them by their Nucleus path spawn (and draw as markers) unchanged.
+"""What a ``UsdFileCfg`` naming one of Isaac Lab's Nucleus assets spawns here: simlab's model of it.
 
-A stand-in is found by the USD file's name and built from the ``UsdFileCfg`` that names it: the same
-scale, rigid-body, mass and collision properties, on a MuJoCo primitive of the prop's size.
+simlab reads no USD. Ported configs name robots and props by their Nucleus path
+(``f"{ISAACLAB_NUCLEUS_DIR}/Robots/Unitree/Go2/go2.usd"``); for the ones simlab ships, :data:`USD_STAND_INS`
+gives the model that spawns instead: an MJCF file of ``simlab/robots/assets`` (robots, the cabinet) or a
+MuJoCo primitive (plain props). The ``UsdFileCfg``'s own settings (rigid-body, articulation, mass,
+collision and contact-sensor properties) carry over, so a ported ``ArticulationCfg`` keeps its physics
+settings; its actuators, initial state and joint names are the config's, which the MJCF's joint names match.
 
-    dex_cube_instanceable.usd   Isaac Lab's DexCube (in-hand and lift tasks): a 6 cm cube
+An asset is looked up by its path below the Nucleus ``Isaac`` directory (``ISAAC_NUCLEUS_DIR``): the part
+after the last ``/Isaac/`` of the path, so the same asset resolves whatever server or version the path
+names (``nucleus://``, ``omniverse://``, the public S3 mirror, a local copy of the tree). Isaac Lab's
+own assets live under ``IsaacLab/`` there (``ISAACLAB_NUCLEUS_DIR``). Older Isaac Sim releases kept some
+assets elsewhere (``Robots/Ant/`` before ``Robots/IsaacSim/Ant/``); those paths are listed too.
+
+To add a robot: put its MJCF in ``simlab/robots/assets`` and add a row with :func:`mjcf` below.
 """
 
 from __future__ import annotations
 
 import os
 from collections.abc import Callable
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
-    from ..shapes import ShapeCfg
+    from ..spawner_cfg import SpawnerCfg
     from .from_files_cfg import UsdFileCfg
+
+MODELS_DIR = os.path.join(os.path.dirname(__file__), "..", "..", "..", "robots", "assets")
+"""simlab's MJCF models (``simlab/robots/assets``), read here as data files."""
 
 DEX_CUBE_SIZE = 0.06
 """Edge length of Isaac Lab's unscaled DexCube [m]."""
 
+TABLE_SIZE = (1.2, 1.2, 1.05)
+"""simlab's stand-in for the Seattle lab table: a box, its top at the prop's origin as Isaac Lab's table
+(its lift and stack scenes put the robot's base and the objects at z = 0 on it, the ground at -1.05)."""
 
-def _dex_cube(cfg: UsdFileCfg) -> ShapeCfg:
-    from ..shapes import CuboidCfg
 
-    scale = cfg.scale or (1.0, 1.0, 1.0)
-    return CuboidCfg(
-        size=tuple(DEX_CUBE_SIZE * s for s in scale),
+@dataclass(frozen=True)
+class UsdStandIn:
+    """One row of the table: the model that spawns for a Nucleus USD file."""
+
+    model: str
+    """What spawns: an MJCF file of ``simlab/robots/assets``, or a primitive's description."""
+    build: Callable[[UsdFileCfg], SpawnerCfg]
+    """Makes the spawner config from the ``UsdFileCfg`` that names the asset."""
+    notes: str = ""
+
+
+def _carried(cfg: UsdFileCfg) -> dict:
+    """The ``UsdFileCfg`` settings that mean the same on simlab's model."""
+    return dict(
         rigid_props=cfg.rigid_props,
         mass_props=cfg.mass_props,
         collision_props=cfg.collision_props,
-        visual_material=cfg.visual_material,
+        activate_contact_sensors=cfg.activate_contact_sensors,
+        visible=cfg.visible,
     )
 
 
-STAND_INS: dict[str, Callable[[UsdFileCfg], ShapeCfg]] = {"dex_cube_instanceable.usd": _dex_cube}
-"""USD file name -> the shape config that stands in for it."""
+def mjcf(file: str, notes: str = "") -> UsdStandIn:
+    """A row whose model is ``simlab/robots/assets/<file>``."""
+
+    def build(cfg: UsdFileCfg) -> SpawnerCfg:
+        from simlab.utils.errors import ConfigError
+
+        from .from_files_cfg import MjcfFileCfg
+
+        if cfg.scale is not None and tuple(cfg.scale) != (1.0, 1.0, 1.0):
+            raise ConfigError(
+                f"'{cfg.usd_path}' stands in as simlab's MJCF {file}, which is not scaled: leave UsdFileCfg.scale"
+                f" unset (got {tuple(cfg.scale)})."
+            )
+        return MjcfFileCfg(
+            asset_path=os.path.normpath(os.path.join(MODELS_DIR, file)),
+            articulation_props=cfg.articulation_props,
+            joint_drive_props=cfg.joint_drive_props,
+            fixed_tendons_props=cfg.fixed_tendons_props,
+            visual_material=cfg.visual_material,
+            **_carried(cfg),
+        )
+
+    return UsdStandIn(model=file, build=build, notes=notes)
 
 
-def stand_in(cfg: UsdFileCfg) -> ShapeCfg | None:
-    """The shape standing in for the USD file ``cfg`` names, or None when simlab has none."""
-    make = STAND_INS.get(os.path.basename(str(cfg.usd_path)))
-    return make(cfg) if make is not None else None
+def _spawn_prop(prim_path, cfg, translation=None, orientation=None):
+    """A primitive whose body is named after its prim, as the rigid body of Isaac Lab's prop is
+    (``body_names == ["Object"]``, which Isaac Lab's lift events name)."""
+    from ..shapes import spawn_shape
+    from .from_files import entity_name
+
+    body = spawn_shape(prim_path, cfg, translation, orientation)
+    name = entity_name(prim_path)
+    body.name = f"{name}/{name}"
+    return body
+
+
+def _spawn_table(prim_path, cfg, translation=None, orientation=None):
+    body = _spawn_prop(prim_path, cfg, translation, orientation)
+    body.geoms[0].pos = [0.0, 0.0, -cfg.size[2] / 2]  # the top at the prop's origin
+    return body
+
+
+def _dex_cube(cfg: UsdFileCfg) -> SpawnerCfg:
+    from ..shapes import CuboidCfg
+
+    scale = cfg.scale or (1.0, 1.0, 1.0)
+    size = tuple(DEX_CUBE_SIZE * s for s in scale)
+    return CuboidCfg(func=_spawn_prop, size=size, visual_material=cfg.visual_material, **_carried(cfg))
+
+
+def _table(cfg: UsdFileCfg) -> SpawnerCfg:
+    from ..materials import PreviewSurfaceCfg
+    from ..shapes import CuboidCfg
+
+    scale = cfg.scale or (1.0, 1.0, 1.0)
+    material = cfg.visual_material or PreviewSurfaceCfg(diffuse_color=(0.55, 0.45, 0.35))
+    return CuboidCfg(func=_spawn_table, size=tuple(t * s for t, s in zip(TABLE_SIZE, scale)), visual_material=material)
+
+
+def _ground(cfg: UsdFileCfg) -> SpawnerCfg:
+    from .from_files_cfg import GroundPlaneCfg
+
+    return GroundPlaneCfg(visible=cfg.visible)
+
+
+_ANT = mjcf("ant.xml", "IsaacGymEnvs' nv_ant, as Isaac Lab's")
+_HUMANOID = mjcf("humanoid.xml", "IsaacGymEnvs' nv_humanoid, as Isaac Lab's")
+_FRANKA = mjcf("franka_panda.xml")
+_ALLEGRO = mjcf("allegro_hand.xml", "docs/dexterous.md")
+_SHADOW = mjcf("shadow_hand.xml", "docs/dexterous.md")
+_CRAZYFLIE = mjcf("crazyflie.xml")
+_G1 = mjcf("unitree_g1.xml")
+_H1 = mjcf("unitree_h1.xml")
+
+USD_STAND_INS: dict[str, UsdStandIn] = {
+    # Isaac Lab's robots (ISAACLAB_NUCLEUS_DIR = ISAAC_NUCLEUS_DIR/IsaacLab)
+    "IsaacLab/Robots/Unitree/Go2/go2.usd": mjcf("unitree_go2.xml"),
+    "IsaacLab/Robots/Unitree/H1/h1.usd": _H1,
+    "IsaacLab/Robots/Unitree/H1/h1_minimal.usd": mjcf("unitree_h1.xml", "the same model as h1.usd"),
+    "IsaacLab/Robots/Unitree/G1/g1.usd": _G1,
+    "IsaacLab/Robots/Unitree/G1/g1_minimal.usd": mjcf("unitree_g1.xml", "the same model as g1.usd"),
+    "Robots/Unitree/G1/g1.usd": mjcf("unitree_g1_29dof.xml", "Isaac Lab's G1_29DOF_CFG (locomanipulation)"),
+    "IsaacLab/Robots/ANYbotics/ANYmal-C/anymal_c.usd": mjcf("anybotics_anymal_c.xml"),
+    "IsaacLab/Robots/FrankaEmika/panda_instanceable.usd": _FRANKA,
+    "IsaacLab/Robots/Classic/Cartpole/cartpole.usd": mjcf("cartpole.xml"),
+    "IsaacLab/Robots/Classic/CartDoublePendulum/cart_double_pendulum.usd": mjcf("cart_double_pendulum.xml"),
+    # Isaac Sim's robots that Isaac Lab uses (ISAAC_NUCLEUS_DIR)
+    "Robots/IsaacSim/Ant/ant_instanceable.usd": _ANT,
+    "Robots/Ant/ant_instanceable.usd": _ANT,
+    "Robots/IsaacSim/Humanoid/humanoid_instanceable.usd": _HUMANOID,
+    "Robots/Humanoid/humanoid_instanceable.usd": _HUMANOID,
+    "Robots/Franka/franka_instanceable.usd": _FRANKA,
+    "Robots/Bitcraze/Crazyflie/cf2x.usd": _CRAZYFLIE,
+    "Robots/Crazyflie/cf2x.usd": _CRAZYFLIE,
+    "Robots/WonikRobotics/AllegroHand/allegro_hand_instanceable.usd": _ALLEGRO,
+    "Robots/AllegroHand/allegro_hand_instanceable.usd": _ALLEGRO,
+    "Robots/ShadowRobot/ShadowHand/shadow_hand_instanceable.usd": _SHADOW,
+    "Robots/ShadowHand/shadow_hand_instanceable.usd": _SHADOW,
+    # props
+    "Props/Sektion_Cabinet/sektion_cabinet_instanceable.usd": mjcf("sektion_cabinet.xml", "Isaac Lab's joint names"),
+    "Props/Blocks/DexCube/dex_cube_instanceable.usd": UsdStandIn(
+        "a 6 cm box", _dex_cube, "scaled by UsdFileCfg.scale; dynamic when rigid_props are given"
+    ),
+    "Props/Mounts/SeattleLabTable/table_instanceable.usd": UsdStandIn(
+        "a 1.2 x 1.2 x 1.05 m box", _table, "static; its top at the prop's origin, as the table's"
+    ),
+    "Environments/Grid/default_environment.usd": UsdStandIn(
+        "sim_utils.GroundPlaneCfg()", _ground, "Isaac Lab's GroundPlaneCfg.usd_path"
+    ),
+}
+"""Nucleus path below ``ISAAC_NUCLEUS_DIR`` -> simlab's model of that asset (docs/porting.md lists it)."""
+
+
+def nucleus_key(usd_path: str) -> str:
+    """The part of ``usd_path`` after its last ``/Isaac/`` (or the path itself when it has none)."""
+    path = str(usd_path).replace("\\", "/")
+    marker = "/Isaac/"
+    return path[path.rindex(marker) + len(marker) :] if marker in path else path
+
+
+def stand_in(cfg: UsdFileCfg) -> SpawnerCfg | None:
+    """The spawner config standing in for the USD file ``cfg`` names, or None when simlab has none."""
+    row = USD_STAND_INS.get(nucleus_key(cfg.usd_path))
+    return row.build(cfg) if row is not None else None
+
+
+def unknown_usd_message(usd_path: str) -> str:
+    """One line: the path is not one simlab stands in for, what to use, and what is available."""
+    available = ", ".join(sorted({key.rsplit("/", 1)[-1] for key in USD_STAND_INS}))
+    return (
+        f"'{usd_path}': simlab reads MJCF and URDF, not USD; use sim_utils.MjcfFileCfg(asset_path=...) or"
+        f" sim_utils.UrdfFileCfg(asset_path=...), or a Nucleus path simlab stands in for (docs/porting.md):"
+        f" {available}."
+    )
