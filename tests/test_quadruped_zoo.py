@@ -83,6 +83,21 @@ ROBOTS = {
         4.713 + 4 * (0.696 + 1.013 + 0.226),
         (0.2, 0.36),
     ),
+    # ANYbotics' anymal_b_simple_description URDF: the sum over its links (menagerie's anymal_b, 33.3 kg,
+    # has heavier base and shank inertials than ANYbotics' file)
+    "anymal_b": Quadruped(
+        anymal.ANYMAL_B_CFG,
+        "Anymal-B",
+        "base",
+        ("LF", "LH", "RF", "RH"),
+        ("HAA", "HFE", "KFE"),
+        ("HIP", "THIGH", "SHANK", "FOOT"),
+        "{leg}_{part}",
+        "{leg}_{part}",
+        ".*_FOOT",
+        16.793507758 + 4 * (1.42462064 + 1.634976467 + 0.207204302 + 0.140170767),
+        (0.4, 0.55),
+    ),
     # ANYbotics' anymal_d_simple_description URDF: the sum over its links
     "anymal_d": Quadruped(
         anymal.ANYMAL_D_CFG,
@@ -199,7 +214,7 @@ def test_task_builds_and_steps(name, terrain):
 
 # -- Isaac Lab's own task files --------------------------------------------------------------------
 
-PORTED_CLASSES = {"go1": "UnitreeGo1", "a1": "UnitreeA1", "anymal_d": "AnymalD"}
+PORTED_CLASSES = {"go1": "UnitreeGo1", "a1": "UnitreeA1", "anymal_b": "AnymalB", "anymal_d": "AnymalD"}
 
 
 def ported(name: str, terrain: str):

@@ -2,6 +2,7 @@
 
 from .allegro import ALLEGRO_HAND_CFG
 from .ant import ANT_CFG
+from .anymal import ANYMAL_B_CFG, ANYMAL_C_CFG, ANYMAL_D_CFG
 from .cabinet import SEKTION_CABINET_CFG
 from .cart_double_pendulum import CART_DOUBLE_PENDULUM_CFG
 from .cartpole import CARTPOLE_CFG
@@ -9,5 +10,14 @@ from .franka import FRANKA_PANDA_CFG, FRANKA_PANDA_HIGH_PD_CFG
 from .humanoid import HUMANOID_CFG
 from .quadcopter import CRAZYFLIE_CFG
 from .shadow_hand import SHADOW_HAND_CFG
-from .unitree import G1_29DOF_CFG, G1_CFG, G1_MINIMAL_CFG, H1_CFG, H1_MINIMAL_CFG
+from .unitree import (
+    G1_29DOF_CFG,
+    G1_CFG,
+    G1_MINIMAL_CFG,
+    H1_CFG,
+    H1_MINIMAL_CFG,
+    UNITREE_A1_CFG,
+    UNITREE_GO1_CFG,
+    UNITREE_GO2_CFG,
+)
 from .universal_robots import UR10_CFG

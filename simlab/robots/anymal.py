@@ -1,4 +1,4 @@
-"""ANYbotics robots (Isaac Lab's ``isaaclab_assets.robots.anymal``): ANYmal-C and ANYmal-D."""
+"""ANYbotics robots (Isaac Lab's ``isaaclab_assets.robots.anymal``): ANYmal-B, ANYmal-C and ANYmal-D."""
 
 import os
 
@@ -63,6 +63,12 @@ ANYMAL_C_CFG = ArticulationCfg(
 a trained file simlab does not ship; here a stiffer DC-motor ANYdrive (``ANYDRIVE_3_STIFF_ACTUATOR_CFG``)
 that holds the robot in its default pose."""
 
+
+ANYMAL_B_CFG = ANYMAL_C_CFG.replace(
+    spawn=ANYMAL_C_CFG.spawn.replace(asset_path=os.path.join(ASSETS_DIR, "anybotics_anymal_b.xml"))
+)
+"""ANYmal-B (30.4 kg) with ANYmal-C's pose, spawn height and drives, as Isaac Lab's (which drives it with
+the ANYdrive LSTM actuator network); here simlab's stiff DC-motor ANYdrive (``ANYDRIVE_3_STIFF_ACTUATOR_CFG``)."""
 
 ANYMAL_D_CFG = ANYMAL_C_CFG.replace(
     spawn=ANYMAL_C_CFG.spawn.replace(asset_path=os.path.join(ASSETS_DIR, "anybotics_anymal_d.xml"))
