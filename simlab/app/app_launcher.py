@@ -156,6 +156,10 @@ class AppLauncher:
                    "'cuda:0' if a GPU with mujoco_warp is available, else 'cpu'."),
         "enable_cameras": (False, "Enable camera sensors and offscreen rendering."),
         "livestream": (-1, "Accepted for Isaac Lab compatibility and ignored (simlab has no livestreaming)."),
+        "experience": ("", "Accepted for Isaac Lab compatibility and ignored (a Kit experience file)."),
+        "kit_args": ("", "Accepted for Isaac Lab compatibility and ignored (Kit's command-line settings)."),
+        "rendering_mode": (None, "Accepted for Isaac Lab compatibility and ignored (RTX presets; see "
+                           "SimulationCfg.render for what MuJoCo's renderer takes)."),
         "max_app_steps": (None, "Stop the app loop (is_running() -> False) after this many iterations."),
         "verbose": (False, "Print the resolved app settings."),
         # set from the script's own --distributed flag (no app flag, as in Isaac Lab)
@@ -196,6 +200,9 @@ class AppLauncher:
             raise ValueError(f"AppLauncher: 'livestream' must be one of -1, 0, 1, 2, got {livestream!r}.")
         if livestream > 0:
             print("[simlab] --livestream is ignored: simlab has no livestreaming (use the MuJoCo viewer).")
+        kit_only = [f"{name}={cfg[name]!r}" for name in ("experience", "kit_args", "rendering_mode") if cfg[name]]
+        if kit_only:
+            print(f"[simlab] {', '.join(kit_only)} ignored: they configure Omniverse Kit, which simlab does not run.")
 
         from simlab.viewer import check_viewer_flags, resolve_viewer_kind, set_app_viewer
 
@@ -241,6 +248,9 @@ class AppLauncher:
             "device": {"type": str},
             "enable_cameras": {"action": "store_true"},
             "livestream": {"type": int, "choices": [-1, 0, 1, 2]},
+            "experience": {"type": str},
+            "kit_args": {"type": str},
+            "rendering_mode": {"type": str, "choices": ["performance", "balanced", "quality"]},
             "max_app_steps": {"type": int},
             "verbose": {"action": "store_true"},
         }

@@ -525,3 +525,13 @@ class ArticulationData(RootedAssetData):
     joint_limits = property(lambda self: self.joint_pos_limits)
     joint_vel_limits = property(lambda self: self.joint_velocity_limits)
     joint_friction = property(lambda self: self.joint_friction_coeff)
+
+
+def __getattr__(name: str):
+    """``from simlab.assets.articulation import ArticulationCfg``, as Isaac Lab's package exports it
+    (the config imports this module, so it is looked up on first use)."""
+    if name == "ArticulationCfg":
+        from .articulation_cfg import ArticulationCfg
+
+        return ArticulationCfg
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -67,6 +67,35 @@ class PhysxCfg:
     solve_articulation_contact_last: bool = False
 
 
+@configclass
+class RenderCfg:
+    """Isaac Lab's settings of Omniverse's RTX renderer, for the renders simlab draws with MuJoCo's.
+
+    MuJoCo's renderer takes two of them: ``antialiasing_mode="Off"`` draws without multisampling
+    (``visual.quality.offsamples = 0``; any other mode keeps MuJoCo's 4 samples, used by camera
+    sensors), and ``enable_shadows=False`` makes no light cast shadows. The others tune ray tracing,
+    DLSS and Kit settings that MuJoCo's rasterizer does not have: they are accepted and ignored, with
+    a one-time note when set."""
+
+    enable_translucency: bool | None = None
+    enable_reflections: bool | None = None
+    enable_global_illumination: bool | None = None
+    antialiasing_mode: Literal["Off", "FXAA", "DLSS", "TAA", "DLAA"] | None = None
+    enable_dlssg: bool | None = None
+    enable_dl_denoiser: bool | None = None
+    dlss_mode: Literal[0, 1, 2, 3] | None = None
+    enable_direct_lighting: bool | None = None
+    samples_per_pixel: int | None = None
+    enable_shadows: bool | None = None
+    enable_ambient_occlusion: bool | None = None
+    carb_settings: dict | None = None
+    rendering_mode: Literal["performance", "balanced", "quality"] | None = None
+
+
+RENDER_SETTINGS_MAPPED = ("antialiasing_mode", "enable_shadows")
+"""The :class:`RenderCfg` settings MuJoCo's renderer takes; the others are accepted and ignored."""
+
+
 def _mujoco_default_material() -> RigidBodyMaterialCfg:
     from simlab.sim.spawners.materials import RigidBodyMaterialCfg  # here: the spawners import this module
 
@@ -106,3 +135,5 @@ class SimulationCfg:
     takes the larger friction of two touching geoms, whatever the combine mode."""
     physx: PhysxCfg = PhysxCfg()
     """PhysX's settings, accepted for Isaac Lab's configs and not used (see :class:`PhysxCfg`)."""
+    render: RenderCfg = RenderCfg()
+    """Isaac Lab's renderer settings: antialiasing and shadows map to MuJoCo's renderer (see :class:`RenderCfg`)."""

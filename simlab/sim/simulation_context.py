@@ -22,9 +22,10 @@ from simlab.utils.device import resolve_device
 from simlab.utils.errors import ConfigError
 from simlab.utils.startup import mark
 from simlab.utils.unsupported import refuse_unless_default
+from simlab.utils.versions import warn_once
 
 from .backends import PhysicsBackend, make_backend
-from .simulation_cfg import SimulationCfg
+from .simulation_cfg import RENDER_SETTINGS_MAPPED, RenderCfg, SimulationCfg
 from .stage import StageSpec
 
 _INTEGRATORS = {
@@ -156,6 +157,7 @@ class SimulationContext:
         if self.backend is None:
             for build in self._on_build:
                 build(self.spec)
+            _apply_render_cfg(self.spec, self.cfg.render)
             self.model = self.spec.compile()
             mark("model compiled")
             geometry_qpos0 = self.model.qpos0.copy()
@@ -343,6 +345,22 @@ class SimulationContext:
         if cfg.physics_material is not None:  # the default class: geoms that set no friction of their own
             spec.default.geom.friction = cfg.physics_material.friction()
         return spec
+
+
+def _apply_render_cfg(spec: mujoco.MjSpec, render: RenderCfg) -> None:
+    """Isaac Lab's RTX settings that MuJoCo's renderer has; a one-time note names the ignored ones set."""
+    if render.antialiasing_mode == "Off":
+        spec.visual.quality.offsamples = 0
+    if render.enable_shadows is False:
+        for light in spec.lights:
+            light.castshadow = False
+    settings = render.to_dict().items()
+    ignored = [name for name, value in settings if value is not None and name not in RENDER_SETTINGS_MAPPED]
+    if ignored:
+        warn_once(
+            f"SimulationCfg.render: {', '.join(ignored)} tune Omniverse's RTX renderer; MuJoCo's renderer takes"
+            " antialiasing_mode and enable_shadows, the others are accepted and ignored."
+        )
 
 
 # Settings whose values are facts about simlab's runtime: headless, offscreen rendering on demand.

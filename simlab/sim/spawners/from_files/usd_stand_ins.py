@@ -182,8 +182,12 @@ def nucleus_key(usd_path: str) -> str:
 
 
 def stand_in(cfg: UsdFileCfg) -> SpawnerCfg | None:
-    """The spawner config standing in for the USD file ``cfg`` names, or None when simlab has none."""
+    """The spawner config standing in for the USD file ``cfg`` names, or None when simlab has none.
+
+    A local MJCF file (``.xml``, what ``sim_utils.UrdfConverter`` writes) spawns as itself."""
     row = USD_STAND_INS.get(nucleus_key(cfg.usd_path))
+    if row is None and str(cfg.usd_path).endswith(".xml") and os.path.isfile(os.path.expanduser(cfg.usd_path)):
+        row = mjcf(os.path.abspath(os.path.expanduser(cfg.usd_path)))
     return row.build(cfg) if row is not None else None
 
 
