@@ -1,0 +1,131 @@
+"""Reset events of the stack task (Isaac Lab's ``stack/mdp/franka_stack_events.py``): the arm's start
+pose, a Gaussian jitter of it, and cube poses drawn apart from each other.
+
+All three take an env mask (``takes_env_mask``): they draw for every env and write the rows the mask
+selects, so a reset inside the step has fixed shapes and no host read. Isaac Lab draws the cubes one by
+one with Python's ``random`` and retries each until it is far enough from the ones placed; here every
+env draws ``max_sample_tries`` whole layouts at once and keeps its first one whose cubes are all
+``min_separation`` apart (the last one if none is, as Isaac Lab keeps its last try).
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import torch
+
+import simlab.utils.math as math_utils
+from simlab.managers import SceneEntityCfg
+from simlab.utils.env_mask import is_mask, takes_env_mask
+
+if TYPE_CHECKING:
+    from simlab.envs import ManagerBasedEnv
+
+__all__ = [
+    "randomize_joint_by_gaussian_offset",
+    "randomize_object_pose",
+    "sample_object_poses",
+    "set_default_joint_pose",
+]
+
+_ROBOT = SceneEntityCfg("robot")
+_POSE_KEYS = ("x", "y", "z", "roll", "pitch", "yaw")
+
+
+def _rows_and_targets(env: ManagerBasedEnv, env_ids) -> tuple[torch.Tensor | slice, torch.Tensor]:
+    """(rows to compute, envs to write): all rows for a mask (written where it is set), else the ids."""
+    if is_mask(env_ids):
+        return slice(None), env_ids
+    if env_ids is None:
+        env_ids = torch.arange(env.num_envs, device=env.device)
+    return env_ids, env_ids
+
+
+@takes_env_mask
+def set_default_joint_pose(
+    env: ManagerBasedEnv,
+    env_ids: torch.Tensor,
+    default_pose: list[float],
+    asset_cfg: SceneEntityCfg = _ROBOT,
+) -> None:
+    """Make ``default_pose`` (one value per joint) the robot's default joint positions in every env."""
+    asset = env.scene[asset_cfg.name]
+    pose = math_utils.constant_tensor(default_pose, env.device)
+    if pose.shape[0] != asset.num_joints:
+        raise ValueError(
+            f"default_pose has {pose.shape[0]} values; the robot has {asset.num_joints} joints {asset.joint_names}."
+        )
+    asset.data.default_joint_pos[:] = pose
+
+
+@takes_env_mask
+def randomize_joint_by_gaussian_offset(
+    env: ManagerBasedEnv,
+    env_ids: torch.Tensor,
+    mean: float,
+    std: float,
+    asset_cfg: SceneEntityCfg = _ROBOT,
+) -> None:
+    """Default joint positions plus Gaussian offsets, clamped to the soft limits, the last two joints
+    (the gripper) left at their default; written as the state and the position target."""
+    rows, targets = _rows_and_targets(env, env_ids)
+    asset = env.scene[asset_cfg.name]
+    default = asset.data.default_joint_pos[rows]
+    pos = default + math_utils.sample_gaussian(mean, std, tuple(default.shape), env.device)
+    limits = asset.data.soft_joint_pos_limits[rows]
+    pos = pos.clamp(limits[..., 0], limits[..., 1])
+    pos[:, -2:] = default[:, -2:]
+    vel = asset.data.default_joint_vel[rows]
+    asset.set_joint_position_target(pos, env_ids=targets)
+    asset.set_joint_velocity_target(vel, env_ids=targets)
+    asset.write_joint_state_to_sim(pos, vel, env_ids=targets)
+
+
+def sample_object_poses(
+    num_envs: int,
+    num_objects: int,
+    min_separation: float,
+    pose_range: dict[str, tuple[float, float]],
+    max_sample_tries: int,
+    device: torch.device | str,
+) -> torch.Tensor:
+    """(num_envs, num_objects, 6) poses (x, y, z, roll, pitch, yaw), each env's objects at least
+    ``min_separation`` [m] apart where one of its ``max_sample_tries`` layouts achieves it."""
+    unknown = [key for key in pose_range if key not in _POSE_KEYS]
+    if unknown:
+        raise ValueError(f"pose_range has unknown key(s) {unknown}; allowed: {list(_POSE_KEYS)}")
+    # a range's first two numbers are its bounds (Isaac Lab's yaw range is written (-1.0, 1, 0))
+    bounds = math_utils.constant_tensor([tuple(pose_range.get(k, (0.0, 0.0)))[:2] for k in _POSE_KEYS], device)
+    shape = (num_envs, max_sample_tries, num_objects, 6)
+    layouts = bounds[:, 0] + (bounds[:, 1] - bounds[:, 0]) * torch.rand(shape, device=device)
+    positions = layouts[..., :3]
+    distances = torch.linalg.vector_norm(positions[..., :, None, :] - positions[..., None, :, :], dim=-1)
+    apart = distances > min_separation
+    apart = apart | torch.eye(num_objects, dtype=torch.bool, device=device)  # an object from itself
+    valid = apart.flatten(2).all(dim=2)  # (num_envs, tries)
+    tries = torch.arange(max_sample_tries, device=device)
+    first = torch.where(valid, tries, max_sample_tries - 1).min(dim=1).values
+    return layouts[torch.arange(num_envs, device=device), first]
+
+
+@takes_env_mask
+def randomize_object_pose(
+    env: ManagerBasedEnv,
+    env_ids: torch.Tensor,
+    asset_cfgs: list[SceneEntityCfg],
+    min_separation: float = 0.0,
+    pose_range: dict[str, tuple[float, float]] | None = None,
+    max_sample_tries: int = 64,
+) -> None:
+    """Place the objects of ``asset_cfgs`` at poses drawn from ``pose_range`` (env frame), at least
+    ``min_separation`` [m] apart, at rest."""
+    rows, targets = _rows_and_targets(env, env_ids)
+    origins = env.scene.env_origins[rows]
+    poses = sample_object_poses(
+        origins.shape[0], len(asset_cfgs), min_separation, pose_range or {}, max_sample_tries, env.device
+    )
+    for i, asset_cfg in enumerate(asset_cfgs):
+        asset = env.scene[asset_cfg.name]
+        quat = math_utils.quat_from_euler_xyz(poses[:, i, 3], poses[:, i, 4], poses[:, i, 5])
+        asset.write_root_pose_to_sim(torch.cat([poses[:, i, :3] + origins, quat], dim=-1), env_ids=targets)
+        asset.write_root_velocity_to_sim(torch.zeros(origins.shape[0], 6, device=env.device), env_ids=targets)

@@ -1,0 +1,121 @@
+"""Franka cube stacking (Isaac Lab's stack tasks): each task builds and steps, the cube layout keeps the
+cubes apart, a scripted pick-and-place state machine stacks cube 2 on cube 1 with absolute IK actions
+while the subtask signals flip in order, and ``simlab record`` stores the subtask signals."""
+
+from __future__ import annotations
+
+import gymnasium as gym
+import pytest
+import torch
+
+import simlab.tasks  # noqa: F401 - registers the tasks
+from simlab.tasks.manager_based.manipulation.stack.config.franka.stack_joint_pos_env_cfg import CUBE_SIZE
+from simlab.tasks.manager_based.manipulation.stack.mdp import sample_object_poses
+from simlab.tasks.utils.criteria import criterion_for
+from simlab.tasks.utils.parse_cfg import parse_env_cfg
+from simlab.utils.math import quat_from_euler_xyz, quat_mul, yaw_quat
+
+TASKS = ["simlab/Stack-Cube-Franka-v0", "simlab/Stack-Cube-Franka-IK-Rel-v0", "simlab/Stack-Cube-Franka-IK-Abs-v0"]
+SUBTASKS = ["grasp_1", "stack_1", "grasp_2"]
+
+
+def make(task: str, num_envs: int = 2):
+    cfg = parse_env_cfg(task, device="cpu", num_envs=num_envs)
+    cfg.seed = 0
+    return gym.make(task, cfg=cfg)
+
+
+@pytest.mark.parametrize("task", TASKS)
+def test_task_builds_and_steps(task):
+    env = make(task)
+    obs, _ = env.reset(seed=0)
+    width = {"simlab/Stack-Cube-Franka-v0": 8, "simlab/Stack-Cube-Franka-IK-Rel-v0": 7}.get(task, 8)
+    assert env.action_space.shape == (2, width)
+    assert set(obs) == {"policy", "subtask_terms"}
+    assert list(obs["subtask_terms"]) == SUBTASKS
+    assert obs["policy"]["object"].shape == (2, 39) and obs["policy"]["cube_positions"].shape == (2, 9)
+    for _ in range(5):
+        obs, reward, terminated, truncated, _ = env.step(torch.zeros(env.action_space.shape))
+    assert all(torch.isfinite(v).all() for v in obs["policy"].values())
+    assert not any(obs["subtask_terms"][name].any() for name in SUBTASKS)  # nothing grasped or stacked yet
+    assert not terminated.any() and not truncated.any()
+    env.close()
+
+
+def test_cube_layouts_keep_the_cubes_apart_within_the_range():
+    ranges = {"x": (0.4, 0.6), "y": (-0.1, 0.1), "z": (0.0234, 0.0234), "yaw": (-1.0, 1, 0)}
+    poses = sample_object_poses(500, 3, 0.1, ranges, 64, "cpu")
+    positions = poses[..., :3]
+    gaps = torch.cdist(positions, positions) + torch.eye(3) * 1.0
+    assert (gaps > 0.1).all()
+    assert (positions[..., 0] >= 0.4).all() and (positions[..., 0] <= 0.6).all()
+    assert (poses[..., 5].abs() <= 1.0).all() and poses[..., 5].std() > 0.3
+    with pytest.raises(ValueError, match="unknown key"):
+        sample_object_poses(1, 3, 0.1, {"height": (0.0, 1.0)}, 4, "cpu")
+
+
+def test_the_tasks_register_the_stacking_criterion():
+    for task in TASKS:
+        assert "three cubes stacked" in criterion_for(task).description
+
+
+# -- a scripted pick-and-place -------------------------------------------------------------------------
+
+TCP = 0.1034  # fingertip centre below the hand [m]
+DOWN = torch.tensor([0.0, 1.0, 0.0, 0.0])  # the hand's z axis pointing down
+
+
+def pick_and_place_targets(state, cube, below, hand_yaw):
+    """Fingertip target (env frame) and gripper command (1 open, -1 closed) of each state."""
+    above_cube = cube + torch.tensor([0.0, 0.0, 0.1])
+    on_below = below + torch.tensor([0.0, 0.0, CUBE_SIZE + 0.004])
+    targets = [
+        (above_cube, 1.0),  # 0: above cube 2
+        (cube, 1.0),  # 1: around it
+        (cube, -1.0),  # 2: grasp
+        (cube + torch.tensor([0.0, 0.0, 0.12]), -1.0),  # 3: lift
+        (on_below + torch.tensor([0.0, 0.0, 0.06]), -1.0),  # 4: above cube 1
+        (on_below, -1.0),  # 5: lower onto it
+        (on_below, 1.0),  # 6: release
+        (on_below + torch.tensor([0.0, 0.0, 0.1]), 1.0),  # 7: retreat
+    ]
+    return targets[state]
+
+
+def test_a_scripted_state_machine_stacks_cube_2_on_cube_1_and_the_subtask_signals_flip_in_order():
+    env = make("simlab/Stack-Cube-Franka-IK-Abs-v0", num_envs=1).unwrapped
+    obs, _ = env.reset()
+    origin = env.scene.env_origins[0]
+    robot = env.scene["robot"]
+    hand = robot.find_bodies("panda_hand")[0][0]
+    state, waited, first_true = 0, 0, {}
+    grasp_yaw = None
+    holds = [10, 12, 10, 15, 15, 12, 10, 10]  # steps each state lasts (0.05 s each)
+    for step in range(200):
+        cube_2 = env.scene["cube_2"].data.root_pos_w[0] - origin
+        cube_1 = env.scene["cube_1"].data.root_pos_w[0] - origin
+        if grasp_yaw is None:  # turn the fingers square to cube 2's faces
+            yaw = torch.atan2(*reversed(yaw_quat(env.scene["cube_2"].data.root_quat_w)[0, [0, 3]].unbind()))
+            grasp_yaw = 2 * yaw
+        tip, gripper = pick_and_place_targets(state, cube_2 if state < 4 else cube_1, cube_1, grasp_yaw)
+        quat = quat_mul(quat_from_euler_xyz(torch.zeros(1), torch.zeros(1), grasp_yaw.reshape(1)), DOWN[None])
+        action = torch.cat([tip + torch.tensor([0.0, 0.0, TCP]), quat[0], torch.tensor([gripper])])[None]
+        obs, _, terminated, truncated, _ = env.step(action)
+        assert not (terminated | truncated).any(), f"the episode ended at step {step} (state {state})"
+        for name in SUBTASKS:
+            if bool(obs["subtask_terms"][name][0]) and name not in first_true:
+                first_true[name] = step
+        waited += 1
+        if waited >= holds[state]:
+            state, waited = state + 1, 0
+            if state == len(holds):
+                break
+    hand_pos = robot.data.body_pos_w[0, hand] - origin
+    gap = env.scene["cube_2"].data.root_pos_w[0] - env.scene["cube_1"].data.root_pos_w[0]
+    assert gap[:2].norm() < 0.02 and abs(gap[2] - CUBE_SIZE) < 0.005, f"cube 2 is at {gap} from cube 1"
+    assert hand_pos[2] > 0.15  # the hand left the stack
+    assert "grasp_1" in first_true and "stack_1" in first_true, first_true
+    assert first_true["grasp_1"] < first_true["stack_1"]
+    assert "grasp_2" not in first_true  # cube 3 was never touched
+    assert bool(obs["subtask_terms"]["stack_1"][0]) and not bool(obs["subtask_terms"]["grasp_1"][0])
+    env.close()
