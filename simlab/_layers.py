@@ -43,6 +43,7 @@ LAYERS: tuple[tuple[tuple[str, ...], str], ...] = (
     (("robots",), "robot configs and their MJCF models"),
     (("rl",), "wrappers, config types and runners for the learning libraries; policy export"),
     (("tasks",), "the tasks, each with its agent configs and success criterion"),
+    (("v3",), "Isaac Lab 3.0's conventions at the boundary: (x, y, z, w) quaternions in math, asset configs, envs"),
     (("viewer", "app"), "live viewers; AppLauncher"),
     (("benchmarks", "cli", "__main__"), "simlab bench; the simlab command"),
 )

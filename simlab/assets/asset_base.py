@@ -49,6 +49,12 @@ _PER_ENV_PREFIXES = ("{ENV_REGEX_NS}", "/World/envs/")
 def check_asset_cfg(cfg: AssetBaseCfg) -> None:
     """Refuse the asset settings simlab would otherwise accept and ignore (``collision_group``, ``debug_vis``)."""
     owner = f"{type(cfg).__name__}('{cfg.prim_path}')"
+    order = getattr(cfg.init_state, "quat_order", "wxyz")  # simlab.v3's configs say "xyzw"
+    if order != "wxyz":
+        raise ConfigError(
+            f"{owner}.init_state is Isaac Lab 3.0's, rot in ({', '.join(order)}) order, but this 2.x asset expects "
+            "(w, x, y, z): build it with simlab.v3.assets (or in a simlab.v3 scene or env), which converts it."
+        )
     if cfg.collision_group not in (0, -1):
         raise ConfigError(
             f"{owner}.collision_group={cfg.collision_group!r}: use 0 (collides within its env) or -1"

@@ -1,0 +1,73 @@
+"""Which quaternion order a config is written in, and the conversion of Isaac Lab 3.0's configs to simlab's.
+
+The order is a property of a config's *class*: simlab's classes (``simlab.assets``) hold ``rot`` in
+``(w, x, y, z)``, the classes of ``simlab.v3`` in ``(x, y, z, w)`` (their ``quat_order`` says so). So
+both kinds can sit in one config tree and in one process without a guess. simlab's assets and
+scenes read ``(w, x, y, z)``; :func:`to_simlab` turns every ``(x, y, z, w)`` config of a tree into its
+simlab class with the components reordered, once (the result has no 3.0 config left, so converting
+again changes nothing), and simlab's assets refuse a 3.0 config that reached them unconverted.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from typing import Any
+
+from simlab.utils.errors import ConfigError
+
+__all__ = ["check_xyzw_rot", "to_simlab"]
+
+
+def check_xyzw_rot(owner: str, rot: Any) -> None:
+    """Refuse a ``rot`` of a 3.0 config that cannot be an (x, y, z, w) quaternion meant as written:
+    four numbers of unit norm, and not (1, 0, 0, 0), Isaac Lab 2.x's identity (in (x, y, z, w) order a
+    half turn about x, which a default pose is not)."""
+    values = [float(v) for v in rot]
+    if len(values) != 4 or not math.isclose(math.fsum(v * v for v in values), 1.0, rel_tol=1e-3):
+        raise ConfigError(
+            f"{owner} rot={tuple(rot)} is not a unit quaternion; Isaac Lab 3.0 configs take (x, y, z, w)."
+        )
+    if values == [1.0, 0.0, 0.0, 0.0]:
+        raise ConfigError(
+            f"{owner} rot=(1, 0, 0, 0) is Isaac Lab 2.x's identity in (w, x, y, z) order; this Isaac Lab 3.0 config "
+            "takes (x, y, z, w), whose identity is (0, 0, 0, 1). For a half turn about x write (-1, 0, 0, 0)."
+        )
+
+
+def _simlab_copy(cfg: Any) -> Any:
+    """The simlab (w, x, y, z) class's instance of a 3.0 config: the same fields, ``rot`` reordered."""
+    base = type(cfg).simlab_class
+    values = {f.name: to_simlab(getattr(cfg, f.name)) for f in dataclasses.fields(cfg) if f.init}
+    x, y, z, w = values["rot"]
+    values["rot"] = (w, x, y, z)
+    return base(**values)
+
+
+def to_simlab(value: Any) -> Any:
+    """``value`` with every (x, y, z, w) config in it (any depth: config fields, dicts, lists, tuples) as
+    simlab's (w, x, y, z) config; what holds none is returned as it is (not copied)."""
+    if getattr(type(value), "quat_order", "wxyz") == "xyzw":
+        return _simlab_copy(value)
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        changed = {}
+        for f in dataclasses.fields(value):
+            old = getattr(value, f.name)
+            new = to_simlab(old)
+            if new is not old:
+                changed[f.name] = new
+        if not changed:
+            return value
+        copy = type(value).__new__(type(value))
+        copy.__dict__.update(value.__dict__)  # no __post_init__ again: the config was made already
+        copy.__dict__.update(changed)
+        return copy
+    if isinstance(value, dict):
+        items = {k: to_simlab(v) for k, v in value.items()}
+        return items if any(items[k] is not value[k] for k in value) else value
+    if isinstance(value, (list, tuple)) and not isinstance(value, str):
+        items = [to_simlab(v) for v in value]
+        if all(a is b for a, b in zip(items, value)):
+            return value
+        return type(value)(items) if isinstance(value, list) else tuple(items)
+    return value

@@ -1,0 +1,39 @@
+"""``isaaclab.envs`` of Isaac Lab 3.0: simlab's envs, made from configs whose quaternions are (x, y, z, w).
+
+Each env class converts its config with :func:`simlab.v3._order.to_simlab` before simlab's own
+constructor runs, so ``env.cfg`` and everything built from it hold simlab's (w, x, y, z). The other
+names (the configs, ``mdp``, ``multi_agent_to_single_agent``, ...) are :mod:`simlab.envs`'s.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import simlab.envs as _envs
+from simlab.v3._order import to_simlab
+
+__all__ = ["DirectMARLEnv", "DirectRLEnv", "ManagerBasedEnv", "ManagerBasedRLEnv", *_envs.__all__]
+
+
+class ManagerBasedEnv(_envs.ManagerBasedEnv):
+    def __init__(self, cfg: Any):
+        super().__init__(to_simlab(cfg))
+
+
+class ManagerBasedRLEnv(_envs.ManagerBasedRLEnv):
+    def __init__(self, cfg: Any, render_mode: str | None = None, **kwargs: Any):
+        super().__init__(to_simlab(cfg), render_mode, **kwargs)
+
+
+class DirectRLEnv(_envs.DirectRLEnv):
+    def __init__(self, cfg: Any, render_mode: str | None = None, **kwargs: Any):
+        super().__init__(to_simlab(cfg), render_mode, **kwargs)
+
+
+class DirectMARLEnv(_envs.DirectMARLEnv):
+    def __init__(self, cfg: Any, render_mode: str | None = None, **kwargs: Any):
+        super().__init__(to_simlab(cfg), render_mode, **kwargs)
+
+
+def __getattr__(name: str) -> Any:
+    return getattr(_envs, name)
