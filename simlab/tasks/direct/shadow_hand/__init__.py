@@ -18,3 +18,28 @@ gym.register(
         "skrl_cfg_entry_point": f"{agents.__name__}:skrl_ppo_cfg.yaml",
     },
 )
+
+# OpenAI's variant (arXiv:1808.00177): asymmetric critic, noise and domain randomization
+gym.register(
+    id="simlab/Repose-Cube-Shadow-OpenAI-FF-Direct-v0",
+    entry_point=f"{inhand_task_entry}.inhand_manipulation_env:InHandManipulationEnv",
+    disable_env_checker=True,
+    kwargs={
+        "env_cfg_entry_point": f"{__name__}.shadow_hand_env_cfg:ShadowHandOpenAIEnvCfg",
+        "success_criterion_entry_point": f"{inhand_task_entry}.criterion:reorients_cube",
+        "rl_games_cfg_entry_point": f"{agents.__name__}:rl_games_ppo_ff_cfg.yaml",
+        "rsl_rl_cfg_entry_point": f"{agents.__name__}.rsl_rl_ppo_cfg:ShadowHandAsymFFPPORunnerCfg",
+        "skrl_cfg_entry_point": f"{agents.__name__}:skrl_ff_ppo_cfg.yaml",
+    },
+)
+
+gym.register(
+    id="simlab/Repose-Cube-Shadow-OpenAI-LSTM-Direct-v0",
+    entry_point=f"{inhand_task_entry}.inhand_manipulation_env:InHandManipulationEnv",
+    disable_env_checker=True,
+    kwargs={
+        "env_cfg_entry_point": f"{__name__}.shadow_hand_env_cfg:ShadowHandOpenAIEnvCfg",
+        "success_criterion_entry_point": f"{inhand_task_entry}.criterion:reorients_cube",
+        "rl_games_cfg_entry_point": f"{agents.__name__}:rl_games_ppo_lstm_cfg.yaml",
+    },
+)

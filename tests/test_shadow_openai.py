@@ -1,0 +1,166 @@
+"""The Shadow Hand's OpenAI variants (``simlab/Repose-Cube-Shadow-OpenAI-{FF,LSTM}-Direct-v0``).
+
+Noise models: an additive-bias model keeps each env's bias for the whole episode and redraws it only
+where a reset's mask is set; the direct env adds the action noise before ``_pre_physics_step`` and
+the observation noise to the step's policy observations. The asymmetric critic gets 187 values with
+the fingertips' incoming joint wrenches (zero for a weightless fingertip at rest, its weight when
+gravity acts on it). Isaac Lab's agent configs train one iteration, the LSTM one included.
+"""
+
+from __future__ import annotations
+
+import gymnasium as gym
+import pytest
+import torch
+
+import simlab.sim as sim_utils
+import simlab.tasks  # noqa: F401 - registers the tasks
+from simlab.assets import ArticulationCfg
+from simlab.robots.shadow_hand import SHADOW_HAND_CFG, SHADOW_HAND_FINGERTIP_BODIES
+from simlab.scene import InteractiveScene, InteractiveSceneCfg
+from simlab.tasks.direct.inhand_manipulation.joint_wrenches import IncomingJointWrenches
+from simlab.tasks.utils import load_cfg_from_registry, parse_env_cfg
+from simlab.utils import configclass
+from simlab.utils.noise import GaussianNoiseCfg, NoiseModelWithAdditiveBiasCfg
+
+FF = "simlab/Repose-Cube-Shadow-OpenAI-FF-Direct-v0"
+LSTM = "simlab/Repose-Cube-Shadow-OpenAI-LSTM-Direct-v0"
+NUM_ENVS = 4
+
+
+def bias_only(std: float) -> NoiseModelWithAdditiveBiasCfg:
+    """No per-step noise, a Gaussian bias: what the data gains is exactly the bias."""
+    return NoiseModelWithAdditiveBiasCfg(
+        noise_cfg=GaussianNoiseCfg(mean=0.0, std=0.0, operation="add"),
+        bias_noise_cfg=GaussianNoiseCfg(mean=0.0, std=std, operation="abs"),
+    )
+
+
+def test_additive_bias_is_kept_within_an_episode_and_redrawn_where_the_mask_is_set():
+    cfg = bias_only(1.0)
+    model = cfg.class_type(cfg, num_envs=3, device="cpu")
+    data = torch.zeros(3, 5)
+    first = model(data)
+    assert first.shape == (3, 5) and first.abs().min() > 0  # one bias per env and component
+    torch.testing.assert_close(model(data), first)  # constant from step to step
+    model.reset(torch.tensor([False, True, False]))
+    second = model(data)
+    torch.testing.assert_close(second[[0, 2]], first[[0, 2]])
+    assert (second[1] != first[1]).all()
+    model.reset([0])  # Isaac Lab's ids
+    assert (model(data)[0] != first[0]).all()
+    shared = NoiseModelWithAdditiveBiasCfg(
+        noise_cfg=GaussianNoiseCfg(std=0.0), bias_noise_cfg=GaussianNoiseCfg(std=1.0, operation="abs"),
+        sample_bias_per_component=False,
+    )  # fmt: skip
+    out = shared.class_type(shared, num_envs=2, device="cpu")(torch.zeros(2, 4))
+    assert (out == out[:, :1]).all()  # one bias for all components of an env
+
+
+@pytest.fixture(scope="module")
+def openai():
+    cfg = parse_env_cfg(FF, device="cpu", num_envs=NUM_ENVS)
+    cfg.seed = 0
+    env = gym.make(FF, cfg=cfg).unwrapped
+    env.reset(seed=0)
+    yield env
+    env.close()
+
+
+def test_openai_variant_steps_with_isaac_lab_s_spaces_and_finite_values(openai):
+    env = openai
+    assert env.single_observation_space["policy"].shape == (42,)
+    assert env.single_observation_space["critic"].shape == (187,)
+    assert env.cfg.decimation == 3 and env.cfg.sim.dt == pytest.approx(1 / 60)
+    generator = torch.Generator().manual_seed(0)
+    for _ in range(20):
+        obs, reward, terminated, truncated, _ = env.step(2 * torch.rand(NUM_ENVS, 20, generator=generator) - 1)
+        assert obs["policy"].shape == (NUM_ENVS, 42) and obs["critic"].shape == (NUM_ENVS, 187)
+        assert torch.isfinite(obs["policy"]).all() and torch.isfinite(obs["critic"]).all()
+        assert torch.isfinite(reward).all()
+    # the critic's fingertip force-torque readings (scaled by 10) sit before the 20 actions
+    wrenches = obs["critic"][:, 137:167]
+    torch.testing.assert_close(wrenches, 10.0 * env.fingertip_force_sensors.reshape(NUM_ENVS, 30))
+    assert wrenches.abs().max() > 0
+
+
+def test_env_adds_the_noise_models_to_actions_and_policy_observations(openai):
+    env = openai
+    env._action_noise_model = bias_only(0.1).class_type(bias_only(0.1), NUM_ENVS, "cpu")
+    env._observation_noise_model = bias_only(0.01).class_type(bias_only(0.01), NUM_ENVS, "cpu")
+    actions = torch.zeros(NUM_ENVS, 20)
+    env._action_noise_model(actions)  # sizes the bias (the env does this when it builds its models)
+    env._observation_noise_model(torch.zeros(NUM_ENVS, 42))
+    env.episode_length_buf.zero_()
+    for _ in range(2):
+        obs, _, terminated, truncated, _ = env.step(actions)
+        assert not (terminated | truncated).any()
+        # the policy acted on the biased actions; its observation carries the observation bias
+        torch.testing.assert_close(env.actions, env._action_noise_model.bias)
+        torch.testing.assert_close(obs["policy"], env._get_observations()["policy"] + env._observation_noise_model.bias)
+    before = env._action_noise_model.bias.clone()
+    env._reset_idx(torch.tensor([1]))
+    after = env._action_noise_model.bias
+    torch.testing.assert_close(after[[0, 2, 3]], before[[0, 2, 3]])  # only the reset env draws a new bias
+    assert (after[1] != before[1]).all()
+
+
+@pytest.mark.parametrize("disable_gravity", [True, False])
+def test_fingertip_wrenches_read_the_weight_only_where_gravity_acts(disable_gravity):
+    hand = SHADOW_HAND_CFG.replace(prim_path="{ENV_REGEX_NS}/Robot")
+    hand.spawn.rigid_props.disable_gravity = disable_gravity
+
+    @configclass
+    class HandSceneCfg(InteractiveSceneCfg):
+        robot: ArticulationCfg = hand
+
+    sim = sim_utils.SimulationContext(sim_utils.SimulationCfg(dt=1 / 120, device="cpu"))
+    try:
+        scene = InteractiveScene(HandSceneCfg(num_envs=2, env_spacing=1.0))
+        tips = list(SHADOW_HAND_FINGERTIP_BODIES)
+        wrenches = IncomingJointWrenches(sim, scene["robot"].prefix, tips)
+        sim.reset()
+        robot = scene["robot"]
+        for _ in range(120):  # held at the default pose, touching nothing
+            robot.set_joint_position_target(robot.data.default_joint_pos)
+            scene.write_data_to_sim()
+            sim.step()
+            scene.update(1 / 120)
+        force = wrenches.read()[..., :3].norm(dim=-1)
+        weight = robot.data.default_mass[:, [robot.body_names.index(n) for n in tips]] * 9.81
+        expected = torch.zeros_like(weight) if disable_gravity else weight
+        torch.testing.assert_close(force, expected, atol=2e-3, rtol=0.02)
+    finally:
+        sim.clear_instance()
+
+
+def test_agent_configs_follow_isaac_lab():
+    rl_ff = load_cfg_from_registry(FF, "rl_games_cfg_entry_point")["params"]
+    assert rl_ff["network"]["mlp"]["units"] == [400, 400, 200, 100] and "rnn" not in rl_ff["network"]
+    assert rl_ff["config"]["central_value_config"]["network"]["mlp"]["units"] == [512, 512, 256, 128]
+    rl_lstm = load_cfg_from_registry(LSTM, "rl_games_cfg_entry_point")["params"]
+    assert rl_lstm["network"]["rnn"] == {
+        "name": "lstm",
+        "units": 1024,
+        "layers": 1,
+        "before_mlp": True,
+        "layer_norm": True,
+    }
+    assert rl_lstm["config"]["central_value_config"]["network"]["rnn"]["zero_rnn_on_done"] is False
+    rsl = load_cfg_from_registry(FF, "rsl_rl_cfg_entry_point")
+    assert rsl.actor.hidden_dims == [400, 400, 200, 100] and rsl.experiment_name == "shadow_hand_openai_ff"
+    skrl = load_cfg_from_registry(FF, "skrl_cfg_entry_point")
+    assert skrl["models"]["value"]["network"][0]["input"] == "STATES"
+    assert gym.spec(LSTM).kwargs.keys() >= {"env_cfg_entry_point", "rl_games_cfg_entry_point"}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(("task", "library"), [(LSTM, "rl_games"), (FF, "rl_games"), (FF, "rsl_rl"), (FF, "skrl")])
+def test_one_training_iteration(tmp_path, task, library):
+    from simlab.cli.main import main
+
+    small = ["agent.params.config.minibatch_size=32", "agent.params.config.central_value_config.minibatch_size=64"]
+    argv = ["train", "--task", task, "--library", library, "--num_envs", "8", "--device", "cpu", "--headless"]
+    argv += ["--max_iterations", "1", "--log_root", str(tmp_path / "logs")]
+    assert main(argv + (small if library == "rl_games" else [])) == 0
+    assert list((tmp_path / "logs" / library).glob("*/*/"))
