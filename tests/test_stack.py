@@ -5,6 +5,7 @@ while the subtask signals flip in order, and ``simlab record`` stores the subtas
 from __future__ import annotations
 
 import gymnasium as gym
+import h5py
 import pytest
 import torch
 
@@ -119,3 +120,20 @@ def test_a_scripted_state_machine_stacks_cube_2_on_cube_1_and_the_subtask_signal
     assert "grasp_2" not in first_true  # cube 3 was never touched
     assert bool(obs["subtask_terms"]["stack_1"][0]) and not bool(obs["subtask_terms"]["grasp_1"][0])
     env.close()
+
+
+def test_simlab_record_stores_the_subtask_signals(tmp_path, capsys):
+    from simlab.cli.main import main
+
+    dataset = tmp_path / "stack.hdf5"
+    argv = ["record", "--task", "simlab/Stack-Cube-Franka-IK-Rel-v0", "--num_envs", "1", "--device", "cpu"]
+    argv += ["--headless", "--dataset_file", str(dataset), "--num_demos", "1", "env.episode_length_s=0.5"]
+    assert main(argv) == 0
+    with h5py.File(dataset) as file:
+        demo = file["data/demo_0"]
+        steps = demo["actions"].shape[0]
+        assert steps == 10  # 0.5 s of 0.05 s steps
+        signals = demo["obs/subtask_term_signals"]
+        assert sorted(signals) == sorted(SUBTASKS)
+        assert all(signals[name].shape == (steps,) for name in SUBTASKS)
+        assert "cube_positions" in demo["obs"] and demo["obs/cube_positions"].shape == (steps, 9)

@@ -32,7 +32,7 @@ def _manager_based(env: gym.Env, command: str) -> None:
 
 def run_record(args: argparse.Namespace, overrides: list[str]) -> int:
     """Record ``args.num_demos`` finished episodes of ``args.task`` into ``args.dataset_file``."""
-    from simlab.envs.mdp.recorders import ActionStateRecorderManagerCfg
+    from simlab.envs.mdp.recorders import ActionStateRecorderManagerCfg, PreStepSubtaskTermsObservationsRecorderCfg
     from simlab.utils.datasets import HDF5DatasetFileHandler  # noqa: F401 - without h5py: say so before recording
 
     if args.num_demos < 1:
@@ -47,6 +47,8 @@ def run_record(args: argparse.Namespace, overrides: list[str]) -> int:
     env_cfg.recorders = ActionStateRecorderManagerCfg(
         dataset_export_dir_path=os.path.dirname(stem), dataset_filename=os.path.basename(stem)
     )
+    if getattr(env_cfg.observations, "subtask_terms", None) is not None:  # what demonstration tools split by
+        env_cfg.recorders.record_pre_step_subtask_term_signals = PreStepSubtaskTermsObservationsRecorderCfg()
     env_cfg.seed = args.seed if args.seed is not None else 0
     env_cfg.env_name = args.task  # the recorder stores it: replay refuses another task's episodes
     env = gym.make(args.task, cfg=env_cfg).unwrapped

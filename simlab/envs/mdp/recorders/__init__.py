@@ -1,4 +1,5 @@
-"""Recorder terms for demonstrations: initial state, per-step states, actions and observations."""
+"""Recorder terms for demonstrations: initial state, per-step states, actions, observations and subtask
+signals."""
 
 from .recorders import (
     InitialStateRecorder,
@@ -6,6 +7,7 @@ from .recorders import (
     PostStepStatesRecorder,
     PreStepActionsRecorder,
     PreStepFlatPolicyObservationsRecorder,
+    PreStepSubtaskTermsObservationsRecorder,
 )
 from .recorders_cfg import (
     ActionStateRecorderManagerCfg,
@@ -14,6 +16,7 @@ from .recorders_cfg import (
     PostStepStatesRecorderCfg,
     PreStepActionsRecorderCfg,
     PreStepFlatPolicyObservationsRecorderCfg,
+    PreStepSubtaskTermsObservationsRecorderCfg,
 )
 
 __all__ = [
@@ -28,4 +31,6 @@ __all__ = [
     "PreStepActionsRecorderCfg",
     "PreStepFlatPolicyObservationsRecorder",
     "PreStepFlatPolicyObservationsRecorderCfg",
+    "PreStepSubtaskTermsObservationsRecorder",
+    "PreStepSubtaskTermsObservationsRecorderCfg",
 ]

@@ -1,5 +1,6 @@
 """What a demonstration holds: the state an episode starts from, the actions, the states after each
-step and the policy observations; ``env.reset_to(initial_state)`` plus the actions replays it."""
+step and the policy observations (and a task's subtask signals); ``env.reset_to(initial_state)`` plus
+the actions replays it."""
 
 from __future__ import annotations
 
@@ -44,6 +45,14 @@ class PreStepFlatPolicyObservationsRecorder(RecorderTerm):
 
     def record_pre_step(self):
         return "obs", self._env.obs_buf["policy"]
+
+
+class PreStepSubtaskTermsObservationsRecorder(RecorderTerm):
+    """``obs/subtask_term_signals``: the ``subtask_terms`` observation group (a task's subtask signals,
+    e.g. the stack task's grasp_1, stack_1, grasp_2) the action was chosen from."""
+
+    def record_pre_step(self):
+        return "obs/subtask_term_signals", self._env.obs_buf["subtask_terms"]
 
 
 class PostStepProcessedActionsRecorder(RecorderTerm):

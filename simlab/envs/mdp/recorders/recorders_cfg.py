@@ -28,6 +28,11 @@ class PreStepFlatPolicyObservationsRecorderCfg(RecorderTermCfg):
 
 
 @configclass
+class PreStepSubtaskTermsObservationsRecorderCfg(RecorderTermCfg):
+    class_type: type = recorders.PreStepSubtaskTermsObservationsRecorder
+
+
+@configclass
 class PostStepProcessedActionsRecorderCfg(RecorderTermCfg):
     class_type: type = recorders.PostStepProcessedActionsRecorder
 
