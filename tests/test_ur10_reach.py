@@ -5,21 +5,28 @@ brings ``ee_link`` to a fixed target, and the task names its success criterion."
 from __future__ import annotations
 
 import math
+import sys
+from pathlib import Path
 
 import gymnasium as gym
 import mujoco
 import numpy as np
 import torch
+from conftest import load_script
 
 import simlab.sim as sim_utils
 import simlab.tasks  # noqa: F401 - registers the tasks
 from simlab.controllers import DifferentialIKController, DifferentialIKControllerCfg
 from simlab.envs import ManagerBasedRLEnv
 from simlab.robots.universal_robots import UR10_CFG
-from simlab.tasks.manager_based.manipulation.reach.config.ur_10.joint_pos_env_cfg import UR10ReachEnvCfg
+from simlab.tasks.manager_based.manipulation.reach.config.ur_10.joint_pos_env_cfg import (
+    UR10ReachEnvCfg,
+    UR10ReachEnvCfg_PLAY,
+)
 from simlab.tasks.utils.criteria import criterion_for
 from simlab.utils.math import quat_error_magnitude, quat_from_euler_xyz, quat_slerp, subtract_frame_transforms
 
+PORTED = Path(__file__).parent / "ported" / "isaaclab_reach_ur10_joint_pos_env_cfg.py"
 JOINTS = ["shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint", "wrist_1_joint", "wrist_2_joint", "wrist_3_joint"]
 # UR10 (CB3) standard DH parameters, as Universal Robots publishes them
 DH_D = [0.1273, 0.0, 0.0, 0.163941, 0.1157, 0.0922]
@@ -121,3 +128,24 @@ def test_reach_tasks_register_the_reach_criterion():
     for task in ("simlab/Reach-UR10-v0", "simlab/Reach-UR10-Play-v0"):
         criterion = criterion_for(task)
         assert "mean position error < 0.02 m" in criterion.description
+
+
+def test_isaac_labs_ur10_reach_config_runs_after_the_import_mapping():
+    """``tests/ported/isaaclab_reach_ur10_joint_pos_env_cfg.py`` is Isaac Lab's file with its imports
+    mapped: it configures the same task as simlab's own and builds and steps."""
+    ported = load_script(PORTED, "isaaclab_reach_ur10_joint_pos_env_cfg")
+    try:
+        for theirs, ours in (
+            (ported.UR10ReachEnvCfg, UR10ReachEnvCfg),
+            (ported.UR10ReachEnvCfg_PLAY, UR10ReachEnvCfg_PLAY),
+        ):
+            assert theirs().to_dict() == ours().to_dict()
+        cfg = ported.UR10ReachEnvCfg()
+        cfg.scene.num_envs, cfg.sim.device, cfg.seed = 2, "cpu", 0
+        env = ManagerBasedRLEnv(cfg)
+        env.reset()
+        obs, reward, *_ = env.step(torch.zeros(2, 6))
+        assert torch.isfinite(obs["policy"]).all() and torch.isfinite(reward).all()
+        env.close()
+    finally:
+        sys.modules.pop("isaaclab_reach_ur10_joint_pos_env_cfg", None)
