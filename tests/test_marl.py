@@ -136,3 +136,25 @@ def test_single_agent_conversion_with_the_state_as_observation():
     torch.testing.assert_close(obs["policy"], marl.state())
     with pytest.raises(ValueError, match="state_space is 0"):
         multi_agent_to_single_agent(make(num_envs=1, state_space=0), state_as_observation=True)
+
+
+def test_isaaclab_zero_agent_script_loop_runs():
+    """Isaac Lab's zero_agent.py reads ``env.action_space.shape`` of the gym-made env and steps one tensor;
+    ``env.action_space(agent)`` stays Isaac Lab's per-agent space."""
+    import simlab.tasks  # noqa: F401
+    from simlab.tasks.utils import parse_env_cfg
+
+    task = "simlab/Cart-Double-Pendulum-Direct-v0"
+    env = gym.make(task, cfg=parse_env_cfg(task, device="cpu", num_envs=3))
+    try:
+        assert env.action_space.shape == (3, 2) and env.unwrapped.action_space("pendulum").shape == (1,)
+        env.reset(seed=0)
+        actions = torch.zeros(env.action_space.shape, device=env.unwrapped.device)
+        actions[:, 0] = 1.0  # the cart's column
+        env.step(actions)
+        assert torch.equal(env.unwrapped.actions["cart"], torch.ones(3, 1))
+        assert torch.equal(env.unwrapped.actions["pendulum"], torch.zeros(3, 1))
+        with pytest.raises(ValueError, match=r"\(num_envs, 2\)"):
+            env.step(torch.zeros(3, 3))
+    finally:
+        env.close()

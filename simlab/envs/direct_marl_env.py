@@ -11,6 +11,7 @@ observations reached before the reset are kept in ``extras[agent]["final_obs"]``
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any, ClassVar
 
 import gymnasium as gym
@@ -90,9 +91,17 @@ class DirectMARLEnv(DebugVisHooks, SimulatedEnv, gym.Env):
         """The observation space of one agent in one environment."""
         return self.observation_spaces[agent]
 
-    def action_space(self, agent: str) -> gym.Space:
-        """The action space of one agent in one environment."""
-        return self.action_spaces[agent]
+    @property
+    def action_space(self) -> AgentActionSpaces | Callable[[str], gym.Space]:
+        """Isaac Lab's ``action_space(agent)``: the action space of one agent in one environment.
+
+        Also the batched space of all agents' actions side by side, for scripts written for
+        single-agent envs (Isaac Lab's ``zero_agent.py`` reads ``env.action_space.shape`` and steps
+        with one tensor, which :meth:`step` splits among the agents). Agents with other than Box
+        spaces have no joint Box: then it is only the per-agent lookup."""
+        if all(isinstance(space, gym.spaces.Box) for space in self.action_spaces.values()):
+            return AgentActionSpaces(self.action_spaces, self.possible_agents, self.num_envs)
+        return self.action_spaces.__getitem__
 
     # -- operations -------------------------------------------------------------------------------
 
@@ -107,8 +116,12 @@ class DirectMARLEnv(DebugVisHooks, SimulatedEnv, gym.Env):
         self.agents = [agent for agent in self.possible_agents if agent in self.obs_dict]
         return self.obs_dict, self.extras
 
-    def step(self, actions: dict[str, torch.Tensor]) -> tuple[dict, dict, dict, dict, dict]:
-        """Apply each agent's action (num_envs, ...) for ``decimation`` physics steps."""
+    def step(self, actions: dict[str, torch.Tensor] | torch.Tensor) -> tuple[dict, dict, dict, dict, dict]:
+        """Apply each agent's action (num_envs, ...) for ``decimation`` physics steps.
+
+        One tensor (num_envs, total) holds the agents' actions side by side in ``possible_agents`` order."""
+        if isinstance(actions, torch.Tensor) and isinstance(self.action_space, AgentActionSpaces):
+            actions = self.action_space.split(actions)
         missing = [agent for agent in self.agents if agent not in actions]
         if missing:
             raise KeyError(
@@ -195,7 +208,10 @@ class DirectMARLEnv(DebugVisHooks, SimulatedEnv, gym.Env):
             for a in self.possible_agents
         }
 
-    # Resets (by mask, or a task's own _reset_idx) and stepping work as in the single-agent env.
+    # Resets (by mask, or a task's own _reset_idx) and stepping work as in the single-agent env,
+    # which also resets its noise models' state: the multi-agent env has none.
+    _action_noise_model = None
+    _observation_noise_model = None
     _reset_idx = DirectRLEnv._reset_idx
     _reset_mask = DirectRLEnv._reset_mask
     _reset_finished = DirectRLEnv._reset_finished
@@ -253,3 +269,30 @@ def check_agents(cfg: DirectMARLEnvCfg) -> None:
             raise NotImplementedError(
                 f"{type(cfg).__name__}.{name}: per-agent noise models are not supported yet; set it to None"
             )
+
+
+class AgentActionSpaces(gym.spaces.Box):
+    """The agents' action spaces: called with an agent's name, that agent's space (Isaac Lab's
+    ``env.action_space(agent)``); as a space, the batched Box (num_envs, sum of the agents' sizes)
+    of all their actions side by side in ``possible_agents`` order."""
+
+    def __init__(self, spaces: dict[str, gym.spaces.Box], agents: list[str], num_envs: int):
+        self._spaces, self._agents = spaces, list(agents)
+        boxes = [spaces[a] for a in self._agents]
+        low = torch.cat([torch.as_tensor(b.low).reshape(-1) for b in boxes]).numpy()
+        high = torch.cat([torch.as_tensor(b.high).reshape(-1) for b in boxes]).numpy()
+        super().__init__(low=low[None].repeat(num_envs, 0), high=high[None].repeat(num_envs, 0), dtype=low.dtype)
+
+    def __call__(self, agent: str) -> gym.Space:
+        return self._spaces[agent]
+
+    def split(self, actions: torch.Tensor) -> dict[str, torch.Tensor]:
+        """One (num_envs, total) tensor -> {agent: (num_envs, *agent's shape)}."""
+        if actions.shape[-1] != self.shape[-1]:
+            raise ValueError(
+                f"One action tensor for all agents must be (num_envs, {self.shape[-1]}): the agents' actions side"
+                f" by side in the order {self._agents}; got {tuple(actions.shape)}. Or step with {{agent: action}}."
+            )
+        sizes = [int(torch.tensor(self._spaces[a].shape).prod()) for a in self._agents]
+        parts = torch.split(actions, sizes, dim=-1)
+        return {a: p.reshape(-1, *self._spaces[a].shape) for a, p in zip(self._agents, parts)}
