@@ -711,3 +711,37 @@ def test_binned_ray_casts_agree_with_casts_against_every_geom():
     every_geom = _mjbatch_rays(caster.full, starts, directions)
     assert (binned >= 0).sum() > n / 2
     torch.testing.assert_close(binned, every_geom, atol=1e-5, rtol=0)
+
+
+def test_ray_caster_debug_vis_draws_the_hits():
+    """``RayCasterCfg(debug_vis=True)``: a red marker at every hit of the rendered env, misses not drawn."""
+    import numpy as np
+
+    from simlab.sim.renderer import OffscreenRenderer
+
+    cfg = PlaneSceneCfg(num_envs=2, env_spacing=4.0)
+    cfg.height_scanner = scanner_cfg(debug_vis=True)
+    sim, scene = make_scene(cfg)
+    sensor = scene["height_scanner"]
+    place(
+        sim, scene, "robot", scene.env_origins.cpu() + torch.tensor([0.0, 0.0, 2.0]), torch.tensor([[1.0, 0, 0, 0]] * 2)
+    )
+    try:
+        renderer = OffscreenRenderer(sim.model, 160, 120, 1)
+    except RuntimeError as err:  # no OpenGL on this machine
+        pytest.skip(f"offscreen rendering unavailable: {err}")
+    eye, lookat = (2.5, 0.0, 2.5), (0.0, 0.0, PLANE_HEIGHT)
+    marked = renderer.render(sim.physics, [0], np.zeros((1, 3)), eye, lookat).astype(np.int32)
+    assert sensor.ray_visualizer.count == 2 * 187  # every ray hits the plane
+    sensor.set_debug_vis(False)
+    plain = renderer.render(sim.physics, [0], np.zeros((1, 3)), eye, lookat).astype(np.int32)
+    renderer.close()
+    changed = np.abs(marked - plain).sum(-1) > 30
+    assert changed.sum() > 100
+    red = marked[changed]
+    assert (red[:, 0] > red[:, 1] + 60).mean() > 0.8  # RAY_CASTER_MARKER_CFG's red spheres
+    # a hit at inf (a miss) is not drawn
+    sensor.set_debug_vis(True)
+    sensor.data.ray_hits_w[0, :10] = torch.inf
+    sim.run_render_callbacks()
+    assert sensor.ray_visualizer.count == 2 * 187 - 10

@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING
 import mujoco
 import torch
 
+from simlab.markers import VisualizationMarkers
 from simlab.utils.env_mask import EnvIds, PerEnvState, env_mask
 from simlab.utils.math import quat_apply, quat_apply_yaw, yaw_quat
 
@@ -113,6 +114,18 @@ class RayCaster(SensorBase):
         hits = torch.where(hit.unsqueeze(-1), starts + distance.unsqueeze(-1) * directions, torch.inf)
         hits[..., 2] += self.ray_cast_drift[:, 2:3]
         self._data.ray_hits_w.copy_(hits)
+
+    # -- debug visualization: a marker at every hit --------------------------------------------
+
+    def _set_debug_vis_impl(self, debug_vis: bool) -> None:
+        if debug_vis and not hasattr(self, "ray_visualizer"):
+            self.ray_visualizer = VisualizationMarkers(self.cfg.visualizer_cfg)
+        if hasattr(self, "ray_visualizer"):
+            self.ray_visualizer.set_visibility(debug_vis)
+
+    def _debug_vis_callback(self, event) -> None:
+        points = self.data.ray_hits_w.reshape(-1, 3)
+        self.ray_visualizer.visualize(points[torch.isfinite(points).all(dim=1)])  # misses are inf: not drawn
 
     # -- building -------------------------------------------------------------------------------
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from dataclasses import MISSING
 
+from simlab.markers import RAY_CASTER_MARKER_CFG, VisualizationMarkersCfg
 from simlab.sensors.sensor_base import SensorBaseCfg
 from simlab.utils import configclass
 
@@ -44,4 +45,5 @@ class RayCasterCfg(SensorBaseCfg):
     """Uniform drift of ``pos_w`` and the ray starts (x, y and z), drawn per env at each reset [m]."""
     ray_cast_drift_range: dict[str, tuple[float, float]] = {"x": (0.0, 0.0), "y": (0.0, 0.0), "z": (0.0, 0.0)}
     """Uniform drift of the ray starts in the rays' frame (x, y) and of the hit heights (z) [m]."""
-    visualizer_cfg: object | None = None
+    visualizer_cfg: VisualizationMarkersCfg = RAY_CASTER_MARKER_CFG.replace(prim_path="/Visuals/RayCaster")
+    """The markers ``debug_vis`` draws at every ray hit (red spheres), in renders, videos and viewers."""
