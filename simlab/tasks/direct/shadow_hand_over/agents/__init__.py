@@ -1,0 +1,1 @@
+"""Agent configs of this task, one per RL library."""

@@ -1,0 +1,110 @@
+"""Two Shadow Hands pass a ball (``simlab/Shadow-Hand-Over-Direct-v0``, DirectMARLEnv).
+
+The task builds with Isaac Lab's spaces (157 observations and 20 actions per hand, a 290-value state)
+and steps with finite values; both agents earn ``2 exp(-20 |ball - goal|)``; a ball brought to the
+goal counts as caught when its episode ends with the ball up, and not when it falls; the solve
+criterion counts the caught share of finished episodes; IPPO and MAPPO train one iteration.
+"""
+
+from __future__ import annotations
+
+import math
+
+import gymnasium as gym
+import pytest
+import torch
+
+import simlab.tasks  # noqa: F401 - registers the tasks
+from simlab.tasks.direct.inhand_manipulation.inhand_manipulation_env import unscale
+from simlab.tasks.direct.shadow_hand_over.criterion import ball_caught
+from simlab.tasks.utils import parse_env_cfg
+
+TASK = "simlab/Shadow-Hand-Over-Direct-v0"
+NUM_ENVS = 4
+
+
+@pytest.fixture(scope="module")
+def env():
+    cfg = parse_env_cfg(TASK, device="cpu", num_envs=NUM_ENVS)
+    cfg.seed = 0
+    env = gym.make(TASK, cfg=cfg).unwrapped
+    env.reset(seed=0)
+    yield env
+    env.close()
+
+
+def hold(env) -> dict[str, torch.Tensor]:
+    """Each hand's actions for its joints' present positions (the hands keep still)."""
+    act, lower, upper = env._actuated, env.hand_dof_lower_limits, env.hand_dof_upper_limits
+    return {a: unscale(h.data.joint_pos[:, act], lower[:, act], upper[:, act]) for a, h in env.hands.items()}
+
+
+def put_ball(env, pos: torch.Tensor) -> None:
+    pose = torch.cat((pos + env.scene.env_origins, torch.tensor([[1.0, 0.0, 0.0, 0.0]]).repeat(NUM_ENVS, 1)), -1)
+    env.object.write_root_pose_to_sim(pose)
+    env.object.write_root_velocity_to_sim(torch.zeros(NUM_ENVS, 6))
+
+
+def test_spaces_and_twenty_finite_steps(env):
+    assert env.possible_agents == ["right_hand", "left_hand"]
+    assert all(env.observation_space(a).shape == (157,) for a in env.possible_agents)
+    assert all(env.action_space(a).shape == (20,) for a in env.possible_agents)
+    assert env.state().shape == (NUM_ENVS, 290)
+    assert env.graph_blockers() == []
+    generator = torch.Generator().manual_seed(0)
+    for _ in range(20):
+        actions = {a: 2 * torch.rand(NUM_ENVS, 20, generator=generator) - 1 for a in env.possible_agents}
+        obs, rewards, *_ = env.step(actions)
+        assert all(obs[a].shape == (NUM_ENVS, 157) and torch.isfinite(obs[a]).all() for a in env.possible_agents)
+        assert torch.isfinite(env.state()).all()
+        torch.testing.assert_close(rewards["right_hand"], rewards["left_hand"])
+    # the state holds each hand's own part of its observation, then the ball and the goal once
+    state, obs = env.state(), env.obs_dict
+    torch.testing.assert_close(state[:, :133], obs["right_hand"][:, :133])
+    torch.testing.assert_close(state[:, 133:266], obs["left_hand"][:, :133])
+    torch.testing.assert_close(state[:, 266:], obs["right_hand"][:, 133:])
+
+
+def test_a_ball_at_the_goal_earns_both_agents_and_counts_as_caught_unless_dropped(env):
+    env.reset(seed=1)
+    put_ball(env, env.goal_pos)
+    _, rewards, *_ = env.step(hold(env))
+    dist = (env.object_pos - env.goal_pos).norm(dim=-1)
+    expected = 2 * torch.exp(-20.0 * dist)
+    torch.testing.assert_close(rewards["right_hand"], expected)
+    torch.testing.assert_close(rewards["left_hand"], expected)
+    assert (rewards["left_hand"] > 2 * math.exp(-20 * 0.05)).all() and env.reached.all()
+    # envs 0, 1 end at the time limit with the ball up, 2, 3 with the ball dropped: caught only in 0, 1
+    low = env.goal_pos.clone()
+    low[2:, 2] = 0.1
+    put_ball(env, low)
+    env.episode_length_buf[:] = env.max_episode_length
+    env.step(hold(env))
+    assert env.reset_buf.all()
+    assert env.episode_caught.tolist() == [True, True, False, False]
+    assert not env.reached.any()  # the new episodes start uncaught
+    on_step, counts = ball_caught().make_hook()
+    on_step(env, None, None)
+    assert counts == {"caught": 2, "episodes": 4}
+    assert ball_caught().judge({}, counts) == (0.5, False)
+
+
+def test_agent_configs_follow_isaac_lab():
+    from simlab.tasks.utils import load_cfg_from_registry
+
+    ippo = load_cfg_from_registry(TASK, "skrl_ippo_cfg_entry_point")
+    mappo = load_cfg_from_registry(TASK, "skrl_mappo_cfg_entry_point")
+    assert ippo["agent"]["class"] == "IPPO" and ippo["models"]["policy"]["network"][0]["layers"] == [512, 256, 128]
+    assert mappo["agent"]["class"] == "MAPPO" and mappo["models"]["value"]["network"][0]["input"] == "STATES"
+    assert mappo["trainer"]["timesteps"] == 36000 and mappo["agent"]["learning_rate"] == 5.0e-4
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("algorithm", ["IPPO", "MAPPO"])
+def test_one_training_iteration(tmp_path, algorithm):
+    from simlab.cli.main import main
+
+    argv = ["train", "--task", TASK, "--library", "skrl", "--algorithm", algorithm, "--num_envs", "4"]
+    argv += ["--device", "cpu", "--headless", "--max_iterations", "1", "--log_root", str(tmp_path / "logs")]
+    assert main(argv) == 0
+    assert list((tmp_path / "logs" / "skrl").glob("*/*/checkpoints"))
