@@ -4,10 +4,14 @@ while the subtask signals flip in order, and ``simlab record`` stores the subtas
 
 from __future__ import annotations
 
+import sys
+from pathlib import Path
+
 import gymnasium as gym
 import h5py
 import pytest
 import torch
+from conftest import load_script
 
 import simlab.tasks  # noqa: F401 - registers the tasks
 from simlab.tasks.manager_based.manipulation.stack.config.franka.stack_joint_pos_env_cfg import CUBE_SIZE
@@ -16,6 +20,7 @@ from simlab.tasks.utils.criteria import criterion_for
 from simlab.tasks.utils.parse_cfg import parse_env_cfg
 from simlab.utils.math import quat_from_euler_xyz, quat_mul, yaw_quat
 
+PORTED_STACK = Path(__file__).parent / "ported" / "isaaclab_stack_franka" / "stack_joint_pos_env_cfg.py"
 TASKS = ["simlab/Stack-Cube-Franka-v0", "simlab/Stack-Cube-Franka-IK-Rel-v0", "simlab/Stack-Cube-Franka-IK-Abs-v0"]
 SUBTASKS = ["grasp_1", "stack_1", "grasp_2"]
 
@@ -137,3 +142,32 @@ def test_simlab_record_stores_the_subtask_signals(tmp_path, capsys):
         assert sorted(signals) == sorted(SUBTASKS)
         assert all(signals[name].shape == (steps,) for name in SUBTASKS)
         assert "cube_positions" in demo["obs"] and demo["obs/cube_positions"].shape == (steps, 9)
+
+
+def test_isaac_labs_stack_config_runs_after_the_import_mapping():
+    """``tests/ported/isaaclab_stack_franka/stack_joint_pos_env_cfg.py`` is Isaac Lab's Franka stack
+    config with its imports mapped: its block USDs spawn simlab's cubes, its gripper joints come from
+    its gripper action, and it configures the actions and observations of simlab's own task."""
+    from simlab.envs import ManagerBasedRLEnv
+    from simlab.tasks.manager_based.manipulation.stack.config.franka.stack_joint_pos_env_cfg import (
+        FrankaCubeStackEnvCfg,
+    )
+
+    ported = load_script(PORTED_STACK, "isaaclab_stack_joint_pos_env_cfg")
+    try:
+        cfg, ours = ported.FrankaCubeStackEnvCfg(), FrankaCubeStackEnvCfg()
+        assert cfg.actions.to_dict() == ours.actions.to_dict()
+        assert cfg.observations.to_dict() == ours.observations.to_dict()
+        assert cfg.terminations.to_dict() == ours.terminations.to_dict()
+        cfg.scene.num_envs, cfg.sim.device, cfg.seed = 2, "cpu", 0
+        env = ManagerBasedRLEnv(cfg)
+        obs, _ = env.reset()
+        for _ in range(10):
+            obs, *_ = env.step(torch.zeros(2, 8))
+        heights = torch.stack([env.scene[f"cube_{i}"].data.root_pos_w[:, 2] for i in (1, 2, 3)])
+        torch.testing.assert_close(heights, torch.full_like(heights, CUBE_SIZE / 2), atol=1e-3, rtol=0)
+        torch.testing.assert_close(obs["policy"]["gripper_pos"], torch.tensor([[0.04, -0.04]] * 2), atol=1e-3, rtol=0)
+        assert not any(obs["subtask_terms"][name].any() for name in SUBTASKS)
+        env.close()
+    finally:
+        sys.modules.pop("isaaclab_stack_joint_pos_env_cfg", None)

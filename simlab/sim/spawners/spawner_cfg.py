@@ -21,6 +21,9 @@ class SpawnerCfg:
     visible: bool = True
     copy_from_source: bool = True
     """Kept for Isaac Lab compatibility: every world holds its own copy anyway."""
+    semantic_tags: list[tuple[str, str]] | None = None
+    """Isaac Lab's semantic labels ``[("class", "robot"), ...]`` for Replicator's segmentation; kept so
+    that configs setting them load: simlab's cameras render RGB and depth, and nothing reads them."""
 
 
 @configclass

@@ -33,6 +33,12 @@ MODELS_DIR = os.path.join(os.path.dirname(__file__), "..", "..", "..", "robots",
 DEX_CUBE_SIZE = 0.06
 """Edge length of Isaac Lab's unscaled DexCube [m]."""
 
+BLOCK_SIZE = 0.0468
+"""Edge of Isaac Sim's stacking blocks (``Props/Blocks/{blue,red,green}_block.usd``) [m]: the height
+difference of two stacked blocks in Isaac Lab's stack task's checks."""
+
+BLOCK_COLORS = {"blue": (0.15, 0.3, 0.85), "red": (0.85, 0.15, 0.15), "green": (0.15, 0.7, 0.2)}
+
 TABLE_SIZE = (1.2, 1.2, 1.05)
 """simlab's stand-in for the Seattle lab table: a box, its top at the prop's origin as Isaac Lab's table
 (its lift and stack scenes put the robot's base and the objects at z = 0 on it, the ground at -1.05)."""
@@ -111,6 +117,19 @@ def _dex_cube(cfg: UsdFileCfg) -> SpawnerCfg:
     return CuboidCfg(func=_spawn_prop, size=size, visual_material=cfg.visual_material, **_carried(cfg))
 
 
+def _block(color: str) -> Callable[[UsdFileCfg], SpawnerCfg]:
+    def build(cfg: UsdFileCfg) -> SpawnerCfg:
+        from ..materials import PreviewSurfaceCfg
+        from ..shapes import CuboidCfg
+
+        scale = cfg.scale or (1.0, 1.0, 1.0)
+        material = cfg.visual_material or PreviewSurfaceCfg(diffuse_color=BLOCK_COLORS[color])
+        size = tuple(BLOCK_SIZE * s for s in scale)
+        return CuboidCfg(func=_spawn_prop, size=size, visual_material=material, **_carried(cfg))
+
+    return build
+
+
 def _table(cfg: UsdFileCfg) -> SpawnerCfg:
     from ..materials import PreviewSurfaceCfg
     from ..shapes import CuboidCfg
@@ -164,6 +183,14 @@ USD_STAND_INS: dict[str, UsdStandIn] = {
     "Props/Blocks/DexCube/dex_cube_instanceable.usd": UsdStandIn(
         "a 6 cm box", _dex_cube, "scaled by UsdFileCfg.scale; dynamic when rigid_props are given"
     ),
+    **{
+        f"Props/Blocks/{color}_block.usd": UsdStandIn(
+            f"a {BLOCK_SIZE * 100:.2f} cm {color} box",
+            _block(color),
+            "scaled by UsdFileCfg.scale; the stack task's cubes",
+        )
+        for color in BLOCK_COLORS
+    },
     "Props/Mounts/SeattleLabTable/table_instanceable.usd": UsdStandIn(
         "a 1.2 x 1.2 x 1.05 m box", _table, "static; its top at the prop's origin, as the table's"
     ),

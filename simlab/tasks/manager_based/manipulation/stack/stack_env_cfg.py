@@ -139,7 +139,9 @@ class StackEnvCfg(ManagerBasedRLEnvCfg):
     events = None
     curriculum = None
 
-    # the gripper, for the subtask signals and the success check (the robot's config sets them)
+    # the gripper, for the subtask signals and the success check: the two finger joints (None: the
+    # gripper action's), their open position [m] and how far from it a finger counts as closed [m];
+    # the defaults are the Franka's
     gripper_joint_names: list[str] | None = None
     gripper_open_val: float = 0.04
     gripper_threshold: float = 0.005

@@ -2,8 +2,8 @@
 end effector's pose and the gripper's opening, and the subtask signals ``object_grasped`` and
 ``object_stacked``.
 
-The gripper terms read three fields of the env config that the robot's config sets:
-``gripper_joint_names`` (the two finger joints), ``gripper_open_val`` (their open position) and
+The gripper terms read three fields of the env config: ``gripper_joint_names`` (the two finger joints;
+when unset, the joints of the ``gripper_action``), ``gripper_open_val`` (their open position) and
 ``gripper_threshold`` (how far from open a finger must be to count as closed on something).
 Isaac Lab's suction-cup branches are left out: simlab has no surface gripper.
 """
@@ -100,15 +100,20 @@ def ee_frame_quat(env: ManagerBasedRLEnv, ee_frame_cfg: SceneEntityCfg = _EE_FRA
 
 
 def _finger_ids(env: ManagerBasedRLEnv, robot) -> list[int]:
+    """The two finger joints: ``env.cfg.gripper_joint_names``, else those of the gripper action (Isaac
+    Lab's Franka stack config of 2.x sets no names; its gripper action names the fingers)."""
     names = getattr(env.cfg, "gripper_joint_names", None)
+    if names is None:
+        gripper_action = getattr(env.cfg.actions, "gripper_action", None)
+        names = getattr(gripper_action, "joint_names", None)
     if names is None:
         raise ConfigError(
             "The stack task's gripper terms need env.cfg.gripper_joint_names (the two finger joints, e.g."
-            " ['panda_finger_.*']), gripper_open_val and gripper_threshold; the robot's config sets them."
+            " ['panda_finger_.*']) or a gripper_action naming them."
         )
     ids, found = robot.find_joints(names)
     if len(ids) != 2:
-        raise ConfigError(f"gripper_joint_names {names} must name a parallel gripper's two joints, found {found}.")
+        raise ConfigError(f"gripper joints {names} must name a parallel gripper's two joints, found {found}.")
     return ids
 
 

@@ -1,7 +1,9 @@
 """Stack cubes with the Franka arm, joint-position actions (Isaac Lab's ``stack_joint_pos_env_cfg.py``).
 
 Isaac Lab's cubes are its blue, red and green block USD props; simlab's are boxes of the edge the
-task's checks assume (``CUBE_SIZE``, the stacked height difference of its terms), 100 g, friction 1.
+task's checks assume (``CUBE_SIZE``, the stacked height difference of its terms), 100 g, friction 1,
+resting on the table (Isaac Lab spawns them at z = 0.0203, 3 mm into simlab's table). A ported config
+naming the block USDs gets the same boxes (simlab.sim.spawners.from_files.usd_stand_ins).
 """
 
 import simlab.sim as sim_utils
@@ -11,16 +13,17 @@ from simlab.managers import SceneEntityCfg
 from simlab.markers import FRAME_MARKER_CFG
 from simlab.robots.franka import FRANKA_PANDA_CFG
 from simlab.sensors import FrameTransformerCfg, OffsetCfg
+from simlab.sim.spawners.from_files.usd_stand_ins import BLOCK_COLORS, BLOCK_SIZE
 from simlab.utils import configclass
 
 from ... import mdp
 from ...mdp import franka_stack_events
 from ...stack_env_cfg import StackEnvCfg
 
-CUBE_SIZE = 0.0468
+CUBE_SIZE = BLOCK_SIZE
 """Edge of a cube [m]: the height difference of two stacked cubes in Isaac Lab's stack checks."""
 
-CUBE_COLORS = {"cube_1": (0.15, 0.3, 0.85), "cube_2": (0.85, 0.15, 0.15), "cube_3": (0.15, 0.7, 0.2)}
+CUBE_COLORS = {"cube_1": BLOCK_COLORS["blue"], "cube_2": BLOCK_COLORS["red"], "cube_3": BLOCK_COLORS["green"]}
 """Blue, red and green, as Isaac Lab's blocks."""
 
 
