@@ -137,7 +137,7 @@ def object_grasped(
     object_pos = env.scene[object_cfg.name].data.root_pos_w
     ee_pos = env.scene[ee_frame_cfg.name].data.target_pos_w[:, 0, :]
     near = torch.linalg.vector_norm(object_pos - ee_pos, dim=1) < diff_threshold
-    fingers = robot.data.joint_pos[:, _finger_ids(env, robot)]
+    fingers = _fingers(env, robot)
     closed = ((fingers - env.cfg.gripper_open_val).abs() > env.cfg.gripper_threshold).all(dim=1)
     return near & closed
 
@@ -162,7 +162,14 @@ def object_stacked(
     return stacked & _gripper_open(env, robot)
 
 
+def _fingers(env: ManagerBasedRLEnv, robot) -> torch.Tensor:
+    """(N, 2) the finger joints' positions (indexed by ints: no index tensor copied to the device,
+    which a step being captured as a CUDA graph may not do)."""
+    first, second = _finger_ids(env, robot)
+    return torch.stack((robot.data.joint_pos[:, first], robot.data.joint_pos[:, second]), dim=1)
+
+
 def _gripper_open(env: ManagerBasedRLEnv, robot, atol: float = 1e-4, rtol: float = 1e-4) -> torch.Tensor:
-    fingers = robot.data.joint_pos[:, _finger_ids(env, robot)]
+    fingers = _fingers(env, robot)
     open_val = torch.full_like(fingers, env.cfg.gripper_open_val)
     return torch.isclose(fingers, open_val, atol=atol, rtol=rtol).all(dim=1)
