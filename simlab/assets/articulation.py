@@ -521,6 +521,38 @@ class ArticulationData(RootedAssetData):
             torque[:, joints] = actuator.computed_effort
         return torque
 
+    @property
+    def body_incoming_joint_wrench_b(self) -> torch.Tensor:
+        """The wrench each body receives from its parent through its joint, ``[force, torque]`` in the
+        body's frame about its origin: (num_envs, num_bodies, 6). The root's is the wrench from the
+        world (through its free joint: zero; through a fixed base: what holds the robot).
+
+        MuJoCo's ``cfrc_int`` (the interaction force with the parent, computed by the post-constraint
+        pass; ``mdp.body_incoming_wrench`` turns that pass on), moved from the tree's centre of mass
+        to the body's origin and rotated into the body's frame. It is what MuJoCo's force and torque
+        sensors on a site at the body's origin read. Gravity compensation (``disable_gravity``) is a
+        joint-space force here that the wrench does not net out."""
+        from simlab.sim.simulation_context import computes_body_interaction_forces
+        from simlab.utils.errors import ConfigError
+
+        a = self._asset
+        if not computes_body_interaction_forces(a._sim.model):
+            raise ConfigError(
+                f"'{a.cfg.prim_path}': body_incoming_joint_wrench_b needs MuJoCo's post-constraint pass, which this"
+                " model does not run: observe mdp.body_incoming_wrench in the env config, or call"
+                " sim_utils.compute_body_interaction_forces(sim.spec) before sim.reset()."
+            )
+        if not hasattr(self, "_cfrc_int"):
+            self._cfrc_int = a._sim.physics.data("cfrc_int")
+        ids = a._body_index
+        self._physics.ensure_forward()
+        spatial = self._cfrc_int[:, ids]  # [torque about the tree's centre of mass, force], world axes
+        force = spatial[..., 3:6]
+        offset = self._xpos[:, ids] - self._subtree_com[:, self._rootids]
+        torque = spatial[..., 0:3] - torch.linalg.cross(offset, force, dim=-1)
+        quat = self._xquat[:, ids]
+        return torch.cat([math_utils.quat_apply_inverse(quat, force), math_utils.quat_apply_inverse(quat, torque)], -1)
+
     # Isaac Lab's older names.
     joint_limits = property(lambda self: self.joint_pos_limits)
     joint_vel_limits = property(lambda self: self.joint_velocity_limits)

@@ -20,6 +20,7 @@ import numpy as np
 import torch
 
 from simlab.managers import ActionManager, EventManager, ObservationManager, RecorderManager
+from simlab.managers.manager_term_cfg import ManagerTermBaseCfg, ObservationGroupCfg
 from simlab.scene import InteractiveScene
 from simlab.sim import SimulationContext
 from simlab.utils.configclass import MissingFieldError
@@ -67,6 +68,12 @@ class ManagerBasedEnv(SimulatedEnv):
         # Events first: "prestartup" terms change the model before it is compiled.
         self.event_manager = EventManager(cfg.events, self)
         self.event_manager.apply(mode="prestartup")
+
+        # Terms that need something of the model (a MuJoCo pass, a sensor) add it before it compiles.
+        for term in _term_cfgs(cfg):
+            prepare = getattr(term.func, "before_compile", None)
+            if prepare is not None:
+                prepare(self)
 
         self.sim.reset()
         self.scene.update(dt=self.physics_dt)
@@ -211,3 +218,16 @@ class ManagerBasedEnv(SimulatedEnv):
 
     def _render_rgb(self) -> np.ndarray:
         return render_frame(self, self.cfg.viewer)
+
+
+def _term_cfgs(cfg: ManagerBasedEnvCfg) -> list[ManagerTermBaseCfg]:
+    """Every manager term of ``cfg`` (observation groups' terms included)."""
+    terms: list[ManagerTermBaseCfg] = []
+    for name in ("observations", "actions", "events", "rewards", "terminations", "curriculum", "commands"):
+        section = getattr(cfg, name, None)
+        for value in vars(section).values() if section is not None else ():
+            if isinstance(value, ObservationGroupCfg):
+                terms += [term for term in vars(value).values() if isinstance(term, ManagerTermBaseCfg)]
+            elif isinstance(value, ManagerTermBaseCfg):
+                terms.append(value)
+    return [term for term in terms if callable(getattr(term, "func", None))]

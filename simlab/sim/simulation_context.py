@@ -347,6 +347,39 @@ class SimulationContext:
         return spec
 
 
+POST_CONSTRAINT_TRIGGER = "simlab/contact_forces"
+"""The world site whose accelerometer makes MuJoCo compute ``cfrc_ext`` and ``cfrc_int`` at every step
+(the contact sensor adds the same one)."""
+
+_POST_CONSTRAINT_SENSORS = (
+    mujoco.mjtSensor.mjSENS_ACCELEROMETER,
+    mujoco.mjtSensor.mjSENS_FORCE,
+    mujoco.mjtSensor.mjSENS_TORQUE,
+    mujoco.mjtSensor.mjSENS_FRAMELINACC,
+    mujoco.mjtSensor.mjSENS_FRAMEANGACC,
+)
+
+
+def compute_body_interaction_forces(spec: mujoco.MjSpec) -> None:
+    """Make MuJoCo (C and Warp) fill ``cfrc_int`` and ``cfrc_ext`` at every forward pass.
+
+    They come from ``mj_rnePostConstraint``, which the forward pass runs only for a model with an
+    acceleration-stage sensor: one accelerometer on a world site is added (once)."""
+    if spec.site(POST_CONSTRAINT_TRIGGER) is None:
+        spec.worldbody.add_site(name=POST_CONSTRAINT_TRIGGER, group=5)
+        spec.add_sensor(
+            name=POST_CONSTRAINT_TRIGGER,
+            type=mujoco.mjtSensor.mjSENS_ACCELEROMETER,
+            objtype=mujoco.mjtObj.mjOBJ_SITE,
+            objname=POST_CONSTRAINT_TRIGGER,
+        )
+
+
+def computes_body_interaction_forces(model: mujoco.MjModel) -> bool:
+    """Whether the forward pass of ``model`` fills ``cfrc_int`` / ``cfrc_ext`` (see above)."""
+    return any(int(t) in {int(s) for s in _POST_CONSTRAINT_SENSORS} for t in model.sensor_type)
+
+
 def _apply_render_cfg(spec: mujoco.MjSpec, render: RenderCfg) -> None:
     """Isaac Lab's RTX settings that MuJoCo's renderer has; a one-time note names the ignored ones set."""
     if render.antialiasing_mode == "Off":

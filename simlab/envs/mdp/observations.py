@@ -162,6 +162,23 @@ def height_scan(env: ManagerBasedEnv, sensor_cfg: SceneEntityCfg, offset: float 
     return sensor.data.pos_w[:, 2].unsqueeze(1) - sensor.data.ray_hits_w[..., 2] - offset
 
 
+def body_incoming_wrench(env: ManagerBasedEnv, asset_cfg: SceneEntityCfg) -> torch.Tensor:
+    """The wrench each body receives from its parent through its joint, ``[force, torque]`` in the
+    body's frame (N, 6 * bodies): Isaac Lab's ``body_incoming_joint_wrench_b`` (MuJoCo's ``cfrc_int``,
+    see ``ArticulationData.body_incoming_joint_wrench_b``)."""
+    wrench = env.scene[asset_cfg.name].data.body_incoming_joint_wrench_b[:, asset_cfg.body_ids]
+    return wrench.reshape(env.num_envs, -1)
+
+
+def _compute_body_interaction_forces(env: ManagerBasedEnv) -> None:
+    from simlab.sim.simulation_context import compute_body_interaction_forces
+
+    compute_body_interaction_forces(env.sim.spec)
+
+
+body_incoming_wrench.before_compile = _compute_body_interaction_forces
+"""The env runs this before the model compiles: the term needs MuJoCo's post-constraint pass."""
+
 _IMU = SceneEntityCfg("imu")
 
 
