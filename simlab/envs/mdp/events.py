@@ -529,6 +529,8 @@ class randomize_fixed_tendon_parameters(ManagerTermBase):  # noqa: N801 - Isaac 
     or damping to vary.
     """
 
+    takes_env_mask = True  # it writes nothing
+
     def __init__(self, cfg, env: ManagerBasedEnv):
         super().__init__(cfg, env)
         asset_cfg = cfg.params.get("asset_cfg", _ROBOT)
