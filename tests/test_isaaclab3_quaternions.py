@@ -134,7 +134,9 @@ def test_a_3_0_config_read_by_2_x_code_is_refused_in_one_line():
         light_3_0 = light
 
     sim_utils.SimulationContext(sim_utils.SimulationCfg(device="cpu"))
-    expected = r"init_state is Isaac Lab 3.0's, rot in \(x, y, z, w\) order, but this 2.x asset expects \(w, x, y, z\)"
+    expected = (
+        r"init_state is Isaac Lab 3.0's, rot in \(x, y, z, w\) order, but simlab's 2.x asset reads \(w, x, y, z\)"
+    )
     with pytest.raises(ConfigError, match=expected):
         scene2.InteractiveScene(SceneCfg(num_envs=1, env_spacing=2.0))
     mixed = _box(assets2, Q_WXYZ, 1.0).replace(init_state=assets3.RigidObjectCfg.InitialStateCfg(rot=(0, 0, 1, 0)))
@@ -179,3 +181,43 @@ def test_a_2_x_task_and_a_3_0_task_run_side_by_side():
     assert torch.allclose(box, math3.wxyz_from_xyzw(torch.tensor(ported.BOX_ROT_XYZW)).expand(4, 4), atol=1e-5)
     assert light_cfg.rot == (0.7071068, 0.0, 0.7071068, 0.0)  # converted once, for simlab's readers
     assert cfg3.scene.distant_light.init_state.rot == (0.0, 0.7071068, 0.0, 0.7071068)  # as written
+
+
+def test_a_sensor_offset_in_either_order_gives_the_same_sensor_frame():
+    from simlab import sensors as sensors2
+    from simlab.utils import configclass
+    from simlab.v3 import sensors as sensors3
+
+    @configclass
+    class SceneCfg(scene3.InteractiveSceneCfg):
+        box = _box(assets2, Q_WXYZ, 1.0).replace(prim_path="{ENV_REGEX_NS}/Box")
+        box_b = _box(assets2, Q_WXYZ, 2.0).replace(prim_path="{ENV_REGEX_NS}/BoxB")
+        imu2 = sensors2.ImuCfg(
+            prim_path="{ENV_REGEX_NS}/Box", offset=sensors2.ImuCfg.OffsetCfg(rot=tuple(Q_WXYZ.tolist()))
+        )
+        imu3 = sensors3.ImuCfg(
+            prim_path="{ENV_REGEX_NS}/BoxB", offset=sensors3.ImuCfg.OffsetCfg(rot=tuple(Q_XYZW.tolist()))
+        )
+
+    sim = sim_utils.SimulationContext(sim_utils.SimulationCfg(device="cpu"))
+    scene = scene3.InteractiveScene(SceneCfg(num_envs=2, env_spacing=3.0))
+    sim.reset()
+    scene.update(sim.get_physics_dt())
+    q2, q3 = scene["imu2"].data.quat_w, scene["imu3"].data.quat_w
+    expected = math2.quat_mul(Q_WXYZ, Q_WXYZ).expand(2, 4)  # the box's rotation, then the offset's
+    assert torch.allclose(math2.quat_unique(q2), math2.quat_unique(expected), atol=1e-4)
+    assert torch.allclose(math2.quat_unique(q3), math2.quat_unique(q2), atol=1e-5)
+
+
+def test_a_3_0_sensor_offset_in_a_2_x_scene_is_refused():
+    from simlab.utils import configclass
+    from simlab.v3 import sensors as sensors3
+
+    @configclass
+    class SceneCfg(scene2.InteractiveSceneCfg):
+        box = _box(assets2, Q_WXYZ, 1.0).replace(prim_path="{ENV_REGEX_NS}/Box")
+        imu = sensors3.ImuCfg(prim_path="{ENV_REGEX_NS}/Box", offset=sensors3.ImuCfg.OffsetCfg(rot=(0, 0, 1, 0)))
+
+    sim_utils.SimulationContext(sim_utils.SimulationCfg(device="cpu"))
+    with pytest.raises(ConfigError, match=r"ImuCfg\('.*Box'\).offset is Isaac Lab 3.0's, rot in \(x, y, z, w\) order"):
+        scene2.InteractiveScene(SceneCfg(num_envs=1, env_spacing=2.0))

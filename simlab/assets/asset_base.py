@@ -17,6 +17,7 @@ from simlab.sim import SimulationContext
 from simlab.sim.spawners import SpawnerCfg, entity_name
 from simlab.utils import configclass
 from simlab.utils.errors import ConfigError
+from simlab.utils.quat_order import refuse_other_order
 from simlab.utils.unsupported import refuse_unless_default
 
 
@@ -49,12 +50,7 @@ _PER_ENV_PREFIXES = ("{ENV_REGEX_NS}", "/World/envs/")
 def check_asset_cfg(cfg: AssetBaseCfg) -> None:
     """Refuse the asset settings simlab would otherwise accept and ignore (``collision_group``, ``debug_vis``)."""
     owner = f"{type(cfg).__name__}('{cfg.prim_path}')"
-    order = getattr(cfg.init_state, "quat_order", "wxyz")  # simlab.v3's configs say "xyzw"
-    if order != "wxyz":
-        raise ConfigError(
-            f"{owner}.init_state is Isaac Lab 3.0's, rot in ({', '.join(order)}) order, but this 2.x asset expects "
-            "(w, x, y, z): build it with simlab.v3.assets (or in a simlab.v3 scene or env), which converts it."
-        )
+    refuse_other_order(owner, cfg, "asset")  # a simlab.v3 config (x, y, z, w) left unconverted
     if cfg.collision_group not in (0, -1):
         raise ConfigError(
             f"{owner}.collision_group={cfg.collision_group!r}: use 0 (collides within its env) or -1"

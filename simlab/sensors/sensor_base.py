@@ -11,6 +11,7 @@ import torch
 from simlab.sim import SimulationContext
 from simlab.utils import configclass
 from simlab.utils.debug_vis import DebugVisHooks
+from simlab.utils.quat_order import refuse_other_order
 from simlab.utils.unsupported import refuse_unless_default
 
 
@@ -28,6 +29,7 @@ class SensorBaseCfg:
 class SensorBase(DebugVisHooks):
     def __init__(self, cfg: SensorBaseCfg, scene=None):
         cfg.validate()
+        refuse_other_order(f"{type(cfg).__name__}('{cfg.prim_path}')", cfg, "sensor")  # a simlab.v3 offset
         if not self.has_debug_vis_implementation:
             refuse_unless_default(
                 f"{type(cfg).__name__}('{cfg.prim_path}')",

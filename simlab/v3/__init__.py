@@ -6,6 +6,7 @@ The order is never guessed from a value: it is the order of the namespace a name
 * :mod:`simlab.v3.utils.math`: the quaternion functions in (x, y, z, w);
 * :mod:`simlab.v3.assets`: asset configs whose ``init_state.rot`` is (x, y, z, w), and the asset
   classes that convert them to simlab's order when built;
+* :mod:`simlab.v3.sensors`: sensor configs whose ``offset.rot`` is (x, y, z, w);
 * :mod:`simlab.v3.scene`, :mod:`simlab.v3.envs`: the scene and env classes, which convert the 3.0
   configs they are given (``gym.register(entry_point="simlab.v3.envs:ManagerBasedRLEnv")``).
 

@@ -12,11 +12,12 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from typing import Any
+from typing import Any, ClassVar
 
+from simlab.utils import configclass
 from simlab.utils.errors import ConfigError
 
-__all__ = ["check_xyzw_rot", "to_simlab"]
+__all__ = ["check_xyzw_rot", "to_simlab", "xyzw_class"]
 
 
 def check_xyzw_rot(owner: str, rot: Any) -> None:
@@ -33,6 +34,27 @@ def check_xyzw_rot(owner: str, rot: Any) -> None:
             f"{owner} rot=(1, 0, 0, 0) is Isaac Lab 2.x's identity in (w, x, y, z) order; this Isaac Lab 3.0 config "
             "takes (x, y, z, w), whose identity is (0, 0, 0, 1). For a half turn about x write (-1, 0, 0, 0)."
         )
+
+
+def xyzw_class(base: type, module: str) -> type:
+    """``base`` (a simlab config with a ``rot`` field: an initial state, a sensor offset) holding ``rot``
+    in (x, y, z, w) order, identity ``(0, 0, 0, 1)``, checked when made (:func:`check_xyzw_rot`)."""
+    owner = base.__qualname__
+
+    @configclass
+    class Xyzw(base):
+        quat_order: ClassVar[str] = "xyzw"
+        simlab_class: ClassVar[type] = base
+        rot: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 1.0)
+        """Quaternion (x, y, z, w), Isaac Lab 3.0's order."""
+
+        def __post_init__(self) -> None:
+            check_xyzw_rot(owner, self.rot)
+
+    Xyzw.__name__ = base.__name__
+    Xyzw.__qualname__ = base.__qualname__
+    Xyzw.__module__ = module
+    return Xyzw
 
 
 def _simlab_copy(cfg: Any) -> Any:

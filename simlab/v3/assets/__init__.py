@@ -9,8 +9,6 @@ order when they are built (:func:`simlab.v3._order.to_simlab`); so do :mod:`siml
 
 from __future__ import annotations
 
-from typing import ClassVar
-
 from simlab import assets as _assets
 from simlab.assets import (
     ArticulationData,
@@ -23,7 +21,7 @@ from simlab.assets import (
     RigidObjectData,
 )
 from simlab.utils import configclass
-from simlab.v3._order import check_xyzw_rot, to_simlab
+from simlab.v3._order import to_simlab, xyzw_class
 
 __all__ = [
     "Articulation",
@@ -42,24 +40,6 @@ __all__ = [
 ]
 
 
-def _xyzw_state(base: type) -> type:
-    """``base`` (a simlab ``InitialStateCfg``) with ``rot`` in (x, y, z, w) order."""
-
-    @configclass
-    class InitialStateCfg(base):
-        quat_order: ClassVar[str] = "xyzw"
-        simlab_class: ClassVar[type] = base
-        rot: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 1.0)
-        """Quaternion (x, y, z, w), Isaac Lab 3.0's order."""
-
-        def __post_init__(self) -> None:
-            check_xyzw_rot(f"{base.__qualname__.split('.')[0]}.InitialStateCfg", self.rot)
-
-    InitialStateCfg.__qualname__ = base.__qualname__
-    InitialStateCfg.__module__ = __name__
-    return InitialStateCfg
-
-
 class Articulation(_assets.Articulation):
     """simlab's articulation, made from a config whose quaternions are (x, y, z, w)."""
 
@@ -76,19 +56,19 @@ class RigidObject(_assets.RigidObject):
 
 @configclass
 class AssetBaseCfg(_assets.AssetBaseCfg):
-    InitialStateCfg = _xyzw_state(_assets.AssetBaseCfg.InitialStateCfg)
+    InitialStateCfg = xyzw_class(_assets.AssetBaseCfg.InitialStateCfg, __name__)
     init_state: InitialStateCfg = InitialStateCfg()
 
 
 @configclass
 class ArticulationCfg(_assets.ArticulationCfg):
-    InitialStateCfg = _xyzw_state(_assets.ArticulationCfg.InitialStateCfg)
+    InitialStateCfg = xyzw_class(_assets.ArticulationCfg.InitialStateCfg, __name__)
     class_type: type = Articulation
     init_state: InitialStateCfg = InitialStateCfg()
 
 
 @configclass
 class RigidObjectCfg(_assets.RigidObjectCfg):
-    InitialStateCfg = _xyzw_state(_assets.RigidObjectCfg.InitialStateCfg)
+    InitialStateCfg = xyzw_class(_assets.RigidObjectCfg.InitialStateCfg, __name__)
     class_type: type = RigidObject
     init_state: InitialStateCfg = InitialStateCfg()
