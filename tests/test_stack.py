@@ -171,3 +171,31 @@ def test_isaac_labs_stack_config_runs_after_the_import_mapping():
         env.close()
     finally:
         sys.modules.pop("isaaclab_stack_joint_pos_env_cfg", None)
+
+
+@pytest.mark.parametrize("gripper", [1.0, -1.0])
+def test_a_stack_of_three_ends_the_episode_as_a_success_and_the_criterion_counts_it(gripper):
+    """A tower of the three cubes in env 0 is a success once the gripper is open, not while it closes."""
+    env = make("simlab/Stack-Cube-Franka-v0").unwrapped
+    env.reset()
+    on_step, counts = criterion_for("simlab/Stack-Cube-Franka-v0").make_hook()
+    origin = env.scene.env_origins[0]
+    base = torch.tensor([0.5, 0.0, CUBE_SIZE / 2]) + origin
+    for level, name in enumerate(("cube_1", "cube_2", "cube_3")):  # a tower in env 0 only
+        pose = torch.cat([base + torch.tensor([0.0, 0.0, level * CUBE_SIZE]), torch.tensor([1.0, 0.0, 0.0, 0.0])])
+        env.scene[name].write_root_pose_to_sim(pose[None], env_ids=torch.tensor([0]))
+    for _ in range(10):
+        actions = torch.zeros(env.num_envs, 8)  # arm at its default pose
+        actions[:, -1] = gripper
+        obs, _, terminated, _, _ = env.step(actions)
+        on_step(env, obs, actions)
+        if terminated.any():
+            break
+    if gripper < 0:
+        assert not terminated.any() and counts == {"success": 0, "episodes": 0}
+        return
+    assert terminated.tolist() == [True, False]
+    assert env.termination_manager.get_term("success").tolist() == [True, False]
+    assert counts == {"success": 1, "episodes": 1}
+    score, passed = criterion_for("simlab/Stack-Cube-Franka-v0").judge({}, counts)
+    assert score == 1.0 and passed
