@@ -3,12 +3,17 @@
 The task builds with Isaac Lab's spaces (157 observations and 20 actions per hand, a 290-value state)
 and steps with finite values; both agents earn ``2 exp(-20 |ball - goal|)``; a ball brought to the
 goal counts as caught when its episode ends with the ball up, and not when it falls; the solve
-criterion counts the caught share of finished episodes; IPPO and MAPPO train one iteration.
+criterion counts the caught share of finished episodes; IPPO and MAPPO train one iteration. Isaac
+Lab's own handover files (``tests/ported/isaaclab_shadow_hand_over``, ported by the import mapping
+alone) observe and earn as simlab's task under the same seed and actions.
 """
 
 from __future__ import annotations
 
 import math
+import re
+import sys
+from pathlib import Path
 
 import gymnasium as gym
 import pytest
@@ -20,6 +25,7 @@ from simlab.tasks.direct.shadow_hand_over.criterion import ball_caught
 from simlab.tasks.utils import parse_env_cfg
 
 TASK = "simlab/Shadow-Hand-Over-Direct-v0"
+PORTED = Path(__file__).parent / "ported"
 NUM_ENVS = 4
 
 
@@ -108,3 +114,51 @@ def test_one_training_iteration(tmp_path, algorithm):
     argv += ["--device", "cpu", "--headless", "--max_iterations", "1", "--log_root", str(tmp_path / "logs")]
     assert main(argv) == 0
     assert list((tmp_path / "logs" / "skrl").glob("*/*/checkpoints"))
+
+
+def test_only_import_lines_of_the_ported_files_name_simlab():
+    for path in (PORTED / "isaaclab_shadow_hand_over").glob("shadow_hand_over_env*.py"):
+        code = [line for line in path.read_text().splitlines() if line and not line.startswith("#")]
+        assert not any("isaaclab" in line for line in code)
+        simlab_lines = [line.strip() for line in code if "simlab" in line]
+        assert simlab_lines and all(re.match(r"(from|import) simlab", line) for line in simlab_lines), simlab_lines
+
+
+def test_isaac_lab_s_handover_files_step_as_simlab_s_own():
+    from simlab.tasks.direct.shadow_hand_over.shadow_hand_over_env import ShadowHandOverEnv
+    from simlab.tasks.direct.shadow_hand_over.shadow_hand_over_env_cfg import ShadowHandOverEnvCfg
+
+    sys.path.insert(0, str(PORTED))
+    try:
+        from isaaclab_shadow_hand_over import shadow_hand_over_env, shadow_hand_over_env_cfg
+    finally:
+        sys.path.remove(str(PORTED))
+    own_cfg = ShadowHandOverEnvCfg()
+    own_cfg.coupled_joints = {}  # Isaac Lab's reset draws the distal joints too: draw as it does
+    envs = []
+    for env_class, cfg in (
+        (shadow_hand_over_env.ShadowHandOverEnv, shadow_hand_over_env_cfg.ShadowHandOverEnvCfg()),
+        (ShadowHandOverEnv, own_cfg),
+    ):
+        cfg.seed, cfg.scene.num_envs, cfg.sim.device = 0, NUM_ENVS, "cpu"
+        cfg.sim.mujoco = ShadowHandOverEnvCfg().sim.mujoco  # simlab's MuJoCo settings for the task, on both
+        envs.append(env_class(cfg))
+    try:
+        first = [env.reset(seed=0)[0] for env in envs]
+        for agent in first[0]:
+            torch.testing.assert_close(first[0][agent], first[1][agent])
+        generator = torch.Generator().manual_seed(0)
+        for _ in range(10):
+            actions = {
+                a: 0.1 * (2 * torch.rand(NUM_ENVS, 20, generator=generator) - 1) for a in envs[0].possible_agents
+            }
+            (obs_a, rew_a, *_), (obs_b, rew_b, *_) = (env.step(dict(actions)) for env in envs)
+            for agent in actions:
+                torch.testing.assert_close(obs_a[agent], obs_b[agent], atol=1e-5, rtol=1e-5)
+                torch.testing.assert_close(rew_a[agent], rew_b[agent], atol=1e-6, rtol=1e-5)
+            torch.testing.assert_close(envs[0].state(), envs[1].state(), atol=1e-5, rtol=1e-5)
+    finally:
+        for env in envs:
+            env.close()
+        for name in [m for m in sys.modules if m.startswith("isaaclab_shadow_hand_over")]:
+            sys.modules.pop(name)
