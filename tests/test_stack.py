@@ -199,3 +199,19 @@ def test_a_stack_of_three_ends_the_episode_as_a_success_and_the_criterion_counts
     assert counts == {"success": 1, "episodes": 1}
     score, passed = criterion_for("simlab/Stack-Cube-Franka-v0").judge({}, counts)
     assert score == 1.0 and passed
+
+
+@pytest.mark.slow
+def test_the_scripted_stacking_state_machine_passes_the_criterion():
+    """scripts/environments/state_machine/stack_cube_sm.py stacks all three cubes (8 envs, one episode
+    each: about 8 s of CPU)."""
+    script = load_script(Path(__file__).parents[1] / "scripts/environments/state_machine/stack_cube_sm.py", "stack_sm")
+    try:
+        env = make(script.TASK, num_envs=8).unwrapped
+        env.reset()
+        _, counts = script.run(env, 200)
+        env.close()
+    finally:
+        sys.modules.pop("stack_sm", None)
+    assert counts["episodes"] == 8
+    assert criterion_for(script.TASK).judge({}, counts) == (1.0, True)

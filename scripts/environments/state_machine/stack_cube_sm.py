@@ -1,0 +1,163 @@
+"""Stack the three cubes with a scripted pick-and-place state machine (simlab's; Isaac Lab records this
+task by teleoperation and Mimic).
+
+Each env runs its own machine over the IK-Abs task: pick cube 2 and place it on cube 1, then pick
+cube 3 and place it on cube 2. Each pick turns the fingers square to the cube's faces; every state
+lasts a fixed number of steps. The script judges the run by the task's registered criterion (the
+share of episodes that end with the cubes stacked) and prints it.
+
+    python scripts/environments/state_machine/stack_cube_sm.py --num_envs 8 --headless --device cpu
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+
+import torch
+
+from simlab.utils.math import quat_from_euler_xyz, quat_mul, yaw_quat
+
+TASK = "simlab/Stack-Cube-Franka-IK-Abs-v0"
+TCP_OFFSET = 0.1034
+"""The fingertip centre below the hand [m] (the task's end-effector frame)."""
+HAND_DOWN = (0.0, 1.0, 0.0, 0.0)
+"""The hand's orientation with its z axis (the fingers) pointing down."""
+
+# (name, steps it lasts, gripper command: 1 open, -1 closed) of one pick-and-place
+PHASES = (
+    ("above_pick", 10, 1.0),
+    ("at_pick", 12, 1.0),
+    ("grasp", 10, -1.0),
+    ("lift", 15, -1.0),
+    ("above_place", 15, -1.0),
+    ("lower", 12, -1.0),
+    ("release", 10, 1.0),
+    ("retreat", 10, 1.0),
+)
+PAIRS = (("cube_2", "cube_1"), ("cube_3", "cube_2"))
+"""(the cube picked, the cube it is placed on), in order."""
+
+
+class StackCubesSm:
+    """One pick-and-place machine per env, in torch: ``compute`` gives the IK-Abs actions (hand pose in
+    the env frame, gripper) from the cubes' poses; ``reset_idx`` starts envs over."""
+
+    def __init__(self, num_envs: int, cube_size: float, device: torch.device | str = "cpu"):
+        self.num_envs, self.cube_size, self.device = num_envs, cube_size, device
+        self.state = torch.zeros(num_envs, dtype=torch.long, device=device)  # phase index over both pairs
+        self.waited = torch.zeros(num_envs, dtype=torch.long, device=device)
+        self.grasp_yaw = torch.zeros(num_envs, device=device)
+        self.steps = torch.tensor([p[1] for p in PHASES] * len(PAIRS), device=device)
+        self.gripper = torch.tensor([p[2] for p in PHASES] * len(PAIRS), device=device)
+        self.down = torch.tensor(HAND_DOWN, device=device)
+
+    @property
+    def done(self) -> torch.Tensor:
+        return self.state >= len(PHASES) * len(PAIRS)
+
+    def reset_idx(self, env_ids: torch.Tensor | None = None) -> None:
+        ids = slice(None) if env_ids is None else env_ids
+        self.state[ids], self.waited[ids] = 0, 0
+
+    def compute(self, cube_pos: dict[str, torch.Tensor], cube_quat: dict[str, torch.Tensor]) -> torch.Tensor:
+        """(num_envs, 8) actions from the cubes' positions (env frame) and orientations."""
+        state = self.state.clamp(max=len(PHASES) * len(PAIRS) - 1)
+        pair, phase = state // len(PHASES), state % len(PHASES)
+        picked = torch.where(pair[:, None] == 0, cube_pos[PAIRS[0][0]], cube_pos[PAIRS[1][0]])
+        below = torch.where(pair[:, None] == 0, cube_pos[PAIRS[0][1]], cube_pos[PAIRS[1][1]])
+        picked_quat = torch.where(pair[:, None] == 0, cube_quat[PAIRS[0][0]], cube_quat[PAIRS[1][0]])
+        # before grasping, follow the picked cube's yaw folded into +-45 degrees (a cube looks the same
+        # every quarter turn)
+        yaw = 2 * torch.atan2(yaw_quat(picked_quat)[:, 3], yaw_quat(picked_quat)[:, 0])
+        folded = torch.remainder(yaw + math.pi / 4, math.pi / 2) - math.pi / 4
+        self.grasp_yaw = torch.where(phase < 2, folded, self.grasp_yaw)
+
+        up = torch.zeros_like(picked)
+        up[:, 2] = 1.0
+        on_below = below + up * (self.cube_size + 0.004)
+        targets = torch.stack(
+            [
+                picked + up * 0.1,
+                picked,
+                picked,
+                picked + up * 0.12,
+                on_below + up * 0.06,
+                on_below,
+                on_below,
+                on_below + up * 0.1,
+            ],
+            dim=1,
+        )
+        tip = targets[torch.arange(self.num_envs, device=self.device), phase]
+        hand = tip + up * TCP_OFFSET
+        zeros = torch.zeros_like(self.grasp_yaw)
+        quat = quat_mul(quat_from_euler_xyz(zeros, zeros, self.grasp_yaw), self.down.expand(self.num_envs, 4))
+        gripper = self.gripper[state].unsqueeze(-1)
+        return torch.cat([hand, quat, gripper], dim=-1)
+
+    def advance(self) -> None:
+        """Count one step; move on where the state has lasted its steps."""
+        running = ~self.done
+        self.waited += running.long()
+        finished = running & (self.waited >= self.steps[self.state.clamp(max=len(self.steps) - 1)])
+        self.state += finished.long()
+        self.waited[finished] = 0
+
+
+def run(env, steps: int) -> tuple[StackCubesSm, dict[str, int]]:
+    """Step ``env`` (the IK-Abs stack task) ``steps`` times under the machine; returns it and the
+    criterion's counts (episodes, and those that ended stacked)."""
+    from simlab.tasks.manager_based.manipulation.stack.config.franka.stack_joint_pos_env_cfg import CUBE_SIZE
+    from simlab.tasks.utils.criteria import criterion_for
+
+    on_step, counts = criterion_for(TASK).make_hook()
+    machine = StackCubesSm(env.num_envs, CUBE_SIZE, env.device)
+    origins = env.scene.env_origins
+    for _ in range(steps):
+        names = ("cube_1", "cube_2", "cube_3")
+        positions = {n: env.scene[n].data.root_pos_w - origins for n in names}
+        quats = {n: env.scene[n].data.root_quat_w for n in names}
+        actions = machine.compute(positions, quats)
+        obs, _, terminated, truncated, _ = env.step(actions)
+        on_step(env, obs, actions)
+        machine.advance()
+        ended = (terminated | truncated).nonzero().flatten()
+        if len(ended):
+            machine.reset_idx(ended)
+    return machine, counts
+
+
+def main() -> None:
+    from simlab.app import AppLauncher
+
+    parser = argparse.ArgumentParser(description="Stack the cubes with a scripted state machine.")
+    parser.add_argument("--num_envs", type=int, default=8, help="Number of environments to simulate.")
+    parser.add_argument("--steps", type=int, default=240, help="Env steps to run (0.05 s each).")
+    parser.add_argument("--seed", type=int, default=0, help="Seed of the environment.")
+    AppLauncher.add_app_launcher_args(parser)
+    args = parser.parse_args()
+    AppLauncher(args)
+
+    import gymnasium as gym
+
+    import simlab.tasks  # noqa: F401 - registers the tasks
+    from simlab.tasks.utils.criteria import criterion_for
+    from simlab.tasks.utils.parse_cfg import parse_env_cfg
+
+    cfg = parse_env_cfg(TASK, device=args.device, num_envs=args.num_envs)
+    cfg.seed = args.seed
+    env = gym.make(TASK, cfg=cfg).unwrapped
+    env.reset()
+    with torch.inference_mode():
+        _, counts = run(env, args.steps)
+    score, passed = criterion_for(TASK).judge({}, counts)
+    print(
+        f"[simlab] {counts['success']} of {counts['episodes']} finished episodes ended stacked ({score:.0%});"
+        f" the criterion {'passes' if passed else 'fails'}"
+    )
+    env.close()
+
+
+if __name__ == "__main__":
+    main()
