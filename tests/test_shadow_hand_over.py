@@ -3,7 +3,7 @@
 The task builds with Isaac Lab's spaces (157 observations and 20 actions per hand, a 290-value state)
 and steps with finite values; both agents earn ``2 exp(-20 |ball - goal|)``; a ball brought to the
 goal counts as caught when its episode ends with the ball up, and not when it falls; the solve
-criterion counts the caught share of finished episodes; IPPO and MAPPO train one iteration. Isaac
+criterion counts the caught share of finished episodes; IPPO, MAPPO and rl_games train one iteration. Isaac
 Lab's own handover files (``tests/ported/isaaclab_shadow_hand_over``, ported by the import mapping
 alone) observe and earn as simlab's task under the same seed and actions.
 """
@@ -106,14 +106,16 @@ def test_agent_configs_follow_isaac_lab():
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("algorithm", ["IPPO", "MAPPO"])
-def test_one_training_iteration(tmp_path, algorithm):
+@pytest.mark.parametrize(("library", "algorithm"), [("skrl", "IPPO"), ("skrl", "MAPPO"), ("rl_games", None)])
+def test_one_training_iteration(tmp_path, library, algorithm):
+    """IPPO and MAPPO train the two agents; rl_games trains them as one (Isaac Lab's conversion)."""
     from simlab.cli.main import main
 
-    argv = ["train", "--task", TASK, "--library", "skrl", "--algorithm", algorithm, "--num_envs", "4"]
-    argv += ["--device", "cpu", "--headless", "--max_iterations", "1", "--log_root", str(tmp_path / "logs")]
+    argv = ["train", "--task", TASK, "--library", library, "--num_envs", "8", "--device", "cpu", "--headless"]
+    argv += ["--max_iterations", "1", "--log_root", str(tmp_path / "logs")]
+    argv += ["--algorithm", algorithm] if algorithm else ["agent.params.config.minibatch_size=64"]
     assert main(argv) == 0
-    assert list((tmp_path / "logs" / "skrl").glob("*/*/checkpoints"))
+    assert list((tmp_path / "logs" / library).glob("*/*/"))
 
 
 def test_only_import_lines_of_the_ported_files_name_simlab():
