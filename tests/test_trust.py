@@ -292,6 +292,22 @@ def test_allow_module_lets_an_override_name_that_module(tmp_path, capsys, monkey
     assert _main(tmp_path, *argv, "--allow_module", "trusted_rewards") == 0
 
 
+def test_bench_solve_refuses_another_module_and_takes_allow_module(tmp_path, capsys):
+    from simlab.benchmarks.solve import time_to_policy
+
+    bench = ["bench", "solve", "--tasks", TASK, "--device", "cpu", "--num_envs", "4", "--max_iterations", "1"]
+    bench += ["--log_root", str(tmp_path / "logs")]
+    assert main([*bench, "--overrides", "env.rewards.alive.func=pydoc:pipepager"]) != 0
+    assert "--allow_module pydoc" in capsys.readouterr().err
+    # the flag reaches the training it runs: the module is allowed there (then os.getcwd is no reward term)
+    with pytest.raises(Exception) as allowed:
+        time_to_policy(
+            TASK, num_envs=4, max_iterations=1, log_root=str(tmp_path / "logs"),
+            overrides=["env.rewards.alive.func=os:getcwd"], allow_module=["os"],
+        )  # fmt: skip
+    assert "--allow_module" not in str(allowed.value)
+
+
 def test_isaac_lab_scripts_pass_the_trust_flags_on():
     from simlab.cli.isaaclab_scripts import build_script_parser, script_to_simlab_argv
 

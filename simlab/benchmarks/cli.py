@@ -226,6 +226,13 @@ def main(argv: list[str] | None = None) -> int:
         metavar="KEY=VALUE",
         help="env.* / agent.* overrides as `simlab train` takes them (the evaluation env gets the env.* ones)",
     )
+    solve.add_argument(
+        "--allow_module",
+        action="append",
+        default=[],
+        metavar="MODULE",
+        help="let 'module:name' values in --overrides name MODULE's functions (beside simlab's and the task's)",
+    )
     parser.add_argument(
         "--cuda_graph",
         choices=["on", "off", "both"],

@@ -154,6 +154,7 @@ def time_to_policy(
     log_root: str = "logs",
     overrides: list[str] | None = None,
     resume: str | None = None,
+    allow_module: list[str] | None = None,
 ) -> dict[str, Any]:
     """Train ``task`` until a checkpoint solves it (or ``max_iterations``); one result row.
 
@@ -178,6 +179,8 @@ def time_to_policy(
         argv += ["--max_iterations", str(max_iterations)]
     if resume is not None:
         argv += ["--checkpoint", resume]
+    for module in allow_module or []:
+        argv += ["--allow_module", module]
     args = build_parser().parse_args(argv)
     overrides = list(overrides or [])
     if eval_every is not None:

@@ -121,6 +121,7 @@ def solve(
             device=device,
             num_envs=n,
             overrides=[*a.overrides, *_fast_path_overrides(fast_update)],
+            allow_module=a.allow_module,
             **{flag: getattr(a, flag) for flag in SOLVE_FLAGS},
         ),
     )
@@ -155,6 +156,8 @@ def _solve_in_child(task: str, num_envs: int | None, device: str, a) -> dict:
         argv += ["--ppo_update", a.ppo_update]
         if a.overrides:
             argv += ["--overrides", *a.overrides]
+        for module in a.allow_module:
+            argv += ["--allow_module", module]
         proc = subprocess.run(argv, env=_child_environment(a))
         if proc.returncode != 0 or not os.path.isfile(out):
             return {"task": task, "device": device, "num_envs": num_envs, "error": f"exit code {proc.returncode}"}
