@@ -46,7 +46,7 @@ UNITREE_GO2_CFG = ArticulationCfg(
 """Unitree Go2 with DC-motor legs (Isaac Lab's gains and limits: kp 25, kd 0.5, 23.5 N m, 30 rad/s)."""
 
 
-# Isaac Lab's quadrupeds below Go2 share its default pose.
+# Isaac Lab starts Go1 and A1 in the default pose of Go2 (above).
 _UNITREE_QUADRUPED_POSE = {
     ".*L_hip_joint": 0.1,
     ".*R_hip_joint": -0.1,
