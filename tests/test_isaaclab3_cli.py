@@ -137,3 +137,35 @@ def test_the_camera_cartpole_trains_with_a_preset(tmp_path, capsys):
     assert "[simlab] presets: depth" in capsys.readouterr().out
     params = next((tmp_path / "rsl_rl").rglob("env.yaml")).read_text()
     assert "- depth" in params  # the depth variant's camera
+
+
+def test_isaaclab3_unified_scripts(tmp_path):
+    """Isaac Lab 3.0's scripts/reinforcement_learning/train.py and play.py (its `isaaclab train/play`)."""
+    import subprocess
+    import sys
+
+    scripts = os.path.join(
+        os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "scripts", "reinforcement_learning"
+    )
+    common = ["--rl_library", "rsl_rl", "--task", "Isaac-Cartpole", *CPU, "--log_root", str(tmp_path)]
+    train = [sys.executable, os.path.join(scripts, "train.py"), *common, "--max_iterations", "1", "physics=mujoco"]
+    done = subprocess.run(train, capture_output=True, text=True, timeout=300, cwd=tmp_path)
+    assert done.returncode == 0, done.stdout[-2000:] + done.stderr[-2000:]
+    assert "[simlab] Task Isaac-Cartpole -> simlab/Cartpole-v0" in done.stdout
+    play = [sys.executable, os.path.join(scripts, "play.py"), *common, "--checkpoint", "latest", "--steps", "2"]
+    done = subprocess.run([*play, "--no_export"], capture_output=True, text=True, timeout=300, cwd=tmp_path)
+    assert done.returncode == 0, done.stdout[-2000:] + done.stderr[-2000:]
+    refused = [*train[:-1], "physics=physx"]
+    refused = subprocess.run(refused, capture_output=True, text=True, timeout=300, cwd=tmp_path)
+    assert refused.returncode == 2 and refused.stderr.strip().count("\n") == 0
+    assert "physics=physx: simlab simulates with MuJoCo" in refused.stderr
+
+
+def test_isaaclab3_app_launcher_name():
+    import argparse as ap
+
+    from simlab.app import add_launcher_args
+
+    parser = ap.ArgumentParser()
+    add_launcher_args(parser)
+    assert parser.parse_args(["--device", "cpu"]).device == "cpu"
