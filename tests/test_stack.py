@@ -50,7 +50,7 @@ def test_task_builds_and_steps(task):
 
 def test_cube_layouts_keep_the_cubes_apart_within_the_range():
     ranges = {"x": (0.4, 0.6), "y": (-0.1, 0.1), "z": (0.0234, 0.0234), "yaw": (-1.0, 1, 0)}
-    poses = sample_object_poses(500, 3, 0.1, ranges, 64, "cpu")
+    poses = sample_object_poses(2000, 3, 0.1, ranges, 128, "cpu")
     positions = poses[..., :3]
     gaps = torch.cdist(positions, positions) + torch.eye(3) * 1.0
     assert (gaps > 0.1).all()

@@ -2,10 +2,11 @@
 pose, a Gaussian jitter of it, and cube poses drawn apart from each other.
 
 All three take an env mask (``takes_env_mask``): they draw for every env and write the rows the mask
-selects, so a reset inside the step has fixed shapes and no host read. Isaac Lab draws the cubes one by
-one with Python's ``random`` and retries each until it is far enough from the ones placed; here every
-env draws ``max_sample_tries`` whole layouts at once and keeps its first one whose cubes are all
-``min_separation`` apart (the last one if none is, as Isaac Lab keeps its last try).
+selects, so a reset inside the step has fixed shapes and no host read. The cubes are placed as Isaac
+Lab places them, one by one, each retried until it is far enough from those placed, but with a fixed
+number of draws for all envs at once (``max_sample_tries``, 128 here where Isaac Lab loops up to 5000
+per env). With the stack task's ranges, none of 200,000 layouts kept two cubes closer than the 10 cm
+asked; with 64 draws 41 did, 18 of them closer than a cube's edge (measured on the CPU).
 """
 
 from __future__ import annotations
@@ -89,23 +90,27 @@ def sample_object_poses(
     max_sample_tries: int,
     device: torch.device | str,
 ) -> torch.Tensor:
-    """(num_envs, num_objects, 6) poses (x, y, z, roll, pitch, yaw), each env's objects at least
-    ``min_separation`` [m] apart where one of its ``max_sample_tries`` layouts achieves it."""
+    """(num_envs, num_objects, 6) poses (x, y, z, roll, pitch, yaw) drawn one object after the other:
+    each the first of ``max_sample_tries`` draws at least ``min_separation`` [m] from the objects
+    already placed (the last draw where none is), as Isaac Lab's sampler, for all envs at once."""
     unknown = [key for key in pose_range if key not in _POSE_KEYS]
     if unknown:
         raise ValueError(f"pose_range has unknown key(s) {unknown}; allowed: {list(_POSE_KEYS)}")
     # a range's first two numbers are its bounds (Isaac Lab's yaw range is written (-1.0, 1, 0))
     bounds = math_utils.constant_tensor([tuple(pose_range.get(k, (0.0, 0.0)))[:2] for k in _POSE_KEYS], device)
-    shape = (num_envs, max_sample_tries, num_objects, 6)
-    layouts = bounds[:, 0] + (bounds[:, 1] - bounds[:, 0]) * torch.rand(shape, device=device)
-    positions = layouts[..., :3]
-    distances = torch.linalg.vector_norm(positions[..., :, None, :] - positions[..., None, :, :], dim=-1)
-    apart = distances > min_separation
-    apart = apart | torch.eye(num_objects, dtype=torch.bool, device=device)  # an object from itself
-    valid = apart.flatten(2).all(dim=2)  # (num_envs, tries)
+    rows = torch.arange(num_envs, device=device)
     tries = torch.arange(max_sample_tries, device=device)
-    first = torch.where(valid, tries, max_sample_tries - 1).min(dim=1).values
-    return layouts[torch.arange(num_envs, device=device), first]
+    placed: list[torch.Tensor] = []
+    for _ in range(num_objects):
+        draws = bounds[:, 0] + (bounds[:, 1] - bounds[:, 0]) * torch.rand(num_envs, max_sample_tries, 6, device=device)
+        if not placed:
+            placed.append(draws[:, 0])
+            continue
+        others = torch.stack(placed, dim=1)[:, None, :, :3]  # (num_envs, 1, placed, 3)
+        apart = (torch.linalg.vector_norm(draws[:, :, None, :3] - others, dim=-1) > min_separation).all(dim=-1)
+        first = torch.where(apart, tries, max_sample_tries - 1).min(dim=1).values
+        placed.append(draws[rows, first])
+    return torch.stack(placed, dim=1)
 
 
 @takes_env_mask
@@ -115,7 +120,7 @@ def randomize_object_pose(
     asset_cfgs: list[SceneEntityCfg],
     min_separation: float = 0.0,
     pose_range: dict[str, tuple[float, float]] | None = None,
-    max_sample_tries: int = 64,
+    max_sample_tries: int = 128,
 ) -> None:
     """Place the objects of ``asset_cfgs`` at poses drawn from ``pose_range`` (env frame), at least
     ``min_separation`` [m] apart, at rest."""
