@@ -55,7 +55,8 @@ def test_version_less_ids_take_the_highest_registered_version():
         (["renderer=isaacsim_rtx_renderer"], "use renderer=opengl (MuJoCo's OpenGL renderer) or renderer=newton"),
         (["presets=ovrtx_renderer"], "presets=ovrtx_renderer: simlab renders with MuJoCo"),
         (["--viz", "rerun"], "--viz rerun: simlab has no Rerun recorder: use --viz web"),
-        (["--viz", "kit,newton"], "--viz kit: Isaac Sim's Kit viewport needs Isaac Sim"),
+        (["--viz", "newton_rtx"], "--viz newton_rtx: simlab has no path-traced viewer"),
+        (["--viz", "kit,viser"], "simlab opens one live viewer"),
         (["--viz", "newton_gl,viser"], "simlab opens one live viewer"),
         (["--visualizer", "unknown"], "--viz unknown is not a visualizer simlab knows"),
         (["presets=rgb"], "presets=rgb: not a preset of simlab/Cartpole-v0 (it registers no presets)"),
@@ -80,7 +81,15 @@ def test_play_checkpoint_best_is_refused(capsys):
 
 @pytest.mark.parametrize(
     ("value", "kind"),
-    [("newton_gl", "native"), ("newton", "native"), ("viser", "web"), ("none", "none"), ("web", "web")],
+    [
+        ("newton_gl", "native"),
+        ("newton", "native"),
+        ("kit", "native"),
+        ("kit,newton_gl", "native"),
+        ("viser", "web"),
+        ("none", "none"),
+        ("web", "web"),
+    ],
 )
 def test_visualizer_names_map_to_simlab_viewers(value, kind):
     args = argparse.Namespace(visualizer=value, viewer="auto")

@@ -5,7 +5,8 @@ physics=newton_mjwarp presets=rgb``. ``simlab train`` / ``play`` take the same w
 
 * ``--rl_library`` is ``--library`` (an argparse alias, in :mod:`simlab.cli.main`);
 * ``--viz`` / ``--visualizer`` name a live viewer: simlab's ``native``, ``web``, ``none``, or 3.0's
-  backend names where simlab has the same thing (:data:`VISUALIZERS`); the others are refused;
+  backend names where simlab has the same thing (:func:`simlab.viewer.choice.viewer_for_visualizer`);
+  the others are refused;
 * ``physics=``, ``renderer=`` and ``presets=`` are Hydra selectors (words without a ``env.`` /
   ``agent.`` prefix): the physics engine, the offscreen renderer, and the task's registered variants
   (``kwargs["presets"]``, :func:`simlab.tasks.utils.parse_cfg.registry_kwargs`). ``presets=`` may
@@ -22,37 +23,13 @@ import contextlib
 import os
 from collections.abc import Iterator
 
+from simlab.sim.backend_names import FOREIGN_PHYSICS, PHYSICS, engine_for
 from simlab.utils.errors import ConfigError
 
 __all__ = ["SELECTORS", "apply_selectors", "apply_visualizer", "renderer_choice", "split_selectors"]
 
 SELECTORS = ("physics", "renderer", "presets")
 
-VISUALIZERS = {
-    "native": "native",
-    "web": "web",
-    "none": "none",
-    "newton_gl": "native",  # Newton's OpenGL window -> MuJoCo's window
-    "newton": "native",  # 3.0's deprecated alias of newton_gl
-    "viser": "web",  # a browser viewer (simlab's web viewer is built on viser too)
-}
-REFUSED_VISUALIZERS = {
-    "rerun": "simlab has no Rerun recorder: use --viz web (a live browser viewer) or --video (MP4 clips)",
-    "kit": "Isaac Sim's Kit viewport needs Isaac Sim: use --viz native (MuJoCo's window) or --viz web",
-    "omniverse": "Isaac Sim's Kit viewport needs Isaac Sim: use --viz native (MuJoCo's window) or --viz web",
-    "newton_rtx": "simlab has no path-traced viewer: use --viz native (MuJoCo's window) or --viz web",
-}
-
-PHYSICS = {  # 3.0's name -> SimulationCfg.engine
-    "mujoco": "mujoco",
-    "mujoco_warp": "mujoco_warp",
-    "mjwarp": "mujoco_warp",
-    "newton_mjwarp": "mujoco_warp",
-}
-PHYSICS_ADVICE = (
-    "simlab simulates with MuJoCo: use physics=mujoco (MuJoCo C on the CPU) or physics=newton_mjwarp "
-    "(MuJoCo Warp, on the GPU)"
-)
 RENDERERS = {  # 3.0's name -> SIMLAB_RENDERER
     "opengl": "opengl",
     "mujoco": "opengl",
@@ -64,8 +41,7 @@ RENDERER_ADVICE = (
     "simlab renders with MuJoCo: use renderer=opengl (MuJoCo's OpenGL renderer) or renderer=newton_renderer "
     "(MuJoCo Warp's ray tracer, for simulations on the GPU)"
 )
-# backend names of Isaac Lab 3.0 that simlab knows and refuses (anything else in presets= is a task preset)
-FOREIGN_PHYSICS = ("physx", "isaacsim_physx", "ovphysx", "newton", "newton_xpbd", "newton_featherstone")
+# renderer names of Isaac Lab 3.0 that simlab knows and refuses (anything else in presets= is a task preset)
 FOREIGN_RENDERERS = ("isaacsim_rtx_renderer", "ovrtx_renderer", "rtx")
 
 
@@ -94,9 +70,7 @@ def _names(key: str, value: str) -> list[str]:
 
 
 def _physics(name: str, args: argparse.Namespace) -> None:
-    if name not in PHYSICS:
-        raise ConfigError(f"physics={name}: {PHYSICS_ADVICE}.")
-    engine = PHYSICS[name]
+    engine = engine_for(name)
     if engine == "mujoco":
         if (args.device or "cpu").startswith("cuda"):
             raise ConfigError(
@@ -142,20 +116,12 @@ def apply_selectors(args: argparse.Namespace, selectors: dict[str, str]) -> None
 
 def apply_visualizer(args: argparse.Namespace) -> None:
     """Turn ``--viz`` / ``--visualizer`` (comma-separated, 3.0's form) into simlab's ``--viewer``."""
+    from simlab.viewer.choice import viewer_for_visualizer
+
     value = getattr(args, "visualizer", None)
     if value is None:
         return
-    kinds = []
-    for name in _names("--viz", value):
-        if name in REFUSED_VISUALIZERS:
-            raise ConfigError(f"--viz {name}: {REFUSED_VISUALIZERS[name]}.")
-        if name not in VISUALIZERS:
-            allowed = ", ".join([*VISUALIZERS, *REFUSED_VISUALIZERS])
-            raise ConfigError(f"--viz {name} is not a visualizer simlab knows; allowed: {allowed}.")
-        kinds.append(VISUALIZERS[name])
-    if len(set(kinds)) > 1:
-        raise ConfigError(f"--viz {value}: simlab opens one live viewer; name one of native, web, none.")
-    kind = kinds[0]
+    kind = viewer_for_visualizer(value)
     if args.viewer not in ("auto", kind):
         raise ConfigError(f"--viz {value} and --viewer {args.viewer} ask for different viewers: give one of them.")
     args.viewer = kind

@@ -13,6 +13,7 @@ __all__ = [
     "display_available",
     "resolve_viewer_kind",
     "set_app_viewer",
+    "viewer_for_visualizer",
 ]
 
 VIEWER_KINDS = ("auto", "native", "web", "none")
@@ -61,3 +62,40 @@ def app_viewer() -> tuple[str, int, str]:
     """The resolved kind, port and host the app asked for (``auto`` until an ``AppLauncher`` says)."""
     kind = resolve_viewer_kind(str(_app_choice["kind"]))
     return kind, int(_app_choice["port"]), str(_app_choice["host"])  # type: ignore[call-overload]
+
+
+# Isaac Lab 3.0's visualizer names (--viz / --visualizer) -> simlab's viewer kinds
+VISUALIZERS = {
+    "native": "native",
+    "web": "web",
+    "none": "none",
+    "newton_gl": "native",  # Newton's OpenGL window -> MuJoCo's window
+    "newton": "native",  # 3.0's deprecated alias of newton_gl
+    "kit": "native",  # Isaac Sim's desktop viewport -> MuJoCo's window
+    "viser": "web",  # a browser viewer (simlab's web viewer is built on viser too)
+}
+REFUSED_VISUALIZERS = {
+    "rerun": "simlab has no Rerun recorder: use --viz web (a live browser viewer) or --video (MP4 clips)",
+    "newton_rtx": "simlab has no path-traced viewer: use --viz native (MuJoCo's window) or --viz web",
+}
+
+
+def viewer_for_visualizer(value: str | list[str] | tuple[str, ...]) -> str:
+    """simlab's viewer kind (``native``, ``web``, ``none``) for Isaac Lab 3.0's ``--viz`` value: names
+    separated by commas (or a list); a name simlab has no counterpart for is a ConfigError saying what
+    to use, and so are two names for different viewers (simlab opens one)."""
+    from simlab.utils.errors import ConfigError
+
+    text = value if isinstance(value, str) else ",".join(value)
+    names = [name.strip().lower() for name in text.split(",")]
+    kinds = []
+    for name in names:
+        if name in REFUSED_VISUALIZERS:
+            raise ConfigError(f"--viz {name}: {REFUSED_VISUALIZERS[name]}.")
+        if name not in VISUALIZERS:
+            allowed = ", ".join([*VISUALIZERS, *REFUSED_VISUALIZERS])
+            raise ConfigError(f"--viz {name or text} is not a visualizer simlab knows; allowed: {allowed}.")
+        kinds.append(VISUALIZERS[name])
+    if len(set(kinds)) > 1:
+        raise ConfigError(f"--viz {text}: simlab opens one live viewer; name one of native, web, none.")
+    return kinds[0]
