@@ -204,14 +204,23 @@ def test_a_stack_of_three_ends_the_episode_as_a_success_and_the_criterion_counts
 @pytest.mark.slow
 def test_the_scripted_stacking_state_machine_passes_the_criterion():
     """scripts/environments/state_machine/stack_cube_sm.py stacks all three cubes (8 envs, one episode
-    each: about 8 s of CPU)."""
+    each: about 8 s of CPU), the subtask signals of env 0 turning true in Isaac Lab's order."""
     script = load_script(Path(__file__).parents[1] / "scripts/environments/state_machine/stack_cube_sm.py", "stack_sm")
     try:
         env = make(script.TASK, num_envs=8).unwrapped
         env.reset()
-        _, counts = script.run(env, 200)
+        first_true, step = {}, iter(range(10**6))
+
+        def watch(obs):
+            now = next(step)
+            for name in SUBTASKS:
+                if bool(obs["subtask_terms"][name][0]):
+                    first_true.setdefault(name, now)
+
+        _, counts = script.run(env, 200, watch)
         env.close()
     finally:
         sys.modules.pop("stack_sm", None)
     assert counts["episodes"] == 8
     assert criterion_for(script.TASK).judge({}, counts) == (1.0, True)
+    assert first_true["grasp_1"] < first_true["stack_1"] < first_true["grasp_2"], first_true

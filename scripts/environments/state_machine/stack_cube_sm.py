@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import argparse
 import math
+from collections.abc import Callable
 
 import torch
 
@@ -105,9 +106,9 @@ class StackCubesSm:
         self.waited[finished] = 0
 
 
-def run(env, steps: int) -> tuple[StackCubesSm, dict[str, int]]:
+def run(env, steps: int, watch: Callable[[dict], None] | None = None) -> tuple[StackCubesSm, dict[str, int]]:
     """Step ``env`` (the IK-Abs stack task) ``steps`` times under the machine; returns it and the
-    criterion's counts (episodes, and those that ended stacked)."""
+    criterion's counts (episodes, and those that ended stacked). ``watch`` sees each step's observations."""
     from simlab.tasks.manager_based.manipulation.stack.config.franka.stack_joint_pos_env_cfg import CUBE_SIZE
     from simlab.tasks.utils.criteria import criterion_for
 
@@ -121,6 +122,8 @@ def run(env, steps: int) -> tuple[StackCubesSm, dict[str, int]]:
         actions = machine.compute(positions, quats)
         obs, _, terminated, truncated, _ = env.step(actions)
         on_step(env, obs, actions)
+        if watch is not None:
+            watch(obs)
         machine.advance()
         ended = (terminated | truncated).nonzero().flatten()
         if len(ended):
