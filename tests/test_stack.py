@@ -127,7 +127,7 @@ def test_a_scripted_state_machine_stacks_cube_2_on_cube_1_and_the_subtask_signal
     env.close()
 
 
-def test_simlab_record_stores_the_subtask_signals(tmp_path, capsys):
+def test_simlab_record_stores_the_subtask_signals_and_the_demo_replays(tmp_path, capsys):
     from simlab.cli.main import main
 
     dataset = tmp_path / "stack.hdf5"
@@ -142,6 +142,8 @@ def test_simlab_record_stores_the_subtask_signals(tmp_path, capsys):
         assert sorted(signals) == sorted(SUBTASKS)
         assert all(signals[name].shape == (steps,) for name in SUBTASKS)
         assert "cube_positions" in demo["obs"] and demo["obs/cube_positions"].shape == (steps, 9)
+    replay = ["replay", "--task", "simlab/Stack-Cube-Franka-IK-Rel-v0", "--device", "cpu", "--headless"]
+    assert main([*replay, "--dataset_file", str(dataset), "--validate_states"]) == 0  # bit-identical
 
 
 def test_isaac_labs_stack_config_runs_after_the_import_mapping():
