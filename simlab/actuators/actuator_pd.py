@@ -9,12 +9,15 @@ from typing import TYPE_CHECKING, ClassVar
 
 import torch
 
+from simlab.utils.buffers import DelayBuffer
+from simlab.utils.env_mask import env_mask
 from simlab.utils.errors import ConfigError
+from simlab.utils.interpolation import LinearInterpolation
 from simlab.utils.string import resolve_matching_names_values
 from simlab.utils.types import ArticulationActions
 
 if TYPE_CHECKING:
-    from .actuator_cfg import ActuatorBaseCfg
+    from .actuator_cfg import ActuatorBaseCfg, DelayedPDActuatorCfg, RemotizedPDActuatorCfg
 
 
 class ActuatorBase:
@@ -196,6 +199,97 @@ class DCMotor(IdealPDActuator):
         max_effort = torch.minimum(torch.rsub(speed_ratio, saturation, alpha=saturation), self.effort_limit)
         min_effort = torch.maximum(torch.rsub(speed_ratio, -saturation, alpha=saturation), -self.effort_limit)
         return torch.clamp(effort, min=min_effort, max=max_effort, out=out)
+
+
+class DelayedPDActuator(IdealPDActuator):
+    """An ideal PD whose commands arrive ``d`` physics steps late: the torque at step ``k`` is the PD
+    law on the targets sent at step ``k - d`` and the joint state of step ``k`` (Isaac Lab's model).
+
+    ``d`` is drawn per env, uniformly in ``[min_delay, max_delay]``, at construction and at every
+    reset of that env; after a reset an env gets its oldest command since the reset until it has
+    ``d`` of them, never one from before. The delay buffers (one per target kind, sharing the lags)
+    keep their state on the device and reset by mask, so the model runs inside a graphed step.
+    """
+
+    cfg: DelayedPDActuatorCfg
+
+    def __init__(self, cfg, joint_names, joint_ids, num_envs, device, **defaults):
+        super().__init__(cfg, joint_names, joint_ids, num_envs, device, **defaults)
+        low, high = cfg.min_delay, cfg.max_delay
+        if not all(type(v) is int and v >= 0 for v in (low, high)) or low > high:
+            raise ConfigError(
+                f"{type(cfg).__name__} for {joint_names}: min_delay={low!r} and max_delay={high!r} must be"
+                " integers (physics steps) with 0 <= min_delay <= max_delay."
+            )
+        self.positions_delay_buffer = DelayBuffer(high, num_envs, device=device)
+        self.velocities_delay_buffer = DelayBuffer(high, num_envs, device=device)
+        self.efforts_delay_buffer = DelayBuffer(high, num_envs, device=device)
+        self._no_effort = torch.zeros_like(self.computed_effort)
+        self.reset(None)
+
+    def reset(self, env_ids) -> None:
+        mask = env_mask(env_ids, self.num_envs, self.device)
+        # a lag drawn for every env, kept where the mask is set: no host read, fixed shapes
+        lags = torch.randint(
+            self.cfg.min_delay, self.cfg.max_delay + 1, (self.num_envs,), dtype=torch.int, device=self.device
+        )
+        for buffer in (self.positions_delay_buffer, self.velocities_delay_buffer, self.efforts_delay_buffer):
+            buffer.set_time_lag(lags, batch_mask=mask)
+            buffer.reset(batch_mask=mask)
+
+    def compute(self, control_action, joint_pos, joint_vel):
+        efforts = control_action.joint_efforts if control_action.joint_efforts is not None else self._no_effort
+        delayed = ArticulationActions(
+            joint_positions=self.positions_delay_buffer.compute(control_action.joint_positions),
+            joint_velocities=self.velocities_delay_buffer.compute(control_action.joint_velocities),
+            joint_efforts=self.efforts_delay_buffer.compute(efforts),
+            joint_indices=control_action.joint_indices,
+        )
+        return super().compute(delayed, joint_pos, joint_vel)
+
+
+class RemotizedPDActuator(DelayedPDActuator):
+    """A delayed PD whose torque limit depends on the joint angle: joints driven through a linkage,
+    whose transmission ratio, and so the torque the motor can produce at the joint, varies with angle.
+
+    ``joint_parameter_lookup`` rows are ``(angle [rad], transmission ratio, max torque [N m])`` with
+    ascending angles; the limit at the current joint angle is interpolated linearly between rows and
+    held at the end rows' values outside them (Isaac Lab's model: one table for the whole group, the
+    ratio column kept for reference). The model has no other effort or velocity limit.
+    """
+
+    cfg: RemotizedPDActuatorCfg
+
+    def __init__(self, cfg, joint_names, joint_ids, num_envs, device, **defaults):
+        # as in Isaac Lab: the table is the only limit (on a copy: the user's config is left alone)
+        cfg = cfg.replace(effort_limit=torch.inf, velocity_limit=torch.inf)
+        super().__init__(cfg, joint_names, joint_ids, num_envs, device, **defaults)
+        table = torch.as_tensor(cfg.joint_parameter_lookup, dtype=torch.float32)
+        if table.dim() != 2 or table.shape[1] != 3 or table.shape[0] < 1 or torch.any(table[1:, 0] < table[:-1, 0]):
+            raise ConfigError(
+                f"RemotizedPDActuatorCfg for {joint_names}: joint_parameter_lookup must be rows of (angle,"
+                f" transmission ratio, max torque) with ascending angles, got shape {tuple(table.shape)}."
+            )
+        self._joint_parameter_lookup = table.to(device)
+        self._torque_limit = LinearInterpolation(self.angle_samples, self.max_torque_samples, device=device)
+
+    @property
+    def angle_samples(self) -> torch.Tensor:
+        return self._joint_parameter_lookup[:, 0]
+
+    @property
+    def transmission_ratio_samples(self) -> torch.Tensor:
+        return self._joint_parameter_lookup[:, 1]
+
+    @property
+    def max_torque_samples(self) -> torch.Tensor:
+        return self._joint_parameter_lookup[:, 2]
+
+    def compute(self, control_action, joint_pos, joint_vel):
+        action = super().compute(control_action, joint_pos, joint_vel)
+        limit = self._torque_limit.compute(joint_pos)
+        torch.clamp(self.applied_effort, min=-limit, max=limit, out=self.applied_effort)
+        return action
 
 
 def _first_set(*values):

@@ -3,8 +3,9 @@
 import os
 
 import simlab.sim as sim_utils
-from simlab.actuators import DCMotorCfg
+from simlab.actuators import ActuatorNetLSTMCfg, DCMotorCfg
 from simlab.assets import ArticulationCfg
+from simlab.utils.assets import ISAACLAB_NUCLEUS_DIR
 
 ASSETS_DIR = os.path.join(os.path.dirname(__file__), "assets")
 
@@ -36,6 +37,18 @@ Damping 11 N m s/rad rather than 5: with the joints' armature (0.05 kg m^2) the 
 kd 5 has a damping ratio of 1.8; kp 200 with kd 5 would have 0.8, and kd 11 has 1.7. Flat-ground
 policies trained with kd 5 levelled off at a velocity error of 0.22-0.26 m/s (their bases swaying
 within each step); with kd 11, 0.116 m/s after 250 iterations (docs/locomotion.md)."""
+
+ANYDRIVE_3_LSTM_ACTUATOR_CFG = ActuatorNetLSTMCfg(
+    joint_names_expr=[".*HAA", ".*HFE", ".*KFE"],
+    network_file=f"{ISAACLAB_NUCLEUS_DIR}/ActuatorNets/ANYbotics/anydrive_3_lstm_jit.pt",
+    saturation_effort=120.0,
+    effort_limit=80.0,
+    velocity_limit=7.5,
+)
+"""Isaac Lab's ANYdrive 3.0 LSTM actuator config (its limits). Its network path names simlab's
+``simlab/actuators/nets/anydrive_3_lstm.pt``: an LSTM fitted here to ``ANYDRIVE_3_STIFF_ACTUATOR_CFG``
+with a 2-physics-step delay (docs/actuators.md), not the network ANYbotics trained on the real drives.
+The robot configs keep the DC-motor drive their shipped policies were trained with."""
 
 
 ANYMAL_C_CFG = ArticulationCfg(

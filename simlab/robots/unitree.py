@@ -6,8 +6,9 @@ import math
 import os
 
 import simlab.sim as sim_utils
-from simlab.actuators import DCMotorCfg, ImplicitActuatorCfg
+from simlab.actuators import ActuatorNetMLPCfg, DCMotorCfg, ImplicitActuatorCfg
 from simlab.assets import ArticulationCfg
+from simlab.utils.assets import ISAACLAB_NUCLEUS_DIR
 
 ASSETS_DIR = os.path.join(os.path.dirname(__file__), "assets")
 
@@ -67,6 +68,22 @@ GO1_DC_ACTUATOR_CFG = DCMotorCfg(
 """Go1's motors as a DC motor: the limits of Isaac Lab's ``GO1_ACTUATOR_CFG`` (23.7 N m, 30 rad/s, from
 Unitree's spec sheet) with the PD gains of Isaac Lab's Go2 and A1 (kp 25, kd 0.5). Isaac Lab drives Go1
 with an MLP actuator network (walk-these-ways' ``unitree_go1.pt``), a trained file simlab does not ship."""
+
+GO1_ACTUATOR_CFG = ActuatorNetMLPCfg(
+    joint_names_expr=[".*_hip_joint", ".*_thigh_joint", ".*_calf_joint"],
+    network_file=f"{ISAACLAB_NUCLEUS_DIR}/ActuatorNets/Unitree/unitree_go1.pt",
+    pos_scale=-1.0,
+    vel_scale=1.0,
+    torque_scale=1.0,
+    input_order="pos_vel",
+    input_idx=[0, 1, 2],
+    effort_limit=23.7,
+    velocity_limit=30.0,
+    saturation_effort=23.7,
+)
+"""Isaac Lab's Go1 MLP actuator config (its inputs, scales and limits). Its network path names simlab's
+``simlab/actuators/nets/unitree_go1_mlp.pt``: an MLP of the same inputs fitted here to
+``GO1_DC_ACTUATOR_CFG`` with a 2-physics-step delay (docs/actuators.md), not walk-these-ways' network."""
 
 UNITREE_GO1_CFG = ArticulationCfg(
     spawn=sim_utils.MjcfFileCfg(

@@ -1,0 +1,198 @@
+"""Fit simlab's shipped actuator networks to a DC motor with a delay (about a minute on the CPU).
+
+    python scripts/tools/fit_actuator_nets.py                # into simlab/actuators/nets
+    python scripts/tools/fit_actuator_nets.py --out /tmp/nets --nets unitree_go1_mlp
+
+What each network imitates, the *reference actuator*: simlab's ``DCMotor`` (PD law, torque-speed
+limits) acting on the joint state ``delay`` physics steps old,
+
+    tau_k = clip_dc(kp * e_{k-d} - kd * qd_{k-d}; qd_k),    e = q* - q,
+
+its torque-speed limits read at the current speed (a loop latency of sensing, computing and
+sending). The joint signals are smooth random processes (each sequence has its own time scale,
+5-200 ms, and amplitude), so that the nets see slow and fast, small and saturating motions.
+
+* ``unitree_go1_mlp.pt``: :class:`ActuatorMLP` 6-32-32-1 with Isaac Lab's ``GO1_ACTUATOR_CFG`` inputs
+  (``input_idx`` [0, 1, 2], ``pos_scale`` -1, ``vel_scale`` 1, ``torque_scale`` 1); reference:
+  simlab's ``GO1_DC_ACTUATOR_CFG`` (kp 25, kd 0.5, 23.7 N m, 30 rad/s), delay 2 steps;
+* ``anydrive_3_lstm.pt``: :class:`ActuatorLSTM`, one layer of 16; reference: simlab's
+  ``ANYDRIVE_3_STIFF_ACTUATOR_CFG`` (kp 200, kd 11, which holds ANYmal up; 120 N m saturation, 80 N m
+  limit, 7.5 rad/s), delay 2 steps.
+
+The delays are physics steps: 10 ms at the locomotion tasks' 5 ms step. The script prints each
+net's error on held-out sequences (RMS and the 99.9th percentile, in N m).
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import time
+from dataclasses import dataclass
+
+import torch
+
+from simlab.actuators import DCMotorCfg
+from simlab.actuators.actuator_net import NETS_DIR, ActuatorLSTM, ActuatorMLP
+
+DT = 0.005  # physics step the signals are sampled at [s]
+TAU_MIN, TAU_MAX = 0.02, 0.3  # time scales of the signals [s]: a joint moves smoothly at 5 ms steps
+
+
+@dataclass
+class Reference:
+    kp: float
+    kd: float
+    saturation: float
+    effort_limit: float
+    velocity_limit: float
+    delay: int
+    error_scale: float  # typical position error [rad] of the training signals
+    speed_scale: float  # typical joint speed [rad/s]
+
+
+REFERENCES = {
+    "unitree_go1_mlp": Reference(25.0, 0.5, 23.7, 23.7, 30.0, 2, error_scale=0.4, speed_scale=10.0),
+    "anydrive_3_lstm": Reference(200.0, 11.0, 120.0, 80.0, 7.5, 2, error_scale=0.15, speed_scale=3.0),
+}
+
+
+def signals(num: int, steps: int, scale: float, gen: torch.Generator) -> torch.Tensor:
+    """(num, steps) smooth random signals: AR(1) processes with a per-sequence time scale and an
+    amplitude of 0.1-3 x ``scale`` per sequence (time scales TAU_MIN-TAU_MAX), plus a little white noise."""
+    tau = torch.exp(torch.empty(num, 1).uniform_(math.log(TAU_MIN), math.log(TAU_MAX), generator=gen))
+    a = torch.exp(-DT / tau)
+    amp = scale * torch.exp(torch.empty(num, 1).uniform_(math.log(0.1), math.log(3.0), generator=gen))
+    noise = torch.randn(num, steps, generator=gen)
+    x = torch.empty(num, steps)
+    x[:, 0] = noise[:, 0]
+    for k in range(1, steps):
+        x[:, k] = a[:, 0] * x[:, k - 1] + torch.sqrt(1 - a[:, 0] ** 2) * noise[:, k]
+    return amp * x + 0.01 * scale * torch.randn(num, steps, generator=gen)
+
+
+def reference_torque(ref: Reference, error: torch.Tensor, speed: torch.Tensor) -> torch.Tensor:
+    """The reference actuator's torque for (num, steps) signals; the first ``delay`` steps repeat the
+    first sample (as a delay buffer does after a reset)."""
+    d = ref.delay
+    old_e = torch.cat([error[:, :1].expand(-1, d), error[:, :-d]], dim=1) if d else error
+    old_qd = torch.cat([speed[:, :1].expand(-1, d), speed[:, :-d]], dim=1) if d else speed
+    cfg = DCMotorCfg(
+        joint_names_expr=[".*"],
+        stiffness=ref.kp,
+        damping=ref.kd,
+        saturation_effort=ref.saturation,
+        effort_limit=ref.effort_limit,
+        velocity_limit=ref.velocity_limit,
+    )
+    motor = cfg.class_type(cfg, ["joint"], [0], error.numel(), "cpu")
+    motor._joint_vel.copy_(speed.reshape(-1, 1))  # the limits are read at the current speed
+    return motor._clip_effort((ref.kp * old_e - ref.kd * old_qd).reshape(-1, 1)).reshape(error.shape)
+
+
+def data(ref: Reference, num: int, steps: int, seed: int) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
+    gen = torch.Generator().manual_seed(seed)
+    error, speed = signals(num, steps, ref.error_scale, gen), signals(num, steps, ref.speed_scale, gen)
+    return error, speed, reference_torque(ref, error, speed)
+
+
+def mlp_inputs(error: torch.Tensor, speed: torch.Tensor) -> torch.Tensor:
+    """GO1_ACTUATOR_CFG's inputs at steps 2..: -e_k, -e_{k-1}, -e_{k-2}, qd_k, qd_{k-1}, qd_{k-2}."""
+    steps = error.shape[1]
+    pos = [-error[:, 2 - i : steps - i] for i in range(3)]
+    vel = [speed[:, 2 - i : steps - i] for i in range(3)]
+    return torch.stack(pos + vel, dim=-1).reshape(-1, 6)
+
+
+def fit_mlp(ref: Reference, seed: int) -> tuple[torch.nn.Module, dict[str, float]]:
+    error, speed, torque = data(ref, 2048, 200, seed)
+    x, y = mlp_inputs(error, speed), torque[:, 2:].reshape(-1, 1)
+    torch.manual_seed(seed)
+    net = ActuatorMLP([6, 32, 32, 1])
+    opt = torch.optim.Adam(net.parameters(), lr=3e-3)
+    iterations = 4000
+    sched = torch.optim.lr_scheduler.CosineAnnealingLR(opt, iterations)
+    for _ in range(iterations):
+        batch = torch.randint(0, len(x), (2048,))
+        loss = torch.nn.functional.mse_loss(net(x[batch]), y[batch])
+        opt.zero_grad()
+        loss.backward()
+        opt.step()
+        sched.step()
+    error, speed, torque = data(ref, 256, 200, seed + 1)
+    with torch.no_grad():
+        residual = net(mlp_inputs(error, speed)).reshape(-1) - torque[:, 2:].reshape(-1)
+    return net, _stats(residual, torque)
+
+
+def fit_lstm(ref: Reference, seed: int) -> tuple[torch.nn.Module, dict[str, float]]:
+    error, speed, torque = data(ref, 2048, 64, seed)
+    torch.manual_seed(seed)
+    net = ActuatorLSTM(hidden_size=16, num_layers=1)
+    _scale_output(net.output, ref)
+    opt = torch.optim.Adam(net.parameters(), lr=3e-2)
+    iterations = 1500
+    sched = torch.optim.lr_scheduler.CosineAnnealingLR(opt, iterations)
+    warm = ref.delay  # the first steps hold the sample before the signal: not learnable, not scored
+    for _ in range(iterations):
+        batch = torch.randint(0, len(error), (256,))
+        pred = _run_lstm(net, error[batch], speed[batch])
+        loss = torch.nn.functional.mse_loss(pred[:, warm:], torque[batch, warm:])
+        opt.zero_grad()
+        loss.backward()
+        opt.step()
+        sched.step()
+    error, speed, torque = data(ref, 256, 400, seed + 1)
+    with torch.no_grad():
+        residual = (_run_lstm(net, error, speed) - torque)[:, warm:].reshape(-1)
+    return net, _stats(residual, torque)
+
+
+def _scale_output(layer: torch.nn.Linear, ref: Reference) -> None:
+    """Start the LSTM's output layer at the torque's scale: Adam's steps (about the learning rate
+    each) would take thousands of iterations to grow its weights to tens of N m per unit of hidden
+    state (the MLP, whose hidden layers are not bounded to [-1, 1] by a tanh, fits better without)."""
+    with torch.no_grad():
+        layer.weight.mul_(ref.effort_limit / 2)
+
+
+def _run_lstm(net: ActuatorLSTM, error: torch.Tensor, speed: torch.Tensor) -> torch.Tensor:
+    """Torque of every step of (num, steps) sequences, from a zero state (as after a reset)."""
+    out, _ = net.lstm(torch.stack([error, speed], dim=-1))
+    return net.output(out).squeeze(-1)
+
+
+def _stats(residual: torch.Tensor, torque: torch.Tensor) -> dict[str, float]:
+    abs_res = residual.abs()
+    return {
+        "rms_error": residual.pow(2).mean().sqrt().item(),
+        "p999_error": abs_res.quantile(0.999).item() if abs_res.numel() <= 2**24 else float("nan"),
+        "rms_torque": torque.pow(2).mean().sqrt().item(),
+    }
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--out", default=NETS_DIR, help="Folder for the nets (default: simlab/actuators/nets).")
+    parser.add_argument("--nets", nargs="+", default=list(REFERENCES), choices=list(REFERENCES))
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--threads", type=int, default=1, help="CPU threads for torch (1: small nets train fastest).")
+    args = parser.parse_args()
+    torch.set_num_threads(args.threads)
+    os.makedirs(args.out, exist_ok=True)
+    for name in args.nets:
+        start = time.perf_counter()
+        fit = fit_mlp if name.endswith("_mlp") else fit_lstm
+        net, stats = fit(REFERENCES[name], args.seed)
+        path = os.path.join(args.out, f"{name}.pt")
+        torch.save(net.state_dict(), path)
+        print(
+            f"{name}.pt ({os.path.getsize(path) / 1024:.1f} KB, {time.perf_counter() - start:.0f} s):"
+            f" held-out RMS error {stats['rms_error']:.3f} N m, 99.9th percentile {stats['p999_error']:.3f} N m"
+            f" (RMS torque {stats['rms_torque']:.2f} N m)"
+        )
+
+
+if __name__ == "__main__":
+    main()
