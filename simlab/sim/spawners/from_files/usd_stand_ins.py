@@ -168,6 +168,7 @@ USD_STAND_INS: dict[str, UsdStandIn] = {
     "IsaacLab/Robots/ANYbotics/ANYmal-C/anymal_c.usd": mjcf("anybotics_anymal_c.xml"),
     "IsaacLab/Robots/ANYbotics/ANYmal-D/anymal_d.usd": mjcf("anybotics_anymal_d.xml"),
     "IsaacLab/Robots/FrankaEmika/panda_instanceable.usd": _FRANKA,
+    "IsaacLab/Robots/UniversalRobots/UR10/ur10_instanceable.usd": mjcf("universal_robots_ur10.xml"),
     "IsaacLab/Robots/Classic/Cartpole/cartpole.usd": mjcf("cartpole.xml"),
     "IsaacLab/Robots/Classic/CartDoublePendulum/cart_double_pendulum.usd": mjcf("cart_double_pendulum.xml"),
     # Isaac Sim's robots that Isaac Lab uses (ISAAC_NUCLEUS_DIR)
