@@ -71,14 +71,42 @@ def test_urdf_converter_writes_mjcf_that_usd_file_cfg_spawns(tmp_path):
     assert float(robot.data.root_pos_w[0, 2]) < 0.95
 
 
-def test_fixed_base_and_kept_fixed_links(tmp_path):
-    converter = sim_utils.UrdfConverter(_cfg(tmp_path, fix_base=True, merge_fixed_joints=False))
+@pytest.mark.parametrize("merge", [True, False])
+def test_fixed_base_keeps_its_root_and_merges_fixed_links_if_asked(tmp_path, merge):
     import mujoco
 
+    converter = sim_utils.UrdfConverter(_cfg(tmp_path, fix_base=True, merge_fixed_joints=merge))
     model = mujoco.MjModel.from_xml_path(converter.usd_path)
-    assert model.njnt == 1 and model.body("plate").id > 0
+    bodies = [model.body(b).name for b in range(1, model.nbody)]
+    assert model.njnt == 1 and bodies == (["base", "link"] if merge else ["base", "plate", "link"])
 
 
 def test_missing_urdf_is_one_line(tmp_path):
     with pytest.raises(ConfigError, match="no such file"):
         sim_utils.UrdfConverter(sim_utils.UrdfConverterCfg(asset_path=str(tmp_path / "none.urdf"), fix_base=True))
+
+
+@pytest.mark.parametrize("merge", [True, False])
+def test_urdf_file_cfg_takes_the_converter_settings(tmp_path, merge):
+    """Isaac Lab's UrdfFileCfg is a UrdfConverterCfg too: its joint drive is accepted, merge_fixed_joints applies."""
+    urdf = tmp_path / "arm.urdf"
+    urdf.write_text(URDF)
+    drive = sim_utils.UrdfConverterCfg.JointDriveCfg(
+        gains=sim_utils.UrdfConverterCfg.JointDriveCfg.PDGainsCfg(stiffness=100.0, damping=1.0)
+    )
+
+    @configclass
+    class SceneCfg(InteractiveSceneCfg):
+        robot = ArticulationCfg(
+            prim_path="{ENV_REGEX_NS}/Robot",
+            spawn=sim_utils.UrdfFileCfg(
+                asset_path=str(urdf), fix_base=True, merge_fixed_joints=merge, joint_drive=drive
+            ),
+            actuators={"arm": ImplicitActuatorCfg(joint_names_expr=[".*"], stiffness=100.0, damping=1.0)},
+        )
+
+    sim = sim_utils.SimulationContext(sim_utils.SimulationCfg(dt=0.005, device="cpu"))
+    scene = InteractiveScene(SceneCfg(num_envs=1, env_spacing=2.0))
+    sim.reset()
+    assert scene["robot"].joint_names == ["shoulder"]
+    assert ("plate" in scene["robot"].body_names) is not merge

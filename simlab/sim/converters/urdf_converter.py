@@ -16,6 +16,7 @@ import mujoco
 from simlab.utils.assets import refuse_remote_path
 from simlab.utils.errors import ConfigError
 
+from ..spawners.from_files.from_files import fuse_static_bodies
 from .urdf_converter_cfg import UrdfConverterCfg
 
 
@@ -52,14 +53,23 @@ class UrdfConverter:
 
     def _convert(self, source: str) -> None:
         spec = mujoco.MjSpec.from_file(source)
-        spec.compiler.fusestatic = self.cfg.merge_fixed_joints
-        # meshes and textures stay where the URDF names them, relative to its own directory
-        base = os.path.dirname(source)
-        spec.meshdir = os.path.join(base, spec.meshdir) if spec.meshdir else base
-        spec.texturedir = os.path.join(base, spec.texturedir) if spec.texturedir else base
-        roots = spec.worldbody.bodies
-        if not self.cfg.fix_base and len(roots) == 1 and not roots[0].joints:
-            roots[0].add_freejoint()
+        if self.cfg.merge_fixed_joints:
+            spec = fuse_static_bodies(spec, source)
+        else:  # meshes and textures stay where the URDF names them, relative to its own directory
+            base = os.path.dirname(source)
+            spec.meshdir = os.path.join(base, spec.meshdir) if spec.meshdir else base
+            spec.texturedir = os.path.join(base, spec.texturedir) if spec.texturedir else base
+        spec.compiler.fusestatic = False  # MuJoCo's URDF default is True; merging was asked for above or not at all
+        if not self.cfg.fix_base:
+            _add_free_joint(spec)
         spec.compile()  # a URDF MuJoCo cannot compile fails here, naming the problem
         with open(self.usd_path, "w") as file:
             file.write(spec.to_xml())
+
+
+def _add_free_joint(spec: mujoco.MjSpec) -> None:
+    """A free joint on the single root body, unless it has a joint (handles into the spec stay in here:
+    one that outlives its spec points to freed memory)."""
+    roots = spec.worldbody.bodies
+    if len(roots) == 1 and not roots[0].joints:
+        roots[0].add_freejoint()

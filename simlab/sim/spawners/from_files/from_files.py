@@ -9,6 +9,7 @@ fixed base; it becomes a MuJoCo mocap body so that writing its root pose still m
 from __future__ import annotations
 
 import os
+import re
 from typing import TYPE_CHECKING
 
 import mujoco
@@ -111,11 +112,35 @@ def _integrate_gyroscopic_forces(cfg: RigidObjectSpawnerCfg) -> None:
 def spawn_from_urdf(prim_path: str, cfg: UrdfFileCfg, translation=None, orientation=None) -> mujoco.MjsBody:
     path = _local_file(cfg.asset_path, "URDF")
     child = mujoco.MjSpec.from_file(path)
+    if cfg.merge_fixed_joints:
+        child = fuse_static_bodies(child, path)
     if not cfg.fix_base:
         child.worldbody.bodies[0].add_freejoint()
     root = attach_root_body(child, prim_path, translation, orientation)
     _integrate_gyroscopic_forces(cfg)
     return root
+
+
+_FUSE_KEEP = "simlab_fuse_keep"
+
+
+def fuse_static_bodies(child: mujoco.MjSpec, path: str) -> mujoco.MjSpec:
+    """Isaac Lab's ``merge_fixed_joints``: links joined by fixed joints become one body (MuJoCo's
+    ``fusestatic``, which acts when a model compiles, not when it is attached: so compile it alone)."""
+    base = os.path.dirname(path)
+    child.meshdir = os.path.join(base, child.meshdir) if child.meshdir else base
+    child.texturedir = os.path.join(base, child.texturedir) if child.texturedir else base
+    child.compiler.fusestatic = True
+    root = child.worldbody.bodies[0] if len(child.worldbody.bodies) == 1 else None
+    keep = root is not None and not root.joints  # fusestatic would merge a jointless root into the world
+    if keep:
+        root.add_freejoint(name=_FUSE_KEEP)
+    del root  # a handle into the spec must not outlive it
+    child.compile()
+    # the placeholder joint is cut from the text (deleting spec elements leaves Python handles to freed memory)
+    fused = mujoco.MjSpec.from_string(re.sub(rf'\s*<joint name="{_FUSE_KEEP}" type="free"/>', "", child.to_xml()))
+    fused.compiler.fusestatic = False  # done: a later compile must not merge the (jointless) root into the world
+    return fused
 
 
 def spawn_ground_plane(prim_path: str, cfg: GroundPlaneCfg, translation=None, orientation=None) -> mujoco.MjsGeom:

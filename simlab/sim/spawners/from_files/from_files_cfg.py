@@ -6,6 +6,7 @@ from dataclasses import MISSING
 
 from simlab.utils import configclass
 
+from ...converters.urdf_converter_cfg import UrdfConverterCfg
 from ...schemas.schemas_cfg import ArticulationRootPropertiesCfg, FixedTendonPropertiesCfg, JointDrivePropertiesCfg
 from ..materials import PreviewSurfaceCfg, RigidBodyMaterialCfg
 from ..spawner_cfg import RigidObjectSpawnerCfg, SpawnerCfg
@@ -31,11 +32,17 @@ class MjcfFileCfg(FileCfg):
 
 
 @configclass
-class UrdfFileCfg(FileCfg):
-    """A robot described in URDF, compiled by MuJoCo's URDF reader."""
+class UrdfFileCfg(FileCfg, UrdfConverterCfg):
+    """A robot described in URDF, compiled by MuJoCo's URDF reader.
+
+    Takes Isaac Lab's converter settings (it is a ``UrdfConverterCfg`` there too): ``fix_base`` and
+    ``merge_fixed_joints`` shape the model; the rest is accepted as :class:`UrdfConverterCfg` says."""
 
     func: object = from_files.spawn_from_urdf
     fix_base: bool = True
+    asset_path: str = MISSING
+    joint_drive: UrdfConverterCfg.JointDriveCfg | None = None
+    """Accepted and not used: the joints are driven by the ``ArticulationCfg``'s actuators."""
 
 
 @configclass
