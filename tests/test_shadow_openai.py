@@ -164,3 +164,44 @@ def test_one_training_iteration(tmp_path, task, library):
     argv += ["--max_iterations", "1", "--log_root", str(tmp_path / "logs")]
     assert main(argv + (small if library == "rl_games" else [])) == 0
     assert list((tmp_path / "logs" / library).glob("*/*/"))
+
+
+@pytest.mark.slow
+def test_played_lstm_policy_carries_its_state_and_restarts_it_with_the_episode(tmp_path):
+    """An LSTM policy trained one iteration, played as `simlab play` plays it: the same observation
+    gives other actions once the policy has a history, and the first actions again where an episode
+    restarts (the env's episode_length_buf back at 0)."""
+    from simlab.cli.libraries.rl_games import load_policy
+    from simlab.cli.main import main
+    from simlab.utils.io import load_yaml
+
+    argv = ["train", "--task", LSTM, "--library", "rl_games", "--num_envs", "8", "--device", "cpu", "--headless"]
+    argv += ["--max_iterations", "1", "--log_root", str(tmp_path / "logs")]
+    assert (
+        main(
+            [
+                *argv,
+                "agent.params.config.minibatch_size=32",
+                "agent.params.config.central_value_config.minibatch_size=64",
+            ]
+        )
+        == 0
+    )
+    (checkpoint,) = (tmp_path / "logs" / "rl_games").glob("*/*/nn/last_*.pth")
+    agent_cfg = load_yaml(str(checkpoint.parent.parent / "params" / "agent.yaml"))
+    cfg = parse_env_cfg(LSTM, device="cpu", num_envs=NUM_ENVS)
+    env = gym.make(LSTM, cfg=cfg)
+    try:
+        obs, _ = env.reset(seed=0)
+        policy = load_policy(env, agent_cfg, str(checkpoint))
+        assert policy.not_exportable
+        first = policy(obs)
+        env.unwrapped.episode_length_buf[:] = 1  # mid-episode: the state carries over
+        second = policy(obs)
+        assert not torch.allclose(first, second)
+        env.unwrapped.episode_length_buf[[0, 2]] = 0  # envs 0 and 2 restart
+        third = policy(obs)
+        torch.testing.assert_close(third[[0, 2]], first[[0, 2]])
+        assert not torch.allclose(third[[1, 3]], first[[1, 3]])
+    finally:
+        env.close()

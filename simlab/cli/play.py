@@ -141,7 +141,9 @@ def run_play(
         with checkpoint_load_errors(checkpoint, args.library, args.task):
             policy = lib.load_policy(env, agent_cfg, checkpoint, trust=trust)
         result: dict[str, Any] = {"checkpoint": checkpoint}
-        if not args.no_export:
+        if not args.no_export and policy.not_exportable:
+            print(f"[simlab] Not exported: {policy.not_exportable}")
+        elif not args.no_export:
             folder = os.path.join(os.path.dirname(checkpoint), "exported")
             result["exported"] = policy.export(folder)
             print(f"[simlab] Exported the policy to {folder}: {[os.path.basename(f) for f in result['exported']]}")

@@ -47,6 +47,8 @@ class Policy:
     inputs: Callable[[dict], dict[str, torch.Tensor]]
     obs_dims: dict[str, int | tuple[int, ...]]
     device: str = "cpu"
+    not_exportable: str | None = None
+    """Why the modules cannot be exported (None: they can)."""
 
     def __post_init__(self):
         for m in self.modules.values():
@@ -64,6 +66,8 @@ class Policy:
 
     def export(self, folder: str) -> list[str]:
         """Write ``policy.pt`` (TorchScript) and ``policy.onnx`` (``policy_<agent>.*`` per agent)."""
+        if self.not_exportable:
+            raise NotImplementedError(self.not_exportable)
         files = []
         for name, module in self.modules.items():
             stem = "policy" if name == "policy" else f"policy_{name}"

@@ -161,6 +161,28 @@ class _RlGamesActor(nn.Module):
         return torch.clamp(mu, -1.0, 1.0) * self.clip_actions
 
 
+class _RlGamesRecurrentActor(_RlGamesActor):
+    """The actor of a network with an RNN (rl_games' ``network.rnn``, e.g. an LSTM): each env's hidden
+    state is carried from step to step and zeroed where ``restarted()`` says an episode has just begun,
+    as rl_games' player zeroes it at the envs that are done."""
+
+    def __init__(self, model: nn.Module, clip_obs: float, clip_actions: float, restarted: Any):
+        super().__init__(model, clip_obs, clip_actions)
+        self._restarted = restarted
+        self.states: list[torch.Tensor] | None = None
+
+    def forward(self, obs: torch.Tensor) -> torch.Tensor:
+        if self.states is None:  # (layers, envs, units) per state tensor, as rl_games' player makes them
+            defaults = self.model.get_default_rnn_state()
+            self.states = [obs.new_zeros(s.shape[0], obs.shape[0], s.shape[2]) for s in defaults]
+        fresh = self._restarted().to(obs.device).view(1, -1, 1)
+        states = [torch.where(fresh, torch.zeros_like(s), s) for s in self.states]
+        obs = torch.clamp(obs, -self.clip_obs, self.clip_obs)
+        out = self.model.a2c_network({"obs": self.model.norm_obs(obs), "rnn_states": states, "seq_length": 1})
+        self.states = list(out[-1])
+        return torch.clamp(out[0], -1.0, 1.0) * self.clip_actions
+
+
 def _use_configured_learning_rates(agent: Any) -> None:
     """rl_games' ``restore`` loads the optimizers with the learning rates they had when saved, and the
     configured one (``agent.params.config.learning_rate``, kept as ``last_lr``) only takes over after
@@ -193,11 +215,22 @@ def load_policy(env: gym.Env, agent_cfg: dict, checkpoint: str, trust: bool = Fa
     clip_obs, clip_actions = _clips(agent_cfg)
     if not math.isfinite(clip_actions):
         raise ValueError("rl_games play needs a finite params.env.clip_actions (the action space bounds).")
-    module = _RlGamesActor(player.model, clip_obs, clip_actions)
+    if player.is_rnn:  # the hidden state restarts with each episode (a reset zeroes episode_length_buf)
+        module = _RlGamesRecurrentActor(
+            player.model, clip_obs, clip_actions, lambda: env.unwrapped.episode_length_buf == 0
+        )
+    else:
+        module = _RlGamesActor(player.model, clip_obs, clip_actions)
     groups = wrapped.obs_groups["obs"]
 
     def inputs(obs: dict) -> dict[str, torch.Tensor]:
         return {"policy": torch.cat([obs[g].reshape(obs[g].shape[0], -1) for g in groups], dim=-1)}
 
     dim = wrapped.observation_space.shape[0]
-    return Policy({"policy": module}, inputs, {"policy": dim}, device=agent_cfg["params"]["config"]["device"])
+    not_exportable = (
+        "exporting an rl_games policy with an RNN (its hidden state per env) is not supported yet"
+        if player.is_rnn
+        else None
+    )
+    device = agent_cfg["params"]["config"]["device"]
+    return Policy({"policy": module}, inputs, {"policy": dim}, device=device, not_exportable=not_exportable)
