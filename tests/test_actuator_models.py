@@ -364,9 +364,7 @@ SCENE_MODELS = {
 }
 
 
-@pytest.mark.parametrize(
-    "backend", ["mjbatch", pytest.param("warp-cpu", marks=pytest.mark.slow)], ids=["mjbatch", "warp-cpu"]
-)
+@pytest.mark.parametrize("backend", ["mjbatch", "warp-cpu"])
 def test_the_models_drive_a_simulated_cartpole(backend, tmp_path, monkeypatch):
     """Each model's torque reaches MuJoCo's actuators, and equals a twin model fed the states the sim
     had before each step (the delayed models' twins get the same delays)."""
@@ -384,6 +382,7 @@ def test_the_models_drive_a_simulated_cartpole(backend, tmp_path, monkeypatch):
         scene = InteractiveScene(RobotSceneCfg(num_envs=3, env_spacing=2.0, robot=robot))
         sim.reset()
         cartpole = scene["robot"]
+        assert type(sim.physics).__name__ == ("CudaBackend" if backend == "warp-cpu" else "CpuBackend")
         actuator = cartpole.actuators["all"]
         twin = actuator.cfg.class_type(actuator.cfg, cartpole.joint_names, [0, 1], 3, "cpu")
         if name != "mlp":
