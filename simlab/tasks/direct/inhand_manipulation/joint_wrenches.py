@@ -66,6 +66,7 @@ class IncomingJointWrenches:
                 if a == root:
                     owner[row, b] = float(model.body_gravcomp[b])
         self._gravcomp = owner
+        self._any_gravcomp = bool(owner.any())  # known once: the step reads nothing back from the device
         self._mass = torch.tensor(model.body_mass, dtype=torch.float32, device=dev)
         self._gravity = torch.tensor(model.opt.gravity, dtype=torch.float32, device=dev)
         physics = sim.physics
@@ -78,7 +79,7 @@ class IncomingJointWrenches:
         self._sim.physics.ensure_forward()
         n, k = self._sensordata.shape[0], len(self._sites)
         wrench = self._sensordata[:, self._cols].view(n, k, 6)
-        if not bool(self._gravcomp.any()):
+        if not self._any_gravcomp:
             return wrench
         mass = self._physics.per_world_model_field("body_mass")
         gravity = self._physics.per_world_model_field("opt.gravity")
