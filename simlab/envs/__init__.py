@@ -26,6 +26,19 @@ _EXPORTS = {
 __all__ = sorted(_EXPORTS)
 
 
+def _register_for_instantiate() -> None:
+    """``simlab.utils.instantiate(env_cfg)`` makes the env of each env config class."""
+    from simlab.utils.instantiate import register_instance_class
+
+    for cfg_name in ("ManagerBasedEnvCfg", "ManagerBasedRLEnvCfg"):  # a direct env's class is the task's own
+        env_name = cfg_name.removesuffix("Cfg")
+        module = f"{__name__}{_EXPORTS[cfg_name]}"
+        register_instance_class(f"{module}.{cfg_name}", f"{__name__}{_EXPORTS[env_name]}:{env_name}")
+
+
+_register_for_instantiate()
+
+
 def __getattr__(name: str) -> Any:
     if name in _EXPORTS:
         return getattr(importlib.import_module(_EXPORTS[name], __name__), name)

@@ -114,6 +114,15 @@ class SimulationContext:
             cls._instance._release()
         cls._instance = None
 
+    running_check: Callable[[], bool] | None = None
+    """Set by the app (``simlab.app.launch_simulation``): what :meth:`is_running` asks."""
+
+    def is_running(self) -> bool:
+        """Isaac Lab 3.0's loop condition (``while env.sim.is_running():``): the app's answer (False once
+        closed, after Ctrl+C or after ``--max_app_steps`` polls), True without an app."""
+        check = SimulationContext.running_check
+        return True if check is None else bool(check())
+
     def get_physics_dt(self) -> float:
         return self.cfg.dt
 

@@ -20,6 +20,7 @@ from simlab.utils.dict import (
     update_class_from_dict,
     update_dict,
 )
+from simlab.utils.instantiate import instantiate
 from simlab.utils.seed import set_seed
 from simlab.utils.string import (
     ResolvableString,
@@ -64,6 +65,7 @@ __all__ = [
     "class_to_dict",
     "clear_resolve_matching_names_cache",
     "configclass",
+    "instantiate",
     "convert_dict_to_backend",
     "dict",
     "dict_to_md5_hash",

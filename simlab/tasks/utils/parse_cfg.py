@@ -43,6 +43,8 @@ def task_spec(task_name: str) -> gym.envs.registration.EnvSpec:
     if not isinstance(task_name, str) or not task_name:
         raise ConfigError(f"A task id is required, e.g. 'simlab/Cartpole-v0'; got {task_name!r}.")
     name = task_name.split(":")[-1]
+    if name.startswith("simlab/") and name not in gym.registry and simlab_task_id(name) in gym.registry:
+        name = simlab_task_id(name)  # an id without its version (Isaac Lab 3.0's form): the highest one
     if name not in gym.registry:
         ids = registered_task_ids()
         close = closest_matches(name, ids, n=3, cutoff=0.3)
@@ -114,15 +116,46 @@ def load_cfg_from_registry(task_name: str, entry_point_key: str, presets: Sequen
 
 
 def parse_env_cfg(
-    task_name: str, device: str = "cuda:0", num_envs: int | None = None, use_fabric: bool | None = None
+    task_name: str,
+    device: str = "cuda:0",
+    num_envs: int | None = None,
+    use_fabric: bool | None = None,
+    overrides: Sequence[str] | None = None,
 ) -> Any:
     """The task's env config with the simulation ``device`` and, if given, ``num_envs`` set.
 
-    ``use_fabric`` is accepted for Isaac Lab compatibility and ignored (simlab has no USD stage).
+    ``overrides`` are Isaac Lab 3.0's trailing words: ``presets=a,b`` (the task's registered variants,
+    :func:`registry_kwargs`; a physics backend name among them acts as ``physics=``), ``physics=NAME``
+    (:func:`simlab.sim.backend_names.engine_for`) and Hydra-style field overrides (``scene.num_envs=8``
+    or ``env.scene.num_envs=8``). ``use_fabric`` is accepted for Isaac Lab compatibility and ignored
+    (simlab has no USD stage).
     """
+    from simlab.sim.backend_names import PHYSICS, engine_for
     from simlab.utils.device import resolve_device
 
-    cfg = load_cfg_from_registry(task_name, "env_cfg_entry_point")
+    presets: list[str] = []
+    engine = None
+    fields = []
+    for word in overrides or ():
+        key, _, value = word.partition("=")
+        if key == "presets":
+            for name in value.split(","):
+                if name in PHYSICS:
+                    engine = engine_for(name)
+                else:
+                    presets.append(name)
+        elif key == "physics":
+            engine = engine_for(value)
+        else:
+            bare = word.lstrip("+~")  # Hydra's + (add) and ~ (delete) prefixes stay in front
+            fields.append(word if bare.startswith("env.") else f"{word[: len(word) - len(bare)]}env.{bare}")
+    cfg = load_cfg_from_registry(task_name, "env_cfg_entry_point", presets)
+    if fields:
+        from simlab.tasks.utils.hydra import apply_overrides
+
+        apply_overrides(cfg, None, fields)
+    if engine is not None:
+        cfg.sim.engine = engine
     if isinstance(cfg, dict):
         raise TypeError(f"The env config of '{task_name}' must be a config class, not a dict.")
     cfg.sim.device = resolve_device(device)

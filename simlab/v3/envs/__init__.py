@@ -35,5 +35,18 @@ class DirectMARLEnv(_envs.DirectMARLEnv):
         super().__init__(to_simlab(cfg), render_mode, **kwargs)
 
 
+def _register_for_instantiate() -> None:
+    """``instantiate(env_cfg)`` makes these classes once 3.0 code imported them: they convert (x, y, z, w)
+    configs and leave simlab's as they are."""
+    from simlab.utils.instantiate import register_instance_class
+
+    for env in (ManagerBasedEnv, ManagerBasedRLEnv):
+        cfg_class = getattr(_envs, f"{env.__name__}Cfg")
+        register_instance_class(f"{cfg_class.__module__}.{cfg_class.__qualname__}", f"{__name__}:{env.__name__}")
+
+
+_register_for_instantiate()
+
+
 def __getattr__(name: str) -> Any:
     return getattr(_envs, name)
