@@ -159,3 +159,11 @@ def test_an_unknown_usd_path_is_one_line_listing_what_is_available():
 def test_docs_list_every_entry():
     docs = (Path(__file__).resolve().parents[1] / "docs" / "porting.md").read_text()
     assert all(f"| `{key}` |" in docs for key in USD_STAND_INS)
+
+
+def test_usd_variants_are_refused_on_a_stand_in():
+    spawn = sim_utils.UsdFileCfg(
+        usd_path=f"{ISAACLAB_NUCLEUS_DIR}/Robots/FrankaEmika/panda_instanceable.usd", variants={"Gripper": "None"}
+    )
+    with pytest.raises(ConfigError, match="variants"):
+        _scene(robot=ROBOT_CFGS["franka_panda.xml"].replace(prim_path="{ENV_REGEX_NS}/Robot", spawn=spawn))

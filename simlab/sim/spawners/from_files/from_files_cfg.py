@@ -47,12 +47,15 @@ class UrdfFileCfg(FileCfg, UrdfConverterCfg):
 
 @configclass
 class UsdFileCfg(FileCfg):
-    """USD needs Omniverse; kept so that ported configs fail with a clear message."""
+    """A USD file: a Nucleus path of a robot or prop simlab ships spawns simlab's model of it
+    (``usd_stand_ins``); any other path is refused when spawned, saying what to use."""
 
     func: object = from_files.spawn_from_usd
     usd_path: str = MISSING
     asset_path: str | None = None
-    """Unused: a USD file is named by ``usd_path`` (and refused when spawned, saying what to use)."""
+    """Unused: a USD file is named by ``usd_path``."""
+    variants: object | dict[str, str] | None = None
+    """Isaac Lab's USD variant selections; simlab's models have one form each, so only None spawns."""
 
 
 @configclass

@@ -218,6 +218,13 @@ def stand_in(cfg: UsdFileCfg) -> SpawnerCfg | None:
 
     A local MJCF file (``.xml``, what ``sim_utils.UrdfConverter`` writes) spawns as itself."""
     row = USD_STAND_INS.get(nucleus_key(cfg.usd_path))
+    if row is not None and cfg.variants:
+        from simlab.utils.errors import ConfigError
+
+        raise ConfigError(
+            f"'{cfg.usd_path}' stands in as {row.model}, which has one form: USD variants ({cfg.variants}) select"
+            " parts of Isaac Lab's USD file; leave UsdFileCfg.variants unset."
+        )
     if row is None and str(cfg.usd_path).endswith(".xml") and os.path.isfile(os.path.expanduser(cfg.usd_path)):
         row = mjcf(os.path.abspath(os.path.expanduser(cfg.usd_path)))
     return row.build(cfg) if row is not None else None
