@@ -334,6 +334,40 @@ def test_the_shipped_networks_imitate_the_delayed_dc_motor(name):
     assert rms_error < 0.08 * rms_torque, (rms_error, rms_torque)
 
 
+@pytest.mark.parametrize("robot", ["anymal_c", "go1"])
+def test_the_shipped_networks_hold_their_robots_up_as_the_dc_motors_they_imitate(robot):
+    """ANYmal-C on the ANYdrive LSTM, Go1 on the Go1 MLP, under their default targets for 2 s: they
+    settle level, at rest and at the height their DC-motor reference holds them (within 1 cm)."""
+    import simlab.sim as sim_utils
+    from simlab.robots import anymal, unitree
+    from test_locomotion import robot_scene
+
+    if robot == "anymal_c":
+        base, group = anymal.ANYMAL_C_CFG, "legs"
+        models = (anymal.ANYDRIVE_3_STIFF_ACTUATOR_CFG, anymal.ANYDRIVE_3_LSTM_ACTUATOR_CFG)
+    else:
+        base, group = unitree.UNITREE_GO1_CFG, "base_legs"
+        models = (unitree.GO1_DC_ACTUATOR_CFG, unitree.GO1_ACTUATOR_CFG)
+    heights = []
+    for model in models:
+        sim, scene = robot_scene(base.replace(actuators={group: model}))
+        articulation = scene["robot"]
+        assert type(articulation.actuators[group]).__name__ == model.class_type.__name__
+        articulation.set_joint_position_target(articulation.data.default_joint_pos)
+        trace = []
+        for _ in range(400):
+            scene.write_data_to_sim()
+            sim.step()
+            scene.update(sim.get_physics_dt())
+            trace.append(articulation.data.root_pos_w[:, 2].clone())
+        assert (articulation.data.projected_gravity_b[:, 2] < -0.99).all()
+        assert articulation.data.root_lin_vel_w.norm(dim=1).max() < 0.05
+        heights.append(torch.stack(trace[300:]).mean().item())
+        sim_utils.SimulationContext.clear_instance()
+    print(f"{robot}: settled base height {heights[0]:.4f} m (DC motor), {heights[1]:.4f} m (network)")
+    assert abs(heights[1] - heights[0]) < 0.01, heights
+
+
 # -- in a simulated scene, on both backends ----------------------------------------------------------
 
 
