@@ -338,9 +338,10 @@ def test_the_shipped_networks_imitate_the_delayed_dc_motor(name):
 def test_the_shipped_networks_hold_their_robots_up_as_the_dc_motors_they_imitate(robot):
     """ANYmal-C on the ANYdrive LSTM, Go1 on the Go1 MLP, under their default targets for 2 s: they
     settle level, at rest and at the height their DC-motor reference holds them (within 1 cm)."""
+    from test_locomotion import robot_scene
+
     import simlab.sim as sim_utils
     from simlab.robots import anymal, unitree
-    from test_locomotion import robot_scene
 
     if robot == "anymal_c":
         base, group = anymal.ANYMAL_C_CFG, "legs"
