@@ -100,7 +100,7 @@ def test_a_reset_env_forgets_its_old_commands_and_the_others_keep_theirs():
     zero = torch.zeros(2, 2)
     for k in range(4):
         pd.compute(actions(torch.full((2, 2), float(k))), zero, zero)
-    pd.reset(torch.tensor([True, False]))
+    pd.reset([0])  # Isaac Lab's ids work as a mask does
     out = pd.compute(actions(torch.full((2, 2), 9.0)), zero, zero)
     # env 0 has one command since its reset (9); env 1 gets the one of two steps before (2)
     assert out.joint_efforts[:, 0].tolist() == [9.0, 2.0]
@@ -389,13 +389,14 @@ class RobotSceneCfg(InteractiveSceneCfg):
 
 
 SCENE_MODELS = {
-    "delayed": lambda path: DelayedPDActuatorCfg(
+    "delayed": lambda paths: DelayedPDActuatorCfg(
         joint_names_expr=[".*"], stiffness=20.0, damping=2.0, min_delay=1, max_delay=3
     ),
-    "remotized": lambda path: RemotizedPDActuatorCfg(
+    "remotized": lambda paths: RemotizedPDActuatorCfg(
         joint_names_expr=[".*"], stiffness=20.0, damping=2.0, max_delay=2, joint_parameter_lookup=TABLE
     ),
-    "mlp": lambda path: mlp_cfg(path, joint_names_expr=[".*"]),
+    "mlp": lambda paths: mlp_cfg(paths[0], joint_names_expr=[".*"]),
+    "lstm": lambda paths: ActuatorNetLSTMCfg(joint_names_expr=[".*"], network_file=paths[1], **NO_LIMITS),
 }
 
 
@@ -409,10 +410,10 @@ def test_the_models_drive_a_simulated_cartpole(backend, tmp_path, monkeypatch):
 
     if backend == "warp-cpu":
         _warp_cpu(monkeypatch)
-    path, _ = mlp_file(tmp_path)
+    paths = mlp_file(tmp_path)[0], lstm_file(tmp_path)[0]
     for name, make in SCENE_MODELS.items():
         torch.manual_seed(0)
-        robot = CARTPOLE_CFG.replace(prim_path="{ENV_REGEX_NS}/Robot", actuators={"all": make(path)})
+        robot = CARTPOLE_CFG.replace(prim_path="{ENV_REGEX_NS}/Robot", actuators={"all": make(paths)})
         sim = sim_utils.SimulationContext(sim_utils.SimulationCfg(dt=0.01, device="cpu"))
         scene = InteractiveScene(RobotSceneCfg(num_envs=3, env_spacing=2.0, robot=robot))
         sim.reset()
@@ -420,7 +421,7 @@ def test_the_models_drive_a_simulated_cartpole(backend, tmp_path, monkeypatch):
         assert type(sim.physics).__name__ == ("CudaBackend" if backend == "warp-cpu" else "CpuBackend")
         actuator = cartpole.actuators["all"]
         twin = actuator.cfg.class_type(actuator.cfg, cartpole.joint_names, [0, 1], 3, "cpu")
-        if name != "mlp":
+        if name in ("delayed", "remotized"):
             set_lags(twin, actuator.positions_delay_buffer.time_lags.tolist())
         for k in range(12):
             target = 0.3 * torch.sin(torch.full((3, 2), 0.5 * k) + torch.arange(3).view(-1, 1))
