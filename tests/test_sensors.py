@@ -740,8 +740,22 @@ def test_ray_caster_debug_vis_draws_the_hits():
     assert changed.sum() > 100
     red = marked[changed]
     assert (red[:, 0] > red[:, 1] + 60).mean() > 0.8  # RAY_CASTER_MARKER_CFG's red spheres
-    # a hit at inf (a miss) is not drawn
+    # the live viewers get the followed env's markers with each snapshot (drawn in their own thread)
+    import mujoco
+
+    from simlab.sim.renderer import draw_decor
+    from simlab.viewer.source import SimSource
+
     sensor.set_debug_vis(True)
+    snapshot = SimSource.of_sim(sim).snapshot([1], np.zeros((1, 3)))
+    assert len(snapshot.decor) == 187
+    local_hits = (sensor.data.ray_hits_w[1] - scene.env_origins[1]).numpy()
+    drawn = np.array([pos for _, _, pos, _, _ in snapshot.decor])
+    np.testing.assert_allclose(np.sort(drawn, axis=0), np.sort(local_hits, axis=0), atol=1e-5)
+    viewer_scene = mujoco.MjvScene(sim.model, maxgeom=500)
+    draw_decor(viewer_scene, snapshot.decor)
+    assert viewer_scene.ngeom == 187
+    # a hit at inf (a miss) is not drawn
     sensor.data.ray_hits_w[0, :10] = torch.inf
     sim.run_render_callbacks()
     assert sensor.ray_visualizer.count == 2 * 187 - 10

@@ -26,7 +26,9 @@ from simlab.utils.gl_backend import GLBackendError, choose_gl_backend
 __all__ = [
     "EnvSceneBuilder",
     "OffscreenRenderer",
+    "SceneDecor",
     "add_scene_decor",
+    "draw_decor",
     "gather_env_states",
     "look_at",
     "open_mujoco_renderer",
@@ -44,6 +46,43 @@ def add_scene_decor(draw: Callable[[mujoco.MjvScene, int, torch.Tensor | None], 
     """Have every offscreen render call ``draw(scene, env_index, env_origins)`` (once per function)."""
     if draw not in _SCENE_DECOR:
         _SCENE_DECOR.append(draw)
+
+
+DecorGeom = tuple[int, np.ndarray, np.ndarray, np.ndarray, np.ndarray]
+"""One decor geom as plain arrays: (type, size, pos, mat, rgba)."""
+
+
+class SceneDecor:
+    """The decor (debug markers) of one env as plain arrays, for a live viewer that draws in its own
+    thread: :meth:`capture` runs the render callbacks (debug visualization places its markers) and
+    draws the registered decor into a scratch scene, here in the simulation's thread."""
+
+    def __init__(self, model: mujoco.MjModel, max_geoms: int = 2000):
+        self._scene = mujoco.MjvScene(model, maxgeom=max_geoms)
+
+    def capture(self, env_index: int, env_origins: torch.Tensor | None) -> list[DecorGeom]:
+        from simlab.sim.simulation_context import SimulationContext
+
+        sim = SimulationContext.instance()
+        if sim is not None:
+            sim.run_render_callbacks()
+        scene = self._scene
+        scene.ngeom = 0
+        for draw in _SCENE_DECOR:
+            draw(scene, env_index, env_origins)
+        return [
+            (int(g.type), g.size.copy(), g.pos.copy(), g.mat.copy(), g.rgba.copy())
+            for g in (scene.geoms[i] for i in range(scene.ngeom))
+        ]
+
+
+def draw_decor(scene: mujoco.MjvScene, decor: Sequence[DecorGeom]) -> None:
+    """Append captured decor geoms to ``scene`` (as many as it has room for)."""
+    for geom_type, size, pos, mat, rgba in decor:
+        if scene.ngeom >= scene.maxgeom:
+            return
+        mujoco.mjv_initGeom(scene.geoms[scene.ngeom], geom_type, size, pos, mat.reshape(-1), rgba)
+        scene.ngeom += 1
 
 
 def look_at(eye, lookat) -> tuple[np.ndarray, float, float, float]:

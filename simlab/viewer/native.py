@@ -15,7 +15,7 @@ import copy
 import mujoco
 
 from simlab.devices.keys import KeyEvent, glfw_key_name, key_hub
-from simlab.sim.renderer import EnvSceneBuilder, set_free_camera, view_znear
+from simlab.sim.renderer import EnvSceneBuilder, draw_decor, set_free_camera, view_znear
 from simlab.viewer.choice import display_available
 from simlab.viewer.live import LiveViewer, ViewerError
 from simlab.viewer.source import EnvSnapshot, SimSource
@@ -80,6 +80,7 @@ class NativeViewer(LiveViewer):
             scene = self._handle.user_scn
             scene.ngeom = 0
             self._builder.add_neighbours(scene, snapshot.states, snapshot.offsets)
+            draw_decor(scene, snapshot.decor)
         if snapshot.episode_length is not None:  # takes the viewer's lock itself
             self._handle.set_texts(
                 (

@@ -9,13 +9,13 @@ touched: a CUDA-graphed GPU step stays graphed.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import mujoco
 import numpy as np
 import torch
 
-from simlab.sim.renderer import gather_env_states
+from simlab.sim.renderer import DecorGeom, SceneDecor, gather_env_states
 
 __all__ = ["EnvSnapshot", "SimSource"]
 
@@ -29,6 +29,7 @@ class EnvSnapshot:
     states: dict[str, np.ndarray]  # qpos, qvel, mocap rows, one per shown env
     episode_return: float | None = None  # of the followed env's running episode
     episode_length: int | None = None
+    decor: list[DecorGeom] = field(default_factory=list)  # the followed env's debug markers
 
 
 class SimSource:
@@ -47,6 +48,7 @@ class SimSource:
         self.physics = physics
         self.env_origins = env_origins
         self.num_envs = int(env_origins.shape[0])
+        self._decor = SceneDecor(model)
         self.step_dt = step_dt
 
     @classmethod
@@ -73,7 +75,9 @@ class SimSource:
         return ids, offsets[ids]
 
     def snapshot(self, env_ids: list[int], offsets: np.ndarray) -> EnvSnapshot:
-        return EnvSnapshot(list(env_ids), offsets, gather_env_states(self.physics, env_ids))
+        """The shown envs' state and the followed env's debug markers (debug_vis of commands, sensors, ...)."""
+        decor = self._decor.capture(int(env_ids[0]), self.env_origins)
+        return EnvSnapshot(list(env_ids), offsets, gather_env_states(self.physics, env_ids), decor=decor)
 
 
 class HostKinematics:

@@ -46,4 +46,4 @@ class RayCasterCfg(SensorBaseCfg):
     ray_cast_drift_range: dict[str, tuple[float, float]] = {"x": (0.0, 0.0), "y": (0.0, 0.0), "z": (0.0, 0.0)}
     """Uniform drift of the ray starts in the rays' frame (x, y) and of the hit heights (z) [m]."""
     visualizer_cfg: VisualizationMarkersCfg = RAY_CASTER_MARKER_CFG.replace(prim_path="/Visuals/RayCaster")
-    """The markers ``debug_vis`` draws at every ray hit (red spheres), in renders, videos and viewers."""
+    """The markers ``debug_vis`` draws at every ray hit (red spheres), in renders, videos and the native viewer."""
