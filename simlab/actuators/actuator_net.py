@@ -95,14 +95,19 @@ class ActuatorLSTM(nn.Module):
 
 def resolve_network_file(path: str) -> str:
     """The local file of ``network_file``: simlab's own network for an Isaac Lab Nucleus path of one."""
-    for isaac_path, shipped in ISAACLAB_ACTUATOR_NETS.items():
-        if str(path).endswith("/" + isaac_path) and "://" in str(path):
-            return os.path.join(NETS_DIR, shipped)
+    if "://" in str(path):  # a Nucleus (or other remote) path: only Isaac Lab's own networks resolve
+        for isaac_path, shipped in ISAACLAB_ACTUATOR_NETS.items():
+            if str(path).endswith("/" + isaac_path):
+                return os.path.join(NETS_DIR, shipped)
+        known = ", ".join(ISAACLAB_ACTUATOR_NETS)
+        raise ConfigError(
+            f"network_file '{path}' is a remote (Nucleus) file simlab cannot read; simlab has its own networks for"
+            f" Isaac Lab's {known} (under ISAACLAB_NUCLEUS_DIR); give a local file of weights otherwise."
+        )
     try:
         return retrieve_file_path(path)
     except FileNotFoundError as e:
-        known = ", ".join(ISAACLAB_ACTUATOR_NETS)
-        raise ConfigError(f"network_file: {e} (Isaac Lab's actuator networks simlab stands in for: {known})") from None
+        raise ConfigError(f"network_file: {e}") from None
 
 
 def is_torchscript(path: str) -> bool:
