@@ -9,6 +9,7 @@ import importlib
 import sys
 from dataclasses import dataclass
 from pathlib import Path
+from types import SimpleNamespace
 
 import gymnasium as gym
 import mujoco
@@ -17,9 +18,10 @@ import torch
 
 import simlab.sim as sim_utils
 import simlab.tasks  # noqa: F401 - registers the tasks
+from simlab.actuators import ImplicitActuatorCfg
 from simlab.assets import ArticulationCfg, AssetBaseCfg
 from simlab.envs import ManagerBasedRLEnv
-from simlab.robots import anymal, unitree
+from simlab.robots import anymal, spot, unitree
 from simlab.scene import InteractiveScene, InteractiveSceneCfg
 from simlab.sensors import ContactSensorCfg
 from simlab.tasks.manager_based.locomotion.velocity import criterion as velocity_criterion
@@ -45,6 +47,8 @@ class Quadruped:
     feet: str
     published_mass: float  # kg, the sum over the published model's bodies
     height_band: tuple[float, float]  # where the base settles at the default pose [m]
+    terrains: tuple[str, ...] = ("Flat", "Rough")
+    stand_cfg: ArticulationCfg | None = None  # the standing test's robot, where not ``cfg`` itself
 
     def joints(self) -> list[str]:
         # Isaac Lab's articulation order: level by level down the tree, the legs in order at each level
@@ -112,6 +116,26 @@ ROBOTS = {
         51.53921,
         (0.48, 0.62),
     ),
+    # menagerie's boston_dynamics_spot: body 32.86 + 4 x (hip 1.68 + upper leg 2.34 + lower leg 0.35)
+    "spot": Quadruped(
+        spot.SPOT_CFG,
+        "Spot",
+        "body",
+        ("fl", "fr", "hl", "hr"),
+        ("hx", "hy", "kn"),
+        ("hip", "uleg", "lleg", "foot"),
+        "{leg}_{part}",
+        "{leg}_{part}",
+        ".*_foot",
+        32.86 + 4 * (1.68 + 2.34 + 0.35),
+        (0.4, 0.6),
+        terrains=("Flat",),
+        # Isaac Lab's kp 60 lets this 50 kg model sink onto its hind legs (base at 0.23 m after 5 s, knees
+        # 0.69 rad off their targets); menagerie's position servos (kp 500, kd 40) hold it.
+        stand_cfg=spot.SPOT_CFG.replace(
+            actuators={"legs": ImplicitActuatorCfg(joint_names_expr=[".*"], stiffness=500.0, damping=40.0)}
+        ),
+    ),
 }
 IDS = sorted(ROBOTS)
 
@@ -146,20 +170,22 @@ def test_model_mass_matches_the_published_model(name):
 
 @pytest.mark.parametrize("name", IDS)
 def test_stands_on_its_feet_at_its_default_pose(name):
-    """3 s on flat ground under the robot's own actuators holding the default joint positions."""
+    """3 s on flat ground, its actuators (its own unless ``stand_cfg`` stiffens them) holding the default
+    joint positions."""
     robot = ROBOTS[name]
-    sim, scene = robot_scene(robot.cfg)
+    sim, scene = robot_scene(robot.stand_cfg or robot.cfg)
     articulation, contacts = scene["robot"], scene["contacts"]
     assert articulation.joint_names == robot.joints()
     assert articulation.body_names == robot.bodies()
     torch.testing.assert_close(articulation.data.joint_pos, articulation.data.default_joint_pos)
     articulation.set_joint_position_target(articulation.data.default_joint_pos)
-    heights = []
+    heights, support = [], []
     for _ in range(600):
         scene.write_data_to_sim()
         sim.step()
         scene.update(sim.get_physics_dt())
         heights.append(articulation.data.root_pos_w[:, 2].clone())
+        support.append(contacts.data.net_forces_w[..., 2].sum(1))
     settled = torch.stack(heights[100:])  # after the drop from the spawn height
     low, high = robot.height_band
     assert settled.min() > low and settled.max() < high, (settled.min(), settled.max())
@@ -170,16 +196,17 @@ def test_stands_on_its_feet_at_its_default_pose(name):
     assert touching[:, foot_ids].all(), "all four feet carry the robot"
     others = [i for i in range(contacts.num_bodies) if i not in foot_ids]
     assert not touching[:, others].any(), "nothing but the feet touches the ground"
+    # over the last 0.5 s the ground carries the robot's weight (the actuator nets leave a slight bob)
     weight = float(articulation.data.default_mass[0].sum()) * 9.81
-    torch.testing.assert_close(contacts.data.net_forces_w[..., 2].sum(1), torch.full((2,), weight), rtol=0.02, atol=0.0)
+    torch.testing.assert_close(torch.stack(support[-100:]).mean(0), torch.full((2,), weight), rtol=0.02, atol=0.0)
 
 
 # -- tasks -----------------------------------------------------------------------------------------
 
 
 def task_ids(name: str) -> list[str]:
-    task = ROBOTS[name].task
-    return [f"simlab/Velocity-{t}-{task}{p}-v0" for t in ("Flat", "Rough") for p in ("", "-Play")]
+    robot = ROBOTS[name]
+    return [f"simlab/Velocity-{t}-{robot.task}{p}-v0" for t in robot.terrains for p in ("", "-Play")]
 
 
 @pytest.mark.parametrize("name", IDS)
@@ -197,6 +224,7 @@ def step_env(cfg, rough: bool, steps: int = 20) -> None:
     try:
         obs, _ = env.reset()
         assert obs["policy"].shape == (N, 48 + (SCAN if rough else 0))
+        assert env.graph_blockers() == [], "the step can be captured as a CUDA graph"
         for _ in range(steps):
             obs, reward, terminated, truncated, _ = env.step(0.3 * torch.randn(N, env.action_manager.total_action_dim))
             assert torch.isfinite(obs["policy"]).all() and torch.isfinite(reward).all()
@@ -205,8 +233,7 @@ def step_env(cfg, rough: bool, steps: int = 20) -> None:
         env.close()
 
 
-@pytest.mark.parametrize("name", IDS)
-@pytest.mark.parametrize("terrain", ["Flat", "Rough"])
+@pytest.mark.parametrize(("name", "terrain"), [(name, t) for name in IDS for t in ROBOTS[name].terrains])
 def test_task_builds_and_steps(name, terrain):
     task = f"simlab/Velocity-{terrain}-{ROBOTS[name].task}-v0"
     step_env(parse_env_cfg(task, device="cpu", num_envs=N), rough=terrain == "Rough")
@@ -214,7 +241,7 @@ def test_task_builds_and_steps(name, terrain):
 
 # -- Isaac Lab's own task files --------------------------------------------------------------------
 
-PORTED_CLASSES = {"go1": "UnitreeGo1", "a1": "UnitreeA1", "anymal_b": "AnymalB", "anymal_d": "AnymalD"}
+PORTED_CLASSES = {"go1": "UnitreeGo1", "a1": "UnitreeA1", "anymal_b": "AnymalB", "anymal_d": "AnymalD", "spot": "Spot"}
 
 
 def ported(name: str, terrain: str):
@@ -230,11 +257,99 @@ def weights(cfg) -> dict[str, float]:
     return {name: term.weight for name, term in vars(cfg.rewards).items() if term is not None}
 
 
-@pytest.mark.parametrize("name", sorted(PORTED_CLASSES))
-@pytest.mark.parametrize("terrain", ["Flat", "Rough"])
+@pytest.mark.parametrize(
+    ("name", "terrain"), [(name, t) for name in sorted(PORTED_CLASSES) for t in ROBOTS[name].terrains]
+)
 def test_isaac_labs_own_task_file_runs_after_the_import_mapping(name, terrain):
     cfg = ported(name, terrain)
     ours = parse_env_cfg(f"simlab/Velocity-{terrain}-{ROBOTS[name].task}-v0", device="cpu", num_envs=N)
     assert weights(cfg) == weights(ours)
     assert cfg.actions.joint_pos.scale == ours.actions.joint_pos.scale
     step_env(cfg, rough=terrain == "Rough", steps=5)
+
+
+# -- Spot's own terms, on known contact states -----------------------------------------------------
+
+
+def fake_env(air: list[list[float]], contact: list[list[float]], commands: list[list[float]]):
+    """An env of ``len(air)`` worlds: Spot's four feet (fl, fr, hl, hr) with the given current air and
+    contact times, the given velocity commands, the base at rest."""
+    feet = ["fl_foot", "fr_foot", "hl_foot", "hr_foot"]
+    sensor = SimpleNamespace(
+        cfg=SimpleNamespace(track_air_time=True),
+        data=SimpleNamespace(current_air_time=torch.tensor(air), current_contact_time=torch.tensor(contact)),
+        find_bodies=lambda name: ([feet.index(name)], [name]),
+    )
+    num_envs = len(air)
+    robot = SimpleNamespace(data=SimpleNamespace(root_lin_vel_b=torch.zeros(num_envs, 3)))
+    return SimpleNamespace(
+        num_envs=num_envs,
+        device="cpu",
+        scene=FakeScene({"contact_forces": sensor}, robot),
+        command_manager=SimpleNamespace(get_command=lambda name: torch.tensor(commands)),
+    )
+
+
+class FakeScene:
+    """``scene.sensors[name]`` and ``scene["robot"]``, as the terms read them."""
+
+    def __init__(self, sensors: dict, robot, cfg=None):
+        self.sensors, self.robot, self.cfg = sensors, robot, cfg
+
+    def __getitem__(self, name: str):
+        return self.robot
+
+
+def test_spot_gait_reward_pays_a_trot_and_not_a_pronk():
+    from simlab.managers import RewardTermCfg, SceneEntityCfg
+    from simlab.tasks.manager_based.locomotion.velocity.config.spot import mdp as spot_mdp
+
+    # env 0 trots (fl+hr in the air 0.2 s while fr+hl stand 0.2 s), env 1 pronks (all four in the air
+    # 0.2 s), env 2 trots but is neither commanded nor moving
+    air = [[0.2, 0.0, 0.0, 0.2], [0.2, 0.2, 0.2, 0.2], [0.2, 0.0, 0.0, 0.2]]
+    contact = [[0.0, 0.2, 0.2, 0.0], [0.0, 0.0, 0.0, 0.0], [0.0, 0.2, 0.2, 0.0]]
+    env = fake_env(air, contact, [[1.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 0.0]])
+    params = {
+        "std": 0.1,
+        "max_err": 0.2,
+        "velocity_threshold": 0.5,
+        "synced_feet_pair_names": (("fl_foot", "hr_foot"), ("fr_foot", "hl_foot")),
+        "asset_cfg": SceneEntityCfg("robot"),
+        "sensor_cfg": SceneEntityCfg("contact_forces"),
+    }
+    term = spot_mdp.GaitReward(RewardTermCfg(func=spot_mdp.GaitReward, weight=10.0, params=params), env)
+    reward = term(env, **params)
+    # the pronk: synced pairs agree (1), each of the four opposed pairs misses by 0.2 s twice:
+    # exp(-(0.04 + 0.04) / 0.1) each
+    torch.testing.assert_close(reward, torch.tensor([1.0, float(torch.exp(torch.tensor(-3.2))), 0.0]))
+    with pytest.raises(ValueError, match="two pairs"):
+        bad = dict(params, synced_feet_pair_names=(("fl_foot", "hr_foot"),))
+        spot_mdp.GaitReward(RewardTermCfg(func=spot_mdp.GaitReward, weight=1.0, params=bad), env)
+
+
+def test_spot_air_time_reward_steps_when_moving_and_stands_when_not():
+    from simlab.managers import SceneEntityCfg
+    from simlab.tasks.manager_based.locomotion.velocity.config.spot import mdp as spot_mdp
+
+    # env 0 moves: phases of 0.1, 0.2 s count, 0.4 s (past mode_time 0.3) does not; env 1 stands still:
+    # contact - air, clipped to +-0.3
+    air = [[0.1, 0.0, 0.4, 0.0], [0.1, 0.0, 0.0, 0.0]]
+    contact = [[0.0, 0.2, 0.0, 0.0], [0.0, 0.2, 0.5, 0.1]]
+    env = fake_env(air, contact, [[0.5, 0.0, 0.0], [0.0, 0.0, 0.0]])
+    feet = SceneEntityCfg("contact_forces", body_names=".*_foot")
+    feet.body_ids = [0, 1, 2, 3]
+    reward = spot_mdp.air_time_reward(env, SceneEntityCfg("robot"), feet, mode_time=0.3, velocity_threshold=0.5)
+    torch.testing.assert_close(reward, torch.tensor([0.1 + 0.2 + 0.0 + 0.0, -0.1 + 0.2 + 0.3 + 0.1]))
+
+
+def test_terrain_out_of_bounds_is_the_generated_terrains_edge():
+    import simlab.envs.mdp as mdp
+
+    env = parse_env_cfg("simlab/Velocity-Flat-Spot-v0", device="cpu", num_envs=N)
+    # Spot's cobblestone road: 9 x 8 m rows and 21 x 8 m columns inside a 20 m border, centred on the
+    # origin: |x| up to 56 m, |y| up to 104 m; a 3 m buffer
+    robot = SimpleNamespace(data=SimpleNamespace(root_pos_w=torch.tensor([[52.9, 0, 0], [53.1, 0, 0], [0, -101.1, 0]])))
+    fake = SimpleNamespace(num_envs=3, device="cpu", scene=FakeScene({}, robot, cfg=env.scene))
+    assert mdp.terrain_out_of_bounds(fake, distance_buffer=3.0).tolist() == [False, True, True]
+    env.scene.terrain.terrain_type = "plane"
+    assert not mdp.terrain_out_of_bounds(fake).any()

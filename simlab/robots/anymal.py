@@ -78,14 +78,16 @@ that holds the robot in its default pose."""
 
 
 ANYMAL_B_CFG = ANYMAL_C_CFG.replace(
-    spawn=ANYMAL_C_CFG.spawn.replace(asset_path=os.path.join(ASSETS_DIR, "anybotics_anymal_b.xml"))
+    spawn=ANYMAL_C_CFG.spawn.replace(asset_path=os.path.join(ASSETS_DIR, "anybotics_anymal_b.xml")),
+    actuators={"legs": ANYDRIVE_3_LSTM_ACTUATOR_CFG},
 )
-"""ANYmal-B (30.4 kg) with ANYmal-C's pose, spawn height and drives, as Isaac Lab's (which drives it with
-the ANYdrive LSTM actuator network); here simlab's stiff DC-motor ANYdrive (``ANYDRIVE_3_STIFF_ACTUATOR_CFG``)."""
+"""ANYmal-B (30.4 kg) with ANYmal-C's pose and spawn height, driven as Isaac Lab drives it by the ANYdrive
+LSTM actuator network config (simlab's network: the stiff DC-motor ANYdrive with a 2-step delay)."""
 
 ANYMAL_D_CFG = ANYMAL_C_CFG.replace(
-    spawn=ANYMAL_C_CFG.spawn.replace(asset_path=os.path.join(ASSETS_DIR, "anybotics_anymal_d.xml"))
+    spawn=ANYMAL_C_CFG.spawn.replace(asset_path=os.path.join(ASSETS_DIR, "anybotics_anymal_d.xml")),
+    actuators={"legs": ANYDRIVE_3_LSTM_ACTUATOR_CFG},
 )
-"""ANYmal-D (51.5 kg) with ANYmal-C's pose, spawn height and drives, as Isaac Lab's (which drives it with
-ANYmal-C's LSTM actuator network, there being no public one for ANYmal-D); here simlab's stiff DC-motor
-ANYdrive (``ANYDRIVE_3_STIFF_ACTUATOR_CFG``)."""
+"""ANYmal-D (51.5 kg) with ANYmal-C's pose and spawn height, driven as Isaac Lab drives it by ANYmal-C's
+ANYdrive LSTM actuator network config (Isaac Lab has no network of ANYmal-D's drives either; simlab's
+network: the stiff DC-motor ANYdrive with a 2-step delay)."""

@@ -77,3 +77,23 @@ def illegal_contact(env: ManagerBasedRLEnv, threshold: float, sensor_cfg: SceneE
     """A selected body touched with more than ``threshold`` newtons during the sensor's history."""
     history = env.scene.sensors[sensor_cfg.name].data.net_forces_w_history
     return torch.any(torch.max(torch.norm(history[:, :, sensor_cfg.body_ids], dim=-1), dim=1)[0] > threshold, dim=1)
+
+
+def terrain_out_of_bounds(
+    env: ManagerBasedRLEnv, asset_cfg: SceneEntityCfg = _ROBOT, distance_buffer: float = 3.0
+) -> torch.Tensor:
+    """The root came within ``distance_buffer`` metres of the generated terrain's edge (its tiles and
+    border, centred on the origin). Never on a plane, which has no edge."""
+    terrain = env.scene.cfg.terrain
+    if terrain.terrain_type == "plane":
+        return torch.zeros(env.num_envs, dtype=torch.bool, device=env.device)
+    if terrain.terrain_type != "generator":
+        raise ValueError(
+            f"terrain_out_of_bounds: terrain_type {terrain.terrain_type!r} has no known extent; "
+            "allowed: 'plane' or 'generator'"
+        )
+    generator = terrain.terrain_generator
+    half_x = 0.5 * (generator.num_rows * generator.size[0] + 2 * generator.border_width) - distance_buffer
+    half_y = 0.5 * (generator.num_cols * generator.size[1] + 2 * generator.border_width) - distance_buffer
+    position = env.scene[asset_cfg.name].data.root_pos_w
+    return (position[:, 0].abs() > half_x) | (position[:, 1].abs() > half_y)

@@ -177,6 +177,7 @@ USD_STAND_INS: dict[str, UsdStandIn] = {
     "Robots/IsaacSim/Humanoid/humanoid_instanceable.usd": _HUMANOID,
     "Robots/Humanoid/humanoid_instanceable.usd": _HUMANOID,
     "Robots/Franka/franka_instanceable.usd": _FRANKA,
+    "Robots/BostonDynamics/spot/spot.usd": mjcf("boston_dynamics_spot.xml"),
     "Robots/Bitcraze/Crazyflie/cf2x.usd": _CRAZYFLIE,
     "Robots/Crazyflie/cf2x.usd": _CRAZYFLIE,
     "Robots/WonikRobotics/AllegroHand/allegro_hand_instanceable.usd": _ALLEGRO,
