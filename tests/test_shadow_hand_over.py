@@ -164,3 +164,16 @@ def test_isaac_lab_s_handover_files_step_as_simlab_s_own():
             env.close()
         for name in [m for m in sys.modules if m.startswith("isaaclab_shadow_hand_over")]:
             sys.modules.pop(name)
+
+
+@pytest.mark.slow
+def test_contact_buffers_cover_the_peaks_of_random_play():
+    """MuJoCo Warp's kernels on Warp's CPU device with the task's own buffers (an overflow raises),
+    short episodes so that the rollout crosses resets: twice the peaks fit."""
+    pytest.importorskip("mujoco_warp")
+    from simlab.tasks.utils.contact_buffers import measure_task_buffers
+
+    peaks, diverged, reserved = measure_task_buffers(TASK, num_envs=4, env_steps=60, headroom=1, episode_length_s=0.5)
+    assert diverged == 0 and peaks.contacts_per_world > 0
+    assert reserved["nconmax"] >= 2 * peaks.contacts_per_world
+    assert reserved["njmax"] >= 2 * peaks.constraint_rows

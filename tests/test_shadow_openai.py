@@ -205,3 +205,40 @@ def test_played_lstm_policy_carries_its_state_and_restarts_it_with_the_episode(t
         assert not torch.allclose(third[[1, 3]], first[[1, 3]])
     finally:
         env.close()
+
+
+@pytest.mark.slow
+def test_contact_buffers_cover_the_peaks_of_random_play():
+    """MuJoCo Warp's kernels on Warp's CPU device with the task's own buffers (an overflow raises),
+    short episodes so that the rollout crosses resets: twice the peaks fit."""
+    pytest.importorskip("mujoco_warp")
+    from simlab.tasks.utils.contact_buffers import measure_task_buffers
+
+    peaks, diverged, reserved = measure_task_buffers(FF, num_envs=4, env_steps=60, headroom=1, episode_length_s=0.5)
+    assert diverged == 0 and peaks.contacts_per_world > 0
+    assert reserved["nconmax"] >= 2 * peaks.contacts_per_world
+    assert reserved["njmax"] >= 2 * peaks.constraint_rows
+
+
+@pytest.mark.slow
+def test_fingertip_wrenches_agree_on_mujoco_warp():
+    """The same steps on MuJoCo C (mjbatch) and MuJoCo Warp (its CPU device): the critic's fingertip
+    force-torque readings agree (float32 solvers, a few thousandths of readings of several units)."""
+    pytest.importorskip("mujoco_warp")
+    readings = []
+    for engine in (None, "mujoco_warp"):
+        cfg = parse_env_cfg(FF, device="cpu", num_envs=2)
+        cfg.seed, cfg.events = 0, None
+        cfg.action_noise_model = cfg.observation_noise_model = None
+        if engine is not None:
+            cfg.sim.engine, cfg.sim.use_cuda_graph = engine, False
+        env = gym.make(FF, cfg=cfg).unwrapped
+        try:
+            env.reset(seed=0)
+            for _ in range(5):
+                obs, *_ = env.step(torch.zeros(2, 20))
+            readings.append(obs["critic"][:, 137:167].clone())
+        finally:
+            env.close()
+    assert readings[0].abs().max() > 1.0
+    torch.testing.assert_close(readings[1], readings[0], atol=0.02, rtol=0.01)

@@ -68,7 +68,9 @@ def measure_task_buffers(
         env.reset(seed=seed)
         peaks = BufferPeaks().watch(backend)
         actions = torch.Generator(device=env.device).manual_seed(seed)
-        shape = (num_envs, env.single_action_space.shape[-1])
+        # a multi-agent env takes all its agents' actions side by side in one tensor (env.action_space)
+        space = getattr(env, "single_action_space", None) or env.action_space
+        shape = (num_envs, space.shape[-1])
         for _ in range(env_steps):
             env.step(torch.rand(shape, generator=actions, device=env.device) * 2 - 1)
         backend.check_overflow()
