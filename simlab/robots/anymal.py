@@ -48,7 +48,7 @@ ANYDRIVE_3_LSTM_ACTUATOR_CFG = ActuatorNetLSTMCfg(
 """Isaac Lab's ANYdrive 3.0 LSTM actuator config (its limits). Its network path names simlab's
 ``simlab/actuators/nets/anydrive_3_lstm.pt``: an LSTM fitted here to ``ANYDRIVE_3_STIFF_ACTUATOR_CFG``
 with a 2-physics-step delay (docs/actuators.md), not the network ANYbotics trained on the real drives.
-The robot configs keep the DC-motor drive their shipped policies were trained with."""
+ANYmal-B and ANYmal-D use it; ANYmal-C keeps the DC-motor drive its shipped policies were trained with."""
 
 
 ANYMAL_C_CFG = ArticulationCfg(
