@@ -119,3 +119,11 @@ def test_bench_video_counts_the_frames_each_recording_draws(capsys):
 def test_bench_ops_names_its_counters(capsys):
     assert main(["ops", "nope"]) == 2
     assert "give one of ['step', 'update', 'sync'] (got nope)" in capsys.readouterr().err
+
+
+def test_bench_env_steps_a_multi_agent_task():
+    """A multi-agent env (no single action space) gets every agent's random actions side by side."""
+    from simlab.benchmarks.env_suites import bench_env
+
+    row = bench_env("simlab/Cart-Double-Pendulum-Direct-v0", num_envs=4, device="cpu", steps=5)
+    assert row["env_steps_per_s"] > 0

@@ -39,6 +39,9 @@ def _graph_state(env) -> str:
 
 
 def _random_actions(env) -> torch.Tensor:
+    if hasattr(env, "possible_agents"):  # a multi-agent env: every agent's actions side by side
+        dim = int(sum(env.action_spaces[a].shape[0] for a in env.possible_agents))
+        return torch.rand(env.num_envs, dim, device=env.device) * 2 - 1
     space = env.single_action_space
     dim = int(sum(s.shape[0] for s in space.values())) if isinstance(space, gym.spaces.Dict) else space.shape[0]
     return torch.rand(env.num_envs, dim, device=env.device) * 2 - 1
