@@ -87,3 +87,15 @@ def test_ported_openai_config_runs_and_matches_simlab_s(ported):
         assert obs["policy"].shape == (NUM_ENVS, 42) and obs["critic"].shape == (NUM_ENVS, 187)
     finally:
         env.close()
+
+
+def test_isaac_lab_s_env_asking_physx_for_joint_forces_is_told_what_to_use(ported):
+    """Isaac Lab's env with the OpenAI config reads PhysX's incoming joint forces: the error names
+    simlab's sensors instead."""
+    cfg_module, env_module = ported
+    env = make(env_module.InHandManipulationEnv, cfg_module.ShadowHandOpenAIEnvCfg())
+    try:
+        with pytest.raises(AttributeError, match="IncomingJointWrenches"):
+            env.reset()
+    finally:
+        env.close()

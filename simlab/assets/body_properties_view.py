@@ -65,6 +65,13 @@ class BodyPropertiesView:
         return torch.as_tensor(model, dtype=torch.float32).unsqueeze(0).repeat(self.count, *([1] * model.ndim))
 
     def __getattr__(self, name: str):
+        if name == "get_link_incoming_joint_force":
+            raise AttributeError(
+                "simlab's root_physx_view has no 'get_link_incoming_joint_force': MuJoCo reports the wrench a body"
+                " receives through its joint only from force/torque sensors added before the model compiles."
+                " Create simlab.tasks.direct.inhand_manipulation.joint_wrenches.IncomingJointWrenches(sim,"
+                " asset.prefix, body_names) in _setup_scene and read() it (simlab's in-hand env does)"
+            )
         raise AttributeError(
             f"simlab's root_physx_view has no '{name}': it offers get_masses, set_masses and get_inertias"
             " (articulations also get_dof_limits, get_jacobians, get_generalized_mass_matrices, the gravity and"
