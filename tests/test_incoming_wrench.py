@@ -41,8 +41,8 @@ def test_incoming_wrench_matches_mujocos_force_and_torque_sensors():
         sim.step()
         scene.update(sim.get_physics_dt())
     ids = [robot.body_names.index(b) for b in bodies]
-    ours = robot.data.body_incoming_joint_wrench_b[:, ids]
-    reference = sensors.read()
+    reference = sensors.read()  # the sensors of the last forward pass
+    ours = robot.data.body_incoming_joint_wrench_b[:, ids]  # cfrc_int of the same pass
     assert reference[:, 2:].abs().amax() > 1.0  # the feet carry the ant: a check with something in it
     torch.testing.assert_close(ours, reference, atol=1e-3, rtol=1e-3)
     # the torso is the root: its free joint transmits nothing from the world

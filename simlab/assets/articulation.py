@@ -530,8 +530,11 @@ class ArticulationData(RootedAssetData):
         MuJoCo's ``cfrc_int`` (the interaction force with the parent, computed by the post-constraint
         pass; ``mdp.body_incoming_wrench`` turns that pass on), moved from the tree's centre of mass
         to the body's origin and rotated into the body's frame. It is what MuJoCo's force and torque
-        sensors on a site at the body's origin read. Gravity compensation (``disable_gravity``) is a
-        joint-space force here that the wrench does not net out."""
+        sensors on a site at the body's origin read. As PhysX's joint forces (and simlab's contact
+        sensor), it is the wrench of the last physics step: ``mj_step`` computes it from the state
+        the step starts from, with the body poses of that state, so reading it costs no forward pass.
+        Gravity compensation (``disable_gravity``) is a joint-space force here that the wrench does
+        not net out."""
         from simlab.sim.simulation_context import computes_body_interaction_forces
         from simlab.utils.errors import ConfigError
 
@@ -545,7 +548,6 @@ class ArticulationData(RootedAssetData):
         if not hasattr(self, "_cfrc_int"):
             self._cfrc_int = a._sim.physics.data("cfrc_int")
         ids = a._body_index
-        self._physics.ensure_forward()
         spatial = self._cfrc_int[:, ids]  # [torque about the tree's centre of mass, force], world axes
         force = spatial[..., 3:6]
         offset = self._xpos[:, ids] - self._subtree_com[:, self._rootids]
