@@ -353,3 +353,68 @@ def test_terrain_out_of_bounds_is_the_generated_terrains_edge():
     assert mdp.terrain_out_of_bounds(fake, distance_buffer=3.0).tolist() == [False, True, True]
     env.scene.terrain.terrain_type = "plane"
     assert not mdp.terrain_out_of_bounds(fake).any()
+
+
+# -- ANYmal's symmetry augmentation ----------------------------------------------------------------
+
+
+def test_anymal_mirrors_swap_legs_flip_signs_and_undo_themselves():
+    from simlab.tasks.manager_based.locomotion.velocity.mdp.symmetry import anymal as symmetry
+
+    env = SimpleNamespace(
+        unwrapped=SimpleNamespace(
+            observation_manager=SimpleNamespace(active_terms={"policy": ["base_lin_vel", "height_scan"]})
+        )
+    )
+    torch.manual_seed(0)
+    obs, actions = torch.randn(5, 48 + SCAN), torch.randn(5, 12)
+    obs_aug, actions_aug = symmetry.compute_symmetric_states(env, obs, actions)
+    assert obs_aug.shape == (20, 48 + SCAN) and actions_aug.shape == (20, 12)
+    torch.testing.assert_close(obs_aug[:5], obs)
+    # each mirror undoes itself; the fourth block is both mirrors
+    of_left_right, _ = symmetry.compute_symmetric_states(env, obs_aug[5:10], None)
+    torch.testing.assert_close(of_left_right[5:10], obs)
+    torch.testing.assert_close(of_left_right[10:15], obs_aug[15:20])
+    of_front_back, _ = symmetry.compute_symmetric_states(env, obs_aug[10:15], None)
+    torch.testing.assert_close(of_front_back[10:15], obs)
+    # rsl_rl passes the observation groups as a TensorDict: each group mirrored alike
+    from tensordict import TensorDict
+
+    grouped, _ = symmetry.compute_symmetric_states(env, TensorDict({"policy": obs}, batch_size=[5]), None)
+    assert grouped.batch_size == torch.Size([20])
+    torch.testing.assert_close(grouped["policy"], obs_aug)
+    # Isaac Lab's joint order: HAA of LF, LH, RF, RH, then HFE, then KFE
+    action = torch.zeros(1, 12)
+    action[0, 0], action[0, 4] = 0.3, 0.5  # LF_HAA, LF_HFE
+    _, mirrored = symmetry.compute_symmetric_states(env, None, action)
+    assert mirrored[1, 2] == -0.3 and mirrored[1, 6] == 0.5  # left-right: RF_HAA, RF_HFE
+    assert mirrored[2, 1] == 0.3 and mirrored[2, 5] == -0.5  # front-back: LH_HAA, LH_HFE
+    assert mirrored[3, 3] == -0.3 and mirrored[3, 7] == -0.5  # both: RH
+    assert obs_aug[5, 1] == -obs[0, 1] and obs_aug[5, 5] == -obs[0, 5] and obs_aug[5, 0] == obs[0, 0]
+    # the height scan's rows (y) reverse left-right, its columns (x) front-back
+    scan = obs[0, 48:].view(11, 17)
+    torch.testing.assert_close(obs_aug[5, 48:].view(11, 17), scan.flip(0))
+    torch.testing.assert_close(obs_aug[10, 48:].view(11, 17), scan.flip(1))
+
+
+def test_anymal_default_pose_is_its_own_mirror_image():
+    """Isaac Lab's ANYmal pose (HAA 0, HFE +-0.4, KFE -+0.8) is symmetric both ways: the mirrors'
+    joint maps and signs agree with the robot's joint axes."""
+    from simlab.tasks.manager_based.locomotion.velocity.mdp.symmetry import anymal as symmetry
+
+    sim, scene = robot_scene(anymal.ANYMAL_B_CFG)
+    pose = scene["robot"].data.default_joint_pos[:1]
+    _, mirrored = symmetry.compute_symmetric_states(None, None, pose)
+    for block in range(4):
+        torch.testing.assert_close(mirrored[block : block + 1], pose)
+
+
+def test_anymal_b_registers_its_symmetry_runner():
+    from simlab.tasks.utils.parse_cfg import load_cfg_from_registry
+
+    for terrain in ("Flat", "Rough"):
+        runner = load_cfg_from_registry(
+            f"simlab/Velocity-{terrain}-Anymal-B-v0", "rsl_rl_with_symmetry_cfg_entry_point"
+        )
+        assert runner.algorithm.symmetry_cfg.use_data_augmentation
+        assert runner.algorithm.symmetry_cfg.data_augmentation_func.__name__ == "compute_symmetric_states"

@@ -16,5 +16,7 @@ for terrain in ("Flat", "Rough"):
                 "env_cfg_entry_point": f"{__name__}.{terrain.lower()}_env_cfg:AnymalB{terrain}EnvCfg{play}",
                 "success_criterion_entry_point": _CRITERION,
                 "rsl_rl_cfg_entry_point": f"{agents.__name__}.rsl_rl_ppo_cfg:AnymalB{terrain}PPORunnerCfg",
+                "rsl_rl_with_symmetry_cfg_entry_point": f"{agents.__name__}.rsl_rl_ppo_cfg:"
+                f"AnymalB{terrain}PPORunnerWithSymmetryCfg",
             },
         )
