@@ -22,6 +22,7 @@ from simlab.cli.libraries import get_library
 from simlab.cli.runs import run_dir_of_checkpoint
 from simlab.cli.session import ONE_VIDEO_INTERVAL, check_flags, load_configs, make_env
 from simlab.cli.train import uses_multi_agent_learner
+from simlab.rl.deploy_metadata import deploy_metadata
 from simlab.utils.errors import ConfigError
 
 __all__ = ["RealTimePacer", "locate_checkpoint", "rollout", "run_play"]
@@ -145,7 +146,8 @@ def run_play(
             print(f"[simlab] Not exported: {policy.not_exportable}")
         elif not args.no_export:
             folder = os.path.join(os.path.dirname(checkpoint), "exported")
-            result["exported"] = policy.export(folder)
+            metadata = None if policy.multi_agent else deploy_metadata(env, args.task, policy.obs_groups)
+            result["exported"] = policy.export(folder, metadata)
             print(f"[simlab] Exported the policy to {folder}: {[os.path.basename(f) for f in result['exported']]}")
         steps = args.steps
         if getattr(args, "seconds", None) is not None:

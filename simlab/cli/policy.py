@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import torch
 import torch.nn as nn
@@ -41,6 +41,7 @@ class Policy:
         inputs: maps the env's observation (dict of groups or of agents) to each module's flat input.
         obs_dims: each module's input size, or an image input's (H, W, C) (for export).
         device: where the modules run.
+        obs_groups: the env's observation groups a single-agent module reads, concatenated in this order.
     """
 
     modules: dict[str, nn.Module]
@@ -49,6 +50,7 @@ class Policy:
     device: str = "cpu"
     not_exportable: str | None = None
     """Why the modules cannot be exported (None: they can)."""
+    obs_groups: list[str] = field(default_factory=lambda: ["policy"])
 
     def __post_init__(self):
         for m in self.modules.values():
@@ -64,8 +66,9 @@ class Policy:
         actions = {k: m(x[k].to(self.device, torch.float32)) for k, m in self.modules.items()}
         return actions if self.multi_agent else actions["policy"]
 
-    def export(self, folder: str) -> list[str]:
-        """Write ``policy.pt`` (TorchScript) and ``policy.onnx`` (``policy_<agent>.*`` per agent)."""
+    def export(self, folder: str, metadata: dict[str, str] | None = None) -> list[str]:
+        """Write ``policy.pt`` (TorchScript) and ``policy.onnx`` (``policy_<agent>.*`` per agent); the
+        ONNX files carry ``metadata`` (the deploy metadata, see :mod:`simlab.rl.deploy_metadata`)."""
         if self.not_exportable:
             raise NotImplementedError(self.not_exportable)
         files = []
@@ -73,6 +76,6 @@ class Policy:
             stem = "policy" if name == "policy" else f"policy_{name}"
             cpu = module.to("cpu")
             files.append(export_policy_as_jit(cpu, folder, f"{stem}.pt", obs_dim=self.obs_dims[name]))
-            files.append(export_policy_as_onnx(cpu, folder, self.obs_dims[name], f"{stem}.onnx"))
+            files.append(export_policy_as_onnx(cpu, folder, self.obs_dims[name], f"{stem}.onnx", metadata=metadata))
             module.to(self.device)
         return [os.path.abspath(f) for f in files]

@@ -77,8 +77,13 @@ def export_policy_as_onnx(
     filename: str = "policy.onnx",
     normalizer: nn.Module | None = None,
     verbose: bool = False,
+    metadata: dict[str, str] | None = None,
 ) -> str:
-    """Write ``policy`` (with an optional ``normalizer``) as ONNX (opset 18, dynamic batch); return the path."""
+    """Write ``policy`` (with an optional ``normalizer``) as ONNX (opset 18, dynamic batch); return the path.
+
+    ``metadata`` (``{key: string}``, e.g. :func:`simlab.rl.deploy_metadata.deploy_metadata`) is
+    stored as the model's ``metadata_props``.
+    """
     module = _prepare(policy, normalizer)
     os.makedirs(path, exist_ok=True)
     file = os.path.join(path, filename)
@@ -103,8 +108,18 @@ def export_policy_as_onnx(
             external_data=False,
             verbose=verbose,
         )
+        if metadata:
+            _set_metadata(tmp, metadata)
     onnx_log.setLevel(level)
     return file
+
+
+def _set_metadata(file: str, metadata: dict[str, str]) -> None:
+    import onnx
+
+    model = onnx.load(file)
+    onnx.helper.set_model_props(model, {str(k): str(v) for k, v in metadata.items()})
+    onnx.save(model, file)
 
 
 def _shape(obs_dim: int | tuple[int, ...]) -> tuple[int, ...]:

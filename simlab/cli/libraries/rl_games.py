@@ -233,4 +233,11 @@ def load_policy(env: gym.Env, agent_cfg: dict, checkpoint: str, trust: bool = Fa
         else None
     )
     device = agent_cfg["params"]["config"]["device"]
-    return Policy({"policy": module}, inputs, {"policy": dim}, device=device, not_exportable=not_exportable)
+    return Policy(
+        {"policy": module},
+        inputs,
+        {"policy": dim},
+        device=device,
+        not_exportable=not_exportable,
+        obs_groups=list(groups),
+    )

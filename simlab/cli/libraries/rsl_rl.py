@@ -398,7 +398,7 @@ def load_policy(env: gym.Env, agent_cfg: RslRlOnPolicyRunnerCfg, checkpoint: str
             return {"policy": obs[groups[0]]}  # (N, H, W, C), as the env gives it
         return {"policy": torch.cat([obs[g].reshape(obs[g].shape[0], -1) for g in groups], dim=-1)}
 
-    return Policy({"policy": module}, inputs, {"policy": obs_shape}, device=agent_cfg.device)
+    return Policy({"policy": module}, inputs, {"policy": obs_shape}, device=agent_cfg.device, obs_groups=list(groups))
 
 
 class _ImageActor(torch.nn.Module):

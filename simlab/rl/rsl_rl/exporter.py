@@ -31,10 +31,14 @@ def export_policy_as_onnx(
     filename: str = "policy.onnx",
     verbose: bool = False,
     obs_dim: int | None = None,
+    metadata: dict[str, str] | None = None,
 ) -> str:
-    """Write the actor ``policy`` as ONNX (input ``obs``, output ``actions``, dynamic batch)."""
+    """Write the actor ``policy`` as ONNX (input ``obs``, output ``actions``, dynamic batch), with
+    optional ``metadata`` (:func:`simlab.rl.deploy_metadata.deploy_metadata`)."""
     module, dim = policy_module(policy)
     dim = dim or obs_dim
     if dim is None:
         raise ValueError("export_policy_as_onnx: pass obs_dim, the size of the policy's input.")
-    return exporter.export_policy_as_onnx(module, path, dim, filename, normalizer=normalizer, verbose=verbose)
+    return exporter.export_policy_as_onnx(
+        module, path, dim, filename, normalizer=normalizer, verbose=verbose, metadata=metadata
+    )
