@@ -10,6 +10,7 @@ from simlab.markers.visualization_markers import FrameCfg
 from simlab.utils import configclass
 
 from .null_command import NullCommand
+from .pose_2d_command import UniformPose2dCommand
 from .pose_command import UniformPoseCommand
 from .velocity_command import UniformVelocityCommand
 
@@ -81,3 +82,26 @@ class UniformPoseCommandCfg(CommandTermCfg):
         prim_path="/Visuals/Command/body_pose", markers={"frame": FrameCfg(scale=(0.1, 0.1, 0.1))}
     )
     """The body's current frame (with ``debug_vis``)."""
+
+
+@configclass
+class UniformPose2dCommandCfg(CommandTermCfg):
+    class_type: type = UniformPose2dCommand
+    asset_name: str = MISSING
+    simple_heading: bool = MISSING
+    """Face the goal (or away from it, whichever is closer) instead of drawing the heading."""
+
+    @configclass
+    class Ranges:
+        pos_x: tuple[float, float] = MISSING
+        """Goal x around the env's origin (m)."""
+        pos_y: tuple[float, float] = MISSING
+        """Goal y around the env's origin (m)."""
+        heading: tuple[float, float] = MISSING
+        """Goal heading (rad), used without ``simple_heading``."""
+
+    ranges: Ranges = MISSING
+    goal_pose_visualizer_cfg: VisualizationMarkersCfg = GREEN_ARROW_X_MARKER_CFG.replace(
+        prim_path="/Visuals/Command/pose_goal"
+    )
+    """The goal's arrow along its heading (with ``debug_vis``), drawn in renders."""

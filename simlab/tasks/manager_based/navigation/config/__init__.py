@@ -1,0 +1,1 @@
+"""Navigation task configurations, one folder per robot."""
