@@ -125,7 +125,10 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
     elif args.resume is not None and (len(args.tasks or []) != 1 or not os.path.isfile(args.resume)):
         parser.error(f"--resume {args.resume}: give one task with --tasks and an existing checkpoint file")
     if args.eval_every is not None and args.library != "rsl_rl":
-        parser.error("--eval_every sets rsl_rl's save_interval; with skrl give its checkpoint_interval in --overrides")
+        parser.error(
+            "--eval_every sets rsl_rl's save_interval; with skrl give its checkpoint_interval in --overrides"
+            " (SB3 saves every 50 rollouts)"
+        )
     bad = [o for o in args.overrides if not o.startswith(("env.", "agent.")) or "=" not in o]
     if bad:
         parser.error(f"--overrides {' '.join(bad)}: each looks like env.x.y=1 or agent.z=2")
@@ -329,19 +332,18 @@ def stage(task: str, checkpoint: str, library: str, log_root: str, matrices: str
 
     from simlab.cli.runs import CHECKPOINT_LAYOUT, run_dir_of_checkpoint
     from simlab.pretrained import POLICY_FILE
-    from simlab.pretrained.weights import pack_policy, unpack_policy
-    from simlab.utils.trust import torch_load
+    from simlab.pretrained.weights import pack_policy, read_checkpoint, unpack_policy, write_checkpoint
 
     run_dir = run_dir_of_checkpoint(checkpoint, library)
     staged = os.path.join(log_root, "stored", task.split("/")[-1], library)
     shutil.rmtree(staged, ignore_errors=True)
     shutil.copytree(os.path.join(run_dir, "params"), os.path.join(staged, "params"))
     name = os.path.join(*CHECKPOINT_LAYOUT[library][0], os.path.basename(checkpoint))  # skrl's: checkpoints/
-    state = torch_load(checkpoint, map_location="cpu")  # weights only: a run's file is data
+    state = read_checkpoint(checkpoint, library)  # weights only: a run's file is data
     torch.save(pack_policy(state, library, name, matrices), os.path.join(staged, POLICY_FILE))
     name, played = unpack_policy(os.path.join(staged, POLICY_FILE))
     os.makedirs(os.path.dirname(os.path.join(staged, name)), exist_ok=True)
-    torch.save(played, os.path.join(staged, name))
+    write_checkpoint(played, os.path.join(staged, name), library)
     return os.path.join(staged, name)
 
 
@@ -471,11 +473,16 @@ def make_one(task: str, args: argparse.Namespace, log_root: str, argv: list[str]
 
 
 def checkpoint_iteration(checkpoint: str, library: str, agent_cfg: dict) -> int:
-    """The training iteration a checkpoint was saved at: rsl_rl stores it; skrl names the timestep."""
+    """The training iteration a checkpoint was saved at: rsl_rl stores it; skrl names the timestep; SB3
+    stores its timesteps (a rollout is n_steps of every env)."""
+    from simlab.pretrained.weights import read_checkpoint
     from simlab.utils.trust import torch_load
 
     if library == "rsl_rl":
         return int(torch_load(checkpoint, map_location="cpu").get("iter", 0))
+    if library == "sb3":
+        data = read_checkpoint(checkpoint, library)["data"]
+        return max(0, int(data["num_timesteps"]) // (int(data["n_steps"]) * int(data["n_envs"])) - 1)
     timestep = re.search(r"(\d+)\.pt$", os.path.basename(checkpoint))
     return int(timestep.group(1)) // agent_cfg["agent"]["rollouts"] if timestep else 0
 

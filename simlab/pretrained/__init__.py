@@ -89,9 +89,7 @@ def unpack_pretrained_checkpoint(task: str, library: str, log_root: str) -> str:
 
 
 def _unpack(task: str, library: str, log_root: str) -> tuple[str, str]:
-    import torch
-
-    from simlab.pretrained.weights import unpack_policy
+    from simlab.pretrained.weights import unpack_policy, write_checkpoint
 
     source = pretrained_run_dir(task, library)
     target = os.path.abspath(os.path.join(log_root, "pretrained", library, _task_folder(task)))
@@ -99,5 +97,5 @@ def _unpack(task: str, library: str, log_root: str) -> tuple[str, str]:
     name, checkpoint = unpack_policy(os.path.join(source, POLICY_FILE))
     path = os.path.join(target, name)
     os.makedirs(os.path.dirname(path), exist_ok=True)
-    torch.save(checkpoint, path)
+    write_checkpoint(checkpoint, path, library)
     return target, path

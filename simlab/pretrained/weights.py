@@ -1,8 +1,9 @@
 """The one file a shipped policy is stored as: ``policy.pt``, the weights play loads and nothing else.
 
 A shipped policy is played, never trained on, so its file keeps only what the library's loader
-reads for play (rsl_rl's ``actor_state_dict``; skrl's ``policy`` and its observation normalizer),
-with its weight matrices stored smaller than float32, in one of two forms (``MATRICES``):
+reads for play (rsl_rl's ``actor_state_dict``; skrl's ``policy`` and its observation normalizer;
+Stable-Baselines3's policy network, its settings and its VecNormalize statistics), with its weight
+matrices stored smaller than float32, in one of two forms (``MATRICES``):
 
 - ``int8_rows``: int8 with one float32 scale per row (symmetric, the row's largest magnitude maps
   to 127), a quarter of float32's bytes;
@@ -16,15 +17,28 @@ tensors, dicts, numbers and strings, so ``torch.load(weights_only=True)`` reads 
 
 :func:`unpack_policy` turns it back into the library's own checkpoint (float32), which play writes
 into the user's log folder and loads as any checkpoint; exports (ONNX, TorchScript) are made there.
+:func:`read_checkpoint` and :func:`write_checkpoint` turn a library's checkpoint file into such a dict
+and back: a torch file for rsl_rl and skrl; for SB3 its ``.zip`` and the ``.npz`` statistics beside it.
+
+SB3's zip keeps its settings as JSON, with its spaces, schedules and policy class pickled in it. The
+stored form keeps the JSON settings, the spaces' pickles (read back by simlab's restricted unpickler,
+which knows only gymnasium's spaces and numpy) and of the other pickled items their names only: play
+takes them from the task's config (:mod:`simlab.cli.libraries.sb3`), so no pickled code is shipped.
 """
 
 from __future__ import annotations
 
+import io
+import json
+import os
+import re
+import zipfile
 from typing import Any
 
+import numpy as np
 import torch
 
-__all__ = ["FORMAT", "MATRICES", "PLAY_KEYS", "pack_policy", "unpack_policy"]
+__all__ = ["FORMAT", "MATRICES", "PLAY_KEYS", "pack_policy", "read_checkpoint", "unpack_policy", "write_checkpoint"]
 
 FORMAT = "simlab-policy-1"
 MATRICES = ("int8_rows", "float16")  # smallest first
@@ -33,7 +47,14 @@ MATRICES = ("int8_rows", "float16")  # smallest first
 PLAY_KEYS = {
     "rsl_rl": ("actor_state_dict", "iter", "infos"),
     "skrl": ("policy", "observation_preprocessor"),
+    # SB3's policy (PPO.load needs its value head too) and the optimizer's settings (no moments)
+    "sb3": ("policy", "policy.optimizer", "data", "vecnormalize", "version"),
 }
+# items of SB3's data that the training rebuilds (the last observations, episode buffers): not kept
+_SB3_REBUILT = ("_last_obs", "_last_episode_starts", "_last_original_obs", "ep_info_buffer", "ep_success_buffer")
+_SB3_SPACES = ("observation_space", "action_space")
+# kept when the checkpoint has them: skrl writes its normalizer only when the agent config sets one
+OPTIONAL_KEYS = ("observation_preprocessor",)
 # a packed matrix is {"__packed__": <one of MATRICES>, "values": ..., ("scale": per-row float32)}
 
 
@@ -75,10 +96,10 @@ def pack_policy(checkpoint: dict[str, Any], library: str, name: str, matrices: s
     if library not in PLAY_KEYS:
         raise ValueError(f"Cannot store a {library} policy; the libraries with stored policies: {sorted(PLAY_KEYS)}.")
     keys = PLAY_KEYS[library]
-    missing = [key for key in keys if key not in checkpoint]
+    missing = [key for key in keys if key not in checkpoint and key not in OPTIONAL_KEYS]
     if missing:
         raise KeyError(f"The checkpoint has no {missing} (it has {sorted(checkpoint)}); play needs {list(keys)}.")
-    state = {key: _pack(checkpoint[key], matrices) for key in keys}
+    state = {key: _pack(checkpoint[key], matrices) for key in keys if key in checkpoint}
     return {"format": FORMAT, "matrices": matrices, "checkpoint": name, "state": state}
 
 
@@ -90,3 +111,78 @@ def unpack_policy(path: str) -> tuple[str, dict[str, Any]]:
         found = stored.get("format") if isinstance(stored, dict) else type(stored).__name__
         raise ValueError(f"'{path}' is not a stored simlab policy (format {found!r}; expected {FORMAT!r}).")
     return stored["checkpoint"], _unpack(stored["state"])
+
+
+def _sb3_statistics_path(checkpoint: str) -> str:
+    # the name simlab's SB3 adapter gives VecNormalize's statistics (simlab.cli.libraries.sb3)
+    folder, name = os.path.split(checkpoint)
+    steps = re.match(r"model_(\d+)_steps\.zip$", name)
+    return os.path.join(folder, f"model_vecnormalize_{steps.group(1)}_steps.npz" if steps else "model_vecnormalize.npz")
+
+
+def _sb3_data(data: dict[str, Any]) -> dict[str, Any]:
+    """SB3's settings less the rebuilt buffers, the spaces' pickles kept, other pickles' payloads dropped."""
+    kept = {}
+    for key, item in data.items():
+        if key in _SB3_REBUILT:
+            continue
+        if isinstance(item, dict) and ":serialized:" in item and key not in _SB3_SPACES:
+            item = {**item, ":serialized:": ""}  # play replaces it from the task's config
+        kept[key] = item
+    return kept
+
+
+def _read_sb3(path: str) -> dict[str, Any]:
+    def load(name: str) -> Any:
+        return torch.load(io.BytesIO(archive.read(name)), map_location="cpu", weights_only=True)
+
+    with zipfile.ZipFile(path) as archive:
+        data = json.loads(archive.read("data"))
+        policy, optimizer = load("policy.pth"), load("policy.optimizer.pth")
+        version = archive.read("_stable_baselines3_version").decode()
+    statistics: dict[str, Any] = {}
+    if os.path.isfile(_sb3_statistics_path(path)):
+        with np.load(_sb3_statistics_path(path), allow_pickle=False) as arrays:
+            statistics = {key: torch.from_numpy(arrays[key]) for key in arrays.files}
+    return {
+        "policy": policy,
+        "policy.optimizer": {"state": {}, "param_groups": optimizer["param_groups"]},
+        "data": _sb3_data(data),
+        "vecnormalize": statistics,
+        "version": version,
+    }
+
+
+def _write_sb3(checkpoint: dict[str, Any], path: str) -> None:
+    def tensor_file(value: Any) -> bytes:
+        buffer = io.BytesIO()
+        torch.save(value, buffer)
+        return buffer.getvalue()
+
+    with zipfile.ZipFile(path, "w") as archive:
+        archive.writestr("data", json.dumps(checkpoint["data"], indent=4))
+        archive.writestr("policy.pth", tensor_file(checkpoint["policy"]))
+        archive.writestr("policy.optimizer.pth", tensor_file(checkpoint["policy.optimizer"]))
+        archive.writestr("pytorch_variables.pth", tensor_file({}))
+        archive.writestr("_stable_baselines3_version", checkpoint["version"])
+    if checkpoint["vecnormalize"]:
+        with open(_sb3_statistics_path(path), "wb") as f:
+            np.savez(f, **{key: value.numpy() for key, value in checkpoint["vecnormalize"].items()})
+
+
+def read_checkpoint(path: str, library: str) -> dict[str, Any]:
+    """A ``library`` checkpoint file as a dict of tensors, numbers and strings (weights only; for SB3
+    its zip's policy, optimizer settings and JSON settings, and the VecNormalize statistics beside it)."""
+    if library == "sb3":
+        return _read_sb3(path)
+    from simlab.utils.trust import torch_load
+
+    return torch_load(path, map_location="cpu")  # weights only: a run's file is data
+
+
+def write_checkpoint(checkpoint: dict[str, Any], path: str, library: str) -> None:
+    """Write ``checkpoint`` (:func:`read_checkpoint`'s form) as the ``library``'s checkpoint file at ``path``."""
+    if library == "sb3":
+        _write_sb3(checkpoint, path)
+    else:
+        torch.save(checkpoint, path)
