@@ -3,8 +3,11 @@ simlab's shipped flat-ground ANYmal-C policy, frozen, read as weights only."""
 
 from __future__ import annotations
 
+import importlib
 import os
 import pickle
+import sys
+from pathlib import Path
 
 import gymnasium as gym
 import pytest
@@ -20,6 +23,7 @@ from simlab.utils.assets import ISAACLAB_NUCLEUS_DIR
 from simlab.utils.errors import ConfigError, UntrustedFileError
 
 TASK = "simlab/Navigation-Flat-Anymal-C-v0"
+PORTED = Path(__file__).parent / "ported"
 SHIPPED = os.path.join(pretrained_run_dir("simlab/Velocity-Flat-Anymal-C-v0", "rsl_rl"), POLICY_FILE)
 
 
@@ -167,3 +171,22 @@ def test_a_pickle_that_runs_code_is_refused_and_never_runs(tmp_path):
         load_policy(_cfg(path), "cpu")
     assert "\n" not in str(info.value)
     assert not marker.exists()
+
+
+def test_isaac_labs_own_task_file_runs_after_the_import_mapping():
+    """Isaac Lab's navigation_env_cfg.py (tests/ported): the same terms as simlab's, and its frozen
+    low-level policy walks where the high-level action points."""
+    sys.path.insert(0, str(PORTED))
+    try:
+        module = importlib.import_module("isaaclab_navigation_anymal_c.navigation_env_cfg")
+    finally:
+        sys.path.remove(str(PORTED))
+    cfg = module.NavigationEnvCfg()
+    ours = parse_env_cfg(TASK, device="cpu", num_envs=4)
+    assert {k: t.weight for k, t in vars(cfg.rewards).items()} == {k: t.weight for k, t in vars(ours.rewards).items()}
+    assert cfg.decimation == ours.decimation == 40
+    cfg.scene.num_envs, cfg.sim.device, cfg.seed = 4, "cpu", 0
+    env = gym.make(TASK, cfg=cfg).unwrapped
+    forward, _ = _walk(env, (0.5, 0.0, 0.0), steps=5)
+    assert (forward > 0.3).all(), forward
+    env.close()
