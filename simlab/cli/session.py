@@ -218,16 +218,19 @@ def make_env(args: argparse.Namespace, env_cfg: Any, video_dir: str | None, sing
 
 def with_viewer(args: argparse.Namespace, env: gym.Env) -> gym.Env:
     """``env`` shown in the live viewer ``--viewer`` asks for (none with ``--headless``); play runs in
-    real time. A viewer that cannot open warns, and the run goes on without it."""
+    real time, and a velocity task's command is steered from the viewer. A viewer that cannot open
+    warns, and the run goes on without it."""
     from simlab.viewer import DEFAULT_HOST, DEFAULT_PORT, ViewerWrapper, open_viewer, resolve_viewer_kind
 
     kind = resolve_viewer_kind(getattr(args, "viewer", "none"), getattr(args, "headless", True))
+    play = getattr(args, "command", None) == "play"
     viewer = open_viewer(
         env.unwrapped,
         kind,
         getattr(args, "viewer_port", DEFAULT_PORT),
-        realtime=getattr(args, "command", None) == "play",
+        realtime=play,
         host=getattr(args, "viewer_host", DEFAULT_HOST),
+        steer=play,
     )
     return env if viewer is None else ViewerWrapper(env, viewer)
 

@@ -2,6 +2,12 @@
 
 A ``CommandTerm`` holds ``command`` (num_envs, ...) and resamples it per env when its timer runs
 out; it may track metrics (logged at resets as ``Metrics/<term>/<metric>``).
+
+A *user command* overrides the sampled one for chosen envs: a person steering a velocity policy
+from a live viewer, or a script. ``enable_user_command()`` adds it to the step (a device tensor and a
+per-env mask, applied with one masked copy after the term updates its command: nothing is read
+back, so a graphed step applies it too); ``set_user_command`` and ``release_user_command`` write
+those tensors in place between steps.
 """
 
 from __future__ import annotations
@@ -12,7 +18,7 @@ from typing import TYPE_CHECKING
 import torch
 
 from simlab.utils.debug_vis import DebugVisHooks
-from simlab.utils.env_mask import env_mask, masked_copy_, rows
+from simlab.utils.env_mask import EnvIds, env_mask, masked_copy_, rows
 from simlab.utils.errors import ConfigError
 
 from .manager_base import ManagerBase, ManagerTermBase, cfg_items, format_table
@@ -43,6 +49,8 @@ class CommandTerm(ManagerTermBase, DebugVisHooks):
         self.metrics: dict[str, torch.Tensor] = {}
         self.time_left = torch.zeros(self.num_envs, device=self.device)
         self.command_counter = torch.zeros(self.num_envs, dtype=torch.long, device=self.device)
+        self._user_command: torch.Tensor | None = None  # (num_envs, ...) like ``command``, once enabled
+        self._user_mask: torch.Tensor | None = None  # (num_envs,) bool: the envs that follow it
         self.set_debug_vis(cfg.debug_vis)
 
     @property
@@ -58,6 +66,7 @@ class CommandTerm(ManagerTermBase, DebugVisHooks):
             masked_copy_(value, mask, 0.0)
         masked_copy_(self.command_counter, mask, 0)
         self._resample(mask)
+        self._apply_user_command()
         return extras
 
     def compute(self, dt: float) -> None:
@@ -65,6 +74,57 @@ class CommandTerm(ManagerTermBase, DebugVisHooks):
         self.time_left -= dt
         self._resample(self.time_left <= 0.0)
         self._update_command()
+        self._apply_user_command()
+
+    # -- a user command instead of the sampled one ----------------------------------------------
+
+    @property
+    def user_command_enabled(self) -> bool:
+        return self._user_command is not None
+
+    def enable_user_command(self) -> None:
+        """Let :meth:`set_user_command` override the command of chosen envs (one masked copy per step
+        from now on; none before). Call it before the env's step is captured as a CUDA graph."""
+        if self._user_command is not None:
+            return
+        name = type(self).__name__
+        if getattr(self._env, "step_is_graphed", False):
+            raise RuntimeError(
+                f"{name}.enable_user_command() came after the env's step was captured as a CUDA graph, which"
+                " would never apply it: enable it before the first steps (or set sim.use_cuda_graph=False)"
+            )
+        first, second = self.command, self.command
+        if first.data_ptr() != second.data_ptr():
+            raise TypeError(f"{name} computes a new command tensor on each read: it has no command to override")
+        self._user_command = torch.zeros_like(first)
+        self._user_mask = torch.zeros(self.num_envs, dtype=torch.bool, device=self.device)
+
+    def set_user_command(self, command: Sequence[float] | torch.Tensor, env_ids: EnvIds = None) -> None:
+        """Give the envs ``env_ids`` (ids, a bool mask, None for all) ``command`` (one row, or one per
+        env) instead of their sampled command, from the next step on, until released. Writes device
+        tensors in place: call it between steps, graphed or not."""
+        if self._user_command is None:
+            raise RuntimeError(f"{type(self).__name__}: call enable_user_command() before set_user_command()")
+        values = torch.as_tensor(command, dtype=self._user_command.dtype, device=self.device)
+        shape, row = tuple(self._user_command.shape), tuple(self._user_command.shape[1:])
+        if tuple(values.shape) not in (shape, row):
+            raise ValueError(f"a user command has shape {row} (or {shape}, one per env), got {tuple(values.shape)}")
+        mask = env_mask(env_ids, self.num_envs, self.device)
+        masked_copy_(self._user_command, mask, values.expand(shape))
+        self._user_mask |= mask
+
+    def release_user_command(self, env_ids: EnvIds = None) -> None:
+        """Back to sampled commands for the envs ``env_ids`` that had a user command: each draws a new
+        one in the next step."""
+        if self._user_mask is None:
+            return
+        released = env_mask(env_ids, self.num_envs, self.device) & self._user_mask
+        self._user_mask &= ~released
+        masked_copy_(self.time_left, released, 0.0)  # resampled at the next compute
+
+    def _apply_user_command(self) -> None:
+        if self._user_command is not None:
+            masked_copy_(self.command, self._user_mask, self._user_command)
 
     def _resample(self, mask: torch.Tensor) -> None:
         """New commands and timers for the envs where ``mask`` is set."""

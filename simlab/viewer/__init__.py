@@ -7,7 +7,9 @@
 * ``auto``: native with a display, else web. ``none``: no viewer.
 
 ``open_viewer`` opens one on an env (or a bare simulation); ``ViewerWrapper`` drives it from a
-gymnasium env's steps. A viewer that cannot open warns and returns None: runs never depend on it.
+gymnasium env's steps. With ``steer=True`` (``simlab play``), a velocity task's command of the
+followed env is steered from the viewer (``simlab.viewer.steering``). A viewer that cannot open
+warns and returns None: runs never depend on it.
 ``AppLauncher`` records the ``--viewer`` / ``--viewer_port`` / ``--viewer_host`` flags here (``set_app_viewer``), so
 ``render_mode="human"`` and the tutorial scripts' app loop use the same choice.
 """
@@ -70,25 +72,29 @@ def open_viewer(
     realtime: bool = False,
     follow: int = 0,
     host: str = DEFAULT_HOST,
+    steer: bool = False,
 ):
     """A live viewer on ``source`` (an env, a ``SimulationContext`` or a ``SimSource``), or None
-    (``kind="none"``, or it could not open: a warning says why). The web viewer listens on ``host:port``."""
+    (``kind="none"``, or it could not open: a warning says why). The web viewer listens on ``host:port``.
+    ``steer``: let the person steer the env's velocity command (an env with one; call before its first step)."""
     from simlab.viewer.live import ViewerError
     from simlab.viewer.source import SimSource
+    from simlab.viewer.steering import VelocitySteering
 
     kind = resolve_viewer_kind(kind)
     if kind == "none":
         return None
+    steering = VelocitySteering.of_env(source) if steer else None
     if not isinstance(source, SimSource):
         source = SimSource.of_env(source) if hasattr(source, "scene") else SimSource.of_sim(source)
     try:
         if kind == "native":
             from simlab.viewer.native import NativeViewer
 
-            return NativeViewer(source, realtime=realtime, follow=follow)
+            return NativeViewer(source, realtime=realtime, follow=follow, steering=steering)
         from simlab.viewer.web import WebViewer
 
-        return WebViewer(source, port=port, realtime=realtime, follow=follow, host=host)
+        return WebViewer(source, port=port, realtime=realtime, follow=follow, host=host, steering=steering)
     except ViewerError as err:
         print(f"[simlab] WARNING: no {kind} viewer: {err}. Running without a viewer.", file=sys.stderr)
         return None

@@ -6,7 +6,8 @@ few vector operations on the device; at most ``fps`` times a second it also copi
 state (a few rows) and hands it to the viewer's own thread, which computes the poses on the host
 and draws. A slow or closed viewer therefore never slows the step loop: a frame not yet drawn is
 replaced by the newer one. Pause and single-step are the exceptions a person asks for: they hold
-the step loop until resumed. Any viewer error prints one warning and the run goes on headless.
+the step loop until resumed. A velocity command steered from the viewer (``steering``) is handed to
+the env here too, between steps. Any viewer error prints one warning and the run goes on headless.
 """
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ from dataclasses import dataclass
 import torch
 
 from simlab.viewer.source import EnvSnapshot, SimSource
+from simlab.viewer.steering import VelocitySteering
 
 __all__ = ["LiveViewer", "ViewerControls", "ViewerError"]
 
@@ -48,9 +50,17 @@ class LiveViewer:
 
     kind = "base"
 
-    def __init__(self, source: SimSource, fps: float = 30.0, realtime: bool = False, follow: int = 0):
+    def __init__(
+        self,
+        source: SimSource,
+        fps: float = 30.0,
+        realtime: bool = False,
+        follow: int = 0,
+        steering: VelocitySteering | None = None,
+    ):
         self.source = source
         self.fps = fps
+        self.steering = steering  # the followed env's velocity command, where the person may steer it
         self.controls = ViewerControls(follow=follow, realtime_factor=1.0 if realtime else None)
         self.failed = False
         self.closed = False
@@ -82,6 +92,8 @@ class LiveViewer:
             self._hold_while_paused()
             if self.controls.realtime_factor:
                 self._pace()
+            if self.steering is not None:  # what the person chose applies from the next step on
+                self.steering.sync(self.controls.follow)
             now = time.monotonic()
             c = self.controls
             if c.rendering and self._steps % max(1, c.render_every) == 0 and now >= self._next_frame:

@@ -6,6 +6,12 @@ scene at their origins. Keys: space pauses / resumes, the right arrow steps once
 drawing off and on (training at full speed). Letter and digit keys that a teleoperation device
 listens for (``simlab.devices.Se3Keyboard``: W, S, A, D, ...) go to it instead, through
 :data:`simlab.devices.keys.key_hub`, as taps: MuJoCo's window reports presses, not releases.
+
+Playing a velocity task (``simlab.viewer.steering``), the arrow keys steer the followed env: up /
+down raise / lower the forward speed, left / right the turn rate (to the left / right), and with
+Shift held the sideways speed; Backspace stops the robot, Enter returns it to the task's commands.
+Each press is one step (the window reports no releases: a command holds until changed). While
+paused, the right arrow still steps once. The bottom-left corner lists these keys.
 """
 
 from __future__ import annotations
@@ -19,10 +25,17 @@ from simlab.sim.renderer import EnvSceneBuilder, draw_decor, set_free_camera, vi
 from simlab.viewer.choice import display_available
 from simlab.viewer.live import LiveViewer, ViewerError
 from simlab.viewer.source import EnvSnapshot, SimSource
+from simlab.viewer.steering import VelocitySteering
 
 __all__ = ["NativeViewer"]
 
-_KEY_SPACE, _KEY_RIGHT = 32, 262
+# GLFW key codes, as MuJoCo's window reports them
+_KEY_SPACE, _KEY_ENTER, _KEY_BACKSPACE = 32, 257, 259
+_KEY_RIGHT, _KEY_LEFT, _KEY_DOWN, _KEY_UP = 262, 263, 264, 265
+_STEER_HELP = (
+    "Up / Down\nLeft / Right\nShift+Left / Right\nBackspace\nEnter",
+    "forward speed\nturn rate\nsideways speed\nstop\ntask's commands",
+)
 
 
 class NativeViewer(LiveViewer):
@@ -30,10 +43,12 @@ class NativeViewer(LiveViewer):
 
     kind = "native"
 
-    def __init__(self, source: SimSource, realtime: bool = False, follow: int = 0):
+    def __init__(
+        self, source: SimSource, realtime: bool = False, follow: int = 0, steering: VelocitySteering | None = None
+    ):
         if not display_available():
             raise ViewerError("The native viewer needs a display (DISPLAY is not set); use --viewer web instead")
-        super().__init__(source, realtime=realtime, follow=follow)
+        super().__init__(source, realtime=realtime, follow=follow, steering=steering)
         import mujoco.viewer
 
         # the window's own copy of the model, whose near clipping plane is moved in to a few cm (on
@@ -63,12 +78,29 @@ class NativeViewer(LiveViewer):
             c.paused = not c.paused
         elif key == _KEY_RIGHT and c.paused:
             c.steps_to_run += 1
+        elif self.steering is not None and self._steer(key):
+            return
         elif key in (ord("["), ord("]")):
             c.follow = (c.follow + (1 if key == ord("]") else -1)) % self.source.num_envs
         elif key in (ord("-"), ord("=")):
             c.render_every = max(1, c.render_every * 2 if key == ord("-") else c.render_every // 2)
         elif key == ord("V"):
             c.rendering = not c.rendering
+
+    def _steer(self, key: int) -> bool:
+        """Change the steered velocity command for a steering key; False for other keys."""
+        steering = self.steering
+        if key in (_KEY_UP, _KEY_DOWN):
+            steering.nudge(0, 1 if key == _KEY_UP else -1)
+        elif key in (_KEY_LEFT, _KEY_RIGHT):  # left: +w_z (turn left), or +v_y (the robot's left)
+            steering.nudge(1 if _shift_held() else 2, 1 if key == _KEY_LEFT else -1)
+        elif key == _KEY_BACKSPACE:
+            steering.stop()
+        elif key == _KEY_ENTER:
+            steering.release()
+        else:
+            return False
+        return True
 
     def _draw(self, snapshot: EnvSnapshot) -> None:
         if not self._handle.is_running():
@@ -81,8 +113,9 @@ class NativeViewer(LiveViewer):
             scene.ngeom = 0
             self._builder.add_neighbours(scene, snapshot.states, snapshot.offsets)
             draw_decor(scene, snapshot.decor)
-        if snapshot.episode_length is not None:  # takes the viewer's lock itself
-            self._handle.set_texts(
+        texts = []
+        if snapshot.episode_length is not None:
+            texts.append(
                 (
                     mujoco.mjtFontScale.mjFONTSCALE_150,
                     mujoco.mjtGridPos.mjGRID_TOPLEFT,
@@ -90,10 +123,30 @@ class NativeViewer(LiveViewer):
                     f"\n{snapshot.episode_return:.2f}\n{snapshot.episode_length}",
                 )
             )
+        if self.steering is not None:
+            font, corner = mujoco.mjtFontScale.mjFONTSCALE_150, mujoco.mjtGridPos.mjGRID_BOTTOMLEFT
+            keys, actions = _STEER_HELP
+            texts.append((font, corner, f"command\n{keys}", f"{self.steering.describe()}\n{actions}"))
+        if texts:
+            self._handle.set_texts(texts)  # takes the viewer's lock itself
         self._handle.sync()
 
     def _close(self) -> None:
         self._handle.close()
+
+
+def _shift_held() -> bool:
+    """Whether a Shift key is down in MuJoCo's window (asked of GLFW: the key callback runs in the
+    window's thread, where its context is current; the callback itself gets no modifiers)."""
+    try:
+        import glfw
+
+        window = glfw.get_current_context()
+        return bool(window) and any(
+            glfw.get_key(window, key) == glfw.PRESS for key in (glfw.KEY_LEFT_SHIFT, glfw.KEY_RIGHT_SHIFT)
+        )
+    except Exception:  # noqa: BLE001 - no GLFW state: no modifier
+        return False
 
 
 def forward_key_to_listeners(keycode: int) -> bool:

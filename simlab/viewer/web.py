@@ -6,6 +6,8 @@ host, and adds the controls a person needs while training: pause / single step, 
 how often to draw, and the followed env's episode return and length. When a teleoperation device
 listens for keys (``simlab.devices.Se3Keyboard``), a Teleop tab has a button per key: a motion
 key's button acts while held down (viser repeats its event), the others act once per click.
+Playing a velocity task, a Steer tab sets the followed env's command (``simlab.viewer.steering``):
+a slider per component within the task's ranges, Stop, and a button back to the task's commands.
 """
 
 from __future__ import annotations
@@ -24,6 +26,7 @@ from simlab.viewer.access import UngatedServerError, new_token, start_gated_vise
 from simlab.viewer.choice import DEFAULT_HOST
 from simlab.viewer.live import MAX_SHOWN_ENVS, LiveViewer, ViewerError
 from simlab.viewer.source import EnvSnapshot, HostKinematics, SimSource
+from simlab.viewer.steering import VelocitySteering
 
 __all__ = ["WebViewer"]
 
@@ -64,7 +67,13 @@ class WebViewer(LiveViewer):
     kind = "web"
 
     def __init__(
-        self, source: SimSource, port: int = 8080, realtime: bool = False, follow: int = 0, host: str = DEFAULT_HOST
+        self,
+        source: SimSource,
+        port: int = 8080,
+        realtime: bool = False,
+        follow: int = 0,
+        host: str = DEFAULT_HOST,
+        steering: VelocitySteering | None = None,
     ):
         try:
             import viser  # noqa: F401 - the server, started by simlab.viewer.access
@@ -74,7 +83,7 @@ class WebViewer(LiveViewer):
         if not 1 <= port <= 65535:
             raise ViewerError(f"--viewer_port must be a TCP port (1..65535), got {port}")
         _check_can_listen(host, port)
-        super().__init__(source, realtime=realtime, follow=follow)
+        super().__init__(source, realtime=realtime, follow=follow, steering=steering)
         self.host = host
         self._kinematics = HostKinematics(source.model)
         self.num_shown = min(MAX_SHOWN_ENVS, source.num_envs)
@@ -143,6 +152,8 @@ class WebViewer(LiveViewer):
             self._offsets_drawn = snapshot.offsets
         self.scene.update_from_arrays(xpos, xmat, mocap_pos, mocap_quat, env_idx=0)
         self._status.content = self._status_text(snapshot)
+        if self.steering is not None:
+            self._steer_status.content = f"**Command of env {snapshot.env_ids[0]}**: {self.steering.describe()}"
 
     def _status_text(self, snapshot: EnvSnapshot) -> str:
         text = f"**Env {snapshot.env_ids[0]}** of {self.source.num_envs}"
@@ -206,6 +217,9 @@ class WebViewer(LiveViewer):
                     self.scene._tracked_body_id = bodies.index(track.value)
                     self.scene.request_update()
 
+        if self.steering is not None:
+            with tabs.add_tab("Steer"):
+                self._build_steer_gui()
         with tabs.add_tab("Camera"):
             # Row 0 is always the followed env: hide mjviser's own env slider (shown for num_envs > 1).
             shown, self.scene.num_envs = self.scene.num_envs, 1
@@ -219,6 +233,36 @@ class WebViewer(LiveViewer):
         self._teleop_buttons: dict[str, object] = {}
         self._add_teleop_buttons()
         self._watch = key_hub.watch(self._add_teleop_buttons)
+
+    def _build_steer_gui(self) -> None:
+        """Sliders for the followed env's ``(v_x, v_y, w_z)``, Stop, and back to the task's commands."""
+        gui, steering = self.server.gui, self.steering
+        self._steer_status = gui.add_markdown(f"**Command**: {steering.describe()}")
+        labels = ("Forward v_x (m/s)", "Sideways v_y (m/s)", "Turn w_z (rad/s)")
+        sliders = [
+            gui.add_slider(label, min=lo, max=hi, step=step / 5, initial_value=min(hi, max(lo, 0.0)))
+            for label, (lo, hi), step in zip(labels, steering.ranges, steering.steps)
+        ]
+        for slider in sliders:
+
+            @slider.on_update
+            def _(_) -> None:
+                steering.set([s.value for s in sliders])
+
+        stop = gui.add_button("Stop", hint="Hold a zero command: the robot stands")
+        release = gui.add_button("Task's commands", hint="Back to the task's random commands")
+
+        @stop.on_click
+        def _(_) -> None:
+            for slider in sliders:  # shows the zero command (each assignment calls on_update)
+                slider.value = min(slider.max, max(slider.min, 0.0))
+            steering.stop()
+
+        @release.on_click
+        def _(_) -> None:
+            steering.release()
+
+        self._steer_sliders = sliders
 
     # -- teleoperation keys ---------------------------------------------------------------------
 
