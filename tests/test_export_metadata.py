@@ -27,6 +27,7 @@ onnx = pytest.importorskip("onnx")
 
 CARTPOLE = "simlab/Cartpole-v0"
 GO2 = "simlab/Velocity-Flat-Unitree-Go2-v0"
+G1 = "simlab/Velocity-Flat-G1-v0"
 # what each action-term type sets, and where the articulation keeps it
 TARGETS = {"position": "joint_pos_target", "velocity": "joint_vel_target", "effort": "joint_effort_target"}
 
@@ -108,14 +109,15 @@ def test_cartpole_play_export_carries_metadata(tmp_path):
     assert glob.glob(os.path.join(tmp_path, "rsl_rl", "*", "*", "exported", "policy.onnx"))
 
 
-def test_go2_metadata_rebuilds_joint_targets(tmp_path):
+@pytest.mark.parametrize(("task", "num_joints"), [(GO2, 12), (G1, 37)], ids=["go2", "g1"])
+def test_locomotion_metadata_rebuilds_joint_targets(tmp_path, task, num_joints):
     """A locomotion policy: joint position targets = default pose + scale * action, PD gains per joint."""
     from rsl_rl.models import MLPModel
     from tensordict import TensorDict
 
     from simlab.rl.rsl_rl import export_policy_as_onnx
 
-    env = _make_env(GO2)
+    env = _make_env(task)
     try:
         obs, _ = env.reset(seed=0)
         policy_obs = obs["policy"]
@@ -130,14 +132,14 @@ def test_go2_metadata_rebuilds_joint_targets(tmp_path):
         )
         actor.update_normalization(TensorDict({"policy": policy_obs * 2 + 1}, batch_size=[policy_obs.shape[0]]))
         actor.eval()
-        onnx_file = export_policy_as_onnx(actor, str(tmp_path), metadata=deploy_metadata(env, GO2))
+        onnx_file = export_policy_as_onnx(actor, str(tmp_path), metadata=deploy_metadata(env, task))
         meta = read_deploy_metadata(onnx_file)
         _check_layout(meta, onnx_file)
         _check_action_mapping(env, meta)
 
         robot = env.unwrapped.scene["robot"]
         ids = [robot.joint_names.index(n) for n in meta["joint_names"]]
-        assert len(ids) == 12 and meta["action_terms"][0]["type"] == "JointPositionAction"
+        assert len(ids) == num_joints and meta["action_terms"][0]["type"] == "JointPositionAction"
         default = robot.data.default_joint_pos[0, ids].numpy()
         np.testing.assert_allclose(meta["default_joint_pos"], default)
         np.testing.assert_allclose(meta["action_offset"], default)  # use_default_offset: target = default + scale * a
