@@ -102,8 +102,9 @@ class AssetBase(ABC):
         from simlab.sim.utils import xform_group_origins
 
         origins = xform_group_origins(self.cfg.prim_path)
-        in_scene = str(self.cfg.prim_path).startswith(_PER_ENV_PREFIXES) and sim.env_origins is not None
-        if origins is None or in_scene:
+        if origins is None:  # first: reading a scene's env origins would make them (see defer_env_origins)
+            return
+        if str(self.cfg.prim_path).startswith(_PER_ENV_PREFIXES) and sim.env_origins is not None:
             return
         origins = torch.tensor(origins, dtype=torch.float32, device=sim.device)
         if sim.model is not None:

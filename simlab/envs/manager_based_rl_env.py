@@ -56,9 +56,7 @@ class ManagerBasedRLEnv(ManagerBasedEnv, gym.Env):
         if length is not MISSING and not (isinstance(length, (int, float)) and length > 0):
             raise ValueError(f"cfg.episode_length_s must be a positive number of seconds, got {cfg.episode_length_s!r}")
         self.common_step_counter = 0
-        self.episode_length_buf = torch.zeros(cfg.scene.num_envs, dtype=torch.long)
         super().__init__(cfg)
-        self.episode_length_buf = torch.zeros(self.num_envs, dtype=torch.long, device=self.device)
         self.metadata = dict(self.metadata, render_fps=1.0 / self.step_dt)
         self._stepper = EnvStepper(self, self._step_body)
         print("[INFO]: Completed setting up the environment...")
@@ -68,6 +66,9 @@ class ManagerBasedRLEnv(ManagerBasedEnv, gym.Env):
     # -- building ----------------------------------------------------------------------------------
 
     def load_managers(self) -> None:
+        # before the managers, whose terms may read it; not earlier: sim.reset() has just checked
+        # that the worlds fit in memory
+        self.episode_length_buf = torch.zeros(self.num_envs, dtype=torch.long, device=self.device)
         self.command_manager = CommandManager(self.cfg.commands, self)
         print("[INFO]: Command Manager:", self.command_manager)
         super().load_managers()

@@ -193,18 +193,21 @@ class EventManager(ManagerBase):
                 rng = term_cfg.interval_range_s
                 if rng is None or len(rng) != 2 or rng[0] > rng[1] or rng[0] < 0:
                     raise self._term_error(name, f"interval events need interval_range_s=(min, max) seconds, got {rng}")
-                n = 1 if term_cfg.is_global_time else self.num_envs
-                self._interval_time_left[name] = self._draw_interval(term_cfg, n)
             elif term_cfg.interval_range_s is not None:
                 raise self._term_error(
                     name, f"interval_range_s is only for mode 'interval' (mode is '{term_cfg.mode}')"
                 )
-            if term_cfg.mode == "reset":
-                self._reset_last_step[name] = torch.zeros(self.num_envs, dtype=torch.int32, device=self.device)
-                self._reset_triggered_once[name] = torch.zeros(self.num_envs, dtype=torch.bool, device=self.device)
             self._mode_terms.setdefault(term_cfg.mode, []).append((name, term_cfg))
 
     def _on_sim_started(self) -> None:
+        # Per-env timers only now: the manager is made before sim.reset() (for "prestartup" terms),
+        # which first checks that the worlds fit in memory.
+        for name, term_cfg in self._mode_terms.get("interval", []):
+            n = 1 if term_cfg.is_global_time else self.num_envs
+            self._interval_time_left[name] = self._draw_interval(term_cfg, n)
+        for name, _ in self._mode_terms.get("reset", []):
+            self._reset_last_step[name] = torch.zeros(self.num_envs, dtype=torch.int32, device=self.device)
+            self._reset_triggered_once[name] = torch.zeros(self.num_envs, dtype=torch.bool, device=self.device)
         for mode, terms in self._mode_terms.items():
             if mode != "prestartup":
                 self._class_terms[mode] = self._finish_terms(terms)

@@ -63,13 +63,15 @@ class InteractiveScene:
         self.sim = sim
         sim.num_envs = cfg.num_envs
         self._terrain = self._import_terrain()
+        # The origins are as large as the env count: made when first read, after sim.reset() has
+        # checked that the worlds fit in memory (an env count that cannot fit is refused quickly).
         if self._terrain is None:
-            sim.env_origins = grid_origins(cfg.num_envs, cfg.env_spacing, sim.device)
+            sim.defer_env_origins(lambda: grid_origins(cfg.num_envs, cfg.env_spacing, sim.device))
         elif self._terrain.shares_world_frame:
             # every world holds the whole terrain: the worlds share the scene's frame
-            sim.env_origins = torch.zeros(cfg.num_envs, 3, device=sim.device)
+            sim.defer_env_origins(lambda: torch.zeros(cfg.num_envs, 3, device=sim.device))
         else:
-            sim.env_origins = self._terrain.env_origins
+            sim.defer_env_origins(lambda: self._terrain.env_origins)
         self.articulations: dict[str, Articulation] = {}
         self.rigid_objects: dict[str, RigidObject] = {}
         self.rigid_object_collections: dict[str, RigidObjectCollection] = {}

@@ -86,8 +86,8 @@ class SimulationContext:
         self.num_envs = 1
         self.camera_eye: tuple[float, float, float] = (7.5, 7.5, 7.5)
         self.camera_target: tuple[float, float, float] = (0.0, 0.0, 0.0)
-        self.env_origins: torch.Tensor | None = None
-        """(num_envs, 3) offsets of the environments in the world frame, set by the scene."""
+        self._env_origins: torch.Tensor | None = None
+        self._make_env_origins: Callable[[], torch.Tensor] | None = None
         self._on_build: list[Callable[[mujoco.MjSpec], None]] = []
         self._on_compile: list[Callable[[mujoco.MjModel], None]] = []
         self._on_reset: list[Callable[[SimulationContext], None]] = []
@@ -135,6 +135,24 @@ class SimulationContext:
         self.camera_target = tuple(float(x) for x in target)
 
     @property
+    def env_origins(self) -> torch.Tensor | None:
+        """(num_envs, 3) offsets of the environments in the world frame, set by the scene. Made on
+        first read when the scene deferred them (``defer_env_origins``)."""
+        if self._env_origins is None and self._make_env_origins is not None:
+            make, self._make_env_origins = self._make_env_origins, None
+            self._env_origins = make()
+        return self._env_origins
+
+    @env_origins.setter
+    def env_origins(self, origins: torch.Tensor | None) -> None:
+        self._env_origins, self._make_env_origins = origins, None
+
+    def defer_env_origins(self, make: Callable[[], torch.Tensor]) -> None:
+        """Make the env origins with ``make()`` when first read. A scene's origins are as large as its
+        env count, so they come after ``reset()`` has checked that the worlds fit in memory."""
+        self._env_origins, self._make_env_origins = None, make
+
+    @property
     def stage(self) -> mujoco.MjSpec:
         """The spec that spawners add to (Isaac Lab's USD stage; see ``simlab.sim.utils``)."""
         return self.spec
@@ -176,8 +194,8 @@ class SimulationContext:
             # model keeps the qpos0 its geometry is written in, the backend the initial state.
             initial_qpos = self.model.qpos0.copy()
             self.model.qpos0[:] = geometry_qpos0
-            if self.env_origins is None:
-                self.env_origins = torch.zeros(self.num_envs, 3, device=self.device)
+            if self._env_origins is None and self._make_env_origins is None:
+                self.defer_env_origins(lambda: torch.zeros(self.num_envs, 3, device=self.device))
             opts = self.cfg.mujoco
             # each backend takes its own options: a thread pool on the cpu, buffer sizes on the gpu
             self.backend = make_backend(

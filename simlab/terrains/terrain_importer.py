@@ -70,20 +70,57 @@ class TerrainImporter:
             if cfg.visual_material is not None:
                 ground.color = tuple(cfg.visual_material.rgba()[:3])
             ground.func(cfg.prim_path, ground)
-        self.state = PerEnvState(cfg.num_envs, device)
-        if self.terrain_origins is not None:
-            self._configure_curriculum_origins()
-        else:
-            if cfg.env_spacing is None:
-                raise ValueError("TerrainImporterCfg.env_spacing must be set to place envs on a grid")
-            self.env_origins = self.state.add(
-                "env_origins", grid_origins(cfg.num_envs, cfg.env_spacing, device), reset=None
-            )
+        if self.terrain_origins is None and cfg.env_spacing is None:
+            raise ValueError("TerrainImporterCfg.env_spacing must be set to place envs on a grid")
+        # The per-env state is as large as the env count: made when first read, after sim.reset()
+        # has checked that the worlds fit in memory (see SimulationContext.defer_env_origins).
+        self._state: PerEnvState | None = None
 
     @property
     def shares_world_frame(self) -> bool:
         """True when every world holds the whole terrain (envs are placed by their origins in it)."""
         return self.cfg.terrain_type == "generator"
+
+    @property
+    def state(self) -> PerEnvState:
+        """The per-env buffers: ``env_origins``, and with terrain origins ``terrain_levels`` and ``terrain_types``."""
+        if self._state is None:
+            self._state = PerEnvState(self.cfg.num_envs, self.device)
+            if self.terrain_origins is not None:
+                self._configure_curriculum_origins()
+            else:
+                origins = grid_origins(self.cfg.num_envs, self.cfg.env_spacing, self.device)
+                self._state.add("env_origins", origins, reset=None)
+        return self._state
+
+    @property
+    def env_origins(self) -> torch.Tensor:
+        """(num_envs, 3) positions of the envs in the world frame."""
+        return self.state["env_origins"]
+
+    @property
+    def terrain_levels(self) -> torch.Tensor:
+        """(num_envs,) each env's row (difficulty) on the terrain; only with terrain origins."""
+        return self._curriculum_buffer("terrain_levels")
+
+    @property
+    def terrain_types(self) -> torch.Tensor:
+        """(num_envs,) each env's column (kind of terrain); only with terrain origins."""
+        return self._curriculum_buffer("terrain_types")
+
+    @property
+    def max_terrain_level(self) -> int:
+        """The number of rows (Isaac Lab's name); only with terrain origins."""
+        self._require_terrain_origins("max_terrain_level")
+        return int(self.terrain_origins.shape[0])
+
+    def _curriculum_buffer(self, name: str) -> torch.Tensor:
+        self._require_terrain_origins(name)
+        return self.state[name]
+
+    def _require_terrain_origins(self, name: str) -> None:
+        if self.terrain_origins is None:  # as Isaac Lab: envs on a grid have no levels
+            raise AttributeError(f"TerrainImporter.{name} exists only with terrain origins (a generated terrain)")
 
     def _configure_curriculum_origins(self) -> None:
         """Isaac Lab's rule: each env starts on a random row up to ``max_init_terrain_level``; the
@@ -92,19 +129,19 @@ class TerrainImporter:
         n = self.cfg.num_envs
         max_init = num_rows - 1 if self.cfg.max_init_terrain_level is None else self.cfg.max_init_terrain_level
         max_init = min(max(max_init, 0), num_rows - 1)
-        self.max_terrain_level = num_rows
         levels = torch.randint(0, max_init + 1, (n,), device=self.device)
-        types = torch.div(torch.arange(n, device=self.device), n / num_cols, rounding_mode="floor").long()
-        self.terrain_levels = self.state.add("terrain_levels", levels, reset=None)
-        self.terrain_types = self.state.add("terrain_types", types, reset=None)
-        self.env_origins = self.state.add("env_origins", self.terrain_origins[levels, types].clone(), reset=None)
+        # floor(i / (n / num_cols)) in integers: in float32 the last envs of a large n got column num_cols
+        types = torch.arange(n, device=self.device) * num_cols // n
+        self._state.add("terrain_levels", levels, reset=None)
+        self._state.add("terrain_types", types, reset=None)
+        self._state.add("env_origins", self.terrain_origins[levels, types].clone(), reset=None)
 
     def configure_env_origins(self, origins=None) -> None:
         """Isaac Lab's entry point: re-place the envs (on the tiles, or on a grid)."""
         if origins is not None:
             self.terrain_origins = torch.as_tensor(origins, dtype=torch.float32, device=self.device)
-            self.state = PerEnvState(self.cfg.num_envs, self.device)
-            self._configure_curriculum_origins()
+            self._state = None
+            self.state  # noqa: B018  (re-placed now, as Isaac Lab does)
 
     def update_env_origins(self, env_ids: EnvIds, move_up: torch.Tensor, move_down: torch.Tensor) -> None:
         """Move the envs ``env_ids`` (ids, or a (num_envs,) bool mask with ``move_up``/``move_down`` for

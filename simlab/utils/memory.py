@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import os
 
-__all__ = ["available_memory", "format_bytes"]
+from simlab.utils.errors import ConfigError
+
+__all__ = ["available_memory", "check_env_memory", "format_bytes"]
 
 
 def available_memory() -> int | None:
@@ -73,3 +75,17 @@ def format_bytes(count: float) -> str:
         count /= 1024
         step += 1
     return f"{count:.0f} B" if step == 0 else f"{count:.1f} {units[step]}"
+
+
+def check_env_memory(num_envs: int, per_env: int, fixed: int, free: int | None, memory: str = "memory") -> None:
+    """Refuse ``num_envs`` envs of ``per_env`` bytes each (plus ``fixed`` bytes) that do not fit in
+    ``free`` bytes (None: unknown, nothing is refused), in one line with how many fit."""
+    needed = num_envs * per_env + fixed
+    if free is None or needed <= free:
+        return
+    fits = max(0, (free - fixed) // max(per_env, 1))
+    raise ConfigError(
+        f"{num_envs} envs need about {format_bytes(needed)} of {memory} ({format_bytes(per_env)} per env for "
+        f"this model), but {format_bytes(free)} is available: at most about {fits} envs fit "
+        "(--num_envs or env.scene.num_envs)."
+    )

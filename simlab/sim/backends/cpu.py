@@ -15,8 +15,7 @@ import mujoco
 import numpy as np
 import torch
 
-from simlab.utils.errors import ConfigError
-from simlab.utils.memory import available_memory, format_bytes
+from simlab.utils.memory import available_memory, check_env_memory
 
 from .base import EnvIds, PhysicsBackend
 
@@ -29,18 +28,8 @@ def check_host_memory(model: mujoco.MjModel, data: mujoco.MjData, num_envs: int,
     of that (cartpole, humanoid, ANYmal-C, 256 vs 2304 envs), so the estimate leaves room for the
     learner's rollout storage. Each worker thread holds a model copy and an MjData with its arena.
     """
-    free = available_memory()
-    per_world = data.nbuffer
     fixed = num_threads * (model.nbuffer + data.nbuffer + model.narena)
-    needed = num_envs * per_world + fixed
-    if free is None or needed <= free:
-        return
-    fits = max(0, (free - fixed) // per_world)
-    raise ConfigError(
-        f"{num_envs} envs need about {format_bytes(needed)} of memory ({format_bytes(per_world)} per env for "
-        f"this model), but {format_bytes(free)} is available: at most about {fits} envs fit "
-        "(--num_envs or env.scene.num_envs)."
-    )
+    check_env_memory(num_envs, data.nbuffer, fixed, available_memory())
 
 
 class CpuBackend(PhysicsBackend):
@@ -56,9 +45,10 @@ class CpuBackend(PhysicsBackend):
         njmax: int | None = None,
     ):
         # nconmax / njmax size the GPU's fixed buffers; MuJoCo C grows its arena as needed.
-        super().__init__(model, num_envs, device)
         self._probe = mujoco.MjData(model)  # for field dtypes: a binding's dtype is fixed at first bind
+        # first: nothing of size num_envs before the check (the base class's buffers included)
         check_host_memory(model, self._probe, num_envs, min(num_threads or os.cpu_count() or 1, num_envs))
+        super().__init__(model, num_envs, device)
         # Two views of the same worlds would not share state, so one batch without the built-in
         # forward; step() asks for the forward explicitly (one more pool dispatch, same work).
         self.batch = mjbatch.Batch(model, num_envs, num_threads=num_threads, forward=False)
