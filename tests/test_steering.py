@@ -7,6 +7,14 @@ xdotool) makes the followed robot walk forward; the web page's Steer tab changes
 
 from __future__ import annotations
 
+import json
+import os
+import shutil
+import subprocess
+import sys
+import textwrap
+import threading
+import time
 from types import SimpleNamespace
 
 import gymnasium as gym
@@ -152,3 +160,98 @@ def test_the_policy_of_the_go2_sees_the_viewers_command_for_the_followed_env_onl
         assert torch.equal(obs["policy"][3, start : start + 3], torch.zeros(3))
     finally:
         env.close()
+
+
+# -- the native viewer: arrow keys typed into MuJoCo's window (Xvfb, xdotool) ----------------------------
+
+# `simlab play` as the command runs it, with an on_step hook that prints the robots' forward speed
+# and commands every 10 steps (0.2 s)
+PLAY_REPORTING = textwrap.dedent(
+    """
+    import json
+    import sys
+    import simlab.cli.play as play
+    from simlab.cli.main import main
+
+    plain = play.rollout
+
+    def rollout(env, policy, steps, on_step=None, **kw):
+        def report(base, obs, actions):
+            if on_step is not None:
+                on_step(base, obs, actions)
+            if base.common_step_counter % 10 == 0:
+                vx = base.scene["robot"].data.root_lin_vel_b[:, 0].tolist()
+                command = base.command_manager.get_command("base_velocity").tolist()
+                print("STEER", json.dumps({"vx": vx, "command": command}), flush=True)
+        return plain(env, policy, steps, report, **kw)
+
+    play.rollout = rollout
+    sys.exit(main(sys.argv[1:]))
+    """
+)
+
+
+def _reports(lines: list[tuple[float, str]], since: float) -> list[dict]:
+    return [json.loads(line.split("STEER", 1)[1]) for t, line in list(lines) if t >= since and line.startswith("STEER")]
+
+
+@pytest.mark.slow  # ~30 s on the 2-core machine: play's start-up, software OpenGL, a few seconds of walking
+@pytest.mark.skipif(
+    shutil.which("Xvfb") is None or shutil.which("xdotool") is None,
+    reason="needs Debian's xvfb and xdotool (scripts/setup.sh dev installs them)",
+)
+def test_the_arrow_keys_in_the_native_viewer_steer_the_go2_policy(tmp_path):
+    script = tmp_path / "play_reporting.py"
+    script.write_text(PLAY_REPORTING)
+    display = next(n for n in range(90, 200) if not os.path.exists(f"/tmp/.X{n}-lock"))
+    xvfb = subprocess.Popen(["Xvfb", f":{display}", "-screen", "0", "1024x768x24"],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)  # fmt: skip
+    env = dict(os.environ, DISPLAY=f":{display}", PYTHONUNBUFFERED="1")
+    env.pop("MUJOCO_GL", None)
+    cmd = [sys.executable, str(script), "play", "--task", GO2, "--use_pretrained_checkpoint", "--num_envs", "2",
+           "--device", "cpu", "--viewer", "native", "--no_export"]  # fmt: skip
+    run = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    xdo = dict(os.environ, DISPLAY=f":{display}")
+    received: list[tuple[float, str]] = []
+    reader = threading.Thread(target=lambda: received.extend((time.monotonic(), line) for line in run.stdout))
+    reader.start()
+    deadline = time.monotonic() + 180
+
+    def press(key: str, settle: float, observe: float) -> list[dict]:
+        """Type ``key``, let the robot settle, then the reports of ``observe`` seconds."""
+        subprocess.run(["xdotool", "key", key], env=xdo, timeout=30, check=True)
+        start = time.monotonic() + settle
+        while time.monotonic() < start + observe or not _reports(received, start):
+            assert time.monotonic() < deadline and run.poll() is None, "".join(line for _, line in received)
+            time.sleep(0.2)
+        return _reports(received, start)
+
+    try:
+        while not _reports(received, 0.0):  # the window is up and the policy walks
+            assert time.monotonic() < deadline and run.poll() is None, "".join(line for _, line in received)
+            time.sleep(0.2)
+        window = subprocess.run(["xdotool", "search", "--name", "MuJoCo"], env=xdo, capture_output=True,
+                                text=True, timeout=30).stdout.split()  # fmt: skip
+        assert window, "no MuJoCo window"
+        subprocess.run(["xdotool", "windowfocus", window[0]], env=xdo, timeout=30, check=True)
+        stopped = press("BackSpace", 2.0, 1.0)
+        forward = press("Up", 1.5, 2.0)
+        sideways = press("shift+Left", 0.3, 0.2)
+        turning = press("Left", 0.3, 0.2)
+        released = press("Return", 0.3, 0.2)
+    finally:
+        run.kill()
+        run.wait(timeout=60)
+        reader.join(timeout=30)
+        xvfb.terminate()
+        xvfb.wait(timeout=30)
+
+    assert all(r["command"][0] == [0.0, 0.0, 0.0] for r in stopped), stopped
+    assert abs(sum(r["vx"][0] for r in stopped) / len(stopped)) < 0.15, stopped  # it stands
+    assert all(r["command"][0] == [0.5, 0.0, 0.0] for r in forward), forward
+    walked = sum(r["vx"][0] for r in forward) / len(forward)
+    assert walked > 0.3, forward  # Up: the followed robot walks forward
+    assert all(r["command"][1] != r["command"][0] for r in stopped + forward)  # env 1 keeps the task's commands
+    assert sideways[-1]["command"][0] == [0.5, 0.5, 0.0] and turning[-1]["command"][0] == [0.5, 0.5, 0.5]
+    assert released[-1]["command"][0] != [0.5, 0.5, 0.5], "Enter: back to the task's commands"
+    print(f"forward speed after Up: {walked:.2f} m/s (commanded 0.5)")
