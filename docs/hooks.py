@@ -1,4 +1,6 @@
-"""MkDocs hooks (mkdocs.yml ``hooks:``): the task gallery page, written from the Gymnasium registry.
+"""MkDocs hooks (mkdocs.yml ``hooks:``): the task gallery page, written from the Gymnasium registry, and
+the task families page: Isaac Lab's families (``docs/task_families.yaml``) with simlab's status for each,
+from the registry and the shipped policies (``simlab/pretrained/``).
 
 The gallery's pictures are build outputs of ``scripts/tools/render_gallery.py`` (one PNG per task),
 kept out of git. They are read from ``$SIMLAB_GALLERY_DIR`` (default ``build/gallery`` beside
@@ -17,6 +19,9 @@ from mkdocs.structure.files import File, Files
 
 GALLERY_PAGE = "gallery.md"
 MARKER = "<!-- tasks -->"
+FAMILIES_PAGE = "task_families.md"
+FAMILIES_MARKER = "<!-- families -->"
+FAMILIES_DATA = os.path.join("docs", "task_families.yaml")  # the hand-written part, beside mkdocs.yml
 
 
 def _gallery_dir(config) -> str:
@@ -62,7 +67,16 @@ def _summary(task: str) -> tuple[str, str, str]:
 
 
 def on_page_markdown(markdown: str, page, config, files: Files) -> str:
-    """Replace the gallery page's marker by a table of every registered task with its picture."""
+    """Replace the gallery page's marker by a table of every registered task with its picture, and the
+    task families page's by :func:`families_table`."""
+    if page.file.src_uri == FAMILIES_PAGE:
+        if FAMILIES_MARKER not in markdown:
+            raise PluginError(f"docs/{FAMILIES_PAGE} lost its marker {FAMILIES_MARKER!r}, where the table goes")
+        try:
+            table = families_table(os.path.join(os.path.dirname(config.config_file_path), FAMILIES_DATA))
+        except ValueError as e:
+            raise PluginError(str(e)) from e
+        return markdown.replace(FAMILIES_MARKER, table)
     if page.file.src_uri != GALLERY_PAGE:
         return markdown
     if MARKER not in markdown:
@@ -89,3 +103,84 @@ def on_page_markdown(markdown: str, page, config, files: Files) -> str:
     if missing and required:
         raise PluginError(f"no gallery picture for {missing} in {_gallery_dir(config)}: run render_gallery.py")
     return markdown.replace(MARKER, "\n".join(rows))
+
+
+def _learned(task: str, library: str) -> str:
+    """Where the shipped policy met its task's criterion (its record), e.g. ``cuda:0``."""
+    from simlab.pretrained import pretrained_record
+
+    record = pretrained_record(task, library)
+    if record is None:  # the first cartpoles' record.txt: judged on the CPU
+        return "cpu"
+    return record.get("evaluation", {}).get("device") or "cpu replay"
+
+
+def family_rows(data_file: str) -> list[dict]:
+    """The families of ``data_file`` with their status: ``registered`` (simlab's ids, -Play variants
+    included), ``learns`` (tasks whose shipped policy met the criterion, and where), ``untrained`` and
+    ``shipped`` (task -> libraries). Raises ValueError for a listed simlab id that is not registered."""
+    import yaml
+
+    from simlab.pretrained import list_pretrained
+    from simlab.tasks.utils import registered_task_ids
+    from simlab.utils.string import simlab_task_id
+
+    with open(data_file) as f:
+        families = yaml.safe_load(f)
+    registered = registered_task_ids()
+    shipped: dict[str, list[str]] = {}
+    for task, library in list_pretrained():
+        shipped.setdefault(task, []).append(library)
+    rows = []
+    for family in families:
+        unknown = [t for t in family.get("simlab", []) if t not in registered]
+        if unknown:
+            raise ValueError(f"{data_file}: {family['family']} lists {unknown}, which simlab does not register")
+        named = {simlab_task_id(t) for t in family["isaaclab"]} | set(family.get("simlab", []))
+        ids = [t for t in registered if t in named or t.replace("-Play", "") in named]
+        trained = [t for t in ids if "-Play" not in t]
+        rows.append(
+            {
+                **family,
+                "registered": ids,
+                "learns": {t: [_learned(t, lib) for lib in shipped[t]] for t in trained if t in shipped},
+                "untrained": [t for t in trained if t not in shipped],
+                "shipped": {t: shipped[t] for t in trained if t in shipped},
+            }
+        )
+    return rows
+
+
+def families_table(data_file: str) -> str:
+    """The task families page's table (markdown): one row per family of ``data_file``."""
+
+    def names(tasks) -> str:
+        return ", ".join(f"`{t.removeprefix('simlab/')}`" for t in tasks)
+
+    lines = [
+        "| group | family | Isaac Lab ids | simlab ids | learns | shipped policy | why not |",
+        "| --- | --- | --- | --- | --- | --- | --- |",
+    ]
+    rows = family_rows(data_file)
+    registered = sum(1 for row in rows if row["registered"])
+    learning = sum(1 for row in rows if row["learns"])
+    summary = (
+        f"{registered} of the {len(rows)} families are registered; {learning} have at least one task whose"
+        " shipped policy met its criterion.\n\n"
+    )
+    for row in rows:
+        learns = [f"`{t.removeprefix('simlab/')}` ({', '.join(sorted(set(d)))})" for t, d in row["learns"].items()]
+        if row["untrained"]:
+            learns.append(f"not yet trained: {names(row['untrained'])}")
+        policies = [f"`{t.removeprefix('simlab/')}`: {', '.join(libs)}" for t, libs in row["shipped"].items()]
+        cells = [
+            row["group"],
+            row["family"],
+            names(row["isaaclab"]) or "-",
+            names(row["registered"]) or "not registered",
+            "<br>".join(learns) or "-",
+            "<br>".join(policies) or "-",
+            "" if row["registered"] else row.get("why_not", ""),
+        ]
+        lines.append("| " + " | ".join(c.replace("|", "\\|") for c in cells) + " |")
+    return summary + "\n".join(lines)

@@ -59,6 +59,10 @@ def test_the_site_builds_strictly_with_api_reference_porting_table_and_gallery(t
     )
     porting = (site / "porting" / "index.html").read_text()
     assert "<code>isaaclab_rl</code>" in porting and "<code>simlab.rl</code>" in porting
+    # the task families page: its table written by docs/hooks.py from docs/task_families.yaml
+    families = (site / "task_families" / "index.html").read_text()
+    assert "<code>Isaac-Lift-Teddy-Bear-Franka-IK-Abs-v0</code>" in families and "<!-- families -->" not in families
+    assert "<code>Cartpole-v0</code>: rsl_rl" in families
 
 
 @pytest.mark.slow
