@@ -190,3 +190,40 @@ def test_isaac_labs_own_task_file_runs_after_the_import_mapping():
     forward, _ = _walk(env, (0.5, 0.0, 0.0), steps=5)
     assert (forward > 0.3).all(), forward
     env.close()
+
+
+@pytest.mark.parametrize("normalized", [False, True])
+def test_the_weights_act_as_rsl_rls_own_actor(tmp_path, normalized):
+    """The MLP built from the weights gives rsl_rl's deterministic action for the same state dict
+    (the shipped one; with an observation normalizer, random statistics)."""
+    rsl_rl_models = pytest.importorskip("rsl_rl.models")
+    from tensordict import TensorDict
+
+    from simlab.pretrained.weights import unpack_policy
+
+    obs = torch.randn(5, 48)
+    actor = rsl_rl_models.MLPModel(
+        TensorDict({"policy": obs}, batch_size=[5]),
+        {"actor": ["policy"]},
+        "actor",
+        12,
+        hidden_dims=[128, 128, 128],
+        activation="elu",
+        obs_normalization=normalized,
+        distribution_cfg={"class_name": "GaussianDistribution", "init_std": 1.0, "std_type": "scalar"},
+    )
+    state = unpack_policy(SHIPPED)[1]["actor_state_dict"]
+    if normalized:
+        state = {
+            **state,
+            "obs_normalizer._mean": torch.randn(1, 48),
+            "obs_normalizer._var": torch.ones(1, 48),
+            "obs_normalizer._std": torch.rand(1, 48) + 0.5,
+            "obs_normalizer.count": torch.tensor(100),
+        }
+    actor.load_state_dict(state)
+    path = tmp_path / "model_1.pt"
+    torch.save({"actor_state_dict": state, "iter": 1, "infos": None}, path)
+    with torch.no_grad():
+        expected = actor(TensorDict({"policy": obs}, batch_size=[5]))
+    torch.testing.assert_close(load_policy(_cfg(path), "cpu")(obs), expected)
