@@ -6,6 +6,7 @@ from .anymal import ANYMAL_B_CFG, ANYMAL_C_CFG, ANYMAL_D_CFG
 from .cabinet import SEKTION_CABINET_CFG
 from .cart_double_pendulum import CART_DOUBLE_PENDULUM_CFG
 from .cartpole import CARTPOLE_CFG
+from .cassie import CASSIE_CFG
 from .franka import FRANKA_PANDA_CFG, FRANKA_PANDA_HIGH_PD_CFG
 from .humanoid import HUMANOID_CFG
 from .quadcopter import CRAZYFLIE_CFG

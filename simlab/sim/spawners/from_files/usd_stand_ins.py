@@ -167,6 +167,9 @@ USD_STAND_INS: dict[str, UsdStandIn] = {
     "IsaacLab/Robots/ANYbotics/ANYmal-B/anymal_b.usd": mjcf("anybotics_anymal_b.xml"),
     "IsaacLab/Robots/ANYbotics/ANYmal-C/anymal_c.usd": mjcf("anybotics_anymal_c.xml"),
     "IsaacLab/Robots/ANYbotics/ANYmal-D/anymal_d.usd": mjcf("anybotics_anymal_d.xml"),
+    "IsaacLab/Robots/Agility/Cassie/cassie.usd": mjcf(
+        "agility_cassie.xml", "the achilles rods as equality constraints; docs/locomotion.md"
+    ),
     "IsaacLab/Robots/FrankaEmika/panda_instanceable.usd": _FRANKA,
     "IsaacLab/Robots/UniversalRobots/UR10/ur10_instanceable.usd": mjcf("universal_robots_ur10.xml"),
     "IsaacLab/Robots/Classic/Cartpole/cartpole.usd": mjcf("cartpole.xml"),
