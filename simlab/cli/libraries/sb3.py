@@ -211,9 +211,8 @@ def _check_sizes(checkpoint: str, env: gym.Env, saved: Any, obs_dim: int, action
 def _safe_objects(checkpoint: str, kwargs: dict, trust: bool) -> dict[str, Any] | None:
     """``custom_objects`` for ``PPO.load`` that leave nothing in the zip's ``data`` for cloudpickle: the
     settings the config gives come from ``kwargs``, the spaces from a restricted unpickler, the
-    buffers SB3 rebuilds are None. An item it cannot replace refuses the file (None if ``trust``)."""
-    if trust:
-        return None
+    buffers SB3 rebuilds are None. An item it cannot replace refuses the file. With ``trust`` SB3 unpickles
+    the items, but for those a shipped policy's zip keeps no pickle of (:mod:`simlab.pretrained.weights`)."""
     from stable_baselines3.common.utils import ConstantSchedule
 
     with zipfile.ZipFile(checkpoint) as z:
@@ -232,6 +231,8 @@ def _safe_objects(checkpoint: str, kwargs: dict, trust: bool) -> dict[str, Any] 
     for key, item in data.items():
         if not (isinstance(item, dict) and ":serialized:" in item):
             continue
+        if trust and item[":serialized:"]:
+            continue  # the user vouches for the file: SB3 unpickles it
         if key in given:
             objects[key] = given[key]
         elif key in rebuilt:
@@ -243,7 +244,7 @@ def _safe_objects(checkpoint: str, kwargs: dict, trust: bool) -> dict[str, Any] 
             raise UntrustedFileError(
                 f"Refused to load '{checkpoint}': its '{key}' is pickled code or data; {TRUST_HINT}."
             )
-    return objects
+    return objects if objects or not trust else None
 
 
 class _Checkpoints(CheckpointCallback):
