@@ -31,6 +31,7 @@ import numpy as np
 import torch
 
 from simlab.utils.cuda import gc_paused, is_capturing
+from simlab.utils.memory import available_memory, check_env_memory
 
 from .base import EnvIds, PhysicsBackend
 
@@ -131,6 +132,58 @@ def _contact_rows_estimate(mjw: Any, model: mujoco.MjModel, mjdata: mujoco.MjDat
     return static_rows + mjw._src.io._default_njmax(model, mjdata)
 
 
+def warp_data_bytes(wp: Any, mjw: Any, model: mujoco.MjModel, mjdata: mujoco.MjData, nconmax, njmax) -> tuple[int, int]:
+    """Bytes of MuJoCo Warp's ``Data`` for ``model``: (per world, for all worlds together).
+
+    Measured rather than modelled, as the layout is MuJoCo Warp's own and changes between releases:
+    ``put_data`` of one and of two worlds on Warp's CPU device, array by array (every array grows
+    linearly with the worlds; the shapes are the same on a GPU). Takes a fraction of a second.
+    """
+    sizes = []
+    with wp.ScopedDevice("cpu"):
+        for nworld in (1, 2):
+            data = mjw.put_data(model, mjdata, nworld=nworld, nconmax=nconmax, njmax=njmax)
+            sizes.append(_array_bytes(data))
+            del data
+    per_world = sizes[1] - sizes[0]
+    return per_world, sizes[0] - per_world
+
+
+def _array_bytes(obj: Any) -> int:
+    """The bytes held by the Warp arrays of a MuJoCo Warp dataclass (``Data``, its ``Contact`` ...)."""
+    total = 0
+    for field in dataclasses.fields(obj):
+        value = getattr(obj, field.name)
+        total += _array_bytes(value) if dataclasses.is_dataclass(value) else int(getattr(value, "capacity", 0) or 0)
+    return total
+
+
+def free_memory(device: str) -> int | None:
+    """Free bytes where the worlds will live: the GPU's (CUDA's own count), or the host's for Warp's CPU device."""
+    if device.startswith("cuda"):
+        return int(torch.cuda.mem_get_info(torch.device(device))[0])
+    return available_memory()
+
+
+def check_warp_memory(
+    wp: Any,
+    mjw: Any,
+    model: mujoco.MjModel,
+    mjdata: mujoco.MjData,
+    num_envs: int,
+    nconmax: int | None,
+    njmax: int | None,
+    free: int | None,
+    device: str,
+) -> None:
+    """Refuse ``num_envs`` worlds whose MuJoCo Warp data cannot fit in ``free`` bytes, before
+    ``put_data`` allocates them. Only the physics is counted: the env's tensors and the learner's
+    rollout storage come on top, so a count close to the limit may still run out later."""
+    per_world, fixed = warp_data_bytes(wp, mjw, model, mjdata, nconmax, njmax)
+    memory = "GPU memory" if device.startswith("cuda") else "memory"
+    check_env_memory(num_envs, per_world, fixed, free, memory=f"{memory} for MuJoCo Warp on {device}")
+
+
 class CudaBackend(PhysicsBackend):
     """``num_envs`` worlds of one model in MuJoCo Warp, stepped by replaying CUDA graphs.
 
@@ -167,17 +220,10 @@ class CudaBackend(PhysicsBackend):
         wp, mjw = require_cuda_backend(device)
         if device.startswith("cuda") and torch.device(device).index is None:
             device = f"cuda:{torch.cuda.current_device()}"
-        super().__init__(model, num_envs, device)
-        self._wp, self._mjw = wp, mjw
-        self._wp_device = wp.get_device(device)
-        self._is_cuda = self._wp_device.is_cuda
-        self.can_capture_steps = self._is_cuda
-        self.overflow_check_interval = overflow_check_interval
 
         # mj_forward on the host first: put_data copies this state and checks it fits the buffers
         mjdata = mujoco.MjData(model)
         mujoco.mj_forward(model, mjdata)
-        self._mjdata_shapes = mjdata  # only for MjData field shapes
         if nconmax is None:
             nconmax = None if contacts_possible(model) else 0  # None: mujoco_warp's heuristic
         if njmax is None:
@@ -188,7 +234,16 @@ class CudaBackend(PhysicsBackend):
             nconmax = max(nconmax, mjdata.ncon)
         if njmax is not None:
             njmax = max(njmax, mjdata.nefc)
+        # first: nothing of size num_envs before the check (the base class's buffers included)
+        check_warp_memory(wp, mjw, model, mjdata, num_envs, nconmax, njmax, free_memory(device), device)
 
+        super().__init__(model, num_envs, device)
+        self._wp, self._mjw = wp, mjw
+        self._wp_device = wp.get_device(device)
+        self._is_cuda = self._wp_device.is_cuda
+        self.can_capture_steps = self._is_cuda
+        self.overflow_check_interval = overflow_check_interval
+        self._mjdata_shapes = mjdata  # only for MjData field shapes
         with wp.ScopedDevice(self._wp_device):
             self.wp_model = mjw.put_model(model)
             # The backend raises on overflow itself (check_overflow); the kernels' own warnings
