@@ -108,8 +108,8 @@ def test_loop_holds_while_the_legs_sweep_their_ranges():
     assert worst < 1e-3, worst
 
 
-def test_stands_on_its_soles_under_stiff_drives():
-    sim, scene = scene_with(stiff(CASSIE_CFG))
+def _stands(engine: str) -> None:
+    sim, scene = scene_with(stiff(CASSIE_CFG), engine)
     robot, contacts = scene["robot"], scene["contacts"]
     robot.set_joint_position_target(robot.data.default_joint_pos)
     heights, worst = [], 0.0
@@ -129,6 +129,16 @@ def test_stands_on_its_soles_under_stiff_drives():
     torch.testing.assert_close(
         contacts.data.net_forces_w[:, toes, 2].sum(1), torch.full((N,), weight), rtol=0.02, atol=0
     )
+
+
+def test_stands_on_its_soles_under_stiff_drives():
+    _stands("mujoco")
+
+
+@pytest.mark.slow
+def test_stands_on_its_soles_under_stiff_drives_on_mujoco_warp():
+    pytest.importorskip("mujoco_warp")
+    _stands("mujoco_warp")
 
 
 def test_isaac_labs_gains_alone_do_not_hold_it_up():
