@@ -12,6 +12,7 @@ from pathlib import Path
 import gymnasium as gym
 import pytest
 import torch
+from conftest import rendering_available
 
 import simlab.tasks  # noqa: F401 - registers the tasks
 from simlab.pretrained import POLICY_FILE, pretrained_run_dir
@@ -227,3 +228,23 @@ def test_the_weights_act_as_rsl_rls_own_actor(tmp_path, normalized):
     with torch.no_grad():
         expected = actor(TensorDict({"policy": obs}, batch_size=[5]))
     torch.testing.assert_close(load_policy(_cfg(path), "cpu")(obs), expected)
+
+
+@pytest.mark.skipif(not rendering_available(), reason="no offscreen OpenGL here")
+def test_the_goal_is_drawn_in_renders():
+    """The task's ``debug_vis=True`` (Isaac Lab's) draws each goal as a green arrow along its heading."""
+    import numpy as np
+
+    cfg = parse_env_cfg(TASK, device="cpu", num_envs=2)
+    env = gym.make(TASK, cfg=cfg, render_mode="rgb_array").unwrapped
+    env.reset()
+    term = env.command_manager.get_term("pose_command")
+    term.pos_command_w[:] = env.scene["robot"].data.root_pos_w + torch.tensor([0.0, 0.0, 0.3])  # in view
+    drawn = np.asarray(env.render()).astype(np.int32)
+    term.set_debug_vis(False)
+    plain = np.asarray(env.render()).astype(np.int32)
+    env.close()
+    changed = np.abs(drawn - plain).sum(-1) > 30
+    assert changed.sum() > 50
+    green = drawn[changed]
+    assert (green[:, 1] > green[:, 0] + 60).mean() > 0.8
