@@ -137,6 +137,11 @@ def test_a_policy_of_other_inputs_is_refused_in_one_line(tmp_path):
     assert "\n" not in str(info.value)
 
 
+def test_a_low_level_decimation_that_does_not_divide_the_env_step_is_refused():
+    with pytest.raises(ConfigError, match="low_level_decimation=3 must be a positive divisor of the env's decimation"):
+        make_env(2, low_level_decimation=3)
+
+
 def _cfg(path, **kwargs) -> PreTrainedPolicyActionCfg:
     return PreTrainedPolicyActionCfg(asset_name="robot", policy_path=str(path), **kwargs)
 
