@@ -20,12 +20,16 @@ from types import SimpleNamespace
 import gymnasium as gym
 import pytest
 import torch
+from conftest import wait_for
+from headless_browser import HeadlessChromium, free_port
 from test_graph_contract import _Sim, emulated_cuda_graph  # noqa: F401 (a fixture)
+from test_viewer import HAVE_VISER, _viser_session, needs_browser
 
 import simlab.tasks  # noqa: F401 - registers the tasks
 from simlab.envs.mdp.commands import UniformVelocityCommandCfg
 from simlab.envs.utils.cuda_graph import EnvStepper
 from simlab.tasks.utils.parse_cfg import parse_env_cfg
+from simlab.viewer import open_viewer
 from simlab.viewer.steering import VelocitySteering
 
 GO2 = "simlab/Velocity-Flat-Unitree-Go2-v0"
@@ -191,8 +195,51 @@ PLAY_REPORTING = textwrap.dedent(
 )
 
 
-def _reports(lines: list[tuple[float, str]], since: float) -> list[dict]:
-    return [json.loads(line.split("STEER", 1)[1]) for t, line in list(lines) if t >= since and line.startswith("STEER")]
+class ReportingPlay:
+    """``simlab play`` of the Go2 flat policy on 2 envs (PLAY_REPORTING) with a viewer, its reports
+    collected as they arrive."""
+
+    def __init__(self, tmp_path, viewer_args: list[str], env: dict[str, str], timeout_s: float = 180.0):
+        script = tmp_path / "play_reporting.py"
+        script.write_text(PLAY_REPORTING)
+        cmd = [sys.executable, str(script), "play", "--task", GO2, "--use_pretrained_checkpoint", "--num_envs", "2",
+               "--device", "cpu", "--no_export", *viewer_args]  # fmt: skip
+        self.run = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        self.received: list[tuple[float, str]] = []  # (arrival time, line)
+        self._reader = threading.Thread(
+            target=lambda: self.received.extend((time.monotonic(), line) for line in self.run.stdout)
+        )
+        self._reader.start()
+        self.deadline = time.monotonic() + timeout_s
+
+    def reports(self, since: float = 0.0) -> list[dict]:
+        return [json.loads(line.split("STEER", 1)[1]) for t, line in list(self.received)
+                if t >= since and line.startswith("STEER")]  # fmt: skip
+
+    def wait_for_line(self, text: str) -> str:
+        while not any(text in line for _, line in list(self.received)):
+            self.check()
+        return next(line for _, line in list(self.received) if text in line)
+
+    def observe(self, settle: float, seconds: float) -> list[dict]:
+        """The reports of ``seconds`` from ``settle`` seconds on (at least one)."""
+        start = time.monotonic() + settle
+        while time.monotonic() < start + seconds or not self.reports(start):
+            self.check()
+        return self.reports(start)
+
+    def check(self) -> None:
+        assert time.monotonic() < self.deadline and self.run.poll() is None, "".join(line for _, line in self.received)
+        time.sleep(0.2)
+
+    def stop(self) -> None:
+        self.run.kill()
+        self.run.wait(timeout=60)
+        self._reader.join(timeout=30)
+
+
+def _mean_vx(reports: list[dict]) -> float:
+    return sum(r["vx"][0] for r in reports) / len(reports)
 
 
 @pytest.mark.slow  # ~30 s on the 2-core machine: play's start-up, software OpenGL, a few seconds of walking
@@ -201,35 +248,20 @@ def _reports(lines: list[tuple[float, str]], since: float) -> list[dict]:
     reason="needs Debian's xvfb and xdotool (scripts/setup.sh dev installs them)",
 )
 def test_the_arrow_keys_in_the_native_viewer_steer_the_go2_policy(tmp_path):
-    script = tmp_path / "play_reporting.py"
-    script.write_text(PLAY_REPORTING)
     display = next(n for n in range(90, 200) if not os.path.exists(f"/tmp/.X{n}-lock"))
     xvfb = subprocess.Popen(["Xvfb", f":{display}", "-screen", "0", "1024x768x24"],
                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)  # fmt: skip
     env = dict(os.environ, DISPLAY=f":{display}", PYTHONUNBUFFERED="1")
     env.pop("MUJOCO_GL", None)
-    cmd = [sys.executable, str(script), "play", "--task", GO2, "--use_pretrained_checkpoint", "--num_envs", "2",
-           "--device", "cpu", "--viewer", "native", "--no_export"]  # fmt: skip
-    run = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    play = ReportingPlay(tmp_path, ["--viewer", "native"], env)
     xdo = dict(os.environ, DISPLAY=f":{display}")
-    received: list[tuple[float, str]] = []
-    reader = threading.Thread(target=lambda: received.extend((time.monotonic(), line) for line in run.stdout))
-    reader.start()
-    deadline = time.monotonic() + 180
 
-    def press(key: str, settle: float, observe: float) -> list[dict]:
-        """Type ``key``, let the robot settle, then the reports of ``observe`` seconds."""
+    def press(key: str, settle: float, seconds: float) -> list[dict]:
         subprocess.run(["xdotool", "key", key], env=xdo, timeout=30, check=True)
-        start = time.monotonic() + settle
-        while time.monotonic() < start + observe or not _reports(received, start):
-            assert time.monotonic() < deadline and run.poll() is None, "".join(line for _, line in received)
-            time.sleep(0.2)
-        return _reports(received, start)
+        return play.observe(settle, seconds)
 
     try:
-        while not _reports(received, 0.0):  # the window is up and the policy walks
-            assert time.monotonic() < deadline and run.poll() is None, "".join(line for _, line in received)
-            time.sleep(0.2)
+        play.observe(0.0, 0.0)  # the window is up and the policy walks
         window = subprocess.run(["xdotool", "search", "--name", "MuJoCo"], env=xdo, capture_output=True,
                                 text=True, timeout=30).stdout.split()  # fmt: skip
         assert window, "no MuJoCo window"
@@ -240,18 +272,107 @@ def test_the_arrow_keys_in_the_native_viewer_steer_the_go2_policy(tmp_path):
         turning = press("Left", 0.3, 0.2)
         released = press("Return", 0.3, 0.2)
     finally:
-        run.kill()
-        run.wait(timeout=60)
-        reader.join(timeout=30)
+        play.stop()
         xvfb.terminate()
         xvfb.wait(timeout=30)
 
     assert all(r["command"][0] == [0.0, 0.0, 0.0] for r in stopped), stopped
-    assert abs(sum(r["vx"][0] for r in stopped) / len(stopped)) < 0.15, stopped  # it stands
+    assert abs(_mean_vx(stopped)) < 0.15, stopped  # it stands
     assert all(r["command"][0] == [0.5, 0.0, 0.0] for r in forward), forward
-    walked = sum(r["vx"][0] for r in forward) / len(forward)
-    assert walked > 0.3, forward  # Up: the followed robot walks forward
+    assert _mean_vx(forward) > 0.3, forward  # Up: the followed robot walks forward
     assert all(r["command"][1] != r["command"][0] for r in stopped + forward)  # env 1 keeps the task's commands
     assert sideways[-1]["command"][0] == [0.5, 0.5, 0.0] and turning[-1]["command"][0] == [0.5, 0.5, 0.5]
     assert released[-1]["command"][0] != [0.5, 0.5, 0.5], "Enter: back to the task's commands"
-    print(f"forward speed after Up: {walked:.2f} m/s (commanded 0.5)")
+    print(f"forward speed after Up: {_mean_vx(forward):.2f} m/s (commanded 0.5)")
+
+
+# -- the web viewer: the Steer tab's controls ----------------------------------------------------------
+
+
+def _gui_uuid(messages: list[dict], label: str) -> str:
+    return next(m["uuid"] for m in messages if m.get("props", {}).get("label") == label)
+
+
+@pytest.mark.skipif(not HAVE_VISER, reason="simlab[viewer] (viser, mjviser) is not installed")
+def test_the_web_viewers_steer_controls_set_the_followed_envs_command():
+    cfg = parse_env_cfg(GO2, device="cpu", num_envs=2)
+    cfg.seed = 0
+    env = gym.make(GO2, cfg=cfg).unwrapped
+    port = free_port()
+    viewer = open_viewer(env, "web", port, steer=True)
+    try:
+        assert viewer is not None and viewer.steering is not None
+        env.reset()
+        command = env.command_manager.get_term("base_velocity").command
+        zero = torch.zeros(2, env.action_manager.total_action_dim)
+        ws = f"ws://127.0.0.1:{port}/?token={viewer.token}"  # the page's websocket, with the viewer's token
+        seen = _viser_session(ws, seconds=1.5)
+        forward = _gui_uuid(seen, "Forward (m/s)")
+
+        def step_with(updates: tuple, wanted) -> torch.Tensor:
+            _viser_session(ws, press=updates, seconds=0.3)
+            wait_for(lambda: viewer.steering.wanted == wanted, 30, f"the viewer to want {wanted}")
+            viewer.after_step()  # the step loop hands the command over, between steps
+            env.step(zero)
+            return command.clone()
+
+        other = command[1].clone()
+        after = step_with(((forward, 0.6),), (0.6, 0.0, 0.0))
+        torch.testing.assert_close(after[0], torch.tensor([0.6, 0.0, 0.0]))  # the followed env
+        assert torch.allclose(after[1, :2], other[:2]), "env 1 keeps the task's command"
+        after = step_with((_gui_uuid(seen, "Stop"),), (0.0, 0.0, 0.0))
+        assert torch.equal(after[0], torch.zeros(3))
+        after = step_with((_gui_uuid(seen, "Task's commands"),), None)
+        assert not torch.equal(after[0], torch.zeros(3)), "released: env 0 draws a task command"
+        assert "the task's (random)" in viewer.steering.describe()
+    finally:
+        viewer.close()
+        env.close()
+
+
+@needs_browser
+@pytest.mark.slow  # ~30 s on the 2-core machine: play's start-up, a headless browser, a few seconds of walking
+def test_the_steer_tab_in_the_browser_steers_the_go2_policy(tmp_path):
+    port = free_port()
+    play = ReportingPlay(
+        tmp_path, ["--viewer", "web", "--viewer_port", str(port)], dict(os.environ, PYTHONUNBUFFERED="1")
+    )
+    try:
+        url = play.wait_for_line(f"Web viewer: http://localhost:{port}/?token=").split("Web viewer: ", 1)[1].strip()
+        with HeadlessChromium((1100, 750)) as browser:
+            browser.open(url)  # the printed URL, token included
+
+            def click(text: str) -> bool:
+                """Click the button or tab labelled ``text``; False while the page does not show it."""
+                centre = browser.evaluate(
+                    "(() => { const e = [...document.querySelectorAll('button, [role=tab]')].find("
+                    f"b => b.textContent.trim() === {json.dumps(text)}); if (!e) return null;"
+                    " const r = e.getBoundingClientRect(); return [r.x + r.width / 2, r.y + r.height / 2]; })()"
+                )
+                for kind in ("mouseMoved", "mousePressed", "mouseReleased") if centre else ():
+                    browser.call("Input.dispatchMouseEvent", type=kind, x=centre[0], y=centre[1], button="left",
+                                 clickCount=1)  # fmt: skip
+                return bool(centre)
+
+            wait_for(lambda: click("Steer") and click("Stop"), 120, "the Steer tab's Stop button")
+            stopped = play.observe(2.0, 1.0)
+            # the forward slider, focused, then five presses of the right arrow: five of its 0.1 m/s steps
+            assert browser.evaluate(
+                "(() => { const e = [...document.querySelectorAll('[role=slider]')].find("
+                "s => s.getBoundingClientRect().width > 0); e.focus(); return document.activeElement === e; })()"
+            )
+            for _ in range(5):
+                for kind in ("keyDown", "keyUp"):
+                    browser.call("Input.dispatchKeyEvent", type=kind, key="ArrowRight", code="ArrowRight",
+                                 windowsVirtualKeyCode=39)  # fmt: skip
+            forward = play.observe(1.5, 2.0)
+            browser.screenshot(str(tmp_path / "steer_tab.png"))
+    finally:
+        play.stop()
+
+    assert all(r["command"][0] == [0.0, 0.0, 0.0] for r in stopped), stopped
+    assert abs(_mean_vx(stopped)) < 0.15, stopped
+    assert all(r["command"][0] == pytest.approx([0.5, 0.0, 0.0]) for r in forward), forward
+    assert _mean_vx(forward) > 0.3, forward
+    assert all(r["command"][1] != r["command"][0] for r in stopped + forward)
+    print(f"forward speed after the slider: {_mean_vx(forward):.2f} m/s (commanded 0.5)")

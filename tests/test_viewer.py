@@ -130,9 +130,9 @@ _CAMERA = {"type": "ViewerCameraMessage", "wxyz": [1.0, 0.0, 0.0, 0.0], "positio
            "up_direction": [0.0, 0.0, 1.0]}  # fmt: skip
 
 
-def _viser_session(url: str, cookie: str | None = None, press: tuple[str, ...] = (), seconds: float = 3.0) -> list:
+def _viser_session(url: str, cookie: str | None = None, press: tuple = (), seconds: float = 3.0) -> list:
     """Be viser's page on a websocket: say where the camera is, read what the server sends for ``seconds``
-    (decoded messages), and press the buttons whose uuids are in ``press``."""
+    (decoded messages), and press the buttons whose uuids are in ``press`` (or set ``(uuid, value)``)."""
     import msgspec
     import viser
     import zstandard
@@ -143,8 +143,9 @@ def _viser_session(url: str, cookie: str | None = None, press: tuple[str, ...] =
     with connect(url, subprotocols=[f"viser-v{viser.__version__}"], additional_headers=headers, max_size=None,
                  open_timeout=30) as ws:  # fmt: skip
         ws.send(msgspec.msgpack.encode(_CAMERA))  # viser counts a client from its first camera message
-        for uuid in press:
-            ws.send(msgspec.msgpack.encode({"type": "GuiUpdateMessage", "uuid": uuid, "updates": {"value": True}}))
+        for item in press:
+            uuid, value = item if isinstance(item, tuple) else (item, True)
+            ws.send(msgspec.msgpack.encode({"type": "GuiUpdateMessage", "uuid": uuid, "updates": {"value": value}}))
         deadline = time.monotonic() + seconds
         while time.monotonic() < deadline:
             try:

@@ -238,7 +238,7 @@ class WebViewer(LiveViewer):
         """Sliders for the followed env's ``(v_x, v_y, w_z)``, Stop, and back to the task's commands."""
         gui, steering = self.server.gui, self.steering
         self._steer_status = gui.add_markdown(f"**Command**: {steering.describe()}")
-        labels = ("Forward v_x (m/s)", "Sideways v_y (m/s)", "Turn w_z (rad/s)")
+        labels = ("Forward (m/s)", "Sideways (m/s)", "Turn (rad/s)")
         sliders = [
             gui.add_slider(label, min=lo, max=hi, step=step / 5, initial_value=min(hi, max(lo, 0.0)))
             for label, (lo, hi), step in zip(labels, steering.ranges, steering.steps)
