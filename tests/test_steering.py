@@ -20,7 +20,7 @@ from types import SimpleNamespace
 import gymnasium as gym
 import pytest
 import torch
-from conftest import wait_for
+from conftest import cuda_available, wait_for
 from headless_browser import HeadlessChromium, free_port
 from test_graph_contract import _Sim, emulated_cuda_graph  # noqa: F401 (a fixture)
 from test_viewer import HAVE_VISER, _viser_session, needs_browser
@@ -33,6 +33,7 @@ from simlab.viewer import open_viewer
 from simlab.viewer.steering import VelocitySteering
 
 GO2 = "simlab/Velocity-Flat-Unitree-Go2-v0"
+gpu = pytest.mark.skipif(not cuda_available(), reason="needs an NVIDIA GPU and mujoco-warp")
 USER = (0.7, -0.3, 0.4)
 
 
@@ -126,8 +127,12 @@ def test_a_user_command_is_refused_in_one_line_where_it_cannot_work():
         fresh.term.enable_user_command()
 
 
-def test_the_policy_of_the_go2_sees_the_viewers_command_for_the_followed_env_only():
-    cfg = parse_env_cfg(GO2, device="cpu", num_envs=4)
+@pytest.mark.parametrize(
+    "device",
+    ["cpu", pytest.param("cuda:0", marks=[pytest.mark.gpu, gpu])],  # on the GPU the step is graphed
+)
+def test_the_policy_of_the_go2_sees_the_viewers_command_for_the_followed_env_only(device):
+    cfg = parse_env_cfg(GO2, device=device, num_envs=4)
     cfg.seed = 0
     env = gym.make(GO2, cfg=cfg).unwrapped
     try:
@@ -139,7 +144,11 @@ def test_the_policy_of_the_go2_sees_the_viewers_command_for_the_followed_env_onl
         names = env.observation_manager.active_terms["policy"]
         dims = env.observation_manager.group_obs_term_dim["policy"]
         start = sum(d[0] for d in dims[: names.index("velocity_commands")])
-        zero = torch.zeros(4, env.action_manager.total_action_dim)
+        zero = torch.zeros(4, env.action_manager.total_action_dim, device=device)
+        for _ in range(4):  # past the capture of the step, where it is graphed
+            env.step(zero)
+        assert env.step_is_graphed == device.startswith("cuda"), env.step_mode
+        user = torch.tensor([0.5, 0.0, 1.0], device=device)
 
         steering.nudge(0, 1)  # Up
         steering.nudge(2, 1)  # Left: turn left
@@ -150,18 +159,18 @@ def test_the_policy_of_the_go2_sees_the_viewers_command_for_the_followed_env_onl
         before = term.command.clone()
         obs, *_ = env.step(zero)
         seen = obs["policy"][:, start : start + 3]
-        assert torch.allclose(seen[1], torch.tensor([0.5, 0.0, 1.0])), seen
+        assert torch.allclose(seen[1], user), seen
         torch.testing.assert_close(seen[[0, 2, 3], :2], before[[0, 2, 3], :2])  # the others keep theirs
 
         steering.sync(3)  # the viewer follows env 3: env 1 goes back to the task's commands
         obs, *_ = env.step(zero)
         seen = obs["policy"][:, start : start + 3]
-        assert torch.allclose(seen[3], torch.tensor([0.5, 0.0, 1.0]))
-        assert not torch.allclose(seen[1], torch.tensor([0.5, 0.0, 1.0]))
+        assert torch.allclose(seen[3], user)
+        assert not torch.allclose(seen[1], user)
         steering.stop()
         steering.sync(3)
         obs, *_ = env.step(zero)
-        assert torch.equal(obs["policy"][3, start : start + 3], torch.zeros(3))
+        assert torch.equal(obs["policy"][3, start : start + 3], torch.zeros(3, device=device))
     finally:
         env.close()
 
