@@ -129,7 +129,8 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
             "--eval_every sets rsl_rl's save_interval; with skrl give its checkpoint_interval in --overrides"
             " (SB3 saves every 50 rollouts)"
         )
-    bad = [o for o in args.overrides if not o.startswith(("env.", "agent.")) or "=" not in o]
+    # Hydra's +key=value adds a key the config lacks (e.g. +agent.normalize_input=true)
+    bad = [o for o in args.overrides if not o.lstrip("+").startswith(("env.", "agent.")) or "=" not in o]
     if bad:
         parser.error(f"--overrides {' '.join(bad)}: each looks like env.x.y=1 or agent.z=2")
     return args
