@@ -40,6 +40,18 @@ def test_tutorial_train_and_play_commands_run(tmp_path, library, train_args):
     assert "Playing" in played.stdout and glob.glob(os.path.join(runs[0], "**", "policy.onnx"), recursive=True)
 
 
+@pytest.mark.parametrize("library", [pytest.param("skrl", marks=pytest.mark.slow), "sb3"])
+def test_tutorial_play_with_the_pretrained_checkpoint(tmp_path, library):
+    """Isaac Lab's ``<library>/play.py --task Isaac-Cartpole-v0 --use_pretrained_checkpoint`` plays the
+    cartpole policy shipped for that library (simlab/pretrained/Cartpole-v0/<library>/)."""
+    played = _script(tmp_path, library, "play", "--task", "Isaac-Cartpole-v0", "--num_envs", "4", *CPU,
+                     "--use_pretrained_checkpoint", "--max_app_steps", "5")  # fmt: skip
+    assert played.returncode == 0, played.stdout[-2000:] + played.stderr[-2000:]
+    copied = tmp_path / "logs" / "pretrained" / library / "Cartpole-v0"
+    assert f"Playing {copied}" in played.stdout
+    assert glob.glob(str(copied / "**" / "exported" / "policy.onnx"), recursive=True)
+
+
 def test_rsl_rl_resume_flags_find_the_checkpoint(tmp_path):
     first = _script(tmp_path, "rsl_rl", "train", "--task", "simlab/Cartpole-v0", "--num_envs", "8", *CPU,
                     "--max_iterations", "2", "--run_name", "first", "agent.save_interval=1")  # fmt: skip

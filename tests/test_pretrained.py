@@ -70,8 +70,10 @@ def test_isaac_labs_pretrained_checkpoint_lookup_finds_the_shipped_policies(tmp_
     assert path.startswith(str(tmp_path / ".pretrained_checkpoints")) and path.endswith(".pt")
     assert torch.load(path, weights_only=True)["actor_state_dict"]["mlp.0.weight"].dtype == torch.float32
     assert has_pretrained_checkpoint("rsl_rl", "Isaac-Velocity-Rough-Unitree-Go2-Play-v0")  # the task's own
-    assert get_published_pretrained_checkpoint("sb3", "Isaac-Cartpole-v0") is None
-    assert "unavailable for this task. No pretrained sb3 policy for simlab/Cartpole-v0" in capsys.readouterr().out
+    assert get_published_pretrained_checkpoint("rl_games", "Isaac-Cartpole-v0") is None
+    assert "unavailable for this task. No pretrained rl_games policy for simlab/Cartpole-v0" in capsys.readouterr().out
+    sb3 = get_published_pretrained_checkpoint("sb3", "Isaac-Cartpole-v0")  # SB3's zip, written from policy.pt
+    assert sb3.endswith(".zip") and sb3.startswith(str(tmp_path / ".pretrained_checkpoints" / "pretrained" / "sb3"))
 
 
 def test_each_shipped_policy_is_one_weights_only_file():
@@ -110,3 +112,46 @@ def test_a_stored_policy_unpacks_to_the_checkpoint_within_half_a_step_of_int8(tm
     torch.save({"actor_state_dict": actor}, tmp_path / "model_7.pt")
     with pytest.raises(ValueError, match="not a stored simlab policy"):
         unpack_policy(str(tmp_path / "model_7.pt"))
+
+
+def test_an_sb3_policy_is_stored_without_pickled_code_and_loads_back(tmp_path):
+    """SB3's zip as policy.pt: the policy's weights, the settings as JSON with only the spaces' pickles
+    (no policy class, schedule or buffers), the VecNormalize statistics; play's loader reads it back."""
+    import json
+    import zipfile
+
+    import gymnasium as gym
+    import numpy as np
+    import torch
+
+    pytest.importorskip("stable_baselines3")
+    from stable_baselines3 import PPO
+    from stable_baselines3.common.vec_env import DummyVecEnv
+
+    from simlab.cli.libraries.sb3 import _safe_objects
+    from simlab.pretrained.weights import pack_policy, read_checkpoint, unpack_policy, write_checkpoint
+
+    net = {"net_arch": [8]}
+    model = PPO("MlpPolicy", DummyVecEnv([lambda: gym.make("Pendulum-v1")]), n_steps=8, batch_size=8, policy_kwargs=net)
+    model.learn(8)  # an optimizer step: Adam's moments exist, and are not stored
+    (tmp_path / "run").mkdir()
+    model.save(tmp_path / "run" / "model_8_steps.zip")
+    statistics = {"obs/mean": np.arange(3.0), "obs/var": np.ones(3), "obs/count": np.asarray(9.0), "clip_obs": 5.0}
+    np.savez(tmp_path / "run" / "model_vecnormalize_8_steps.npz", **statistics)
+    checkpoint = read_checkpoint(str(tmp_path / "run" / "model_8_steps.zip"), "sb3")
+    stored = pack_policy(checkpoint, "sb3", "model_8_steps.zip")
+    torch.save(stored, tmp_path / "policy.pt")
+    name, back = unpack_policy(str(tmp_path / "policy.pt"))  # weights_only=True
+    (tmp_path / "out").mkdir()
+    path = str(tmp_path / "out" / name)
+    write_checkpoint(back, path, "sb3")
+    data = json.loads(zipfile.ZipFile(path).read("data"))
+    assert data["policy_class"][":serialized:"] == "" and data["lr_schedule"][":serialized:"] == ""
+    assert data["observation_space"][":serialized:"] and "_last_obs" not in data
+    assert torch.load(tmp_path / "policy.pt", weights_only=True)["state"]["policy.optimizer"]["state"] == {}
+    loaded = PPO.load(path, custom_objects=_safe_objects(path, {"policy_kwargs": net}, trust=False))
+    for key, value in model.policy.state_dict().items():
+        step = value.abs().max() / 127 if value.dim() >= 2 else 0  # int8 rows
+        assert float((loaded.policy.state_dict()[key] - value).abs().max()) <= float(step) + 1e-6, key
+    with np.load(tmp_path / "out" / "model_vecnormalize_8_steps.npz") as back_statistics:
+        assert all(np.array_equal(back_statistics[k], v) for k, v in statistics.items())
