@@ -759,3 +759,25 @@ def test_ray_caster_debug_vis_draws_the_hits():
     sensor.data.ray_hits_w[0, :10] = torch.inf
     sim.run_render_callbacks()
     assert sensor.ray_visualizer.count == 2 * 187 - 10
+
+
+def test_contact_sensor_debug_vis_marks_each_body_red_in_contact():
+    """``ContactSensorCfg(debug_vis=True)``: a sphere at each sensor body, Isaac Lab's marker 0 ("contact")
+    while its net force exceeds force_threshold, marker 1 ("no_contact") in the air."""
+    cfg = DropSceneCfg(num_envs=2, env_spacing=3.0)
+    cfg.contacts = cfg.contacts.replace(debug_vis=True)
+    sim, scene = make_scene(cfg)
+    sensor = scene["contacts"]
+    markers = sensor.contact_visualizer
+    sim.step()
+    scene.update(DT)
+    sim.run_render_callbacks()  # in the air
+    assert markers.count == 2 and markers._indices.tolist() == [1, 1]
+    torch.testing.assert_close(torch.as_tensor(markers._translations).float(), scene["robot"].data.root_pos_w)
+    for _ in range(150):  # lands and comes to rest
+        sim.step()
+        scene.update(DT)
+    sim.run_render_callbacks()
+    assert markers._indices.tolist() == [0, 0]
+    sensor.set_debug_vis(False)
+    assert not markers.is_visible()

@@ -31,6 +31,7 @@ from collections.abc import Sequence
 import mujoco
 import torch
 
+from simlab.markers import CONTACT_SENSOR_MARKER_CFG, VisualizationMarkers, VisualizationMarkersCfg
 from simlab.utils import configclass
 from simlab.utils.env_mask import env_mask, masked_copy_
 from simlab.utils.errors import ConfigError
@@ -230,6 +231,22 @@ class ContactSensor(SensorBase):
             torch.where(ended, times, self._last_times, out=self._last_times)
             torch.mul(times, goes_on, out=self._current_times)
 
+    # -- debug visualization: a sphere on every sensor body, red in contact ----------------------
+
+    def _set_debug_vis_impl(self, debug_vis: bool) -> None:
+        if debug_vis and not hasattr(self, "contact_visualizer"):
+            self.contact_visualizer = VisualizationMarkers(self.cfg.visualizer_cfg)
+        if hasattr(self, "contact_visualizer"):
+            self.contact_visualizer.set_visibility(debug_vis)
+
+    def _debug_vis_callback(self, event) -> None:
+        # marker 0 ("contact") where the net force exceeds force_threshold, else 1 ("no_contact")
+        force = torch.linalg.vector_norm(self._data.net_forces_w, dim=-1)
+        indices = torch.where(force > self.cfg.force_threshold, 0, 1)
+        self._sim.physics.ensure_forward()  # body poses of the current state
+        origins = self._xpos[:, self._body_ids] + self._sim.env_origins[:, None]
+        self.contact_visualizer.visualize(origins.reshape(-1, 3), marker_indices=indices.reshape(-1))
+
     # -- building -------------------------------------------------------------------------------
 
     def _add_filter_sensors(self, spec: mujoco.MjSpec) -> None:
@@ -329,4 +346,5 @@ class ContactSensorCfg(SensorBaseCfg):
     """Also report where each body touches each partner of ``filter_prim_paths_expr`` (``contact_pos_w``)."""
     max_contact_data_count_per_prim: int = 4
     """Isaac Lab's buffer size for PhysX's contact points; MuJoCo reports their force-weighted centre."""
-    visualizer_cfg: object | None = None
+    visualizer_cfg: VisualizationMarkersCfg = CONTACT_SENSOR_MARKER_CFG.replace(prim_path="/Visuals/ContactSensor")
+    """The markers ``debug_vis`` draws on every sensor body: red in contact (above force_threshold), green not."""
