@@ -124,19 +124,59 @@ def test_rl_games_refuses_a_crafted_checkpoint(tmp_path, capsys):
     assert not marker.exists()
 
 
-def test_libraries_own_loads_are_weights_only(tmp_path):
-    """rsl_rl, skrl and rl_games call torch.load(weights_only=False) themselves: inside simlab's block it
-    loads weights only, and --trust_checkpoint (trust=True) restores the library's own load."""
-    from simlab.utils.trust import weights_only_torch_loads
+def test_libraries_own_loads_read_a_weights_only_copy(tmp_path):
+    """rsl_rl, skrl and rl_games call torch.load(weights_only=False) themselves (skrl on JAX pickle.load):
+    they get a copy written from what a weights-only load read, torch.load itself stays as it is, and
+    --trust_checkpoint (trust=True) hands them the file itself."""
+    from simlab.utils.trust import weights_only_copy
 
     marker = tmp_path / "pwned"
     crafted = _crafted_torch_file(tmp_path / "model.pt", marker)
-    with weights_only_torch_loads(), pytest.raises(UntrustedFileError):
-        torch.load(crafted, weights_only=False)
+    with pytest.raises(UntrustedFileError, match="io.open"), weights_only_copy(crafted):
+        pass
     assert not marker.exists()
-    with weights_only_torch_loads(trust=True):
-        torch.load(crafted, weights_only=False)
+    with open(tmp_path / "agent_5.pickle", "wb") as f:  # skrl on JAX: a pickled dict of flax bytes
+        pickle.dump({"policy": MakesAFile(str(marker))}, f, protocol=4)
+    with (
+        pytest.raises(UntrustedFileError, match="io.open"),
+        weights_only_copy(str(tmp_path / "agent_5.pickle"), kind="pickle"),
+    ):
+        pass
+    assert not marker.exists()
+
+    real = {"policy": {"w": torch.arange(3.0)}, "iter": 7}
+    torch.save(real, str(tmp_path / "agent_7.pt"))
+    with weights_only_copy(str(tmp_path / "agent_7.pt")) as path:
+        assert torch.load is torch.serialization.load  # nothing patched while the library loads
+        assert os.path.basename(path) == "agent_7.pt" and path != str(tmp_path / "agent_7.pt")
+        loaded = torch.load(path, weights_only=False)  # what the libraries do
+    assert loaded["iter"] == 7 and torch.equal(loaded["policy"]["w"], real["policy"]["w"])
+    assert not os.path.exists(path)  # the copy is gone after the block
+    with open(tmp_path / "agent_8.pickle", "wb") as f:
+        pickle.dump({"policy": b"flax bytes", "value": b"more"}, f, protocol=4)
+    with weights_only_copy(str(tmp_path / "agent_8.pickle"), kind="pickle") as path, open(path, "rb") as f:
+        assert pickle.load(f) == {"policy": b"flax bytes", "value": b"more"}
+
+    with weights_only_copy(crafted, trust=True) as path:
+        torch.load(path, weights_only=False)
     assert marker.exists()  # the user vouched for the file: it loads as the library would
+
+
+@pytest.mark.parametrize("library", ["skrl", "rl_games"])
+def test_resume_and_play_refuse_a_crafted_checkpoint_of_each_library(tmp_path, capsys, runs, library):
+    """The libraries' own resume and play paths (rsl_rl's: the tests above) never unpickle the crafted part."""
+    from simlab.utils.trust import torch_load
+
+    marker = tmp_path / "pwned"
+    real_path = _checkpoint(runs[library], library)
+    real = torch_load(real_path, map_location="cpu")  # rl_games keeps numpy scalars: simlab's load reads them
+    crafted = _crafted_torch_file(tmp_path / os.path.basename(real_path), marker, real)
+    common = [*SMALL, "--library", library, "--checkpoint", crafted]
+    assert _main(tmp_path, "play", *common, "--steps", "2") == 2
+    assert "--trust_checkpoint" in _one_line_error(capsys)
+    assert _main(tmp_path, "train", *common, "--max_iterations", "1") == 2
+    assert "--trust_checkpoint" in _one_line_error(capsys)
+    assert not marker.exists()
 
 
 def test_numpy_values_real_checkpoints_hold_still_load(tmp_path):

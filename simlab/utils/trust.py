@@ -15,6 +15,7 @@ import io
 import os
 import pickle
 import re
+import tempfile
 from collections.abc import Callable, Iterator
 from typing import Any
 
@@ -25,7 +26,7 @@ __all__ = [
     "TRUST_HINT",
     "restricted_loads",
     "torch_load",
-    "weights_only_torch_loads",
+    "weights_only_copy",
 ]
 
 TRUST_HINT = "pass --trust_checkpoint if you trust the file (loading it may run code)"
@@ -60,10 +61,10 @@ def torch_load(f: Any, map_location: Any = None, trust: bool = False, what: str 
     import torch
 
     if trust:
-        return _plain_torch_load(f, map_location=map_location, weights_only=False)
+        return torch.load(f, map_location=map_location, weights_only=False)
     try:
         with torch.serialization.safe_globals(_torch_safe_globals()):
-            return _plain_torch_load(f, map_location=map_location, weights_only=True)
+            return torch.load(f, map_location=map_location, weights_only=True)
     except pickle.UnpicklingError as e:
         if "GLOBAL" not in str(e):
             raise  # bytes that are no pickle torch reads (a corrupt file): the caller's error, not trust
@@ -73,36 +74,35 @@ def torch_load(f: Any, map_location: Any = None, trust: bool = False, what: str 
         ) from None
 
 
-_PLAIN_LOADS: list[Callable[..., Any]] = []  # torch.load as it was before weights_only_torch_loads
-
-
-def _plain_torch_load(*args: Any, **kwargs: Any) -> Any:
-    import torch
-
-    return (_PLAIN_LOADS[0] if _PLAIN_LOADS else torch.load)(*args, **kwargs)
-
-
 @contextlib.contextmanager
-def weights_only_torch_loads(trust: bool = False) -> Iterator[None]:
-    """Within the block, every ``torch.load`` (the RL libraries' own, which ask for ``weights_only=False``)
-    loads weights only, as :func:`torch_load`; ``trust`` leaves ``torch.load`` as it is."""
-    import torch
+def weights_only_copy(path: str, trust: bool = False, kind: str = "torch") -> Iterator[str]:
+    """A path for an RL library's own loader: rsl_rl, skrl and rl_games read checkpoints with
+    ``torch.load(weights_only=False)`` (skrl on JAX with ``pickle.load``) and no way to ask otherwise.
 
+    ``path`` is read as data (``kind`` "torch": :func:`torch_load`; "pickle": plain containers, bytes
+    and numbers only) and written again to a temporary file, which the block gets: a pickle written
+    from tensors, containers and numbers can only rebuild those, so the library's own load then runs
+    unchanged and nothing in the process is patched. ``trust`` gives ``path`` itself. A file that
+    holds more raises :class:`UntrustedFileError` before the block runs.
+    """
     if trust:
-        yield
+        yield path
         return
-    _PLAIN_LOADS.append(torch.load)
+    what = f"'{os.fspath(path)}'"
+    with tempfile.TemporaryDirectory(prefix="simlab_checkpoint_") as folder:
+        copy = os.path.join(folder, os.path.basename(path))  # the library may read the name (its epoch)
+        if kind == "torch":
+            import torch
 
-    def load(f: Any, map_location: Any = None, *args: Any, **kwargs: Any) -> Any:
-        kwargs.pop("weights_only", None)
-        kwargs.pop("pickle_module", None)
-        return torch_load(f, map_location=map_location)
-
-    torch.load = load
-    try:
-        yield
-    finally:
-        torch.load = _PLAIN_LOADS.pop()
+            torch.save(torch_load(path, map_location="cpu", what=what), copy)
+        elif kind == "pickle":
+            with open(path, "rb") as f:
+                data = restricted_loads(f.read(), lambda module, name: False, what)
+            with open(copy, "wb") as f:
+                pickle.dump(data, f, protocol=4)
+        else:
+            raise ValueError(f"kind must be 'torch' or 'pickle', not {kind!r}")
+        yield copy
 
 
 class _RestrictedUnpickler(pickle.Unpickler):

@@ -23,7 +23,7 @@ from simlab.cli.session import check_training_settings
 from simlab.rl.utils import require
 from simlab.utils.errors import TrainingDivergedError
 from simlab.utils.io import atomic_torch_saves
-from simlab.utils.trust import torch_load, weights_only_torch_loads
+from simlab.utils.trust import torch_load, weights_only_copy
 
 require("rl_games")
 from rl_games.torch_runner import Runner  # noqa: E402
@@ -120,8 +120,8 @@ def _train(env: gym.Env, agent_cfg: dict, run_dir: str, args: argparse.Namespace
     if getattr(agent, "has_central_value", False):
         optimizers.append(agent.central_value_net.optimizer)
     if resume_path:
-        with weights_only_torch_loads(getattr(args, "trust_checkpoint", False)):
-            agent.restore(resume_path)
+        with weights_only_copy(resume_path, getattr(args, "trust_checkpoint", False)) as path:
+            agent.restore(path)
         _use_configured_learning_rates(agent)
         print(f"[simlab] Resumed from {resume_path} at epoch {agent.epoch_num}")
     guard_optimizers(optimizers, "agent.params.config.learning_rate")

@@ -22,7 +22,7 @@ from simlab.rl.utils import require
 from simlab.utils.errors import ConfigError, TrainingDivergedError
 from simlab.utils.io import atomic_torch_saves
 from simlab.utils.startup import mark
-from simlab.utils.trust import weights_only_torch_loads
+from simlab.utils.trust import weights_only_copy
 from simlab.utils.versions import warn_once
 
 require("rsl_rl")
@@ -271,8 +271,8 @@ def train(
 
     runner.add_git_repo_to_log(simlab.__file__)
     if resume_path:
-        with weights_only_torch_loads(getattr(args, "trust_checkpoint", False)):
-            runner.load(resume_path, map_location=agent_cfg.device)
+        with weights_only_copy(resume_path, getattr(args, "trust_checkpoint", False)) as path:
+            runner.load(path, map_location=agent_cfg.device)
         print(f"[simlab] Resumed from {resume_path} at iteration {runner.current_learning_iteration}")
     guard_divergence(runner, run_dir)
     on_checkpoint = getattr(args, "on_checkpoint", None)
@@ -382,8 +382,8 @@ def guard_divergence(runner: OnPolicyRunner, run_dir: str) -> None:
 
 def load_policy(env: gym.Env, agent_cfg: RslRlOnPolicyRunnerCfg, checkpoint: str, trust: bool = False) -> Policy:
     runner = make_runner(env, agent_cfg, None)
-    with weights_only_torch_loads(trust):
-        runner.load(checkpoint, load_cfg={"actor": True}, map_location=agent_cfg.device)
+    with weights_only_copy(checkpoint, trust) as path:
+        runner.load(path, load_cfg={"actor": True}, map_location=agent_cfg.device)
     actor = runner.alg.get_policy()
     groups = runner.cfg["obs_groups"]["actor"]
     if getattr(actor, "obs_groups_2d", None):  # a CNN actor: it reads one image group

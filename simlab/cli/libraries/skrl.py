@@ -29,7 +29,7 @@ from simlab.rl.skrl import SkrlVecEnvWrapper
 from simlab.rl.utils import require
 from simlab.utils.errors import TrainingDivergedError
 from simlab.utils.io import atomic_torch_saves
-from simlab.utils.trust import weights_only_torch_loads
+from simlab.utils.trust import weights_only_copy
 
 ML_FRAMEWORKS = ("torch", "jax", "jax-numpy")
 
@@ -304,8 +304,9 @@ def train(
     runner = make_runner(env, agent_cfg, run_dir, ml_framework)
     start = 0
     if resume_path:
-        with weights_only_torch_loads(getattr(args, "trust_checkpoint", False)):
-            runner.agent.load(resume_path)
+        kind = "torch" if ml_framework == "torch" else "pickle"  # skrl on JAX pickles its checkpoints
+        with weights_only_copy(resume_path, getattr(args, "trust_checkpoint", False), kind) as path:
+            runner.agent.load(path)
         _use_configured_learning_rate(runner.agent, agent_cfg["agent"].get("learning_rate"))
         start = _timestep_of(resume_path)
         _continue_counting(runner.agent, start)
@@ -367,8 +368,8 @@ def load_policy(env: gym.Env, agent_cfg: dict, checkpoint: str, trust: bool = Fa
             agent_cfg[memory]["memory_size"] = agent_cfg["agent"].get("amp_batch_size", 512)
     runner = make_runner(env, agent_cfg, None)  # torch models: play and export run on torch
     agent = runner.agent
-    with weights_only_torch_loads(trust):
-        agent.load(checkpoint)
+    with weights_only_copy(checkpoint, trust) as path:
+        agent.load(path)
     agent.enable_training_mode(False)
     device = str(agent.device)
     if hasattr(agent, "policies"):  # IPPO / MAPPO: one actor per agent, fed its own observation
