@@ -91,7 +91,7 @@ def test_load_missing_files(tmp_path):
 def test_pickle_round_trip(tmp_path):
     cfg = SimCfg(device="cpu")
     dump_pickle(tmp_path / "p" / "env.pkl", cfg)
-    back = load_pickle(tmp_path / "p" / "env.pkl")
+    back = load_pickle(tmp_path / "p" / "env.pkl", allow_modules=[SimCfg.__module__])  # a config of this test
     assert back == cfg and back is not cfg
 
 

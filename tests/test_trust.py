@@ -8,6 +8,7 @@ libraries still load and play.
 from __future__ import annotations
 
 import base64
+import dataclasses
 import glob
 import json
 import os
@@ -424,3 +425,46 @@ def test_load_pickle_reads_data_and_refuses_code(tmp_path):
     dump_pickle(tmp_path / "env.pkl", data)
     back = load_pickle(tmp_path / "env.pkl")
     assert back["cfg"].dt == 0.01 and back["x"].tolist() == [0, 1, 2] and back["t"] == (1, 2.0)
+
+
+@dataclasses.dataclass
+class WritesWhenBuilt:
+    """A dataclass of a module other than simlab's (a third-party config, say) whose construction has an
+    effect: a pickle may call a class it names, so naming it runs ``__post_init__``."""
+
+    path: str
+
+    def __post_init__(self):
+        open(self.path, "w").close()
+
+
+class BuildsIt:
+    def __init__(self, path: str):
+        self.path = path
+
+    def __reduce__(self):
+        return (WritesWhenBuilt, (self.path,))
+
+
+def test_load_pickle_refuses_dataclasses_outside_simlab_and_the_allowed_packages(tmp_path):
+    from simlab.utils.io import load_pickle
+    from simlab.utils.string import callable_modules
+
+    marker = tmp_path / "pwned"
+    with open(tmp_path / "crafted.pkl", "wb") as f:
+        pickle.dump({"cfg": BuildsIt(str(marker))}, f)
+    module = WritesWhenBuilt.__module__
+    with pytest.raises(UntrustedFileError) as refused:
+        load_pickle(tmp_path / "crafted.pkl")
+    line = str(refused.value)
+    assert "\n" not in line and f"'{module}'" in line and f"--allow_module {module.split('.')[0]}" in line
+    with callable_modules(["simlab", "some_task_package"]), pytest.raises(UntrustedFileError):
+        load_pickle(tmp_path / "crafted.pkl")  # the command's allowed packages do not include this one
+    assert not marker.exists()
+
+    with callable_modules([module.split(".")[0]]):  # --allow_module, or the task's own package
+        assert isinstance(load_pickle(tmp_path / "crafted.pkl")["cfg"], WritesWhenBuilt)
+    assert marker.exists()
+    marker.unlink()
+    load_pickle(tmp_path / "crafted.pkl", allow_modules=[module.split(".")[0]])
+    assert marker.exists()

@@ -11,13 +11,13 @@ import dataclasses
 import os
 import pickle
 import re
-from collections.abc import Iterator
+from collections.abc import Callable, Iterable, Iterator
 from typing import Any
 
 import yaml
 
 from simlab.utils.dict import MISSING_STR, _value_to_plain, class_to_dict
-from simlab.utils.errors import StorageError, is_storage_error
+from simlab.utils.errors import StorageError, UntrustedFileError, is_storage_error
 
 __all__ = [
     "ConfigYamlDumper",
@@ -264,34 +264,54 @@ def dump_pickle(filename: str | os.PathLike, data: Any) -> None:
 _PLAIN_BUILTINS = frozenset({"set", "frozenset", "complex", "slice", "range", "bytearray"})
 
 
-def _plain_global(module: str, name: str) -> bool:
-    """What :func:`dump_pickle` writes of configs and data: containers, numpy arrays, config classes
-    (dataclasses, built without calling them) of simlab or of modules already imported. No function,
-    no other class, and no module imported for the file's sake."""
+def _plain_globals(packages: tuple[str, ...], what: str) -> Callable[[str, str], bool]:
+    """What :func:`dump_pickle` writes of configs and data: containers, numpy arrays and config classes
+    (dataclasses) of ``packages``. A pickle may call a class it names (``__init__`` and
+    ``__post_init__`` run), so a dataclass of any other module is refused, naming the module; no
+    function, no other class, and no module outside ``packages`` is imported for the file's sake."""
     import importlib
     import sys
 
     from simlab.utils.trust import NUMPY_GLOBALS
 
-    if (module == "builtins" and name in _PLAIN_BUILTINS) or f"{module}.{name}" in NUMPY_GLOBALS:
-        return True
-    if module == "collections" and name in ("OrderedDict", "deque"):
-        return True
-    if module in sys.modules or module == "simlab" or module.startswith("simlab."):
+    def allowed(module: str, name: str) -> bool:
+        if (module == "builtins" and name in _PLAIN_BUILTINS) or f"{module}.{name}" in NUMPY_GLOBALS:
+            return True
+        if module == "collections" and name in ("OrderedDict", "deque"):
+            return True
+        inside = any(module == p or module.startswith(p + ".") for p in packages)
+        if not inside and module not in sys.modules:
+            return False
         obj = getattr(sys.modules.get(module) or importlib.import_module(module), name, None)
-        return isinstance(obj, type) and dataclasses.is_dataclass(obj)
-    return False
+        if not (isinstance(obj, type) and dataclasses.is_dataclass(obj)):
+            return False
+        if not inside:
+            raise UntrustedFileError(
+                f"Refused to load {what}: it names {module}.{name}, a dataclass of '{module}', outside"
+                f" {', '.join(packages)}; pass --allow_module {module.split('.')[0]} (load_pickle's"
+                " allow_modules) to allow it."
+            )
+        return True
+
+    return allowed
 
 
-def load_pickle(filename: str | os.PathLike, trust: bool = False) -> Any:
-    """Load a pickle file of data (containers, numbers, numpy arrays, simlab configs); one that names
-    anything else (a function, another class: unpickling could run it) is refused unless ``trust``."""
+def load_pickle(filename: str | os.PathLike, trust: bool = False, allow_modules: Iterable[str] = ()) -> Any:
+    """Load a pickle file of data (containers, numbers, numpy arrays, config dataclasses); one that names
+    anything else (a function, another class: unpickling could run it) is refused unless ``trust``.
+
+    Config dataclasses come from simlab, the packages the ``simlab`` command allows ``module:name`` values
+    to name (the task's own package, ``--allow_module``) and ``allow_modules``.
+    """
+    from simlab.utils.string import allowed_callable_packages
     from simlab.utils.trust import restricted_loads
 
     filename = os.fspath(filename)
     if not os.path.isfile(filename):
         raise FileNotFoundError(f"pickle file not found: '{filename}'.")
+    packages = tuple(sorted({"simlab", *allow_modules, *(allowed_callable_packages() or ())}))
+    what = f"'{filename}'"
     with open(filename, "rb") as f:
         if trust:
             return pickle.load(f)
-        return restricted_loads(f.read(), _plain_global, f"'{filename}'", "pass trust=True if you trust the file")
+        return restricted_loads(f.read(), _plain_globals(packages, what), what, "pass trust=True if you trust the file")

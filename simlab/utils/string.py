@@ -253,6 +253,11 @@ def callable_modules(packages: Iterable[str]) -> Iterator[None]:
         _ALLOWED_MODULES.pop()
 
 
+def allowed_callable_packages() -> tuple[str, ...] | None:
+    """The packages the innermost :func:`callable_modules` block allows; None outside any block."""
+    return _ALLOWED_MODULES[-1]
+
+
 def _check_module(name: str, module_name: str) -> None:
     allowed = _ALLOWED_MODULES[-1]
     if allowed is None or any(module_name == p or module_name.startswith(p + ".") for p in allowed):
