@@ -17,7 +17,7 @@ from typing import Any, ClassVar
 from simlab.utils import configclass
 from simlab.utils.errors import ConfigError
 
-__all__ = ["check_xyzw_rot", "to_simlab", "xyzw_class"]
+__all__ = ["check_xyzw_rot", "replace_fields", "to_simlab", "xyzw_class"]
 
 
 def check_xyzw_rot(owner: str, rot: Any) -> None:
@@ -66,6 +66,15 @@ def _simlab_copy(cfg: Any) -> Any:
     return base(**values)
 
 
+def replace_fields(cfg: Any, **changes: Any) -> Any:
+    """A shallow copy of config ``cfg`` with ``changes`` set, without running ``__post_init__`` again
+    (the config was made already; running it twice would apply its edits twice)."""
+    copy = type(cfg).__new__(type(cfg))
+    copy.__dict__.update(cfg.__dict__)
+    copy.__dict__.update(changes)
+    return copy
+
+
 def to_simlab(value: Any) -> Any:
     """``value`` with every (x, y, z, w) config in it (any depth: config fields, dicts, lists, tuples) as
     simlab's (w, x, y, z) config; what holds none is returned as it is (not copied)."""
@@ -78,12 +87,7 @@ def to_simlab(value: Any) -> Any:
             new = to_simlab(old)
             if new is not old:
                 changed[f.name] = new
-        if not changed:
-            return value
-        copy = type(value).__new__(type(value))
-        copy.__dict__.update(value.__dict__)  # no __post_init__ again: the config was made already
-        copy.__dict__.update(changed)
-        return copy
+        return replace_fields(value, **changed) if changed else value
     if isinstance(value, dict):
         items = {k: to_simlab(v) for k, v in value.items()}
         return items if any(items[k] is not value[k] for k in value) else value

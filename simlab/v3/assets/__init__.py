@@ -5,6 +5,12 @@ The configs are simlab's (:mod:`simlab.assets`) with one difference: their ``Ini
 made (:func:`simlab.v3._order.check_xyzw_rot`). The asset classes convert their config to simlab's
 order when they are built (:func:`simlab.v3._order.to_simlab`); so do :mod:`simlab.v3.scene` and
 :mod:`simlab.v3.envs` for the configs they hold.
+
+The asset classes also carry Isaac Lab 3.0's asset API (:mod:`simlab.v3.assets._api`): data fields
+with ``.torch`` (quaternions ``(x, y, z, w)``), ``default_root_pose`` / ``default_root_vel``, the
+``write_*_to_sim_index`` / ``_mask`` writers and ``actuators.target_command``. A scene or env of
+:mod:`simlab.v3` builds its articulations and rigid objects as these classes, 2.x robot configs
+included (:func:`with_v3_assets`); 2.x code reading the same assets still gets ``(w, x, y, z)``.
 """
 
 from __future__ import annotations
@@ -21,7 +27,8 @@ from simlab.assets import (
     RigidObjectData,
 )
 from simlab.utils import configclass
-from simlab.v3._order import to_simlab, xyzw_class
+from simlab.v3._order import replace_fields, to_simlab, xyzw_class
+from simlab.v3.assets._api import ActuatorCollection, AssetDataView, JointWriters, RootWriters
 
 __all__ = [
     "Articulation",
@@ -37,21 +44,47 @@ __all__ = [
     "RigidObjectCollectionCfg",
     "RigidObjectCollectionData",
     "RigidObjectData",
+    "with_v3_assets",
 ]
 
 
-class Articulation(_assets.Articulation):
-    """simlab's articulation, made from a config whose quaternions are (x, y, z, w)."""
+class Articulation(JointWriters, RootWriters, _assets.Articulation):
+    """simlab's articulation, made from a config whose quaternions are (x, y, z, w), with Isaac Lab 3.0's API."""
 
     def __init__(self, cfg: _assets.ArticulationCfg):
         super().__init__(to_simlab(cfg))
+        self.actuators = ActuatorCollection(self)  # filled with the groups when the sim starts, as simlab's dict
+
+    def _initialize(self, sim) -> None:
+        super()._initialize(sim)
+        self.data = AssetDataView(self.data)
 
 
-class RigidObject(_assets.RigidObject):
-    """simlab's rigid object, made from a config whose quaternions are (x, y, z, w)."""
+class RigidObject(RootWriters, _assets.RigidObject):
+    """simlab's rigid object, made from a config whose quaternions are (x, y, z, w), with Isaac Lab 3.0's API."""
 
     def __init__(self, cfg: _assets.RigidObjectCfg):
         super().__init__(to_simlab(cfg))
+
+    def _initialize(self, sim) -> None:
+        super()._initialize(sim)
+        self.data = AssetDataView(self.data)
+
+
+# simlab's asset class -> the class with Isaac Lab 3.0's API that a 3.0 scene builds instead
+V3_CLASSES: dict[type, type] = {_assets.Articulation: Articulation, _assets.RigidObject: RigidObject}
+
+
+def with_v3_assets(scene_cfg):
+    """``scene_cfg`` (an ``InteractiveSceneCfg``) with its articulations and rigid objects built as the
+    classes above, 2.x robot configs included: 3.0 code reads every asset of a 3.0 scene through 3.0's
+    API. A config whose ``class_type`` is a class of its own (a subclass) is left as it is."""
+    changes = {}
+    for name, value in vars(scene_cfg).items():
+        cls = V3_CLASSES.get(getattr(value, "class_type", None))
+        if cls is not None:
+            changes[name] = replace_fields(value, class_type=cls)
+    return replace_fields(scene_cfg, **changes) if changes else scene_cfg
 
 
 @configclass

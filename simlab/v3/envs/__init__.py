@@ -1,8 +1,10 @@
 """``isaaclab.envs`` of Isaac Lab 3.0: simlab's envs, made from configs whose quaternions are (x, y, z, w).
 
 Each env class converts its config with :func:`simlab.v3._order.to_simlab` before simlab's own
-constructor runs, so ``env.cfg`` and everything built from it hold simlab's (w, x, y, z). The other
-names (the configs, ``mdp``, ``multi_agent_to_single_agent``, ...) are :mod:`simlab.envs`'s.
+constructor runs, so ``env.cfg`` and everything built from it hold simlab's (w, x, y, z), and builds
+the scene's articulations and rigid objects with Isaac Lab 3.0's asset API
+(:func:`simlab.v3.assets.with_v3_assets`). The other names (the configs, ``mdp``,
+``multi_agent_to_single_agent``, ...) are :mod:`simlab.envs`'s.
 """
 
 from __future__ import annotations
@@ -10,29 +12,40 @@ from __future__ import annotations
 from typing import Any
 
 import simlab.envs as _envs
-from simlab.v3._order import to_simlab
+from simlab.v3._order import replace_fields, to_simlab
+from simlab.v3.assets import with_v3_assets
 
 __all__ = ["DirectMARLEnv", "DirectRLEnv", "ManagerBasedEnv", "ManagerBasedRLEnv", *_envs.__all__]
 
 
+def _v3_cfg(cfg: Any) -> Any:
+    """``cfg`` in simlab's order, its scene's assets with Isaac Lab 3.0's API."""
+    cfg = to_simlab(cfg)
+    scene = getattr(cfg, "scene", None)
+    if scene is None:
+        return cfg
+    v3_scene = with_v3_assets(scene)
+    return cfg if v3_scene is scene else replace_fields(cfg, scene=v3_scene)
+
+
 class ManagerBasedEnv(_envs.ManagerBasedEnv):
     def __init__(self, cfg: Any):
-        super().__init__(to_simlab(cfg))
+        super().__init__(_v3_cfg(cfg))
 
 
 class ManagerBasedRLEnv(_envs.ManagerBasedRLEnv):
     def __init__(self, cfg: Any, render_mode: str | None = None, **kwargs: Any):
-        super().__init__(to_simlab(cfg), render_mode, **kwargs)
+        super().__init__(_v3_cfg(cfg), render_mode, **kwargs)
 
 
 class DirectRLEnv(_envs.DirectRLEnv):
     def __init__(self, cfg: Any, render_mode: str | None = None, **kwargs: Any):
-        super().__init__(to_simlab(cfg), render_mode, **kwargs)
+        super().__init__(_v3_cfg(cfg), render_mode, **kwargs)
 
 
 class DirectMARLEnv(_envs.DirectMARLEnv):
     def __init__(self, cfg: Any, render_mode: str | None = None, **kwargs: Any):
-        super().__init__(to_simlab(cfg), render_mode, **kwargs)
+        super().__init__(_v3_cfg(cfg), render_mode, **kwargs)
 
 
 def _register_for_instantiate() -> None:

@@ -18,6 +18,7 @@ from typing import Any
 import torch
 
 import simlab.utils.math as _math
+from simlab.v3._proxy import as_v3
 
 __all__ = ["QUATERNION_ARGS", "wxyz_from_xyzw", "xyzw_from_wxyz"]
 
@@ -89,8 +90,8 @@ def _in_xyzw(name: str, fn: Callable, args: tuple[str, ...], out: bool | tuple[b
         bound = signature.bind(*a, **kw)
         for arg in args:
             value = bound.arguments.get(arg)
-            if value is not None:
-                bound.arguments[arg] = wxyz_from_xyzw(torch.as_tensor(value))
+            if value is not None:  # an asset data field without .torch is read as 3.0 reads it
+                bound.arguments[arg] = wxyz_from_xyzw(torch.as_tensor(as_v3(value)))
         flags = out
         if name == "compute_pose_error" and bound.arguments.get("rot_error_type") == "quat":
             flags = (False, True)
