@@ -474,8 +474,10 @@ def make_one(task: str, args: argparse.Namespace, log_root: str, argv: list[str]
 
 
 def checkpoint_iteration(checkpoint: str, library: str, agent_cfg: dict) -> int:
-    """The training iteration a checkpoint was saved at: rsl_rl stores it; skrl names the timestep; SB3
-    stores its timesteps (a rollout is n_steps of every env)."""
+    """The training iteration a checkpoint was saved after, counted from 0 as rsl_rl's ``model_<iter>.pt``
+    (``record.json``'s ``iterations`` is this + 1): rsl_rl stores it; skrl names the timestep, and
+    ``agent_<T>.pt`` is written after T steps, which held T // rollouts updates; SB3 stores its
+    timesteps (a rollout is n_steps of every env)."""
     from simlab.pretrained.weights import read_checkpoint
     from simlab.utils.trust import torch_load
 
@@ -485,7 +487,7 @@ def checkpoint_iteration(checkpoint: str, library: str, agent_cfg: dict) -> int:
         data = read_checkpoint(checkpoint, library)["data"]
         return max(0, int(data["num_timesteps"]) // (int(data["n_steps"]) * int(data["n_envs"])) - 1)
     timestep = re.search(r"(\d+)\.pt$", os.path.basename(checkpoint))
-    return int(timestep.group(1)) // agent_cfg["agent"]["rollouts"] if timestep else 0
+    return max(0, int(timestep.group(1)) // agent_cfg["agent"]["rollouts"] - 1) if timestep else 0
 
 
 def checkpoint_name(checkpoint: str, library: str, iteration: int, agent_cfg: dict) -> str:
@@ -495,7 +497,9 @@ def checkpoint_name(checkpoint: str, library: str, iteration: int, agent_cfg: di
     name = os.path.basename(checkpoint)
     if is_checkpoint_name(name, library):
         return name
-    return f"model_{iteration}.pt" if library == "rsl_rl" else f"agent_{iteration * agent_cfg['agent']['rollouts']}.pt"
+    if library == "rsl_rl":
+        return f"model_{iteration}.pt"
+    return f"agent_{(iteration + 1) * agent_cfg['agent']['rollouts']}.pt"  # after iteration + 1 rollouts
 
 
 def adopt_checkpoint(task: str, args: argparse.Namespace, log_root: str, argv: list[str]) -> str | None:
@@ -535,7 +539,7 @@ def adopt_checkpoint(task: str, args: argparse.Namespace, log_root: str, argv: l
         "algorithm": algorithm,
         "trained_by": args.trained_by,
         "seed": args.seed,
-        "iterations": iteration,
+        "iterations": iteration + 1,
         "checkpoint": os.path.basename(checkpoint),
         "criterion": criterion_for(task, args.reward_threshold).description,
         "cpu_evaluation": cpu,  # of the stored weights, as play will load them

@@ -150,6 +150,11 @@ def test_play_seconds_runs_that_much_simulated_time(tmp_path):
         (["train", "--library", "skrl", "agent.agent.rollouts=2.5"], "agent.agent.rollouts must be a whole number"),
         (["train", "--library", "sb3", "agent.n_epochs=0"], "agent.n_epochs must be a whole number >= 1 to train"),
         (["train", "--library", "rl_games", "agent.params.config.horizon_length=-1"], "horizon_length must be a"),
+        (
+            ["train", "--library", "rl_games", "agent.params.config.minibatch_size=20"],
+            "minibatch_size=20 does not divide the batch of 16 steps x 8 envs = 128, which rl_games requires;"
+            " sizes that do: 16 or 32",
+        ),
         (["train", "agent.algorithm.learning_rate=-1"], "agent.algorithm.learning_rate must be a finite number >= 0"),
         (["train", "--library", "skrl", "agent.agent.learning_rate=nan"], "agent.agent.learning_rate must be a finite"),
         (["train", "--video", "--video_length", "0"], "--video_length must be at least 1, got 0"),
@@ -170,6 +175,17 @@ def test_bad_flags_are_refused_before_anything_is_written(tmp_path, capsys, flag
     assert message in err, err
     assert len(err.strip().splitlines()) == 1  # one line, no config dump, no traceback
     assert not os.path.exists(tmp_path / "logs")
+
+
+def test_rl_games_minibatch_above_the_batch_trains_one_minibatch_and_says_so(capsys):
+    """A config tuned for 4096 envs (minibatch_size 8192) with --num_envs 8: rl_games would refuse it;
+    the whole rollout becomes one mini-batch, in one printed line."""
+    from simlab.cli.libraries.rl_games import _fitting_minibatch
+
+    assert _fitting_minibatch(8192, 16, 8) == 128
+    (line,) = capsys.readouterr().out.splitlines()
+    assert "minibatch_size=8192" in line and "16 steps x 8 envs" in line and "one mini-batch of 128" in line
+    assert _fitting_minibatch(64, 16, 8) == 64 and not capsys.readouterr().out  # a divisor stays, silently
 
 
 def test_exponent_numbers_in_overrides(tmp_path):

@@ -144,7 +144,8 @@ def test_a_policy_trained_elsewhere_is_judged_on_the_cpu_and_shipped(tmp_path, c
     shipped = out / "Cartpole-Direct-v0" / "rsl_rl"
     record = json.loads((shipped / "record.json").read_text())
     assert record["trained_by"] == "a one-iteration test run" and record["cpu_evaluation"]["passed"]
-    assert record["checkpoint"] == f"model_{record['iterations']}.pt"  # a name play's checkpoint search finds
+    # a name play's checkpoint search finds; one iteration: rsl_rl's iteration 0
+    assert record["checkpoint"] == "model_0.pt" and record["iterations"] == 1
     assert "simlab/Cartpole-Direct-v0" in (shipped / "params" / "run.yaml").read_text()
     name, checkpoint = unpack_policy(str(shipped / "policy.pt"))
     assert name == record["checkpoint"] and set(checkpoint) == set(PLAY_KEYS["rsl_rl"])
@@ -174,6 +175,7 @@ def test_an_skrl_policy_trained_elsewhere_is_shipped_in_skrls_layout(tmp_path):
     shipped = out / "Cartpole-Direct-v0" / "skrl"
     record = json.loads((shipped / "record.json").read_text())
     assert record["library"] == "skrl" and record["algorithm"] == "PPO" and record["cpu_evaluation"]["passed"]
+    assert record["iterations"] == 1  # agent_<rollouts>.pt: written after one rollout and its update
     # skrl's layout: play writes the checkpoint (policy and its normalizer only) into checkpoints/
     name, checkpoint = unpack_policy(str(shipped / "policy.pt"))
     assert name == f"checkpoints/{record['checkpoint']}" and set(checkpoint) == set(PLAY_KEYS["skrl"])
@@ -303,9 +305,19 @@ def test_an_adopted_checkpoint_gets_a_name_that_play_finds():
     make_pretrained = _script()
     agent_cfg = {"agent": {"rollouts": 16}}
     # a copy named by its user ends in the library's pattern but does not start with it
-    assert make_pretrained.checkpoint_name("/x/dance_agent_27200.pt", "skrl", 1700, agent_cfg) == "agent_27200.pt"
-    assert make_pretrained.checkpoint_name("/x/agent_800.pt", "skrl", 50, agent_cfg) == "agent_800.pt"
+    assert make_pretrained.checkpoint_name("/x/dance_agent_27200.pt", "skrl", 1699, agent_cfg) == "agent_27200.pt"
+    assert make_pretrained.checkpoint_name("/x/agent_800.pt", "skrl", 49, agent_cfg) == "agent_800.pt"
     assert make_pretrained.checkpoint_name("/x/best_model_9.pt", "rsl_rl", 9, agent_cfg) == "model_9.pt"
+
+
+def test_skrl_checkpoints_count_iterations_as_rsl_rl_does():
+    """skrl writes agent_<T>.pt after T steps, T // rollouts updates: iteration T // rollouts - 1 counted
+    from 0 as rsl_rl's model_<iter>.pt, so record.json's iterations (iteration + 1) is the updates done."""
+    make_pretrained = _script()
+    agent_cfg = {"agent": {"rollouts": 16}}
+    assert make_pretrained.checkpoint_iteration("/x/agent_480.pt", "skrl", agent_cfg) == 29  # 30 updates
+    assert make_pretrained.checkpoint_iteration("/x/agent_16.pt", "skrl", agent_cfg) == 0
+    assert make_pretrained.checkpoint_name("/x/final.pt", "skrl", 29, agent_cfg) == "agent_480.pt"
 
 
 def test_a_policy_whose_int8_replay_misses_the_criterion_is_stored_as_float16(tmp_path, monkeypatch):

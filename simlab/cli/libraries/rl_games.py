@@ -21,7 +21,7 @@ from simlab.cli.libraries.progress import ProgressBar
 from simlab.cli.policy import Policy
 from simlab.cli.session import check_training_settings
 from simlab.rl.utils import require
-from simlab.utils.errors import TrainingDivergedError
+from simlab.utils.errors import ConfigError, TrainingDivergedError
 from simlab.utils.io import atomic_torch_saves
 from simlab.utils.trust import torch_load, weights_only_copy
 
@@ -55,16 +55,37 @@ def configure(agent_cfg: dict, args: argparse.Namespace, env_cfg: Any) -> None:
     )
     num_envs = env_cfg.scene.num_envs
     config["num_actors"] = num_envs
-    batch = config["horizon_length"] * num_envs
-    if config["minibatch_size"] > batch or batch % config["minibatch_size"]:
-        # tuned for more envs: keep the mini-batch a divisor of the batch
-        size = min(config["minibatch_size"], batch)
-        while batch % size:
-            size -= 1
-        config["minibatch_size"] = size
+    if hasattr(args, "max_iterations"):  # training: play makes no mini-batches
+        config["minibatch_size"] = _fitting_minibatch(config["minibatch_size"], config["horizon_length"], num_envs)
     if getattr(args, "distributed", False):
         config["multi_gpu"] = True  # rl_games starts the group, averages gradients, and adds the rank to the seed
     env_cfg.seed = params["seed"]
+
+
+def _fitting_minibatch(size: int, horizon: int, num_envs: int) -> int:
+    """rl_games' ``minibatch_size`` for a batch of ``horizon`` steps of ``num_envs`` envs.
+
+    rl_games (and so Isaac Lab's train.py) refuses a size that does not divide the batch. A size above
+    the batch is a config tuned for more envs than given (``--num_envs 64``): the batch becomes one
+    mini-batch, said in one line. A smaller size that does not divide it is refused, naming the sizes
+    that do near it.
+    """
+    batch = horizon * num_envs
+    if size > batch:
+        print(
+            f"[simlab] agent.params.config.minibatch_size={size} is more than a rollout of {horizon} steps x"
+            f" {num_envs} envs holds: training with one mini-batch of {batch}.",
+            flush=True,
+        )
+        return batch
+    if batch % size:
+        below = next(d for d in range(size, 0, -1) if batch % d == 0)
+        above = next(d for d in range(size, batch + 1) if batch % d == 0)
+        raise ConfigError(
+            f"agent.params.config.minibatch_size={size} does not divide the batch of {horizon} steps x {num_envs}"
+            f" envs = {batch}, which rl_games requires; sizes that do: {below} or {above} (or change --num_envs)."
+        )
+    return size
 
 
 def _clips(agent_cfg: dict) -> tuple[float, float]:
