@@ -2,8 +2,9 @@
 
 simlab patches or calls a few things that are not a library's public API: MuJoCo's GL context
 choice, ``torch.save`` and ``Normal.sample`` while training or capturing, MuJoCo Warp's private
-helpers, a copy of rsl_rl's PPO update. Each site asks :func:`release_mismatch` first; with another
-release installed it takes the library's own path and says so in one line (once per process).
+helpers, Warp's ``Module.load`` (compiling kernels ahead), a copy of rsl_rl's PPO update. Each
+site asks :func:`release_mismatch` first; with another release installed it takes the library's
+own path and says so in one line (once per process).
 The releases are those of ``constraints.txt``, which CI installs.
 """
 
@@ -15,7 +16,7 @@ import warnings
 
 __all__ = ["CHECKED_RELEASES", "release_mismatch", "warn_once"]
 
-CHECKED_RELEASES = {"torch": "2.13", "mujoco": "3.14", "mujoco-warp": "3.14", "rsl-rl-lib": "5.5"}
+CHECKED_RELEASES = {"torch": "2.13", "mujoco": "3.14", "mujoco-warp": "3.14", "rsl-rl-lib": "5.5", "warp-lang": "1.19"}
 """The releases (leading version parts) whose internals simlab's patches and private calls were checked with."""
 
 _warned: set[str] = set()

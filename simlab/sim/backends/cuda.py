@@ -34,6 +34,7 @@ from simlab.utils.cuda import gc_paused, is_capturing
 from simlab.utils.memory import available_memory, check_env_memory
 
 from .base import EnvIds, PhysicsBackend
+from .warp_compile import Precompile, compile_ahead, compile_ahead_enabled
 
 _INSTALL_HINT = 'the cuda backend needs an NVIDIA GPU and MuJoCo Warp: pip install "simlab[gpu]"'
 
@@ -268,6 +269,21 @@ class CudaBackend(PhysicsBackend):
         self._overflow_seen = torch.zeros_like(self._overflow)  # sticky per-world overflow bits
         self._calls_since_check = 0
 
+        # The kernels of step, forward and reset compile on a thread pool while the env and the
+        # RL library are built; the first capture waits for them (see warp_compile).
+        self.precompile: Precompile | None = None
+        if compile_ahead_enabled():
+            m, d = self.wp_model, self.wp_data
+            self.precompile = compile_ahead(
+                wp,
+                self._wp_device,
+                [
+                    lambda: mjw.step(m, d),
+                    lambda: mjw.forward(m, d),
+                    lambda: mjw.reset_data(m, d, reset=self._reset_mask),
+                ],
+            )
+
     # -- fields --------------------------------------------------------------------------------
 
     def data(self, name: str) -> torch.Tensor:
@@ -456,6 +472,8 @@ class CudaBackend(PhysicsBackend):
         )
 
     def close(self) -> None:
+        if self.precompile is not None:
+            self.precompile.wait()
         self._graphs.clear()
 
     @property
@@ -489,6 +507,8 @@ class CudaBackend(PhysicsBackend):
     def _run(self, key: Any, body: Callable[[], None]) -> None:
         """Replay the graph for ``key``, capturing ``body`` into it on first use."""
         wp = self._wp
+        if self.precompile is not None:
+            self.precompile.wait()  # no compile threads may touch CUDA while anything captures
         if self._is_cuda and is_capturing():
             # Inside a capture of the whole env step (simlab.envs.utils.cuda_graph): record the
             # kernels into that graph, on torch's capturing stream, instead of launching ours.
