@@ -109,7 +109,7 @@ def test_cartpole_play_export_carries_metadata(tmp_path):
     assert glob.glob(os.path.join(tmp_path, "rsl_rl", "*", "*", "exported", "policy.onnx"))
 
 
-@pytest.mark.parametrize(("task", "num_joints"), [(GO2, 12), (G1, 37)], ids=["go2", "g1"])
+@pytest.mark.parametrize(("task", "num_joints"), [(GO2, 12), (G1, 23)], ids=["go2", "g1"])
 def test_locomotion_metadata_rebuilds_joint_targets(tmp_path, task, num_joints):
     """A locomotion policy: joint position targets = default pose + scale * action, PD gains per joint."""
     from rsl_rl.models import MLPModel

@@ -196,6 +196,35 @@ def test_g1_29dof_motor_model():
         assert scale == pytest.approx(0.25 * effort / kp[joint], rel=1e-4)
 
 
+def test_g1_motor_model_on_the_hand_version():
+    """The velocity tasks' G1: the 29-DoF G1's motors on the same joints of the hand version (torso =
+    waist yaw, elbow roll = wrist roll), Isaac Lab's gains on the fingers, action scales by mjlab's rule
+    for exactly the 23 joints that walk."""
+    sim, scene = scene_with(unitree.G1_MOTOR_MODEL_CFG)
+    robot = scene["robot"]
+    kp = dict(zip(robot.joint_names, robot.data.joint_stiffness[0].tolist()))
+    armature = dict(zip(robot.joint_names, robot.data.joint_armature[0].tolist()))
+    limits = dict(zip(robot.joint_names, robot.data.joint_effort_limits[0].tolist()))
+    omega = 2 * torch.pi * 10.0
+    for joint, (inertia, effort) in {
+        "left_knee_joint": (0.025102, 139.0),
+        "right_hip_yaw_joint": (0.010178, 88.0),
+        "torso_joint": (0.010178, 88.0),
+        "left_elbow_roll_joint": (0.003610, 25.0),
+        "right_ankle_pitch_joint": (0.007219, 50.0),
+    }.items():
+        assert armature[joint] == pytest.approx(inertia, rel=1e-4)
+        assert kp[joint] == pytest.approx(inertia * omega**2, rel=1e-4)
+        assert limits[joint] == effort
+    assert kp["left_five_joint"] == 40.0 and armature["left_five_joint"] == pytest.approx(0.001)
+    walking = robot.find_joints(unitree.G1_BODY_JOINTS)[1]
+    assert len(walking) == 23 and not any(re.search("_(zero|one|two|three|four|five|six)_", j) for j in walking)
+    for joint in walking:
+        (scale,) = [v for expr, v in unitree.G1_MOTOR_MODEL_ACTION_SCALE.items() if re.fullmatch(expr, joint)]
+        assert scale == pytest.approx(0.25 * limits[joint] / kp[joint], rel=1e-4)
+    assert unitree.G1_CFG.actuators.keys() == {"legs", "feet", "arms"}, "Isaac Lab's G1_CFG is left as it is"
+
+
 def hung(cfg: ArticulationCfg) -> ArticulationCfg:
     cfg = cfg.copy()
     cfg.spawn.articulation_props.fix_root_link = True

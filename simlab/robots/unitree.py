@@ -336,3 +336,39 @@ G1_29DOF_ACTION_SCALE: dict[str, float] = {
     for joint in joints
 }
 """Per-joint action scale of the tracking tasks (mjlab's): a quarter of the effort limit over the stiffness."""
+
+
+# The hand G1's body joints are driven by the same motors as the 29-DoF G1's (its torso joint is the
+# waist yaw; its elbow pitch and roll are the elbow and wrist roll 5020s); the hands keep Isaac Lab's group.
+_G1_HAND_VERSION_MOTORS = {
+    "7520_14": (*_G1_MOTORS["7520_14"][:3], [".*_hip_pitch_joint", ".*_hip_yaw_joint", "torso_joint"]),
+    "7520_22": _G1_MOTORS["7520_22"],
+    "5020": (*_G1_MOTORS["5020"][:3], [".*_shoulder_.*_joint", ".*_elbow_pitch_joint", ".*_elbow_roll_joint"]),
+    "ankle": _G1_MOTORS["ankle"],
+}
+
+G1_MOTOR_MODEL_CFG = G1_CFG.copy()
+G1_MOTOR_MODEL_CFG.actuators = {
+    **{name: _g1_motor_group(*motor) for name, motor in _G1_HAND_VERSION_MOTORS.items()},
+    "hands": G1_CFG.actuators["arms"].replace(joint_names_expr=list(_G1_HAND_JOINTS), armature=0.001),
+}
+"""``G1_CFG`` (37 joints) with mjlab's motor model on its legs, torso and arms (each joint's armature its
+motor's reflected inertia, PD gains for a 10 Hz response with damping ratio 2, the motors' effort
+limits) and Isaac Lab's hand group. Isaac Lab's stiff PhysX gains (hips kp 150-200 with a 300 N m
+limit, 100 N m per unit of action at its 0.5 scale) shake the robot on MuJoCo under the policy's
+exploration noise; this is the model mjlab's G1 learns to walk with on MuJoCo."""
+
+G1_BODY_JOINTS = [
+    f".*_{joint}_joint"
+    for joint in ("hip_pitch", "hip_roll", "hip_yaw", "knee", "ankle_pitch", "ankle_roll")
+    + ("shoulder_pitch", "shoulder_roll", "shoulder_yaw", "elbow_pitch", "elbow_roll")
+] + ["torso_joint"]
+"""The hand G1's 23 joints that walk (legs, torso, arms): the velocity tasks' actions and joint observations."""
+
+G1_MOTOR_MODEL_ACTION_SCALE: dict[str, float] = {
+    joint: 0.25 * effort / (armature * _G1_NATURAL_FREQ**2)
+    for armature, effort, _, joints in _G1_HAND_VERSION_MOTORS.values()
+    for joint in joints
+}
+"""Per-joint action scale for ``G1_MOTOR_MODEL_CFG`` (mjlab's rule): a unit action asks a quarter of the
+motor's effort limit from its stiffness."""

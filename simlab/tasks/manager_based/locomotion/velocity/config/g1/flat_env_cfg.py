@@ -16,8 +16,7 @@ class G1FlatEnvCfg(G1RoughEnvCfg):
         self.scene.height_scanner = None
         self.observations.policy.height_scan = None
         self.curriculum.terrain_levels = None
-        # rewards
-        self.rewards.track_ang_vel_z_exp.weight = 1.0
+        # rewards (the yaw rate keeps the rough task's weight 2, not Isaac Lab's flat 1: see rough_env_cfg)
         self.rewards.lin_vel_z_l2.weight = -0.2
         self.rewards.action_rate_l2.weight = -0.005
         self.rewards.dof_acc_l2.weight = -1.0e-7

@@ -4,10 +4,18 @@ The biped rewards of the G1 task (see ``config/g1``) with H1's joints: the veloc
 yaw frame and the yaw rate in the world frame, single-support steps, feet that do not slide, hip
 yaw and roll, arms and torso held near their default, ankles kept off their limits, a large
 penalty for falling. Commands are forward-only on rough ground.
-"""
+
+Tuned for MuJoCo as the G1's (see ``config/g1/rough_env_cfg.py``): both tracking terms weighted 2
+(Isaac Lab's: 1 and 1), which makes walking pay against standing still, and a fall ends the episode at
+70 degrees of tilt (mjlab's) as well as when the torso touches the ground. H1 keeps Isaac Lab's gains
+and 0.5 action scale: against its motors' limits (hips 200, knees 300, ankles 40 N m) a unit of action
+asks 0.25-0.5 of the effort limit, near mjlab's rule of a quarter (the G1's asked up to 1.1)."""
+
+import math
 
 from simlab.managers import RewardTermCfg as RewTerm
 from simlab.managers import SceneEntityCfg
+from simlab.managers import TerminationTermCfg as DoneTerm
 from simlab.robots import H1_MINIMAL_CFG
 from simlab.tasks.manager_based.locomotion.velocity import mdp
 from simlab.tasks.manager_based.locomotion.velocity.velocity_env_cfg import (
@@ -24,10 +32,10 @@ class H1Rewards(RewardsCfg):
     termination_penalty = RewTerm(func=mdp.is_terminated, weight=-200.0)
     lin_vel_z_l2 = None
     track_lin_vel_xy_exp = RewTerm(
-        func=mdp.track_lin_vel_xy_yaw_frame_exp, weight=1.0, params={"command_name": "base_velocity", "std": 0.5}
+        func=mdp.track_lin_vel_xy_yaw_frame_exp, weight=2.0, params={"command_name": "base_velocity", "std": 0.5}
     )
     track_ang_vel_z_exp = RewTerm(
-        func=mdp.track_ang_vel_z_world_exp, weight=1.0, params={"command_name": "base_velocity", "std": 0.5}
+        func=mdp.track_ang_vel_z_world_exp, weight=2.0, params={"command_name": "base_velocity", "std": 0.5}
     )
     feet_air_time = RewTerm(
         func=mdp.feet_air_time_positive_biped,
@@ -95,6 +103,7 @@ class H1RoughEnvCfg(LocomotionVelocityRoughEnvCfg):
         self.commands.base_velocity.ranges.ang_vel_z = (-1.0, 1.0)
         # terminations
         self.terminations.base_contact.params["sensor_cfg"].body_names = ".*torso_link"
+        self.terminations.fell_over = DoneTerm(func=mdp.bad_orientation, params={"limit_angle": math.radians(70.0)})
 
 
 @configclass
