@@ -256,6 +256,10 @@ class SpotFlatEnvCfg(LocomotionVelocityRoughEnvCfg):
         self.sim.physics_material.dynamic_friction = 1.0
         self.sim.physics_material.friction_combine_mode = "multiply"
         self.sim.physics_material.restitution_combine_mode = "multiply"
+        # menagerie's Spot option: elliptic friction cones hold the feet where pyramidal ones let them creep
+        # under the soft kp-60 legs (tests/test_quadruped_zoo.py: it stands 5 s at its default pose)
+        self.sim.mujoco.cone = "elliptic"
+        self.sim.mujoco.impratio = 10.0
         # the gait rewards read the feet's contacts at every physics step
         self.scene.contact_forces.update_period = self.sim.dt
         self.scene.robot = SPOT_CFG.replace(prim_path="{ENV_REGEX_NS}/Robot")
