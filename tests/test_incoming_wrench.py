@@ -1,9 +1,11 @@
 """Isaac Lab's ``mdp.body_incoming_wrench`` / ``ArticulationData.body_incoming_joint_wrench_b``: the wrench
 each body receives from its parent through its joint, from MuJoCo's ``cfrc_int``, checked against
-MuJoCo's own force and torque sensors on a site at each body's origin."""
+MuJoCo's own force and torque sensors on a site at each body's origin (the gravity-compensated case:
+tests/test_shadow_openai.py)."""
 
 from __future__ import annotations
 
+import mujoco
 import pytest
 import torch
 
@@ -14,7 +16,6 @@ from simlab.managers import ObservationTermCfg as ObsTerm
 from simlab.managers import SceneEntityCfg
 from simlab.robots.ant import ANT_CFG
 from simlab.scene import InteractiveScene, InteractiveSceneCfg
-from simlab.tasks.direct.inhand_manipulation.joint_wrenches import IncomingJointWrenches
 from simlab.utils import configclass
 from simlab.utils.errors import ConfigError
 
@@ -27,11 +28,32 @@ class AntSceneCfg(InteractiveSceneCfg):
     robot = ANT_CFG.replace(prim_path="{ENV_REGEX_NS}/Robot")
 
 
+def _force_torque_sensors(sim, bodies: list[str]):
+    """MuJoCo's force and torque sensors on a site at each body's origin (added before the model compiles):
+    the interaction with the parent in the body's frame. ``read()`` -> (num_envs, bodies, 6)."""
+    for body in bodies:
+        sim.spec.body(body).add_site(name=f"{body}/ft", group=5)
+        for kind, sensor in (("force", mujoco.mjtSensor.mjSENS_FORCE), ("torque", mujoco.mjtSensor.mjSENS_TORQUE)):
+            sim.spec.add_sensor(
+                name=f"{body}/{kind}", type=sensor, objtype=mujoco.mjtObj.mjOBJ_SITE, objname=f"{body}/ft"
+            )
+
+    def read() -> torch.Tensor:
+        sim.physics.ensure_forward()
+        data = sim.physics.data("sensordata")
+        cols = [
+            int(sim.model.sensor(f"{b}/{k}").adr[0]) + i for b in bodies for k in ("force", "torque") for i in range(3)
+        ]
+        return data[:, cols].reshape(data.shape[0], len(bodies), 6)
+
+    return read
+
+
 def test_incoming_wrench_matches_mujocos_force_and_torque_sensors():
     sim = sim_utils.SimulationContext(sim_utils.SimulationCfg(dt=1 / 120, device="cpu"))
     scene = InteractiveScene(AntSceneCfg(num_envs=3, env_spacing=3.0))
     bodies = ["torso", "front_left_leg", *FEET]
-    sensors = IncomingJointWrenches(sim, "Robot/", bodies)  # force/torque sensors: the post-constraint pass runs
+    sensors = _force_torque_sensors(sim, [f"Robot/{b}" for b in bodies])  # they run the post-constraint pass
     sim.reset()
     robot = scene["robot"]
     generator = torch.Generator().manual_seed(0)
@@ -41,7 +63,7 @@ def test_incoming_wrench_matches_mujocos_force_and_torque_sensors():
         sim.step()
         scene.update(sim.get_physics_dt())
     ids = [robot.body_names.index(b) for b in bodies]
-    reference = sensors.read()  # the sensors of the last forward pass
+    reference = sensors()  # the sensors of the last forward pass
     ours = robot.data.body_incoming_joint_wrench_b[:, ids]  # cfrc_int of the same pass
     assert reference[:, 2:].abs().amax() > 1.0  # the feet carry the ant: a check with something in it
     torch.testing.assert_close(ours, reference, atol=1e-3, rtol=1e-3)

@@ -3,8 +3,8 @@
 ``tests/ported/shadow_hand_env_cfg.py`` is Isaac Lab's file with its ``isaaclab`` imports rewritten
 and nothing else. Its ``ShadowHandEnvCfg`` runs in Isaac Lab's own ``inhand_manipulation_env.py``
 (ported beside it); its ``ShadowHandOpenAIEnvCfg`` (noise models, domain randomization with the fixed
-tendon term, the asymmetric critic) runs in simlab's in-hand env, which reads the fingertip wrenches
-from MuJoCo sensors where Isaac Lab's file asks PhysX's articulation view. The OpenAI config holds
+tendon term, the asymmetric critic) runs in simlab's in-hand env, which turns on the MuJoCo pass that
+the fingertip wrenches Isaac Lab's file asks PhysX's articulation view for need. The OpenAI config holds
 the same settings as simlab's registered one.
 """
 
@@ -20,6 +20,7 @@ from conftest import load_script
 
 from simlab.tasks.direct.inhand_manipulation.inhand_manipulation_env import InHandManipulationEnv
 from simlab.tasks.direct.shadow_hand.shadow_hand_env_cfg import ShadowHandEnvCfg, ShadowHandOpenAIEnvCfg
+from simlab.utils.errors import ConfigError
 
 PORTED = Path(__file__).parent / "ported"
 NUM_ENVS = 4
@@ -90,12 +91,13 @@ def test_ported_openai_config_runs_and_matches_simlab_s(ported):
 
 
 def test_isaac_lab_s_env_asking_physx_for_joint_forces_is_told_what_to_use(ported):
-    """Isaac Lab's env with the OpenAI config reads PhysX's incoming joint forces: the error names
-    simlab's sensors instead."""
+    """Isaac Lab's env with the OpenAI config reads PhysX's incoming joint forces
+    (``body_incoming_joint_wrench_b``): its model lacks MuJoCo's post-constraint pass, and the error
+    says how to turn it on."""
     cfg_module, env_module = ported
     env = make(env_module.InHandManipulationEnv, cfg_module.ShadowHandOpenAIEnvCfg())
     try:
-        with pytest.raises(AttributeError, match="IncomingJointWrenches"):
+        with pytest.raises(ConfigError, match=r"compute_body_interaction_forces\(sim.spec\) before sim.reset\(\)"):
             env.reset()
     finally:
         env.close()

@@ -533,8 +533,12 @@ class ArticulationData(RootedAssetData):
         sensors on a site at the body's origin read. As PhysX's joint forces (and simlab's contact
         sensor), it is the wrench of the last physics step: ``mj_step`` computes it from the state
         the step starts from, with the body poses of that state, so reading it costs no forward pass.
-        Gravity compensation (``disable_gravity``) is a joint-space force here that the wrench does
-        not net out."""
+
+        It is PhysX's ``get_link_incoming_joint_force()``, which Isaac Lab's in-hand tasks read for the
+        fingertips: there a body with ``disable_gravity`` is weightless. Here that is MuJoCo's gravity
+        compensation, a joint-space force that ``cfrc_int`` does not see: the joints would still carry
+        the body's weight. The compensating force on the body and the bodies it carries (at their
+        centres of mass) is taken out, so a weightless fingertip at rest reads zero, as in PhysX."""
         from simlab.sim.simulation_context import computes_body_interaction_forces
         from simlab.utils.errors import ConfigError
 
@@ -542,8 +546,8 @@ class ArticulationData(RootedAssetData):
         if not computes_body_interaction_forces(a._sim.model):
             raise ConfigError(
                 f"'{a.cfg.prim_path}': body_incoming_joint_wrench_b needs MuJoCo's post-constraint pass, which this"
-                " model does not run: observe mdp.body_incoming_wrench in the env config, or call"
-                " sim_utils.compute_body_interaction_forces(sim.spec) before sim.reset()."
+                " model does not run: observe mdp.body_incoming_wrench in the env config, or call sim_utils."
+                "compute_body_interaction_forces(sim.spec) before sim.reset() (a direct env: in _setup_scene)."
             )
         if not hasattr(self, "_cfrc_int"):
             self._cfrc_int = a._sim.physics.data("cfrc_int")
@@ -552,8 +556,41 @@ class ArticulationData(RootedAssetData):
         force = spatial[..., 3:6]
         offset = self._xpos[:, ids] - self._subtree_com[:, self._rootids]
         torque = spatial[..., 0:3] - torch.linalg.cross(offset, force, dim=-1)
+        carried = self._gravcomp_carried()
+        if carried is not None:  # what the compensation holds up is no load on the joints (PhysX: weightless)
+            physics = a._physics
+            mass = physics.per_world_model_field("body_mass")
+            gravity = physics.per_world_model_field("opt.gravity")
+            mass = self._model_mass if mass is None else mass  # (1 or num_envs, nbody)
+            gravity = self._model_gravity if gravity is None else gravity  # (1 or num_envs, 3)
+            weight = carried[None] * mass[:, None, :]  # (envs, bodies, nbody): the compensated mass each carries
+            held = -weight.sum(-1, keepdim=True) * gravity[:, None, :]  # the compensating force, summed
+            moment = weight @ self._xipos - weight.sum(-1, keepdim=True) * self._xpos[:, ids]  # mass x lever arm
+            force = force - held
+            torque = torque - torch.linalg.cross(moment, -gravity[:, None, :].expand_as(moment), dim=-1)
         quat = self._xquat[:, ids]
         return torch.cat([math_utils.quat_apply_inverse(quat, force), math_utils.quat_apply_inverse(quat, torque)], -1)
+
+    def _gravcomp_carried(self) -> torch.Tensor | None:
+        """(num_bodies, nbody): the gravity compensation of model body b where the articulation's body k
+        carries it (b is k or below k); None when no body it carries is compensated (known once: the
+        step reads nothing back from the device)."""
+        if not hasattr(self, "_carried"):
+            a = self._asset
+            model, dev = a._sim.model, a.device
+            parents = model.body_parentid
+            carried = torch.zeros(len(a._body_ids), model.nbody)
+            for row, root in enumerate(int(i) for i in a._body_ids):
+                for b in range(model.nbody):
+                    up = b
+                    while up > root:  # MuJoCo numbers a parent before its children
+                        up = int(parents[up])
+                    if up == root:
+                        carried[row, b] = float(model.body_gravcomp[b])
+            self._carried = carried.to(dev) if bool(carried.any()) else None
+            self._model_mass = torch.tensor(model.body_mass, dtype=torch.float32, device=dev)[None]
+            self._model_gravity = torch.tensor(model.opt.gravity, dtype=torch.float32, device=dev)[None]
+        return self._carried
 
     # Isaac Lab's older names.
     joint_limits = property(lambda self: self.joint_pos_limits)

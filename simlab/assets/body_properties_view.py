@@ -4,8 +4,10 @@ Isaac Lab's task files read and randomize masses through PhysX's tensor views:
 ``robot.root_physx_view.get_masses()`` (the quadcopter weighs itself this way) and
 ``set_masses(masses, env_ids)``. As PhysX does, these return and take CPU tensors with a row per env
 and a column per body (the asset's body order); they read and write MuJoCo's per-world
-``body_mass`` / ``body_inertia`` fields. The rest of PhysX's view has no counterpart: asking for
-it is an error that says where the state is.
+``body_mass`` / ``body_inertia`` fields. ``get_link_incoming_joint_force()`` (the in-hand tasks'
+fingertip wrenches) is ``data.body_incoming_joint_wrench_b``, on the sim's device as PhysX's GPU view
+gives it. The rest of PhysX's view has no counterpart: asking for it is an error that says where the
+state is.
 """
 
 from __future__ import annotations
@@ -54,6 +56,12 @@ class BodyPropertiesView:
         tensor = axes @ torch.diag_embed(principal) @ axes.transpose(-1, -2)
         return tensor.reshape(*tensor.shape[:-2], 9).cpu()
 
+    def get_link_incoming_joint_force(self) -> torch.Tensor:
+        """PhysX's incoming joint wrenches, (count, num_bodies, 6): ``data.body_incoming_joint_wrench_b``,
+        for a model that runs MuJoCo's post-constraint pass (``sim_utils.compute_body_interaction_forces``
+        before the model compiles; its error says so otherwise)."""
+        return self._asset.data.body_incoming_joint_wrench_b
+
     def _field(self, name: str) -> torch.Tensor:
         """The per-world model field if something made it per-world, else the compiled model's, repeated."""
         asset = self._asset
@@ -65,13 +73,6 @@ class BodyPropertiesView:
         return torch.as_tensor(model, dtype=torch.float32).unsqueeze(0).repeat(self.count, *([1] * model.ndim))
 
     def __getattr__(self, name: str):
-        if name == "get_link_incoming_joint_force":
-            raise AttributeError(
-                "simlab's root_physx_view has no 'get_link_incoming_joint_force': MuJoCo reports the wrench a body"
-                " receives through its joint only from force/torque sensors added before the model compiles."
-                " Create simlab.tasks.direct.inhand_manipulation.joint_wrenches.IncomingJointWrenches(sim,"
-                " asset.prefix, body_names) in _setup_scene and read() it (simlab's in-hand env does)"
-            )
         raise AttributeError(
             f"simlab's root_physx_view has no '{name}': it offers get_masses, set_masses and get_inertias"
             " (articulations also get_dof_limits, get_jacobians, get_generalized_mass_matrices, the gravity and"
