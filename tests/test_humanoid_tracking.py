@@ -42,6 +42,32 @@ def test_task_ids_and_criterion():
     assert not judge({}, {"error": 0.12 * 100, "samples": 100, "falls": 0})[1]
 
 
+def test_criterion_judges_the_clip_played_from_its_start():
+    """bench solve plays the training task for the verdict: with the criterion's overrides it is the
+    clip's play (the -Play task's settings), not training's pushes and sampled starts."""
+    from simlab.tasks.utils.hydra import apply_overrides
+
+    criterion = criterion_for("simlab/Tracking-Flat-G1-v0")
+    cfg = parse_env_cfg("simlab/Tracking-Flat-G1-v0", device="cpu", num_envs=N)
+    play = parse_env_cfg("simlab/Tracking-Flat-G1-Play-v0", device="cpu", num_envs=N)
+    assert cfg.events.push_robot is not None and cfg.commands.motion.adaptive_sampling
+    apply_overrides(cfg, None, list(criterion.play_overrides))
+    assert cfg.events.push_robot is None and not cfg.observations.policy.enable_corruption
+    motion, played = cfg.commands.motion, play.commands.motion
+    assert not motion.adaptive_sampling and motion.joint_position_range == played.joint_position_range
+    for ranges in (motion.pose_range, motion.velocity_range):
+        assert all(low == high == 0.0 for low, high in ranges.values())
+    cfg.seed = 0
+    env = gym.make("simlab/Tracking-Flat-G1-v0", cfg=cfg).unwrapped
+    try:
+        env.reset()
+        term = env.command_manager.get_term("motion")
+        assert term.time_steps.tolist() == [0] * N
+        torch.testing.assert_close(env.scene["robot"].data.joint_pos, term.joint_pos)
+    finally:
+        env.close()
+
+
 def test_task_steps_with_finite_observations_and_rewards():
     env = make("simlab/Tracking-Flat-G1-v0")
     try:

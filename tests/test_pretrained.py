@@ -28,7 +28,7 @@ def test_pretrained_policy_meets_its_criterion(tmp_path, task, library):
     argv += ["--seed", str(play["seed"])]
     argv += ["--log_root", str(tmp_path / "logs")]
     on_step, state = criterion.make_hook()
-    result = run_play(build_parser().parse_args(argv), [], on_step=on_step)
+    result = run_play(build_parser().parse_args(argv), list(criterion.play_overrides), on_step=on_step)
     # the shipped files stay as they are: play copied the run to <log_root>/pretrained/<library>/<task name>
     assert result["checkpoint"].startswith(str(tmp_path / "logs" / "pretrained" / library))
     assert os.path.isfile(os.path.join(os.path.dirname(result["checkpoint"]), "exported", "policy.onnx"))

@@ -83,7 +83,7 @@ class CheckpointJudge:
         argv = ["play", "--task", self.task, "--library", self.library, "--headless", "--no_export"]
         argv += ["--num_envs", str(self.eval_envs), "--device", self.device, "--seed", str(self.seed)]
         args = build_parser().parse_args(argv)
-        env_cfg, agent_cfg = load_configs(args, self.env_overrides)
+        env_cfg, agent_cfg = load_configs(args, [*self.env_overrides, *self.criterion.play_overrides])
         get_library(self.library).configure(agent_cfg, args, env_cfg)
         self._env = make_env(args, env_cfg, None, single_agent=True)
         self._agent_cfg = agent_cfg

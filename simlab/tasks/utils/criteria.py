@@ -12,6 +12,7 @@ per env-step (any task, when a threshold is given).
 
 Criteria that judge whole episodes or command windows state how long a play must at least last
 (``Criterion.min_seconds``); :meth:`Criterion.play_seconds` lengthens a shorter request to it.
+A criterion that judges a play unlike training's names its env overrides (``Criterion.play_overrides``).
 """
 
 from __future__ import annotations
@@ -53,6 +54,9 @@ class Criterion:
     make_hook: Callable[[], tuple[Callable | None, Any]]
     judge: Callable[[dict[str, float], Any], tuple[float, bool]]
     min_seconds: float = 0.0  # a shorter play sees no finished episode or command window
+    play_overrides: tuple[str, ...] = ()
+    """``env.*`` overrides of the play it judges, where that differs from training's env (a clip played
+    through from its start, without pushes); the evaluation applies them after the run's own."""
 
     def play_seconds(self, requested: float) -> float:
         """How long to play for a verdict: ``requested``, or ``min_seconds`` where that is longer."""
