@@ -227,3 +227,32 @@ def test_contact_buffers_cover_the_peaks_of_random_play(task):
     assert peaks.contacts_per_world > 0  # the cube touches the hand: the count means something
     assert reserved["nconmax"] >= 2 * peaks.contacts_per_world
     assert reserved["njmax"] >= 2 * peaks.constraint_rows
+
+
+def test_allegro_direct_step_stays_within_its_kernel_budget():
+    """The direct Allegro step outside the physics (``simlab bench ops step``, GPU backend counted on
+    Warp's CPU device, docs/dexterous.md): 380 torch kernels and two forward passes (212 MuJoCo Warp
+    launches) per step before issue 40's cuts, 232 and one (106) after; with the CPU backend this test
+    uses, 245 and one forward."""
+    from simlab.benchmarks import step_ops
+
+    env = step_ops.make_env(ALLEGRO, num_envs=4, seed=0, engine="mujoco")
+    forwards = []
+    original_forward = env.sim.physics.forward
+    env.sim.physics.forward = lambda *args, **kwargs: forwards.append(1) or original_forward(*args, **kwargs)
+    counter = step_ops.LaunchCounter()
+    step_ops.instrument(env, counter)
+    env.reset()
+    actions = hold_actions(env)
+    with torch.inference_mode(), counter:
+        env.step(actions)  # warm-up
+        forwards.clear()
+        env.episode_length_buf[:] = env.max_episode_length - 1  # every env resets in the counted step
+        counter.active = True
+        _, _, _, truncated, _ = env.step(actions)
+        counter.active = False
+    env.close()
+    assert truncated.all()
+    assert len(forwards) == 1, "one forward pass per step: the fingertips' poses the observations read (after resets)"
+    outside = sum(n for label, n in counter.torch_ops.items() if label != "physics")
+    assert outside <= 260, f"{outside} torch kernels per step outside the physics:\n{step_ops.report(counter, 1, 3)}"

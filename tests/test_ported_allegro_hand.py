@@ -77,6 +77,49 @@ def test_ported_allegro_task_steps_as_simlab_s_own(ported):
             env.close()
 
 
+def test_ported_allegro_task_resets_and_redraws_goals_as_simlab_s_own(ported):
+    """The draws and the math of simlab's goal redraws and resets (a folded random rotation, the rotation
+    to the goal in one product, the reset noise) against Isaac Lab's own code: with a goal tolerance past
+    any rotation every env reaches its goal in every step and gets a new one, and then every env is reset
+    at once. Each env steps from the same torch seed (simlab draws for all envs every step, Isaac Lab only
+    where one is due: with every goal due both draw the same)."""
+    cfg_module, env_module = ported
+    cfgs = [cfg_module.AllegroHandEnvCfg(), AllegroHandEnvCfg()]
+    cfgs[0].sim.mujoco = cfgs[1].sim.mujoco
+    for cfg in cfgs:
+        cfg.success_tolerance = 4.0  # > pi: every goal reached
+    envs = [make(env_module.InHandManipulationEnv, cfgs[0]), make(InHandManipulationEnv, cfgs[1])]
+
+    def step_both(seed):
+        hold = unscale(envs[1].hand.data.joint_pos, envs[1].hand_dof_lower_limits, envs[1].hand_dof_upper_limits)
+        goals = envs[1].goal_rot.clone()
+        results = []
+        for env in envs:
+            torch.manual_seed(seed)
+            results.append(env.step(hold))
+        (obs_a, rew_a, term_a, trunc_a, _), (obs_b, rew_b, term_b, trunc_b, _) = results
+        assert not (term_a | trunc_a).any()
+        torch.testing.assert_close(obs_a["policy"], obs_b["policy"], atol=1e-4, rtol=1e-4)
+        torch.testing.assert_close(rew_a, rew_b, atol=1e-4, rtol=1e-4)
+        torch.testing.assert_close(envs[0].goal_rot, envs[1].goal_rot, atol=1e-6, rtol=0)
+        assert (rew_b > 200.0).all() and not torch.allclose(envs[1].goal_rot, goals)  # the bonus (250), new goals
+
+    try:
+        for env in envs:
+            env.reset(seed=0)
+        for seed in range(1, 5):  # not reset()'s seed 0: its first draw was the first goal
+            step_both(seed)
+        assert (envs[1].successes == 4).all()
+        for env in envs:  # every env reset at once: the same draws in both
+            torch.manual_seed(20)
+            env._reset_idx(torch.arange(NUM_ENVS))
+        for seed in range(30, 33):
+            step_both(seed)
+    finally:
+        for env in envs:
+            env.close()
+
+
 def test_ported_manager_based_inhand_config_steps_as_simlab_s_own():
     """Isaac Lab's manager-based in-hand config (``tests/ported/inhand_env_cfg.py``) with the Allegro
     Hand, as Isaac Lab's ``allegro_env_cfg.py`` sets it, beside ``simlab/Repose-Cube-Allegro-v0``."""

@@ -119,6 +119,9 @@ class LaunchCounter(TorchDispatchMode):
             with self.scope(label):
                 return original(*args, **kwargs)
 
+        # a class term's marks are class attributes, which functools.wraps does not copy: an event
+        # term that takes a bool mask would otherwise be handed env ids
+        counted.takes_env_mask = getattr(original, "takes_env_mask", False)
         setattr(owner, attr, counted)
 
     def count_warp_launches(self, module) -> None:
@@ -180,6 +183,10 @@ def instrument(env, counter: LaunchCounter) -> None:
         for group, actuator in getattr(entity, "actuators", {}).items():
             wrap(actuator, "compute", f"actuators/{name}.{group}")
             wrap(actuator, "reset", f"actuators/{name}.{group}.reset")
+    # a direct env's own hooks (DirectRLEnv)
+    for hook in ("_pre_physics_step", "_apply_action", "_get_dones", "_get_rewards", "_reset_mask", "_observations"):
+        if hasattr(env, hook) and not hasattr(env, "action_manager"):
+            wrap(env, hook, f"task/{hook.lstrip('_')}")
     # managers and their terms
     for manager_name in ("action", "observation", "reward", "termination", "command", "event", "curriculum"):
         manager = getattr(env, f"{manager_name}_manager", None)
@@ -235,7 +242,10 @@ def count(task: str, num_envs: int, steps: int, seed: int = 0, engine: str = "mu
     instrument(env, counter)
     torch.manual_seed(seed)
     env.reset()
-    actions = torch.rand(env.num_envs, env.action_manager.total_action_dim) * 2 - 1
+    action_dim = (
+        env.action_manager.total_action_dim if hasattr(env, "action_manager") else env.single_action_space.shape[-1]
+    )
+    actions = torch.rand(env.num_envs, action_dim) * 2 - 1
     with torch.inference_mode(), counter:
         for _ in range(3):  # warm-up: lazy buffers, index caches, compiled kernels
             env.step(actions)

@@ -30,6 +30,9 @@ class AllegroHandEnvCfg(DirectRLEnvCfg):
     state_space = 0
     asymmetric_obs = False
     obs_type = "full"
+    # no extras["final_obs"]: this task's agents (rsl_rl, rl_games, skrl) do not read them, and they would
+    # cost a second forward pass per step (the fingertips' poses before and after the resets), as Isaac Lab
+    final_observations = False
     # simulation
     sim: SimulationCfg = SimulationCfg(
         dt=1 / 120,

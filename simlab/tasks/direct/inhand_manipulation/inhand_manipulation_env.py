@@ -26,6 +26,7 @@ reached in each episode that ended is kept per env (``episode_successes``) for `
 
 from __future__ import annotations
 
+import functools
 import math
 from typing import TYPE_CHECKING
 
@@ -37,9 +38,7 @@ from simlab.envs import DirectRLEnv
 from simlab.markers import VisualizationMarkers
 from simlab.sim.spawners.from_files import GroundPlaneCfg, spawn_ground_plane
 from simlab.utils.env_mask import masked_copy_
-from simlab.utils.math import quat_conjugate, quat_from_angle_axis, quat_mul, sample_uniform, saturate
-
-from .joint_wrenches import IncomingJointWrenches
+from simlab.utils.math import quat_from_angle_axis, quat_mul, sample_uniform, saturate
 
 if TYPE_CHECKING:
     from simlab.tasks.direct.allegro_hand.allegro_hand_env_cfg import AllegroHandEnvCfg
@@ -74,9 +73,6 @@ class InHandManipulationEnv(DirectRLEnv):
         self._followers = torch.tensor(follower_ids, dtype=torch.long, device=device)
         self._leaders = torch.tensor(leader_ids, dtype=torch.long, device=device)
         self.num_fingertips = len(self.finger_bodies)
-        if cfg.asymmetric_obs:  # the sensors' rows in the fingertips' model order
-            tip_order = [cfg.fingertip_body_names.index(self.hand.body_names[b]) for b in self.finger_bodies]
-            self._wrench_order = torch.tensor(tip_order, dtype=torch.long, device=device)
         # index tensors made once on the step's device (a Python list index is copied from the host each use)
         self._tips = torch.tensor(self.finger_bodies, device=device)
 
@@ -94,14 +90,12 @@ class InHandManipulationEnv(DirectRLEnv):
         self.goal_markers = VisualizationMarkers(self.cfg.goal_object_cfg)
         self.sim.add_render_callback(self._place_goal_markers)
 
+        self._zero_velocities = torch.zeros((n, 6), device=device)  # the cube's at a reset
         self.successes = torch.zeros(n, device=device)
         self.episode_successes = torch.zeros(n, device=device)
         """Goals reached in each env's last finished episode."""
         self.consecutive_successes = torch.zeros(1, device=device)
 
-        self.x_unit_tensor = torch.tensor([1.0, 0.0, 0.0], device=device).repeat((n, 1))
-        self.y_unit_tensor = torch.tensor([0.0, 1.0, 0.0], device=device).repeat((n, 1))
-        self.z_unit_tensor = torch.tensor([0.0, 0.0, 1.0], device=device).repeat((n, 1))
         self._compute_intermediate_values()
 
     def _setup_scene(self):
@@ -111,8 +105,8 @@ class InHandManipulationEnv(DirectRLEnv):
         self.scene.clone_environments(copy_from_source=False)
         self.scene.articulations["robot"] = self.hand
         self.scene.rigid_objects["object"] = self.object
-        if self.cfg.asymmetric_obs:  # the critic's fingertip force-torque readings
-            self._tip_wrenches = IncomingJointWrenches(self.sim, self.hand.prefix, self.cfg.fingertip_body_names)
+        if self.cfg.asymmetric_obs:  # the critic reads the fingertips' incoming joint wrenches (cfrc_int)
+            sim_utils.compute_body_interaction_forces(self.sim.spec)
         light_cfg = sim_utils.DomeLightCfg(intensity=2000.0, color=(0.75, 0.75, 0.75))
         light_cfg.func("/World/Light", light_cfg)
 
@@ -125,13 +119,25 @@ class InHandManipulationEnv(DirectRLEnv):
 
     def _pre_physics_step(self, actions: torch.Tensor) -> None:
         self.actions = actions.clone()
-
-    def _apply_action(self) -> None:
+        # the actions' targets over the joint ranges, the same for each of the step's physics steps (the
+        # limits are read each step: randomization events may change them)
         act = self._actuated
         lower, upper = self.hand_dof_lower_limits[:, act], self.hand_dof_upper_limits[:, act]
-        targets = scale(self.actions, lower, upper)
+        self._action_targets = scale(self.actions, lower, upper)
+        if self.cfg.act_moving_average == 1.0:  # no smoothing: the targets are final, set them once
+            self._set_targets(self._action_targets, lower, upper)
+
+    def _apply_action(self) -> None:
         alpha = self.cfg.act_moving_average
-        targets = alpha * targets + (1.0 - alpha) * self.prev_targets[:, act]
+        if alpha == 1.0:  # set once in _pre_physics_step
+            return
+        # the moving average advances each physics step, as Isaac Lab's
+        act = self._actuated
+        lower, upper = self.hand_dof_lower_limits[:, act], self.hand_dof_upper_limits[:, act]
+        self._set_targets(alpha * self._action_targets + (1.0 - alpha) * self.prev_targets[:, act], lower, upper)
+
+    def _set_targets(self, targets: torch.Tensor, lower: torch.Tensor, upper: torch.Tensor) -> None:
+        act = self._actuated
         targets = saturate(targets, lower, upper)
         self.cur_targets[:, act] = targets
         self.prev_targets[:, act] = targets
@@ -140,6 +146,7 @@ class InHandManipulationEnv(DirectRLEnv):
     # observations, rewards, dones
 
     def _get_observations(self) -> dict:
+        self._compute_intermediate_values()
         if self.cfg.obs_type == "openai":
             obs = self.compute_reduced_observations()
         elif self.cfg.obs_type == "full":
@@ -147,7 +154,7 @@ class InHandManipulationEnv(DirectRLEnv):
         else:
             raise ValueError(f"obs_type must be 'openai' or 'full', got '{self.cfg.obs_type}'")
         if self.cfg.asymmetric_obs:
-            self.fingertip_force_sensors = self._tip_wrenches.read()[:, self._wrench_order]
+            self.fingertip_force_sensors = self.hand.data.body_incoming_joint_wrench_b[:, self._tips]
             return {"policy": obs, "critic": self.compute_full_state()}
         return {"policy": obs}
 
@@ -171,6 +178,8 @@ class InHandManipulationEnv(DirectRLEnv):
             self.cfg.fall_dist,
             self.cfg.fall_penalty,
             self.cfg.av_factor,
+            goal_dist=self._goal_dist,
+            rot_dist=self._rot_dist,
         )
         self.reset_goal_buf.copy_(goal_reached)
         self.successes.copy_(successes)
@@ -180,14 +189,16 @@ class InHandManipulationEnv(DirectRLEnv):
         return reward
 
     def _get_dones(self) -> tuple[torch.Tensor, torch.Tensor]:
-        self._compute_intermediate_values()
-        # the cube fell: too far from where it belongs in the hand
-        out_of_reach = torch.norm(self.object_pos - self.in_hand_pos, p=2, dim=-1) >= self.cfg.fall_dist
+        self._compute_object_pose()
+        # the cube fell: too far from where it belongs in the hand (the reward reads the distance too)
+        self._goal_dist = torch.norm(self.object_pos - self.in_hand_pos, p=2, dim=-1)
+        out_of_reach = self._goal_dist >= self.cfg.fall_dist
         time_out = self.episode_length_buf >= self.max_episode_length - 1
+        self._rot_dist = None
         if self.cfg.max_consecutive_success > 0:
             # a goal within tolerance restarts the episode clock; enough successes end the episode
-            rot_dist = rotation_distance(self.object_rot, self.goal_rot)
-            self.episode_length_buf.masked_fill_(rot_dist.abs() <= self.cfg.success_tolerance, 0)
+            self._rot_dist = rotation_distance(self.object_rot, self.goal_rot)
+            self.episode_length_buf.masked_fill_(self._rot_dist <= self.cfg.success_tolerance, 0)
             time_out = time_out | (self.successes >= self.cfg.max_consecutive_success)
         return out_of_reach, time_out
 
@@ -199,25 +210,29 @@ class InHandManipulationEnv(DirectRLEnv):
         self._reset_target_pose(env_mask)
 
         # cube: its default pose shifted by up to reset_position_noise, a random orientation, at rest
-        state = self.object.data.default_root_state.clone()
+        # (the draws in Isaac Lab's order, so that a seed gives its episodes)
         pos_noise = sample_uniform(-1.0, 1.0, (n, 3), device=device)
-        state[:, 0:3] += self.cfg.reset_position_noise * pos_noise + self.scene.env_origins
-        rot_noise = sample_uniform(-1.0, 1.0, (n, 2), device=device)
-        state[:, 3:7] = randomize_rotation(rot_noise[:, 0], rot_noise[:, 1], self.x_unit_tensor, self.y_unit_tensor)
-        state[:, 7:] = 0.0
-        self.object.write_root_pose_to_sim(state[:, :7], env_mask)
-        self.object.write_root_velocity_to_sim(state[:, 7:], env_mask)
+        pos = self.object.data.default_root_state[:, 0:3] + (
+            self.cfg.reset_position_noise * pos_noise + self.scene.env_origins
+        )
+        rot = random_orientation(sample_uniform(-1.0, 1.0, (n, 2), device=device))
+        self.object.write_root_pose_to_sim(torch.cat((pos, rot), dim=-1), env_mask)
+        self.object.write_root_velocity_to_sim(self._zero_velocities, env_mask)
 
-        # hand: the default pose moved towards a random point of each joint's range
+        # hand: the default pose moved towards a random point of each joint's range (the limits are read
+        # here: randomization events may change them)
         default_pos = self.hand.data.default_joint_pos
         delta_max = self.hand_dof_upper_limits - default_pos
         delta_min = self.hand_dof_lower_limits - default_pos
         dof_pos_noise = sample_uniform(-1.0, 1.0, (n, self.num_hand_dofs), device=device)
         rand_delta = delta_min + (delta_max - delta_min) * 0.5 * dof_pos_noise
         dof_pos = default_pos + self.cfg.reset_dof_pos_noise * rand_delta
-        dof_vel_noise = sample_uniform(-1.0, 1.0, (n, self.num_hand_dofs), device=device)
-        dof_vel = self.hand.data.default_joint_vel + self.cfg.reset_dof_vel_noise * dof_vel_noise
+        dof_vel_noise = sample_uniform(-1.0, 1.0, (n, self.num_hand_dofs), device=device)  # drawn even if unused
+        dof_vel = self.hand.data.default_joint_vel
+        if self.cfg.reset_dof_vel_noise != 0.0:
+            dof_vel = dof_vel + self.cfg.reset_dof_vel_noise * dof_vel_noise
         if len(self._followers):
+            dof_vel = dof_vel.clone()
             dof_pos[:, self._followers] = dof_pos[:, self._leaders]
             dof_vel[:, self._followers] = dof_vel[:, self._leaders]
         for buffer in (self.prev_targets, self.cur_targets, self.hand_dof_targets):
@@ -227,13 +242,12 @@ class InHandManipulationEnv(DirectRLEnv):
 
         masked_copy_(self.episode_successes, env_mask, self.successes)
         self.successes.masked_fill_(env_mask, 0.0)
-        self._compute_intermediate_values()
+        # the observations that follow read the new state (_compute_intermediate_values)
 
     def _reset_target_pose(self, env_mask: torch.Tensor) -> None:
         """A new random goal orientation where ``env_mask`` is set."""
         rand = sample_uniform(-1.0, 1.0, (self.num_envs, 2), device=self.device)
-        new_rot = randomize_rotation(rand[:, 0], rand[:, 1], self.x_unit_tensor, self.y_unit_tensor)
-        masked_copy_(self.goal_rot, env_mask, new_rot)
+        masked_copy_(self.goal_rot, env_mask, random_orientation(rand))
         self.reset_goal_buf.masked_fill_(env_mask, False)
 
     def _place_goal_markers(self) -> None:
@@ -242,18 +256,28 @@ class InHandManipulationEnv(DirectRLEnv):
 
     # helpers
 
+    def _compute_object_pose(self) -> None:
+        """The cube's pose in the env's frame: what the dones and rewards read (no forward pass)."""
+        self.object_pos = self.object.data.root_pos_w - self.scene.env_origins
+        self.object_rot = self.object.data.root_quat_w
+
     def _compute_intermediate_values(self) -> None:
+        """Everything the observations read; the fingertips' poses and velocities are derived quantities,
+        so reading them runs the step's one forward pass (after the resets)."""
         hand, cube, origins = self.hand.data, self.object.data, self.scene.env_origins
+        self._compute_object_pose()
         self.fingertip_pos = hand.body_pos_w[:, self._tips] - origins.unsqueeze(1)
         self.fingertip_rot = hand.body_quat_w[:, self._tips]
         self.fingertip_velocities = hand.body_vel_w[:, self._tips]
         self.hand_dof_pos = hand.joint_pos
         self.hand_dof_vel = hand.joint_vel
-        self.object_pos = cube.root_pos_w - origins
-        self.object_rot = cube.root_quat_w
-        self.object_velocities = cube.root_vel_w
         self.object_linvel = cube.root_lin_vel_w
         self.object_angvel = cube.root_ang_vel_w
+
+    @property
+    def object_velocities(self) -> torch.Tensor:
+        """The cube's linear and angular velocity (world frame), as Isaac Lab's env keeps it."""
+        return torch.cat((self.object_linvel, self.object_angvel), dim=-1)
 
     def compute_reduced_observations(self) -> torch.Tensor:
         """OpenAI's observations (arXiv:1808.00177, table 2): fingertips, cube position, rotation to the goal."""
@@ -261,7 +285,7 @@ class InHandManipulationEnv(DirectRLEnv):
             (
                 self.fingertip_pos.reshape(self.num_envs, self.num_fingertips * 3),
                 self.object_pos,
-                quat_mul(self.object_rot, quat_conjugate(self.goal_rot)),
+                quat_mul_conjugate(self.object_rot, self.goal_rot),
                 self.actions,
             ),
             dim=-1,
@@ -279,7 +303,7 @@ class InHandManipulationEnv(DirectRLEnv):
                 self.cfg.vel_obs_scale * self.object_angvel,
                 self.in_hand_pos,
                 self.goal_rot,
-                quat_mul(self.object_rot, quat_conjugate(self.goal_rot)),
+                quat_mul_conjugate(self.object_rot, self.goal_rot),
                 self.fingertip_pos.reshape(n, tips * 3),
                 self.fingertip_rot.reshape(n, tips * 4),
                 self.fingertip_velocities.reshape(n, tips * 6),
@@ -314,9 +338,39 @@ def randomize_rotation(
     return quat_mul(quat_from_angle_axis(rand0 * math.pi, x_unit), quat_from_angle_axis(rand1 * math.pi, y_unit))
 
 
+def random_orientation(rand: torch.Tensor) -> torch.Tensor:
+    """``randomize_rotation`` about x by ``rand[:, 0] * pi`` and y by ``rand[:, 1] * pi``, folded: the product
+    of (c0, s0, 0, 0) and (c1, 0, s1, 0) is (c0 c1, s0 c1, c0 s1, s0 s1) (half-angle cosines and sines),
+    five kernels instead of some thirty."""
+    half = rand * (math.pi / 2)
+    cos_sin = torch.stack((torch.cos(half), torch.sin(half)), dim=1)  # (n, [cos, sin], [x, y])
+    # (cos, sin) of y times (cos, sin) of x: rows (c1 c0, c1 s0), (s1 c0, s1 s0) = (w, x), (y, z)
+    return (cos_sin[:, :, 1].unsqueeze(-1) * cos_sin[:, :, 0].unsqueeze(-2)).reshape(-1, 4)
+
+
+# q1 * conj(q2) = sum_j sign[i, j] q1[index[i, j]] q2[j]: quat_mul's tables with the conjugate's signs folded in
+_DIFF_INDEX = ((0, 1, 2, 3), (1, 0, 3, 2), (2, 3, 0, 1), (3, 2, 1, 0))  # quat_mul's
+_DIFF_SIGN = ((1, 1, 1, 1), (1, -1, 1, -1), (1, -1, -1, 1), (1, 1, -1, -1))
+
+
+def quat_mul_conjugate(q1: torch.Tensor, q2: torch.Tensor) -> torch.Tensor:
+    """``quat_mul(q1, quat_conjugate(q2))`` (the rotation from ``q2`` to ``q1``) in four kernels."""
+    index, sign = _diff_tables(q1.device, q1.dtype)
+    return (q1[..., index] * sign * q2[..., None, :]).sum(dim=-1)
+
+
+@functools.lru_cache(maxsize=16)
+def _diff_tables(device: torch.device, dtype: torch.dtype) -> tuple[torch.Tensor, torch.Tensor]:
+    """Made once per device (a step captured as a CUDA graph may not copy from the host)."""
+    return (
+        torch.tensor(_DIFF_INDEX, dtype=torch.long, device=device),
+        torch.tensor(_DIFF_SIGN, dtype=dtype, device=device),
+    )
+
+
 def rotation_distance(object_rot: torch.Tensor, target_rot: torch.Tensor) -> torch.Tensor:
-    """The angle [rad] of the rotation between two orientations (w, x, y, z)."""
-    quat_diff = quat_mul(object_rot, quat_conjugate(target_rot))
+    """The angle [rad] of the rotation between two orientations (w, x, y, z); never negative."""
+    quat_diff = quat_mul_conjugate(object_rot, target_rot)
     return 2.0 * torch.asin(torch.clamp(torch.norm(quat_diff[:, 1:4], p=2, dim=-1), max=1.0))
 
 
@@ -339,21 +393,29 @@ def compute_rewards(
     fall_dist: float,
     fall_penalty: float,
     av_factor: float,
+    goal_dist: torch.Tensor | None = None,
+    rot_dist: torch.Tensor | None = None,
 ) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor, torch.Tensor]:
     """Isaac Lab's in-hand reward. Returns the reward, which envs reached their goal, the success counts
-    and the running mean of the success counts of the episodes that end in this step."""
-    goal_dist = torch.norm(object_pos - target_pos, p=2, dim=-1)
-    rot_dist = rotation_distance(object_rot, target_rot)
+    and the running mean of the success counts of the episodes that end in this step. ``goal_dist`` and
+    ``rot_dist``, when given, are the distances already computed for this state."""
+    if goal_dist is None:
+        goal_dist = torch.norm(object_pos - target_pos, p=2, dim=-1)
+    if rot_dist is None:
+        rot_dist = rotation_distance(object_rot, target_rot)
+    # rot_dist is never negative: Isaac Lab's abs() of it changes nothing and is left out
     reward = (
         goal_dist * dist_reward_scale
-        + rot_reward_scale / (rot_dist.abs() + rot_eps)
+        + rot_reward_scale / (rot_dist + rot_eps)
         + torch.sum(actions**2, dim=-1) * action_penalty_scale
     )
-    goal_reached = (rot_dist.abs() <= success_tolerance) | reset_goal_buf
-    successes = successes + goal_reached.float()
-    reward = reward + reach_goal_bonus * goal_reached.float()
+    goal_reached = (rot_dist <= success_tolerance) | reset_goal_buf
+    reached = goal_reached.float()
+    successes = successes + reached
+    reward = reward + reach_goal_bonus * reached
     fell = goal_dist >= fall_dist
-    reward = reward + fall_penalty * fell.float()
+    if fall_penalty != 0:
+        reward = reward + fall_penalty * fell.float()
 
     # running mean over the episodes that end now (the fallen ones included) of their success counts
     resets = (fell | reset_buf).float()
