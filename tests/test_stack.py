@@ -48,16 +48,49 @@ def test_task_builds_and_steps(task):
     env.close()
 
 
-def test_cube_layouts_keep_the_cubes_apart_within_the_range():
-    ranges = {"x": (0.4, 0.6), "y": (-0.1, 0.1), "z": (0.0234, 0.0234), "yaw": (-1.0, 1, 0)}
-    poses = sample_object_poses(2000, 3, 0.1, ranges, 128, "cpu")
+RANGES = {"x": (0.4, 0.6), "y": (-0.1, 0.1), "z": (CUBE_SIZE / 2, CUBE_SIZE / 2), "yaw": (-1.0, 1, 0)}
+
+
+def assert_apart_within_ranges(poses: torch.Tensor) -> None:
+    """(envs, cubes, 6) poses in the env frame: 10 cm apart, inside the stack task's ranges."""
     positions = poses[..., :3]
-    gaps = torch.cdist(positions, positions) + torch.eye(3) * 1.0
-    assert (gaps > 0.1).all()
-    assert (positions[..., 0] >= 0.4).all() and (positions[..., 0] <= 0.6).all()
+    gaps = torch.cdist(positions, positions) + torch.eye(positions.shape[1])  # an object from itself: 1 m
+    assert (gaps > 0.1).all(), gaps.min()
+    for axis, key in enumerate("xyz"):
+        low, high = RANGES[key][:2]
+        assert (positions[..., axis] >= low - 1e-6).all() and (positions[..., axis] <= high + 1e-6).all(), key
+
+
+def test_cube_layouts_keep_the_cubes_apart_within_the_range():
+    poses = sample_object_poses(2000, 3, 0.1, RANGES, 128, "cpu")
+    assert poses.shape == (2000, 3, 6)
+    assert_apart_within_ranges(poses)
+    assert (poses[..., 3:5] == 0).all()  # no roll or pitch range: none drawn
     assert (poses[..., 5].abs() <= 1.0).all() and poses[..., 5].std() > 0.3
+    # the cubes are not piled into one corner: each axis spans most of its range
+    assert poses[..., 0].max() - poses[..., 0].min() > 0.18 and poses[..., 1].max() - poses[..., 1].min() > 0.18
     with pytest.raises(ValueError, match="unknown key"):
         sample_object_poses(1, 3, 0.1, {"height": (0.0, 1.0)}, 4, "cpu")
+    # where no draw can be far enough (two cubes in a 5 cm square), the last draw is kept, in range
+    tight = sample_object_poses(50, 2, 0.1, {"x": (0.0, 0.05), "y": (0.0, 0.05)}, 8, "cpu")
+    assert (tight[..., :2] >= 0).all() and (tight[..., :2] <= 0.05).all()
+
+
+def test_the_reset_event_places_the_cubes_apart_within_the_range_in_the_envs_it_resets():
+    env = make("simlab/Stack-Cube-Franka-v0", num_envs=16).unwrapped
+    env.reset(seed=0)
+    cubes = [env.scene[f"cube_{i}"] for i in (1, 2, 3)]
+    actions = torch.zeros(16, env.action_manager.total_action_dim)
+    for _ in range(3):
+        before = torch.stack([cube.data.root_pos_w.clone() for cube in cubes], dim=1)
+        env.episode_length_buf[::2] = env.max_episode_length  # the even envs time out in this step
+        env.step(actions)
+        after = torch.stack([cube.data.root_pos_w for cube in cubes], dim=1)
+        local = after - env.scene.env_origins[:, None, :]
+        assert_apart_within_ranges(torch.cat([local, torch.zeros_like(local)], dim=-1)[::2])
+        assert not torch.equal(after[::2], before[::2])  # the reset envs got new layouts
+        assert (after[1::2] - before[1::2]).norm(dim=-1).max() < 0.01  # the others' cubes stayed put
+    env.close()
 
 
 def test_the_tasks_register_the_stacking_criterion():
