@@ -112,6 +112,17 @@ def test_max_app_steps_bounds_the_loop(launchers):
     assert not app.is_running()
 
 
+def test_max_app_steps_from_the_environment(launchers, monkeypatch):
+    """Scripts that make ``AppLauncher(headless=...)`` without the flags (Isaac Lab's frame-transformer
+    tutorial) are bounded by $SIMLAB_MAX_APP_STEPS; an explicit value wins; a bad value is named."""
+    monkeypatch.setenv("SIMLAB_MAX_APP_STEPS", "2")
+    assert launchers(headless=True, device="cpu").max_app_steps == 2
+    assert launchers(max_app_steps=5, device="cpu").max_app_steps == 5
+    monkeypatch.setenv("SIMLAB_MAX_APP_STEPS", "two")
+    with pytest.raises(ValueError, match="SIMLAB_MAX_APP_STEPS must be an int >= 0, got 'two'"):
+        launchers(headless=True, device="cpu")
+
+
 def test_unbounded_app_runs_until_closed(launchers):
     app = launchers(device="cpu").app
     assert all(app.is_running() for _ in range(100))

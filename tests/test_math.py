@@ -105,6 +105,20 @@ def test_quat_apply_broadcasts_one_quat_over_vectors():
     assert torch.allclose(out, torch.tensor([[0.0, 1.0, 0.0], [-1.0, 0.0, 0.0]]), atol=1e-6)
 
 
+def test_quat_apply_keeps_the_vectors_shape_under_a_batch_of_one():
+    """Isaac Lab returns ``vec``'s shape: its frame-transformer tutorial rotates a (3,) offset by a (1, 4)
+    quaternion and passes ``tuple(result.tolist())`` as a 3-tuple position."""
+    q = math_utils.quat_from_euler_xyz(torch.zeros(1), torch.zeros(1), torch.tensor(-math.pi / 2))
+    for rotate in (math_utils.quat_apply, math_utils.quat_apply_inverse):
+        out = rotate(q, torch.tensor([1.0, 0.0, 0.0]))
+        assert out.shape == (3,)
+        assert torch.allclose(
+            out, torch.tensor([0.0, -1.0 if rotate is math_utils.quat_apply else 1.0, 0.0]), atol=1e-6
+        )
+    assert math_utils.quat_apply(q, torch.ones(5, 3)).shape == (5, 3)  # broadcasting is kept
+    assert math_utils.quat_apply(torch.ones(4, 1, 4), torch.ones(4, 2, 3)).shape == (4, 2, 3)
+
+
 def test_bad_quaternion_shape_errors():
     with pytest.raises(ValueError, match="last dimension 4"):
         math_utils.quat_mul(torch.zeros(3, 3), torch.zeros(3, 4))

@@ -160,7 +160,8 @@ class AppLauncher:
         "kit_args": ("", "Accepted for Isaac Lab compatibility and ignored (Kit's command-line settings)."),
         "rendering_mode": (None, "Accepted for Isaac Lab compatibility and ignored (RTX presets; see "
                            "SimulationCfg.render for what MuJoCo's renderer takes)."),
-        "max_app_steps": (None, "Stop the app loop (is_running() -> False) after this many iterations."),
+        "max_app_steps": (None, "Stop the app loop (is_running() -> False) after this many iterations. Default: "
+                          "$SIMLAB_MAX_APP_STEPS (for scripts that make AppLauncher(headless=...) without the flags)."),
         "verbose": (False, "Print the resolved app settings."),
         # set from the script's own --distributed flag (no app flag, as in Isaac Lab)
         "distributed": (False, "One process per GPU under torchrun: simulate on cuda:<local_rank>."),
@@ -193,6 +194,11 @@ class AppLauncher:
             if not isinstance(cfg[name], bool):
                 raise TypeError(f"AppLauncher: '{name}' must be a bool, got {cfg[name]!r}.")
         steps = cfg["max_app_steps"]
+        if steps is None and os.environ.get("SIMLAB_MAX_APP_STEPS", "").strip():
+            text = os.environ["SIMLAB_MAX_APP_STEPS"].strip()
+            if not text.isdigit():
+                raise ValueError(f"SIMLAB_MAX_APP_STEPS must be an int >= 0, got {text!r}.")
+            steps = int(text)
         if steps is not None and (isinstance(steps, bool) or not isinstance(steps, int) or steps < 0):
             raise ValueError(f"AppLauncher: 'max_app_steps' must be None or an int >= 0, got {steps!r}.")
         livestream = cfg["livestream"] if cfg["livestream"] is not None else -1

@@ -210,10 +210,13 @@ def _rotate(quat: torch.Tensor, vec: torch.Tensor, inverse: bool) -> torch.Tenso
     # (conjugate: xyz -> -xyz) flips the sign of the middle term. Four kernels.
     _check_last_dim("quat", quat, 4)
     _check_last_dim("vec", vec, 3)
+    shape, numel = vec.shape, vec.numel()
     w, xyz = quat[..., :1], quat[..., 1:]
     xyz, vec = torch.broadcast_tensors(xyz, vec)
     t = torch.linalg.cross(xyz, vec, dim=-1)
-    return torch.addcmul(vec, w, t, value=-2.0 if inverse else 2.0).add_(torch.linalg.cross(xyz, t, dim=-1), alpha=2.0)
+    out = torch.addcmul(vec, w, t, value=-2.0 if inverse else 2.0).add_(torch.linalg.cross(xyz, t, dim=-1), alpha=2.0)
+    # Isaac Lab returns the vector's shape: a (1, 4) quaternion turns a (3,) vector into a (3,) one
+    return out.reshape(shape) if out.dim() > len(shape) and out.numel() == numel else out
 
 
 # Isaac Lab's older names for the same operations.
