@@ -525,6 +525,46 @@ def test_contact_force_matrix_separates_the_partners(device, engine):
     assert bool((d.force_matrix_w[0] == 0).all()) and bool((d.force_matrix_w[1] != 0).any())
 
 
+@configclass
+class HangingSceneCfg(InteractiveSceneCfg):
+    """A 1 kg box held in the air by an equality constraint (a ball joint to the world, as a closed loop's
+    rod holds a leg) and one resting on the ground."""
+
+    ground = AssetBaseCfg(prim_path="/World/ground", spawn=sim_utils.GroundPlaneCfg())
+    hanging = box_cfg("{ENV_REGEX_NS}/Hanging", z=1.0)
+    resting = box_cfg("{ENV_REGEX_NS}/Resting", z=0.1).replace(
+        init_state=RigidObjectCfg.InitialStateCfg(pos=(1.0, 0.0, 0.1))
+    )
+    held = ContactSensorCfg(prim_path="{ENV_REGEX_NS}/Hanging")
+    rests = ContactSensorCfg(prim_path="{ENV_REGEX_NS}/Resting")
+
+
+@pytest.mark.parametrize(("device", "engine"), _engines())
+def test_equality_constraint_forces_are_no_contact(device, engine):
+    """Only contacts count (PhysX's contact report): the constraint holding the box up carries its weight,
+    which MuJoCo's external body wrench (cfrc_ext) includes, but the box touches nothing."""
+    import mujoco
+
+    sim = sim_utils.SimulationContext(sim_utils.SimulationCfg(dt=DT, device=device, engine=engine))
+    scene = InteractiveScene(HangingSceneCfg(num_envs=2, env_spacing=3.0))
+    (hanging,) = [b.name for b in sim.spec.bodies if b.name.startswith("Hanging")]
+    sim.spec.add_equality(
+        type=mujoco.mjtEq.mjEQ_CONNECT, objtype=mujoco.mjtObj.mjOBJ_BODY, name1=hanging, data=[0, 0, 0.1] + [0] * 8
+    )
+    sim_utils.compute_body_interaction_forces(sim.spec)  # cfrc_ext too, to show what it would count
+    sim.reset()
+    for _ in range(100):
+        sim.step()
+        scene.update(DT)
+    g = 9.81
+    external = sim.physics.data("cfrc_ext")[:, sim.model.body(hanging).id, 3:6]
+    torch.testing.assert_close(external[:, 2], torch.full((2,), g, device=sim.device), atol=0.05, rtol=0)
+    assert bool((scene["held"].data.net_forces_w == 0).all())  # held in the air by the constraint alone
+    rest = torch.tensor([[[0.0, 0.0, g]]] * 2, device=sim.device)
+    torch.testing.assert_close(scene["rests"].data.net_forces_w, rest, atol=0.05, rtol=0)
+    assert scene["hanging"].data.root_pos_w[:, 2].min() > 0.9  # it hangs, not fallen
+
+
 @pytest.mark.parametrize(("device", "engine"), _engines())
 def test_contact_points_are_where_the_boxes_touch(device, engine):
     @configclass

@@ -1,23 +1,18 @@
 """Contact sensors: net contact force on each selected body, its history, and air/contact times.
 
-MuJoCo computes the external wrench on every body (``cfrc_ext``: contacts, equality constraints
-and applied forces, as ``[torque, force]`` in the world frame) in ``mj_rnePostConstraint``, which
-the forward pass runs only when the model has an acceleration-stage sensor. The sensor therefore
-adds one accelerometer on a world site to the model (both MuJoCo C and MuJoCo Warp then fill
-``cfrc_ext`` at every step) and reads the force part, minus the forces applied through
-``xfrc_applied``, so that what remains is the contact force on the body (equality-constraint
-forces, where a model has them, are included).
+The forces come from MuJoCo's own contact sensors, added to the model: one per sensor body with any
+partner (the net contact force, ``net_forces_w``) and, for chosen partners (``filter_prim_paths_expr``,
+Isaac Lab's ``force_matrix_w``), one per (sensor body, partner) pair. Each sums, in the world frame,
+the forces of the step's contacts that match it (``reduce="netforce"``: normal and friction), on
+MuJoCo C and MuJoCo Warp alike. Only contacts count, as in PhysX: the body's external wrench
+(``cfrc_ext``) would add the forces of equality constraints (a closed loop's rods, a weld) and
+``xfrc_applied``.
 
 The forces read are those of the physics step just taken: ``mj_step`` computes them from the state
 it starts from and they drive it to the next state (what PhysX reports for its step too), so the
 sensor needs no extra forward pass per physics step (one per substep would cost about half a step
 more). The scene updates the sensor right after each physics step, before anything recomputes
 derived quantities.
-
-Forces from chosen partners (``filter_prim_paths_expr``, Isaac Lab's ``force_matrix_w``) come from
-MuJoCo's own contact sensors, one per (sensor body, partner) pair added to the model: each sums, in
-the world frame, the forces of the step's contacts between the partner and the body (``reduce=
-"netforce"``), on MuJoCo C and MuJoCo Warp alike, at the same point of the step as ``cfrc_ext``.
 
 Body order: breadth first (by depth in the kinematic tree, then model order), the order of an
 articulation's ``body_names``; a sensor over all of a robot's bodies lists them as the robot does.
@@ -39,8 +34,7 @@ from simlab.utils.string import resolve_matching_names
 
 from .sensor_base import SensorBase, SensorBaseCfg, find_sensor_bodies, match_body_names, prim_path_in_model
 
-_TRIGGER_SITE = "simlab/contact_forces"
-_FILTER_SENSOR = "simlab/contact_filter"
+_SENSOR_PREFIX = "simlab/contact"
 # a MuJoCo contact sensor's settings (mjsSensor.intprm): its data (bit 1: force; bit 4: the point,
 # for netforce the force-weighted centroid of the contacts), its reduction (3: netforce, the sum of
 # the matching contacts' forces in the world frame) and one slot
@@ -120,24 +114,13 @@ class ContactSensor(SensorBase):
     def __init__(self, cfg: ContactSensorCfg, scene=None):
         super().__init__(cfg, scene)
         self._partners: list[str] = []
-        self._filter_prefix = ""
+        self._prefix = ""
         if cfg.track_contact_points and not cfg.filter_prim_paths_expr:
             raise ConfigError(
                 f"ContactSensorCfg('{cfg.prim_path}').track_contact_points=True needs filter_prim_paths_expr: the"
                 " points are reported per partner (as in Isaac Lab), e.g. filter_prim_paths_expr=['/World/ground']."
             )
-        if cfg.filter_prim_paths_expr:
-            self._sim.add_build_callback(self._add_filter_sensors)
-        # An acceleration-stage sensor makes MuJoCo's forward pass compute cfrc_ext.
-        spec = self._sim.spec
-        if spec.site(_TRIGGER_SITE) is None:
-            spec.worldbody.add_site(name=_TRIGGER_SITE, group=5)
-            spec.add_sensor(
-                name=_TRIGGER_SITE,
-                type=mujoco.mjtSensor.mjSENS_ACCELEROMETER,
-                objtype=mujoco.mjtObj.mjOBJ_SITE,
-                objname=_TRIGGER_SITE,
-            )
+        self._sim.add_build_callback(self._add_sensors)
         self._data = ContactSensorData()
         self._timestamp = 0.0
 
@@ -204,9 +187,8 @@ class ContactSensor(SensorBase):
         # Every buffer is written in place (a step replayed as a CUDA graph reads and writes the same
         # tensors at each replay), and with few ops: each is a kernel launch per physics step on the GPU.
         d = self._data
-        external = torch.index_select(
-            self._cfrc_ext[..., 3:6] - self._xfrc[..., 0:3], 1, self._body_ids, out=d.net_forces_w
-        )
+        torch.index_select(self._sensordata, 1, self._net_index, out=self._net_flat)
+        external = d.net_forces_w
         _push_history(d.net_forces_w_history, external)
         if d.force_matrix_w is not None:
             matrix = self._sensordata[:, self._filter_index]  # (N, B, M, 3)
@@ -249,18 +231,29 @@ class ContactSensor(SensorBase):
 
     # -- building -------------------------------------------------------------------------------
 
-    def _add_filter_sensors(self, spec: mujoco.MjSpec) -> None:
-        """One MuJoCo contact sensor per (body, partner): the force the partner exerts on the body."""
+    def _add_sensors(self, spec: mujoco.MjSpec) -> None:
+        """MuJoCo contact sensors: per body, the net force of its contacts with anything, and per (body,
+        partner) the force the partner exerts on the body."""
         owner = f"ContactSensorCfg('{self.cfg.prim_path}')"
         bodies = list(spec.bodies)[1:]
         names = [b.name for b in bodies]
         roots = {b.name for b in spec.worldbody.bodies}
         sensor_bodies = [names[i] for i in match_body_names(names, roots, self.cfg.prim_path)]
-        if not sensor_bodies:
+        if not sensor_bodies and self.cfg.filter_prim_paths_expr:
             raise ValueError(f"{owner} prim_path '{self.cfg.prim_path}' matches no body of the model; bodies: {names}")
+        self._prefix = f"{_SENSOR_PREFIX}{len(spec.sensors)}/"  # unique per sensor of the scene
+        for body in sensor_bodies:  # object 1 unset: any partner; the force reported is the one on the body
+            spec.add_sensor(
+                name=self._prefix + body,
+                type=mujoco.mjtSensor.mjSENS_CONTACT,
+                reftype=mujoco.mjtObj.mjOBJ_BODY,
+                refname=body,
+                intprm=_NET_FORCE_SENSOR,
+            )
+        if not self.cfg.filter_prim_paths_expr:
+            return
         partners = [p for expr in self.cfg.filter_prim_paths_expr for p in _filter_partners(spec, expr, owner)]
         self._partners = [name for name, _, _ in partners]
-        self._filter_prefix = f"{_FILTER_SENSOR}{len(spec.sensors)}/"  # unique per sensor of the scene
         for body in sensor_bodies:
             for partner, objtype, objname in partners:
                 name = self._filter_sensor_name(body, partner)
@@ -275,23 +268,26 @@ class ContactSensor(SensorBase):
                 )
 
     def _filter_sensor_name(self, body: str, partner: str) -> str:
-        return f"{self._filter_prefix}{body}|{partner}"
+        return f"{self._prefix}{body}|{partner}"
 
     def _initialize(self, sim) -> None:
         ids, names = find_sensor_bodies(sim.model, self.cfg.prim_path, f"ContactSensorCfg('{self.cfg.prim_path}')")
         ids = _order_breadth_first(sim.model, ids)
         names = [sim.model.body(b).name for b in ids]
+        self._sensordata = sim.physics.data("sensordata")
+        net = [int(sim.model.sensor(self._prefix + name).adr[0]) + i for name in names for i in range(3)]
+        self._net_index = torch.tensor(net, dtype=torch.long, device=self.device)
         if self._partners:
             self._bind_filter_sensors(sim, names)
         names = [name.split("/", 1)[1] for name in names]  # "Robot/foot" -> "foot", as Isaac Lab names them
         self._body_ids = torch.tensor(ids, dtype=torch.long, device=self.device)
         self._body_names = names
         physics = sim.physics
-        self._cfrc_ext, self._xfrc = physics.data("cfrc_ext"), physics.data("xfrc_applied")
         self._xpos, self._xquat = physics.data("xpos"), physics.data("xquat")
         n, b, dev = self.num_instances, len(ids), self.device
         d = self._data
         d.net_forces_w = torch.zeros(n, b, 3, device=dev)
+        self._net_flat = d.net_forces_w.view(n, b * 3)  # what the update writes in place
         d.net_forces_w_history = torch.zeros(n, max(1, self.cfg.history_length), b, 3, device=dev)
         if self.cfg.track_pose:
             d.pos_w = torch.zeros(n, b, 3, device=dev)
@@ -319,7 +315,6 @@ class ContactSensor(SensorBase):
             self._point_index = index + 3
             shape = (self.num_instances, len(body_names), m, 3)
             self._data.contact_pos_w = torch.full(shape, torch.nan, device=self.device)
-        self._sensordata = sim.physics.data("sensordata")
         n, hist = self.num_instances, max(1, self.cfg.history_length)
         self._data.force_matrix_w = torch.zeros(n, len(body_names), m, 3, device=self.device)
         self._data.force_matrix_w_history = torch.zeros(n, hist, len(body_names), m, 3, device=self.device)

@@ -375,8 +375,7 @@ class SimulationContext:
 
 
 POST_CONSTRAINT_TRIGGER = "simlab/contact_forces"
-"""The world site whose accelerometer makes MuJoCo compute ``cfrc_ext`` and ``cfrc_int`` at every step
-(the contact sensor adds the same one)."""
+"""The world site whose accelerometer makes MuJoCo compute ``cfrc_ext`` and ``cfrc_int`` at every step."""
 
 _POST_CONSTRAINT_SENSORS = (
     mujoco.mjtSensor.mjSENS_ACCELEROMETER,
