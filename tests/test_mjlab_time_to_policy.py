@@ -21,7 +21,13 @@ import pytest
 import torch
 from conftest import load_script
 
-from simlab.tasks.manager_based.locomotion.velocity.criterion import tracks_velocity
+from simlab.tasks.manager_based.locomotion.velocity.criterion import (
+    BIPED_MAX_FALL_RATE,
+    BIPED_MAX_SPEED_ERROR,
+    BIPED_MAX_YAW_RATE_ERROR,
+    biped_tracks_velocity,
+    tracks_velocity,
+)
 from simlab.tasks.utils.criteria import pole_upright
 
 SCRIPT = Path(__file__).resolve().parents[1] / "scripts" / "benchmarks" / "mjlab_time_to_policy.py"
@@ -225,10 +231,52 @@ def test_velocity_tracking_error_in_the_plane():
     assert judge.verdict() == (pytest.approx((0.5 + 0.0 + 1.0 + 0.5) / 4), False)
 
 
+def _biped_env(command, lin_vel_w, ang_vel_z, yaw, terminated):
+    half = torch.as_tensor(yaw) / 2
+    quat = torch.stack([half.cos(), torch.zeros_like(half), torch.zeros_like(half), half.sin()], -1)
+    ang_vel = torch.zeros(len(ang_vel_z), 3)
+    ang_vel[:, 2] = torch.as_tensor(ang_vel_z)
+    data = SimpleNamespace(
+        root_link_quat_w=quat, root_link_lin_vel_w=torch.as_tensor(lin_vel_w), root_link_ang_vel_w=ang_vel
+    )
+    return SimpleNamespace(
+        command_manager=SimpleNamespace(get_command=lambda name: {"twist": torch.as_tensor(command)}[name]),
+        scene={"robot": SimpleNamespace(data=data)},
+        termination_manager=SimpleNamespace(terminated=torch.as_tensor(terminated)),
+        step_dt=0.02,
+    )
+
+
+def test_biped_criterion_judges_speed_in_the_heading_frame_yaw_rate_and_falls():
+    # env 0 faces +y and walks +y at the commanded 0.5 m/s forward; env 1 stands, told to turn at 0.4 rad/s
+    env = _biped_env(
+        [[0.5, 0.0, 0.0], [0.0, 0.0, 0.4]],
+        [[0.0, 0.5, 0.0], [0.0, 0.0, 0.0]],
+        [0.0, 0.2],
+        [math.pi / 2, 0.0],
+        [False, False],
+    )
+    judge = ttp.BipedTracksVelocity()
+    for _ in range(1000):  # 20 s
+        judge.observe(env)
+    speed, passed = judge.verdict()
+    assert speed == pytest.approx(0.0, abs=1e-6) and passed  # yaw-rate error (0 + 0.2) / 2 = 0.1
+    env.termination_manager.terminated = torch.tensor([True, False])  # one more step: a fall
+    judge.observe(env)
+    assert not judge.verdict()[1], "1 fall in 2 envs over 20 s is 50 %"
+    assert ttp.criterion_for("Mjlab-Velocity-Flat-Unitree-G1") is ttp.BipedTracksVelocity
+    assert ttp.BipedTracksVelocity.min_seconds == biped_tracks_velocity().min_seconds
+
+
 def test_criteria_are_simlabs():
     pole = inspect.signature(pole_upright).parameters
     assert (pole["threshold"].default, pole["fraction"].default) == (ttp.POLE_ANGLE_RAD, ttp.POLE_UPRIGHT_FRACTION)
     assert inspect.signature(tracks_velocity).parameters["max_error"].default == ttp.VELOCITY_ERROR_M_S
+    assert (BIPED_MAX_SPEED_ERROR, BIPED_MAX_YAW_RATE_ERROR, BIPED_MAX_FALL_RATE) == (
+        ttp.BIPED_SPEED_ERROR_M_S,
+        ttp.BIPED_YAW_RATE_ERROR_RAD_S,
+        ttp.BIPED_FALL_RATE,
+    )
     assert ttp.criterion_for("Mjlab-Cartpole-Balance") is ttp.PoleUpright
     assert ttp.criterion_for("Mjlab-Velocity-Flat-Unitree-Go1") is ttp.TracksVelocity
     with pytest.raises(ValueError, match="Cartpole and Velocity"):

@@ -12,7 +12,10 @@
    - velocity: mean |v_xy command - v_xy| <= 0.25 m/s over the env-steps, falls included (mjlab's
      ``twist`` command against the base's ``root_link_lin_vel_b``, the error mjlab logs itself);
      the command ranges are the training env's (mjlab's play env widens them for Go1, simlab's
-     play envs keep the training ranges).
+     play envs keep the training ranges);
+   - G1 and H1 velocity: the humanoids' bar (simlab's ``biped_tracks_velocity``): mean planar speed
+     error in the heading's frame < 0.25 m/s, yaw-rate error < 0.3 rad/s, < 5 % falls per env in
+     20 s, played at least 20 s (mjlab's play env never times out, so its commands resample).
 3. Time to policy: the first passing checkpoint's write time (its mtime) less the process start.
    Start-up: the process start to the first iteration (when rsl_rl printed iteration 0, less that
    iteration's collection and learning times). Rollout and update: rsl_rl's printed collection and
@@ -41,10 +44,14 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
-# simlab's criteria (pole_upright, tracks_velocity: registered with simlab's tasks); tested to agree.
+# simlab's criteria (pole_upright, tracks_velocity, biped_tracks_velocity: registered with simlab's
+# tasks); tested to agree.
 POLE_ANGLE_RAD = 0.2
 POLE_UPRIGHT_FRACTION = 0.95
 VELOCITY_ERROR_M_S = 0.25
+BIPED_SPEED_ERROR_M_S = 0.25
+BIPED_YAW_RATE_ERROR_RAD_S = 0.3
+BIPED_FALL_RATE = 0.05  # falls per env per 20 s
 
 _ANSI = re.compile(r"\x1b\[[0-9;]*m")
 _ITERATION = re.compile(r"Learning iteration (\d+)/(\d+)")
@@ -174,9 +181,51 @@ class TracksVelocity:
         return error, self.total > 0 and error <= VELOCITY_ERROR_M_S
 
 
-def criterion_for(task: str) -> type[PoleUpright] | type[TracksVelocity]:
+class BipedTracksVelocity:
+    """The humanoids' bar: mean planar speed error (yaw frame) < 0.25 m/s, yaw-rate error (world z) <
+    0.3 rad/s, < 5 % falls per env in 20 s (score: the speed error); plays at least 20 s."""
+
+    description = (
+        f"mean |v_xy command - v_xy| < {BIPED_SPEED_ERROR_M_S} m/s, |yaw-rate error| < "
+        f"{BIPED_YAW_RATE_ERROR_RAD_S} rad/s, < {BIPED_FALL_RATE:.0%} falls per env in 20 s"
+    )
+    min_seconds = 20.0
+
+    def __init__(self, command_name: str = "twist", entity_name: str = "robot"):
+        self.command_name, self.entity_name = command_name, entity_name
+        self.speed = self.yaw_rate = self.seconds = 0.0
+        self.falls = self.samples = self.steps = 0
+
+    def observe(self, env: Any) -> None:
+        import torch
+
+        command = env.command_manager.get_command(self.command_name)
+        data = env.scene[self.entity_name].data
+        w, x, y, z = data.root_link_quat_w.unbind(-1)
+        yaw = torch.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))
+        vx, vy = data.root_link_lin_vel_w[:, 0], data.root_link_lin_vel_w[:, 1]
+        # the world velocity turned into the heading's frame, where the command lives
+        velocity = torch.stack([yaw.cos() * vx + yaw.sin() * vy, -yaw.sin() * vx + yaw.cos() * vy], -1)
+        self.speed += float(torch.linalg.norm(command[:, :2] - velocity, dim=-1).sum())
+        self.yaw_rate += float((command[:, 2] - data.root_link_ang_vel_w[:, 2]).abs().sum())
+        self.falls += int(env.termination_manager.terminated.sum())
+        self.samples += command.shape[0]
+        self.steps += 1
+        self.seconds += env.step_dt
+
+    def verdict(self) -> tuple[float, bool]:
+        samples = max(1, self.samples)
+        speed, yaw_rate = self.speed / samples, self.yaw_rate / samples
+        fall_rate = self.falls / (samples / max(1, self.steps)) * 20.0 / max(self.seconds, 1e-9)
+        tracks = speed < BIPED_SPEED_ERROR_M_S and yaw_rate < BIPED_YAW_RATE_ERROR_RAD_S
+        return speed, self.samples > 0 and tracks and fall_rate < BIPED_FALL_RATE
+
+
+def criterion_for(task: str) -> type[PoleUpright] | type[TracksVelocity] | type[BipedTracksVelocity]:
     if "Cartpole" in task:
         return PoleUpright
+    if "Velocity" in task and any(robot in task for robot in ("-G1", "-H1")):
+        return BipedTracksVelocity  # simlab's G1 and H1 velocity tasks register this one
     if "Velocity" in task:
         return TracksVelocity
     raise ValueError(f"No criterion for {task}: this script judges mjlab's Cartpole and Velocity tasks.")
@@ -255,7 +304,7 @@ def play_checkpoints(
     criterion = criterion_for(task)
     env_cfg = load_env_cfg(task, play=True)
     env_cfg.scene.num_envs = eval_envs
-    if criterion is TracksVelocity:  # judge within the ranges it trains on, as simlab's play envs do
+    if criterion in (TracksVelocity, BipedTracksVelocity):  # judge within the ranges it trains on, as simlab does
         env_cfg.commands["twist"].ranges = load_env_cfg(task).commands["twist"].ranges
     agent_cfg = load_rl_cfg(task)
     env = RslRlVecEnvWrapper(ManagerBasedRlEnv(cfg=env_cfg, device=device), clip_actions=agent_cfg.clip_actions)
@@ -393,7 +442,8 @@ def main(argv: list[str] | None = None) -> int:
     )
     device = "cpu" if args.device == "cpu" else "cuda:0"
     playing = time.perf_counter()
-    verdicts = play_checkpoints(args.task, checkpoints, device, args.eval_envs, args.eval_seconds, args.seed)
+    eval_seconds = max(args.eval_seconds, getattr(criterion, "min_seconds", 0.0))  # as simlab's play_seconds
+    verdicts = play_checkpoints(args.task, checkpoints, device, args.eval_envs, eval_seconds, args.seed)
     if checkpoints:
         print(f"played {len(checkpoints)} checkpoints in {time.perf_counter() - playing:.1f} s", flush=True)
     evaluated = [Evaluated(c, s, p) for c, (s, p) in zip(checkpoints, verdicts, strict=True)]
@@ -408,7 +458,7 @@ def main(argv: list[str] | None = None) -> int:
         device=args.device,
         criterion=criterion.description,
         eval_envs=args.eval_envs,
-        eval_seconds=args.eval_seconds,
+        eval_seconds=eval_seconds,
         seed=args.seed,
         command=argv_train[1:],
     )
