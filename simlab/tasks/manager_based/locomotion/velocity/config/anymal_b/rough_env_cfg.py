@@ -4,6 +4,8 @@ from simlab.robots.anymal import ANYMAL_B_CFG
 from simlab.tasks.manager_based.locomotion.velocity.velocity_env_cfg import LocomotionVelocityRoughEnvCfg
 from simlab.utils import configclass
 
+from ..common import play
+
 
 @configclass
 class AnymalBRoughEnvCfg(LocomotionVelocityRoughEnvCfg):
@@ -16,13 +18,4 @@ class AnymalBRoughEnvCfg(LocomotionVelocityRoughEnvCfg):
 class AnymalBRoughEnvCfg_PLAY(AnymalBRoughEnvCfg):  # noqa: N801 - Isaac Lab's name
     def __post_init__(self):
         super().__post_init__()
-        self.scene.num_envs = 50
-        self.scene.env_spacing = 2.5
-        self.scene.terrain.max_init_terrain_level = None
-        if self.scene.terrain.terrain_generator is not None:
-            self.scene.terrain.terrain_generator.num_rows = 5
-            self.scene.terrain.terrain_generator.num_cols = 5
-            self.scene.terrain.terrain_generator.curriculum = False
-        self.observations.policy.enable_corruption = False
-        self.events.base_external_force_torque = None
-        self.events.push_robot = None
+        play(self)
