@@ -821,3 +821,29 @@ def test_contact_sensor_debug_vis_marks_each_body_red_in_contact():
     assert markers._indices.tolist() == [0, 0]
     sensor.set_debug_vis(False)
     assert not markers.is_visible()
+
+
+def test_sensor_on_assets_under_create_prim_groups():
+    """Isaac Lab's ray-caster tutorial: balls at ``/World/Origin.*/ball`` under four ``create_prim``
+    groups (one world each) carry a ray caster with the same prim path; each scans from its own ball."""
+    import simlab.sim.utils as prim_utils
+    from simlab.assets import RigidObject
+    from simlab.sensors import RayCaster
+
+    sim = sim_utils.SimulationContext(sim_utils.SimulationCfg(dt=DT, device="cpu"))
+    ground = sim_utils.GroundPlaneCfg()
+    ground.func("/World/ground", ground)
+    origins = [[0.25, 0.25, 0.0], [-0.25, 0.25, 0.0], [0.25, -0.25, 0.0], [-0.25, -0.25, 0.0]]
+    for i, origin in enumerate(origins):
+        prim_utils.create_prim(f"/World/Origin{i}", "Xform", translation=origin)
+    balls = RigidObject(box_cfg("/World/Origin.*/ball", z=1.0))
+    scanner = RayCaster(scanner_cfg(prim_path="/World/Origin.*/ball", debug_vis=False))
+    sim.reset()
+    balls.update(DT)
+    scanner.update(DT, force_recompute=True)
+    # pos_w is the ball's (Isaac Lab folds the 20 m offset into the ray starts); every ray hits the ground
+    torch.testing.assert_close(scanner.data.pos_w, torch.tensor(origins) + torch.tensor([0.0, 0.0, 1.0]))
+    hits = scanner.data.ray_hits_w
+    assert hits.shape == (4, 187, 3)
+    torch.testing.assert_close(hits[..., 2], torch.zeros(4, 187), atol=1e-4, rtol=0)
+    torch.testing.assert_close(hits[..., :2].mean(1), torch.tensor(origins)[:, :2], atol=1e-4, rtol=0)

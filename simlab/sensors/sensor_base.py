@@ -9,6 +9,7 @@ import mujoco
 import torch
 
 from simlab.sim import SimulationContext
+from simlab.sim.utils import path_below_xform_group
 from simlab.utils import configclass
 from simlab.utils.debug_vis import DebugVisHooks
 from simlab.utils.quat_order import refuse_other_order
@@ -87,8 +88,15 @@ _ENV_PREFIXES = ("{ENV_REGEX_NS}/", "/World/envs/env_.*/", "/World/envs/env_0/",
 
 def prim_path_in_model(prim_path: str) -> str:
     """``{ENV_REGEX_NS}/Robot/base`` or ``/World/envs/env_.*/Robot/base`` -> ``Robot/base`` (a regex
-    over the model's names: every env is its own MuJoCo world, so the env part names nothing)."""
-    for prefix in _ENV_PREFIXES:
+    over the model's names: every env is its own MuJoCo world, so the env part names nothing).
+    Below ``create_prim`` groups, ``/World/Origin.*/Robot/base`` -> ``Robot/base`` too (one world per group)."""
+    for prefix in _ENV_PREFIXES[:-1]:
+        if prim_path.startswith(prefix):
+            return prim_path[len(prefix) :]
+    below_group = path_below_xform_group(prim_path)
+    if below_group is not None:
+        return below_group
+    for prefix in _ENV_PREFIXES[-1:]:
         if prim_path.startswith(prefix):
             return prim_path[len(prefix) :]
     return prim_path.lstrip("/")

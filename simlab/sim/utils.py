@@ -104,6 +104,24 @@ def xform_group_origins(prim_path: str) -> list[tuple[float, float, float]] | No
     return matches or None
 
 
+def path_below_xform_group(prim_path: str) -> str | None:
+    """The part of ``prim_path`` below the ``Xform`` groups its leading part matches (made with
+    :func:`create_prim`): ``/World/Origin.*/ball/body`` -> ``ball/body``, as the per-group asset
+    ``/World/Origin.*/ball`` is named in the model. None when no leading part names a group."""
+    sim = SimulationContext.instance()
+    if sim is None or not _xform_paths(sim):
+        return None
+    parts = prim_path.rstrip("/").split("/")
+    for cut in range(len(parts) - 1, 1, -1):  # the longest leading part first
+        try:
+            pattern = re.compile("/".join(parts[:cut]))
+        except re.error:
+            continue
+        if any(pattern.fullmatch(path) for path in _xform_paths(sim)):
+            return "/".join(parts[cut:])
+    return None
+
+
 def create_prim(
     prim_path: str,
     prim_type: str = "Xform",
