@@ -1,46 +1,22 @@
 """rsl_rl PPO for the ANYmal-B velocity tasks (Isaac Lab's published hyperparameters)."""
 
-from simlab.rl.rsl_rl import RslRlMLPModelCfg, RslRlOnPolicyRunnerCfg, RslRlPpoAlgorithmCfg, RslRlSymmetryCfg
+from simlab.rl.rsl_rl import RslRlOnPolicyRunnerCfg, RslRlSymmetryCfg
 from simlab.tasks.manager_based.locomotion.velocity.mdp.symmetry import anymal
 from simlab.utils import configclass
 
+from ...common_ppo import QuadrupedRoughPPORunnerCfg, flat_runner, ppo
+
 
 @configclass
-class AnymalBRoughPPORunnerCfg(RslRlOnPolicyRunnerCfg):
-    num_steps_per_env = 24
-    max_iterations = 1500
-    save_interval = 50
+class AnymalBRoughPPORunnerCfg(QuadrupedRoughPPORunnerCfg):
     experiment_name = "anymal_b_rough"
-    actor = RslRlMLPModelCfg(
-        hidden_dims=[512, 256, 128],
-        activation="elu",
-        obs_normalization=False,
-        distribution_cfg=RslRlMLPModelCfg.GaussianDistributionCfg(init_std=1.0),
-    )
-    critic = RslRlMLPModelCfg(hidden_dims=[512, 256, 128], activation="elu", obs_normalization=False)
-    algorithm = RslRlPpoAlgorithmCfg(
-        value_loss_coef=1.0,
-        use_clipped_value_loss=True,
-        clip_param=0.2,
-        entropy_coef=0.005,
-        num_learning_epochs=5,
-        num_mini_batches=4,
-        learning_rate=1.0e-3,
-        schedule="adaptive",
-        gamma=0.99,
-        lam=0.95,
-        desired_kl=0.01,
-        max_grad_norm=1.0,
-    )
+    algorithm = ppo(entropy_coef=0.005)
 
 
 @configclass
 class AnymalBFlatPPORunnerCfg(AnymalBRoughPPORunnerCfg):
     def __post_init__(self):
-        self.max_iterations = 300
-        self.experiment_name = "anymal_b_flat"
-        self.actor.hidden_dims = [128, 128, 128]
-        self.critic.hidden_dims = [128, 128, 128]
+        flat_runner(self, "anymal_b_flat")
 
 
 def _with_symmetry(runner: RslRlOnPolicyRunnerCfg) -> None:

@@ -1,0 +1,50 @@
+"""Isaac Lab's rsl_rl PPO for the quadrupeds' velocity tasks, written once: its Go1, A1, Go2 and
+ANYmal-B/C/D runners are the same but for the experiment name and ANYmal's smaller entropy bonus."""
+
+from __future__ import annotations
+
+from simlab.rl.rsl_rl import RslRlMLPModelCfg, RslRlOnPolicyRunnerCfg, RslRlPpoAlgorithmCfg
+from simlab.utils import configclass
+
+
+def ppo(entropy_coef: float) -> RslRlPpoAlgorithmCfg:
+    """Isaac Lab's velocity-task PPO (adaptive learning rate around a KL of 0.01)."""
+    return RslRlPpoAlgorithmCfg(
+        value_loss_coef=1.0,
+        use_clipped_value_loss=True,
+        clip_param=0.2,
+        entropy_coef=entropy_coef,
+        num_learning_epochs=5,
+        num_mini_batches=4,
+        learning_rate=1.0e-3,
+        schedule="adaptive",
+        gamma=0.99,
+        lam=0.95,
+        desired_kl=0.01,
+        max_grad_norm=1.0,
+    )
+
+
+@configclass
+class QuadrupedRoughPPORunnerCfg(RslRlOnPolicyRunnerCfg):
+    """The rough task's runner: 24 steps per env and iteration, 512-256-128 ELU actor and critic."""
+
+    num_steps_per_env = 24
+    max_iterations = 1500
+    save_interval = 50
+    actor = RslRlMLPModelCfg(
+        hidden_dims=[512, 256, 128],
+        activation="elu",
+        obs_normalization=False,
+        distribution_cfg=RslRlMLPModelCfg.GaussianDistributionCfg(init_std=1.0),
+    )
+    critic = RslRlMLPModelCfg(hidden_dims=[512, 256, 128], activation="elu", obs_normalization=False)
+    algorithm = ppo(entropy_coef=0.01)
+
+
+def flat_runner(cfg: RslRlOnPolicyRunnerCfg, experiment_name: str) -> None:
+    """The flat task's runner from the rough one: 300 iterations, 128-128-128 networks."""
+    cfg.max_iterations = 300
+    cfg.experiment_name = experiment_name
+    cfg.actor.hidden_dims = [128, 128, 128]
+    cfg.critic.hidden_dims = [128, 128, 128]
