@@ -168,6 +168,34 @@ def test_index_and_mask_writers_take_3_0_values_and_write_simlabs():
         box.write_root_velocity_to_sim_mask(root_velocity=torch.zeros(2, 6), env_mask=torch.tensor([0, 1]))
 
 
+def test_a_rigid_object_collection_takes_3_0_body_writers():
+    @configclass
+    class SceneCfg(scene3.InteractiveSceneCfg):
+        objects = assets3.RigidObjectCollectionCfg(
+            rigid_objects={"a": _box(assets3, 1.0, tuple(Q_XYZW.tolist())), "b": _box(assets2, 2.0)}
+        )
+
+    _, scene = _scene(SceneCfg)
+    objects = scene["objects"]
+    assert isinstance(objects, assets3.RigidObjectCollection)
+    data = objects.data
+    assert torch.allclose(data.body_quat_w.torch[:, 0], Q_XYZW.expand(2, 4), atol=1e-5)  # 3.0 config, 3.0 read
+    assert torch.allclose(data.object_quat_w[:, 0], Q_WXYZ.expand(2, 4), atol=1e-5)  # 2.x read
+    assert torch.allclose(data.default_body_pose.torch[:, 0, 3:], Q_XYZW.expand(2, 4), atol=1e-5)
+    # body "b" of env 1 turned by Q, given (x, y, z, w); nothing else moves
+    before = data.object_quat_w.clone()
+    pose = torch.cat([data.body_pos_w[1:, 1], Q_XYZW.unsqueeze(0)], dim=-1).unsqueeze(1)  # (1 env, 1 body, 7)
+    objects.write_body_pose_to_sim_index(body_poses=pose, env_ids=[1], body_ids=[1])
+    assert torch.allclose(data.object_quat_w[1, 1], Q_WXYZ, atol=1e-5)
+    assert torch.equal(data.object_quat_w[0], before[0]) and torch.equal(data.object_quat_w[1, 0], before[1, 0])
+    velocities = torch.zeros(2, 2, 6)
+    velocities[..., 2] = 1.5
+    objects.write_body_com_velocity_to_sim_mask(
+        body_velocities=velocities, env_mask=torch.tensor([True, False]), body_mask=torch.tensor([False, True])
+    )
+    assert torch.allclose(data.object_lin_vel_w[:, :, 2], torch.tensor([[0.0, 1.5], [0.0, 0.0]]))
+
+
 def test_the_3_0_articulation_tutorial_runs():
     """Isaac Lab 3.0's run_articulation.py (tests/ported3): resets through default_root_pose and the
     _index writers, drives through actuators.target_command."""
@@ -311,3 +339,77 @@ def test_3_0_lift_observation_reads_the_object_in_the_robot_frame(ported3):
     rel_w = scene["object"].data.root_pos_w - scene["robot"].data.root_pos_w
     assert (expected - rel_w).norm(dim=-1).min() > 0.1
     SimulationContext.clear_instance()
+
+
+def test_3_0_velocity_rewards_step_in_a_velocity_task_as_simlabs_2_x_terms(ported3):
+    """Isaac Lab 3.0's velocity rewards (tests/ported3/isaaclab3_velocity: the contact sensor read through
+    ``.torch`` and ``compute_first_contact(dt).torch``, the root through ``root_quat_w.torch``) run as the
+    reward terms of simlab's Go1 flat task built as a 3.0 env, and give simlab's 2.x terms' values on
+    robots turned a different way in each env, step after step."""
+    from isaaclab3_velocity import mdp as mdp3
+
+    import simlab.v3.envs
+    from simlab.envs import mdp as mdp2
+    from simlab.managers import SceneEntityCfg
+    from simlab.tasks.manager_based.locomotion.velocity.config.go1.flat_env_cfg import UnitreeGo1FlatEnvCfg
+    from simlab.v3 import sensors as sensors3
+
+    cfg = UnitreeGo1FlatEnvCfg()
+    cfg.scene.num_envs, cfg.sim.device = 3, "cpu"
+    for name in ("feet_air_time", "track_lin_vel_xy_exp", "track_ang_vel_z_exp"):
+        term = getattr(cfg.rewards, name)
+        term.func = {
+            "feet_air_time": mdp3.feet_air_time,
+            "track_lin_vel_xy_exp": mdp3.track_lin_vel_xy_yaw_frame_exp,
+            "track_ang_vel_z_exp": mdp3.track_ang_vel_z_world_exp,
+        }[name]
+    env = simlab.v3.envs.ManagerBasedRLEnv(cfg)
+    env.reset(seed=0)
+    sensor = env.scene.sensors["contact_forces"]
+    assert isinstance(sensor, sensors3.ContactSensor)
+    _tilt_yaw_only(env.scene["robot"], env.scene.env_origins)
+    feet = SceneEntityCfg("contact_forces", body_names=".*foot")
+    feet_bodies = SceneEntityCfg("robot", body_names=".*foot")
+    feet.resolve(env.scene)
+    feet_bodies.resolve(env.scene)
+    contacts_seen = 0
+    for _ in range(30):
+        _, reward, *_ = env.step(torch.rand(3, env.action_manager.total_action_dim) * 2 - 1)
+        assert torch.isfinite(reward).all()
+        args = {"command_name": "base_velocity"}
+        assert torch.allclose(
+            mdp3.track_lin_vel_xy_yaw_frame_exp(env, std=0.5, **args),
+            mdp2.track_lin_vel_xy_yaw_frame_exp(env, std=0.5, **args),
+            atol=1e-6,
+        )
+        assert torch.allclose(
+            mdp3.track_ang_vel_z_world_exp(env, std=0.5, **args),
+            mdp2.track_ang_vel_z_world_exp(env, std=0.5, **args),
+            atol=1e-6,
+        )
+        assert torch.equal(
+            mdp3.feet_air_time(env, sensor_cfg=feet, threshold=0.1, **args),
+            mdp2.feet_air_time(env, sensor_cfg=feet, threshold=0.1, **args),
+        )
+        assert torch.equal(
+            mdp3.feet_air_time_positive_biped(env, threshold=0.4, sensor_cfg=feet, **args),
+            mdp2.feet_air_time_positive_biped(env, threshold=0.4, sensor_cfg=feet, **args),
+        )
+        assert torch.allclose(
+            mdp3.feet_slide(env, sensor_cfg=feet, asset_cfg=feet_bodies),
+            mdp2.feet_slide(env, sensor_cfg=feet, asset_cfg=feet_bodies),
+        )
+        # 3.0's contact force names are simlab's tensors
+        assert torch.equal(sensor.data.net_normal_forces_w.torch, sensor.data.net_forces_w)
+        contacts_seen += int((sensor.data.net_forces_w[:, feet.body_ids].norm(dim=-1) > 1.0).sum())
+    env.close()
+    assert contacts_seen > 0  # the feet touched: the contact terms were not all zeros
+
+
+def _tilt_yaw_only(robot, env_origins: torch.Tensor) -> None:
+    """Each env's robot standing turned to a different heading (2.x writer, (w, x, y, z))."""
+    n = env_origins.shape[0]
+    yaw = torch.linspace(-2.5, 2.9, n)
+    quat = math2.quat_from_euler_xyz(torch.zeros(n), torch.zeros(n), yaw)
+    pose = torch.cat([robot.data.root_pos_w[:, :3], quat], dim=-1)
+    robot.write_root_pose_to_sim(pose)

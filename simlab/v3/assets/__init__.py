@@ -10,7 +10,7 @@ The asset classes also carry Isaac Lab 3.0's asset API (:mod:`simlab.v3.assets._
 with ``.torch`` (quaternions ``(x, y, z, w)``), ``default_root_pose`` / ``default_root_vel``, the
 ``write_*_to_sim_index`` / ``_mask`` writers and ``actuators.target_command``. A scene or env of
 :mod:`simlab.v3` builds its articulations and rigid objects as these classes, 2.x robot configs
-included (:func:`with_v3_assets`); 2.x code reading the same assets still gets ``(w, x, y, z)``.
+included (:func:`simlab.v3.scene.with_v3_api`); 2.x code reading the same assets still gets ``(w, x, y, z)``.
 """
 
 from __future__ import annotations
@@ -21,14 +21,13 @@ from simlab.assets import (
     AssetBase,
     DeformableObject,
     DeformableObjectCfg,
-    RigidObjectCollection,
     RigidObjectCollectionCfg,
     RigidObjectCollectionData,
     RigidObjectData,
 )
 from simlab.utils import configclass
-from simlab.v3._order import replace_fields, to_simlab, xyzw_class
-from simlab.v3.assets._api import ActuatorCollection, AssetDataView, JointWriters, RootWriters
+from simlab.v3._order import to_simlab, xyzw_class
+from simlab.v3.assets._api import ActuatorCollection, AssetDataView, BodyWriters, JointWriters, RootWriters
 
 __all__ = [
     "Articulation",
@@ -44,7 +43,6 @@ __all__ = [
     "RigidObjectCollectionCfg",
     "RigidObjectCollectionData",
     "RigidObjectData",
-    "with_v3_assets",
 ]
 
 
@@ -71,20 +69,24 @@ class RigidObject(RootWriters, _assets.RigidObject):
         self.data = AssetDataView(self.data)
 
 
-# simlab's asset class -> the class with Isaac Lab 3.0's API that a 3.0 scene builds instead
-V3_CLASSES: dict[type, type] = {_assets.Articulation: Articulation, _assets.RigidObject: RigidObject}
+class RigidObjectCollection(BodyWriters, _assets.RigidObjectCollection):
+    """simlab's rigid object collection, made from a config whose quaternions are (x, y, z, w), with Isaac
+    Lab 3.0's API (its objects are 3.0's bodies: ``write_body_pose_to_sim_index``, ``data.body_pose_w.torch``)."""
+
+    def __init__(self, cfg: _assets.RigidObjectCollectionCfg):
+        super().__init__(to_simlab(cfg))
+
+    def _initialize(self, sim) -> None:
+        super()._initialize(sim)
+        self.data = AssetDataView(self.data)
 
 
-def with_v3_assets(scene_cfg):
-    """``scene_cfg`` (an ``InteractiveSceneCfg``) with its articulations and rigid objects built as the
-    classes above, 2.x robot configs included: 3.0 code reads every asset of a 3.0 scene through 3.0's
-    API. A config whose ``class_type`` is a class of its own (a subclass) is left as it is."""
-    changes = {}
-    for name, value in vars(scene_cfg).items():
-        cls = V3_CLASSES.get(getattr(value, "class_type", None))
-        if cls is not None:
-            changes[name] = replace_fields(value, class_type=cls)
-    return replace_fields(scene_cfg, **changes) if changes else scene_cfg
+# simlab's asset class -> the class with Isaac Lab 3.0's API that a 3.0 scene builds instead (simlab.v3.scene)
+V3_CLASSES: dict[type, type] = {
+    _assets.Articulation: Articulation,
+    _assets.RigidObject: RigidObject,
+    _assets.RigidObjectCollection: RigidObjectCollection,
+}
 
 
 @configclass

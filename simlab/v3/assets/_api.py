@@ -16,7 +16,7 @@ import torch
 
 from simlab.v3._proxy import ProxyTensor, as_v3, proxy
 
-__all__ = ["ActuatorCollection", "AssetDataView", "JointWriters", "RootWriters", "TargetCommand"]
+__all__ = ["ActuatorCollection", "AssetDataView", "BodyWriters", "JointWriters", "RootWriters", "TargetCommand"]
 
 
 # -- data ------------------------------------------------------------------------------------------
@@ -34,6 +34,7 @@ class AssetDataView:
     simlab's data (the articulation sets its joint properties there)."""
 
     __slots__ = ("_data",)
+    renamed: dict[str, Callable[[Any], torch.Tensor]] = RENAMED_DATA
 
     def __init__(self, data: Any):
         object.__setattr__(self, "_data", data)
@@ -42,14 +43,14 @@ class AssetDataView:
         data = object.__getattribute__(self, "_data")
         if name.startswith("_"):
             return getattr(data, name)
-        read = RENAMED_DATA.get(name)
+        read = type(self).renamed.get(name)
         return proxy(name, read(data) if read is not None else getattr(data, name))
 
     def __setattr__(self, name: str, value: Any) -> None:
         setattr(object.__getattribute__(self, "_data"), name, value)
 
     def __dir__(self) -> list[str]:
-        return sorted({*dir(object.__getattribute__(self, "_data")), *RENAMED_DATA})
+        return sorted({*dir(object.__getattribute__(self, "_data")), *type(self).renamed})
 
 
 # -- writers ---------------------------------------------------------------------------------------
@@ -91,11 +92,8 @@ def _index_writer(base: str, names: tuple[str, ...], quat_at: int | None, item: 
 
     def write(self, **kwargs: Any) -> None:
         values = [_simlab_order(v, quat_at) for v in _take(method, kwargs, names, selectors)]
-        env_ids = as_v3(kwargs.get("env_ids"))
-        if item is None:
-            getattr(self, base)(*values, env_ids)
-        else:
-            getattr(self, base)(*values, as_v3(kwargs.get(f"{item}_ids")), env_ids)
+        items = {} if item is None else {f"{item}_ids": as_v3(kwargs.get(f"{item}_ids"))}
+        getattr(self, base)(*values, env_ids=as_v3(kwargs.get("env_ids")), **items)
 
     write.__name__ = method
     write.__doc__ = f"Isaac Lab 3.0's ``{method}``: simlab's ``{base}`` with env (and {item or 'no'}) indices."
@@ -112,7 +110,7 @@ def _mask_writer(base: str, names: tuple[str, ...], quat_at: int | None, item: s
         env_mask = kwargs.get("env_mask")
         env = None if env_mask is None else _bool_mask(env_mask, self.num_instances, "env_mask", self.device)
         if item is None:
-            getattr(self, base)(*values, env)
+            getattr(self, base)(*values, env_ids=env)
             return
         ids = None
         item_mask = kwargs.get(f"{item}_mask")
@@ -121,7 +119,7 @@ def _mask_writer(base: str, names: tuple[str, ...], quat_at: int | None, item: s
             selected = _bool_mask(item_mask, count, f"{item}_mask", self.device)
             ids = selected.nonzero().flatten().tolist()
             values = [v[:, selected] if isinstance(v, torch.Tensor) and v.dim() > 1 else v for v in values]
-        getattr(self, base)(*values, ids, env)
+        getattr(self, base)(*values, env_ids=env, **{f"{item}_ids": ids})
 
     write.__name__ = method
     write.__doc__ = f"Isaac Lab 3.0's ``{method}``: simlab's ``{base}`` with a bool env mask (full data)."
@@ -161,6 +159,16 @@ JOINT_WRITERS: dict[str, tuple[tuple[str, ...], int | None]] = {
     "set_joint_effort_target": (("target",), None),
 }
 
+# the rigid object collection's: its objects are 3.0's bodies, (envs, bodies, ...) values
+BODY_WRITERS: dict[str, tuple[tuple[str, ...], int | None]] = {
+    "write_body_pose_to_sim": (("body_poses",), 3),
+    "write_body_link_pose_to_sim": (("body_poses",), 3),
+    "write_body_com_pose_to_sim": (("body_poses",), 3),
+    "write_body_velocity_to_sim": (("body_velocities",), None),
+    "write_body_com_velocity_to_sim": (("body_velocities",), None),
+    "write_body_link_velocity_to_sim": (("body_velocities",), None),
+}
+
 
 class RootWriters:
     """Isaac Lab 3.0's root writers (``write_root_pose_to_sim_index`` / ``_mask``, ...), poses (x, y, z, w)."""
@@ -170,7 +178,12 @@ class JointWriters:
     """Isaac Lab 3.0's joint writers and target setters (``write_joint_position_to_sim_index`` / ``_mask``, ...)."""
 
 
+class BodyWriters:
+    """Isaac Lab 3.0's rigid object collection writers (``write_body_pose_to_sim_index`` / ``_mask``, ...)."""
+
+
 _add_writers(RootWriters, ROOT_WRITERS, None)
+_add_writers(BodyWriters, BODY_WRITERS, "body")
 _add_writers(JointWriters, JOINT_WRITERS, "joint")
 
 

@@ -2,8 +2,8 @@
 
 Each env class converts its config with :func:`simlab.v3._order.to_simlab` before simlab's own
 constructor runs, so ``env.cfg`` and everything built from it hold simlab's (w, x, y, z), and builds
-the scene's articulations and rigid objects with Isaac Lab 3.0's asset API
-(:func:`simlab.v3.assets.with_v3_assets`). The other names (the configs, ``mdp``,
+the scene's articulations, rigid objects and sensors with Isaac Lab 3.0's API
+(:func:`simlab.v3.scene.with_v3_api`). The other names (the configs, ``mdp``,
 ``multi_agent_to_single_agent``, ...) are :mod:`simlab.envs`'s.
 """
 
@@ -13,18 +13,18 @@ from typing import Any
 
 import simlab.envs as _envs
 from simlab.v3._order import replace_fields, to_simlab
-from simlab.v3.assets import with_v3_assets
+from simlab.v3.scene import with_v3_api
 
 __all__ = ["DirectMARLEnv", "DirectRLEnv", "ManagerBasedEnv", "ManagerBasedRLEnv", *_envs.__all__]
 
 
 def _v3_cfg(cfg: Any) -> Any:
-    """``cfg`` in simlab's order, its scene's assets with Isaac Lab 3.0's API."""
+    """``cfg`` in simlab's order, its scene's entities with Isaac Lab 3.0's API."""
     cfg = to_simlab(cfg)
     scene = getattr(cfg, "scene", None)
     if scene is None:
         return cfg
-    v3_scene = with_v3_assets(scene)
+    v3_scene = with_v3_api(scene)
     return cfg if v3_scene is scene else replace_fields(cfg, scene=v3_scene)
 
 
