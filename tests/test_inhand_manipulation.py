@@ -166,6 +166,35 @@ def test_allegro_manager_goal_is_redrawn_on_success_and_counted(allegro_manager)
     assert float(command.metrics["consecutive_success"][0]) == 0.0
 
 
+def test_allegro_manager_orientation_error_is_computed_once_per_state_and_goal(allegro_manager, monkeypatch):
+    """The bonus and the tracking reward read one angle to the goal per state and goal; a new goal or
+    a state write computes it again (Isaac Lab's quat_error_magnitude)."""
+    from simlab.tasks.manager_based.manipulation.inhand import mdp
+    from simlab.utils.math import quat_error_magnitude
+
+    env = allegro_manager
+    env.step(torch.zeros(NUM_ENVS, 16))
+    command = env.command_manager.get_term("object_pose")
+    cube = env.scene["object"]
+
+    def expected() -> torch.Tensor:
+        return quat_error_magnitude(cube.data.root_quat_w, command.quat_command_w)
+
+    first = mdp.track_orientation_inv_l2(env, "object_pose")
+    torch.testing.assert_close(first, 1.0 / (expected() + 1e-3))
+    calls = []
+    monkeypatch.setattr(mdp.rewards.math_utils, "quat_error_magnitude", lambda *a: calls.append(1) or expected())
+    mdp.success_bonus(env, "object_pose")
+    assert calls == [], "the second term reuses the first one's angle"
+    command._resample_command(torch.tensor([True, False, False, False]))  # a new goal for env 0
+    torch.testing.assert_close(mdp.track_orientation_inv_l2(env, "object_pose"), 1.0 / (expected() + 1e-3))
+    pose = torch.cat((cube.data.root_pos_w, command.quat_command_w), dim=-1)
+    cube.write_root_pose_to_sim(pose, env_ids=torch.tensor([True, True, False, False]))  # a state write
+    bonus = mdp.success_bonus(env, "object_pose")
+    assert len(calls) == 2 and bonus[:2].tolist() == [1.0, 1.0]
+    torch.testing.assert_close(bonus, (expected() <= command.cfg.orientation_success_threshold).float())
+
+
 def test_allegro_manager_play_variant_and_agent_configs():
     from simlab.tasks.utils import load_cfg_from_registry
 

@@ -12,6 +12,7 @@ from __future__ import annotations
 import gymnasium as gym
 import pytest
 import torch
+from test_graph_contract import emulated_cuda_graph  # noqa: F401 (a fixture)
 
 import simlab.sim as sim_utils
 import simlab.tasks  # noqa: F401 - registers the tasks
@@ -64,6 +65,78 @@ def openai():
     env.reset(seed=0)
     yield env
     env.close()
+
+
+def make_ff(num_envs: int = NUM_ENVS):
+    cfg = parse_env_cfg(FF, device="cpu", num_envs=num_envs)
+    cfg.seed = 0
+    env = gym.make(FF, cfg=cfg).unwrapped
+    env.reset(seed=0)
+    return env
+
+
+def test_openai_variant_step_is_captured_with_its_randomization(emulated_cuda_graph, monkeypatch):  # noqa: F811
+    """The randomization events (friction, gains, joint limits, cube mass, gravity) take the reset mask
+    and read nothing back: the step is captured (an emulated CUDA graph on the CPU, which fails a capture
+    that reads a device value back, test_graph_contract.py) and its replays randomize the envs they reset."""
+    from simlab.envs.utils.cuda_graph import EnvStepper
+
+    env = make_ff()
+    try:
+        assert env.graph_blockers() == []
+        physics = env.sim.physics
+        # the CPU backend, told to capture as the GPU one does (which tracks staleness without reading a mask)
+        monkeypatch.setattr(physics, "can_capture_steps", True, raising=False)
+        monkeypatch.setattr(physics, "forwards_all_worlds", True, raising=False)
+        # the replays run torch's ops only, not MuJoCo C: its clock stands still, which this backend
+        # would take for worlds it restarted (MuJoCo Warp's backend has no such check)
+        monkeypatch.setattr(physics, "_restarted_by_simulator", lambda: None)
+        stepper = EnvStepper(env, env._step_body, warmup=2)
+        assert stepper.eager_reason is None
+        actions = torch.zeros(NUM_ENVS, 20)
+        for _ in range(4):  # warm-up, capture, a replay
+            stepper(actions)
+        assert stepper.is_graphed and stepper.eager_reason is None, stepper.mode
+        # a replayed step in which envs 1 and 3 end their episode with the 720-step gate open
+        friction = physics.model_field("geom_friction")[:, :, 0]
+        before = {name: t.clone() for name, t in (("friction", friction), ("mass", physics.model_field("body_mass")))}
+        manager = env.event_manager
+        for last in manager._reset_last_step.values():
+            last.fill_(-1000)
+        env.episode_length_buf[[1, 3]] = env.max_episode_length  # their time is up
+        stepper(actions)
+        for name, now in (("friction", friction), ("mass", physics.model_field("body_mass"))):
+            changed = (now != before[name]).flatten(1).any(dim=1)
+            assert changed.tolist() == [False, True, False, True], name
+    finally:
+        env.close()
+
+
+def test_randomized_cube_mass_scales_mujoco_s_constants_as_set_const_does(openai):
+    """A free cube's mass and inertia scaled by mask: its subtree mass and inverse weights follow as
+    MuJoCo's mj_setConst computes them for that world's masses."""
+    import mujoco
+
+    env = openai
+    physics, model = env.sim.physics, env.sim.model
+    cube = env.object._body_ids[0]
+    dofs = slice(int(model.body_dofadr[cube]), int(model.body_dofadr[cube]) + 6)
+    reference = mujoco.MjModel.from_xml_string(env.sim.spec.to_xml())  # the compiled model, default masses
+    data = mujoco.MjData(reference)
+    for world in range(NUM_ENVS):
+        mass = float(physics.model_field("body_mass")[world, cube])
+        assert abs(mass - model.body_mass[cube]) > 1e-4, "the reset randomized the mass"
+        reference.body_mass[cube] = mass
+        reference.body_inertia[cube] = physics.model_field("body_inertia")[world, cube].numpy()
+        mujoco.mj_setConst(reference, data)
+        for field, rows in (("body_subtreemass", cube), ("body_invweight0", cube), ("dof_invweight0", dofs)):
+            torch.testing.assert_close(
+                physics.model_field(field)[world, rows].double(),
+                torch.as_tensor(getattr(reference, field)[rows]),
+                rtol=1e-4,
+                atol=0.0,
+                msg=field,
+            )
 
 
 def test_openai_variant_steps_with_isaac_lab_s_spaces_and_finite_values(openai):

@@ -19,6 +19,7 @@ import torch
 import simlab.utils.math as math_utils
 from simlab.actuators import ActuatorBase
 from simlab.actuators.actuator_pd import per_joint_values
+from simlab.utils.env_mask import is_mask, rows
 from simlab.utils.string import resolve_matching_names, resolve_matching_names_values
 from simlab.utils.types import ArticulationActions
 
@@ -312,10 +313,14 @@ class Articulation(RootedAsset):
         self._write_cols(self.data.joint_pos_limits, cols, env_ids, limits)
         self.data.soft_joint_pos_limits = soft_limits(self.data.joint_pos_limits, self.cfg.soft_joint_pos_limit_factor)
         jnt_range = self._physics.model_field("jnt_range")
-        ids = torch.tensor(self._joint_model_ids, dtype=torch.long, device=self.device)
+        ids = self._index_tensor(self._joint_model_ids)
+        if is_mask(env):  # every row, kept where the mask is clear: no read back to the host
+            old = jnt_range[:, ids]
+            jnt_range[:, ids] = torch.where(rows(env, old), self.data.joint_pos_limits.clamp(-1e9, 1e9), old)
+            return
         limits = self.data.joint_pos_limits[env].clamp(-1e9, 1e9)
         if not isinstance(env, slice):  # env rows by index, broadcast against the joint columns
-            env = (env.nonzero().flatten() if env.dtype == torch.bool else env)[:, None]
+            env = env[:, None]
         jnt_range[env, ids] = limits
 
     # -- helpers ----------------------------------------------------------------------------------
@@ -358,20 +363,31 @@ class Articulation(RootedAsset):
             return
         env = self._env_index(env_ids)
         biasprm = self._physics.model_field("actuator_biasprm")
-        rows = biasprm[env] if not isinstance(env, slice) else biasprm
+        if is_mask(env):  # every row, kept where the mask is clear: no read back to the host
+            for actuator in implicit:
+                ctrl_cols = self._actuator_ctrl_cols(actuator)
+                old = biasprm[:, ctrl_cols, bias_term]
+                new = -gains[:, actuator.joint_indices]
+                biasprm[:, ctrl_cols, bias_term] = torch.where(rows(env, old), new, old)
+            return
+        selected = biasprm[env] if not isinstance(env, slice) else biasprm
         for actuator in implicit:
-            ctrl_cols = torch.tensor(
-                [self._sim.model.actuator(self.prefix + name).id for name in actuator.joint_names], device=self.device
-            )
             values = -gains[env][:, actuator.joint_indices]
-            rows[:, ctrl_cols, bias_term] = values
+            selected[:, self._actuator_ctrl_cols(actuator), bias_term] = values
         if not isinstance(env, slice):
-            biasprm[env] = rows
+            biasprm[env] = selected
+
+    def _actuator_ctrl_cols(self, actuator: ActuatorBase) -> torch.Tensor:
+        """The MuJoCo actuators of ``actuator``'s joints (a device tensor made once)."""
+        return self._index_tensor(self._sim.model.actuator(self.prefix + name).id for name in actuator.joint_names)
 
     def _write_model_dofs(self, field: str, values: torch.Tensor, env_ids: EnvIds) -> None:
         env = self._env_index(env_ids)
         target = self._physics.model_field(field)
-        if isinstance(env, slice):
+        if is_mask(env):  # every row, kept where the mask is clear: no read back to the host
+            old = target[:, self._dof_index]
+            target[:, self._dof_index] = torch.where(rows(env, old), values, old)
+        elif isinstance(env, slice):
             target[:, self._dof_index] = values
         else:
             target[env[:, None], self._dof_index] = values[env]

@@ -14,7 +14,9 @@ its own. Distributions are ``"uniform"``, ``"log_uniform"`` or ``"gaussian"``; o
 from __future__ import annotations
 
 import contextlib
+import functools
 import logging
+import math
 from typing import TYPE_CHECKING, Literal
 
 import mujoco
@@ -74,7 +76,12 @@ def _sample(distribution: str, params: tuple[float, float], shape, device) -> to
     if distribution == "uniform":
         return math_utils.sample_uniform(params[0], params[1], shape, device)
     if distribution == "log_uniform":
-        return math_utils.sample_log_uniform(params[0], params[1], shape, device)
+        low, high = params
+        if isinstance(low, (int, float)) and isinstance(high, (int, float)):  # checked here: no device read
+            if low <= 0 or high <= 0:
+                raise ValueError(f"log_uniform needs positive bounds, got {low} and {high}")
+            return torch.exp(math_utils.sample_uniform(math.log(low), math.log(high), shape, device))
+        return math_utils.sample_log_uniform(low, high, shape, device)
     if distribution == "gaussian":
         return math_utils.sample_gaussian(params[0], params[1], shape, device)
     raise ValueError(f"Unknown distribution '{distribution}'; allowed: 'uniform', 'log_uniform', 'gaussian'")
@@ -93,10 +100,25 @@ def _randomize(default: torch.Tensor, params: tuple[float, float], operation: st
 
 
 def _cols(ids, count: int, device) -> torch.Tensor:
-    """Index tensor for a SceneEntityCfg id list or slice."""
-    if isinstance(ids, slice):
-        return torch.arange(count, device=device)[ids]
-    return torch.as_tensor(ids, dtype=torch.long, device=device)
+    """Index tensor for a SceneEntityCfg id list or slice, made once per selection and device (a step
+    captured as a CUDA graph may not copy from the host)."""
+    if isinstance(ids, torch.Tensor):
+        return ids.to(device=device, dtype=torch.long)
+    key = (ids.start, ids.stop, ids.step) if isinstance(ids, slice) else tuple(int(i) for i in ids)
+    return _index_tensor(isinstance(ids, slice), key, count, str(device))
+
+
+@functools.lru_cache(maxsize=256)
+def _index_tensor(is_slice: bool, key: tuple, count: int, device: str) -> torch.Tensor:
+    if is_slice:
+        return torch.arange(count, device=device)[slice(*key)]
+    return torch.tensor(key, dtype=torch.long, device=device)
+
+
+def _masked_write(target: torch.Tensor, mask: torch.Tensor, cols, values: torch.Tensor) -> None:
+    """``target[:, cols] = values`` in the rows where ``mask`` is set (values for every row; fixed shapes)."""
+    old = target[:, cols]
+    target[:, cols] = torch.where(mask.view(-1, *([1] * (old.dim() - 1))), values, old)
 
 
 # -- resets ----------------------------------------------------------------------------------------
@@ -305,6 +327,7 @@ def _set_const(env: ManagerBasedEnv, env_ids: torch.Tensor) -> None:
         env.sim.physics.set_const(env_ids)
 
 
+@takes_env_mask
 def randomize_rigid_body_mass(
     env: ManagerBasedEnv,
     env_ids: torch.Tensor | None,
@@ -314,12 +337,31 @@ def randomize_rigid_body_mass(
     distribution: Literal["uniform", "log_uniform", "gaussian"] = "uniform",
     recompute_inertia: bool = True,
 ) -> None:
-    """Per-env body masses from the default ones; inertias scale with the mass if ``recompute_inertia``."""
-    env_ids = _ids(env, env_ids)
+    """Per-env body masses from the default ones; inertias scale with the mass if ``recompute_inertia``.
+
+    MuJoCo's constants derived from the masses (``body_subtreemass``, ``body_invweight0``,
+    ``dof_invweight0``) follow: for free bodies of their own (no parent but the world, no children,
+    such as a rigid object) they scale with the mass, as ``mj_setConst`` finds, inside the step (the
+    world body's total mass, which no dynamics reads, is left as is); for
+    articulated bodies MuJoCo's ``set_const`` runs, which reads the selected envs back to the host
+    (a step that randomizes an articulation's masses by mask is not captured as a CUDA graph). The
+    solver's tolerance scale ``stat.meaninertia`` keeps the model's value.
+    """
     asset = env.scene[asset_cfg.name]
     physics = env.sim.physics
     local = _cols(asset_cfg.body_ids, asset.num_bodies, env.device)
     bodies = asset._body_index[local]
+    if is_mask(env_ids):  # every env drawn, written where the mask is set: fixed shapes
+        default = _rows(asset.data.default_mass, slice(None), local)
+        masses = _randomize(default, mass_distribution_params, operation, distribution).clamp(min=1e-6)
+        _masked_write(physics.model_field("body_mass"), env_ids, bodies, masses)
+        ratio = masses / default.clamp(min=1e-9)
+        if recompute_inertia:
+            inertia = _rows(asset.data.default_inertia, slice(None), local) * ratio[..., None]
+            _masked_write(physics.model_field("body_inertia"), env_ids, bodies, inertia)
+        _scale_mass_constants(env, env_ids, asset, asset_cfg.body_ids, bodies, ratio, recompute_inertia)
+        return
+    env_ids = _ids(env, env_ids)
     default = _rows(asset.data.default_mass, env_ids, local)
     masses = _randomize(default, mass_distribution_params, operation, distribution).clamp(min=1e-6)
     body_mass = physics.model_field("body_mass")
@@ -329,6 +371,43 @@ def randomize_rigid_body_mass(
         inertia = _rows(asset.data.default_inertia, env_ids, local) * ratio[..., None]
         physics.model_field("body_inertia")[env_ids[:, None], bodies] = inertia
     _set_const(env, env_ids)
+
+
+def _scale_mass_constants(env, mask, asset, body_ids, bodies, ratio, scaled_inertia: bool) -> None:
+    """The derived constants after masses (and inertias, if ``scaled_inertia``) were scaled by ``ratio``
+    (envs, bodies) where ``mask`` is set; see ``randomize_rigid_body_mass``."""
+    model, physics = env.sim.model, env.sim.physics
+    local = range(asset.num_bodies)[body_ids] if isinstance(body_ids, slice) else body_ids  # on the host
+    ids = [int(asset._body_ids[i]) for i in local]
+    free = all(
+        model.body_parentid[b] == 0
+        and model.body_jntnum[b] == 1
+        and model.jnt_type[model.body_jntadr[b]] == mujoco.mjtJoint.mjJNT_FREE
+        and not (model.body_parentid[1:] == b).any()
+        for b in ids
+    )
+    if not free:  # articulated bodies: MuJoCo's set_const, for the selected envs (a host read)
+        _set_const(env, mask.nonzero().flatten())
+        return
+    device = env.device
+    subtree = _model_constant(model, "body_subtreemass", ids, device)
+    _masked_write(physics.model_field("body_subtreemass"), mask, bodies, subtree * ratio)
+    # the free joint's translation weighs 1/m, its rotation 1/I: both scale with 1/ratio (rotation only
+    # if the inertia was scaled too)
+    keep = torch.ones_like(ratio)
+    body_scale = torch.stack((ratio, ratio if scaled_inertia else keep), dim=-1)  # (envs, bodies, 2)
+    invweight = _model_constant(model, "body_invweight0", ids, device)
+    _masked_write(physics.model_field("body_invweight0"), mask, bodies, invweight / body_scale)
+    dofs = [int(model.body_dofadr[b]) + k for b in ids for k in range(6)]
+    dof_scale = body_scale.repeat_interleave(3, dim=-1).reshape(ratio.shape[0], len(dofs))
+    dof_invweight = _model_constant(model, "dof_invweight0", dofs, device)
+    _masked_write(physics.model_field("dof_invweight0"), mask, _index_tensor(False, tuple(dofs), 0, str(device)),
+                  dof_invweight / dof_scale)  # fmt: skip
+
+
+def _model_constant(model: mujoco.MjModel, field: str, rows: list[int], device) -> torch.Tensor:
+    """The compiled model's ``field`` rows, as a float32 device tensor made once."""
+    return math_utils.constant_tensor(getattr(model, field)[rows].tolist(), device)
 
 
 def randomize_rigid_body_com(
@@ -354,7 +433,8 @@ def randomize_rigid_body_com(
 
 
 class randomize_rigid_body_material(ManagerTermBase):  # noqa: N801 - Isaac Lab's name
-    """Per-env friction of the asset's geoms, drawn from ``num_buckets`` sampled materials.
+    """Per-env friction of the asset's geoms, drawn from ``num_buckets`` sampled materials (takes a
+    bool mask too: materials drawn for every env, written where it is set).
 
     MuJoCo has one sliding friction coefficient per geom (``geom_friction[..., 0]``): it takes the
     static friction sample. MuJoCo has no restitution coefficient; ``restitution_range`` is checked
@@ -372,6 +452,8 @@ class randomize_rigid_body_material(ManagerTermBase):  # noqa: N801 - Isaac Lab'
             )
         self._geoms = torch.tensor(geoms, dtype=torch.long, device=env.device)
 
+    takes_env_mask = True
+
     def __call__(
         self,
         env: ManagerBasedEnv,
@@ -383,24 +465,32 @@ class randomize_rigid_body_material(ManagerTermBase):  # noqa: N801 - Isaac Lab'
         asset_cfg: SceneEntityCfg,
         make_consistent: bool = False,
     ) -> None:
-        env_ids = _ids(env, env_ids)
-        ranges = torch.tensor([static_friction_range, dynamic_friction_range, restitution_range], device=env.device)
+        rows, write = _selection(env, env_ids)
+        count = env.num_envs if isinstance(rows, slice) else len(rows)
+        ranges = math_utils.constant_tensor(
+            [static_friction_range, dynamic_friction_range, restitution_range], env.device
+        )
         buckets = math_utils.sample_uniform(ranges[:, 0], ranges[:, 1], (num_buckets, 3), env.device)
         if make_consistent:
             buckets[:, 1] = torch.min(buckets[:, 0], buckets[:, 1])
-        choice = torch.randint(0, num_buckets, (len(env_ids), len(self._geoms)), device=env.device)
-        friction = env.sim.physics.model_field("geom_friction")
-        friction[env_ids[:, None], self._geoms, 0] = buckets[choice, 0]
+        choice = torch.randint(0, num_buckets, (count, len(self._geoms)), device=env.device)
+        friction = env.sim.physics.model_field("geom_friction")[..., 0]
+        if is_mask(write):
+            _masked_write(friction, write, self._geoms, buckets[choice, 0])
+        else:
+            friction[write[:, None], self._geoms] = buckets[choice, 0]
 
 
 def _joint_values(current, default, env_ids, joints, params, operation, distribution, min_value=None):
-    """``current`` of the selected envs, with the selected joints' values drawn around ``default``."""
-    value = current[env_ids]
+    """``current`` of the selected envs (all for a slice), with the selected joints' values drawn
+    around ``default``; a fresh tensor."""
+    value = current.clone() if isinstance(env_ids, slice) else current[env_ids]
     sample = _randomize(_rows(default, env_ids, joints), params, operation, distribution)
     value[:, joints] = sample if min_value is None else sample.clamp(min=min_value)
     return value
 
 
+@takes_env_mask
 def randomize_actuator_gains(
     env: ManagerBasedEnv,
     env_ids: torch.Tensor | None,
@@ -410,8 +500,9 @@ def randomize_actuator_gains(
     operation: Literal["add", "scale", "abs"] = "abs",
     distribution: Literal["uniform", "log_uniform", "gaussian"] = "uniform",
 ) -> None:
-    """Per-env PD gains of the selected joints' actuators, from the default gains."""
-    env_ids = _ids(env, env_ids)
+    """Per-env PD gains of the selected joints' actuators, from the default gains (takes a bool mask
+    too: gains drawn for every env, written where it is set)."""
+    rows, env_ids = _selection(env, env_ids)
     asset = env.scene[asset_cfg.name]
     joints = _cols(asset_cfg.joint_ids, asset.num_joints, env.device)
     data = asset.data
@@ -419,7 +510,7 @@ def randomize_actuator_gains(
         value = _joint_values(
             data.joint_stiffness,
             data.default_joint_stiffness,
-            env_ids,
+            rows,
             joints,
             stiffness_distribution_params,
             operation,
@@ -430,7 +521,7 @@ def randomize_actuator_gains(
         value = _joint_values(
             data.joint_damping,
             data.default_joint_damping,
-            env_ids,
+            rows,
             joints,
             damping_distribution_params,
             operation,
@@ -440,7 +531,15 @@ def randomize_actuator_gains(
 
 
 class randomize_joint_parameters(ManagerTermBase):  # noqa: N801 - Isaac Lab's name
-    """Per-env joint friction, armature and position limits, from the values at start-up."""
+    """Per-env joint friction, armature and position limits, from the values at start-up.
+
+    Takes a bool mask too (values drawn for every env, written where it is set). Given env ids, a
+    draw that puts a lower limit above its upper one raises; given a mask (inside a step, with no
+    read back to the host) the lower limit is held at the upper one instead. Armature changes need
+    MuJoCo's ``set_const``, which reads a mask back to the host.
+    """
+
+    takes_env_mask = True
 
     def __init__(self, cfg, env: ManagerBasedEnv):
         super().__init__(cfg, env)
@@ -461,7 +560,7 @@ class randomize_joint_parameters(ManagerTermBase):  # noqa: N801 - Isaac Lab's n
         operation: Literal["add", "scale", "abs"] = "abs",
         distribution: Literal["uniform", "log_uniform", "gaussian"] = "uniform",
     ) -> None:
-        env_ids = _ids(env, env_ids)
+        rows, env_ids = _selection(env, env_ids)
         asset = env.scene[asset_cfg.name]
         joints = _cols(asset_cfg.joint_ids, asset.num_joints, env.device)
         data = asset.data
@@ -469,7 +568,7 @@ class randomize_joint_parameters(ManagerTermBase):  # noqa: N801 - Isaac Lab's n
             value = _joint_values(
                 data.joint_friction_coeff,
                 self._default_friction,
-                env_ids,
+                rows,
                 joints,
                 friction_distribution_params,
                 operation,
@@ -481,7 +580,7 @@ class randomize_joint_parameters(ManagerTermBase):  # noqa: N801 - Isaac Lab's n
             value = _joint_values(
                 data.joint_armature,
                 self._default_armature,
-                env_ids,
+                rows,
                 joints,
                 armature_distribution_params,
                 operation,
@@ -489,19 +588,21 @@ class randomize_joint_parameters(ManagerTermBase):  # noqa: N801 - Isaac Lab's n
                 min_value=0.0,
             )
             asset.write_joint_armature_to_sim(value, env_ids=env_ids)
-            _set_const(env, env_ids)
+            _set_const(env, env_ids.nonzero().flatten() if is_mask(env_ids) else env_ids)
         if lower_limit_distribution_params is not None or upper_limit_distribution_params is not None:
-            limits = data.joint_pos_limits[env_ids]
+            limits = data.joint_pos_limits.clone() if isinstance(rows, slice) else data.joint_pos_limits[rows]
+            default = self._default_limits if isinstance(rows, slice) else self._default_limits[rows]
             for col, params in ((0, lower_limit_distribution_params), (1, upper_limit_distribution_params)):
                 if params is not None:
-                    limits[:, joints, col] = _randomize(
-                        self._default_limits[env_ids][:, joints, col], params, operation, distribution
-                    )
-            if bool((limits[..., 0] > limits[..., 1]).any()):
+                    limits[:, joints, col] = _randomize(default[:, joints, col], params, operation, distribution)
+            if is_mask(env_ids):
+                limits[..., 0] = torch.minimum(limits[..., 0], limits[..., 1])
+            elif bool((limits[..., 0] > limits[..., 1]).any()):
                 raise ValueError("randomize_joint_parameters: a sampled lower joint limit exceeds the upper one")
             asset.write_joint_position_limit_to_sim(limits, env_ids=env_ids)
 
 
+@takes_env_mask
 def randomize_physics_scene_gravity(
     env: ManagerBasedEnv,
     env_ids: torch.Tensor | None,
@@ -511,13 +612,19 @@ def randomize_physics_scene_gravity(
 ) -> None:
     """Per-env gravity vector (``opt.gravity``) from the configured gravity ``cfg.sim.gravity``.
 
-    Isaac Lab's PhysX scene has one gravity for all envs; every MuJoCo world has its own."""
-    env_ids = _ids(env, env_ids)
-    default = torch.tensor(env.cfg.sim.gravity, dtype=torch.float32, device=env.device).repeat(len(env_ids), 1)
-    low = torch.tensor(gravity_distribution_params[0], dtype=torch.float32, device=env.device)
-    high = torch.tensor(gravity_distribution_params[1], dtype=torch.float32, device=env.device)
+    Isaac Lab's PhysX scene has one gravity for all envs; every MuJoCo world has its own. Takes a
+    bool mask too (drawn for every env, written where it is set)."""
+    rows, env_ids = _selection(env, env_ids)
+    count = env.num_envs if isinstance(rows, slice) else len(rows)
+    default = math_utils.constant_tensor(env.cfg.sim.gravity, env.device).expand(count, 3)
+    low = math_utils.constant_tensor(gravity_distribution_params[0], env.device)
+    high = math_utils.constant_tensor(gravity_distribution_params[1], env.device)
     gravity = _randomize(default, (low, high), operation, distribution)
-    env.sim.physics.model_field("opt.gravity")[env_ids] = gravity
+    field = env.sim.physics.model_field("opt.gravity")
+    if is_mask(env_ids):
+        field.copy_(torch.where(env_ids[:, None], gravity, field))
+    else:
+        field[env_ids] = gravity
 
 
 class randomize_fixed_tendon_parameters(ManagerTermBase):  # noqa: N801 - Isaac Lab's name

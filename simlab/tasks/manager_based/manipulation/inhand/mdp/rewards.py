@@ -18,8 +18,15 @@ _OBJECT = SceneEntityCfg("object")
 
 
 def _orientation_error(env: ManagerBasedRLEnv, command_name: str, object_cfg: SceneEntityCfg) -> torch.Tensor:
-    goal_quat_w = env.command_manager.get_term(command_name).command[:, 3:7]
-    return math_utils.quat_error_magnitude(env.scene[object_cfg.name].data.root_quat_w, goal_quat_w)
+    """The object's angle to its goal, computed once per state and goal: the bonus and the tracking term
+    read it in the same step (Python's cache, so a step captured as a graph records one computation)."""
+    command = env.command_manager.get_term(command_name)
+    key = (env.sim.physics.state_version, command.goal_version, object_cfg.name, torch.is_inference_mode_enabled())
+    cache = command.__dict__.setdefault("_orientation_error_cache", {})
+    if command_name not in cache or cache[command_name][0] != key:
+        error = math_utils.quat_error_magnitude(env.scene[object_cfg.name].data.root_quat_w, command.command[:, 3:7])
+        cache[command_name] = (key, error)
+    return cache[command_name][1]
 
 
 def success_bonus(env: ManagerBasedRLEnv, command_name: str, object_cfg: SceneEntityCfg = _OBJECT) -> torch.Tensor:

@@ -10,13 +10,13 @@ a mask is set, so the step can replay as one CUDA graph.
 
 from __future__ import annotations
 
-import math
 from typing import TYPE_CHECKING
 
 import torch
 
 from simlab.managers import CommandTerm
 from simlab.markers import VisualizationMarkers
+from simlab.tasks.direct.inhand_manipulation.inhand_manipulation_env import random_orientation
 from simlab.utils import math as math_utils
 from simlab.utils.env_mask import env_mask, masked_copy_
 
@@ -40,8 +40,9 @@ class InHandReOrientationCommand(CommandTerm):
         self.quat_command_w = torch.zeros(n, 4, device=device)
         self.quat_command_w[:, 0] = 1.0
         self._command = torch.zeros(n, 7, device=device)
-        self._x_unit = torch.tensor([1.0, 0.0, 0.0], device=device).repeat((n, 1))
-        self._y_unit = torch.tensor([0.0, 1.0, 0.0], device=device).repeat((n, 1))
+        self.goal_version = 0
+        """Counts the goal redraws (host side, as ``PhysicsBackend.state_version``): what terms that
+        compute from the goal may cache by."""
         self.metrics["orientation_error"] = torch.zeros(n, device=device)
         self.metrics["position_error"] = torch.zeros(n, device=device)
         self.metrics["consecutive_success"] = torch.zeros(n, device=device)
@@ -70,10 +71,8 @@ class InHandReOrientationCommand(CommandTerm):
     def _resample_command(self, env_ids: torch.Tensor) -> None:
         """New goal orientations where the (num_envs,) mask ``env_ids`` is set."""
         rand = 2.0 * torch.rand((self.num_envs, 2), device=self.device) - 1.0
-        quat = math_utils.quat_mul(
-            math_utils.quat_from_angle_axis(rand[:, 0] * math.pi, self._x_unit),
-            math_utils.quat_from_angle_axis(rand[:, 1] * math.pi, self._y_unit),
-        )
+        quat = random_orientation(rand)  # about x by rand[:, 0] * pi, then about y by rand[:, 1] * pi
+        self.goal_version += 1
         if self.cfg.make_quat_unique:
             quat = math_utils.quat_unique(quat)
         masked_copy_(self.quat_command_w, env_ids, quat)
