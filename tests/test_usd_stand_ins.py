@@ -8,6 +8,7 @@ import os
 import pkgutil
 from pathlib import Path
 
+import mujoco
 import pytest
 import torch
 
@@ -167,3 +168,32 @@ def test_usd_variants_are_refused_on_a_stand_in():
     )
     with pytest.raises(ConfigError, match="variants"):
         _scene(robot=ROBOT_CFGS["franka_panda.xml"].replace(prim_path="{ENV_REGEX_NS}/Robot", spawn=spawn))
+
+
+def test_rough_plane_stands_in_as_a_height_field_the_ray_caster_scans():
+    """Isaac Sim's rough_plane.usd (the ray-caster tutorials' ground) spawns a static height field whose
+    bumps (0 to 10 cm) the ray caster reads."""
+    from simlab.sensors import RayCasterCfg, patterns
+
+    ground = AssetBaseCfg(
+        prim_path="/World/ground",
+        spawn=sim_utils.UsdFileCfg(usd_path=f"{ISAAC_NUCLEUS_DIR}/Environments/Terrains/rough_plane.usd"),
+    )
+    ball = RigidObjectCfg(
+        prim_path="{ENV_REGEX_NS}/Ball",
+        spawn=sim_utils.SphereCfg(radius=0.25, rigid_props=sim_utils.RigidBodyPropertiesCfg(kinematic_enabled=True)),
+        init_state=RigidObjectCfg.InitialStateCfg(pos=(0.0, 0.0, 2.0)),
+    )
+    scanner = RayCasterCfg(
+        prim_path="{ENV_REGEX_NS}/Ball",
+        mesh_prim_paths=["/World/ground"],
+        pattern_cfg=patterns.GridPatternCfg(resolution=0.1, size=(2.0, 2.0)),
+        ray_alignment="yaw",
+    )
+    scene = _scene(ground=ground, ball=ball, scanner=scanner)
+    model = sim_utils.SimulationContext.instance().model
+    assert model.geom("ground").type == mujoco.mjtGeom.mjGEOM_HFIELD and model.geom("ground").bodyid == 0
+    scene.update(0.005)
+    heights = scene["scanner"].data.ray_hits_w[..., 2]
+    assert torch.isfinite(heights).all() and heights.min() >= -1e-4 and heights.max() <= 0.1 + 1e-4
+    assert heights.std() > 0.01  # bumps, not a plane

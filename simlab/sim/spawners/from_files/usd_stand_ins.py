@@ -43,6 +43,13 @@ TABLE_SIZE = (1.2, 1.2, 1.05)
 """simlab's stand-in for the Seattle lab table: a box, its top at the prop's origin as Isaac Lab's table
 (its lift and stack scenes put the robot's base and the objects at z = 0 on it, the ground at -1.05)."""
 
+ROUGH_PLANE_SIZE = 30.0
+"""Side of simlab's stand-in for Isaac Sim's ``Environments/Terrains/rough_plane.usd`` [m], centred on the
+origin (Isaac Lab's ray-caster tutorials place their sensors within 11 m of it)."""
+
+ROUGH_PLANE_BUMPS = 0.1
+"""Highest bump of that stand-in above its base at z = 0 [m]; 0.5 m apart, smooth between (bilinear)."""
+
 
 @dataclass(frozen=True)
 class UsdStandIn:
@@ -145,6 +152,44 @@ def _ground(cfg: UsdFileCfg) -> SpawnerCfg:
     return GroundPlaneCfg(visible=cfg.visible)
 
 
+def _rough_plane(cfg: UsdFileCfg) -> SpawnerCfg:
+    from .from_files_cfg import GroundPlaneCfg
+
+    side = ROUGH_PLANE_SIZE
+    return GroundPlaneCfg(func=_spawn_rough_plane, size=(side, side), visible=cfg.visible)
+
+
+def _spawn_rough_plane(prim_path, cfg, translation=None, orientation=None):
+    """A height field: seeded random bumps every 0.5 m, bilinear between, on a 0.1 m grid."""
+    import mujoco
+    import numpy as np
+
+    from ...simulation_context import current_spec
+    from .from_files import entity_name
+
+    n, coarse = int(cfg.size[0] / 0.1) + 1, int(cfg.size[0] / 0.5) + 1
+    bumps = np.random.default_rng(0).uniform(0.0, 1.0, (coarse, coarse))
+    at = np.linspace(0.0, coarse - 1.0, n)
+    rows = np.stack([np.interp(at, np.arange(coarse), row) for row in bumps])  # (coarse, n)
+    heights = np.stack([np.interp(at, np.arange(coarse), col) for col in rows.T], axis=1)  # (n, n)
+    spec, name = current_spec(), entity_name(prim_path)
+    spec.add_hfield(
+        name=f"{name}/heights",
+        size=[cfg.size[0] / 2, cfg.size[1] / 2, ROUGH_PLANE_BUMPS, 0.1],
+        nrow=n,
+        ncol=n,
+        userdata=heights.reshape(-1).tolist(),
+    )
+    return spec.worldbody.add_geom(
+        name=name,
+        type=mujoco.mjtGeom.mjGEOM_HFIELD,
+        hfieldname=f"{name}/heights",
+        pos=list(translation) if translation is not None else [0.0, 0.0, 0.0],
+        friction=cfg.physics_material.friction(),
+        rgba=[*cfg.color, 1.0],
+    )
+
+
 _ANT = mjcf("ant.xml", "IsaacGymEnvs' nv_ant, as Isaac Lab's")
 _HUMANOID = mjcf("humanoid.xml", "IsaacGymEnvs' nv_humanoid, as Isaac Lab's")
 _FRANKA = mjcf("franka_panda.xml")
@@ -205,6 +250,11 @@ USD_STAND_INS: dict[str, UsdStandIn] = {
     ),
     "Environments/Grid/default_environment.usd": UsdStandIn(
         "sim_utils.GroundPlaneCfg()", _ground, "Isaac Lab's GroundPlaneCfg.usd_path"
+    ),
+    "Environments/Terrains/rough_plane.usd": UsdStandIn(
+        f"a {ROUGH_PLANE_SIZE:.0f} x {ROUGH_PLANE_SIZE:.0f} m height field",
+        _rough_plane,
+        f"simlab's own bumps (seeded, up to {ROUGH_PLANE_BUMPS * 100:.0f} cm), not Isaac Sim's mesh; static",
     ),
 }
 """Nucleus path below ``ISAAC_NUCLEUS_DIR`` -> simlab's model of that asset (docs/porting.md lists it)."""
