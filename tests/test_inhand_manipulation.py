@@ -285,3 +285,51 @@ def test_allegro_direct_step_stays_within_its_kernel_budget():
     assert len(forwards) == 1, "one forward pass per step: the fingertips' poses the observations read (after resets)"
     outside = sum(n for label, n in counter.torch_ops.items() if label != "physics")
     assert outside <= 260, f"{outside} torch kernels per step outside the physics:\n{step_ops.report(counter, 1, 3)}"
+
+
+@pytest.mark.parametrize("task", [ALLEGRO, SHADOW, "simlab/Repose-Cube-Shadow-OpenAI-FF-Direct-v0"])
+def test_contact_buffers_hold_the_cube_squeezed_by_the_closed_hand(task):
+    """The worst case the buffers must hold: the cube at its in-hand position, pressed into the hand by
+    every finger closing on it (world 0: every joint at its upper limit; the others at random points
+    between the default pose and the upper limits). The worlds run on the CPU backend; after every
+    physics step MuJoCo C counts each world's contacts and constraint rows on the task's model. The
+    task's per-world nconmax and njmax (what MuJoCo Warp reserves) hold 1.5 times the peaks: MuJoCo
+    Warp's collision functions are its own, so a pair may give a few more contacts there."""
+    import mujoco
+
+    cfg = parse_env_cfg(task, device="cpu", num_envs=4)
+    cfg.seed = 0
+    env = gym.make(task, cfg=cfg).unwrapped
+    try:
+        env.reset(seed=0)
+        hand, cube, physics = env.hand, env.object, env.sim.physics
+        model, data = env.sim.model, mujoco.MjData(env.sim.model)
+        default, upper = hand.data.default_joint_pos, env.hand_dof_upper_limits
+        share = torch.rand(4, 1, generator=torch.Generator().manual_seed(0))
+        share[0] = 1.0
+        targets = default + share * (upper - default)
+        pose = torch.cat((env.in_hand_pos + env.scene.env_origins, env.object.data.default_root_state[:, 3:7]), -1)
+        cube.write_root_pose_to_sim(pose)
+        cube.write_root_velocity_to_sim(torch.zeros(4, 6))
+        qpos, qvel = physics.data("qpos"), physics.data("qvel")
+        contacts, rows = [0] * 4, [0] * 4
+        for _ in range(round(2.0 / env.physics_dt)):  # 2 s
+            hand.set_joint_position_target(targets)
+            env.scene.write_data_to_sim()
+            env.sim.step(render=False)
+            for world in range(4):
+                data.qpos[:], data.qvel[:] = qpos[world].numpy(), qvel[world].numpy()
+                mujoco.mj_forward(model, data)
+                contacts[world], rows[world] = max(contacts[world], data.ncon), max(rows[world], data.nefc)
+        # the closed hand grips the cube: several of its bodies touch it
+        data.qpos[:] = qpos[0].numpy()
+        mujoco.mj_forward(model, data)
+        cube_body = cube._body_ids[0]
+        pairs = [(model.geom_bodyid[c.geom1], model.geom_bodyid[c.geom2]) for c in data.contact[: data.ncon]]
+        touching = {a if b == cube_body else b for a, b in pairs if cube_body in (a, b)}
+        assert len(touching) >= 4, [model.body(b).name for b in touching]
+        reserved = cfg.sim.mujoco  # peaks measured: Allegro 18 / 89, Shadow 19 / 104, OpenAI-FF 20 / 108
+        assert reserved.nconmax >= 1.5 * max(contacts), f"contacts per world {contacts}, nconmax {reserved.nconmax}"
+        assert reserved.njmax >= 1.5 * max(rows), f"constraint rows per world {rows}, njmax {reserved.njmax}"
+    finally:
+        env.close()
