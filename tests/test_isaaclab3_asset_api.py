@@ -196,6 +196,32 @@ def test_a_rigid_object_collection_takes_3_0_body_writers():
     assert torch.allclose(data.object_lin_vel_w[:, :, 2], torch.tensor([[0.0, 1.5], [0.0, 0.0]]))
 
 
+def test_3_0_robot_configs_are_simlabs_in_3_0_order():
+    """``isaaclab_assets`` -> ``simlab.v3.robots``: a robot's ``rot`` read by 3.0 code is (x, y, z, w), it
+    builds with 3.0's API, and it gives the pose of simlab's 2.x config, which stays as it was."""
+    import simlab.robots as robots2
+    import simlab.v3.robots as robots3
+
+    hand3 = robots3.ALLEGRO_HAND_CFG
+    w, x, y, z = robots2.ALLEGRO_HAND_CFG.init_state.rot  # a turned hand: (w, x, y, z) in 2.x
+    assert hand3.init_state.rot == (x, y, z, w) and robots2.ALLEGRO_HAND_CFG.init_state.rot == (w, x, y, z)
+    assert hand3.class_type is assets3.Articulation and isinstance(hand3, assets3.ArticulationCfg)
+    assert robots3.CARTPOLE_CFG.init_state.rot == (0.0, 0.0, 0.0, 1.0)
+    hand3.spawn.func = None  # a 3.0 config shares nothing with simlab's
+    assert robots2.ALLEGRO_HAND_CFG.spawn.func is not None
+    assert robots3.CART_DOUBLE_PENDULUM_CFG.actuators.keys() == robots2.CART_DOUBLE_PENDULUM_CFG.actuators.keys()
+
+    @configclass
+    class SceneCfg(scene3.InteractiveSceneCfg):
+        hand2 = robots2.ALLEGRO_HAND_CFG.replace(prim_path="{ENV_REGEX_NS}/Hand2")
+        hand3 = robots3.ALLEGRO_HAND_CFG.replace(prim_path="{ENV_REGEX_NS}/Hand3")
+
+    _, scene = _scene(SceneCfg, num_envs=1)
+    quat2, quat3 = scene["hand2"].data.root_quat_w, scene["hand3"].data.root_quat_w
+    assert torch.allclose(quat3, quat2, atol=1e-5) and torch.allclose(quat2[0], torch.tensor([w, x, y, z]), atol=1e-5)
+    assert torch.allclose(quat3.torch[0], torch.tensor(hand3.init_state.rot), atol=1e-5)
+
+
 def test_the_3_0_articulation_tutorial_runs():
     """Isaac Lab 3.0's run_articulation.py (tests/ported3): resets through default_root_pose and the
     _index writers, drives through actuators.target_command."""

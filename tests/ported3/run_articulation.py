@@ -5,10 +5,11 @@
 #
 # Isaac Lab 3.0's scripts/tutorials/01_assets/run_articulation.py, ported by the 3.0 mapping
 # (docs/porting_3.md: isaaclab.app / .sim -> simlab.app / .sim, isaaclab.assets -> simlab.v3.assets,
-# isaaclab_assets -> simlab.robots). Lines that differ besides the imports: the body of ``design_scene``,
-# where 3.0 clones two origins with ``isaaclab.cloner`` (clone_plan_from_env_0, replicate), which simlab
-# does not map; it makes the two origin groups as the 2.x tutorial does. ``run_simulator`` and ``main`` are
-# 3.0's text: ``data.default_root_pose.torch``, ``write_root_pose_to_sim_index(root_pose=...)``,
+# isaaclab_assets -> simlab.v3.robots). Lines that differ besides the imports, in ``design_scene``: 3.0
+# clones two origins with ``isaaclab.cloner`` (clone_plan_from_env_0, replicate), which simlab does not map;
+# here the two origin groups are made as the 2.x tutorial does, and the cart-poles' prim path names them.
+# The robot is built as 3.0 builds it, ``cartpole_cfg.class_type(cartpole_cfg)``. ``run_simulator`` and ``main``
+# are 3.0's text: ``data.default_root_pose.torch``, ``write_root_pose_to_sim_index(root_pose=...)``,
 # ``write_joint_position_to_sim_index(position=...)``, ``actuators.target_command.set_effort_index(value=...)``.
 # tests/test_isaaclab3_asset_api.py runs it.
 
@@ -51,7 +52,7 @@ from simlab.v3.assets import Articulation, AssetBaseCfg  # noqa: E402
 ##
 # Pre-defined configs
 ##
-from simlab.robots import CARTPOLE_CFG  # isort:skip  # noqa: E402
+from simlab.v3.robots import CARTPOLE_CFG  # isort:skip  # noqa: E402
 
 
 def design_scene(sim: SimulationContext) -> tuple[dict, torch.Tensor]:
@@ -68,7 +69,7 @@ def design_scene(sim: SimulationContext) -> tuple[dict, torch.Tensor]:
     cartpole_cfg = CARTPOLE_CFG.replace(prim_path="/World/Origin.*/Robot")
     ground_cfg.spawn.func(ground_cfg.prim_path, ground_cfg.spawn)
     light_cfg.spawn.func(light_cfg.prim_path, light_cfg.spawn)
-    cartpole = Articulation(cartpole_cfg)
+    cartpole = cartpole_cfg.class_type(cartpole_cfg)
 
     return {"cartpole": cartpole}, torch.tensor(origins, device=sim.device)
 

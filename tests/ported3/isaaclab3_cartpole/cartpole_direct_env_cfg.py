@@ -12,11 +12,11 @@ from __future__ import annotations
 
 import math
 
-from simlab.robots.cartpole import CARTPOLE_CFG
 from simlab.sim import SimulationCfg
 from simlab.utils.configclass import configclass
 from simlab.v3.assets import ArticulationCfg
 from simlab.v3.envs import DirectRLEnvCfg
+from simlab.v3.robots import CARTPOLE_CFG
 from simlab.v3.scene import InteractiveSceneCfg
 
 
