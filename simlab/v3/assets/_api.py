@@ -86,7 +86,7 @@ def _take(method: str, kwargs: dict[str, Any], names: tuple[str, ...], selectors
 
 
 def _index_writer(base: str, names: tuple[str, ...], quat_at: int | None, item: str | None) -> Callable:
-    """``<base>_index(*, <names>, [<item>_ids=], env_ids=)``: simlab's ``<base>(*values, [ids,] env_ids)``."""
+    """``<base>_index(*, <names>, [<item>_ids=], env_ids=)``: simlab's ``<base>(*values, env_ids=, [<item>_ids=])``."""
     method = f"{base}_index"
     selectors = ("env_ids",) if item is None else (f"{item}_ids", "env_ids")
 
