@@ -13,15 +13,15 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def run_script(relative: str, *args: str) -> str:
-    env = dict(os.environ, PYTHONUNBUFFERED="1")
+def run_script(relative: str, *args: str, cwd: Path = ROOT, **env_vars: str) -> str:
+    env = dict(os.environ, PYTHONUNBUFFERED="1", **env_vars)
     result = subprocess.run(
         [sys.executable, str(ROOT / relative), "--headless", "--device", "cpu", *args],
         capture_output=True,
         text=True,
         timeout=300,
         env=env,
-        cwd=ROOT,
+        cwd=cwd,
     )
     assert result.returncode == 0, result.stdout[-2000:] + result.stderr[-2000:]
     return result.stdout
@@ -102,3 +102,57 @@ def test_quadruped_base_env_tutorial_stands_anymal_on_rough_terrain():
     # the base starts 0.6 m up; holding the default pose (no policy given) the legs sag under
     # ANYdrive's 40 N m/rad PD gains (to about 0.22 m here) but keep the base above the scanned terrain
     assert 0.4 < heights[0] < 0.7 and min(heights) > 0.15, (heights[0], min(heights))
+
+
+def test_launch_app_tutorial_takes_its_own_flags_beside_the_launchers():
+    out = run_script(
+        "scripts/tutorials/00_sim/launch_app.py", "--size", "0.5", "--width", "640", "--height", "480",
+        "--max_app_steps", "20",
+    )  # fmt: skip
+    assert "Setup complete" in out and "Cuboid of 0.5 m, view 640 x 480" in out
+
+
+def test_log_time_tutorial_logs_the_time_of_every_step(tmp_path):
+    out = run_script("scripts/tutorials/00_sim/log_time.py", "--max_app_steps", "50", cwd=tmp_path)
+    log = tmp_path / "logs" / "docker_tutorial" / "log.txt"
+    assert f"Logging experiment to directory: {log.parent}" in out
+    times = [float(t) for t in log.read_text().split()]
+    assert len(times) == 50 and times[0] == 0.0
+    assert max(abs(t - 0.01 * i) for i, t in enumerate(times)) < 1e-9  # one line per 0.01 s step
+
+
+def test_add_sensors_on_robot_tutorial_reads_camera_scanner_and_feet():
+    import mujoco
+
+    out = run_script(
+        "scripts/tutorials/04_sensors/add_sensors_on_robot.py", "--enable_cameras", "--max_app_steps", "120"
+    )
+    assert out.count("Resetting robot state") == 1
+    assert out.count("Received shape of rgb   image:  torch.Size([2, 480, 640, 3])") == 120
+    assert out.count("Received shape of depth image:  torch.Size([2, 480, 640, 1])") == 120
+    heights = [float(h) for h in re.findall(r"Received max height value:  ([-\d.e]+)", out)]
+    forces = [float(f) for f in re.findall(r"Received max contact force of:  ([-\d.e]+)", out)]
+    assert len(heights) == len(forces) == 120
+    assert all(abs(h) < 1e-4 for h in heights)  # the flat ground under the scanner
+    assert forces[:10] == [0.0] * 10  # dropped from 0.6 m: the feet touch nothing yet
+    # standing in the default pose, each foot carries about a quarter of ANYmal-C's weight
+    model = mujoco.MjModel.from_xml_path(str(ROOT / "simlab/robots/assets/anybotics_anymal_c.xml"))
+    quarter = model.body_mass.sum() * 9.81 / 4
+    assert abs(forces[-1] - quarter) < 0.1 * quarter, (forces[-1], quarter)
+    assert "ContactSensor @ '/World/envs/env_.*/Robot/.*_FOOT': 4 bodies" in out
+
+
+def test_frame_transformer_tutorial_runs_bounded_by_the_environment():
+    """Its AppLauncher(headless=...) takes no --max_app_steps: SIMLAB_MAX_APP_STEPS bounds the loop."""
+    out = run_script("scripts/tutorials/04_sensors/run_frame_transformer.py", SIMLAB_MAX_APP_STEPS="30")
+    assert "Setup complete" in out and "18 target frames" in out  # 17 bodies and LF_FOOT_USER
+
+
+def test_ray_caster_tutorial_scans_the_rough_plane_from_four_balls():
+    out = run_script("scripts/tutorials/04_sensors/run_ray_caster.py", "--max_app_steps", "60")
+    updates = re.findall(r"Ray-caster update with 4 x (\d+) rays with max height of ([\d.]+): [\d.e-]+ seconds", out)
+    assert len(updates) == 60 and all(rays == "441" for rays, _ in updates)  # a 2 x 2 m grid at 0.1 m
+
+
+def test_create_empty_tutorial_runs():
+    assert "Setup complete" in run_script("scripts/tutorials/00_sim/create_empty.py", "--max_app_steps", "20")
