@@ -1,9 +1,9 @@
 """Spawn a ground plane, a light, cones (visual and rigid) and a cuboid, then step the physics.
 
 The Isaac Lab (2.x) tutorial of the same name with ``isaaclab`` imports replaced by ``simlab`` and
-``isaacsim.core.utils.prims`` by ``simlab.sim.utils``; two lines differ because MuJoCo cannot do
-what they ask: the cuboid has no ``deformable_props`` (simlab's bodies are rigid; with them
-``MeshCuboidCfg`` says so), and the table is an MJCF box, not a USD file from Nucleus.
+``isaacsim.core.utils.prims`` by ``simlab.sim.utils``; one line differs because MuJoCo cannot do
+what it asks: the cuboid has no ``deformable_props`` (simlab's bodies are rigid; with them
+``MeshCuboidCfg`` says so). The table's Nucleus USD path spawns simlab's stand-in for it.
 
     python scripts/tutorials/00_sim/spawn_prims.py --headless --device cpu --max_app_steps 200
 """
@@ -20,6 +20,7 @@ simulation_app = app_launcher.app
 
 import simlab.sim as sim_utils  # noqa: E402
 import simlab.sim.utils as prim_utils  # noqa: E402
+from simlab.utils.assets import ISAAC_NUCLEUS_DIR  # noqa: E402
 
 
 def design_scene():
@@ -63,11 +64,9 @@ def design_scene():
     )
     cfg_cuboid.func("/World/Objects/CuboidDeformable", cfg_cuboid, translation=(0.15, 0.0, 2.0))
 
-    # a table (Isaac Lab spawns table_instanceable.usd from Nucleus): a static box of its size
-    cfg_table = sim_utils.CuboidCfg(
-        size=(1.0, 1.6, 0.1), visual_material=sim_utils.PreviewSurfaceCfg(diffuse_color=(0.6, 0.5, 0.4))
-    )
-    cfg_table.func("/World/Objects/Table", cfg_table, translation=(0.0, 0.0, 1.05))
+    # spawn a usd file of a table into the scene (simlab stands in its 1.05 m high box, docs/porting.md)
+    cfg = sim_utils.UsdFileCfg(usd_path=f"{ISAAC_NUCLEUS_DIR}/Props/Mounts/SeattleLabTable/table_instanceable.usd")
+    cfg.func("/World/Objects/Table", cfg, translation=(0.0, 0.0, 1.05))
 
 
 def main():
