@@ -38,7 +38,7 @@ class DebugDraw:
         """Add lines from each start to each end point, with one colour and thickness [px] each."""
         starts, ends = _rows(start_point_list, 3, "start_point_list"), _rows(end_point_list, 3, "end_point_list")
         colors, sizes = _rows(color_list, 4, "color_list"), np.asarray(size_list, dtype=np.float64).reshape(-1, 1)
-        _same_count(draw_lines=(starts, ends, colors, sizes))
+        _same_count("draw_lines", starts, ends, colors, sizes)
         self._lines = np.concatenate([self._lines, np.hstack([starts, ends, colors, sizes])])
 
     def draw_points(
@@ -47,7 +47,7 @@ class DebugDraw:
         """Add points with one colour and size [px] each."""
         points, colors = _rows(point_list, 3, "point_list"), _rows(color_list, 4, "color_list")
         sizes = np.asarray(size_list, dtype=np.float64).reshape(-1, 1)
-        _same_count(draw_points=(points, colors, sizes))
+        _same_count("draw_points", points, colors, sizes)
         self._points = np.concatenate([self._points, np.hstack([points, colors, sizes])])
 
     def clear_lines(self) -> None:
@@ -97,11 +97,10 @@ def _rows(values, width: int, name: str) -> np.ndarray:
     return rows
 
 
-def _same_count(**call: tuple[np.ndarray, ...]) -> None:
-    ((name, arrays),) = call.items()
-    counts = [len(a) for a in arrays]
+def _same_count(call: str, *lists: np.ndarray) -> None:
+    counts = [len(rows) for rows in lists]
     if len(set(counts)) > 1:
-        raise ValueError(f"{name}: the lists must be equally long (one entry per item), got lengths {counts}.")
+        raise ValueError(f"{call}: the lists must be equally long (one entry per item), got lengths {counts}.")
 
 
 def _in_env(positions: np.ndarray, env_index: int, origins: np.ndarray | None) -> np.ndarray:
