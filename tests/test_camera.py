@@ -101,6 +101,28 @@ def test_camera_outputs_poses_and_intrinsics():
 
 
 @needs_gl
+def test_pointcloud_from_depth_lands_on_the_cart():
+    """Isaac Lab's ``camera.utils.create_pointcloud_from_depth``: the pixels that hit, unprojected and placed
+    by the camera's ROS pose, lie on what the camera sees (the cart's front face 0.1 m before the rail)."""
+    from simlab.sensors.camera.utils import create_pointcloud_from_depth
+
+    sim, scene = cartpole_scene(front_camera(["distance_to_image_plane"]))
+    data = scene["camera"].data
+    depth, k = data.output["distance_to_image_plane"][0], data.intrinsic_matrices[0]
+    hit = torch.isfinite(depth)
+    points = create_pointcloud_from_depth(k, depth, position=data.pos_w[0], orientation=data.quat_w_ros[0])
+    assert points.shape == (int(hit.sum()), 3) and torch.isfinite(points).all()
+    front = scene.env_origins[0, 0] - 0.1
+    assert abs(points[:, 0].min().item() - front.item()) < 0.02 and (points[:, 0] < front + 0.3).all()
+    # NumPy in, NumPy out; in the camera frame (ROS: +z forward) each point's z is its pixel's depth
+    local = create_pointcloud_from_depth(k.numpy(), depth.numpy())
+    assert isinstance(local, np.ndarray)
+    np.testing.assert_allclose(np.sort(local[:, 2]), np.sort(depth[hit].numpy()), rtol=1e-6)
+    kept = create_pointcloud_from_depth(k, depth, keep_invalid=True)
+    assert kept.shape == (48 * 64, 3)
+
+
+@needs_gl
 def test_segmentation_ids_name_bodies():
     camera = front_camera(["semantic_segmentation"], colorize_semantic_segmentation=False, width=160, height=120)
     _, scene = cartpole_scene(camera)

@@ -3,4 +3,4 @@
 from .camera import DATA_TYPES, Camera, TiledCamera
 from .camera_cfg import CameraCfg, TiledCameraCfg
 from .camera_data import CameraData
-from .utils import save_images_to_file, tile_images
+from .utils import create_pointcloud_from_depth, save_images_to_file, tile_images

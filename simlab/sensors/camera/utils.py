@@ -1,4 +1,5 @@
-"""Camera images as pictures a person can look at: several envs tiled into one PNG."""
+"""Camera helpers (Isaac Lab's ``isaaclab.sensors.camera.utils``): images as pictures a person can look
+at (several envs tiled into one PNG), and point clouds from depth images."""
 
 from __future__ import annotations
 
@@ -55,3 +56,34 @@ def save_images_to_file(images: torch.Tensor, file_path: str) -> None:
     if folder:
         os.makedirs(folder, exist_ok=True)
     iio.imwrite(file_path, tile_images(images))
+
+
+def create_pointcloud_from_depth(
+    intrinsic_matrix: torch.Tensor | np.ndarray,
+    depth: torch.Tensor | np.ndarray,
+    keep_invalid: bool = False,
+    position: torch.Tensor | np.ndarray | None = None,
+    orientation: torch.Tensor | np.ndarray | None = None,
+    device: torch.device | str | None = None,
+) -> torch.Tensor | np.ndarray:
+    """Points (P, 3) seen in one depth image (H, W) or (H, W, 1) of ``distance_to_image_plane``.
+
+    The points are in the camera's frame, or in the world frame when the camera's ``position`` and
+    ``orientation`` (ROS convention, ``data.quat_w_ros``) are given. Pixels without a finite depth
+    (nothing hit) are dropped unless ``keep_invalid``. A NumPy depth gives NumPy points, as Isaac Lab's.
+    """
+    from simlab.utils.array import convert_to_torch
+    from simlab.utils.math import transform_points, unproject_depth
+
+    is_numpy = isinstance(depth, np.ndarray)
+    depth = convert_to_torch(depth, dtype=torch.float32, device=device or ("cpu" if is_numpy else None))
+    device = depth.device
+    intrinsic_matrix = convert_to_torch(intrinsic_matrix, dtype=torch.float32, device=device)
+    if position is not None:
+        position = convert_to_torch(position, dtype=torch.float32, device=device)
+    if orientation is not None:
+        orientation = convert_to_torch(orientation, dtype=torch.float32, device=device)
+    points = transform_points(unproject_depth(depth, intrinsic_matrix), position, orientation)
+    if not keep_invalid:
+        points = points[torch.isfinite(points).all(dim=1)]
+    return points.detach().cpu().numpy() if is_numpy else points
