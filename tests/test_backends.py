@@ -321,3 +321,33 @@ def test_warp_contact_overflow_names_the_setting_on_the_cpu() -> None:
     small.step(50)
     with pytest.raises(RuntimeError, match=r"nconmax \* num_envs; raise SimulationCfg\.mujoco\.nconmax \(now 1 per"):
         small.check_overflow()
+
+
+def test_warp_kinematics_pass_gives_the_forward_pass_body_poses_on_the_cpu() -> None:
+    """Reading body poses runs MuJoCo Warp's kinematics, centre-of-mass and velocity passes only
+    (Warp's CPU device, so CI runs it): bit for bit the poses and velocities a forward pass gives;
+    the rest of the forward pass waits for ensure_forward."""
+    try:
+        from simlab.sim.backends.cuda import CudaBackend
+    except ImportError as err:
+        pytest.skip(f"mujoco-warp is not installed: {err}")
+    sim = CudaBackend(_spheres(3), 2, device="cpu", overflow_check_interval=0)
+    sim.data("qvel")[:, 0:6] = torch.tensor([0.3, 0.0, 0.0, 0.0, 2.0, 1.0])  # one sphere moving and turning
+    fields = ("xpos", "xquat", "xipos", "subtree_com", "cvel")
+    for _ in range(3):
+        sim.step(5, forward=False)
+        assert sim.kinematics_stale and sim.is_stale
+        sim.ensure_kinematics()
+        assert not sim.kinematics_stale and sim.is_stale  # no collision or constraints yet
+        poses = {name: sim.data(name).clone() for name in fields}
+        sim.ensure_forward()
+        assert not sim.is_stale
+        for name in fields:
+            torch.testing.assert_close(sim.data(name), poses[name], rtol=0, atol=0, msg=name)
+    sim.step(1, forward=False)
+    calls = []
+    sim._run = lambda key, body: calls.append(key)
+    sim.ensure_kinematics()
+    sim.ensure_kinematics()  # current: nothing runs
+    sim.ensure_forward()
+    assert calls == ["kinematics", "forward"]

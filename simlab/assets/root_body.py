@@ -254,8 +254,8 @@ class RootedAssetData:
     """Live views of an asset's state. Read every step; nothing here is cached.
 
     Joint and root states are MuJoCo's ``qpos``/``qvel`` themselves. Body poses and velocities
-    are derived quantities: reading one first forwards the worlds whose state changed since
-    (``PhysicsBackend.ensure_forward``), so they are always current and cost nothing when unread.
+    are derived quantities: reading one first brings the worlds whose state changed since up to
+    date (``PhysicsBackend.ensure_kinematics``), so they are always current and cost nothing when unread.
     """
 
     GRAVITY_VEC_W = None
@@ -295,8 +295,9 @@ class RootedAssetData:
         return value
 
     def _derived(self, field: torch.Tensor) -> torch.Tensor:
-        """``field`` (a derived MjData tensor) once it matches the current state."""
-        self._physics.ensure_forward()
+        """``field`` (a body pose or velocity MjData tensor) once it matches the current state (the
+        backend's kinematics pass: no collision or constraint work for a pose)."""
+        self._physics.ensure_kinematics()
         return field
 
     # root ------------------------------------------------------------------------------------------
@@ -396,7 +397,7 @@ class RootedAssetData:
     def body_lin_vel_w(self) -> torch.Tensor:
         # cvel's linear part is the velocity of the point at the kinematic tree's centre of mass.
         ids = self._asset._body_index
-        self._physics.ensure_forward()
+        self._physics.ensure_kinematics()
         offset = self._xpos[:, ids] - self._subtree_com[:, self._rootids]
         return self._cvel[:, ids, 3:6] + torch.cross(self._cvel[:, ids, 0:3], offset, dim=-1)
 

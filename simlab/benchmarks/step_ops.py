@@ -171,6 +171,8 @@ def instrument(env, counter: LaunchCounter) -> None:
         counter.count_graph_replays(physics)
         physics._graphs.clear()  # captured again under the counter (some were captured while building the env)
     wrap(physics, "forward", "physics forward (derived quantities the MDP reads)")
+    if hasattr(physics, "_kinematics"):
+        wrap(physics, "_kinematics", "physics kinematics (body poses the MDP reads)")
     wrap(physics, "reset", "physics reset")
     wrap(physics, "restart", "env (diverged worlds)")
     # scene: assets, their actuators, sensors

@@ -24,8 +24,11 @@ Simulation semantics shared by all backends:
 Derived quantities are computed when first read, as Isaac Lab's lazy data buffers are. A step
 without its final forward, or a state write announced with ``mark_stale(env_ids)``, leaves the
 worlds *stale*; ``ensure_forward()`` forwards the stale worlds, if any, and is called by every
-reader of derived quantities (asset data, sensors). A step whose observations and rewards read
-only joint states therefore runs no forward at all: the physics work equals ``mj_step``'s.
+reader of derived quantities (sensors). Readers of body poses and velocities only (asset data) call
+``ensure_kinematics()``, which runs just the kinematics, centre-of-mass and velocity passes on a
+backend that has them (MuJoCo Warp: no collision, constraints or accelerations) and leaves the rest
+stale. A step whose observations and rewards read only joint states therefore runs no forward at
+all: the physics work equals ``mj_step``'s.
 Forward is a pure function of the state, so when it runs changes no value and no trajectory.
 What the last physics step applied (``qacc``, ``actuator_force``, the contact forces in
 ``cfrc_ext``) is read as that step left it, without a forward: a forward would recompute it at the
@@ -163,6 +166,30 @@ class PhysicsBackend(ABC):
         elif self._any_stale:
             self.forward(self._stale.nonzero().flatten())
             self._clear_stale()
+
+    @property
+    def kinematics_stale(self) -> bool:
+        """Whether some world's body poses and velocities lag its state (``ensure_kinematics``)."""
+        return self.is_stale and getattr(self, "_kinematics_version", None) != self.state_version
+
+    def ensure_kinematics(self) -> None:
+        """Bring the bodies' poses and velocities (``xpos``, ``xquat``, ``xmat``, ``xipos``,
+        ``subtree_com``, ``cvel``, site and geom poses) up to the state, if some world lags it: what
+        reading body poses needs. A backend with a kinematics pass (``_kinematics``) runs only that,
+        not collision, constraints and accelerations; the worlds stay stale for the rest, which
+        ``ensure_forward`` computes when something reads it. Others run the forward pass."""
+        if not self.kinematics_stale:
+            return
+        if type(self)._kinematics is PhysicsBackend._kinematics:
+            self.ensure_forward()
+        else:
+            self._kinematics()
+            self._kinematics_version = self.state_version  # until the state changes again
+
+    def _kinematics(self) -> None:
+        """Recompute the fields ``ensure_kinematics`` names in every world (optional: a backend
+        without it forwards)."""
+        raise NotImplementedError
 
     def _clear_stale(self) -> None:
         self._stale_all = False
