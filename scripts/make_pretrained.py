@@ -148,7 +148,10 @@ class OverBudget(RuntimeError):
 
 
 SAVE_GRACE_S = 120.0  # how long a training stopped by the budget may take to save its checkpoint
-RUN_NAME = "make_pretrained"  # the training's run folder: <log_root>/<library>/<experiment>/<time>_make_pretrained
+# The training's run folder: <log_root>/<library>/<experiment>/<time>_<pid>_make_pretrained. The
+# process id keeps two make_pretrained processes sharing a log root (on one GPU) from judging each
+# other's checkpoints.
+RUN_NAME = f"{os.getpid()}_make_pretrained"
 
 
 def stop_and_save(child: subprocess.Popen, log_root: str, started: float) -> str | None:

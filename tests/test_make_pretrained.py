@@ -347,3 +347,18 @@ def test_a_policy_whose_int8_replay_misses_the_criterion_is_stored_as_float16(tm
     for key, value in stored["actor_state_dict"].items():
         assert value.dtype == torch.float32
         torch.testing.assert_close(value, original[key], rtol=1e-3, atol=1e-4)  # float16's precision
+
+
+def test_a_batch_judges_only_its_own_checkpoints_in_a_shared_log_root(tmp_path):
+    """Two make_pretrained processes training on one GPU into one log root: each finds only the
+    checkpoints of its own runs (on an H200, a Spot batch judged a Go1 batch's checkpoints)."""
+    import time
+
+    script = _script()
+    started = time.time() - 1
+    ours = tmp_path / "rsl_rl" / "spot_flat" / f"2026-12-06_20-51-31_{script.RUN_NAME}"
+    theirs = tmp_path / "rsl_rl" / "unitree_go1_flat" / "2026-12-06_20-51-30_999999_make_pretrained"
+    for run in (ours, theirs):
+        run.mkdir(parents=True)
+        (run / "model_25.pt").write_bytes(b"")
+    assert script.run_checkpoints(str(tmp_path), started) == [str(ours / "model_25.pt")]
