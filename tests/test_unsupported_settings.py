@@ -17,7 +17,7 @@ from simlab.assets import AssetBaseCfg
 from simlab.envs import ManagerBasedRLEnv
 from simlab.robots.cartpole import CARTPOLE_CFG
 from simlab.scene import InteractiveScene, InteractiveSceneCfg
-from simlab.sensors import ContactSensorCfg, FrameTransformerCfg
+from simlab.sensors import FrameTransformerCfg, ImuCfg
 from simlab.tasks.manager_based.classic.cartpole.cartpole_env_cfg import CartpoleEnvCfg, CartpoleSceneCfg
 from simlab.utils import configclass
 from simlab.utils.errors import ConfigError
@@ -94,9 +94,9 @@ def test_debug_vis_on_assets_and_sensors_is_refused():
     @configclass
     class SensorSceneCfg(InteractiveSceneCfg):
         robot = CARTPOLE_CFG.replace(prim_path="{ENV_REGEX_NS}/Robot")
-        contacts = ContactSensorCfg(prim_path="{ENV_REGEX_NS}/Robot/.*", debug_vis=True)
+        imu = ImuCfg(prim_path="{ENV_REGEX_NS}/Robot/pole", debug_vis=True)  # contact sensors draw theirs
 
-    with pytest.raises(ConfigError, match=r"ContactSensorCfg\(.*\).debug_vis=True .*ContactSensor draws no debug"):
+    with pytest.raises(ConfigError, match=r"ImuCfg\(.*\).debug_vis=True .*Imu draws no debug"):
         build_scene(SensorSceneCfg(num_envs=2, env_spacing=4.0))
 
 
