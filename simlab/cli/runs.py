@@ -10,6 +10,7 @@ import sys
 from datetime import datetime
 from typing import Any
 
+from simlab.envs.utils.spaces import replace_env_cfg_spaces_with_strings, replace_strings_with_env_cfg_spaces
 from simlab.utils.errors import StorageError
 from simlab.utils.io import dump_yaml, load_yaml, write_text
 
@@ -65,7 +66,12 @@ def make_run_dir(log_root: str, library: str, experiment: str, run_name: str = "
 def dump_params(run_dir: str, env_cfg: Any, agent_cfg: Any, argv: list[str] | None = None) -> None:
     """Write ``params/env.yaml``, ``params/agent.yaml`` and the command line ``params/command.txt``."""
     params = os.path.join(run_dir, "params")
-    dump_yaml(os.path.join(params, "env.yaml"), env_cfg)
+    # Gymnasium spaces are written as Isaac Lab writes them (JSON strings), then put back
+    replace_env_cfg_spaces_with_strings(env_cfg)
+    try:
+        dump_yaml(os.path.join(params, "env.yaml"), env_cfg)
+    finally:
+        replace_strings_with_env_cfg_spaces(env_cfg)
     dump_yaml(os.path.join(params, "agent.yaml"), agent_cfg)
     argv = sys.argv if argv is None else argv
     command = shlex.join(["simlab" if a.endswith(("simlab", "__main__.py")) else a for a in argv[:1]] + argv[1:])

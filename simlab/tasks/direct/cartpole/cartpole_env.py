@@ -77,6 +77,16 @@ class CartpoleEnv(DirectRLEnv):
     def _apply_action(self) -> None:
         self.cartpole.set_joint_effort_target(self.actions, joint_ids=self._cart_dof_idx)
 
+    @property
+    def joint_pos(self) -> torch.Tensor:
+        """The joint positions (num_envs, 2) now (Isaac Lab's attribute, read by its subclasses)."""
+        return self.cartpole.data.joint_pos
+
+    @property
+    def joint_vel(self) -> torch.Tensor:
+        """The joint velocities (num_envs, 2) now."""
+        return self.cartpole.data.joint_vel
+
     def _joint_states(self) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor, torch.Tensor]:
         """Pole angle, pole velocity, cart position, cart velocity; each (num_envs,)."""
         joint_pos, joint_vel = self.cartpole.data.joint_pos, self.cartpole.data.joint_vel

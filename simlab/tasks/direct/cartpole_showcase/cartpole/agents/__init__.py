@@ -1,0 +1,1 @@
+"""Agent configs of the spaces showcase (skrl only, as Isaac Lab has them)."""
