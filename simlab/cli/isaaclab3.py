@@ -79,6 +79,7 @@ def _physics(name: str, args: argparse.Namespace) -> None:
             )
         args.device = "cpu"
     args.engine = engine
+    args.physics = name  # also chooses the task's physics presets (simlab.tasks.utils.presets)
     print(f"[simlab] physics={name} -> sim.engine={engine}" + (" on the CPU" if engine == "mujoco" else ""))
 
 
@@ -94,6 +95,7 @@ def apply_selectors(args: argparse.Namespace, selectors: dict[str, str]) -> None
     from the selectors; refuse names simlab cannot honour."""
     args.engine = getattr(args, "engine", None)
     args.renderer = getattr(args, "renderer", None)
+    args.physics = None
     args.presets = []
     for key, apply in (("physics", _physics), ("renderer", _renderer)):
         if key in selectors:

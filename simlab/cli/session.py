@@ -138,15 +138,22 @@ def load_configs(args: argparse.Namespace, overrides: list[str], with_agent: boo
     As in Isaac Lab's scripts, a flag that is given (``--num_envs``, ``--device``, ``--seed``)
     wins over the same setting in an override.
     """
+    from simlab.tasks.utils.parse_cfg import split_presets
+    from simlab.tasks.utils.presets import select_presets
     from simlab.utils.device import resolve_device
 
-    presets = getattr(args, "presets", None) or ()  # Isaac Lab 3.0's presets= (simlab.cli.isaaclab3)
-    env_cfg = load_cfg_from_registry(args.task, "env_cfg_entry_point", presets)
+    # Isaac Lab 3.0's presets= (simlab.cli.isaaclab3): the task's registered variants pick its entry
+    # points, the other names the alternatives of the PresetCfg slots inside its configs
+    registered, in_config, table = split_presets(args.task, getattr(args, "presets", None) or ())
+    env_cfg = load_cfg_from_registry(args.task, "env_cfg_entry_point", registered)
     agent_cfg = None
     if with_agent:
         _default_to_amp(args)
         entry_point = getattr(args, "agent", None) or agent_entry_point(args.library, args.algorithm)
-        agent_cfg = load_cfg_from_registry(args.task, entry_point, presets)
+        agent_cfg = load_cfg_from_registry(args.task, entry_point, registered)
+    env_cfg, agent_cfg, overrides = select_presets(
+        env_cfg, agent_cfg, in_config, getattr(args, "physics", None), overrides, table, args.task
+    )
     apply_overrides(env_cfg, agent_cfg, overrides)
     if with_agent:
         _check_policy_group(env_cfg, agent_cfg)

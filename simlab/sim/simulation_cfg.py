@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import field
-from typing import TYPE_CHECKING, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 from simlab.utils import configclass
 
@@ -135,5 +135,9 @@ class SimulationCfg:
     takes the larger friction of two touching geoms, whatever the combine mode."""
     physx: PhysxCfg = PhysxCfg()
     """PhysX's settings, accepted for Isaac Lab's configs and not used (see :class:`PhysxCfg`)."""
+    physics: Any = None
+    """Isaac Lab 3.0's physics backend config (:mod:`simlab.sim.physics`), or a preset of several: a
+    MuJoCo Warp config (``NewtonCfg(solver_cfg=MJWarpSolverCfg(...))``) sets :attr:`mujoco`'s options
+    when the simulation starts; another backend's is held and not used; None keeps :attr:`mujoco`."""
     render: RenderCfg = RenderCfg()
     """Isaac Lab's renderer settings: antialiasing and shadows map to MuJoCo's renderer (see :class:`RenderCfg`)."""

@@ -38,6 +38,33 @@ _SOLVERS = {"newton": mujoco.mjtSolver.mjSOL_NEWTON, "cg": mujoco.mjtSolver.mjSO
 _CONES = {"pyramidal": mujoco.mjtCone.mjCONE_PYRAMIDAL, "elliptic": mujoco.mjtCone.mjCONE_ELLIPTIC}
 
 
+def _with_physics(cfg: SimulationCfg) -> SimulationCfg:
+    """``cfg`` with Isaac Lab 3.0's ``physics`` config applied (:mod:`simlab.sim.physics`): a preset left
+    unresolved takes its default; MuJoCo Warp's solver settings become ``cfg.mujoco``'s; another
+    backend's config is held, unused, with a note."""
+    from simlab.utils.presets import PresetCfg, resolve_presets
+
+    from .physics import foreign_physics, mujoco_options
+
+    if isinstance(cfg.physics, PresetCfg):
+        cfg.physics, _ = resolve_presets(cfg.physics)
+    foreign = foreign_physics(cfg.physics)
+    if foreign is not None:
+        warn_once(
+            f"SimulationCfg.physics is {foreign}'s config ({type(cfg.physics).__name__}); simlab simulates "
+            "with MuJoCo and its own options (sim.mujoco). Choose physics=newton_mjwarp for the task's MuJoCo settings."
+        )
+        return cfg
+    options = mujoco_options(cfg.physics)
+    if options is not None:
+        cfg.mujoco = cfg.mujoco.replace(**options)
+        if cfg.physics.solver_cfg.use_mujoco_cpu and cfg.engine == "auto":
+            cfg.engine = "mujoco"
+        if not cfg.physics.use_cuda_graph:
+            cfg.use_cuda_graph = False
+    return cfg
+
+
 def _choice(table: dict, value: str, what: str):
     if value not in table:
         raise ValueError(f"Unknown MuJoCo {what} '{value}'; allowed: {sorted(table)}")
@@ -59,7 +86,7 @@ class SimulationContext:
     _instance: SimulationContext | None = None
 
     def __init__(self, cfg: SimulationCfg | None = None):
-        self.cfg = cfg if cfg is not None else SimulationCfg()
+        self.cfg = _with_physics(cfg if cfg is not None else SimulationCfg())
         refuse_unless_default(
             "SimulationCfg",
             "seed",

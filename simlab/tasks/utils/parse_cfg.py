@@ -23,6 +23,7 @@ __all__ = [
     "registered_task_ids",
     "registry_kwargs",
     "simlab_task_id",
+    "split_presets",
 ]
 
 
@@ -98,6 +99,14 @@ def registry_kwargs(task_name: str, presets: Sequence[str] = ()) -> dict[str, An
     return kwargs
 
 
+def split_presets(task_name: str, names: Sequence[str]) -> tuple[list[str], list[str], list[str]]:
+    """``(registered, in_config, table)``: the ``presets=`` names the task registers (its variants'
+    entry points, :func:`registry_kwargs`), the others (alternatives of the ``PresetCfg`` slots inside
+    its configs, :mod:`simlab.tasks.utils.presets`), and every name the task registers."""
+    table = sorted(task_spec(task_name).kwargs.get("presets") or {})
+    return [n for n in names if n in table], [n for n in names if n not in table], table
+
+
 def load_cfg_from_registry(task_name: str, entry_point_key: str, presets: Sequence[str] = ()) -> Any:
     """Load the config that the task registered under ``entry_point_key`` (with the entry points of the
     named ``presets``, see :func:`registry_kwargs`).
@@ -131,25 +140,29 @@ def parse_env_cfg(
     (simlab has no USD stage).
     """
     from simlab.sim.backend_names import PHYSICS, engine_for
+    from simlab.tasks.utils.presets import select_presets
     from simlab.utils.device import resolve_device
 
     presets: list[str] = []
-    engine = None
+    engine = physics = None
     fields = []
     for word in overrides or ():
         key, _, value = word.partition("=")
         if key == "presets":
             for name in value.split(","):
                 if name in PHYSICS:
-                    engine = engine_for(name)
+                    engine, physics = engine_for(name), name
                 else:
                     presets.append(name)
         elif key == "physics":
-            engine = engine_for(value)
+            engine, physics = engine_for(value), value
         else:
             bare = word.lstrip("+~")  # Hydra's + (add) and ~ (delete) prefixes stay in front
             fields.append(word if bare.startswith("env.") else f"{word[: len(word) - len(bare)]}env.{bare}")
-    cfg = load_cfg_from_registry(task_name, "env_cfg_entry_point", presets)
+    registered, in_config, table = split_presets(task_name, presets)
+    cfg = load_cfg_from_registry(task_name, "env_cfg_entry_point", registered)
+    if not isinstance(cfg, dict):
+        cfg, _, fields = select_presets(cfg, None, in_config, physics, fields, table, task_name)
     if fields:
         from simlab.tasks.utils.hydra import apply_overrides
 

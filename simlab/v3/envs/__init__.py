@@ -12,6 +12,7 @@ from __future__ import annotations
 from typing import Any
 
 import simlab.envs as _envs
+from simlab.utils.presets import resolve_presets
 from simlab.v3._order import replace_fields, to_simlab
 from simlab.v3.scene import with_v3_api
 
@@ -19,7 +20,9 @@ __all__ = ["DirectMARLEnv", "DirectRLEnv", "ManagerBasedEnv", "ManagerBasedRLEnv
 
 
 def _v3_cfg(cfg: Any) -> Any:
-    """``cfg`` in simlab's order, its scene's entities with Isaac Lab 3.0's API."""
+    """``cfg`` in simlab's order, its presets resolved (those no command line chose: their ``default``),
+    its scene's entities with Isaac Lab 3.0's API."""
+    cfg, _ = resolve_presets(cfg)
     cfg = to_simlab(cfg)
     scene = getattr(cfg, "scene", None)
     if scene is None:

@@ -4,20 +4,47 @@
 # SPDX-License-Identifier: BSD-3-Clause
 #
 # Isaac Lab 3.0's isaaclab_tasks/core/cartpole/cartpole_direct_env_cfg.py, ported by the 3.0 mapping
-# (docs/porting_3.md). Lines that differ: the imports; the physics presets (CartpolePhysicsCfg) and the
-# ``physics=`` argument of SimulationCfg are left out (simlab's physics is MuJoCo, chosen by ``physics=``
-# on the command line); ``sim.default_visualizer_cfg = VisualizerCfg(eye=...)`` is ``viewer.eye``.
+# (docs/porting_3.md). Lines that differ: the imports; ``sim.default_visualizer_cfg = VisualizerCfg(eye=...)``
+# is ``viewer.eye``. The physics presets are 3.0's: ``newton_mjwarp`` (the default) sets MuJoCo's options, the
+# PhysX and Kamino ones load and are refused when chosen (simlab.sim.physics).
 
 from __future__ import annotations
 
 import math
 
 from simlab.sim import SimulationCfg
+from simlab.sim.physics import KaminoPADMMSolverCfg, MJWarpSolverCfg, NewtonCfg, OvPhysxCfg, PhysxAutoCfg, PhysxCfg
+from simlab.tasks.utils import PresetCfg
 from simlab.utils.configclass import configclass
 from simlab.v3.assets import ArticulationCfg
 from simlab.v3.envs import DirectRLEnvCfg
 from simlab.v3.robots import CARTPOLE_CFG
 from simlab.v3.scene import InteractiveSceneCfg
+
+
+@configclass
+class CartpolePhysicsCfg(PresetCfg):
+    isaacsim_physx: PhysxCfg = PhysxCfg()
+    ovphysx: OvPhysxCfg = OvPhysxCfg()
+    physx: PhysxAutoCfg = PhysxAutoCfg(isaacsim_physx=isaacsim_physx, ovphysx=ovphysx)
+    newton_mjwarp: NewtonCfg = NewtonCfg(
+        solver_cfg=MJWarpSolverCfg(
+            njmax=5,
+            nconmax=3,
+            cone="pyramidal",
+            impratio=1,
+            integrator="implicitfast",
+        ),
+        num_substeps=1,
+        debug_mode=False,
+        use_cuda_graph=True,
+    )
+    newton_kamino: NewtonCfg = NewtonCfg(
+        solver_cfg=KaminoPADMMSolverCfg(sparse_jacobian=True),
+        debug_mode=False,
+        use_cuda_graph=True,
+    )
+    default = newton_mjwarp
 
 
 @configclass
@@ -31,7 +58,7 @@ class CartpoleEnvCfg(DirectRLEnvCfg):
     state_space = 0
 
     # simulation
-    sim: SimulationCfg = SimulationCfg(dt=1 / 120, render_interval=decimation)
+    sim: SimulationCfg = SimulationCfg(dt=1 / 120, render_interval=decimation, physics=CartpolePhysicsCfg())
 
     # robot
     robot_cfg: ArticulationCfg = CARTPOLE_CFG.replace(prim_path="{ENV_REGEX_NS}/Robot")

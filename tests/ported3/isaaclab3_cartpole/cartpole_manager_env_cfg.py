@@ -4,10 +4,10 @@
 # SPDX-License-Identifier: BSD-3-Clause
 #
 # Isaac Lab 3.0's isaaclab_tasks/core/cartpole/cartpole_manager_env_cfg.py, ported by the 3.0 mapping
-# (docs/porting_3.md). Lines that differ: the imports; the physics presets (CartpolePhysicsCfg: PhysX and
-# Newton solver settings, isaaclab_physx / isaaclab_newton) are left out and so is the line
-# ``self.sim.physics = CartpolePhysicsCfg()``: simlab's physics is MuJoCo, chosen by ``physics=`` on the
-# command line. The light's orientation (constants.py) stays Isaac Lab 3.0's (x, y, z, w).
+# (docs/porting_3.md). Lines that differ: the imports; ``sim.default_visualizer_cfg`` is ``viewer.eye``. The
+# physics presets (CartpolePhysicsCfg) are 3.0's: ``newton_mjwarp`` (the default) sets MuJoCo's options, the
+# PhysX and Kamino ones load and are refused when chosen (simlab.sim.physics). The light's orientation
+# (constants.py) stays Isaac Lab 3.0's (x, y, z, w).
 
 import math
 
@@ -24,12 +24,44 @@ from simlab.managers import ObservationTermCfg as ObsTerm
 from simlab.managers import RewardTermCfg as RewTerm
 from simlab.managers import SceneEntityCfg
 from simlab.managers import TerminationTermCfg as DoneTerm
+from simlab.sim.physics import KaminoPADMMSolverCfg, MJWarpSolverCfg, NewtonCfg, OvPhysxCfg, PhysxAutoCfg, PhysxCfg
+from simlab.tasks.utils import PresetCfg
 from simlab.utils.configclass import configclass
 from simlab.v3.assets import ArticulationCfg, AssetBaseCfg
 from simlab.v3.envs import ManagerBasedRLEnvCfg
 from simlab.v3.scene import InteractiveSceneCfg
 
 from simlab.v3.robots import CARTPOLE_CFG  # isort:skip
+
+
+##
+# Physics backend presets
+##
+
+
+@configclass
+class CartpolePhysicsCfg(PresetCfg):
+    isaacsim_physx: PhysxCfg = PhysxCfg()
+    ovphysx: OvPhysxCfg = OvPhysxCfg()
+    physx: PhysxAutoCfg = PhysxAutoCfg(isaacsim_physx=isaacsim_physx, ovphysx=ovphysx)
+    newton_mjwarp: NewtonCfg = NewtonCfg(
+        solver_cfg=MJWarpSolverCfg(
+            njmax=5,
+            nconmax=3,
+            cone="pyramidal",
+            impratio=1,
+            integrator="implicitfast",
+        ),
+        num_substeps=1,
+        debug_mode=False,
+        use_cuda_graph=True,
+    )
+    newton_kamino: NewtonCfg = NewtonCfg(
+        solver_cfg=KaminoPADMMSolverCfg(sparse_jacobian=True),
+        debug_mode=False,
+        use_cuda_graph=True,
+    )
+    default = newton_mjwarp
 
 
 ##
@@ -189,3 +221,4 @@ class CartpoleEnvCfg(ManagerBasedRLEnvCfg):
         # simulation settings
         self.sim.dt = 1 / 120
         self.sim.render_interval = self.decimation
+        self.sim.physics = CartpolePhysicsCfg()
