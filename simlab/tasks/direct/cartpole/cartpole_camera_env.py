@@ -9,6 +9,7 @@ Isaac Lab, so that no camera sees a neighbour.
 
 from __future__ import annotations
 
+import gymnasium as gym
 import torch
 
 import simlab.sim as sim_utils
@@ -101,7 +102,9 @@ class CartpoleCameraEnv(CartpoleEnv):
         if not isinstance(cfg.frame_stack, int) or cfg.frame_stack < 1:
             raise ValueError(f"frame_stack must be a positive int (images per observation), got {cfg.frame_stack!r}")
         channels = 3 if cfg.tiled_camera.data_types == ["rgb"] else 1  # RGB, or one depth channel
-        cfg.observation_space = [cfg.tiled_camera.height, cfg.tiled_camera.width, channels * cfg.frame_stack]
+        if not isinstance(cfg.observation_space, (gym.spaces.Dict, gym.spaces.Tuple, dict, tuple)):
+            # the image alone (a Dict or Tuple space is a subclass's, the image one of its parts)
+            cfg.observation_space = [cfg.tiled_camera.height, cfg.tiled_camera.width, channels * cfg.frame_stack]
         self._frames: torch.Tensor | None = None  # the last frame_stack images per env, (N, H, W, C * k)
         self._fresh: torch.Tensor | None = None  # envs reset since their last observation: history = now
         super().__init__(cfg, render_mode, **kwargs)

@@ -19,7 +19,9 @@ def cart_force(actions: torch.Tensor, space: gym.spaces.Space, scale: float) -> 
     if isinstance(space, gym.spaces.MultiDiscrete):  # (num_envs, 2): size 0 / half / full, direction
         size = 0.5 * (actions[:, [0]] == 1).float() + (actions[:, [0]] == 2).float()
         return scale * torch.where(actions[:, [1]] == 0, -size, size)
-    raise NotImplementedError(f"Action space {type(space).__name__} is not one of the showcase's (Box, Discrete, MultiDiscrete)")
+    raise NotImplementedError(
+        f"Action space {type(space).__name__} is not one of the showcase's (Box, Discrete, MultiDiscrete)"
+    )
 
 
 def sign_bits(values: torch.Tensor) -> torch.Tensor:
@@ -43,7 +45,8 @@ class CartpoleShowcaseEnv(CartpoleEnv):
         elif isinstance(space, (gym.spaces.Discrete, gym.spaces.MultiDiscrete)):
             signs = sign_bits(torch.stack((pole_pos, cart_pos, pole_vel, cart_vel), dim=-1))
             if isinstance(space, gym.spaces.Discrete):  # the four signs as a binary number, pole angle first
-                obs = (signs * torch.tensor([8, 4, 2, 1], dtype=torch.int32, device=self.device)).sum(-1, dtype=torch.int32)
+                weights = torch.tensor([8, 4, 2, 1], dtype=torch.int32, device=self.device)
+                obs = (signs * weights).sum(-1, dtype=torch.int32)
             else:
                 obs = signs
         elif isinstance(space, gym.spaces.Tuple):

@@ -81,7 +81,7 @@ def _camera_network(observation: str) -> list[dict]:
         "activations": ["relu", "relu", "relu", None, "tanh", "tanh"],
     }
     if observation == "dict":
-        return [extractor, _mlp("net", f'concatenate([features_extractor, OBSERVATIONS{velocities}])', [32, 32])]
+        return [extractor, _mlp("net", f"concatenate([features_extractor, OBSERVATIONS{velocities}])", [32, 32])]
     return [
         extractor,
         _mlp("proprioception", f"OBSERVATIONS{velocities}", [16, 8]),
