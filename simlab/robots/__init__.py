@@ -1,5 +1,6 @@
 """Robot configurations and their MJCF models (``simlab.robots.<robot>``)."""
 
+from .agility import DIGIT_V4_CFG
 from .allegro import ALLEGRO_HAND_CFG
 from .ant import ANT_CFG
 from .anymal import ANYMAL_B_CFG, ANYMAL_C_CFG, ANYMAL_D_CFG

@@ -245,3 +245,12 @@ def track_ang_vel_z_world_exp(
         env.command_manager.get_command(command_name)[:, 2] - env.scene[asset_cfg.name].data.root_ang_vel_w[:, 2]
     )
     return torch.exp(-error / std**2)
+
+
+def stand_still_joint_deviation_l1(
+    env: ManagerBasedRLEnv, command_name: str, command_threshold: float = 0.06, asset_cfg: SceneEntityCfg = _ROBOT
+) -> torch.Tensor:
+    """``joint_deviation_l1`` while the commanded planar speed is below ``command_threshold`` [m/s], else 0."""
+    command = env.command_manager.get_command(command_name)
+    standing = torch.norm(command[:, :2], dim=1) < command_threshold
+    return joint_deviation_l1(env, asset_cfg) * standing
