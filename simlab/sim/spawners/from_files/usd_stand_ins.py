@@ -226,6 +226,9 @@ USD_STAND_INS: dict[str, UsdStandIn] = {
     "Robots/Humanoid/humanoid_instanceable.usd": _HUMANOID,
     "Robots/Franka/franka_instanceable.usd": _FRANKA,
     "Robots/BostonDynamics/spot/spot.usd": mjcf("boston_dynamics_spot.xml"),
+    "Robots/Agility/Digit/digit_v4.usd": mjcf(
+        "agility_digit.xml", "the leg rods as equality constraints; docs/locomotion.md"
+    ),
     "Robots/Bitcraze/Crazyflie/cf2x.usd": _CRAZYFLIE,
     "Robots/Crazyflie/cf2x.usd": _CRAZYFLIE,
     "Robots/WonikRobotics/AllegroHand/allegro_hand_instanceable.usd": _ALLEGRO,
