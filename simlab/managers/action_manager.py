@@ -12,8 +12,9 @@ from typing import TYPE_CHECKING
 import numpy as np
 import torch
 
+from simlab.utils.debug_vis import DebugVisHooks
 from simlab.utils.env_mask import PerEnvState
-from simlab.utils.unsupported import refuse_unless_default
+from simlab.utils.errors import ConfigError
 
 from .manager_base import ManagerBase, ManagerTermBase, cfg_items, format_table
 from .manager_term_cfg import ActionTermCfg
@@ -22,23 +23,26 @@ if TYPE_CHECKING:
     from simlab.envs import ManagerBasedEnv
 
 
-class ActionTerm(ManagerTermBase):
-    """Turns its slice of the action vector into commands for one asset."""
+class ActionTerm(ManagerTermBase, DebugVisHooks):
+    """Turns its slice of the action vector into commands for one asset. A term that draws itself
+    (Isaac Lab's navigation action draws its velocity arrows) overrides ``_set_debug_vis_impl`` and
+    ``_debug_vis_callback``, as a command term does; ``debug_vis=True`` on another is refused."""
 
     def __init__(self, cfg: ActionTermCfg, env: ManagerBasedEnv):
         super().__init__(cfg, env)
-        refuse_unless_default(
-            type(cfg).__name__,
-            "debug_vis",
-            cfg.debug_vis,
-            False,
-            "simlab's action terms draw no debug visualization",
-            "Set debug_vis=False (override: env.actions.<term>.debug_vis=false); to see the action, draw it with"
-            " simlab.markers.VisualizationMarkers (shown in env.render() and --video).",
-        )
+        if cfg.debug_vis and not self.has_debug_vis_implementation:
+            raise ConfigError(
+                f"{type(cfg).__name__}.debug_vis=True is not supported by simlab: {type(self).__name__} draws no"
+                " debug visualization. Set debug_vis=False (override: env.actions.<term>.debug_vis=false), or"
+                " implement _set_debug_vis_impl and _debug_vis_callback in the term (simlab.markers)."
+            )
         if cfg.asset_name not in env.scene:
             raise ValueError(f"asset_name '{cfg.asset_name}' is not in the scene; entities: {env.scene.keys()}")
         self._asset = env.scene[cfg.asset_name]
+        self.set_debug_vis(cfg.debug_vis)
+
+    def _debug_vis_simulation(self):
+        return self._env.sim
 
     @property
     def action_dim(self) -> int:
@@ -121,7 +125,12 @@ class ActionManager(ManagerBase):
 
     @property
     def has_debug_vis_implementation(self) -> bool:
-        return False
+        return any(term.has_debug_vis_implementation for term in self._terms.values())
+
+    def set_debug_vis(self, debug_vis: bool) -> bool:
+        """Show or hide the markers of every term that draws itself; False when none does."""
+        drawn = [term.set_debug_vis(debug_vis) for term in self._terms.values()]
+        return any(drawn)
 
     def get_term(self, name: str) -> ActionTerm:
         if name not in self._terms:

@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING
 import torch
 
 from simlab.utils.debug_vis import DebugVisHooks
-from simlab.utils.env_mask import EnvIds, env_mask, masked_copy_, rows
+from simlab.utils.env_mask import EnvIds, env_mask, is_mask, masked_copy_, rows
 from simlab.utils.errors import ConfigError
 
 from .manager_base import ManagerBase, ManagerTermBase, cfg_items, format_table
@@ -126,8 +126,11 @@ class CommandTerm(ManagerTermBase, DebugVisHooks):
         if self._user_command is not None:
             masked_copy_(self.command, self._user_mask, self._user_command)
 
-    def _resample(self, mask: torch.Tensor) -> None:
-        """New commands and timers for the envs where ``mask`` is set."""
+    def _resample(self, mask: torch.Tensor | Sequence[int]) -> None:
+        """New commands and timers for the envs where ``mask`` is set. Isaac Lab's terms call it
+        with env ids (its in-hand goal term on success): those are turned into the mask."""
+        if not is_mask(mask):
+            mask = env_mask(mask, self.num_envs, self.device)
         lower, upper = self.cfg.resampling_time_range
         masked_copy_(self.time_left, mask, torch.empty(self.num_envs, device=self.device).uniform_(lower, upper))
         if self.resamples_by_mask:

@@ -105,6 +105,8 @@ class ManagerBase:
     def __init__(self, cfg: object, env: ManagerBasedEnv):
         self.cfg = copy.deepcopy(cfg)
         self._env = env
+        # class terms' required parameters, by id of their params dict: checked once built
+        self._class_term_required: dict[int, tuple[list[str], list[str]]] = {}
         self._prepare_terms()
         # Terms that need the scene (entity ids, class terms) are finished once the sim has started.
         env.sim.add_reset_callback(lambda sim: self._on_sim_started())
@@ -229,6 +231,14 @@ class ManagerBase:
             raise self._term_error(
                 name, f"{func_name(func)} got unknown parameter(s) {unknown}.{hints} It takes {accepted}"
             )
+        if inspect.isclass(func):
+            # A class term's __init__ may fill in parameters (as Isaac Lab's power_consumption adds its
+            # asset_cfg): the required ones are checked once it is built (_build_class_term).
+            self._class_term_required[id(params)] = (required, accepted)
+            return
+        self._check_required(name, func, params, required, accepted)
+
+    def _check_required(self, name: str, func: Any, params: dict, required: list[str], accepted: list[str]) -> None:
         missing = [k for k in required if k not in params]
         if missing:
             raise self._term_error(
@@ -245,7 +255,12 @@ class ManagerBase:
 
     def _build_class_term(self, name: str, term_cfg: ManagerTermBaseCfg) -> None:
         if inspect.isclass(term_cfg.func):
+            cls, given = term_cfg.func, set(term_cfg.params)
             try:
-                term_cfg.func = term_cfg.func(cfg=term_cfg, env=self._env)
+                term_cfg.func = cls(cfg=term_cfg, env=self._env)
             except (ValueError, KeyError) as err:
                 raise self._term_error(name, str(err)) from err
+            required, accepted = self._class_term_required.pop(id(term_cfg.params), ([], []))
+            self._check_required(name, cls, term_cfg.params, required, accepted)
+            if set(term_cfg.params) != given:  # entities the class added get resolved like the config's
+                self._resolve_scene_entities(name, term_cfg)

@@ -261,8 +261,11 @@ class ObservationManager(ManagerBase):
                 if term_cfg.scale is not None and not isinstance(term_cfg.scale, (int, float)):
                     term_cfg.scale = torch.tensor(term_cfg.scale, dtype=torch.float32, device=self.device)
                 terms.append((name, term_cfg))
-            if not terms:
-                raise ValueError(f"ObservationManager: group '{group_name}' has no terms")
+            if not terms and group_cfg.concatenate_terms:  # a group kept as a dict may be empty, as in Isaac Lab
+                raise ValueError(
+                    f"ObservationManager: group '{group_name}' has no terms to concatenate: add a term,"
+                    " or set concatenate_terms=False for an empty group"
+                )
             self._group_terms[group_name] = terms
             self._group_cfgs[group_name] = group_cfg
 

@@ -231,8 +231,7 @@ class InteractiveScene:
         does) because the env origins come from it."""
         from simlab.terrains import TerrainImporterCfg
 
-        terrains = [(f.name, getattr(self.cfg, f.name)) for f in fields(self.cfg)]
-        terrains = [(name, value) for name, value in terrains if isinstance(value, TerrainImporterCfg)]
+        terrains = [(name, value) for name, value in self._cfg_entries() if isinstance(value, TerrainImporterCfg)]
         if len(terrains) > 1:
             raise ValueError(
                 f"A scene takes one TerrainImporterCfg; {self.cfg.__class__.__name__} has {[n for n, _ in terrains]}"
@@ -245,32 +244,37 @@ class InteractiveScene:
         self._terrain_name = name
         return terrain
 
+    def _cfg_entries(self) -> list[tuple[str, object]]:
+        """The config's attributes in order, those a subclass's ``__post_init__`` adds without
+        declaring them included (Isaac Lab reads the config's ``__dict__``; its stack task adds its
+        cubes that way)."""
+        return [(name, value) for name, value in vars(self.cfg).items() if not name.startswith("_")]
+
     def _add_entities_from_cfg(self) -> None:
         base_fields = {f.name for f in fields(InteractiveSceneCfg)}
-        for f in fields(self.cfg):
-            value = getattr(self.cfg, f.name)
-            if f.name in base_fields or value is None:
+        for entry, value in self._cfg_entries():
+            if entry in base_fields or value is None:
                 continue
             if isinstance(value, RigidObjectCollectionCfg):
                 objects = {
                     name: c.replace(prim_path=c.prim_path.format(ENV_REGEX_NS=ENV_REGEX_NS))
                     for name, c in value.rigid_objects.items()
                 }
-                self.rigid_object_collections[f.name] = value.class_type(value.replace(rigid_objects=objects))
+                self.rigid_object_collections[entry] = value.class_type(value.replace(rigid_objects=objects))
                 continue
             if not isinstance(value, (AssetBaseCfg, SensorBaseCfg)):
                 continue
             value = value.replace(prim_path=value.prim_path.format(ENV_REGEX_NS=ENV_REGEX_NS))
             if isinstance(value, ArticulationCfg):
-                self.articulations[f.name] = value.class_type(value)
+                self.articulations[entry] = value.class_type(value)
             elif isinstance(value, RigidObjectCfg):
-                self.rigid_objects[f.name] = value.class_type(value)
+                self.rigid_objects[entry] = value.class_type(value)
             elif isinstance(value, SensorBaseCfg):
-                self.sensors[f.name] = value.class_type(value, self)
+                self.sensors[entry] = value.class_type(value, self)
             else:
                 check_asset_cfg(value)
                 if value.spawn is not None:
                     value.spawn.func(
                         value.prim_path, value.spawn, translation=value.init_state.pos, orientation=value.init_state.rot
                     )
-                self.extras[f.name] = value
+                self.extras[entry] = value

@@ -135,6 +135,10 @@ class SimulationCfg:
     takes the larger friction of two touching geoms, whatever the combine mode."""
     physx: PhysxCfg = PhysxCfg()
     """PhysX's settings, accepted for Isaac Lab's configs and not used (see :class:`PhysxCfg`)."""
+    disable_contact_processing: bool = False
+    """Isaac Lab 2.0's switch for PhysX's contact reporting, accepted (its direct ANYmal-C, quadcopter
+    and OpenAI Shadow configs set it) and not used: MuJoCo finds every contact, and the contact
+    sensor reads them either way."""
     physics: Any = None
     """Isaac Lab 3.0's physics backend config (:mod:`simlab.sim.physics`), or a preset of several: a
     MuJoCo Warp config (``NewtonCfg(solver_cfg=MJWarpSolverCfg(...))``) sets :attr:`mujoco`'s options

@@ -11,6 +11,7 @@ from __future__ import annotations
 import io
 import os
 import shutil
+from collections.abc import Callable
 
 __all__ = [
     "ISAACLAB_NUCLEUS_DIR",
@@ -20,6 +21,7 @@ __all__ = [
     "check_file_path",
     "check_usd_path_with_timeout",
     "read_file",
+    "register_nucleus_file",
     "retrieve_file_path",
 ]
 
@@ -32,6 +34,24 @@ ISAACLAB_NUCLEUS_DIR = f"{ISAAC_NUCLEUS_DIR}/IsaacLab"
 
 # Remote locations Isaac Lab reads through omni.client; simlab has no client for them.
 _REMOTE_PREFIXES = ("nucleus://", "omniverse://", "http://", "https://", "s3://")
+
+
+# Files under ISAACLAB_NUCLEUS_DIR that simlab makes itself (a pre-trained policy), by path relative to it.
+_NUCLEUS_FILES: dict[str, Callable[[], bytes]] = {}
+
+
+def register_nucleus_file(relative_path: str, make: Callable[[], bytes]) -> None:
+    """Have ``read_file`` of ``<ISAACLAB_NUCLEUS_DIR>/<relative_path>`` return ``make()``'s bytes (a
+    module above this one passes its stand-in down: the navigation task its low-level policy)."""
+    _NUCLEUS_FILES[relative_path] = make
+
+
+def _nucleus_file(path: str | os.PathLike) -> Callable[[], bytes] | None:
+    """The maker of a registered Nucleus file (any Isaac Sim version's ``.../IsaacLab/<relative_path>``)."""
+    path = str(path)
+    if not path.startswith(_REMOTE_PREFIXES):
+        return None
+    return next((make for rel, make in _NUCLEUS_FILES.items() if path.endswith("/IsaacLab/" + rel)), None)
 
 
 def refuse_remote_path(path: str) -> None:
@@ -51,9 +71,10 @@ def _expand(path: str | os.PathLike) -> str:
 
 
 def check_file_path(path: str | os.PathLike) -> int:
-    """0 if the file does not exist, 1 if it is a local file (Isaac Lab's 2, a Nucleus file, never occurs)."""
+    """0 if the file does not exist, 1 if it is a local file, 2 (Isaac Lab's code for a Nucleus file) for
+    a Nucleus file simlab makes itself (:func:`register_nucleus_file`)."""
     if str(path).startswith(_REMOTE_PREFIXES):
-        return 0
+        return 2 if _nucleus_file(path) is not None else 0
     return 1 if os.path.isfile(_expand(path)) else 0
 
 
@@ -85,6 +106,9 @@ def retrieve_file_path(path: str | os.PathLike, download_dir: str | None = None,
 
 
 def read_file(path: str | os.PathLike) -> io.BytesIO:
-    """The bytes of a local file; remote (Nucleus) paths raise."""
+    """The bytes of a local file or of a Nucleus file simlab makes itself; other remote paths raise."""
+    make = _nucleus_file(path)
+    if make is not None:
+        return io.BytesIO(make())
     with open(retrieve_file_path(path), "rb") as f:
         return io.BytesIO(f.read())

@@ -118,7 +118,13 @@ def _validate(self) -> None:
         raise MissingFieldError(f"{type(self).__name__} has {len(missing)} missing field(s) to set:\n{listing}\n")
 
 
+def _post_init(self) -> None:
+    """Nothing to do; there so that a subclass's ``__post_init__`` can call ``super().__post_init__()``
+    whatever its bases (Isaac Lab's config classes all have one; its agent configs call it)."""
+
+
 _METHODS: dict[str, Callable] = {
+    "__post_init__": _post_init,
     "replace": _replace,
     "copy": _copy,
     "to_dict": _to_dict,

@@ -21,6 +21,8 @@ scan) and actions.
 from __future__ import annotations
 
 import copy
+import functools
+import io
 import os
 import pickle
 from typing import TYPE_CHECKING
@@ -66,6 +68,19 @@ def resolve_policy_file(path: str) -> str:
         return retrieve_file_path(path)
     except FileNotFoundError as e:
         raise ConfigError(f"policy_path: {e}") from None
+
+
+@functools.cache
+def torchscript_policy(isaac_path: str) -> bytes:
+    """The TorchScript file Isaac Lab's own ``PreTrainedPolicyAction`` reads (``torch.jit.load``) for
+    ``isaac_path`` (a key of :data:`ISAACLAB_POLICIES`): simlab's shipped weights that stand for it, as
+    the MLP here, scripted in this process (no code is read from a file)."""
+    task, library = ISAACLAB_POLICIES[isaac_path]
+    what = f"simlab's policy for Isaac Lab's {isaac_path}"
+    state = _actor_state(unpack_policy(os.path.join(pretrained_run_dir(task, library), POLICY_FILE))[1], what)
+    buffer = io.BytesIO()
+    torch.jit.save(torch.jit.script(MLPPolicy(state, "elu", what).eval()), buffer)
+    return buffer.getvalue()
 
 
 def _actor_state(loaded: object, what: str) -> dict[str, torch.Tensor]:

@@ -1,0 +1,223 @@
+"""What Isaac Lab's own task files needed of simlab (tests/test_isaaclab_task_files.py runs the files):
+each behaviour as Isaac Lab has it, on small configs written here."""
+
+from __future__ import annotations
+
+import io
+
+import pytest
+import torch
+
+import simlab.tasks  # noqa: F401 - registers the tasks (and the navigation task's Nucleus policy file)
+from simlab.assets import RigidObjectCfg
+from simlab.envs import ManagerBasedRLEnv
+from simlab.managers import ActionTerm, ManagerTermBase, ObservationGroupCfg, SceneEntityCfg
+from simlab.managers import RewardTermCfg as RewTerm
+from simlab.markers import GREEN_ARROW_X_MARKER_CFG, VisualizationMarkers
+from simlab.sim import SimulationCfg
+from simlab.tasks.utils.parse_cfg import parse_env_cfg
+from simlab.utils import configclass
+from simlab.utils.assets import ISAACLAB_NUCLEUS_DIR, check_file_path, read_file
+from simlab.utils.errors import ConfigError
+
+N = 2
+
+
+def cartpole_cfg():
+    cfg = parse_env_cfg("simlab/Cartpole-v0", device="cpu", num_envs=N)
+    cfg.seed = 0
+    return cfg
+
+
+class scaled_cart_speed(ManagerTermBase):  # noqa: N801 - a term class reads like a function, as in Isaac Lab
+    """Like Isaac Lab's power_consumption: its __init__ fills in the asset_cfg the config leaves out."""
+
+    def __init__(self, cfg, env):
+        super().__init__(cfg, env)
+        cfg.params.setdefault("asset_cfg", SceneEntityCfg("robot", joint_names=["slider_to_cart"]))
+
+    def __call__(self, env, scale: float, asset_cfg: SceneEntityCfg) -> torch.Tensor:
+        return scale * env.scene[asset_cfg.name].data.joint_vel[:, asset_cfg.joint_ids].abs().sum(dim=1)
+
+
+class needs_a_gain(ManagerTermBase):  # noqa: N801
+    def __call__(self, env, gain: float) -> torch.Tensor:
+        return torch.zeros(env.num_envs, device=env.device)
+
+
+def test_a_class_term_may_fill_in_its_parameters_when_built():
+    cfg = cartpole_cfg()
+    cfg.rewards.cart_speed = RewTerm(func=scaled_cart_speed, weight=1.0, params={"scale": 2.0})
+    env = ManagerBasedRLEnv(cfg)
+    try:
+        env.reset()
+        env.scene["robot"].write_joint_state_to_sim(torch.tensor([[0.0, 0.0]] * N), torch.tensor([[0.5, 0.0]] * N))
+        term = env.reward_manager.get_term_cfg("cart_speed")
+        assert term.params["asset_cfg"].joint_ids == [0]  # added by the class, resolved like the config's
+        value = term.func(env, **term.params)
+        torch.testing.assert_close(value, torch.full((N,), 1.0))
+    finally:
+        env.close()
+
+
+def test_a_class_term_still_missing_a_parameter_once_built_is_refused():
+    cfg = cartpole_cfg()
+    cfg.rewards.broken = RewTerm(func=needs_a_gain, weight=1.0)
+    with pytest.raises(ConfigError, match=r"term 'broken'.*needs_a_gain needs parameter\(s\) \['gain'\]"):
+        ManagerBasedRLEnv(cfg)
+
+
+def test_an_empty_group_kept_as_a_dict_observes_nothing_and_an_empty_concatenated_one_is_refused():
+    cfg = cartpole_cfg()
+
+    @configclass
+    class ImagesCfg(ObservationGroupCfg):  # Isaac Lab's stack task declares such a group for its cameras
+        def __post_init__(self):
+            self.concatenate_terms = False
+
+    cfg.observations.rgb_camera = ImagesCfg()
+    env = ManagerBasedRLEnv(cfg)
+    try:
+        obs, _ = env.reset()
+        assert obs["rgb_camera"] == {} and obs["policy"].shape == (N, 4)
+        obs, *_ = env.step(torch.zeros(N, 1))
+        assert obs["rgb_camera"] == {}
+    finally:
+        env.close()
+    cfg = cartpole_cfg()
+    cfg.observations.empty = ObservationGroupCfg()
+    with pytest.raises(ValueError, match="group 'empty' has no terms to concatenate.*concatenate_terms=False"):
+        ManagerBasedRLEnv(cfg)
+
+
+def test_an_entity_a_config_adds_in_post_init_is_in_the_scene():
+    """Isaac Lab's stack config sets scene.cube_1 ... in __post_init__, undeclared in its scene class."""
+    import simlab.sim as sim_utils
+
+    cfg = cartpole_cfg()
+    cfg.scene.box = RigidObjectCfg(
+        prim_path="{ENV_REGEX_NS}/Box",
+        spawn=sim_utils.CuboidCfg(
+            size=(0.1, 0.1, 0.1),
+            rigid_props=sim_utils.RigidBodyPropertiesCfg(),
+            mass_props=sim_utils.MassPropertiesCfg(mass=0.1),
+            collision_props=sim_utils.CollisionPropertiesCfg(),
+        ),
+        init_state=RigidObjectCfg.InitialStateCfg(pos=(1.0, 1.0, 0.05)),
+    )
+    assert "box" not in type(cfg.scene).__dataclass_fields__
+    env = ManagerBasedRLEnv(cfg)
+    try:
+        env.reset()
+        assert "box" in env.scene.rigid_objects
+        origin = env.scene.env_origins
+        torch.testing.assert_close(env.scene["box"].data.root_pos_w[:, :2] - origin[:, :2], torch.ones(N, 2))
+    finally:
+        env.close()
+
+
+def test_a_command_term_resamples_by_ids_as_isaac_labs_terms_call_it():
+    cfg = parse_env_cfg("simlab/Reach-Franka-v0", device="cpu", num_envs=N)
+    cfg.seed = 0
+    env = ManagerBasedRLEnv(cfg)
+    try:
+        env.reset()
+        term = env.command_manager.get_term("ee_pose")
+        before = term.command.clone()
+        term._resample(torch.tensor([1]))  # Isaac Lab's in-hand goal term resamples the envs that succeeded
+        after = term.command
+        torch.testing.assert_close(after[0], before[0])
+        assert not torch.allclose(after[1], before[1])
+        assert int(term.command_counter[1]) == int(term.command_counter[0]) + 1
+    finally:
+        env.close()
+
+
+class ArrowAction(ActionTerm):
+    """A joint-effort action that draws an arrow above each cart, the way Isaac Lab's navigation action does."""
+
+    def __init__(self, cfg, env):
+        super().__init__(cfg, env)
+        self._raw = torch.zeros(env.num_envs, 1)
+
+    action_dim = 1
+
+    @property
+    def raw_actions(self):
+        return self._raw
+
+    @property
+    def processed_actions(self):
+        return self._raw
+
+    def process_actions(self, actions):
+        self._raw[:] = actions
+
+    def apply_actions(self):
+        self._asset.set_joint_effort_target(self._raw, joint_ids=[0])
+
+    def _set_debug_vis_impl(self, debug_vis: bool):
+        if debug_vis and not hasattr(self, "arrows"):
+            self.arrows = VisualizationMarkers(GREEN_ARROW_X_MARKER_CFG.replace(prim_path="/Visuals/Actions/arrow"))
+        if hasattr(self, "arrows"):
+            self.arrows.set_visibility(debug_vis)
+
+    def _debug_vis_callback(self, event):
+        self.arrows.visualize(translations=self._asset.data.root_pos_w + torch.tensor([0.0, 0.0, 1.0]))
+
+
+def test_an_action_term_that_draws_itself_takes_debug_vis_and_one_that_does_not_is_refused():
+    from simlab.managers import ActionTermCfg
+
+    cfg = cartpole_cfg()
+    cfg.actions.joint_effort = ActionTermCfg(class_type=ArrowAction, asset_name="robot", debug_vis=True)
+    env = ManagerBasedRLEnv(cfg)
+    try:
+        env.reset()
+        assert env.action_manager.has_debug_vis_implementation
+        term = env.action_manager.get_term("joint_effort")
+        term._draw_debug_vis()  # what a rendered frame calls
+        assert term.arrows._translations.shape == (N, 3)
+    finally:
+        env.close()
+    cfg = cartpole_cfg()
+    cfg.actions.joint_effort.debug_vis = True
+    with pytest.raises(ConfigError, match=r"JointEffortActionCfg.debug_vis=True .*JointEffortAction draws no debug"):
+        ManagerBasedRLEnv(cfg)
+
+
+def test_every_config_class_has_a_post_init_to_call():
+    @configclass
+    class RunnerCfg:  # Isaac Lab's agent configs: Flat(Rough) calls super().__post_init__(), Rough has none
+        iterations: int = 1500
+
+    @configclass
+    class FlatRunnerCfg(RunnerCfg):
+        def __post_init__(self):
+            super().__post_init__()
+            self.iterations = 300
+
+    assert FlatRunnerCfg().iterations == 300 and RunnerCfg().iterations == 1500
+
+
+def test_isaac_lab_2_0s_disable_contact_processing_is_accepted():
+    assert SimulationCfg(disable_contact_processing=True).disable_contact_processing
+
+
+def test_isaac_labs_blind_anymal_c_policy_file_reads_as_torchscript_of_simlabs_policy():
+    from simlab.tasks.manager_based.navigation import ISAACLAB_POLICY_FILES
+    from simlab.tasks.manager_based.navigation.mdp import PreTrainedPolicyActionCfg
+    from simlab.tasks.manager_based.navigation.mdp.pre_trained_policy_action import ISAACLAB_POLICIES, load_policy
+
+    assert set(ISAACLAB_POLICY_FILES) == set(ISAACLAB_POLICIES)
+    path = f"{ISAACLAB_NUCLEUS_DIR}/Policies/ANYmal-C/Blind/policy.pt"
+    assert check_file_path(path) == 2  # Isaac Lab's answer for a Nucleus file
+    scripted = torch.jit.load(read_file(path))  # what Isaac Lab's own navigation action does
+    ours = load_policy(PreTrainedPolicyActionCfg(asset_name="robot", policy_path=path), "cpu")
+    obs = torch.randn(4, 48, generator=torch.Generator().manual_seed(0))
+    torch.testing.assert_close(scripted(obs), ours(obs))
+    # any other Nucleus file stays unreadable
+    assert check_file_path(f"{ISAACLAB_NUCLEUS_DIR}/Policies/ANYmal-D/Blind/policy.pt") == 0
+    with pytest.raises(FileNotFoundError, match="Nucleus"):
+        read_file(f"{ISAACLAB_NUCLEUS_DIR}/Policies/ANYmal-D/Blind/policy.pt")
+    assert isinstance(read_file(path), io.BytesIO)
