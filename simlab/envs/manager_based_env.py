@@ -25,6 +25,7 @@ from simlab.scene import InteractiveScene
 from simlab.sim import SimulationContext
 from simlab.utils.configclass import MissingFieldError
 from simlab.utils.env_mask import env_mask
+from simlab.utils.quat_order import refuse_other_order
 
 from .common import SimulatedEnv, VecEnvObs
 from .manager_based_env_cfg import ManagerBasedEnvCfg
@@ -38,6 +39,8 @@ class ManagerBasedEnv(SimulatedEnv):
             cfg.validate()
         except MissingFieldError as err:
             raise MissingFieldError(f"The environment config is incomplete: {err}") from err
+        # an Isaac Lab 3.0 config (an action's body_offset, a spawner) read as (w, x, y, z) would turn silently
+        refuse_other_order(type(cfg).__name__, cfg, "env")
         if not isinstance(cfg.decimation, int) or cfg.decimation < 1:
             raise ValueError(f"cfg.decimation must be an int >= 1 (physics steps per env step), got {cfg.decimation!r}")
         self.cfg = cfg

@@ -58,11 +58,15 @@ def xyzw_class(base: type, module: str) -> type:
 
 
 def _simlab_copy(cfg: Any) -> Any:
-    """The simlab (w, x, y, z) class's instance of a 3.0 config: the same fields, ``rot`` reordered."""
+    """The simlab (w, x, y, z) class's instance of a 3.0 config: the same fields, ``rot`` reordered and a
+    spawner's ``func`` simlab's own (:mod:`simlab.v3.sim`, whose spawn functions read (x, y, z, w))."""
     base = type(cfg).simlab_class
     values = {f.name: to_simlab(getattr(cfg, f.name)) for f in dataclasses.fields(cfg) if f.init}
-    x, y, z, w = values["rot"]
-    values["rot"] = (w, x, y, z)
+    if "rot" in values:
+        x, y, z, w = values["rot"]
+        values["rot"] = (w, x, y, z)
+    if "func" in values:
+        values["func"] = getattr(values["func"], "simlab_func", values["func"])
     return base(**values)
 
 

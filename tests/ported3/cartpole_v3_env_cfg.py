@@ -7,7 +7,7 @@ quarter turn about z, then tilted; the cartpole is simlab's robot config, whose 
 
 import math
 
-import simlab.sim as sim_utils
+import simlab.v3.sim as sim_utils
 from simlab.managers import EventTermCfg as EventTerm
 from simlab.managers import ObservationGroupCfg as ObsGroup
 from simlab.managers import ObservationTermCfg as ObsTerm

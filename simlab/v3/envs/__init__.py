@@ -65,4 +65,8 @@ _register_for_instantiate()
 
 
 def __getattr__(name: str) -> Any:
+    if name == "mdp":  # 3.0's isaaclab.envs.mdp: this package's, whose orientations are (x, y, z, w)
+        import importlib
+
+        return importlib.import_module(f"{__name__}.mdp")
     return getattr(_envs, name)

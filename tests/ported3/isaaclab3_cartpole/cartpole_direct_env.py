@@ -17,10 +17,10 @@ from typing import TYPE_CHECKING
 
 import torch
 
-import simlab.sim as sim_utils
-from simlab.sim.spawners.from_files import GroundPlaneCfg, spawn_ground_plane
+import simlab.v3.sim as sim_utils
 from simlab.v3.assets import Articulation
 from simlab.v3.envs import DirectRLEnv
+from simlab.v3.sim import GroundPlaneCfg, spawn_ground_plane
 from simlab.v3.utils.math import sample_uniform, wrap_to_pi
 
 if TYPE_CHECKING:

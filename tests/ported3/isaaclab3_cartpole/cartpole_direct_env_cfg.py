@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import math
 
-from simlab.sim import SimulationCfg
 from simlab.sim.physics import KaminoPADMMSolverCfg, MJWarpSolverCfg, NewtonCfg, OvPhysxCfg, PhysxAutoCfg, PhysxCfg
 from simlab.tasks.utils import PresetCfg
 from simlab.utils.configclass import configclass
@@ -20,6 +19,7 @@ from simlab.v3.assets import ArticulationCfg
 from simlab.v3.envs import DirectRLEnvCfg
 from simlab.v3.robots import CARTPOLE_CFG
 from simlab.v3.scene import InteractiveSceneCfg
+from simlab.v3.sim import SimulationCfg
 
 
 @configclass

@@ -12,7 +12,7 @@
 import math
 
 import isaaclab3_cartpole.mdp as mdp
-import simlab.sim as sim_utils
+import simlab.v3.sim as sim_utils
 from isaaclab3_cartpole.constants import (
     CARTPOLE_DISTANT_LIGHT_COLOR,
     CARTPOLE_DISTANT_LIGHT_INTENSITY,

@@ -1,7 +1,7 @@
 # Isaac Lab 3.0's isaaclab_tasks/core/locomotion/mdp: Isaac Lab's env mdp terms (simlab.envs.mdp, as mapped)
 # and the ant and humanoid terms (observations.py, rewards.py, ported).
 
-from simlab.envs.mdp import *  # noqa: F401, F403
+from simlab.v3.envs.mdp import *  # noqa: F401, F403
 
 from .observations import *  # noqa: F401, F403
 from .rewards import *  # noqa: F401, F403

@@ -1,6 +1,6 @@
 # Isaac Lab 3.0's isaaclab_tasks/core/velocity/mdp: Isaac Lab's env mdp terms (simlab.envs.mdp, as mapped)
 # and the velocity task's rewards (rewards.py, ported).
 
-from simlab.envs.mdp import *  # noqa: F401, F403
+from simlab.v3.envs.mdp import *  # noqa: F401, F403
 
 from .rewards import *  # noqa: F401, F403

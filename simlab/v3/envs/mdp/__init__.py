@@ -1,0 +1,77 @@
+"""``isaaclab.envs.mdp`` of Isaac Lab 3.0: simlab's MDP terms, with quaternions in (x, y, z, w) where
+3.0 code gives or reads them.
+
+Everything is :mod:`simlab.envs.mdp`'s, except the terms that carry an orientation across the boundary:
+
+* action terms' ``body_offset`` (``DifferentialInverseKinematicsActionCfg.OffsetCfg``,
+  ``OperationalSpaceControllerActionCfg.OffsetCfg``): ``rot`` in (x, y, z, w), converted where the env
+  is built, as asset configs are (:func:`simlab.v3._order.to_simlab`);
+* ``UniformPoseCommandCfg``: its command (``get_command``, ``generated_commands``) is
+  ``(x, y, z, qx, qy, qz, qw)``, as 3.0's reward terms read it;
+* the observations ``root_quat_w``, ``body_pose_w`` and ``imu_orientation``: (x, y, z, w).
+
+simlab's own 2.x terms keep (w, x, y, z): they come from :mod:`simlab.envs.mdp`, never from here.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import torch
+
+import simlab.envs.mdp as _mdp
+from simlab.envs.mdp import *  # noqa: F403
+from simlab.managers import SceneEntityCfg
+from simlab.utils import configclass
+from simlab.v3._order import xyzw_class
+
+_ROBOT = SceneEntityCfg("robot")
+_IMU = SceneEntityCfg("imu")
+
+
+def _xyzw(quat: torch.Tensor) -> torch.Tensor:
+    return quat[..., [1, 2, 3, 0]]
+
+
+def root_quat_w(env: Any, make_quat_unique: bool = False, asset_cfg: SceneEntityCfg = _ROBOT) -> torch.Tensor:
+    """Root orientation (x, y, z, w) (N, 4); with ``make_quat_unique`` the real part is kept >= 0."""
+    return _xyzw(_mdp.root_quat_w(env, make_quat_unique, asset_cfg))
+
+
+def body_pose_w(env: Any, asset_cfg: SceneEntityCfg = _ROBOT) -> torch.Tensor:
+    """Poses of the bodies ``asset_cfg.body_ids`` relative to the env origin, ``(x, y, z, qx, qy, qz, qw)`` each."""
+    pose = _mdp.body_pose_w(env, asset_cfg).view(env.num_envs, -1, 7)
+    return torch.cat((pose[..., :3], _xyzw(pose[..., 3:])), dim=-1).reshape(env.num_envs, -1)
+
+
+def imu_orientation(env: Any, asset_cfg: SceneEntityCfg = _IMU) -> torch.Tensor:
+    """The IMU's orientation in the world frame, (x, y, z, w)."""
+    return _xyzw(_mdp.imu_orientation(env, asset_cfg))
+
+
+class UniformPoseCommand(_mdp.UniformPoseCommand):
+    """simlab's pose command; 3.0 code reads it as ``(x, y, z, qx, qy, qz, qw)`` (its metrics stay simlab's)."""
+
+    @property
+    def command(self) -> torch.Tensor:
+        pose = self.pose_command_b
+        return torch.cat((pose[:, :3], _xyzw(pose[:, 3:])), dim=-1)
+
+
+@configclass
+class UniformPoseCommandCfg(_mdp.UniformPoseCommandCfg):
+    class_type: type = UniformPoseCommand
+
+
+@configclass
+class DifferentialInverseKinematicsActionCfg(_mdp.DifferentialInverseKinematicsActionCfg):
+    OffsetCfg = xyzw_class(_mdp.DifferentialInverseKinematicsActionCfg.OffsetCfg, __name__)
+
+
+@configclass
+class OperationalSpaceControllerActionCfg(_mdp.OperationalSpaceControllerActionCfg):
+    OffsetCfg = xyzw_class(_mdp.OperationalSpaceControllerActionCfg.OffsetCfg, __name__)
+
+
+def __getattr__(name: str) -> Any:
+    return getattr(_mdp, name)
