@@ -282,15 +282,24 @@ def _rollout(task: str, use_cuda_graph: bool, steps: int = 300):
         spaces = (
             {a: env.action_spaces[a] for a in env.possible_agents} if multi_agent else {"": env.single_action_space}
         )
-        action = {
-            a: torch.rand(256, sp.shape[0], device="cuda:0", generator=generator) * 2 - 1 for a, sp in spaces.items()
-        }
+        action = {a: _random_action(sp, generator) for a, sp in spaces.items()}
         out = env.step(action if multi_agent else action[""])
         outputs.append([t.clone() for t in _flat(out[:4])] + [env.reset_buf.clone(), physics_state(env)["qpos"]])
     state = physics_state(env)
     mode, graphed = env.step_mode, env.step_is_graphed
     env.close()
     return outputs, state, mode, graphed
+
+
+def _random_action(space: gym.spaces.Space, generator: torch.Generator) -> torch.Tensor:
+    """A batch of 256 actions drawn with ``generator``: uniform in [-1, 1] for a Box, any choice for the
+    showcase tasks' Discrete and MultiDiscrete spaces."""
+    if isinstance(space, gym.spaces.Discrete):
+        return torch.randint(int(space.n), (256, 1), device="cuda:0", generator=generator)
+    if isinstance(space, gym.spaces.MultiDiscrete):
+        columns = [torch.randint(int(n), (256,), device="cuda:0", generator=generator) for n in space.nvec]
+        return torch.stack(columns, dim=-1)
+    return torch.rand(256, space.shape[0], device="cuda:0", generator=generator) * 2 - 1
 
 
 def _qpos_deviation(run_a, run_b) -> list[float]:
