@@ -13,6 +13,7 @@ from .camera import (
 from .contact_sensor import ContactSensor, ContactSensorCfg, ContactSensorData
 from .frame_transformer import FrameTransformer, FrameTransformerCfg, FrameTransformerData, OffsetCfg
 from .imu import Imu, ImuCfg, ImuData
+from .joint_wrench import JointWrenchSensor, JointWrenchSensorCfg, JointWrenchSensorData
 from .ray_caster import RayCaster, RayCasterCfg, RayCasterData, patterns
 from .sensor_base import SensorBase, SensorBaseCfg
 
@@ -30,6 +31,9 @@ __all__ = [
     "Imu",
     "ImuCfg",
     "ImuData",
+    "JointWrenchSensor",
+    "JointWrenchSensorCfg",
+    "JointWrenchSensorData",
     "OffsetCfg",
     "RayCaster",
     "RayCasterCfg",

@@ -44,8 +44,8 @@ simulation_app = app_launcher.app
 
 import torch  # noqa: E402
 
-import simlab.v3.sim as sim_utils  # noqa: E402
 import simlab.sim.utils as prim_utils  # noqa: E402
+import simlab.v3.sim as sim_utils  # noqa: E402
 from simlab.sim import SimulationContext  # noqa: E402
 from simlab.v3.assets import Articulation, AssetBaseCfg  # noqa: E402
 

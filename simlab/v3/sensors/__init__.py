@@ -30,6 +30,7 @@ __all__ = [
     "FrameTransformerCfg",
     "Imu",
     "ImuCfg",
+    "JointWrenchSensor",
     "OffsetCfg",
     "RayCaster",
     "RayCasterCfg",
@@ -71,6 +72,7 @@ Camera = _with_v3_data(_sensors.Camera)
 ContactSensor = _with_v3_data(_sensors.ContactSensor)
 FrameTransformer = _with_v3_data(_sensors.FrameTransformer)
 Imu = _with_v3_data(_sensors.Imu)
+JointWrenchSensor = _with_v3_data(_sensors.JointWrenchSensor)
 RayCaster = _with_v3_data(_sensors.RayCaster)
 TiledCamera = _with_v3_data(_sensors.TiledCamera)
 
@@ -79,6 +81,7 @@ V3_CLASSES: dict[type, type] = {
     _sensors.ContactSensor: ContactSensor,
     _sensors.FrameTransformer: FrameTransformer,
     _sensors.Imu: Imu,
+    _sensors.JointWrenchSensor: JointWrenchSensor,
     _sensors.RayCaster: RayCaster,
     _sensors.TiledCamera: TiledCamera,
 }

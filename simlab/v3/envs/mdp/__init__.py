@@ -8,7 +8,8 @@ Everything is :mod:`simlab.envs.mdp`'s, except the terms that carry an orientati
   is built, as asset configs are (:func:`simlab.v3._order.to_simlab`);
 * ``UniformPoseCommandCfg``: its command (``get_command``, ``generated_commands``) is
   ``(x, y, z, qx, qy, qz, qw)``, as 3.0's reward terms read it;
-* the observations ``root_quat_w``, ``body_pose_w`` and ``imu_orientation``: (x, y, z, w).
+* the observations ``root_quat_w``, ``body_pose_w`` and ``imu_orientation``: (x, y, z, w);
+* ``body_incoming_wrench(sensor_cfg=...)`` reads a joint wrench sensor, as 3.0's does.
 
 simlab's own 2.x terms keep (w, x, y, z): they come from :mod:`simlab.envs.mdp`, never from here.
 """
@@ -42,6 +43,25 @@ def body_pose_w(env: Any, asset_cfg: SceneEntityCfg = _ROBOT) -> torch.Tensor:
     """Poses of the bodies ``asset_cfg.body_ids`` relative to the env origin, ``(x, y, z, qx, qy, qz, qw)`` each."""
     pose = _mdp.body_pose_w(env, asset_cfg).view(env.num_envs, -1, 7)
     return torch.cat((pose[..., :3], _xyzw(pose[..., 3:])), dim=-1).reshape(env.num_envs, -1)
+
+
+def body_incoming_wrench(
+    env: Any, sensor_cfg: SceneEntityCfg | None = None, asset_cfg: SceneEntityCfg | None = None
+) -> torch.Tensor:
+    """``[force, torque]`` each body receives through its joint, its frame (N, 6 * bodies): Isaac Lab 3.0
+    reads a joint wrench sensor (``sensor_cfg``); 2.x's ``asset_cfg`` (the articulation) is taken too."""
+    if sensor_cfg is None:
+        if asset_cfg is None:
+            raise TypeError(
+                "body_incoming_wrench needs sensor_cfg (a JointWrenchSensor) or asset_cfg (an articulation)."
+            )
+        return _mdp.body_incoming_wrench(env, asset_cfg)
+    data = env.scene.sensors[sensor_cfg.name].data
+    wrench = torch.cat((data.force[:, sensor_cfg.body_ids], data.torque[:, sensor_cfg.body_ids]), dim=-1)
+    return wrench.reshape(env.num_envs, -1)
+
+
+body_incoming_wrench.before_compile = _mdp.body_incoming_wrench.before_compile  # MuJoCo's post-constraint pass
 
 
 def imu_orientation(env: Any, asset_cfg: SceneEntityCfg = _IMU) -> torch.Tensor:
