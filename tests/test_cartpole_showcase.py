@@ -201,6 +201,13 @@ def test_skrl_trains_a_showcase_pair_and_the_run_records_its_spaces(tmp_path, pa
     assert deserialize_space(written["observation_space"]) == OBSERVATION[obs_kind]
     assert deserialize_space(written["action_space"]) == ACTION[act_kind]
     assert any(name.endswith(".pt") for _, _, files in os.walk(tmp_path) for name in files)
+    # play: the skrl policy reads the flattened Dict / Tuple / Discrete observation and acts in the action space
+    command = [sys.executable, "-m", "simlab", "play", "--task", task, "--library", "skrl", "--device", "cpu"]
+    command += ["--num_envs", "4", "--headless", "--log_root", str(tmp_path), "--use_last_checkpoint"]
+    done = subprocess.run(
+        [*command, "--steps", "20", "--no_export"], cwd=REPO, capture_output=True, text=True, timeout=300
+    )
+    assert done.returncode == 0, done.stderr[-2000:]
 
 
 @needs_rendering

@@ -349,16 +349,24 @@ def train(
 
 
 class _SkrlActor(nn.Module):
-    """Observation preprocessor + the policy model's mean action."""
+    """Observation preprocessor + the policy model's mean action; for a Discrete or MultiDiscrete
+    action space (categorical policies, whose output is logits) the most likely choice of each part."""
 
-    def __init__(self, model: nn.Module, preprocessor: Any):
+    def __init__(self, model: nn.Module, preprocessor: Any, action_space: gym.spaces.Space | None = None):
         super().__init__()
         self.model = copy.deepcopy(model)
         self.preprocessor = copy.deepcopy(preprocessor) if isinstance(preprocessor, nn.Module) else nn.Identity()
+        self.choices: list[int] | None = None  # the number of choices of each discrete part
+        if isinstance(action_space, gym.spaces.Discrete):
+            self.choices = [int(action_space.n)]
+        elif isinstance(action_space, gym.spaces.MultiDiscrete):
+            self.choices = [int(n) for n in action_space.nvec]
 
     def forward(self, obs: torch.Tensor) -> torch.Tensor:
         mean, _ = self.model.compute({"observations": self.preprocessor(obs)}, role="policy")
-        return mean
+        if self.choices is None:
+            return mean
+        return torch.stack([logits.argmax(dim=-1) for logits in mean.split(self.choices, dim=-1)], dim=-1)
 
 
 def load_policy(env: gym.Env, agent_cfg: dict, checkpoint: str, trust: bool = False) -> Policy:
@@ -381,10 +389,13 @@ def load_policy(env: gym.Env, agent_cfg: dict, checkpoint: str, trust: bool = Fa
             return {a: obs[a].reshape(obs[a].shape[0], -1) for a in names}
 
         return Policy(modules, inputs, dims, device=device)
-    module = _SkrlActor(agent.policy, agent._observation_preprocessor)
-    dim = gym.spaces.flatdim(env.unwrapped.single_observation_space["policy"])
+    from skrl.utils.spaces.torch import compute_space_size, flatten_tensorized_space, tensorize_space
 
-    def inputs(obs: dict) -> dict[str, torch.Tensor]:
-        return {"policy": obs["policy"].reshape(obs["policy"].shape[0], -1)}
+    module = _SkrlActor(agent.policy, agent._observation_preprocessor, env.unwrapped.single_action_space)
+    space = env.unwrapped.single_observation_space["policy"]
+    dim = compute_space_size(space, occupied_size=True)  # as skrl's wrapper flattens (a Discrete: 1)
+
+    def inputs(obs: dict) -> dict[str, torch.Tensor]:  # Dict and Tuple observations flattened as skrl does
+        return {"policy": flatten_tensorized_space(tensorize_space(space, obs["policy"]))}
 
     return Policy({"policy": module}, inputs, {"policy": dim}, device=device)
