@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import io
 
+import numpy as np
 import pytest
 import torch
 
@@ -221,3 +222,37 @@ def test_isaac_labs_blind_anymal_c_policy_file_reads_as_torchscript_of_simlabs_p
     with pytest.raises(FileNotFoundError, match="Nucleus"):
         read_file(f"{ISAACLAB_NUCLEUS_DIR}/Policies/ANYmal-D/Blind/policy.pt")
     assert isinstance(read_file(path), io.BytesIO)
+
+
+@pytest.mark.parametrize("given", [None, 100.0])
+def test_implicit_gains_left_none_are_the_robot_files_own(given):
+    """Isaac Lab's AMP humanoid keeps its USD's drive gains (stiffness=None); simlab's MJCF of it has
+    them as the joints' stiffness and damping, which then drive the joint instead of springing it."""
+    import simlab.sim as sim_utils
+    from simlab.actuators import ImplicitActuatorCfg
+    from simlab.robots import HUMANOID_28_CFG
+    from simlab.scene import InteractiveScene, InteractiveSceneCfg
+
+    actuators = {"body": ImplicitActuatorCfg(joint_names_expr=[".*"], stiffness=given, damping=given)}
+    scene_cfg = InteractiveSceneCfg(num_envs=1, env_spacing=2.0)
+    scene_cfg.robot = HUMANOID_28_CFG.replace(prim_path="{ENV_REGEX_NS}/Robot", actuators=actuators)
+    sim = sim_utils.SimulationContext(sim_utils.SimulationCfg(dt=0.01, device="cpu"))
+    scene = InteractiveScene(scene_cfg)
+    sim.reset()
+    robot = scene["robot"]
+    ids, names = robot.find_joints(["abdomen_x", "neck_y", "right_elbow", "left_ankle_z"])
+    kp, kd = robot.data.default_joint_stiffness[0, ids], robot.data.default_joint_damping[0, ids]
+    model = sim.model
+    springs = [float(model.jnt_stiffness[model.joint(robot.prefix + n).id]) for n in names]
+    dampers = [float(model.dof_damping[model.jnt_dofadr[model.joint(robot.prefix + n).id]]) for n in names]
+    if given is None:  # the file's 600/60, 50/5, 150/15, 200/20 drive the joints; no passive spring is left
+        torch.testing.assert_close(kp, torch.tensor([600.0, 50.0, 150.0, 200.0]))
+        torch.testing.assert_close(kd, torch.tensor([60.0, 5.0, 15.0, 20.0]))
+        assert springs == [0.0] * 4 and dampers == [0.0] * 4
+    else:  # given gains drive; the file's springs stay as they are
+        torch.testing.assert_close(kp, torch.full((4,), given))
+        assert springs == [600.0, 50.0, 150.0, 200.0] and dampers == [60.0, 5.0, 15.0, 20.0]
+    # the joint's MuJoCo actuator is the drive with those gains
+    bias = [model.actuator(robot.prefix + n).biasprm[1:3] for n in names]
+    torch.testing.assert_close(torch.tensor(np.array(bias), dtype=torch.float32), -torch.stack([kp, kd], dim=1))
+    assert len(robot.data.body_names) == 15 and robot.num_joints == 28

@@ -31,9 +31,12 @@ class ActuatorBaseCfg:
     effort_limit_sim: dict[str, float] | float | None = None
     velocity_limit_sim: dict[str, float] | float | None = None
     stiffness: dict[str, float] | float | None = MISSING
-    """PD position gain [N/m or N m/rad]; None means 0."""
+    """PD position gain [N/m or N m/rad]. None: the robot file's own, as Isaac Lab takes its USD's drive
+    gains; for an implicit drive that is the MJCF joint's ``stiffness`` (moved from the joint's passive
+    spring into the drive), for other models 0."""
     damping: dict[str, float] | float | None = MISSING
-    """PD velocity gain [N s/m or N m s/rad]; None means 0."""
+    """PD velocity gain [N s/m or N m s/rad]. None: the robot file's own, as for ``stiffness`` (the MJCF
+    joint's ``damping`` for an implicit drive, else 0)."""
     armature: dict[str, float] | float | None = None
     friction: dict[str, float] | float | None = None
 

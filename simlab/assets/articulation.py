@@ -33,6 +33,7 @@ class Articulation(RootedAsset):
 
     def __init__(self, cfg):
         self.actuators: dict[str, ActuatorBase] = {}
+        self._drive_gains: dict[str, tuple[float, float]] = {}  # joint -> the (kp, kd) its actuator got
         super().__init__(cfg)
 
     data: ArticulationData
@@ -65,6 +66,13 @@ class Articulation(RootedAsset):
             implicit = act_cfg.class_type.is_implicit_model
             kp = per_joint_values(act_cfg.stiffness, names, 0.0)
             kd = per_joint_values(act_cfg.damping, names, 0.0)
+            if implicit:  # gains left None: the MJCF joint's spring and damper become the drive's
+                for gains, field, given in ((kp, "stiffness", act_cfg.stiffness), (kd, "damping", act_cfg.damping)):
+                    if given is None:
+                        for i, name in enumerate(names):
+                            values = getattr(spec.joint(self.prefix + name), field)
+                            gains[i], values[0] = float(values[0]), 0.0
+            self._drive_gains.update({name: (kp[i], kd[i]) for i, name in enumerate(names)})
             # The simulation's cap: an implicit drive's one limit; an explicit model clips in torch
             # (``effort_limit``) and is capped only by an ``effort_limit_sim`` it sets.
             effort_cfg = act_cfg.effort_limit_sim
@@ -138,7 +146,8 @@ class Articulation(RootedAsset):
         actuated, ctrl_cols, self._explicit = [], [], []
         for group, act_cfg in self.cfg.actuators.items():
             ids, names = resolve_matching_names(act_cfg.joint_names_expr, self._joint_names)
-            actuator = act_cfg.class_type(act_cfg, names, ids, n, dev)
+            gains = torch.tensor([self._drive_gains.get(name, (0.0, 0.0)) for name in names], device=dev).reshape(-1, 2)
+            actuator = act_cfg.class_type(act_cfg, names, ids, n, dev, stiffness=gains[:, 0], damping=gains[:, 1])
             self.actuators[group] = actuator
             data.joint_stiffness[:, ids] = actuator.stiffness
             data.joint_damping[:, ids] = actuator.damping

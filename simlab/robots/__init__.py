@@ -10,6 +10,7 @@ from .cartpole import CARTPOLE_CFG
 from .cassie import CASSIE_CFG
 from .franka import FRANKA_PANDA_CFG, FRANKA_PANDA_HIGH_PD_CFG
 from .humanoid import HUMANOID_CFG
+from .humanoid_28 import HUMANOID_28_CFG
 from .quadcopter import CRAZYFLIE_CFG
 from .shadow_hand import SHADOW_HAND_CFG
 from .unitree import (

@@ -219,6 +219,9 @@ USD_STAND_INS: dict[str, UsdStandIn] = {
     "IsaacLab/Robots/UniversalRobots/UR10/ur10_instanceable.usd": mjcf("universal_robots_ur10.xml"),
     "IsaacLab/Robots/Classic/Cartpole/cartpole.usd": mjcf("cartpole.xml"),
     "IsaacLab/Robots/Classic/CartDoublePendulum/cart_double_pendulum.usd": mjcf("cart_double_pendulum.xml"),
+    "IsaacLab/Robots/Classic/Humanoid28/humanoid_28.usd": mjcf(
+        "humanoid_28.xml", "IsaacGymEnvs' AMP humanoid, as Isaac Lab's"
+    ),
     # Isaac Sim's robots that Isaac Lab uses (ISAAC_NUCLEUS_DIR)
     "Robots/IsaacSim/Ant/ant_instanceable.usd": _ANT,
     "Robots/Ant/ant_instanceable.usd": _ANT,
