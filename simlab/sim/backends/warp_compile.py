@@ -68,9 +68,8 @@ class Precompile:
             with contextlib.suppress(Exception):
                 future.result()
         self._futures = []
-        if self._pool is not None:
-            self._pool.shutdown(wait=True)
-            self._pool = None
+        self._pool.shutdown(wait=True)
+        self._pool = None
         self.wait_seconds += time.perf_counter() - start
 
 
