@@ -27,7 +27,14 @@ from simlab.assets import (
 )
 from simlab.utils import configclass
 from simlab.v3._order import to_simlab, xyzw_class
-from simlab.v3.assets._api import ActuatorCollection, AssetDataView, BodyWriters, JointWriters, RootWriters
+from simlab.v3.assets._api import (
+    ActuatorCollection,
+    AssetDataView,
+    BodyPropertyWriters,
+    BodyWriters,
+    JointWriters,
+    RootWriters,
+)
 
 __all__ = [
     "Articulation",
@@ -46,7 +53,7 @@ __all__ = [
 ]
 
 
-class Articulation(JointWriters, RootWriters, _assets.Articulation):
+class Articulation(JointWriters, RootWriters, BodyPropertyWriters, _assets.Articulation):
     """simlab's articulation, made from a config whose quaternions are (x, y, z, w), with Isaac Lab 3.0's API."""
 
     def __init__(self, cfg: _assets.ArticulationCfg):
@@ -58,7 +65,7 @@ class Articulation(JointWriters, RootWriters, _assets.Articulation):
         self.data = AssetDataView(self.data)
 
 
-class RigidObject(RootWriters, _assets.RigidObject):
+class RigidObject(RootWriters, BodyPropertyWriters, _assets.RigidObject):
     """simlab's rigid object, made from a config whose quaternions are (x, y, z, w), with Isaac Lab 3.0's API."""
 
     def __init__(self, cfg: _assets.RigidObjectCfg):

@@ -9,14 +9,24 @@ only in 3.0's spelling, so every value they take or give is converted at this bo
 
 from __future__ import annotations
 
+import contextlib
 from collections.abc import Callable
 from typing import Any
 
 import torch
 
+import simlab.utils.math as math_utils
 from simlab.v3._proxy import ProxyTensor, as_v3, proxy
 
-__all__ = ["ActuatorCollection", "AssetDataView", "BodyWriters", "JointWriters", "RootWriters", "TargetCommand"]
+__all__ = [
+    "ActuatorCollection",
+    "AssetDataView",
+    "BodyPropertyWriters",
+    "BodyWriters",
+    "JointWriters",
+    "RootWriters",
+    "TargetCommand",
+]
 
 
 # -- data ------------------------------------------------------------------------------------------
@@ -141,6 +151,14 @@ ROOT_WRITERS: dict[str, tuple[tuple[str, ...], int | None]] = {
     "write_root_velocity_to_sim": (("root_velocity",), None),
     "write_root_com_velocity_to_sim": (("root_velocity",), None),
     "write_root_link_velocity_to_sim": (("root_velocity",), None),
+    "write_root_com_pose_to_sim": (("root_pose",), 3),
+}
+
+# mass properties of an articulation's or rigid object's bodies: (envs, bodies, ...) values
+BODY_PROPERTY_WRITERS: dict[str, tuple[tuple[str, ...], int | None]] = {
+    "set_masses": (("masses",), None),
+    "set_coms": (("coms",), 3),
+    "set_inertias": (("inertias",), None),
 }
 
 JOINT_WRITERS: dict[str, tuple[tuple[str, ...], int | None]] = {
@@ -170,8 +188,108 @@ BODY_WRITERS: dict[str, tuple[tuple[str, ...], int | None]] = {
 }
 
 
+def _body_field(asset: Any, name: str) -> torch.Tensor:
+    """(num_envs, num_bodies, ...) MjModel field ``name`` of the asset's bodies: each world's if the field
+    was made per-world (randomized, written), else the compiled model's."""
+    per_world = asset._physics.per_world_model_field(name)
+    if per_world is not None:
+        return per_world[:, asset._body_index.to(per_world.device)].to(asset.device, torch.float32)
+    model = torch.as_tensor(getattr(asset._sim.model, name)[asset._body_ids], dtype=torch.float32, device=asset.device)
+    return model.unsqueeze(0).expand(asset.num_instances, *model.shape)
+
+
 class RootWriters:
     """Isaac Lab 3.0's root writers (``write_root_pose_to_sim_index`` / ``_mask``, ...), poses (x, y, z, w)."""
+
+    def write_root_com_pose_to_sim(self, root_pose: torch.Tensor, env_ids: Any = None) -> None:
+        """Place the root so that its centre of mass frame (its position, the principal axes' orientation)
+        is ``root_pose`` (w, x, y, z), world frame: the root link's pose is written."""
+        com_pos_b = _body_field(self, "body_ipos")[:, 0]
+        com_quat_b = _body_field(self, "body_iquat")[:, 0]
+        rows = slice(None) if env_ids is None else torch.as_tensor(env_ids, device=self.device).long()
+        pos, quat = root_pose[:, :3], root_pose[:, 3:7]
+        link_quat = math_utils.quat_mul(quat, math_utils.quat_inv(com_quat_b[rows]))
+        link_pos = pos - math_utils.quat_apply(link_quat, com_pos_b[rows])
+        self.write_root_link_pose_to_sim(torch.cat((link_pos, link_quat), dim=-1), env_ids)
+
+
+class BodyPropertyWriters:
+    """Isaac Lab 3.0's ``set_masses`` / ``set_coms`` / ``set_inertias`` (``_index`` / ``_mask``): the bodies'
+    mass properties in each world (MuJoCo's per-world ``body_mass``, ``body_ipos``, ``body_iquat``,
+    ``body_inertia``), then MuJoCo's derived constants (``set_const``) for the envs written."""
+
+    def _write_bodies(self, field: str, values: torch.Tensor, body_ids: Any, env_ids: Any) -> torch.Tensor:
+        physics = self._physics
+        tensor = physics.model_field(field)
+        envs = torch.arange(self.num_instances) if env_ids is None else torch.as_tensor(env_ids).cpu()
+        values = torch.as_tensor(values, dtype=tensor.dtype, device=tensor.device)
+        if envs.dtype == torch.bool:  # a mask (the _mask writers): full data, a row per env
+            values, envs = values[envs.to(values.device)], envs.nonzero().flatten()
+        envs = envs.long().flatten()
+        local = torch.arange(self.num_bodies) if body_ids is None else torch.as_tensor(body_ids).long().flatten()
+        bodies = self._body_index.cpu()[local]
+        shape = (len(envs), len(bodies), *tensor.shape[2:])
+        if values.shape != shape:
+            raise ValueError(
+                f"{field}: {len(envs)} envs x {len(bodies)} bodies take a tensor of shape {shape}, "
+                f"got {tuple(values.shape)}"
+            )
+        envs, bodies = envs.to(tensor.device), bodies.to(tensor.device)
+        tensor[envs[:, None], bodies] = values
+        return envs
+
+    def _after_mass_change(self, envs: torch.Tensor) -> None:
+        with contextlib.suppress(NotImplementedError):  # the GPU backend keeps its derived constants
+            self._physics.set_const(envs)
+
+    def set_masses(self, masses: torch.Tensor, body_ids: Any = None, env_ids: Any = None) -> None:
+        """Body masses [kg], (len(env_ids), len(body_ids))."""
+        self._after_mass_change(self._write_bodies("body_mass", masses, body_ids, env_ids))
+
+    def _keep_frames(self, field: str, values: torch.Tensor, body_ids: Any) -> None:
+        """Refuse moving the centre of mass or turning the principal axes of a body that MuJoCo compiled with
+        them on the body's frame (``body_sameframe``): its kinematics skip that frame, so it would be wrong."""
+        model = self._sim.model
+        local = range(self.num_bodies) if body_ids is None else torch.as_tensor(body_ids).flatten().tolist()
+        identity = torch.tensor([0.0, 0.0, 0.0] if field == "body_ipos" else [1.0, 0.0, 0.0, 0.0])
+        fixed = (1,) if field == "body_ipos" else (1, 3)  # mjSAMEFRAME_BODY, mjSAMEFRAME_BODYROT
+        values = torch.as_tensor(values, dtype=torch.float32).cpu()
+        for column, k in enumerate(local):
+            body = int(self._body_ids[k])
+            if model.body_sameframe[body] in fixed and not torch.allclose(values[:, column], identity, atol=1e-6):
+                what = "centre of mass" if field == "body_ipos" else "principal axes of inertia"
+                raise ValueError(
+                    f"{model.body(body).name}: MuJoCo compiled this body with its {what} on the body's frame, which "
+                    "its kinematics then skip; simlab cannot move them afterwards (masses and inertias about the "
+                    "body's axes can be set)."
+                )
+
+    def set_coms(self, coms: torch.Tensor, body_ids: Any = None, env_ids: Any = None) -> None:
+        """Centres of mass in each body's frame, (len(env_ids), len(body_ids), 3), or poses (..., 7) whose
+        quaternion (w, x, y, z) orients the principal axes of inertia."""
+        coms = torch.as_tensor(coms)
+        self._keep_frames("body_ipos", coms[..., :3], body_ids)
+        if coms.shape[-1] == 7:
+            self._keep_frames("body_iquat", coms[..., 3:7], body_ids)
+        envs = self._write_bodies("body_ipos", coms[..., :3], body_ids, env_ids)
+        if coms.shape[-1] == 7:
+            self._write_bodies("body_iquat", coms[..., 3:7], body_ids, env_ids)
+        self._after_mass_change(envs)
+
+    def set_inertias(self, inertias: torch.Tensor, body_ids: Any = None, env_ids: Any = None) -> None:
+        """Inertia tensors about each body's centre of mass, (len(env_ids), len(body_ids), 9) row-major in the
+        body frame (as 3.0 gives them): MuJoCo keeps their principal moments and axes."""
+        matrix = torch.as_tensor(inertias, dtype=torch.float32).reshape(*torch.as_tensor(inertias).shape[:-1], 3, 3)
+        moments, axes = torch.linalg.eigh(0.5 * (matrix + matrix.transpose(-1, -2)))
+        axes = axes * torch.where(torch.linalg.det(axes) < 0, -1.0, 1.0)[..., None, None]  # a rotation
+        iquat = math_utils.quat_unique(math_utils.quat_from_matrix(axes))
+        diagonal = torch.diagonal(matrix, dim1=-2, dim2=-1)
+        if torch.allclose(matrix, torch.diag_embed(diagonal), atol=1e-9):  # the body's axes are principal
+            moments, iquat = diagonal, torch.tensor([1.0, 0.0, 0.0, 0.0]).expand(*diagonal.shape[:-1], 4)
+        self._keep_frames("body_iquat", iquat, body_ids)
+        envs = self._write_bodies("body_inertia", moments, body_ids, env_ids)
+        self._write_bodies("body_iquat", iquat, body_ids, env_ids)
+        self._after_mass_change(envs)
 
 
 class JointWriters:
@@ -183,6 +301,7 @@ class BodyWriters:
 
 
 _add_writers(RootWriters, ROOT_WRITERS, None)
+_add_writers(BodyPropertyWriters, BODY_PROPERTY_WRITERS, "body")
 _add_writers(BodyWriters, BODY_WRITERS, "body")
 _add_writers(JointWriters, JOINT_WRITERS, "joint")
 
