@@ -25,6 +25,8 @@ from pathlib import Path
 import pytest
 import torch
 
+from simlab.envs.utils.spaces import sample_space
+
 SOURCE = os.environ.get("SIMLAB_ISAACLAB_SOURCE")
 TASKS = Path(SOURCE or ".") / "source" / "isaaclab_tasks" / "isaaclab_tasks"
 
@@ -101,6 +103,27 @@ CASES = {
         "CartpoleDepthCameraEnvCfg",
         "direct.cartpole.cartpole_camera_env:CartpoleCameraEnv",
     ),
+    **{
+        f"cartpole-camera-{kind.lower()}": Case(
+            "Cartpole from cameras (manager-based)",
+            ("manager_based/classic/cartpole",),
+            "manager_based.classic.cartpole.cartpole_camera_env_cfg",
+            f"Cartpole{kind}CameraEnvCfg",
+        )
+        for kind in ("RGB", "Depth")
+    },
+    # the showcase on simlab's direct cartpole (its folder only: it imports direct/cartpole's env)
+    **{
+        f"cartpole-showcase-{obs.lower()}-{act.lower()}": Case(
+            "Cartpole spaces showcase",
+            ("direct/cartpole_showcase",),
+            "direct.cartpole_showcase.cartpole.cartpole_env_cfg",
+            f"{obs}{act}EnvCfg",
+            "direct.cartpole_showcase.cartpole.cartpole_env:CartpoleShowcaseEnv",
+        )
+        for obs in ("Box", "Discrete", "MultiDiscrete", "Dict", "Tuple")
+        for act in ("Box", "Discrete", "MultiDiscrete")
+    },
     "reach-franka": Case(
         "Reach (Franka)",
         ("manager_based/manipulation/reach",),
@@ -265,6 +288,16 @@ CASES = {
         "CartDoublePendulumEnvCfg",
         "direct.cart_double_pendulum.cart_double_pendulum_env:CartDoublePendulumEnv",
     ),
+    **{
+        f"humanoid-amp-{motion.lower()}": Case(
+            "Humanoid motion imitation (AMP)",
+            ("direct/humanoid_amp",),
+            "direct.humanoid_amp.humanoid_amp_env_cfg",
+            f"HumanoidAmp{motion}EnvCfg",
+            "direct.humanoid_amp.humanoid_amp_env:HumanoidAmpEnv",
+        )
+        for motion in ("Dance", "Run", "Walk")
+    },
     "shadow-hand-over": Case(
         "Shadow hand over",
         ("direct/shadow_hand_over",),
@@ -276,7 +309,6 @@ CASES = {
 
 STOPS = {
     "direct/franka_cabinet/franka_cabinet_env.py": "Open a drawer (Franka)",
-    "direct/humanoid_amp/humanoid_amp_env_cfg.py": "Humanoid motion imitation (AMP)",
     "direct/shadow_hand/shadow_hand_env_cfg.py": "In-hand cube reorientation (Shadow)",  # its OpenAI variant
 }
 """Isaac Lab's files (or variants) of registered families that do not run, by file (docs/porting.md says why)."""
@@ -308,6 +340,13 @@ def port_folders(tasks: Path, folders: tuple[str, ...], dest: Path, package: str
                 target.write_bytes(path.read_bytes())
     for directory in [dest / package, *(p for p in (dest / package).rglob("*") if p.is_dir())]:
         (directory / "__init__.py").touch(exist_ok=True)  # the folders between: plain packages
+
+
+def _tensors(value) -> list[torch.Tensor]:
+    """The tensors of an observation: groups, agents, Dict and Tuple spaces' parts."""
+    if isinstance(value, torch.Tensor):
+        return [value]
+    return [t for item in (value.values() if isinstance(value, dict) else value) for t in _tensors(item)]
 
 
 def test_the_mapping_rewrites_imports_only_and_keeps_copied_folders_local():
@@ -377,14 +416,49 @@ def test_isaac_labs_task_files_run_after_the_import_mapping(name, tmp_path):
                 for _ in range(3):
                     if agents:
                         actions = {a: torch.zeros(2, env.action_spaces[a].shape[0]) for a in agents}
-                    else:
-                        actions = torch.zeros(2, env.single_action_space.shape[0])
+                    else:  # zeros of any space (the showcase's Discrete and MultiDiscrete ones too)
+                        actions = sample_space(env.single_action_space, "cpu", batch_size=2, fill_value=0)
                     obs, reward, *_ = env.step(actions)
-            for value in [*(obs.values() if isinstance(obs, dict) else [obs])]:
-                for tensor in value.values() if isinstance(value, dict) else [value]:
-                    assert torch.isfinite(tensor).all()
+            for tensor in _tensors(obs):
+                assert torch.isfinite(tensor).all()
             for tensor in reward.values() if isinstance(reward, dict) else [reward]:
                 assert torch.isfinite(tensor).all()
+        finally:
+            env.close()
+    finally:
+        sys.path.remove(str(tmp_path))
+        for module in [m for m in sys.modules if m == package or m.startswith(package + ".")]:
+            del sys.modules[module]
+
+
+@pytest.mark.skipif(not SOURCE, reason="SIMLAB_ISAACLAB_SOURCE (an Isaac Lab 2.x checkout) is not set")
+def test_isaac_labs_amp_motions_fit_simlabs_28_joint_humanoid(tmp_path):
+    """Posed by a frame of Isaac Lab's walk clip (its joint angles, its pelvis pose), HUMANOID_28_CFG's
+    bodies are where the clip has them: the model's skeleton is the clip's."""
+    import numpy as np
+
+    package = "isaaclab_port_amp_kinematics"
+    port_folders(TASKS, ("direct/humanoid_amp",), tmp_path, package)
+    sys.path.insert(0, str(tmp_path))
+    try:
+        cfg = importlib.import_module(f"{package}.direct.humanoid_amp.humanoid_amp_env_cfg").HumanoidAmpWalkEnvCfg()
+        cfg.scene.num_envs, cfg.sim.device, cfg.seed = 2, "cpu", 0
+        env = importlib.import_module(f"{package}.direct.humanoid_amp.humanoid_amp_env").HumanoidAmpEnv(cfg)
+        try:
+            env.reset()
+            clip, robot = env._motion_loader, env.robot
+            dof_pos, _, body_pos, body_rot, _, _ = clip.sample(num_samples=2, times=np.array([0.3, 1.1]))
+            pelvis = clip.get_body_index(["pelvis"])[0]
+            root = robot.data.default_root_state.clone()
+            root[:, :3], root[:, 3:7], root[:, 7:] = body_pos[:, pelvis] + env.scene.env_origins, body_rot[:, pelvis], 0
+            robot.write_root_state_to_sim(root)
+            robot.write_joint_state_to_sim(dof_pos[:, env.motion_dof_indexes], torch.zeros_like(robot.data.joint_vel))
+            ours = robot.data.body_pos_w - env.scene.env_origins[:, None]
+            error = (ours - body_pos[:, clip.get_body_index(robot.data.body_names)]).norm(dim=-1).max(dim=0).values
+            errors = dict(zip(robot.data.body_names, error.tolist()))
+            # the pelvis's children sit exactly; further out, the clip's three-angle joints fit within 3 cm
+            assert max(errors[b] for b in ("pelvis", "torso", "right_thigh", "left_thigh")) < 1e-4, errors
+            assert max(errors.values()) < 0.03, errors
         finally:
             env.close()
     finally:
