@@ -4,11 +4,12 @@
 # SPDX-License-Identifier: BSD-3-Clause
 #
 # Isaac Lab 3.0's isaaclab_tasks/core/cartpole/cartpole_direct_env.py, ported by the 3.0 mapping
-# (docs/porting_3.md). Lines that differ: the imports, and in ``_setup_scene`` the cloning of env_0
-# (``isaaclab.cloner``: clone_plan_from_env_0, replicate, PhysX collision filtering), which simlab does not
-# map (its scene makes every env a world of one model), and the light, whose spawner is simlab's. Everything
-# else is 3.0's text: ``data.<field>.torch``, ``default_root_pose`` / ``default_root_vel``,
-# ``set_joint_effort_target_index`` and the ``write_*_to_sim_index`` writers.
+# (docs/porting_3.md). Lines that differ: the imports (isaaclab.cloner -> simlab.v3.cloner), and the light, whose
+# spawner is simlab's. ``_setup_scene`` clones env_0 with 3.0's cloner in the form 3.0's direct envs write it
+# (grid_transforms, clone_plan_from_env_0, replicate; the cartpole's own lines were not at hand): on simlab the
+# scene has made every env already and replicate checks the plan asks for that layout. Everything else is 3.0's
+# text: ``data.<field>.torch``, ``default_root_pose`` / ``default_root_vel``, ``set_joint_effort_target_index``
+# and the ``write_*_to_sim_index`` writers.
 
 from __future__ import annotations
 
@@ -18,6 +19,7 @@ from typing import TYPE_CHECKING
 import torch
 
 import simlab.v3.sim as sim_utils
+from simlab.v3 import cloner
 from simlab.v3.assets import Articulation
 from simlab.v3.envs import DirectRLEnv
 from simlab.v3.sim import GroundPlaneCfg, spawn_ground_plane
@@ -45,7 +47,11 @@ class CartpoleEnv(DirectRLEnv):
     def _setup_scene(self):
         self.cartpole = Articulation(self.cfg.robot_cfg)
         spawn_ground_plane(prim_path="/World/ground", cfg=GroundPlaneCfg())
-        # (3.0 clones env_0 here with isaaclab.cloner; simlab's scene has made every env already)
+        # clone and replicate
+        src, dest = "/World/envs/env_0", "/World/envs/env_{}"
+        positions = cloner.grid_transforms(self.scene.num_envs, self.scene.cfg.env_spacing)[0]
+        plan = cloner.clone_plan_from_env_0(src, dest, self.scene.num_envs, positions, global_paths=("/World/ground",))
+        cloner.replicate(plan)
 
         # add articulation to scene
         self.scene.articulations["cartpole"] = self.cartpole
