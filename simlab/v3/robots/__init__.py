@@ -6,12 +6,22 @@ here) and whose ``class_type`` carries 3.0's asset API. So 3.0 code that reads a
 it with :mod:`simlab.v3.utils.math` or builds the robot with ``cfg.class_type(cfg)`` gets 3.0's
 convention, while 2.x code importing :mod:`simlab.robots` keeps its ``(w, x, y, z)`` configs. Values that
 are not asset configs (joint name lists, actuator configs) are simlab's as they are.
+
+The robot modules too (``isaaclab_assets.robots.<robot>``): ``simlab.v3.robots.<module>`` is
+``simlab.robots.<module>`` (``cartpole``, ``ant``, ``franka``, ...) with its configs converted the same
+way, made on import for every module of :mod:`simlab.robots` (:class:`_RobotModules`).
 """
 
 from __future__ import annotations
 
 import copy
 import dataclasses
+import importlib
+import importlib.abc
+import importlib.machinery
+import importlib.util
+import sys
+import types
 from typing import Any
 
 import simlab.assets as _assets2
@@ -58,3 +68,30 @@ def __getattr__(name: str) -> Any:
 
 def __dir__() -> list[str]:
     return sorted({*globals(), *dir(_robots)})
+
+
+class _RobotModules(importlib.abc.MetaPathFinder, importlib.abc.Loader):
+    """Finds ``simlab.v3.robots.<module>`` for each module of :mod:`simlab.robots`: a module whose names are
+    the 2.x module's, asset configs converted by :func:`to_v3` when read."""
+
+    def find_spec(self, fullname: str, path: Any = None, target: Any = None) -> importlib.machinery.ModuleSpec | None:
+        parent, _, name = fullname.rpartition(".")
+        if parent != __name__ or importlib.util.find_spec(f"{_robots.__name__}.{name}") is None:
+            return None
+        return importlib.machinery.ModuleSpec(fullname, self)
+
+    def create_module(self, spec: importlib.machinery.ModuleSpec) -> types.ModuleType:
+        source = importlib.import_module(f"{_robots.__name__}.{spec.name.rpartition('.')[2]}")
+        module = types.ModuleType(spec.name, f"``{source.__name__}`` in Isaac Lab 3.0's convention (simlab.v3.robots).")
+        module.__getattr__ = lambda name: to_v3(getattr(source, name))
+        module.__dir__ = lambda: dir(source)
+        public = getattr(source, "__all__", [n for n in vars(source) if not n.startswith("_")])
+        module.__all__ = list(public)
+        return module
+
+    def exec_module(self, module: types.ModuleType) -> None:
+        pass
+
+
+if not any(isinstance(finder, _RobotModules) for finder in sys.meta_path):
+    sys.meta_path.append(_RobotModules())

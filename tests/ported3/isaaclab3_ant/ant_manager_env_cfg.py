@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import isaaclab3_locomotion.mdp as mdp
+from simlab.v3.robots.ant import ANT_CFG
 
 import simlab.v3.sim as sim_utils
 from simlab.managers import EventTermCfg as EventTerm
@@ -27,7 +28,6 @@ from simlab.tasks.utils import PresetCfg
 from simlab.terrains import TerrainImporterCfg
 from simlab.v3.assets import AssetBaseCfg
 from simlab.v3.envs import ManagerBasedRLEnvCfg
-from simlab.v3.robots import ANT_CFG
 from simlab.v3.scene import InteractiveSceneCfg
 from simlab.v3.sensors import JointWrenchSensorCfg
 from simlab.v3.utils import replace_config

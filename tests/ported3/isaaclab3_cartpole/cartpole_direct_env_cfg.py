@@ -12,12 +12,13 @@ from __future__ import annotations
 
 import math
 
+from simlab.v3.robots.cartpole import CARTPOLE_CFG
+
 from simlab.sim.physics import KaminoPADMMSolverCfg, MJWarpSolverCfg, NewtonCfg, OvPhysxCfg, PhysxAutoCfg, PhysxCfg
 from simlab.tasks.utils import PresetCfg
 from simlab.utils.configclass import configclass
 from simlab.v3.assets import ArticulationCfg
 from simlab.v3.envs import DirectRLEnvCfg
-from simlab.v3.robots import CARTPOLE_CFG
 from simlab.v3.scene import InteractiveSceneCfg
 from simlab.v3.sim import SimulationCfg
 

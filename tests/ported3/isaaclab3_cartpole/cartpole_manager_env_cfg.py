@@ -31,7 +31,7 @@ from simlab.v3.assets import ArticulationCfg, AssetBaseCfg
 from simlab.v3.envs import ManagerBasedRLEnvCfg
 from simlab.v3.scene import InteractiveSceneCfg
 
-from simlab.v3.robots import CARTPOLE_CFG  # isort:skip
+from simlab.v3.robots.cartpole import CARTPOLE_CFG  # isort:skip
 
 
 ##
