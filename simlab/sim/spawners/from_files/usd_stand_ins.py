@@ -34,10 +34,15 @@ DEX_CUBE_SIZE = 0.06
 """Edge length of Isaac Lab's unscaled DexCube [m]."""
 
 BLOCK_SIZE = 0.0468
-"""Edge of Isaac Sim's stacking blocks (``Props/Blocks/{blue,red,green}_block.usd``) [m]: the height
+"""Edge of Isaac Sim's stacking blocks (``Props/Blocks/{blue,red,green,yellow}_block.usd``) [m]: the height
 difference of two stacked blocks in Isaac Lab's stack task's checks."""
 
-BLOCK_COLORS = {"blue": (0.15, 0.3, 0.85), "red": (0.85, 0.15, 0.15), "green": (0.15, 0.7, 0.2)}
+BLOCK_COLORS = {
+    "blue": (0.15, 0.3, 0.85),
+    "red": (0.85, 0.15, 0.15),
+    "green": (0.15, 0.7, 0.2),
+    "yellow": (0.9, 0.8, 0.1),
+}
 
 TABLE_SIZE = (1.2, 1.2, 1.05)
 """simlab's stand-in for the Seattle lab table: a box, its top at the prop's origin as Isaac Lab's table

@@ -1,5 +1,6 @@
 """Reset events of the stack task (Isaac Lab's ``stack/mdp/franka_stack_events.py``): the arm's start
-pose, a Gaussian jitter of it, and cube poses drawn apart from each other.
+pose, a Gaussian jitter of it, cube poses drawn apart from each other, and (the instance-randomized
+task) one object of each rigid object collection brought into focus at such a pose, per env.
 
 All three take an env mask (``takes_env_mask``): they draw for every env and write the rows the mask
 selects, so a reset inside the step has fixed shapes and no host read. The cubes are placed as Isaac
@@ -29,12 +30,15 @@ if TYPE_CHECKING:
 __all__ = [
     "randomize_joint_by_gaussian_offset",
     "randomize_object_pose",
+    "randomize_rigid_objects_in_focus",
     "sample_object_poses",
     "set_default_joint_pose",
 ]
 
 _ROBOT = SceneEntityCfg("robot")
 _POSE_KEYS = ("x", "y", "z", "roll", "pitch", "yaw")
+PARK_SPACING = 0.25
+"""Gap [m] along x between the objects parked out of focus in one env (see randomize_rigid_objects_in_focus)."""
 
 
 def _rows_and_targets(env: ManagerBasedEnv, env_ids) -> tuple[torch.Tensor | slice, torch.Tensor]:
@@ -137,3 +141,59 @@ def randomize_object_pose(
         quat = math_utils.quat_from_euler_xyz(poses[:, i, 3], poses[:, i, 4], poses[:, i, 5])
         asset.write_root_pose_to_sim(torch.cat([poses[:, i, :3] + origins, quat], dim=-1), env_ids=targets)
         asset.write_root_velocity_to_sim(torch.zeros(origins.shape[0], 6, device=env.device), env_ids=targets)
+
+
+@takes_env_mask
+def randomize_rigid_objects_in_focus(
+    env: ManagerBasedEnv,
+    env_ids: torch.Tensor,
+    asset_cfgs: list[SceneEntityCfg],
+    out_focus_state: torch.Tensor,
+    min_separation: float = 0.0,
+    pose_range: dict[str, tuple[float, float]] | None = None,
+    max_sample_tries: int = 128,
+) -> None:
+    """Per env, pick one object of each rigid object collection of ``asset_cfgs`` at random and place it
+    at a pose drawn as ``randomize_object_pose`` draws (``min_separation`` [m] from the others' picks),
+    at rest; park the others at ``out_focus_state`` (13 values: world position, quaternion w-x-y-z,
+    velocities), where they fall away out of the task's reach.
+
+    The picks go to ``env.rigid_objects_in_focus``, a ``(num_envs, len(asset_cfgs))`` tensor of object
+    ids (Isaac Lab's list of lists, indexed the same way ``[env][k]``), and
+    ``env.rigid_object_focus_columns`` maps a collection's name to its column, which the stack terms
+    read (``object_pose_w``). Parallel worlds never collide, so every env parks at the same world
+    point, as Isaac Lab's; within an env the parked objects are set ``PARK_SPACING`` apart along x,
+    where Isaac Lab stacks them on one point.
+    """
+    rows, targets = _rows_and_targets(env, env_ids)
+    origins = env.scene.env_origins[rows]
+    n = origins.shape[0]
+    poses = sample_object_poses(n, len(asset_cfgs), min_separation, pose_range or {}, max_sample_tries, env.device)
+    focus = _focus_buffer(env, asset_cfgs)
+    park = out_focus_state.to(device=env.device, dtype=torch.float32)
+    parked = 0  # objects parked so far in an env, for their spacing
+    for k, asset_cfg in enumerate(asset_cfgs):
+        collection = env.scene[asset_cfg.name]
+        m = collection.num_objects
+        states = park.repeat(n, m, 1)
+        states[..., 0] += PARK_SPACING * torch.arange(parked, parked + m, device=env.device)
+        parked += m
+        quat = math_utils.quat_from_euler_xyz(poses[:, k, 3], poses[:, k, 4], poses[:, k, 5])
+        placed = torch.cat([poses[:, k, :3] + origins, quat, torch.zeros(n, 6, device=env.device)], dim=-1)
+        chosen = torch.randint(m, (n,), device=env.device)
+        in_focus = chosen[:, None] == torch.arange(m, device=env.device)  # (n, m)
+        states = torch.where(in_focus[..., None], placed[:, None, :], states)
+        collection.write_object_state_to_sim(states, env_ids=targets)
+        if is_mask(targets):
+            focus[:, k] = torch.where(targets, chosen, focus[:, k])
+        else:
+            focus[targets, k] = chosen
+
+
+def _focus_buffer(env: ManagerBasedEnv, asset_cfgs: list[SceneEntityCfg]) -> torch.Tensor:
+    """``env.rigid_objects_in_focus``, made on the first call (every collection's first object in focus)."""
+    names = {cfg.name: k for k, cfg in enumerate(asset_cfgs)}
+    if getattr(env, "rigid_object_focus_columns", None) != names:
+        env.rigid_objects_in_focus = torch.zeros(env.num_envs, len(names), dtype=torch.long, device=env.device)
+        env.rigid_object_focus_columns = names
+    return env.rigid_objects_in_focus

@@ -6,6 +6,12 @@ The gripper terms read three fields of the env config: ``gripper_joint_names`` (
 when unset, the joints of the ``gripper_action``), ``gripper_open_val`` (their open position) and
 ``gripper_threshold`` (how far from open a finger must be to count as closed on something).
 Isaac Lab's suction-cup branches are left out: simlab has no surface gripper.
+
+A cube may also be a rigid object collection of candidate objects, one of which the event
+``randomize_rigid_objects_in_focus`` brings into each env (Isaac Lab's instance-randomized stack
+task): every term here then reads the object in focus (``object_pose_w``), so Isaac Lab's
+``instance_randomize_*`` terms are the same functions. Before that event has run, a collection's
+first object is in focus (Isaac Lab's terms return -1s then, nine wide whatever the term).
 """
 
 from __future__ import annotations
@@ -14,6 +20,7 @@ from typing import TYPE_CHECKING
 
 import torch
 
+from simlab.assets import RigidObjectCollection
 from simlab.managers import SceneEntityCfg
 from simlab.utils.errors import ConfigError
 
@@ -26,13 +33,32 @@ __all__ = [
     "ee_frame_pos",
     "ee_frame_quat",
     "gripper_pos",
+    "instance_randomize_cube_orientations_in_world_frame",
+    "instance_randomize_cube_positions_in_world_frame",
+    "instance_randomize_object_obs",
     "object_grasped",
     "object_obs",
+    "object_pose_w",
     "object_stacked",
 ]
 
 _ROBOT, _EE_FRAME = SceneEntityCfg("robot"), SceneEntityCfg("ee_frame")
 _CUBES = (SceneEntityCfg("cube_1"), SceneEntityCfg("cube_2"), SceneEntityCfg("cube_3"))
+
+
+def object_pose_w(env: ManagerBasedRLEnv, asset_cfg: SceneEntityCfg) -> tuple[torch.Tensor, torch.Tensor]:
+    """(N, 3) position and (N, 4) orientation (w, x, y, z) in the world frame of a rigid object, or of
+    the object in focus of a rigid object collection (``env.rigid_objects_in_focus``, the column the
+    focus event gave the collection; its first object before that event has run)."""
+    asset = env.scene[asset_cfg.name]
+    if not isinstance(asset, RigidObjectCollection):
+        return asset.data.root_pos_w, asset.data.root_quat_w
+    columns = getattr(env, "rigid_object_focus_columns", {})
+    if asset_cfg.name not in columns:
+        return asset.data.object_pos_w[:, 0], asset.data.object_quat_w[:, 0]
+    chosen = env.rigid_objects_in_focus[:, columns[asset_cfg.name]]
+    rows = torch.arange(env.num_envs, device=chosen.device)
+    return asset.data.object_pos_w[rows, chosen], asset.data.object_quat_w[rows, chosen]
 
 
 def cube_positions_in_world_frame(
@@ -42,8 +68,7 @@ def cube_positions_in_world_frame(
     cube_3_cfg: SceneEntityCfg = _CUBES[2],
 ) -> torch.Tensor:
     """(N, 9) the three cubes' positions in the world frame (env origins included, as Isaac Lab's)."""
-    cubes = (env.scene[c.name] for c in (cube_1_cfg, cube_2_cfg, cube_3_cfg))
-    return torch.cat([cube.data.root_pos_w for cube in cubes], dim=1)
+    return torch.cat([object_pose_w(env, c)[0] for c in (cube_1_cfg, cube_2_cfg, cube_3_cfg)], dim=1)
 
 
 def cube_orientations_in_world_frame(
@@ -53,8 +78,7 @@ def cube_orientations_in_world_frame(
     cube_3_cfg: SceneEntityCfg = _CUBES[2],
 ) -> torch.Tensor:
     """(N, 12) the three cubes' orientations (w, x, y, z) in the world frame."""
-    cubes = (env.scene[c.name] for c in (cube_1_cfg, cube_2_cfg, cube_3_cfg))
-    return torch.cat([cube.data.root_quat_w for cube in cubes], dim=1)
+    return torch.cat([object_pose_w(env, c)[1] for c in (cube_1_cfg, cube_2_cfg, cube_3_cfg)], dim=1)
 
 
 def object_obs(
@@ -66,8 +90,7 @@ def object_obs(
 ) -> torch.Tensor:
     """(N, 39) Isaac Lab's layout: each cube's position (env frame) and orientation, the vectors from
     the end effector to each cube, and cube 2 to 1, 3 to 2 and 3 to 1."""
-    pos = [env.scene[c.name].data.root_pos_w for c in (cube_1_cfg, cube_2_cfg, cube_3_cfg)]
-    quat = [env.scene[c.name].data.root_quat_w for c in (cube_1_cfg, cube_2_cfg, cube_3_cfg)]
+    pos, quat = zip(*(object_pose_w(env, c) for c in (cube_1_cfg, cube_2_cfg, cube_3_cfg)))
     ee_pos = env.scene[ee_frame_cfg.name].data.target_pos_w[:, 0, :]
     origins = env.scene.env_origins
     return torch.cat(
@@ -87,6 +110,12 @@ def object_obs(
         ),
         dim=1,
     )
+
+
+# Isaac Lab's names for the terms of its instance-randomized stack task: the same terms (see above)
+instance_randomize_cube_positions_in_world_frame = cube_positions_in_world_frame
+instance_randomize_cube_orientations_in_world_frame = cube_orientations_in_world_frame
+instance_randomize_object_obs = object_obs
 
 
 def ee_frame_pos(env: ManagerBasedRLEnv, ee_frame_cfg: SceneEntityCfg = _EE_FRAME) -> torch.Tensor:
@@ -134,7 +163,7 @@ def object_grasped(
     """(N,) bool: the object is within ``diff_threshold`` [m] of the end effector and both fingers are
     more than ``env.cfg.gripper_threshold`` from open (closed on something)."""
     robot = env.scene[robot_cfg.name]
-    object_pos = env.scene[object_cfg.name].data.root_pos_w
+    object_pos = object_pose_w(env, object_cfg)[0]
     ee_pos = env.scene[ee_frame_cfg.name].data.target_pos_w[:, 0, :]
     near = torch.linalg.vector_norm(object_pos - ee_pos, dim=1) < diff_threshold
     fingers = _fingers(env, robot)
@@ -155,7 +184,7 @@ def object_stacked(
     horizontally, at most ``height_diff + height_threshold`` apart vertically) and the gripper is open
     (released it)."""
     robot = env.scene[robot_cfg.name]
-    diff = env.scene[upper_object_cfg.name].data.root_pos_w - env.scene[lower_object_cfg.name].data.root_pos_w
+    diff = object_pose_w(env, upper_object_cfg)[0] - object_pose_w(env, lower_object_cfg)[0]
     stacked = (torch.linalg.vector_norm(diff[:, :2], dim=1) < xy_threshold) & (
         diff[:, 2].abs() - height_diff < height_threshold
     )
