@@ -26,8 +26,9 @@ MOTORS = LEG_JOINT_NAMES + ARM_JOINT_NAMES
 FEET = ".*_leg_toe_roll"
 
 
+# Isaac Lab's class names: its loco-manipulation task imports DigitRewards from here
 @configclass
-class DigitRewardsCfg:
+class DigitRewards:
     termination_penalty = RewTerm(func=mdp.is_terminated, weight=-100.0)
     track_lin_vel_xy_exp = RewTerm(
         func=mdp.track_lin_vel_xy_yaw_frame_exp,
@@ -110,7 +111,7 @@ class DigitRewardsCfg:
 
 
 @configclass
-class DigitObservationsCfg:
+class DigitObservations:
     @configclass
     class PolicyCfg(ObsGroup):
         base_lin_vel = ObsTerm(func=mdp.base_lin_vel, noise=Unoise(n_min=-0.1, n_max=0.1))
@@ -159,8 +160,8 @@ class DigitActionsCfg:
 
 @configclass
 class DigitRoughEnvCfg(LocomotionVelocityRoughEnvCfg):
-    rewards: DigitRewardsCfg = DigitRewardsCfg()
-    observations: DigitObservationsCfg = DigitObservationsCfg()
+    rewards: DigitRewards = DigitRewards()
+    observations: DigitObservations = DigitObservations()
     terminations: DigitTerminationsCfg = DigitTerminationsCfg()
     actions: DigitActionsCfg = DigitActionsCfg()
 

@@ -1,0 +1,1 @@
+"""Loco-manipulation tasks (Isaac Lab's ``manager_based/locomanipulation``)."""

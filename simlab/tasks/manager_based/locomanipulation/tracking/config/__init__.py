@@ -1,0 +1,1 @@
+"""The loco-manipulation tracking tasks' robots."""

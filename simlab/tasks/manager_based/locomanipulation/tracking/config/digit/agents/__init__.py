@@ -1,0 +1,1 @@
+"""rsl_rl agent config of the Digit loco-manipulation task."""

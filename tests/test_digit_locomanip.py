@@ -1,0 +1,136 @@
+"""Agility Digit loco-manipulation tracking (Isaac Lab's ``Isaac-Tracking-LocoManip-Digit-v0``): the task
+builds and steps on the CPU, its hand commands and rewards name the wrist bodies, its criterion measures
+the hands where they are and fails an untrained policy, and Isaac Lab's own task file runs after the
+import mapping with the same terms."""
+
+from __future__ import annotations
+
+import importlib
+import sys
+from pathlib import Path
+
+import gymnasium as gym
+import pytest
+import torch
+
+import simlab.tasks  # noqa: F401 - registers the tasks
+import simlab.utils.math as math_utils
+from simlab.envs import ManagerBasedRLEnv
+from simlab.tasks.utils.criteria import criterion_for
+from simlab.tasks.utils.parse_cfg import parse_env_cfg
+
+TASK = "simlab/Tracking-LocoManip-Digit-v0"
+HANDS = {"left_ee_pose": "left_arm_wrist_yaw", "right_ee_pose": "right_arm_wrist_yaw"}
+N = 2
+# 9 (base velocities, gravity) + 3 (velocity command) + 2 x 7 (hand poses) + 3 x 26 motors
+OBS_DIM = 9 + 3 + 14 + 78
+
+
+def make(task: str = TASK, hand_window_s: float | None = None) -> ManagerBasedRLEnv:
+    cfg = parse_env_cfg(task, device="cpu", num_envs=N)
+    cfg.seed = 0
+    if hand_window_s is not None:
+        for name in HANDS:
+            getattr(cfg.commands, name).resampling_time_range = (hand_window_s, hand_window_s)
+    return gym.make(task, cfg=cfg).unwrapped
+
+
+def steps_finite(env: ManagerBasedRLEnv, steps: int = 20) -> None:
+    obs, _ = env.reset()
+    for _ in range(steps):
+        obs, reward, *_ = env.step(0.3 * torch.randn(N, env.action_manager.total_action_dim))
+        assert torch.isfinite(obs["policy"]).all() and torch.isfinite(reward).all()
+
+
+@pytest.mark.parametrize("task", [TASK, "simlab/Tracking-LocoManip-Digit-Play-v0"])
+def test_task_builds_and_steps(task):
+    spec = gym.spec(task)
+    assert spec.kwargs["success_criterion_entry_point"].endswith("tracking.criterion:tracks_velocity_and_hands")
+    assert spec.kwargs["rsl_rl_cfg_entry_point"].endswith(":DigitLocoManipPPORunnerCfg")
+    env = make(task)
+    try:
+        assert env.action_manager.total_action_dim == 26
+        assert env.observation_manager.group_obs_dim["policy"] == (OBS_DIM,)
+        assert env.max_episode_length_s == 14.0
+        for name, body in HANDS.items():
+            term = env.command_manager.get_term(name)
+            assert env.scene["robot"].body_names[term.body_idx] == body
+        terms = env.reward_manager.active_terms
+        assert "joint_deviation_arms" not in terms and "joint_vel_hip_yaw" in terms
+        assert {f"{side}_ee_pos_tracking" for side in ("left", "right")} <= set(terms)
+        assert env.reward_manager.get_term_cfg("flat_orientation_l2").weight == -10.5
+        # the velocity task's __post_init__ sets the velocity command's ranges, as in Isaac Lab
+        velocity = env.command_manager.get_term("base_velocity").cfg
+        assert velocity.ranges.lin_vel_x == (-0.8, 0.8) and velocity.heading_command
+        steps_finite(env)
+    finally:
+        env.close()
+
+
+def hand_pose_in_root_frame(env: ManagerBasedRLEnv, body: str) -> torch.Tensor:
+    data = env.scene["robot"].data
+    index = env.scene["robot"].body_names.index(body)
+    pos, quat = math_utils.subtract_frame_transforms(
+        data.root_pos_w, data.root_quat_w, data.body_pos_w[:, index], data.body_quat_w[:, index]
+    )
+    return torch.cat([pos, quat], dim=-1)
+
+
+def test_criterion_measures_the_hands_and_fails_an_untrained_policy():
+    criterion = criterion_for(TASK)
+    env = make(hand_window_s=0.3)  # windows that end before the untrained robot falls (about 1 s)
+    try:
+        env.reset()
+        zero = torch.zeros(N, env.action_manager.total_action_dim)
+
+        # commands set to where the hands are: no hand error at the windows' ends
+        on_target, state = criterion.make_hook()
+        for _ in range(150):
+            obs, *_ = env.step(zero)
+            for name, body in HANDS.items():
+                env.command_manager.get_term(name).pose_command_b[:] = hand_pose_in_root_frame(env, body)
+            on_target(env, obs, zero)
+        assert state["hand_errors"], "no hand command window ended"
+        assert float(torch.cat(state["hand_errors"]).max()) < 1e-4
+
+        # the hands left hanging and the robot left to fall: fails, the hands' error far over 0.1 m
+        hook, state = criterion.make_hook()
+        env.reset()  # fresh commands
+        for _ in range(150):
+            obs, *_ = env.step(zero)
+            hook(env, obs, zero)
+        score, passed = criterion.judge({}, state)
+        assert not passed and score > 1.0
+        assert float(torch.cat(state["hand_errors"]).mean()) > 0.2
+    finally:
+        env.close()
+
+
+def ported_cfg():
+    path = str(Path(__file__).parent / "ported")
+    sys.path.insert(0, path)
+    try:
+        env_module = importlib.import_module("isaaclab_locomanip_digit.loco_manip_env_cfg")
+        agent_module = importlib.import_module("isaaclab_locomanip_digit.agents.rsl_rl_ppo_cfg")
+    finally:
+        sys.path.remove(path)
+    return env_module.DigitLocoManipEnvCfg(), agent_module.DigitLocoManipPPORunnerCfg()
+
+
+def test_isaac_labs_own_task_config_runs_after_the_import_mapping():
+    cfg, agent = ported_cfg()
+    ours = parse_env_cfg(TASK, device="cpu", num_envs=N)
+    weights = {name: term.weight for name, term in vars(cfg.rewards).items() if term is not None}
+    assert weights == {name: term.weight for name, term in vars(ours.rewards).items() if term is not None}
+    for name in ("base_velocity", "left_ee_pose", "right_ee_pose"):
+        assert getattr(cfg.commands, name).ranges == getattr(ours.commands, name).ranges
+    ours_agent = gym.spec(TASK).kwargs["rsl_rl_cfg_entry_point"]
+    module, _, name = ours_agent.partition(":")
+    assert agent.to_dict() == getattr(importlib.import_module(module), name)().to_dict()
+    cfg.scene.num_envs, cfg.sim.device, cfg.seed = N, "cpu", 0
+    env = ManagerBasedRLEnv(cfg)
+    try:
+        assert env.observation_manager.group_obs_dim["policy"] == (OBS_DIM,)
+        steps_finite(env, 5)
+    finally:
+        env.close()
