@@ -81,17 +81,21 @@ def _set_child(parent: Any, key: str, value: Any) -> None:
         setattr(parent, key, value)
 
 
-def collect_presets(cfg: Any, path: str = "") -> dict[str, dict[str, Any]]:
+def collect_presets(cfg: Any, path: str = "", _seen: set[int] | None = None) -> dict[str, dict[str, Any]]:
     """``{dotted path: {name: alternative}}`` of every preset in ``cfg``, those inside alternatives included."""
+    seen = set() if _seen is None else _seen  # a config reached twice (shared) is walked once
     found: dict[str, dict[str, Any]] = {}
     for key, value in _children(cfg):
+        if id(value) in seen:
+            continue
+        seen.add(id(value))
         child = f"{path}.{key}" if path else key
         if isinstance(value, PresetCfg):
             found[child] = preset_alternatives(value)
             for alternative in found[child].values():
-                found.update(collect_presets(alternative, child))
+                found.update(collect_presets(alternative, child, seen))
         else:
-            found.update(collect_presets(value, child))
+            found.update(collect_presets(value, child, seen))
     return found
 
 
