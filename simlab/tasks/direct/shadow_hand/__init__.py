@@ -43,3 +43,17 @@ gym.register(
         "rl_games_cfg_entry_point": f"{agents.__name__}:rl_games_ppo_lstm_cfg.yaml",
     },
 )
+
+# from a camera: a CNN trained beside the policy reads the cube's pose from the images
+for _suffix, _cfg in (("", "ShadowHandVisionEnvCfg"), ("-Play", "ShadowHandVisionEnvPlayCfg")):
+    gym.register(
+        id=f"simlab/Repose-Cube-Shadow-Vision-Direct{_suffix}-v0",
+        entry_point=f"{__name__}.shadow_hand_vision_env:ShadowHandVisionEnv",
+        disable_env_checker=True,
+        kwargs={
+            "env_cfg_entry_point": f"{__name__}.shadow_hand_vision_env:{_cfg}",
+            "success_criterion_entry_point": f"{inhand_task_entry}.criterion:reorients_cube",
+            "rsl_rl_cfg_entry_point": f"{agents.__name__}.rsl_rl_ppo_cfg:ShadowHandVisionFFPPORunnerCfg",
+            "rl_games_cfg_entry_point": f"{agents.__name__}:rl_games_ppo_vision_cfg.yaml",
+        },
+    )
