@@ -184,6 +184,18 @@ CASES = {
         "manager_based.manipulation.stack.config.franka.stack_ik_rel_env_cfg",
         "FrankaCubeStackEnvCfg",
     ),
+    "stack-instance-randomize": Case(
+        "Stack cubes, randomized instances (Franka)",
+        ("manager_based/manipulation/stack",),
+        "manager_based.manipulation.stack.config.franka.stack_joint_pos_instance_randomize_env_cfg",
+        "FrankaCubeStackInstanceRandomizeEnvCfg",
+    ),
+    "stack-instance-randomize-ik-rel": Case(
+        "Stack cubes, randomized instances (Franka)",
+        ("manager_based/manipulation/stack",),
+        "manager_based.manipulation.stack.config.franka.stack_ik_rel_instance_randomize_env_cfg",
+        "FrankaCubeStackInstanceRandomizeEnvCfg",
+    ),
     "cabinet": Case(
         "Open a drawer (Franka)",
         ("manager_based/manipulation/cabinet",),
@@ -310,6 +322,7 @@ CASES = {
 STOPS = {
     "direct/franka_cabinet/franka_cabinet_env.py": "Open a drawer (Franka)",
     "direct/shadow_hand/shadow_hand_env_cfg.py": "In-hand cube reorientation (Shadow)",  # its OpenAI variant
+    "direct/shadow_hand/shadow_hand_vision_env.py": "In-hand cube reorientation from cameras (Shadow)",
 }
 """Isaac Lab's files (or variants) of registered families that do not run, by file (docs/porting.md says why)."""
 

@@ -186,6 +186,10 @@ def test_writes_touch_only_the_selected_envs_and_objects(collection):
     objects.write_object_link_velocity_to_sim(velocity, env_ids=mask)
     torch.testing.assert_close(data.object_link_vel_w[1], velocity[1], atol=1e-5, rtol=0)
     torch.testing.assert_close(data.object_link_vel_w[[0, 2]], before[[0, 2], :, 7:])
+    # values that broadcast, as Isaac Lab's writers take them: one env's (objects, 7) (its stack event's)
+    poses = torch.tensor([[1.0, 2.0, 3.0, 1.0, 0.0, 0.0, 0.0], [4.0, 5.0, 6.0, 1.0, 0.0, 0.0, 0.0]])
+    objects.write_object_link_pose_to_sim(poses, env_ids=torch.tensor([1]), object_ids=[0, 2])
+    torch.testing.assert_close(data.object_link_state_w[1, [0, 2], :7], poses)
 
 
 def test_wrench_on_one_object_of_one_env(collection):

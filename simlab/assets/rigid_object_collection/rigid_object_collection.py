@@ -211,16 +211,15 @@ class RigidObjectCollection:
 
     def write_object_link_pose_to_sim(self, object_pose: torch.Tensor, env_ids: EnvIds = None, object_ids=None):
         """``(envs, objects, 7)`` link poses (position with the env origin, quaternion w-x-y-z)."""
-        for column, rigid_object in self._selected(object_pose, 7, env_ids, object_ids, "object_pose"):
-            rigid_object.write_root_pose_to_sim(object_pose[:, column], env_ids)
+        for pose, rigid_object in self._selected(object_pose, 7, env_ids, object_ids, "object_pose"):
+            rigid_object.write_root_pose_to_sim(pose, env_ids)
 
     write_object_pose_to_sim = write_object_link_pose_to_sim
 
     def write_object_com_pose_to_sim(self, object_pose: torch.Tensor, env_ids: EnvIds = None, object_ids=None):
         """``(envs, objects, 7)`` centre-of-mass poses; written as the link poses that put the com there."""
-        for column, rigid_object in self._selected(object_pose, 7, env_ids, object_ids, "object_pose"):
+        for com_pose, rigid_object in self._selected(object_pose, 7, env_ids, object_ids, "object_pose"):
             com_pos_b, com_quat_b = self.data._com_offset(rigid_object)
-            com_pose = object_pose[:, column]
             link_quat = math_utils.quat_mul(
                 com_pose[:, 3:7], math_utils.quat_conjugate(com_quat_b).expand_as(com_pose[:, 3:7])
             )
@@ -229,14 +228,13 @@ class RigidObjectCollection:
 
     def write_object_link_velocity_to_sim(self, object_velocity: torch.Tensor, env_ids: EnvIds = None, object_ids=None):
         """``(envs, objects, 6)`` velocities of the link frames' origins (lin, ang), world frame."""
-        for column, rigid_object in self._selected(object_velocity, 6, env_ids, object_ids, "object_velocity"):
-            rigid_object.write_root_velocity_to_sim(object_velocity[:, column], env_ids)
+        for velocity, rigid_object in self._selected(object_velocity, 6, env_ids, object_ids, "object_velocity"):
+            rigid_object.write_root_velocity_to_sim(velocity, env_ids)
 
     def write_object_com_velocity_to_sim(self, object_velocity: torch.Tensor, env_ids: EnvIds = None, object_ids=None):
         """``(envs, objects, 6)`` velocities of the centres of mass (lin, ang), world frame: MuJoCo's free
         joint moves the link origin, so the linear part is moved there (v_link = v_com - w x r)."""
-        for column, rigid_object in self._selected(object_velocity, 6, env_ids, object_ids, "object_velocity"):
-            velocity = object_velocity[:, column]
+        for velocity, rigid_object in self._selected(object_velocity, 6, env_ids, object_ids, "object_velocity"):
             com_pos_b, _ = self.data._com_offset(rigid_object)
             quat = rigid_object.data.root_quat_w
             env = rigid_object._env_index(env_ids)
@@ -290,7 +288,9 @@ class RigidObjectCollection:
         return ids
 
     def _selected(self, values: torch.Tensor, width: int, env_ids: EnvIds, object_ids: ObjectIds, what: str):
-        """(column of ``values``, object) for each selected object, after checking ``values``' shape."""
+        """(the object's ``(envs, width)`` values, object) for each selected object. ``values`` is
+        ``(envs, objects, width)`` or broadcasts to it, as Isaac Lab's writers take (e.g. one env's
+        ``(objects, width)``)."""
         ids = self._object_list(object_ids)
         if env_ids is None or is_mask(env_ids):
             n_rows = self.num_instances  # a mask selects rows of values given for every env
@@ -298,9 +298,15 @@ class RigidObjectCollection:
             n_rows = len(range(self.num_instances)[env_ids])
         else:
             n_rows = len(env_ids)
-        if values.ndim != 3 or tuple(values.shape) != (n_rows, len(ids), width):
+        shape = (n_rows, len(ids), width)
+        try:
+            fits = values.ndim <= 3 and torch.broadcast_shapes(values.shape, shape) == shape
+        except RuntimeError:
+            fits = False
+        if not fits:
             raise ValueError(
                 f"{what} must have shape ({n_rows}, {len(ids)}, {width}) (envs, objects, {width}) for the selection,"
-                f" got {tuple(values.shape)}"
+                f" or one that broadcasts to it; got {tuple(values.shape)}"
             )
-        return [(column, self._objects[i]) for column, i in enumerate(ids)]
+        values = values.expand(shape)
+        return [(values[:, column], self._objects[i]) for column, i in enumerate(ids)]
