@@ -103,8 +103,48 @@ def test_a_mujoco_warp_physics_config_sets_the_models_options_and_a_physx_one_is
     SimulationContext.clear_instance()
     sim = SimulationContext(SimulationCfg(device="cpu", physics=_PhysicsCfg()))  # the preset's default: PhysX
     assert isinstance(sim.cfg.physics, PhysxCfg) and sim.cfg.mujoco.iterations == 100  # simlab's own
-    with pytest.raises(ConfigError, match=r"NewtonCfg\(num_substeps=2\): simlab steps MuJoCo once per sim.dt"):
-        SimulationContext(SimulationCfg(device="cpu", physics=NewtonCfg(num_substeps=2)))
+    with pytest.raises(ConfigError, match=r"NewtonCfg\(num_substeps=0\): give an int >= 1"):
+        SimulationContext(SimulationCfg(device="cpu", physics=NewtonCfg(num_substeps=0)))
+
+
+def _falling_box(cfg: SimulationCfg, steps: int) -> torch.Tensor:
+    import simlab.sim as sim_utils
+    from simlab.assets import RigidObject, RigidObjectCfg
+
+    SimulationContext.clear_instance()
+    sim = SimulationContext(cfg)
+    box = RigidObject(
+        RigidObjectCfg(
+            prim_path="/World/envs/env_.*/Box",
+            spawn=sim_utils.CuboidCfg(
+                size=(0.2, 0.2, 0.2),
+                rigid_props=sim_utils.RigidBodyPropertiesCfg(),
+                mass_props=sim_utils.MassPropertiesCfg(mass=1.0),
+            ),
+            init_state=RigidObjectCfg.InitialStateCfg(pos=(0.0, 0.0, 0.5)),
+        )
+    )
+    sim.reset()
+    box.write_root_velocity_to_sim(torch.tensor([[1.0, 0.0, 0.0, 0.0, 2.0, 1.0]]))  # thrown, tumbling
+    for _ in range(steps):
+        sim.step()
+    box.update(cfg.dt)
+    return box.data.root_state_w.clone()
+
+
+def test_newton_substeps_are_mujoco_steps_of_dt_over_n():
+    """``NewtonCfg(num_substeps=2)`` with ``sim.dt=0.02``: each physics step is two MuJoCo steps of 0.01 s,
+    the same simulation as ``sim.dt=0.01`` stepped twice as often (a tumbling box thrown in the air)."""
+    substeps = SimulationCfg(device="cpu", dt=0.02, physics=NewtonCfg(num_substeps=2, solver_cfg=MJWarpSolverCfg()))
+    state = _falling_box(substeps, 30)
+    assert SimulationContext.instance().model.opt.timestep == pytest.approx(0.01)
+    plain = SimulationCfg(device="cpu", dt=0.01, physics=NewtonCfg(solver_cfg=MJWarpSolverCfg()))
+    assert torch.equal(state, _falling_box(plain, 60))
+    # 60 MuJoCo steps of h = 0.01 s (semi-implicit Euler: the fall is g h^2 n (n + 1) / 2; 30 steps of 0.02 s
+    # would have fallen 3 cm further)
+    h, n = 0.01, 60
+    assert state[0, 0] == pytest.approx(0.6, abs=1e-4)
+    assert state[0, 2] == pytest.approx(0.5 - 9.81 * h * h * n * (n + 1) / 2, abs=1e-3)
 
 
 def _args(*selectors: str) -> argparse.Namespace:

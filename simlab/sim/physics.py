@@ -7,7 +7,8 @@ solver config (``MJWarpSolverCfg``: MuJoCo Warp; Kamino, XPBD, Featherstone, VBD
 
 * ``NewtonCfg(solver_cfg=MJWarpSolverCfg(...))`` is MuJoCo: its solver settings (iterations, cone,
   integrator, njmax, nconmax, ...) become the simulation's ``SimulationCfg.mujoco`` options, on either
-  engine (MuJoCo C or MuJoCo Warp compile the same model options);
+  engine (MuJoCo C or MuJoCo Warp compile the same model options), and its ``num_substeps`` the MuJoCo
+  steps of ``dt / num_substeps`` each physics step takes;
 * the others are accepted and held, never used (as 2.x's ``sim.physx``): a task whose default is PhysX
   runs on simlab's MuJoCo with simlab's options. Asking for one by name (``physics=physx``, a preset
   that selects it) is refused where the name is chosen (:mod:`simlab.tasks.utils.presets`).
@@ -22,6 +23,7 @@ from typing import Any, ClassVar
 
 from simlab.utils import configclass
 from simlab.utils.errors import ConfigError
+from simlab.utils.versions import warn_once
 
 __all__ = [
     "FeatherstoneSolverCfg",
@@ -163,15 +165,12 @@ def mujoco_options(cfg: Any) -> dict[str, Any] | None:
     if not isinstance(cfg, NewtonCfg) or foreign_physics(cfg) is not None:
         return None
     solver: MJWarpSolverCfg = cfg.solver_cfg
-    if cfg.num_substeps != 1:
-        raise ConfigError(
-            f"NewtonCfg(num_substeps={cfg.num_substeps}): simlab steps MuJoCo once per sim.dt; "
-            "divide sim.dt (and multiply decimation) instead."
-        )
+    if isinstance(cfg.num_substeps, bool) or not isinstance(cfg.num_substeps, int) or cfg.num_substeps < 1:
+        raise ConfigError(f"NewtonCfg(num_substeps={cfg.num_substeps!r}): give an int >= 1 (MuJoCo steps per sim.dt).")
     if not solver.use_mujoco_contacts:
-        raise ConfigError(
-            "MJWarpSolverCfg(use_mujoco_contacts=False) asks for Newton's collision pipeline; simlab uses "
-            "MuJoCo's contacts: leave use_mujoco_contacts=True."
+        warn_once(
+            "MJWarpSolverCfg(use_mujoco_contacts=False) asks for Newton's collision pipeline; simlab finds contacts "
+            "with MuJoCo's own collision detection."
         )
     return {
         "njmax": solver.njmax,

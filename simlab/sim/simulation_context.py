@@ -38,10 +38,10 @@ _SOLVERS = {"newton": mujoco.mjtSolver.mjSOL_NEWTON, "cg": mujoco.mjtSolver.mjSO
 _CONES = {"pyramidal": mujoco.mjtCone.mjCONE_PYRAMIDAL, "elliptic": mujoco.mjtCone.mjCONE_ELLIPTIC}
 
 
-def _with_physics(cfg: SimulationCfg) -> SimulationCfg:
-    """``cfg`` with Isaac Lab 3.0's ``physics`` config applied (:mod:`simlab.sim.physics`): a preset left
-    unresolved takes its default; MuJoCo Warp's solver settings become ``cfg.mujoco``'s; another
-    backend's config is held, unused, with a note."""
+def _with_physics(cfg: SimulationCfg) -> tuple[SimulationCfg, int]:
+    """``(cfg, substeps)``: ``cfg`` with Isaac Lab 3.0's ``physics`` config applied (:mod:`simlab.sim.physics`):
+    a preset left unresolved takes its default; MuJoCo Warp's solver settings become ``cfg.mujoco``'s and
+    its ``num_substeps`` the MuJoCo steps per ``cfg.dt``; another backend's config is held, unused, with a note."""
     from simlab.utils.presets import PresetCfg, resolve_presets
 
     from .physics import foreign_physics, mujoco_options
@@ -54,15 +54,16 @@ def _with_physics(cfg: SimulationCfg) -> SimulationCfg:
             f"SimulationCfg.physics is {foreign}'s config ({type(cfg.physics).__name__}); simlab simulates "
             "with MuJoCo and its own options (sim.mujoco). Choose physics=newton_mjwarp for the task's MuJoCo settings."
         )
-        return cfg
+        return cfg, 1
     options = mujoco_options(cfg.physics)
-    if options is not None:
-        cfg.mujoco = cfg.mujoco.replace(**options)
-        if cfg.physics.solver_cfg.use_mujoco_cpu and cfg.engine == "auto":
-            cfg.engine = "mujoco"
-        if not cfg.physics.use_cuda_graph:
-            cfg.use_cuda_graph = False
-    return cfg
+    if options is None:
+        return cfg, 1
+    cfg.mujoco = cfg.mujoco.replace(**options)
+    if cfg.physics.solver_cfg.use_mujoco_cpu and cfg.engine == "auto":
+        cfg.engine = "mujoco"
+    if not cfg.physics.use_cuda_graph:
+        cfg.use_cuda_graph = False
+    return cfg, cfg.physics.num_substeps
 
 
 def _choice(table: dict, value: str, what: str):
@@ -86,7 +87,8 @@ class SimulationContext:
     _instance: SimulationContext | None = None
 
     def __init__(self, cfg: SimulationCfg | None = None):
-        self.cfg = _with_physics(cfg if cfg is not None else SimulationCfg())
+        # Isaac Lab 3.0's Newton substeps: MuJoCo steps of dt / substeps, as many per physics step
+        self.cfg, self._substeps = _with_physics(cfg if cfg is not None else SimulationCfg())
         refuse_unless_default(
             "SimulationCfg",
             "seed",
@@ -249,7 +251,7 @@ class SimulationContext:
         compute them when read (``PhysicsBackend.ensure_forward``). Code that reads raw MjData
         tensors of derived fields calls ``forward()`` first, or passes ``forward=True``.
         """
-        self.physics.step(1, forward=forward)
+        self.physics.step(self._substeps, forward=forward)
         self._step_count += 1
         for callback in list(self._physics_callbacks.values()):
             callback(self.cfg.dt)
@@ -381,7 +383,7 @@ class SimulationContext:
         spec = StageSpec()
         spec.modelname = "simlab"
         spec.compiler.degree = False
-        spec.option.timestep = cfg.dt
+        spec.option.timestep = cfg.dt / self._substeps
         spec.option.gravity = list(cfg.gravity)
         spec.option.integrator = _choice(_INTEGRATORS, opts.integrator, "integrator")
         spec.option.solver = _choice(_SOLVERS, opts.solver, "solver")
