@@ -102,3 +102,31 @@ def test_the_3_0_ant_manager_config_steps_with_its_joint_wrench_sensor(ported3):
         assert torch.allclose(sensor.data.force.torch[:, torso], torch.zeros(3, 3), atol=1e-4)  # a free base: nothing
     finally:
         env.close()
+
+
+@pytest.mark.parametrize("physics", [None, "mujoco"])
+def test_the_3_0_humanoid_manager_config_steps_with_either_physics_choice(ported3, physics):
+    """Isaac Lab 3.0's humanoid: by default its PhysX preset (held; simlab's MuJoCo options), with
+    ``physics=mujoco`` its ``newton_mjwarp`` preset (2 substeps of sim.dt / 2, njmax 80); both step."""
+    from isaaclab3_humanoid.humanoid_manager_env_cfg import HumanoidEnvCfg
+
+    import simlab.v3.envs as envs3
+    from simlab.tasks.utils.presets import select_presets
+
+    cfg = HumanoidEnvCfg()
+    cfg.scene.num_envs, cfg.sim.device = 2, "cpu"
+    cfg, _, _ = select_presets(cfg, None, [], physics)
+    env = envs3.ManagerBasedRLEnv(cfg)
+    try:
+        substeps = 1 if physics is None else 2
+        assert env.sim.model.opt.timestep == pytest.approx(cfg.sim.dt / substeps)
+        assert env.scene["robot"].actuators["body"].cfg.armature == {".*": 0.01}  # the armature preset's default
+        obs, _ = env.reset(seed=0)
+        for _ in range(5):
+            obs, reward, *_ = env.step(torch.rand(2, 21) * 2 - 1)
+        assert obs["policy"].shape == (2, 87) and torch.isfinite(obs["policy"]).all()
+        ids, _ = env.scene.sensors["joint_wrench"].find_bodies(["left_foot", "right_foot"])
+        feet = env.scene["robot"].data.body_incoming_joint_wrench_b[:, ids].reshape(2, -1)
+        assert torch.allclose(obs["policy"][:, 54:66], 0.01 * feet)
+    finally:
+        env.close()
