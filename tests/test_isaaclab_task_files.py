@@ -6,7 +6,8 @@ package of its own, rewrites their import lines by the README's mapping (``isaac
 ``isaaclab_assets`` -> ``simlab.robots``, ``isaaclab_tasks`` -> ``simlab.tasks``, ``isaaclab_rl`` ->
 ``simlab.rl``, the ``isaacsim`` utilities -> theirs), pointing the copied folders' references to
 themselves at the copy (so Isaac Lab's base config and ``mdp`` run, not simlab's), builds the env with
-two envs on the CPU and steps it as Isaac Lab's tests do (``torch.inference_mode``).
+two envs on the CPU and steps it 100 times with random actions (uniform in [-1, 1], through
+the short episodes' resets) as Isaac Lab's tests do (``torch.inference_mode``).
 
 Isaac Lab's files are not kept in this repository: ``SIMLAB_ISAACLAB_SOURCE`` names the checkout
 (the cases were checked against release 2.0's tree; docs/porting.md has the table). Without it the
@@ -22,6 +23,7 @@ import sys
 from dataclasses import dataclass
 from pathlib import Path
 
+import gymnasium as gym
 import pytest
 import torch
 
@@ -355,6 +357,17 @@ def port_folders(tasks: Path, folders: tuple[str, ...], dest: Path, package: str
         (directory / "__init__.py").touch(exist_ok=True)  # the folders between: plain packages
 
 
+STEPS = 100
+
+
+def random_actions(space, num_envs: int = 2):
+    """Actions of ``space`` for ``num_envs`` envs: uniform in [-1, 1] for a Box (as Isaac Lab's environment
+    tests act), a sample of the others (the showcase's Discrete and MultiDiscrete ones)."""
+    if isinstance(space, gym.spaces.Box):
+        return 2 * torch.rand(num_envs, *space.shape) - 1
+    return sample_space(space, "cpu", batch_size=num_envs)
+
+
 def _tensors(value) -> list[torch.Tensor]:
     """The tensors of an observation: groups, agents, Dict and Tuple spaces' parts."""
     if isinstance(value, torch.Tensor):
@@ -425,17 +438,16 @@ def test_isaac_labs_task_files_run_after_the_import_mapping(name, tmp_path):
         try:
             env.reset()
             agents = getattr(env.cfg, "possible_agents", None)
+            torch.manual_seed(0)
             with torch.inference_mode():  # as Isaac Lab's own environment tests step
-                for _ in range(3):
+                for step in range(STEPS):  # long enough for the short episodes' resets
                     if agents:
-                        actions = {a: torch.zeros(2, env.action_spaces[a].shape[0]) for a in agents}
-                    else:  # zeros of any space (the showcase's Discrete and MultiDiscrete ones too)
-                        actions = sample_space(env.single_action_space, "cpu", batch_size=2, fill_value=0)
+                        actions = {a: random_actions(env.action_spaces[a]) for a in agents}
+                    else:
+                        actions = random_actions(env.single_action_space)
                     obs, reward, *_ = env.step(actions)
-            for tensor in _tensors(obs):
-                assert torch.isfinite(tensor).all()
-            for tensor in reward.values() if isinstance(reward, dict) else [reward]:
-                assert torch.isfinite(tensor).all()
+                    for tensor in _tensors(obs) + _tensors(reward):
+                        assert torch.isfinite(tensor).all(), f"step {step}"
         finally:
             env.close()
     finally:
