@@ -115,3 +115,19 @@ def test_agent_configs_and_criterion_follow_isaac_lab():
         assert games["network"]["mlp"]["units"] == [1024, 512, 512, 256, 128]
         assert games["config"]["horizon_length"] == 64 and games["config"]["minibatch_size"] == 19600
         assert criterion_for(task).description
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("library", ["rsl_rl", "rl_games"])
+def test_one_training_iteration_writes_the_policy_and_the_cnn(tmp_path, monkeypatch, library):
+    """`simlab train` with each of Isaac Lab's agents (the critic on the 214-value state): rsl_rl took
+    15 s and rl_games 48 s on the 2-core CPU (2 envs, 64 steps an iteration)."""
+    from simlab.cli.main import main
+
+    monkeypatch.chdir(tmp_path)  # the CNN's checkpoints go to ./logs/shadow_hand_vision_cnn
+    argv = ["train", "--task", TASK, "--library", library, "--num_envs", "2", "--device", "cpu", "--headless"]
+    argv += ["--max_iterations", "1", "--log_root", str(tmp_path / "logs")]
+    small = ["agent.params.config.minibatch_size=32", "agent.params.config.central_value_config.minibatch_size=64"]
+    assert main(argv + (small if library == "rl_games" else [])) == 0
+    assert list((tmp_path / "logs" / library).glob("*/*/"))
+    assert list((tmp_path / "logs" / "shadow_hand_vision_cnn").glob("cnn_0_*.pth"))
