@@ -302,13 +302,23 @@ def _random_action(space: gym.spaces.Space, generator: torch.Generator) -> torch
     return torch.rand(256, space.shape[0], device="cuda:0", generator=generator) * 2 - 1
 
 
+EAGER_BY_DESIGN = {
+    "simlab/Repose-Cube-Shadow-Vision-Direct-v0": "trains its CNN inside the step (tests/test_shadow_hand_vision.py)",
+    "simlab/Repose-Cube-Shadow-Vision-Direct-Play-v0": "evaluates the CNN checkpoint its training run writes",
+}
+"""Tasks left out of the graphed-and-eager comparison, and why."""
+
+
 def _qpos_deviation(run_a, run_b) -> list[float]:
     return [float((a[-1] - b[-1]).abs().max()) for a, b in zip(run_a, run_b)]
 
 
 @pytest.mark.gpu
 @gpu
-@pytest.mark.parametrize("task", [*sorted(t for t in gym.registry if t.startswith("simlab/")), "interval-kicks"])
+@pytest.mark.parametrize(
+    "task",
+    [*sorted(t for t in gym.registry if t.startswith("simlab/") and t not in EAGER_BY_DESIGN), "interval-kicks"],
+)
 def test_graphed_and_eager_steps_agree_for_every_task(task):
     """The same body graphed and eager, from the same seed, for 300 steps with resets.
 
