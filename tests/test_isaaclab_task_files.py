@@ -51,7 +51,7 @@ class Case:
     folders: tuple[str, ...]  # under isaaclab_tasks/, copied together
     module: str  # the config's module, under the copy
     cfg: str
-    env: str | None = None  # "module:Class" of a direct env; None: ManagerBasedRLEnv
+    env: str | None = None  # "module:Class" of a direct env (in the copy, or simlab's); None: ManagerBasedRLEnv
 
 
 VELOCITY = ("manager_based/locomotion/velocity",)
@@ -235,6 +235,14 @@ CASES = {
         "AllegroHandEnvCfg",
         "direct.inhand_manipulation.inhand_manipulation_env:InHandManipulationEnv",
     ),
+    # Isaac Lab registers its OpenAI variant with inhand_manipulation's env, which the mapping makes simlab's
+    "shadow-openai-direct": Case(
+        "In-hand cube reorientation (Shadow)",
+        ("direct/shadow_hand",),
+        "direct.shadow_hand.shadow_hand_env_cfg",
+        "ShadowHandOpenAIEnvCfg",
+        "simlab.tasks.direct.inhand_manipulation.inhand_manipulation_env:InHandManipulationEnv",
+    ),
     "shadow-direct": Case(
         "In-hand cube reorientation (Shadow)",
         ("direct/shadow_hand", "direct/inhand_manipulation"),
@@ -323,7 +331,8 @@ CASES = {
 
 STOPS = {
     "direct/franka_cabinet/franka_cabinet_env.py": "Open a drawer (Franka)",
-    "direct/shadow_hand/shadow_hand_env_cfg.py": "In-hand cube reorientation (Shadow)",  # its OpenAI variant
+    # with the OpenAI variant's config (the copy of Isaac Lab's module, not the one its registration maps to)
+    "direct/inhand_manipulation/inhand_manipulation_env.py": "In-hand cube reorientation (Shadow)",
     "direct/shadow_hand/shadow_hand_vision_env.py": "In-hand cube reorientation from cameras (Shadow)",
 }
 """Isaac Lab's files (or variants) of registered families that do not run, by file (docs/porting.md says why)."""
@@ -434,7 +443,8 @@ def test_isaac_labs_task_files_run_after_the_import_mapping(name, tmp_path):
             env = ManagerBasedRLEnv(cfg)
         else:
             module, cls = case.env.split(":")
-            env = getattr(importlib.import_module(f"{package}.{module}"), cls)(cfg)
+            module = module if module.startswith("simlab.") else f"{package}.{module}"
+            env = getattr(importlib.import_module(module), cls)(cfg)
         try:
             env.reset()
             agents = getattr(env.cfg, "possible_agents", None)
