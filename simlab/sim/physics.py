@@ -31,6 +31,8 @@ __all__ = [
     "KaminoSolverCfg",
     "MJWarpSolverCfg",
     "NewtonCfg",
+    "NewtonCollisionPipelineCfg",
+    "NewtonShapeCfg",
     "NewtonSolverCfg",
     "OvPhysxCfg",
     "PhysicsCfg",
@@ -117,6 +119,17 @@ KaminoPADMMSolverCfg = KaminoSolverCfg
 @_any_settings
 class VBDSolverCfg(NewtonSolverCfg):
     backend: ClassVar[str] = "Newton's VBD solver"
+
+
+@_any_settings
+class NewtonCollisionPipelineCfg:
+    """Newton's own collision pipeline (``NewtonCfg.collision_cfg``): held; simlab finds contacts with MuJoCo's."""
+
+
+@_any_settings
+class NewtonShapeCfg:
+    """Newton's default contact shape settings (``NewtonCfg.default_shape_cfg``: margin, ke, kd): held; simlab's
+    contacts take the geoms' own MuJoCo solref / solimp."""
 
 
 @configclass

@@ -113,6 +113,9 @@ class ImuCfg(_sensors.ImuCfg):
 class RayCasterCfg(_sensors.RayCasterCfg):
     OffsetCfg = xyzw_class(_sensors.RayCasterCfg.OffsetCfg, __name__)
     offset: OffsetCfg = OffsetCfg()
+    global_world_only: bool = False
+    """3.0's Newton ray caster: cast against the meshes shared by every env only. simlab's ray caster casts
+    against ``mesh_prim_paths`` (the ground), the same meshes here."""
 
 
 @configclass
