@@ -168,6 +168,23 @@ def test_direct_task_records_robot_and_time_steps():
     assert meta["step_dt"] == pytest.approx(meta["physics_dt"] * meta["decimation"])
 
 
+def test_passive_joints_carry_no_gains():
+    """The Shadow hand's coupled distal joints have no actuator: their gains are null (play's export
+    stopped on them with a bare StopIteration)."""
+    env = _make_env("simlab/Repose-Cube-Shadow-Direct-v0", num_envs=1)
+    try:
+        meta = {k: json.loads(v) for k, v in deploy_metadata(env, "simlab/Repose-Cube-Shadow-Direct-v0").items()}
+    finally:
+        env.close()
+    (hand,) = [a for a in meta["articulations"].values() if len(a["joint_names"]) == 24]
+    passive = [j for j, group in zip(hand["joint_names"], hand["joint_actuator"]) if group is None]
+    assert len(passive) == 4, passive  # the four coupled distal joints of the fingers
+    for joint in passive:
+        k = hand["joint_names"].index(joint)
+        assert hand["joint_stiffness"][k] is None and hand["joint_effort_limit"][k] is None
+    assert all(s is not None for s, g in zip(hand["joint_stiffness"], hand["joint_actuator"]) if g is not None)
+
+
 def test_unknown_observation_group():
     env = _make_env(CARTPOLE, num_envs=1)
     try:

@@ -149,11 +149,17 @@ def _clip(value: torch.Tensor | None, n: int) -> list[list[float | None] | None]
 
 
 def _gains(asset_joints: list[tuple[Any, str]]) -> dict[str, list]:
-    """Per joint: the actuator group and model, stiffness, damping, effort and velocity limits (env 0's)."""
+    """Per joint: the actuator group and model, stiffness, damping, effort and velocity limits (env 0's);
+    None for a joint no actuator drives."""
     out: dict[str, list] = {k: [] for k in ("joint_actuator", "joint_stiffness", "joint_damping")}
     out.update(joint_effort_limit=[], joint_velocity_limit=[], joint_armature=[])
     for asset, joint in asset_joints:
-        group, actuator = next((g, a) for g, a in asset.actuators.items() if joint in a.joint_names)
+        found = next(((g, a) for g, a in asset.actuators.items() if joint in a.joint_names), None)
+        if found is None:  # a passive joint (the Shadow hand's coupled distal joints): no drive, no gains
+            for values in out.values():
+                values.append(None)
+            continue
+        group, actuator = found
         k = actuator.joint_names.index(joint)
         out["joint_actuator"].append(group)
         out["joint_stiffness"].append(_at(actuator.stiffness, k))
