@@ -75,3 +75,51 @@ def test_3_0_go2_flat_velocity_task_steps_with_the_2_x_tasks_rewards(ported3):
         assert (contact.data.net_forces_w[:, feet].norm(dim=-1).sum(-1) > 0).all()
     finally:
         env.close()
+
+
+def test_3_0_franka_reach_steps_and_its_success_and_pose_errors_read_one_orientation(ported3):
+    from isaaclab3_reach import mdp as reach_mdp
+    from isaaclab3_reach.config.franka.franka_env_cfg import FrankaReachEnvCfg
+
+    import simlab.utils.math as math2
+    from simlab.managers import SceneEntityCfg
+    from simlab.v3.envs import mdp
+
+    env = _step(FrankaReachEnvCfg())
+    try:
+        # the default is PhysX, held: the env runs on simlab's MuJoCo options
+        assert env.sim.model.opt.timestep == pytest.approx(1 / 120)
+        assert env.observation_manager.group_obs_dim["policy"] == (9 + 9 + 7 + 7,)
+        term, robot = env.command_manager.get_term("ee_pose"), env.scene["robot"]
+        hand = SceneEntityCfg("robot", body_names=["panda_hand"])
+        hand.resolve(env.scene)
+        # command the hand's own pose (in the root frame, simlab's (w, x, y, z)): no error, success
+        data = robot.data
+        pos_b, quat_b = math2.subtract_frame_transforms(
+            data.root_pos_w, data.root_quat_w, data.body_pos_w[:, term.body_idx], data.body_quat_w[:, term.body_idx]
+        )
+        term.pose_command_b[:] = torch.cat((pos_b, quat_b), dim=-1)
+        assert mdp.position_command_error(env, asset_cfg=hand) == pytest.approx(torch.zeros(2), abs=1e-5)
+        assert mdp.orientation_command_error(env, asset_cfg=hand) == pytest.approx(torch.zeros(2), abs=1e-3)
+        args = {"command_name": "ee_pose", "position_threshold": 0.05, "orientation_threshold": 0.2}
+        assert reach_mdp.pose_command_success(env, **args).all()
+        # turn the command 0.5 rad about the root's z: both 3.0's success and simlab's error see 0.5 rad
+        turn = math2.quat_from_euler_xyz(torch.zeros(2), torch.zeros(2), torch.full((2,), 0.5))
+        term.pose_command_b[:, 3:] = math2.quat_mul(turn, quat_b)
+        assert mdp.orientation_command_error(env, asset_cfg=hand) == pytest.approx(torch.full((2,), 0.5), abs=1e-3)
+        assert not reach_mdp.pose_command_success(env, **args).any()
+        assert reach_mdp.pose_command_success(env, **{**args, "orientation_threshold": 0.51}).all()
+    finally:
+        env.close()
+
+
+def test_3_0_franka_reach_diffik_preset_steps(ported3):
+    from isaaclab3_reach.config.franka.franka_env_cfg import FrankaReachEnvCfg
+
+    cfg = FrankaReachEnvCfg()
+    cfg.actions.arm_action = cfg.actions.arm_action.diffik
+    env = _step(cfg, steps=10)
+    try:
+        assert env.action_manager.total_action_dim == 6  # relative pose
+    finally:
+        env.close()

@@ -64,8 +64,12 @@ def _spawner_class(base: type) -> type:
     return Xyzw
 
 
+_RENAMED = {"CollisionBaseCfg": "CollisionPropertiesCfg"}
+"""Isaac Lab 3.0's name -> 2.x's (simlab's) for the same config."""
+
+
 def __getattr__(name: str) -> Any:
-    value = getattr(_sim, name)
+    value = getattr(_sim, _RENAMED.get(name, name))
     if isinstance(value, type) and dataclasses.is_dataclass(value):
         if any(f.name == "func" for f in dataclasses.fields(value)):
             return _spawner_class(value)
