@@ -81,7 +81,8 @@ class MJWarpSolverCfg(NewtonSolverCfg):
     ccd_iterations: int = 35
     ls_parallel: bool = False
     use_mujoco_contacts: bool = True
-    """False asks for Newton's collision pipeline, which simlab does not have (refused)."""
+    """False asks for Newton's collision pipeline, which simlab does not have: MuJoCo's collision detection
+    runs instead, with a one-time note."""
     tolerance: float = 1e-6
 
 
@@ -174,7 +175,8 @@ def foreign_physics(cfg: Any) -> str | None:
 def mujoco_options(cfg: Any) -> dict[str, Any] | None:
     """The ``SimulationCfg.mujoco`` fields a MuJoCo physics config sets (None for another backend).
 
-    Settings simlab cannot honour are refused in one line: Newton substeps, Newton's collision pipeline."""
+    ``num_substeps`` must be an int >= 1 (refused in one line otherwise); Newton's collision pipeline
+    (``use_mujoco_contacts=False``) gets MuJoCo's collision detection and a one-time note."""
     if not isinstance(cfg, NewtonCfg) or foreign_physics(cfg) is not None:
         return None
     solver: MJWarpSolverCfg = cfg.solver_cfg
