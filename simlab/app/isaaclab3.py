@@ -26,11 +26,12 @@ def add_launcher_args(parser: argparse.ArgumentParser) -> None:
 
 
 @contextlib.contextmanager
-def launch_simulation(env_cfg: Any, args: argparse.Namespace) -> Iterator[SimulationApp]:
+def launch_simulation(cfg: Any, args: argparse.Namespace) -> Iterator[SimulationApp]:
     """Within the block, the app of ``args`` runs (a viewer if one is asked for; ``--max_app_steps``) and
     ``env.sim.is_running()`` asks it; the app closes at the end. ``--viz`` picks the viewer as
-    ``simlab train --viz`` does; ``env_cfg.sim.device`` follows ``--device`` when given."""
-    from simlab.sim import SimulationContext
+    ``simlab train --viz`` does. ``cfg`` is an env config or, as 3.0's tutorials pass, a ``SimulationCfg``:
+    its device follows ``--device`` when given."""
+    from simlab.sim import SimulationCfg, SimulationContext
     from simlab.viewer.choice import viewer_for_visualizer
 
     visualizer = getattr(args, "visualizer", None)
@@ -38,7 +39,8 @@ def launch_simulation(env_cfg: Any, args: argparse.Namespace) -> Iterator[Simula
         args.viewer = viewer_for_visualizer(visualizer)
     launcher = AppLauncher(args)
     if getattr(args, "device", None):
-        env_cfg.sim.device = launcher.device
+        sim_cfg = cfg if isinstance(cfg, SimulationCfg) else cfg.sim
+        sim_cfg.device = launcher.device
     app = launcher.app
     SimulationContext.running_check = app.is_running
     try:

@@ -152,6 +152,11 @@ class SimulationContext:
         check = SimulationContext.running_check
         return True if check is None else bool(check())
 
+    def is_headless_or_exist_active_visualizer(self) -> bool:
+        """Isaac Lab 3.0's tutorials' loop condition: :meth:`is_running` (a headless run goes on until the app
+        stops it; a viewer's run until its window closes)."""
+        return self.is_running()
+
     def get_physics_dt(self) -> float:
         return self.cfg.dt
 

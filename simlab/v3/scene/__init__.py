@@ -34,3 +34,14 @@ class InteractiveScene(_scene.InteractiveScene):
 
     def __init__(self, cfg: InteractiveSceneCfg):
         super().__init__(with_v3_api(to_simlab(cfg)))
+
+
+def _register_for_instantiate() -> None:
+    """``instantiate(scene_cfg)`` (Isaac Lab 3.0's tutorials) makes this scene once 3.0 code imported it."""
+    from simlab.utils.instantiate import register_instance_class
+
+    name = f"{InteractiveSceneCfg.__module__}.{InteractiveSceneCfg.__qualname__}"
+    register_instance_class(name, f"{__name__}:InteractiveScene")
+
+
+_register_for_instantiate()

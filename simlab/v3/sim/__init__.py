@@ -64,8 +64,15 @@ def _spawner_class(base: type) -> type:
     return Xyzw
 
 
-_RENAMED = {"CollisionBaseCfg": "CollisionPropertiesCfg"}
-"""Isaac Lab 3.0's name -> 2.x's (simlab's) for the same config."""
+_RENAMED = {
+    "CollisionBaseCfg": "CollisionPropertiesCfg",
+    "UsdPhysicsCollisionCfg": "CollisionPropertiesCfg",
+    "UsdPhysicsRigidBodyCfg": "RigidBodyPropertiesCfg",
+    "MassCfg": "MassPropertiesCfg",
+}
+"""Isaac Lab 3.0's schema config names -> 2.x's (simlab's): 3.0 split each schema into per-backend
+configs; the fields of these (``collision_enabled``; ``rigid_body_enabled``, ``kinematic_enabled``;
+``mass``, ``density``) are 2.x's config's own."""
 
 
 def __getattr__(name: str) -> Any:

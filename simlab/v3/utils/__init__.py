@@ -7,13 +7,17 @@ from typing import Any
 import simlab.utils as _utils
 from simlab.v3.utils import math  # noqa: F401  (the submodule, as in Isaac Lab)
 
-__all__ = ["math", "replace_config", *_utils.__all__]
+__all__ = ["math", "replace", "replace_config", *_utils.__all__]
 
 
 def replace_config(cfg: Any, **changes: Any) -> Any:
     """A copy of config ``cfg`` with ``changes`` set (Isaac Lab 3.0's ``isaaclab.utils.replace_config``,
     2.x's ``cfg.replace(...)``)."""
     return cfg.replace(**changes)
+
+
+replace = replace_config
+"""Isaac Lab 3.0's ``isaaclab.utils.replace(cfg, **changes)``, the same function."""
 
 
 def __getattr__(name: str) -> Any:
