@@ -427,6 +427,8 @@ def test_3_0_velocity_rewards_step_in_a_velocity_task_as_simlabs_2_x_terms(porte
         )
         # 3.0's contact force names are simlab's tensors
         assert torch.equal(sensor.data.net_normal_forces_w.torch, sensor.data.net_forces_w)
+        with pytest.raises(AttributeError, match="does not split friction"):  # no friction_forces_w in simlab
+            sensor.data.friction_force_matrix_w  # noqa: B018
         contacts_seen += int((sensor.data.net_forces_w[:, feet.body_ids].norm(dim=-1) > 1.0).sum())
     env.close()
     assert contacts_seen > 0  # the feet touched: the contact terms were not all zeros

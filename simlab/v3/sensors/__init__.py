@@ -39,9 +39,17 @@ __all__ = [
 ]
 
 
+def _no_friction_split(data: Any) -> None:
+    raise AttributeError(
+        "friction_force_matrix_w: simlab's contact sensor does not split friction from normal forces; "
+        "force_matrix_w (3.0's normal_force_matrix_w here) holds each partner's whole contact force."
+    )
+
+
 class SensorDataView(AssetDataView):
     """A sensor's data as Isaac Lab 3.0 reads it (``.torch`` on every tensor), with the contact
-    sensor's force names of 3.0 (its migration guide: "Contact force property names")."""
+    sensor's force names of 3.0 (its migration guide: "Contact force property names"). MuJoCo's
+    contact sensors sum whole contact forces (normal and friction): 3.0's ``normal`` names read those."""
 
     __slots__ = ()
     renamed = {
@@ -49,7 +57,7 @@ class SensorDataView(AssetDataView):
         "net_normal_forces_w_history": lambda d: d.net_forces_w_history,
         "normal_force_matrix_w": lambda d: d.force_matrix_w,
         "normal_force_matrix_w_history": lambda d: d.force_matrix_w_history,
-        "friction_force_matrix_w": lambda d: d.friction_forces_w,
+        "friction_force_matrix_w": _no_friction_split,
     }
 
 
