@@ -1,5 +1,6 @@
-"""Isaac Lab's rsl_rl PPO for the quadrupeds' velocity tasks, written once: its Go1, A1, Go2 and
-ANYmal-B/C/D runners are the same but for the experiment name and ANYmal's smaller entropy bonus."""
+"""Isaac Lab's rsl_rl PPO for the velocity tasks, written once: its Go1, A1, Go2, ANYmal-B/C/D, G1, H1,
+Cassie and Digit runners are the same but for the experiment name, the entropy bonus (ANYmal's 0.005,
+G1's 0.008), the bipeds' longer training and the flat networks' widths."""
 
 from __future__ import annotations
 
@@ -26,7 +27,7 @@ def ppo(entropy_coef: float) -> RslRlPpoAlgorithmCfg:
 
 
 @configclass
-class QuadrupedRoughPPORunnerCfg(RslRlOnPolicyRunnerCfg):
+class VelocityRoughPPORunnerCfg(RslRlOnPolicyRunnerCfg):
     """The rough task's runner: 24 steps per env and iteration, 512-256-128 ELU actor and critic."""
 
     num_steps_per_env = 24
@@ -42,9 +43,15 @@ class QuadrupedRoughPPORunnerCfg(RslRlOnPolicyRunnerCfg):
     algorithm = ppo(entropy_coef=0.01)
 
 
-def flat_runner(cfg: RslRlOnPolicyRunnerCfg, experiment_name: str) -> None:
-    """The flat task's runner from the rough one: 300 iterations, 128-128-128 networks."""
-    cfg.max_iterations = 300
+def flat_runner(
+    cfg: RslRlOnPolicyRunnerCfg,
+    experiment_name: str,
+    max_iterations: int = 300,
+    hidden_dims: tuple[int, ...] = (128, 128, 128),
+) -> None:
+    """The flat task's runner from the rough one: fewer iterations, smaller networks (the quadrupeds'
+    300 iterations and 128-128-128 unless given)."""
+    cfg.max_iterations = max_iterations
     cfg.experiment_name = experiment_name
-    cfg.actor.hidden_dims = [128, 128, 128]
-    cfg.critic.hidden_dims = [128, 128, 128]
+    cfg.actor.hidden_dims = list(hidden_dims)
+    cfg.critic.hidden_dims = list(hidden_dims)

@@ -5,22 +5,6 @@ ground, when the terrain curriculum keeps the robots at level 3 or higher (the P
 the curriculum, is judged by tracking).
 """
 
-import gymnasium as gym
+from ..register import register_velocity_tasks
 
-from . import agents
-
-_CRITERIA = "simlab.tasks.manager_based.locomotion.velocity.criterion"
-
-for terrain in ("Flat", "Rough"):
-    for suffix, play in (("", ""), ("-Play", "_PLAY")):
-        criterion = "reaches_terrain_level" if terrain == "Rough" and not play else "biped_tracks_velocity"
-        gym.register(
-            id=f"simlab/Velocity-{terrain}-Cassie{suffix}-v0",
-            entry_point="simlab.envs:ManagerBasedRLEnv",
-            disable_env_checker=True,
-            kwargs={
-                "env_cfg_entry_point": f"{__name__}.{terrain.lower()}_env_cfg:Cassie{terrain}EnvCfg{play}",
-                "success_criterion_entry_point": f"{_CRITERIA}:{criterion}",
-                "rsl_rl_cfg_entry_point": f"{agents.__name__}.rsl_rl_ppo_cfg:Cassie{terrain}PPORunnerCfg",
-            },
-        )
+register_velocity_tasks(__name__, "Cassie", biped=True)

@@ -17,6 +17,8 @@ from simlab.tasks.manager_based.locomotion.velocity.velocity_env_cfg import (
 )
 from simlab.utils import configclass
 
+from ..common import biped_events, play
+
 
 @configclass
 class CassieRewardsCfg(RewardsCfg):
@@ -57,17 +59,8 @@ class CassieRoughEnvCfg(LocomotionVelocityRoughEnvCfg):
         if self.scene.height_scanner:
             self.scene.height_scanner.prim_path = "{ENV_REGEX_NS}/Robot/pelvis"
         self.actions.joint_pos.scale = 0.5
-        # events: no pushes or mass and centre-of-mass changes (Cassie has no "base" body); start at the
-        # default pose, at rest
-        self.events.push_robot = None
-        self.events.add_base_mass = None
-        self.events.base_com = None
-        self.events.reset_robot_joints.params["position_range"] = (1.0, 1.0)
-        self.events.base_external_force_torque.params["asset_cfg"].body_names = [".*pelvis"]
-        self.events.reset_base.params = {
-            "pose_range": {"x": (-0.5, 0.5), "y": (-0.5, 0.5), "yaw": (-3.14, 3.14)},
-            "velocity_range": {k: (0.0, 0.0) for k in ("x", "y", "z", "roll", "pitch", "yaw")},
-        }
+        # events: no pushes or mass changes (Cassie has no "base" body); start at rest
+        biped_events(self, [".*pelvis"])
         # terminations
         self.terminations.base_contact.params["sensor_cfg"].body_names = [".*pelvis"]
         # rewards
@@ -83,15 +76,7 @@ class CassieRoughEnvCfg(LocomotionVelocityRoughEnvCfg):
 class CassieRoughEnvCfg_PLAY(CassieRoughEnvCfg):  # noqa: N801 - Isaac Lab's name
     def __post_init__(self):
         super().__post_init__()
-        self.scene.num_envs = 50
-        self.scene.env_spacing = 2.5
-        # spawn anywhere on a smaller grid instead of on the curriculum's levels
-        self.scene.terrain.max_init_terrain_level = None
-        if self.scene.terrain.terrain_generator is not None:
-            self.scene.terrain.terrain_generator.num_rows = 5
-            self.scene.terrain.terrain_generator.num_cols = 5
-            self.scene.terrain.terrain_generator.curriculum = False
+        play(self, pushes=True)
         self.commands.base_velocity.ranges.lin_vel_x = (0.7, 1.0)
         self.commands.base_velocity.ranges.lin_vel_y = (0.0, 0.0)
         self.commands.base_velocity.ranges.heading = (0.0, 0.0)
-        self.observations.policy.enable_corruption = False

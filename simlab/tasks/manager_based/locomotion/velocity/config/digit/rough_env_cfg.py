@@ -22,6 +22,8 @@ from simlab.tasks.manager_based.locomotion.velocity.velocity_env_cfg import Loco
 from simlab.utils import configclass
 from simlab.utils.noise import AdditiveUniformNoiseCfg as Unoise
 
+from ..common import play
+
 MOTORS = LEG_JOINT_NAMES + ARM_JOINT_NAMES
 FEET = ".*_leg_toe_roll"
 
@@ -193,15 +195,4 @@ class DigitRoughEnvCfg(LocomotionVelocityRoughEnvCfg):
 class DigitRoughEnvCfg_PLAY(DigitRoughEnvCfg):  # noqa: N801 - Isaac Lab's name
     def __post_init__(self):
         super().__post_init__()
-        self.scene.num_envs = 50
-        self.scene.env_spacing = 2.5
-        # spawn anywhere on a smaller grid instead of on the curriculum's levels
-        self.scene.terrain.max_init_terrain_level = None
-        if self.scene.terrain.terrain_generator is not None:
-            self.scene.terrain.terrain_generator.num_rows = 5
-            self.scene.terrain.terrain_generator.num_cols = 5
-            self.scene.terrain.terrain_generator.curriculum = False
-        self.observations.policy.enable_corruption = False
-        # no pushes
-        self.events.base_external_force_torque = None
-        self.events.push_robot = None
+        play(self)

@@ -3,6 +3,7 @@
 from simlab.managers import SceneEntityCfg
 from simlab.utils import configclass
 
+from ..common import flat_ground, play
 from .rough_env_cfg import G1RoughEnvCfg
 
 
@@ -10,12 +11,7 @@ from .rough_env_cfg import G1RoughEnvCfg
 class G1FlatEnvCfg(G1RoughEnvCfg):
     def __post_init__(self):
         super().__post_init__()
-        # a plane, no height scan, no terrain curriculum
-        self.scene.terrain.terrain_type = "plane"
-        self.scene.terrain.terrain_generator = None
-        self.scene.height_scanner = None
-        self.observations.policy.height_scan = None
-        self.curriculum.terrain_levels = None
+        flat_ground(self)
         # rewards (the yaw rate keeps the rough task's weight 2, not Isaac Lab's flat 1: see rough_env_cfg)
         self.rewards.lin_vel_z_l2.weight = -0.2
         self.rewards.action_rate_l2.weight = -0.005
@@ -36,8 +32,4 @@ class G1FlatEnvCfg(G1RoughEnvCfg):
 class G1FlatEnvCfg_PLAY(G1FlatEnvCfg):  # noqa: N801 - Isaac Lab's name
     def __post_init__(self) -> None:
         super().__post_init__()
-        self.scene.num_envs = 50
-        self.scene.env_spacing = 2.5
-        self.observations.policy.enable_corruption = False
-        self.events.base_external_force_torque = None
-        self.events.push_robot = None
+        play(self)

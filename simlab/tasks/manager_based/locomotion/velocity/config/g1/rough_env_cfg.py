@@ -15,11 +15,8 @@ which makes walking pay against the standing optimum; a fall ends the episode at
 (mjlab's), not only when the torso touches the ground.
 """
 
-import math
-
 from simlab.managers import RewardTermCfg as RewTerm
 from simlab.managers import SceneEntityCfg
-from simlab.managers import TerminationTermCfg as DoneTerm
 from simlab.robots.unitree import G1_BODY_JOINTS, G1_MOTOR_MODEL_ACTION_SCALE, G1_MOTOR_MODEL_CFG
 from simlab.tasks.manager_based.locomotion.velocity import mdp
 from simlab.tasks.manager_based.locomotion.velocity.velocity_env_cfg import (
@@ -27,6 +24,8 @@ from simlab.tasks.manager_based.locomotion.velocity.velocity_env_cfg import (
     RewardsCfg,
 )
 from simlab.utils import configclass
+
+from ..common import humanoid_play, humanoid_rough
 
 FEET = ".*_ankle_roll_link"
 ARM_JOINTS = [f".*_{j}_joint" for j in ("shoulder_pitch", "shoulder_roll", "shoulder_yaw", "elbow_pitch", "elbow_roll")]
@@ -90,29 +89,15 @@ class G1RoughEnvCfg(LocomotionVelocityRoughEnvCfg):
 
     def __post_init__(self):
         super().__post_init__()
-        self.scene.robot = G1_MOTOR_MODEL_CFG.replace(prim_path="{ENV_REGEX_NS}/Robot")
+        # no pushes or mass changes, start at rest; forward and turning commands; a fall ends at 70 degrees
+        humanoid_rough(self, G1_MOTOR_MODEL_CFG, torso="torso_link")
         # the policy drives and sees the 23 joints that walk, each scaled by its motor (mjlab's rule)
         self.actions.joint_pos.joint_names = list(G1_BODY_JOINTS)
         self.actions.joint_pos.scale = dict(G1_MOTOR_MODEL_ACTION_SCALE)
         for term in (self.observations.policy.joint_pos, self.observations.policy.joint_vel):
             term.params["asset_cfg"] = SceneEntityCfg("robot", joint_names=list(G1_BODY_JOINTS))
-        self.scene.height_scanner.prim_path = "{ENV_REGEX_NS}/Robot/torso_link"
-        # events: no pushes or mass and centre-of-mass changes; start at the default pose, at rest
-        self.events.push_robot = None
-        self.events.add_base_mass = None
-        self.events.base_com = None
-        self.events.reset_robot_joints.params["position_range"] = (1.0, 1.0)
-        self.events.base_external_force_torque.params["asset_cfg"].body_names = ["torso_link"]
-        self.events.reset_base.params = {
-            "pose_range": {"x": (-0.5, 0.5), "y": (-0.5, 0.5), "yaw": (-3.14, 3.14)},
-            "velocity_range": {k: (0.0, 0.0) for k in ("x", "y", "z", "roll", "pitch", "yaw")},
-        }
-        # rewards
+        # rewards: joint accelerations and torques of the legs only
         self.rewards.lin_vel_z_l2.weight = 0.0
-        self.rewards.undesired_contacts = None
-        self.rewards.flat_orientation_l2.weight = -1.0
-        self.rewards.action_rate_l2.weight = -0.005
-        self.rewards.dof_acc_l2.weight = -1.25e-7
         self.rewards.dof_acc_l2.params["asset_cfg"] = SceneEntityCfg(
             "robot", joint_names=[".*_hip_.*", ".*_knee_joint"]
         )
@@ -120,32 +105,10 @@ class G1RoughEnvCfg(LocomotionVelocityRoughEnvCfg):
         self.rewards.dof_torques_l2.params["asset_cfg"] = SceneEntityCfg(
             "robot", joint_names=[".*_hip_.*", ".*_knee_joint", ".*_ankle_.*"]
         )
-        # commands: forward and turning only
-        self.commands.base_velocity.ranges.lin_vel_x = (0.0, 1.0)
-        self.commands.base_velocity.ranges.lin_vel_y = (0.0, 0.0)
-        self.commands.base_velocity.ranges.ang_vel_z = (-1.0, 1.0)
-        # terminations: the torso on the ground, or tilted past 70 degrees (mjlab's fall, caught sooner)
-        self.terminations.base_contact.params["sensor_cfg"].body_names = "torso_link"
-        self.terminations.fell_over = DoneTerm(func=mdp.bad_orientation, params={"limit_angle": math.radians(70.0)})
 
 
 @configclass
 class G1RoughEnvCfg_PLAY(G1RoughEnvCfg):  # noqa: N801 - Isaac Lab's name
     def __post_init__(self):
         super().__post_init__()
-        self.scene.num_envs = 50
-        self.scene.env_spacing = 2.5
-        self.episode_length_s = 40.0
-        # spawn anywhere on a smaller grid instead of on the curriculum's levels
-        self.scene.terrain.max_init_terrain_level = None
-        if self.scene.terrain.terrain_generator is not None:
-            self.scene.terrain.terrain_generator.num_rows = 5
-            self.scene.terrain.terrain_generator.num_cols = 5
-            self.scene.terrain.terrain_generator.curriculum = False
-        self.commands.base_velocity.ranges.lin_vel_x = (1.0, 1.0)
-        self.commands.base_velocity.ranges.lin_vel_y = (0.0, 0.0)
-        self.commands.base_velocity.ranges.ang_vel_z = (-1.0, 1.0)
-        self.commands.base_velocity.ranges.heading = (0.0, 0.0)
-        self.observations.policy.enable_corruption = False
-        self.events.base_external_force_torque = None
-        self.events.push_robot = None
+        humanoid_play(self)

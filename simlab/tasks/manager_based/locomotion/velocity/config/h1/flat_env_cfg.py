@@ -2,6 +2,7 @@
 
 from simlab.utils import configclass
 
+from ..common import flat_ground, play
 from .rough_env_cfg import H1RoughEnvCfg
 
 
@@ -9,12 +10,7 @@ from .rough_env_cfg import H1RoughEnvCfg
 class H1FlatEnvCfg(H1RoughEnvCfg):
     def __post_init__(self):
         super().__post_init__()
-        # a plane, no height scan, no terrain curriculum
-        self.scene.terrain.terrain_type = "plane"
-        self.scene.terrain.terrain_generator = None
-        self.scene.height_scanner = None
-        self.observations.policy.height_scan = None
-        self.curriculum.terrain_levels = None
+        flat_ground(self)
         # longer steps on flat ground
         self.rewards.feet_air_time.weight = 1.0
         self.rewards.feet_air_time.params["threshold"] = 0.6
@@ -24,8 +20,4 @@ class H1FlatEnvCfg(H1RoughEnvCfg):
 class H1FlatEnvCfg_PLAY(H1FlatEnvCfg):  # noqa: N801 - Isaac Lab's name
     def __post_init__(self) -> None:
         super().__post_init__()
-        self.scene.num_envs = 50
-        self.scene.env_spacing = 2.5
-        self.observations.policy.enable_corruption = False
-        self.events.base_external_force_torque = None
-        self.events.push_robot = None
+        play(self)

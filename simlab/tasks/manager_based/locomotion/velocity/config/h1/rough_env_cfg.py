@@ -11,11 +11,8 @@ Tuned for MuJoCo as the G1's (see ``config/g1/rough_env_cfg.py``): both tracking
 and 0.5 action scale: against its motors' limits (hips 200, knees 300, ankles 40 N m) a unit of action
 asks 0.25-0.5 of the effort limit, near mjlab's rule of a quarter (the G1's asked up to 1.1)."""
 
-import math
-
 from simlab.managers import RewardTermCfg as RewTerm
 from simlab.managers import SceneEntityCfg
-from simlab.managers import TerminationTermCfg as DoneTerm
 from simlab.robots import H1_MINIMAL_CFG
 from simlab.tasks.manager_based.locomotion.velocity import mdp
 from simlab.tasks.manager_based.locomotion.velocity.velocity_env_cfg import (
@@ -23,6 +20,8 @@ from simlab.tasks.manager_based.locomotion.velocity.velocity_env_cfg import (
     RewardsCfg,
 )
 from simlab.utils import configclass
+
+from ..common import humanoid_play, humanoid_rough
 
 FEET = ".*ankle_link"
 
@@ -78,51 +77,13 @@ class H1RoughEnvCfg(LocomotionVelocityRoughEnvCfg):
 
     def __post_init__(self):
         super().__post_init__()
-        self.scene.robot = H1_MINIMAL_CFG.replace(prim_path="{ENV_REGEX_NS}/Robot")
-        if self.scene.height_scanner:
-            self.scene.height_scanner.prim_path = "{ENV_REGEX_NS}/Robot/torso_link"
-        # events: no pushes or mass and centre-of-mass changes; start at the default pose, at rest
-        self.events.push_robot = None
-        self.events.add_base_mass = None
-        self.events.base_com = None
-        self.events.reset_robot_joints.params["position_range"] = (1.0, 1.0)
-        self.events.base_external_force_torque.params["asset_cfg"].body_names = [".*torso_link"]
-        self.events.reset_base.params = {
-            "pose_range": {"x": (-0.5, 0.5), "y": (-0.5, 0.5), "yaw": (-3.14, 3.14)},
-            "velocity_range": {k: (0.0, 0.0) for k in ("x", "y", "z", "roll", "pitch", "yaw")},
-        }
-        # rewards
-        self.rewards.undesired_contacts = None
-        self.rewards.flat_orientation_l2.weight = -1.0
+        # no pushes or mass changes, start at rest; forward and turning commands; a fall ends at 70 degrees
+        humanoid_rough(self, H1_MINIMAL_CFG, torso=".*torso_link")
         self.rewards.dof_torques_l2.weight = 0.0
-        self.rewards.action_rate_l2.weight = -0.005
-        self.rewards.dof_acc_l2.weight = -1.25e-7
-        # commands: forward and turning only
-        self.commands.base_velocity.ranges.lin_vel_x = (0.0, 1.0)
-        self.commands.base_velocity.ranges.lin_vel_y = (0.0, 0.0)
-        self.commands.base_velocity.ranges.ang_vel_z = (-1.0, 1.0)
-        # terminations
-        self.terminations.base_contact.params["sensor_cfg"].body_names = ".*torso_link"
-        self.terminations.fell_over = DoneTerm(func=mdp.bad_orientation, params={"limit_angle": math.radians(70.0)})
 
 
 @configclass
 class H1RoughEnvCfg_PLAY(H1RoughEnvCfg):  # noqa: N801 - Isaac Lab's name
     def __post_init__(self):
         super().__post_init__()
-        self.scene.num_envs = 50
-        self.scene.env_spacing = 2.5
-        self.episode_length_s = 40.0
-        # spawn anywhere on a smaller grid instead of on the curriculum's levels
-        self.scene.terrain.max_init_terrain_level = None
-        if self.scene.terrain.terrain_generator is not None:
-            self.scene.terrain.terrain_generator.num_rows = 5
-            self.scene.terrain.terrain_generator.num_cols = 5
-            self.scene.terrain.terrain_generator.curriculum = False
-        self.commands.base_velocity.ranges.lin_vel_x = (1.0, 1.0)
-        self.commands.base_velocity.ranges.lin_vel_y = (0.0, 0.0)
-        self.commands.base_velocity.ranges.ang_vel_z = (-1.0, 1.0)
-        self.commands.base_velocity.ranges.heading = (0.0, 0.0)
-        self.observations.policy.enable_corruption = False
-        self.events.base_external_force_torque = None
-        self.events.push_robot = None
+        humanoid_play(self)

@@ -2,11 +2,11 @@
 
 from simlab.utils import configclass
 
-from ...common_ppo import QuadrupedRoughPPORunnerCfg, flat_runner
+from ...common_ppo import VelocityRoughPPORunnerCfg, flat_runner
 
 
 @configclass
-class UnitreeA1RoughPPORunnerCfg(QuadrupedRoughPPORunnerCfg):
+class UnitreeA1RoughPPORunnerCfg(VelocityRoughPPORunnerCfg):
     experiment_name = "unitree_a1_rough"
 
 

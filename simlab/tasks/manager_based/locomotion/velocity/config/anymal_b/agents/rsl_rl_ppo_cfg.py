@@ -4,11 +4,11 @@ from simlab.rl.rsl_rl import RslRlOnPolicyRunnerCfg, RslRlSymmetryCfg
 from simlab.tasks.manager_based.locomotion.velocity.mdp.symmetry import anymal
 from simlab.utils import configclass
 
-from ...common_ppo import QuadrupedRoughPPORunnerCfg, flat_runner, ppo
+from ...common_ppo import VelocityRoughPPORunnerCfg, flat_runner, ppo
 
 
 @configclass
-class AnymalBRoughPPORunnerCfg(QuadrupedRoughPPORunnerCfg):
+class AnymalBRoughPPORunnerCfg(VelocityRoughPPORunnerCfg):
     experiment_name = "anymal_b_rough"
     algorithm = ppo(entropy_coef=0.005)
 

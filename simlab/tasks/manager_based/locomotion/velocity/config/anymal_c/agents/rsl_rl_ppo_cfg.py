@@ -2,11 +2,11 @@
 
 from simlab.utils import configclass
 
-from ...common_ppo import QuadrupedRoughPPORunnerCfg, flat_runner, ppo
+from ...common_ppo import VelocityRoughPPORunnerCfg, flat_runner, ppo
 
 
 @configclass
-class AnymalCRoughPPORunnerCfg(QuadrupedRoughPPORunnerCfg):
+class AnymalCRoughPPORunnerCfg(VelocityRoughPPORunnerCfg):
     experiment_name = "anymal_c_rough"
     algorithm = ppo(entropy_coef=0.005)
 

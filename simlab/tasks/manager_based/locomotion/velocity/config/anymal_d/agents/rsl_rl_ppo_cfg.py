@@ -2,11 +2,11 @@
 
 from simlab.utils import configclass
 
-from ...common_ppo import QuadrupedRoughPPORunnerCfg, flat_runner, ppo
+from ...common_ppo import VelocityRoughPPORunnerCfg, flat_runner, ppo
 
 
 @configclass
-class AnymalDRoughPPORunnerCfg(QuadrupedRoughPPORunnerCfg):
+class AnymalDRoughPPORunnerCfg(VelocityRoughPPORunnerCfg):
     experiment_name = "anymal_d_rough"
     algorithm = ppo(entropy_coef=0.005)
 

@@ -1,42 +1,16 @@
 """rsl_rl PPO for the Cassie velocity tasks (Isaac Lab's published hyperparameters)."""
 
-from simlab.rl.rsl_rl import RslRlMLPModelCfg, RslRlOnPolicyRunnerCfg, RslRlPpoAlgorithmCfg
 from simlab.utils import configclass
+
+from ...common_ppo import VelocityRoughPPORunnerCfg, flat_runner
 
 
 @configclass
-class CassieRoughPPORunnerCfg(RslRlOnPolicyRunnerCfg):
-    num_steps_per_env = 24
-    max_iterations = 1500
-    save_interval = 50
+class CassieRoughPPORunnerCfg(VelocityRoughPPORunnerCfg):
     experiment_name = "cassie_rough"
-    actor = RslRlMLPModelCfg(
-        hidden_dims=[512, 256, 128],
-        activation="elu",
-        obs_normalization=False,
-        distribution_cfg=RslRlMLPModelCfg.GaussianDistributionCfg(init_std=1.0),
-    )
-    critic = RslRlMLPModelCfg(hidden_dims=[512, 256, 128], activation="elu", obs_normalization=False)
-    algorithm = RslRlPpoAlgorithmCfg(
-        value_loss_coef=1.0,
-        use_clipped_value_loss=True,
-        clip_param=0.2,
-        entropy_coef=0.01,
-        num_learning_epochs=5,
-        num_mini_batches=4,
-        learning_rate=1.0e-3,
-        schedule="adaptive",
-        gamma=0.99,
-        lam=0.95,
-        desired_kl=0.01,
-        max_grad_norm=1.0,
-    )
 
 
 @configclass
 class CassieFlatPPORunnerCfg(CassieRoughPPORunnerCfg):
     def __post_init__(self):
-        self.max_iterations = 1000
-        self.experiment_name = "cassie_flat"
-        self.actor.hidden_dims = [128, 128, 128]
-        self.critic.hidden_dims = [128, 128, 128]
+        flat_runner(self, "cassie_flat", max_iterations=1000)

@@ -2,11 +2,11 @@
 
 from simlab.utils import configclass
 
-from ...common_ppo import QuadrupedRoughPPORunnerCfg, flat_runner
+from ...common_ppo import VelocityRoughPPORunnerCfg, flat_runner
 
 
 @configclass
-class UnitreeGo2RoughPPORunnerCfg(QuadrupedRoughPPORunnerCfg):
+class UnitreeGo2RoughPPORunnerCfg(VelocityRoughPPORunnerCfg):
     experiment_name = "unitree_go2_rough"
 
 

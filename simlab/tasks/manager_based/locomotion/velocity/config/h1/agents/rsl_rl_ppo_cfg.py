@@ -1,42 +1,17 @@
 """rsl_rl PPO for the H1 velocity tasks (Isaac Lab's published hyperparameters)."""
 
-from simlab.rl.rsl_rl import RslRlMLPModelCfg, RslRlOnPolicyRunnerCfg, RslRlPpoAlgorithmCfg
 from simlab.utils import configclass
+
+from ...common_ppo import VelocityRoughPPORunnerCfg, flat_runner
 
 
 @configclass
-class H1RoughPPORunnerCfg(RslRlOnPolicyRunnerCfg):
-    num_steps_per_env = 24
+class H1RoughPPORunnerCfg(VelocityRoughPPORunnerCfg):
     max_iterations = 3000
-    save_interval = 50
     experiment_name = "h1_rough"
-    actor = RslRlMLPModelCfg(
-        hidden_dims=[512, 256, 128],
-        activation="elu",
-        obs_normalization=False,
-        distribution_cfg=RslRlMLPModelCfg.GaussianDistributionCfg(init_std=1.0),
-    )
-    critic = RslRlMLPModelCfg(hidden_dims=[512, 256, 128], activation="elu", obs_normalization=False)
-    algorithm = RslRlPpoAlgorithmCfg(
-        value_loss_coef=1.0,
-        use_clipped_value_loss=True,
-        clip_param=0.2,
-        entropy_coef=0.01,
-        num_learning_epochs=5,
-        num_mini_batches=4,
-        learning_rate=1.0e-3,
-        schedule="adaptive",
-        gamma=0.99,
-        lam=0.95,
-        desired_kl=0.01,
-        max_grad_norm=1.0,
-    )
 
 
 @configclass
 class H1FlatPPORunnerCfg(H1RoughPPORunnerCfg):
     def __post_init__(self):
-        self.max_iterations = 1000
-        self.experiment_name = "h1_flat"
-        self.actor.hidden_dims = [128, 128, 128]
-        self.critic.hidden_dims = [128, 128, 128]
+        flat_runner(self, "h1_flat", max_iterations=1000)
