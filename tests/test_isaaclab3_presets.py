@@ -89,6 +89,26 @@ def test_preset_names_that_cannot_be_honoured_are_refused(names, overrides, mess
         select_presets(_Cfg(), None, names, overrides=overrides)
 
 
+def test_a_value_given_to_the_preset_instance_wins_over_the_class_default():
+    """``MyPresets(default=...)`` or an attribute set on the instance is what resolves; a class attribute
+    reassigned after the instance was made (3.0's robot modules do) still counts when the instance kept
+    its default."""
+    from simlab.utils.presets import resolve_presets
+
+    @configclass
+    class Armature(PresetCfg):
+        default: float = 0.0
+        stiff: float = 0.1
+
+    assert resolve_presets({"a": Armature(default=5.0)})[0] == {"a": 5.0}
+    given = Armature()
+    given.stiff = 0.7
+    assert resolve_presets({"a": given}, [["stiff"]])[0] == {"a": 0.7}
+    kept = Armature()
+    Armature.stiff = 0.3
+    assert resolve_presets({"a": kept}, [["stiff"]])[0] == {"a": 0.3}
+
+
 def test_two_names_choosing_one_slot_differently_are_refused():
     with pytest.raises(ConfigError, match="presets newton_mjwarp and stiff both choose armature"):
         select_presets(_Cfg(), None, ["newton_mjwarp", "stiff"])

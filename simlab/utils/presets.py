@@ -47,10 +47,12 @@ def preset(**options: Any) -> PresetCfg:
 
 
 def preset_alternatives(node: PresetCfg) -> dict[str, Any]:
-    """The alternatives of ``node`` by name. A class attribute wins over the instance's value, since
-    robot-specific modules reassign a preset class's fields after its instances were made."""
+    """The alternatives of ``node`` by name. A value set on the instance (``MyPresets(default=...)``, an
+    attribute assigned) wins; else the class attribute, since robot-specific modules reassign a preset
+    class's fields after its instances were made."""
     cls = type(node)
-    names = [f.name for f in dataclasses.fields(node)] + [n for n in vars(cls) if n not in node.__dataclass_fields__]
+    fields = node.__dataclass_fields__
+    names = [f.name for f in dataclasses.fields(node)] + [n for n in vars(cls) if n not in fields]
     alternatives = {}
     for name in names:
         if name.startswith("_") or name in alternatives:
@@ -58,8 +60,25 @@ def preset_alternatives(node: PresetCfg) -> dict[str, Any]:
         value = getattr(cls, name, None)
         if callable(value) and not dataclasses.is_dataclass(value):
             continue  # methods and nested classes are helpers
-        alternatives[name] = value if value is not None else getattr(node, name, None)
+        instance = getattr(node, name, None)
+        if value is None or (name in fields and _set_on_instance(fields[name], instance)):
+            value = instance
+        alternatives[name] = value
     return alternatives
+
+
+def _set_on_instance(field: dataclasses.Field, instance: Any) -> bool:
+    """Whether the instance's value differs from the field's declared default (so it was given)."""
+    if field.default is not dataclasses.MISSING:
+        declared = field.default
+    elif field.default_factory is not dataclasses.MISSING:
+        declared = field.default_factory()
+    else:
+        return True
+    try:
+        return bool(instance != declared)
+    except Exception:  # noqa: BLE001 - values without a plain truth value (arrays): compare identity
+        return instance is not declared
 
 
 def _children(value: Any) -> list[tuple[str, Any]]:
