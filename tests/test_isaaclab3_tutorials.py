@@ -43,3 +43,13 @@ def test_run_rigid_object_drops_the_cones_onto_the_ground():
 def test_create_scene_instantiates_a_3_0_scene_and_drives_it():
     out = _run("create_scene.py", 501, "--num_envs", "4")
     assert out.count("Resetting robot state") == 2  # steps 0 and 500
+
+
+def test_run_diff_ik_reaches_its_x_y_z_w_goals():
+    """Its goals are (x, y, z, qx, qy, qz, qw): the hand reaches each (the controller, the markers and the
+    math read 3.0's order; read as (w, x, y, z) the goals would be other rotations and the errors large)."""
+    out = _run("run_diff_ik.py", 451, "--num_envs", "2")
+    errors = re.findall(r"Goal error: position ([\d.]+) m, orientation ([\d.]+) rad", out)
+    assert len(errors) == 3  # the three goals, each left at steps 150, 300 and 450
+    for position, orientation in errors:
+        assert float(position) < 0.01 and float(orientation) < 0.02

@@ -27,6 +27,7 @@ from simlab.assets import (
 )
 from simlab.utils import configclass
 from simlab.v3._order import to_simlab, xyzw_class
+from simlab.v3._proxy import proxy
 from simlab.v3.assets._api import (
     ActuatorCollection,
     AssetDataView,
@@ -62,7 +63,32 @@ class Articulation(JointWriters, RootWriters, BodyPropertyWriters, _assets.Artic
 
     def _initialize(self, sim) -> None:
         super()._initialize(sim)
-        self.data = AssetDataView(self.data)
+        self.data = ArticulationDataView(self.data, self)
+
+    @property
+    def num_base_dofs(self) -> int:
+        """Isaac Lab 3.0's floating-base columns of the Jacobian: 0 for a fixed base, 6 for a floating one."""
+        return 0 if self.is_fixed_base else 6
+
+
+class ArticulationDataView(AssetDataView):
+    """An articulation's data as Isaac Lab 3.0 reads it, with ``body_link_jacobian_w``: the bodies'
+    Jacobians in the world frame, laid out as 2.x's ``root_physx_view.get_jacobians()`` (a fixed base's
+    root body left out; ``num_base_dofs`` floating-base columns before the joints')."""
+
+    __slots__ = ("_asset",)
+
+    def __init__(self, data, asset) -> None:
+        super().__init__(data)
+        object.__setattr__(self, "_asset", asset)
+
+    def __getattr__(self, name: str):
+        if name == "body_link_jacobian_w":
+            return proxy(name, object.__getattribute__(self, "_asset").root_physx_view.get_jacobians())
+        return super().__getattr__(name)
+
+    def __dir__(self) -> list[str]:
+        return sorted({*super().__dir__(), "body_link_jacobian_w"})
 
 
 class RigidObject(RootWriters, BodyPropertyWriters, _assets.RigidObject):
