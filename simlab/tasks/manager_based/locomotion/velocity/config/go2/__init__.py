@@ -1,20 +1,5 @@
 """Unitree Go2 velocity tracking, flat and rough (Isaac Lab's ``Isaac-Velocity-*-Unitree-Go2-v0``)."""
 
-import gymnasium as gym
+from ..register import register_velocity_tasks
 
-from . import agents
-
-_CRITERION = "simlab.tasks.manager_based.locomotion.velocity.criterion:tracks_velocity"
-
-for terrain in ("Flat", "Rough"):
-    for suffix, play in (("", ""), ("-Play", "_PLAY")):
-        gym.register(
-            id=f"simlab/Velocity-{terrain}-Unitree-Go2{suffix}-v0",
-            entry_point="simlab.envs:ManagerBasedRLEnv",
-            disable_env_checker=True,
-            kwargs={
-                "env_cfg_entry_point": f"{__name__}.{terrain.lower()}_env_cfg:UnitreeGo2{terrain}EnvCfg{play}",
-                "success_criterion_entry_point": _CRITERION,
-                "rsl_rl_cfg_entry_point": f"{agents.__name__}.rsl_rl_ppo_cfg:UnitreeGo2{terrain}PPORunnerCfg",
-            },
-        )
+register_velocity_tasks(__name__, "Unitree-Go2")
