@@ -12,7 +12,9 @@ The order is never guessed from a value: it is the order of the namespace a name
   configs they are given (``gym.register(entry_point="simlab.v3.envs:ManagerBasedRLEnv")``) and resolve
   their presets; :mod:`simlab.v3.envs.mdp`, the terms whose orientations 3.0 code gives or reads;
 * :mod:`simlab.v3.robots` (and ``.<robot>``): simlab's robot configs in 3.0's convention;
-* :mod:`simlab.v3.cloner`: a direct env's cloning calls, checked against the scene's layout.
+* :mod:`simlab.v3.cloner`: a direct env's cloning calls, checked against the scene's layout;
+* :mod:`simlab.v3.controllers`, :mod:`simlab.v3.markers`: the differential IK controller and the markers,
+  whose poses are (x, y, z, w).
 
 Every other module is simlab's own, as for 2.x code (docs/porting_3.md has the whole mapping). Code for
 2.x and code for 3.0 run side by side in one process: each config class carries its order.
