@@ -77,6 +77,25 @@ def test_3_0_go2_flat_velocity_task_steps_with_the_2_x_tasks_rewards(ported3):
         env.close()
 
 
+def test_3_0_go2_rough_velocity_task_steps_on_generated_terrain_with_its_height_scan(ported3):
+    from isaaclab3_velocity.config.go2.rough_env_cfg import UnitreeGo2RoughEnvCfg
+
+    cfg = UnitreeGo2RoughEnvCfg()
+    generator = cfg.scene.terrain.terrain_generator
+    generator.num_rows = generator.num_cols = 2  # a small grid of 3.0's (Go2-scaled) rough terrains: fast
+    assert generator.curriculum  # the terrain-level curriculum is on
+    assert generator.sub_terrains["pyramid_stairs"].step_height_range == (0.025, 0.12)
+    env = _step(cfg, steps=10)
+    try:
+        # njmax / nconmax of the rough preset, 2 substeps; the 1.6 x 1.0 m scan at 0.1 m: 17 x 11 rays
+        assert (env.cfg.sim.mujoco.njmax, env.cfg.sim.mujoco.nconmax) == (1000, 300)
+        assert env.sim.model.opt.timestep == pytest.approx(0.0025)
+        assert env.observation_manager.group_obs_dim["policy"] == (48 + 17 * 11,)
+        assert "terrain_levels" in env.curriculum_manager.active_terms
+    finally:
+        env.close()
+
+
 def test_3_0_franka_reach_steps_and_its_success_and_pose_errors_read_one_orientation(ported3):
     from isaaclab3_reach import mdp as reach_mdp
     from isaaclab3_reach.config.franka.franka_env_cfg import FrankaReachEnvCfg
