@@ -94,3 +94,18 @@ def test_the_root_is_placed_by_its_centre_of_mass_frame(scene):
     expected = math3.wxyz_from_xyzw(target_quat[0])
     assert torch.allclose(math2.quat_unique(com_quat), math2.quat_unique(expected), atol=1e-5)
     assert not torch.allclose(ant.data.root_pos_w[0], target_pos[0], atol=1e-3)  # the link is elsewhere
+
+
+def test_the_mask_writer_places_each_env_by_its_own_centre_of_mass(scene):
+    """``write_root_com_pose_to_sim_mask``: full data and a bool mask; each masked env uses its own world's
+    centre of mass (a mask read as indices would take env 0's or 1's)."""
+    ant = scene["ant"]
+    ant.set_coms_index(coms=torch.tensor([[[0.1, -0.05, 0.02]]]), body_ids=[0], env_ids=[2])  # env 2's only
+    quat = math3.quat_from_euler_xyz(torch.zeros(3), torch.zeros(3), torch.zeros(3))
+    pos = scene.env_origins + torch.tensor([[0.3, 0.4, 1.5]])
+    before = ant.data.root_pos_w.clone()
+    mask = torch.tensor([False, False, True])
+    ant.write_root_com_pose_to_sim_mask(root_pose=torch.cat((pos, quat), -1), env_mask=mask)
+    sim_utils.SimulationContext.instance().forward()
+    assert torch.allclose(ant.data.body_com_pos_w[2, 0], pos[2], atol=1e-5)
+    assert torch.equal(ant.data.root_pos_w[:2], before[:2])  # envs outside the mask keep their pose

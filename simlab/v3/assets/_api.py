@@ -206,7 +206,9 @@ class RootWriters:
         is ``root_pose`` (w, x, y, z), world frame: the root link's pose is written."""
         com_pos_b = _body_field(self, "body_ipos")[:, 0]
         com_quat_b = _body_field(self, "body_iquat")[:, 0]
-        rows = slice(None) if env_ids is None else torch.as_tensor(env_ids, device=self.device).long()
+        rows = slice(None) if env_ids is None else torch.as_tensor(env_ids, device=self.device)
+        if isinstance(rows, torch.Tensor):  # a bool mask (the _mask writer) comes with a row per env
+            rows = slice(None) if rows.dtype == torch.bool else rows.long()
         pos, quat = root_pose[:, :3], root_pose[:, 3:7]
         link_quat = math_utils.quat_mul(quat, math_utils.quat_inv(com_quat_b[rows]))
         link_pos = pos - math_utils.quat_apply(link_quat, com_pos_b[rows])
