@@ -65,6 +65,20 @@ def test_the_site_builds_strictly_with_api_reference_porting_table_and_gallery(t
     assert "<code>Cartpole-v0</code>: rsl_rl" in families
 
 
+@needs_rendering
+def test_the_gallery_renders_discrete_actions_and_a_play_variant_that_needs_a_trained_file(tmp_path):
+    """A Discrete action is one column (the showcase's zero actions); the vision hand's Play variant
+    needs a CNN only training writes, so from a fresh folder it is pictured as its training variant."""
+    gallery = tmp_path / "gallery"
+    render = [sys.executable, os.path.join(REPO, "scripts", "tools", "render_gallery.py"), "--out", str(gallery)]
+    tasks = ["Showcase-Box-Discrete-Direct", "Shadow-Vision-Direct-Play"]
+    done = subprocess.run(render + ["--tasks", *tasks], cwd=tmp_path, capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr[-3000:]
+    assert "picturing simlab/Repose-Cube-Shadow-Vision-Direct-v0 instead" in done.stdout
+    for task in ("simlab/Cartpole-Showcase-Box-Discrete-Direct-v0", "simlab/Repose-Cube-Shadow-Vision-Direct-Play-v0"):
+        assert (gallery / (task.replace("/", "__") + ".png")).stat().st_size > 1000, task
+
+
 @pytest.mark.slow
 @needs_rendering
 def test_every_task_renders_into_the_gallery(tmp_path):

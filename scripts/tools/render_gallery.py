@@ -54,13 +54,15 @@ def render_task(task: str, path: str, width: int, height: int, num_envs: int, se
 
 
 def _zero_actions(env):
-    """Zero actions of the env's shape: one tensor, or one per agent for a multi-agent env."""
+    """Zero actions as the env takes them (Isaac Lab's layout: a Discrete action is one column), or
+    one per agent for a multi-agent env."""
     import torch
+
+    from simlab.envs.utils.spaces import sample_space
 
     if hasattr(env, "possible_agents"):  # DirectMARLEnv
         return {a: torch.zeros(env.num_envs, env.cfg.action_spaces[a], device=env.device) for a in env.possible_agents}
-    shape = env.single_action_space.shape if hasattr(env, "single_action_space") else env.action_space.shape[1:]
-    return torch.zeros(env.num_envs, *shape, device=env.device)
+    return sample_space(env.single_action_space, env.device, env.num_envs, fill_value=0)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -78,6 +80,7 @@ def main(argv: list[str] | None = None) -> int:
         parser.error(f"--num_envs must be at least 1, got {args.num_envs}")
 
     from simlab.tasks.utils import registered_task_ids
+    from simlab.utils.errors import ConfigError
 
     tasks = registered_task_ids()
     if args.tasks:
@@ -90,7 +93,15 @@ def main(argv: list[str] | None = None) -> int:
         start = time.perf_counter()
         path = os.path.join(args.out, picture_name(task))
         try:
-            render_task(task, path, args.width, args.height, args.num_envs, args.settle_s)
+            try:
+                render_task(task, path, args.width, args.height, args.num_envs, args.settle_s)
+            except ConfigError as e:
+                if "-Play" not in task:
+                    raise
+                # a Play variant that needs a file only training writes (the vision hand's CNN):
+                # its scene is its training variant's, pictured instead
+                print(f"[gallery] {task}: {e}; picturing {task.replace('-Play', '')} instead", flush=True)
+                render_task(task.replace("-Play", ""), path, args.width, args.height, args.num_envs, args.settle_s)
         except Exception as e:  # one task that cannot render must not hide the others' pictures
             failed.append(task)
             print(f"[gallery] {task}: FAILED: {type(e).__name__}: {e}", file=sys.stderr, flush=True)
