@@ -576,6 +576,9 @@ class ArticulationData(RootedAssetData):
             )
         if not hasattr(self, "_cfrc_int"):
             self._cfrc_int = a._sim.physics.data("cfrc_int")
+        # cfrc_int comes from the whole forward pass: a kinematics-only refresh (the cuda backend's
+        # ensure_kinematics) would pair the new poses with the last step's forces
+        a._physics.ensure_forward()
         ids = a._body_index
         spatial = self._cfrc_int[:, ids]  # [torque about the tree's centre of mass, force], world axes
         force = spatial[..., 3:6]
