@@ -64,9 +64,7 @@ class Precompile:
         if self._pool is None:
             return
         start = time.perf_counter()
-        for future in self._futures:
-            with contextlib.suppress(Exception):
-                future.result()
+        _settle(self._futures)
         self._futures = []
         self._pool.shutdown(wait=True)
         self._pool = None
@@ -96,10 +94,15 @@ def compile_ahead(wp: Any, device: Any, calls: list[Callable[[], None]], workers
                 futures.append(pool.submit(module.load, device, block_dim))
             if finished or not fresh:
                 break
-            for future in futures:  # the next pass needs these loaded to get past the query
-                with contextlib.suppress(Exception):
-                    future.result()
+            _settle(futures)  # the next pass needs these loaded to get past the query
     return Precompile(futures, pool, passes, len(submitted))
+
+
+def _settle(futures: list[Future]) -> None:
+    """Wait for every compilation; one that failed compiles (and raises) again at its launch."""
+    for future in futures:
+        with contextlib.suppress(Exception):
+            future.result()
 
 
 def _dry_run(wp: Any, device: Any, call: Callable[[], None], noted: list) -> bool:
