@@ -31,11 +31,6 @@ def model() -> mujoco.MjModel:
     return mujoco.MjModel.from_xml_string(XML)
 
 
-def _physics_calls(backend: CudaBackend) -> list:
-    m, d, mjw = backend.wp_model, backend.wp_data, backend._mjw
-    return [lambda: mjw.step(m, d), lambda: mjw.forward(m, d), lambda: mjw.reset_data(m, d, reset=backend._reset_mask)]
-
-
 def _state(backend: CudaBackend) -> dict[str, torch.Tensor]:
     return {name: backend.data(name).clone() for name in ("qpos", "qvel", "qacc", "xpos", "qfrc_constraint", "time")}
 
@@ -43,13 +38,13 @@ def _state(backend: CudaBackend) -> dict[str, torch.Tensor]:
 LOOK_AHEAD = """
 import os, sys, mujoco, warp as wp
 sys.path.insert(0, os.environ["TESTS_DIR"])
-from test_warp_compile import XML, _physics_calls
+from test_warp_compile import XML
 from simlab.sim.backends import warp_compile
 from simlab.sim.backends.cuda import CudaBackend
 
 os.environ["SIMLAB_COMPILE_AHEAD"] = "0"
 backend = CudaBackend(mujoco.MjModel.from_xml_string(XML), 3, device="cpu")
-calls = _physics_calls(backend)
+calls = backend._physics_calls()
 missing = []  # a fresh process has loaded none of MuJoCo Warp's modules (the disk cache may hold them)
 for call in calls:
     assert warp_compile._dry_run(wp, backend.wp_device, call, missing)
@@ -87,7 +82,7 @@ def test_dry_passes_write_nothing_and_the_physics_is_unchanged(model, monkeypatc
     assert before["qfrc_constraint"].abs().sum() > 0  # the bodies landed: contacts push back
     # look ahead again in a stepped state: the dry passes launch nothing and write nothing
     noted: list = []
-    for call in _physics_calls(ahead):
+    for call in ahead._physics_calls():
         warp_compile._dry_run(wp, ahead.wp_device, call, noted)
     after = _state(ahead)
     for name, value in before.items():

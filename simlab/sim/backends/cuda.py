@@ -270,19 +270,15 @@ class CudaBackend(PhysicsBackend):
         self._calls_since_check = 0
 
         # The kernels of step, forward and reset compile on a thread pool while the env and the
-        # RL library are built; the first capture waits for them (see warp_compile).
+        # runner are built; the first capture waits for them (see warp_compile).
         self.precompile: Precompile | None = None
         if compile_ahead_enabled():
-            m, d = self.wp_model, self.wp_data
-            self.precompile = compile_ahead(
-                wp,
-                self._wp_device,
-                [
-                    lambda: mjw.step(m, d),
-                    lambda: mjw.forward(m, d),
-                    lambda: mjw.reset_data(m, d, reset=self._reset_mask),
-                ],
-            )
+            self.precompile = compile_ahead(wp, self._wp_device, self._physics_calls())
+
+    def _physics_calls(self) -> list[Callable[[], None]]:
+        """MuJoCo Warp's calls behind step, forward and reset, for compiling their kernels ahead."""
+        m, d, mjw = self.wp_model, self.wp_data, self._mjw
+        return [lambda: mjw.step(m, d), lambda: mjw.forward(m, d), lambda: mjw.reset_data(m, d, reset=self._reset_mask)]
 
     # -- fields --------------------------------------------------------------------------------
 
