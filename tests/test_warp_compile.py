@@ -19,6 +19,7 @@ pytest.importorskip("mujoco_warp")
 
 from simlab.sim.backends import warp_compile  # noqa: E402
 from simlab.sim.backends.cuda import CudaBackend  # noqa: E402
+from simlab.utils.errors import ConfigError  # noqa: E402
 
 XML = """<mujoco><worldbody><geom type="plane" size="5 5 .1"/>
 <body pos="0 0 .3"><freejoint/><geom type="box" size=".1 .1 .1"/></body>
@@ -100,6 +101,11 @@ def test_another_warp_release_compiles_at_first_launch(model, monkeypatch):
     monkeypatch.setattr(warp_compile, "release_mismatch", lambda dist: None)
     monkeypatch.setenv("SIMLAB_COMPILE_AHEAD", "0")
     assert not warp_compile.compile_ahead_enabled()
+    monkeypatch.setenv("SIMLAB_COMPILE_AHEAD", "1")
+    assert warp_compile.compile_ahead_enabled()
+    monkeypatch.setenv("SIMLAB_COMPILE_AHEAD", "off")
+    with pytest.raises(ConfigError, match=r"SIMLAB_COMPILE_AHEAD='off': use 1 .* or 0"):
+        warp_compile.compile_ahead_enabled()
 
 
 def test_a_pass_that_stops_at_a_query_goes_further_in_the_next(monkeypatch):

@@ -30,6 +30,7 @@ from collections.abc import Callable, Iterator
 from concurrent.futures import Future, ThreadPoolExecutor
 from typing import Any
 
+from simlab.utils.errors import ConfigError
 from simlab.utils.versions import release_mismatch, warn_once
 
 MAX_PASSES = 8
@@ -39,7 +40,10 @@ collision pair type of the model), and the modules found so far compile before t
 
 def compile_ahead_enabled() -> bool:
     """Whether :func:`compile_ahead` may run: not turned off, and the checked Warp release."""
-    if os.environ.get("SIMLAB_COMPILE_AHEAD", "1") == "0":
+    setting = os.environ.get("SIMLAB_COMPILE_AHEAD", "1")
+    if setting not in ("0", "1"):
+        raise ConfigError(f"SIMLAB_COMPILE_AHEAD={setting!r}: use 1 (compile Warp's kernels ahead, the default) or 0")
+    if setting == "0":
         return False
     mismatch = release_mismatch("warp-lang")
     if mismatch is not None:
