@@ -214,6 +214,21 @@ def test_set_const_per_world(kind: str, cartpole: mujoco.MjModel) -> None:
 
 
 @pytest.mark.parametrize("kind", BACKENDS)
+def test_derived_constants_read_after_set_const(kind: str, cartpole: mujoco.MjModel) -> None:
+    """The constants set_const writes can be read as per-world fields after it ran (on the CPU they
+    were made per world in float64 by set_const, and reading them in float32 then failed)."""
+    sim = make(kind, cartpole, 2)
+    mass = sim.model_field("body_mass")
+    cart, pole = cartpole.body("cart").id, cartpole.body("pole").id
+    mass[1, pole] = 3.0 * cartpole.body_mass[pole]
+    sim.set_const()
+    subtree, invweight = sim.model_field("body_subtreemass"), sim.model_field("dof_invweight0")
+    expected = [cartpole.body_mass[cart] + k * cartpole.body_mass[pole] for k in (1.0, 3.0)]
+    np.testing.assert_allclose(subtree[:, cart].cpu().numpy(), expected, rtol=1e-6)
+    assert invweight.dtype == torch.float32 and invweight.shape[0] == 2
+
+
+@pytest.mark.parametrize("kind", BACKENDS)
 def test_unknown_field_names(kind: str, cartpole: mujoco.MjModel) -> None:
     sim = make(kind, cartpole, 2)
     with pytest.raises(ValueError, match="no_such_field"):

@@ -49,6 +49,18 @@ from simlab.utils.env_mask import masked_copy_
 
 EnvIds = Sequence[int] | torch.Tensor | None
 
+# Model constants that MuJoCo's set_const writes; a backend makes them per world (in its own dtype)
+# before the first set_const, so they read as model fields afterwards.
+SET_CONST_OUTPUTS = (
+    "body_subtreemass",
+    "dof_invweight0",
+    "body_invweight0",
+    "tendon_length0",
+    "tendon_invweight0",
+    "actuator_acc0",
+    "stat.meaninertia",
+)
+
 
 class PhysicsBackend(ABC):
     """``num_envs`` worlds of one MuJoCo model, with MjData fields as live torch tensors."""

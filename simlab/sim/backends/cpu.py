@@ -17,7 +17,7 @@ import torch
 
 from simlab.utils.memory import available_memory, check_env_memory
 
-from .base import EnvIds, PhysicsBackend
+from .base import SET_CONST_OUTPUTS, EnvIds, PhysicsBackend
 
 
 def check_host_memory(model: mujoco.MjModel, data: mujoco.MjData, num_envs: int, num_threads: int) -> None:
@@ -119,6 +119,13 @@ class CpuBackend(PhysicsBackend):
         self.batch.reset(self._ids_numpy(env_ids))
 
     def set_const(self, env_ids: EnvIds = None) -> None:
+        # mjbatch makes each constant it changes per world in float64 unless it is already: bind them
+        # in float32 first, as model_field does, or reading one afterwards fails on the dtype
+        for name in SET_CONST_OUTPUTS:
+            try:
+                self.model_field(name)
+            except ValueError:
+                continue  # not a model array (stat.meaninertia is a scalar of a struct)
         self.batch.set_const(self._ids_numpy(env_ids))
 
 

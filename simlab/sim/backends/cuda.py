@@ -33,7 +33,7 @@ import torch
 from simlab.utils.cuda import gc_paused, is_capturing
 from simlab.utils.memory import available_memory, check_env_memory
 
-from .base import EnvIds, PhysicsBackend
+from .base import SET_CONST_OUTPUTS, EnvIds, PhysicsBackend
 from .warp_compile import Precompile, compile_ahead, compile_ahead_enabled
 
 _INSTALL_HINT = 'the cuda backend needs an NVIDIA GPU and MuJoCo Warp: pip install "simlab[gpu]"'
@@ -412,7 +412,7 @@ class CudaBackend(PhysicsBackend):
         allocates scratch arrays, and it is rare.
         """
         if self._model:
-            for name in _SET_CONST_OUTPUTS:
+            for name in SET_CONST_OUTPUTS:
                 try:
                     self.model_field(name)
                 except ValueError:
@@ -550,15 +550,3 @@ class CudaBackend(PhysicsBackend):
                 env_ids = env_ids.nonzero().flatten()
             return env_ids.to(self.device, torch.long)
         return torch.as_tensor(np.asarray(env_ids, dtype=np.int64), device=self.device)
-
-
-# Model constants that mujoco_warp.set_const writes, per world when they are batched.
-_SET_CONST_OUTPUTS = (
-    "body_subtreemass",
-    "dof_invweight0",
-    "body_invweight0",
-    "tendon_length0",
-    "tendon_invweight0",
-    "actuator_acc0",
-    "stat.meaninertia",
-)
