@@ -438,6 +438,39 @@ def test_randomize_mass_friction_gravity_gains_joint_parameters(env):
     assert torch.allclose(dof_armature[:, robot._dof_index[hip_ids]], torch.full((N, 4), 2.0))
 
 
+def test_reset_events_that_read_the_host_are_named_as_graph_blockers():
+    """A mask-taking event that still calls MuJoCo's set_const (a host read) declares itself, so the
+    step goes eager for that reason rather than through a failed capture; the others stay graphable."""
+    from simlab.managers import EventTermCfg
+
+    legs = SceneEntityCfg("robot", joint_names=[".*_leg"])
+    events = {
+        "robot_mass": (mdp.randomize_rigid_body_mass, {"asset_cfg": SceneEntityCfg("robot", body_names=["torso"])}),
+        "box_mass": (mdp.randomize_rigid_body_mass, {"asset_cfg": BOX}),
+        "armature": (mdp.randomize_joint_parameters, {"asset_cfg": legs, "armature_distribution_params": (0.1, 0.2)}),
+        "friction": (mdp.randomize_joint_parameters, {"asset_cfg": legs, "friction_distribution_params": (0.1, 0.2)}),
+    }
+    cfg = AntEnvCfg()
+    for name, (func, params) in events.items():
+        params = {"mass_distribution_params": (0.8, 1.2), "operation": "scale", **params}
+        if func is mdp.randomize_joint_parameters:
+            params.pop("mass_distribution_params")
+        setattr(cfg.events, name, EventTermCfg(func=func, mode="reset", params=params))
+    env = ManagerBasedRLEnv(cfg)
+    try:
+        blockers = env.event_manager.graph_blockers()
+        assert len(blockers) == 2, blockers
+        robot_mass, armature = blockers
+        assert robot_mass.startswith("event term 'robot_mass' (mode 'reset') randomizes the masses of articulated")
+        assert "set_const" in robot_mass and "host read" in robot_mass
+        assert armature.startswith("event term 'armature' (mode 'reset') randomizes joint armature")
+        assert env.graph_blockers() == blockers
+        env.reset()
+        env.step(torch.zeros(N, 8))  # the terms still run by mask (eagerly on the CPU)
+    finally:
+        env.close()
+
+
 def test_external_force_lifts_the_box(env):
     box = env.scene["box"]
     mdp.apply_external_force_torque(

@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING
 
 import torch
 
-from simlab.utils.env_mask import masked_copy_, term_env_ids
+from simlab.utils.env_mask import masked_copy_, term_env_ids, term_host_read
 from simlab.utils.string import closest_matches
 
 from .manager_base import ManagerBase, ManagerTermBase, format_table
@@ -163,12 +163,15 @@ class EventManager(ManagerBase):
                 term_cfg.func(self._env, ids, **term_cfg.params)
 
     def graph_blockers(self) -> list[str]:
-        return [
-            f"event term '{name}' (mode '{mode}') takes env ids; mark it @takes_env_mask to take a bool mask"
-            for mode in ("reset", "interval")
-            for name, cfg in self._mode_terms.get(mode, [])
-            if not getattr(cfg.func, "takes_env_mask", False)
-        ]
+        blockers = []
+        for mode in ("reset", "interval"):
+            for name, cfg in self._mode_terms.get(mode, []):
+                term = f"event term '{name}' (mode '{mode}')"
+                if not getattr(cfg.func, "takes_env_mask", False):
+                    blockers.append(f"{term} takes env ids; mark it @takes_env_mask to take a bool mask")
+                elif reason := term_host_read(cfg.func, self._env, cfg.params):
+                    blockers.append(f"{term} {reason}")
+        return blockers
 
     def _draw_interval(self, term_cfg: EventTermCfg, n: int) -> torch.Tensor:
         lower, upper = term_cfg.interval_range_s

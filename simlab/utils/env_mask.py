@@ -14,6 +14,7 @@ with one call: nothing has to find them later.
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator, Sequence
+from typing import Any
 
 import torch
 
@@ -67,6 +68,24 @@ def takes_env_mask(func: Callable) -> Callable:
     """
     func.takes_env_mask = True
     return func
+
+
+def host_read_when(check: Callable[[Any, dict[str, Any]], str | None]) -> Callable[[Callable], Callable]:
+    """Mark a mask-taking term that, for some params, still reads the device back to the host (so a
+    step that runs it is not graphed): ``check(env, params)`` says why, or None when it does not.
+    Class terms define a static method ``host_read(env, params)`` instead."""
+
+    def mark(func: Callable) -> Callable:
+        func.host_read = check
+        return func
+
+    return mark
+
+
+def term_host_read(func: Callable, env: Any, params: dict[str, Any]) -> str | None:
+    """Why the term ``func`` with ``params`` reads the device back to the host (None if it does not)."""
+    check = getattr(func, "host_read", None)
+    return None if check is None else check(env, params)
 
 
 def term_env_ids(func: Callable, mask: torch.Tensor) -> torch.Tensor | None:

@@ -25,7 +25,7 @@ import torch
 import simlab.utils.math as math_utils
 from simlab.managers import SceneEntityCfg
 from simlab.managers.manager_base import ManagerTermBase
-from simlab.utils.env_mask import is_mask, takes_env_mask
+from simlab.utils.env_mask import host_read_when, is_mask, takes_env_mask
 
 if TYPE_CHECKING:
     from simlab.envs import ManagerBasedEnv
@@ -321,6 +321,34 @@ def apply_external_force_torque(
 # -- physical properties ---------------------------------------------------------------------------
 
 
+def _model_body_ids(asset, body_ids: slice | list[int]) -> list[int]:
+    """The MuJoCo body ids of the asset's selected bodies (on the host)."""
+    local = range(asset.num_bodies)[body_ids] if isinstance(body_ids, slice) else body_ids
+    return [int(asset._body_ids[i]) for i in local]
+
+
+def _free_bodies(model: mujoco.MjModel, ids: list[int]) -> bool:
+    """Whether every body is free on its own: a free joint to the world and no children."""
+    return all(
+        model.body_parentid[b] == 0
+        and model.body_jntnum[b] == 1
+        and model.jnt_type[model.body_jntadr[b]] == mujoco.mjtJoint.mjJNT_FREE
+        and not (model.body_parentid[1:] == b).any()
+        for b in ids
+    )
+
+
+def _mass_host_read(env: ManagerBasedEnv, params: dict) -> str | None:
+    """``randomize_rigid_body_mass`` by mask reads the host for articulated bodies (MuJoCo's set_const)."""
+    asset_cfg = params["asset_cfg"]
+    if _free_bodies(env.sim.model, _model_body_ids(env.scene[asset_cfg.name], asset_cfg.body_ids)):
+        return None
+    return (
+        f"randomizes the masses of articulated bodies of '{asset_cfg.name}': MuJoCo's set_const runs for"
+        " the selected envs (a host read); only free bodies (a rigid object) are randomized inside the step"
+    )
+
+
 def _set_const(env: ManagerBasedEnv, env_ids: torch.Tensor) -> None:
     """Let derived model constants follow edited masses (the GPU backend keeps its own)."""
     with contextlib.suppress(NotImplementedError):
@@ -328,6 +356,7 @@ def _set_const(env: ManagerBasedEnv, env_ids: torch.Tensor) -> None:
 
 
 @takes_env_mask
+@host_read_when(_mass_host_read)
 def randomize_rigid_body_mass(
     env: ManagerBasedEnv,
     env_ids: torch.Tensor | None,
@@ -377,16 +406,8 @@ def _scale_mass_constants(env, mask, asset, body_ids, bodies, ratio, scaled_iner
     """The derived constants after masses (and inertias, if ``scaled_inertia``) were scaled by ``ratio``
     (envs, bodies) where ``mask`` is set; see ``randomize_rigid_body_mass``."""
     model, physics = env.sim.model, env.sim.physics
-    local = range(asset.num_bodies)[body_ids] if isinstance(body_ids, slice) else body_ids  # on the host
-    ids = [int(asset._body_ids[i]) for i in local]
-    free = all(
-        model.body_parentid[b] == 0
-        and model.body_jntnum[b] == 1
-        and model.jnt_type[model.body_jntadr[b]] == mujoco.mjtJoint.mjJNT_FREE
-        and not (model.body_parentid[1:] == b).any()
-        for b in ids
-    )
-    if not free:  # articulated bodies: MuJoCo's set_const, for the selected envs (a host read)
+    ids = _model_body_ids(asset, body_ids)
+    if not _free_bodies(model, ids):  # articulated bodies: MuJoCo's set_const, for the selected envs (a host read)
         _set_const(env, mask.nonzero().flatten())
         return
     device = env.device
@@ -540,6 +561,12 @@ class randomize_joint_parameters(ManagerTermBase):  # noqa: N801 - Isaac Lab's n
     """
 
     takes_env_mask = True
+
+    @staticmethod
+    def host_read(env: ManagerBasedEnv, params: dict) -> str | None:
+        if params.get("armature_distribution_params") is None:
+            return None
+        return "randomizes joint armature: MuJoCo's set_const runs for the selected envs (a host read)"
 
     def __init__(self, cfg, env: ManagerBasedEnv):
         super().__init__(cfg, env)

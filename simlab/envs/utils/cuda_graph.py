@@ -6,8 +6,8 @@ value back to the host. :class:`EnvStepper` runs that body:
 
 * **eagerly**, call by call, where the simulation cannot capture steps (the CPU), where the user
   turned capture off (``cfg.sim.use_cuda_graph=False``), or where something in the step selects envs
-  by ids (``env.graph_blockers()`` names it: an Isaac Lab-style ``_reset_idx``, an event term
-  without ``takes_env_mask``, ...);
+  by ids or reads the host (``env.graph_blockers()`` names it: an Isaac Lab-style ``_reset_idx``, an
+  event term without ``takes_env_mask``, one whose ``host_read`` says why for its params, ...);
 * **graphed**, where the sim can capture (``sim.can_capture_steps``): ``warmup`` eager calls (lazy
   initialisation, index caches), one capture with ``torch.cuda.graph`` (MuJoCo Warp records its
   kernels into the same capture), then one replay per step. If the capture fails (a hook that
