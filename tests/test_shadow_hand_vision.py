@@ -7,16 +7,22 @@ the Play variant loads the newest checkpoint and does not train; the agent confi
 from __future__ import annotations
 
 import math
+import pathlib
 
 import gymnasium as gym
 import pytest
 import torch
 
 import simlab.tasks  # noqa: F401 - registers the tasks
+from simlab.tasks.direct.shadow_hand.feature_extractor import (
+    FeatureExtractor,
+    FeatureExtractorCfg,
+    FeatureExtractorNetwork,
+)
 from simlab.tasks.direct.shadow_hand.shadow_hand_vision_env import HIDDEN_GOAL_POS, compute_keypoints
 from simlab.tasks.utils.criteria import criterion_for
 from simlab.tasks.utils.parse_cfg import load_cfg_from_registry, parse_env_cfg
-from simlab.utils.errors import ConfigError
+from simlab.utils.errors import CheckpointError, ConfigError
 from simlab.utils.math import quat_from_angle_axis
 
 TASK = "simlab/Repose-Cube-Shadow-Vision-Direct-v0"
@@ -104,6 +110,38 @@ def test_play_loads_the_newest_checkpoint_and_does_not_train(trained, tmp_path):
     assert all(torch.equal(env.feature_extractor.feature_extractor.state_dict()[name], saved[name]) for name in saved)
     assert env.cfg.scene.num_envs == 2  # the test's; the Play config's own is 64
     env.close()
+
+
+class _TouchOnLoad:
+    """A crafted checkpoint: unpickling it calls Path.touch on the marker (any call would do)."""
+
+    def __init__(self, marker):
+        self.marker = marker
+
+    def __reduce__(self):
+        return (pathlib.Path.touch, (pathlib.Path(self.marker),))
+
+
+@pytest.mark.parametrize("content", ["crafted", "corrupt", "other_weights"])
+def test_a_cnn_checkpoint_that_is_not_the_cnns_weights_is_refused_in_one_line(tmp_path, content):
+    """Play reads the newest *.pth as data: a crafted pickle runs nothing (the marker never appears) and,
+    like a corrupt file or another network's weights, is refused in one line naming the file."""
+    marker = tmp_path / "pwned"
+    path = tmp_path / "cnn_0_1.0.pth"
+    if content == "crafted":
+        torch.save({"cnn.0.weight": _TouchOnLoad(str(marker))}, path)
+    elif content == "corrupt":
+        torch.save(FeatureExtractorNetwork().state_dict(), path)
+        path.write_bytes(path.read_bytes()[:-200])
+    else:
+        torch.save({"weight": torch.zeros(3)}, path)
+    cfg = FeatureExtractorCfg(train=False, load_checkpoint=True, log_dir=str(tmp_path))
+    with pytest.raises(CheckpointError) as error:
+        FeatureExtractor(cfg, "cpu")
+    message = str(error.value)
+    assert "\n" not in message and f"'{path}'" in message and "allowed:" in message, message
+    assert ("Refused" in message) == (content == "crafted"), message
+    assert not marker.exists()
 
 
 def test_agent_configs_and_criterion_follow_isaac_lab():

@@ -55,9 +55,11 @@ def _first_reason(error: BaseException) -> str:
     return f"it needs {match.group(1)}" if match else "it needs a Python object"
 
 
-def torch_load(f: Any, map_location: Any = None, trust: bool = False, what: str | None = None) -> Any:
+def torch_load(
+    f: Any, map_location: Any = None, trust: bool = False, what: str | None = None, hint: str = TRUST_HINT
+) -> Any:
     """``torch.load`` of weights only (``trust``: any pickle); a file that needs more raises
-    :class:`UntrustedFileError` naming it and what it needed."""
+    :class:`UntrustedFileError` naming it, what it needed and ``hint`` (what the user can do)."""
     import torch
 
     if trust:
@@ -70,7 +72,7 @@ def torch_load(f: Any, map_location: Any = None, trust: bool = False, what: str 
             raise  # bytes that are no pickle torch reads (a corrupt file): the caller's error, not trust
         name = what or (f"'{os.fspath(f)}'" if isinstance(f, (str, os.PathLike)) else "the checkpoint")
         raise UntrustedFileError(
-            f"Refused to load {name}: it holds more than weights ({_first_reason(e)}); {TRUST_HINT}."
+            f"Refused to load {name}: it holds more than weights ({_first_reason(e)}); {hint}."
         ) from None
 
 

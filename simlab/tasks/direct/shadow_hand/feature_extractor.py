@@ -21,7 +21,8 @@ import torch
 from torch import nn
 
 from simlab.utils import configclass
-from simlab.utils.errors import ConfigError
+from simlab.utils.errors import CheckpointError, ConfigError, UntrustedFileError, describe
+from simlab.utils.trust import torch_load
 
 IMAGENET_MEAN = (0.485, 0.456, 0.406)
 IMAGENET_STD = (0.229, 0.224, 0.225)
@@ -88,13 +89,24 @@ class FeatureExtractor:
                 )
             newest = max(checkpoints, key=os.path.getctime)
             print(f"[INFO]: Loading feature extractor checkpoint from {newest}")
-            self.feature_extractor.load_state_dict(torch.load(newest, map_location=device, weights_only=True))
+            self._load(newest)
         if cfg.train:
             self.optimizer = torch.optim.Adam(self.feature_extractor.parameters(), lr=1e-4)
             self.l2_loss = nn.MSELoss()
             self.feature_extractor.train()
         else:
             self.feature_extractor.eval()
+
+    def _load(self, path: str) -> None:
+        """The CNN's weights from ``path``, read as data (a file from elsewhere runs no code)."""
+        allowed = "allowed: the tensors of FeatureExtractorNetwork's state dict, as the vision task's training writes"
+        try:
+            state = torch_load(path, map_location=self.device, what=f"the CNN checkpoint '{path}'", hint=allowed)
+            self.feature_extractor.load_state_dict(state)
+        except UntrustedFileError:
+            raise
+        except Exception as e:  # noqa: BLE001 - corrupt bytes make torch and pickle raise anything
+            raise CheckpointError(f"Cannot load the CNN checkpoint '{path}' ({describe(e)}); {allowed}.") from None
 
     def _preprocess_images(
         self, rgb_img: torch.Tensor, depth_img: torch.Tensor, segmentation_img: torch.Tensor
