@@ -14,7 +14,7 @@ from .contact_sensor import ContactSensor, ContactSensorCfg, ContactSensorData
 from .frame_transformer import FrameTransformer, FrameTransformerCfg, FrameTransformerData, OffsetCfg
 from .imu import Imu, ImuCfg, ImuData
 from .joint_wrench import JointWrenchSensor, JointWrenchSensorCfg, JointWrenchSensorData
-from .ray_caster import RayCaster, RayCasterCfg, RayCasterData, patterns
+from .ray_caster import RayCaster, RayCasterCamera, RayCasterCameraCfg, RayCasterCfg, RayCasterData, patterns
 from .sensor_base import SensorBase, SensorBaseCfg
 
 __all__ = [
@@ -36,6 +36,8 @@ __all__ = [
     "JointWrenchSensorData",
     "OffsetCfg",
     "RayCaster",
+    "RayCasterCamera",
+    "RayCasterCameraCfg",
     "RayCasterCfg",
     "RayCasterData",
     "SensorBase",

@@ -33,6 +33,7 @@ __all__ = [
     "is_prim_path_valid",
     "update_stage",
     "xform_group_origins",
+    "xform_groups",
 ]
 
 
@@ -102,6 +103,19 @@ def xform_group_origins(prim_path: str) -> list[tuple[float, float, float]] | No
     except re.error:
         return None
     return matches or None
+
+
+def xform_groups(pattern: str) -> dict[str, tuple[float, float, float]]:
+    """The ``Xform`` groups made with :func:`create_prim` whose whole path the regex ``pattern``
+    matches (``/World/Origin_.*/CameraSensor``), with their translations, in creation order."""
+    sim = SimulationContext.instance()
+    if sim is None:
+        return {}
+    try:
+        compiled = re.compile(pattern.rstrip("/"))
+    except re.error:
+        return {}
+    return {path: t for path, t in _xform_paths(sim).items() if compiled.fullmatch(path)}
 
 
 def path_below_xform_group(prim_path: str) -> str | None:

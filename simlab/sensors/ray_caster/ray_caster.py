@@ -32,6 +32,17 @@ if TYPE_CHECKING:
 _TARGET_MODELS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
+def ray_targets(sim, mesh_prim_paths: list[str], num_rays: int, owner: str) -> RayTargets:
+    """A caster of ``num_rays`` rays against the geometry ``mesh_prim_paths`` names in ``sim``'s model
+    (its target model shared by the sensors that cast at the same geoms)."""
+    geoms = find_target_geoms(sim.model, list(mesh_prim_paths), owner)
+    shared = _TARGET_MODELS.setdefault(sim, {})
+    key = tuple(geoms)
+    if key not in shared:
+        shared[key] = target_model(sim.model, geoms)
+    return RayTargets(shared[key], num_rays, sim.physics, sim.device)
+
+
 class RayCaster(SensorBase):
     cfg: RayCasterCfg
 
@@ -135,18 +146,13 @@ class RayCaster(SensorBase):
         if len(ids) != 1:
             raise ValueError(f"{self._owner} must select one body per env, it matches {names}")
         self._body_id = ids[0]
-        geoms = find_target_geoms(model, list(self.cfg.mesh_prim_paths), self._owner)
-        shared = _TARGET_MODELS.setdefault(sim, {})
-        key = tuple(geoms)
-        if key not in shared:
-            shared[key] = target_model(model, geoms)
         starts, directions = self.cfg.pattern_cfg.func(self.cfg.pattern_cfg, device)
         offset_rot = torch.tensor(self.cfg.offset.rot, dtype=torch.float32, device=device)
         self.ray_starts = starts + torch.tensor(self.cfg.offset.pos, dtype=torch.float32, device=device)
         self.ray_directions = quat_apply(offset_rot.expand(len(directions), 4), directions)
         self.num_rays = len(self.ray_starts)
         self._xy = torch.tensor([1.0, 1.0, 0.0], device=device)  # drift in the plane only
-        self._targets = RayTargets(shared[key], n * self.num_rays, sim.physics, device)
+        self._targets = ray_targets(sim, self.cfg.mesh_prim_paths, n * self.num_rays, self._owner)
         self._xpos, self._xquat = sim.physics.data("xpos"), sim.physics.data("xquat")
         # A body moved by a free joint has MuJoCo's world pose qpos[adr : adr + 7] (mj_kinematics
         # copies it): the sensor then reads it there, without the forward xpos would need.

@@ -9,7 +9,7 @@ place in every world), so one copy serves all envs: rays go in in each world's f
 
 Casting uses MuJoCo's own ray functions: ``mj_ray`` on the CPU (``mjbatch.Batch.rays``, on its
 thread pool), ``mujoco_warp.rays`` on the GPU. Both return the distance along each ray to the
-first surface, -1 where the ray hits nothing.
+first surface, -1 where the ray hits nothing, and on request the surface's unit normal there.
 """
 
 from __future__ import annotations
@@ -113,9 +113,15 @@ class RayTargets:
         """(num_rays,) distance along each unit direction to the first hit; -1 where none."""
         return self._caster.cast(starts.reshape(-1, 3), directions.reshape(-1, 3))
 
+    def cast_with_normals(self, starts: torch.Tensor, directions: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
+        """The distances of :meth:`cast` and the (num_rays, 3) unit surface normals at the hits
+        (zero where a ray hits nothing)."""
+        return self._caster.cast(starts.reshape(-1, 3), directions.reshape(-1, 3), with_normals=True)
 
-def _mjbatch_rays(batch: Any, starts: torch.Tensor, directions: torch.Tensor) -> torch.Tensor:
-    """``mj_ray`` for each ray on ``batch``'s copies of one model (the rays split evenly over them)."""
+
+def _mjbatch_rays(batch: Any, starts: torch.Tensor, directions: torch.Tensor, with_normals: bool = False) -> Any:
+    """``mj_ray`` for each ray on ``batch``'s copies of one model (the rays split evenly over them):
+    the distances, and with ``with_normals`` the (n, 3) surface normals too."""
     n, copies = len(starts), batch.num_sims
     per_copy = -(-n // copies)
     pnt = np.zeros((copies * per_copy, 3), np.float32)
@@ -123,8 +129,10 @@ def _mjbatch_rays(batch: Any, starts: torch.Tensor, directions: torch.Tensor) ->
     vec[n:, 2] = -1.0  # padding rays: any valid direction
     pnt[:n], vec[:n] = starts.numpy(), directions.numpy()
     dist = np.zeros((copies, per_copy), np.float32)
-    batch.rays(pnt.reshape(copies, per_copy, 3), vec.reshape(copies, per_copy, 3), dist)
-    return torch.from_numpy(dist.reshape(-1)[:n])
+    normal = np.zeros((copies, per_copy, 3), np.float32) if with_normals else None
+    batch.rays(pnt.reshape(copies, per_copy, 3), vec.reshape(copies, per_copy, 3), dist, normal=normal)
+    distance = torch.from_numpy(dist.reshape(-1)[:n])
+    return (distance, torch.from_numpy(normal.reshape(-1, 3)[:n])) if with_normals else distance
 
 
 def _static_batch(model: mujoco.MjModel, copies: int) -> Any:
@@ -198,25 +206,28 @@ class _MujocoCaster:
         self.origin, self.size, self.counts = torch.tensor(origin), size, torch.tensor(counts)
         self.table = torch.from_numpy(table)
 
-    def cast(self, starts: torch.Tensor, directions: torch.Tensor) -> torch.Tensor:
+    def cast(self, starts: torch.Tensor, directions: torch.Tensor, with_normals: bool = False) -> Any:
         if not self.bins:
-            return _mjbatch_rays(self.full, starts, directions)
+            return _mjbatch_rays(self.full, starts, directions, with_normals)
         distance = torch.full((len(starts),), -1.0)
+        normal = torch.zeros(len(starts), 3)
         cell = torch.floor((starts[:, :2].double() - self.origin) / self.size).long()
         inside = ((cell >= 0) & (cell < self.counts)).all(dim=1)
         vertical = (directions[:, :2] == 0).all(dim=1)
         binned = inside & vertical
         others = (~binned).nonzero().flatten()
         if len(others):
-            distance[others] = _mjbatch_rays(self.full, starts[others], directions[others])
+            cast = _mjbatch_rays(self.full, starts[others], directions[others], with_normals)
+            distance[others], normal[others] = cast if with_normals else (cast, 0.0)
         index = torch.where(binned, cell[:, 0] * self.counts[1] + cell[:, 1], 0)
         ray_bin = torch.where(binned, self.table[index], -1)
         order = torch.argsort(ray_bin)
         bins, counts = torch.unique_consecutive(ray_bin[order], return_counts=True)
         for b, rays in zip(bins.tolist(), torch.split(order, counts.tolist()), strict=True):
             if b >= 0:  # -1: not binned (done above) or a bin without geoms (a miss)
-                distance[rays] = _mjbatch_rays(self.bins[b], starts[rays], directions[rays])
-        return distance
+                cast = _mjbatch_rays(self.bins[b], starts[rays], directions[rays], with_normals)
+                distance[rays], normal[rays] = cast if with_normals else (cast, 0.0)
+        return (distance, normal) if with_normals else distance
 
 
 class _WarpCaster:
@@ -254,8 +265,8 @@ class _WarpCaster:
         )
         self._key = ("simlab_rays", id(self))
 
-    def cast(self, starts: torch.Tensor, directions: torch.Tensor) -> torch.Tensor:
+    def cast(self, starts: torch.Tensor, directions: torch.Tensor, with_normals: bool = False) -> Any:
         self._pnt[0].copy_(starts)
         self._vec[0].copy_(directions)
         self._physics.run_warp(self._key, lambda: self._mjw.rays(self._m, self._d, *self._args))
-        return self._dist[0]
+        return (self._dist[0], self._normal[0]) if with_normals else self._dist[0]

@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING
 import torch
 
 if TYPE_CHECKING:
-    from .patterns_cfg import GridPatternCfg, LidarPatternCfg
+    from .patterns_cfg import GridPatternCfg, LidarPatternCfg, PinholeCameraPatternCfg
 
 ORDERINGS = ("xy", "yx")
 
@@ -50,4 +50,26 @@ def lidar_pattern(cfg: LidarPatternCfg, device: str) -> tuple[torch.Tensor, torc
     directions = torch.stack(
         [elevation.cos() * azimuth.cos(), elevation.cos() * azimuth.sin(), elevation.sin()], dim=-1
     ).reshape(-1, 3)
+    return torch.zeros_like(directions), directions
+
+
+def pinhole_camera_pattern(
+    cfg: PinholeCameraPatternCfg, intrinsic_matrices: torch.Tensor, device: str
+) -> tuple[torch.Tensor, torch.Tensor]:
+    """One ray through the centre of every pixel of each camera's (N, 3, 3) intrinsics, from its origin.
+
+    Unlike the other patterns it takes the intrinsics (Isaac Lab's signature: they may differ per
+    camera). Pixels go row by row (index ``v * width + u``); directions are unit vectors in the
+    camera's "world" convention frame (x forward, y left, z up). Returns (N, H * W, 3) starts and
+    directions.
+    """
+    v, u = torch.meshgrid(
+        torch.arange(cfg.height, device=device, dtype=torch.float32) + 0.5,
+        torch.arange(cfg.width, device=device, dtype=torch.float32) + 0.5,
+        indexing="ij",
+    )
+    pixels = torch.stack([u.reshape(-1), v.reshape(-1), torch.ones(u.numel(), device=device)])  # (3, P)
+    optical = torch.linalg.inv(intrinsic_matrices.to(device)) @ pixels  # (N, 3, P): x right, y down, z forward
+    forward_left_up = torch.stack([optical[:, 2], -optical[:, 0], -optical[:, 1]], dim=-1)  # (N, P, 3)
+    directions = forward_left_up / forward_left_up.norm(dim=-1, keepdim=True)
     return torch.zeros_like(directions), directions
