@@ -43,6 +43,48 @@ def test_replicate_accepts_the_scenes_layout_and_refuses_another():
         cloner.replicate(cloner.clone_plan_from_env_0("/World/envs/env_0", "/World/envs/env_{}", 4, positions[:2]))
 
 
+def _box_scene(**terrain):
+    from simlab.assets import RigidObjectCfg
+
+    box = RigidObjectCfg(
+        prim_path="{ENV_REGEX_NS}/Box",
+        spawn=sim_utils.CuboidCfg(size=(0.1, 0.1, 0.1), rigid_props=sim_utils.RigidBodyPropertiesCfg()),
+        init_state=RigidObjectCfg.InitialStateCfg(pos=(0.0, 0.0, 1.0)),
+    )
+    cfg = scene3.InteractiveSceneCfg(num_envs=4, env_spacing=2.0)
+    cfg.box = box
+    if terrain:
+        from simlab.terrains import TerrainImporterCfg
+
+        cfg.terrain = TerrainImporterCfg(prim_path="/World/ground", **terrain)
+    return scene3.InteractiveScene(cfg)
+
+
+def test_replicate_places_the_envs_at_the_plans_positions():
+    """As Isaac Lab 3.0 (its scene's env origins are the published plan's positions where no terrain places
+    the envs): positions other than the scene's grid become the env origins, and the envs' bodies move with them."""
+    sim = sim_utils.SimulationContext(sim_utils.SimulationCfg(device="cpu"))
+    scene = _box_scene()
+    positions = cloner.grid_transforms(4, 5.0)[0] + torch.tensor([0.0, 0.0, 0.5])
+    assert not torch.equal(positions, scene.env_origins)  # the scene's grid is 2.0 apart
+    cloner.replicate(cloner.clone_plan_from_env_0("/World/envs/env_0", "/World/envs/env_{}", 4, positions))
+    sim.reset()
+    scene.reset()
+    assert torch.equal(scene.env_origins, positions) and torch.equal(sim.env_origins, positions)
+    box = scene["box"]
+    torch.testing.assert_close(box.data.root_pos_w, positions + torch.tensor([0.0, 0.0, 1.0]))
+
+
+def test_a_terrain_keeps_its_origins_as_in_isaac_lab_3_0():
+    sim = sim_utils.SimulationContext(sim_utils.SimulationCfg(device="cpu"))
+    scene = _box_scene(terrain_type="plane", env_spacing=3.0)
+    terrain_origins = scene.env_origins.clone()
+    positions = cloner.grid_transforms(4, 5.0)[0]
+    cloner.replicate(cloner.clone_plan_from_env_0("/World/envs/env_0", "/World/envs/env_{}", 4, positions))
+    sim.reset()
+    assert torch.equal(scene.env_origins, terrain_origins)
+
+
 def test_the_3_0_direct_cartpole_clones_with_the_cloner_and_steps():
     sys.path.insert(0, str(PORTED3))
     try:

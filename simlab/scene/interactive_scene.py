@@ -63,6 +63,7 @@ class InteractiveScene:
         self.sim = sim
         sim.num_envs = cfg.num_envs
         self._terrain = self._import_terrain()
+        sim.env_origins_from_terrain = self._terrain is not None
         # The origins are as large as the env count: made when first read, after sim.reset() has
         # checked that the worlds fit in memory (an env count that cannot fit is refused quickly).
         if self._terrain is None:

@@ -117,6 +117,9 @@ class SimulationContext:
         self.camera_target: tuple[float, float, float] = (0.0, 0.0, 0.0)
         self._env_origins: torch.Tensor | None = None
         self._make_env_origins: Callable[[], torch.Tensor] | None = None
+        self.env_origins_from_terrain = False
+        """Whether a terrain places the envs (else the origins are only a layout, which Isaac Lab
+        3.0's cloner may replace by its plan's positions)."""
         self._on_build: list[Callable[[mujoco.MjSpec], None]] = []
         self._on_compile: list[Callable[[mujoco.MjModel], None]] = []
         self._on_reset: list[Callable[[SimulationContext], None]] = []
@@ -369,6 +372,7 @@ class SimulationContext:
         self.clear_all_callbacks()
         self._release()
         self.backend, self.model, self.env_origins, self.num_envs = None, None, None, 1
+        self.env_origins_from_terrain = False
         self.spec = self._new_spec()
 
     def _release(self) -> None:

@@ -5,7 +5,9 @@ Isaac Lab 3.0 builds env 0 on its USD stage and copies it into every env: a dire
 env is already a world of the one MuJoCo model the scene compiles, at the scene's grid of origins, so
 there is nothing to copy: :func:`replicate` checks that the plan asks for what simlab's scene makes (env 0
 at ``/World/envs/env_0`` copied to ``/World/envs/env_{}``, one copy per env) and refuses another layout
-in one line. :func:`grid_transforms` gives the same grid as simlab's scene (Isaac Lab's terrain layout).
+in one line. The plan's positions place the envs, as in 3.0 (whose scene reads its env origins from the
+plan unless a terrain places the envs): they become the scene's env origins. :func:`grid_transforms`
+gives the same grid as simlab's scene (Isaac Lab's terrain layout).
 """
 
 from __future__ import annotations
@@ -59,7 +61,8 @@ def clone_plan_from_env_0(
 
 
 def replicate(plan: ClonePlan, stage: Any = None, **_: Any) -> None:
-    """Check that ``plan`` is the layout simlab's scene made (see the module); nothing is copied."""
+    """Check that ``plan`` is the layout simlab's scene made and place the envs at its positions (see the
+    module); nothing is copied."""
     from simlab.sim import SimulationContext
 
     if (plan.source.rstrip("/"), plan.destination.rstrip("/")) != (SOURCE, DESTINATION):
@@ -73,8 +76,17 @@ def replicate(plan: ClonePlan, stage: Any = None, **_: Any) -> None:
             f"replicate: the plan makes {plan.num_clones} envs, the scene has {sim.num_envs} (scene.num_envs): "
             "clone scene.num_envs envs."
         )
-    if plan.positions is not None and tuple(torch.as_tensor(plan.positions).shape) != (plan.num_clones, 3):
+    if plan.positions is None:
+        return
+    positions = torch.as_tensor(plan.positions, dtype=torch.float32)
+    if tuple(positions.shape) != (plan.num_clones, 3):
         raise ConfigError(f"replicate: positions must be ({plan.num_clones}, 3), one per env.")
+    if sim is not None and not sim.env_origins_from_terrain:  # a terrain's origins hold, as in 3.0
+        positions = positions.to(sim.device)
+        if sim.env_origins is None:
+            sim.env_origins = positions.clone()
+        else:  # in place: assets made before the plan read the same tensor
+            sim.env_origins.copy_(positions)
 
 
 def filter_collisions(*_: Any, **__: Any) -> None:
