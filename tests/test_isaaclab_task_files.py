@@ -37,6 +37,7 @@ IMPORT_MAPPING = [
     (r"\bisaacsim\.core\.utils\.(prims|stage)\b", "simlab.sim.utils"),
     (r"\bisaacsim\.core\.utils\.torch\b", "simlab.utils.torch_utils"),
     (r"\bisaacsim\.util\.debug_draw\._debug_draw\b", "simlab.markers.debug_draw"),
+    (r"\bomni\.replicator\.core\b", "simlab.sensors.replicator"),
     (r"\bisaaclab_assets\.robots\b", "simlab.robots"),
     (r"\bisaaclab_assets\b", "simlab.robots"),
     (r"\bisaaclab_tasks\b", "simlab.tasks"),

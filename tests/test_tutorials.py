@@ -154,6 +154,29 @@ def test_ray_caster_tutorial_scans_the_rough_plane_from_four_balls():
     assert len(updates) == 60 and all(rays == "441" for rays, _ in updates)  # a 2 x 2 m grid at 0.1 m
 
 
+def test_ray_caster_camera_tutorial_writes_the_first_cameras_images(tmp_path):
+    """Copied beside tmp_path's output folder (the script writes next to itself); with --save it also
+    checks each depth image against its own point cloud projected back (torch.testing.assert_close)."""
+    import numpy as np
+
+    script = tmp_path / "run_ray_caster_camera.py"
+    script.write_text((ROOT / "scripts/tutorials/04_sensors/run_ray_caster_camera.py").read_text())
+    out = run_script(str(script), "--save", "--max_app_steps", "7", cwd=tmp_path)
+    assert out.count("Received shape of depth image:  torch.Size([2, 480, 640, 1])") == 7
+    assert "total number of rays : 614400" in out
+    written = {path.name for path in (tmp_path / "output" / "ray_caster_camera").iterdir()}
+    # one write per step: frame 1 (cast at step 1) until the 0.1 s update period has passed (step 6)
+    frames = [1] * 5 + [2] * 2
+    names = ("distance_to_camera_{}_{:03d}.npy", "distance_to_image_plane_{}_{:03d}.npy", "normals_{}_{:03d}.png")
+    assert written == {name.format(frame, i) for i, frame in enumerate(frames) for name in names}
+    depth = np.load(tmp_path / "output" / "ray_caster_camera" / "distance_to_image_plane_2_006.npy")
+    assert depth.shape == (480, 640, 1) and np.isfinite(depth).all()
+    # the centre looks at the origin from (2.5, 2.5, 2.5): 2.5 * sqrt(3) m away, less the bumps (up to 0.1 m high)
+    centre = depth[239:241, 319:321].mean()
+    assert 2.5 * 3**0.5 - 0.18 < centre < 2.5 * 3**0.5 + 0.01, centre  # 0.1 m up: 0.17 m nearer
+    assert depth[0].mean() > 1.5 * depth[-1].mean()  # the top row sees farther ground than the bottom row
+
+
 def test_create_empty_tutorial_runs():
     assert "Setup complete" in run_script("scripts/tutorials/00_sim/create_empty.py", "--max_app_steps", "20")
 
