@@ -213,3 +213,20 @@ def test_the_3_0_cartpole_keeps_its_physics_presets_and_steps(ported3):
         env.step(torch.zeros(2, 1))
     finally:
         env.close()
+
+
+def test_building_a_3_0_env_leaves_the_callers_config_and_its_presets_as_they_were(ported3):
+    """The env resolves its presets (and converts quaternions) in a copy: the config the user passed keeps
+    its preset slots, so it can build another env, with other presets, afterwards."""
+    from isaaclab3_cartpole.cartpole_direct_env import CartpoleEnv
+    from isaaclab3_cartpole.cartpole_direct_env_cfg import CartpoleEnvCfg
+
+    cfg = CartpoleEnvCfg()
+    cfg.scene.num_envs, cfg.sim.device = 2, "cpu"
+    physics = cfg.sim.physics
+    env = CartpoleEnv(cfg)
+    try:
+        assert isinstance(env.cfg.sim.physics, NewtonCfg) and env.cfg is not cfg
+    finally:
+        env.close()
+    assert cfg.sim.physics is physics and isinstance(physics, PresetCfg)

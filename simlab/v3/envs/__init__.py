@@ -9,10 +9,11 @@ the scene's articulations, rigid objects and sensors with Isaac Lab 3.0's API
 
 from __future__ import annotations
 
+import copy
 from typing import Any
 
 import simlab.envs as _envs
-from simlab.utils.presets import resolve_presets
+from simlab.utils.presets import PresetCfg, collect_presets, resolve_presets
 from simlab.v3._order import replace_fields, to_simlab
 from simlab.v3.scene import with_v3_api
 
@@ -21,8 +22,10 @@ __all__ = ["DirectMARLEnv", "DirectRLEnv", "ManagerBasedEnv", "ManagerBasedRLEnv
 
 def _v3_cfg(cfg: Any) -> Any:
     """``cfg`` in simlab's order, its presets resolved (those no command line chose: their ``default``),
-    its scene's entities with Isaac Lab 3.0's API."""
-    cfg, _ = resolve_presets(cfg)
+    its scene's entities with Isaac Lab 3.0's API. The user's ``cfg`` is not changed: presets are
+    resolved in a copy (a config without presets is not copied, as the other steps copy only what they change)."""
+    if isinstance(cfg, PresetCfg) or collect_presets(cfg):
+        cfg, _ = resolve_presets(copy.deepcopy(cfg))
     cfg = to_simlab(cfg)
     scene = getattr(cfg, "scene", None)
     if scene is None:
