@@ -14,6 +14,7 @@ from __future__ import annotations
 import argparse
 import os
 from collections.abc import Callable
+from typing import Any
 
 import gymnasium as gym
 import torch
@@ -22,7 +23,7 @@ from simlab.cli.session import load_configs
 from simlab.utils.datasets import EpisodeData
 from simlab.utils.errors import ConfigError
 
-__all__ = ["run_record", "run_replay"]
+__all__ = ["add_demo_recorders", "run_record", "run_replay"]
 
 
 def _manager_based(env: gym.Env, command: str) -> None:
@@ -30,27 +31,38 @@ def _manager_based(env: gym.Env, command: str) -> None:
         raise ConfigError(f"simlab {command} needs a manager-based task (one with a recorder manager).")
 
 
+def add_demo_recorders(env_cfg: Any, path: str, task: str, succeeded_only: bool = False) -> None:
+    """Give ``env_cfg`` the recorders of a demonstration (``ActionStateRecorderManagerCfg``, and the
+    subtask signals where the task has a ``subtask_terms`` group), writing to ``path`` (``.hdf5``): every
+    finished episode, or with ``succeeded_only`` those its ``success`` termination ended."""
+    from simlab.envs.mdp.recorders import ActionStateRecorderManagerCfg, PreStepSubtaskTermsObservationsRecorderCfg
+    from simlab.managers import DatasetExportMode
+
+    stem, extension = os.path.splitext(os.path.abspath(path))
+    if extension != ".hdf5":  # the recorder names its file <stem>.hdf5
+        raise ConfigError(f"--dataset_file must end with .hdf5 (the recorder writes HDF5), got '{path}'.")
+    env_cfg.recorders = ActionStateRecorderManagerCfg(
+        dataset_export_dir_path=os.path.dirname(stem), dataset_filename=os.path.basename(stem)
+    )
+    if succeeded_only:
+        env_cfg.recorders.dataset_export_mode = DatasetExportMode.EXPORT_SUCCEEDED_ONLY
+    if getattr(env_cfg.observations, "subtask_terms", None) is not None:  # what demonstration tools split by
+        env_cfg.recorders.record_pre_step_subtask_term_signals = PreStepSubtaskTermsObservationsRecorderCfg()
+    env_cfg.env_name = task  # the recorder stores it: replay refuses another task's episodes
+
+
 def run_record(args: argparse.Namespace, overrides: list[str]) -> int:
     """Record ``args.num_demos`` finished episodes of ``args.task`` into ``args.dataset_file``."""
-    from simlab.envs.mdp.recorders import ActionStateRecorderManagerCfg, PreStepSubtaskTermsObservationsRecorderCfg
     from simlab.utils.datasets import HDF5DatasetFileHandler  # noqa: F401 - without h5py: say so before recording
 
     if args.num_demos < 1:
         raise ConfigError(f"--num_demos must be at least 1, got {args.num_demos}.")
     path = os.path.abspath(args.dataset_file)
-    stem, extension = os.path.splitext(path)
-    if extension != ".hdf5":  # the recorder names its file <stem>.hdf5
-        raise ConfigError(f"--dataset_file must end with .hdf5 (the recorder writes HDF5), got '{args.dataset_file}'.")
     if os.path.exists(path) and not args.overwrite:
         raise ConfigError(f"{path} exists: give another --dataset_file, or --overwrite to replace its episodes.")
     env_cfg, _ = load_configs(args, overrides, with_agent=False)
-    env_cfg.recorders = ActionStateRecorderManagerCfg(
-        dataset_export_dir_path=os.path.dirname(stem), dataset_filename=os.path.basename(stem)
-    )
-    if getattr(env_cfg.observations, "subtask_terms", None) is not None:  # what demonstration tools split by
-        env_cfg.recorders.record_pre_step_subtask_term_signals = PreStepSubtaskTermsObservationsRecorderCfg()
+    add_demo_recorders(env_cfg, path, args.task)
     env_cfg.seed = args.seed if args.seed is not None else 0
-    env_cfg.env_name = args.task  # the recorder stores it: replay refuses another task's episodes
     env = gym.make(args.task, cfg=env_cfg).unwrapped
     _manager_based(env, "record")
     generator = torch.Generator(device=env.device).manual_seed(env_cfg.seed)

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
 from collections.abc import Callable
 
 import torch
@@ -22,6 +23,8 @@ from simlab.utils.math import quat_from_euler_xyz, quat_mul, yaw_quat
 TASK = "simlab/Stack-Cube-Franka-IK-Abs-v0"
 TCP_OFFSET = 0.1034
 """The fingertip centre below the hand [m] (the task's end-effector frame)."""
+LIFT_HEIGHT = 0.15
+"""Height of the fingertips above the table [m] a picked cube is lifted to."""
 HAND_DOWN = (0.0, 1.0, 0.0, 0.0)
 """The hand's orientation with its z axis (the fingers) pointing down."""
 
@@ -77,12 +80,15 @@ class StackCubesSm:
         up = torch.zeros_like(picked)
         up[:, 2] = 1.0
         on_below = below + up * (self.cube_size + 0.004)
+        # lift to a fixed height, not above the picked cube (which rises with the hand): a target a
+        # policy cloned from these demonstrations can reach without the machine's step counts
+        lifted = torch.cat([picked[:, :2], torch.full_like(picked[:, 2:], LIFT_HEIGHT)], dim=1)
         targets = torch.stack(
             [
                 picked + up * 0.1,
                 picked,
                 picked,
-                picked + up * 0.12,
+                lifted,
                 on_below + up * 0.06,
                 on_below,
                 on_below,
@@ -106,9 +112,17 @@ class StackCubesSm:
         self.waited[finished] = 0
 
 
-def run(env, steps: int, watch: Callable[[dict], None] | None = None) -> tuple[StackCubesSm, dict[str, int]]:
-    """Step ``env`` (the IK-Abs stack task) ``steps`` times under the machine; returns it and the
-    criterion's counts (episodes, and those that ended stacked). ``watch`` sees each step's observations."""
+def run(
+    env,
+    steps: int,
+    watch: Callable[[dict], None] | None = None,
+    noise: float = 0.0,
+    stop: Callable[[], bool] | None = None,
+) -> tuple[StackCubesSm, dict[str, int]]:
+    """Step ``env`` (the IK-Abs stack task) ``steps`` times under the machine, or until ``stop()``;
+    returns it and the criterion's counts (episodes, and those that ended stacked). ``watch`` sees each
+    step's observations; ``noise`` [m] is the std of a Gaussian offset added to each commanded hand
+    position (demonstrations that show how to come back from small errors)."""
     from simlab.tasks.manager_based.manipulation.stack.config.franka.stack_joint_pos_env_cfg import CUBE_SIZE
     from simlab.tasks.utils.criteria import criterion_for
 
@@ -116,10 +130,14 @@ def run(env, steps: int, watch: Callable[[dict], None] | None = None) -> tuple[S
     machine = StackCubesSm(env.num_envs, CUBE_SIZE, env.device)
     origins = env.scene.env_origins
     for _ in range(steps):
+        if stop is not None and stop():
+            break
         names = ("cube_1", "cube_2", "cube_3")
         positions = {n: env.scene[n].data.root_pos_w - origins for n in names}
         quats = {n: env.scene[n].data.root_quat_w for n in names}
         actions = machine.compute(positions, quats)
+        if noise > 0:
+            actions[:, :3] += noise * torch.randn_like(actions[:, :3])
         obs, _, terminated, truncated, _ = env.step(actions)
         on_step(env, obs, actions)
         if watch is not None:
@@ -138,27 +156,51 @@ def main() -> None:
     parser.add_argument("--num_envs", type=int, default=8, help="Number of environments to simulate.")
     parser.add_argument("--steps", type=int, default=240, help="Env steps to run (0.05 s each).")
     parser.add_argument("--seed", type=int, default=0, help="Seed of the environment.")
+    parser.add_argument(
+        "--dataset_file",
+        default=None,
+        help="Record the episodes that end stacked into this HDF5 file (simlab's recorder).",
+    )
+    parser.add_argument("--num_demos", type=int, default=10, help="With --dataset_file: stop after this many.")
+    parser.add_argument("--noise", type=float, default=0.0, help="Std [m] of noise on the commanded hand position.")
     AppLauncher.add_app_launcher_args(parser)
     args = parser.parse_args()
+    if args.dataset_file is not None and os.path.exists(args.dataset_file):
+        parser.error(f"{args.dataset_file} exists: give another --dataset_file")
+    if args.num_demos < 1 or args.noise < 0:
+        parser.error(f"--num_demos must be >= 1 and --noise >= 0, got {args.num_demos} and {args.noise}")
     AppLauncher(args)
 
     import gymnasium as gym
 
     import simlab.tasks  # noqa: F401 - registers the tasks
+    from simlab.cli.demos import add_demo_recorders
     from simlab.tasks.utils.criteria import criterion_for
     from simlab.tasks.utils.parse_cfg import parse_env_cfg
 
     cfg = parse_env_cfg(TASK, device=args.device, num_envs=args.num_envs)
     cfg.seed = args.seed
+    steps, stop = args.steps, None
+    if args.dataset_file is not None:
+        add_demo_recorders(cfg, args.dataset_file, TASK, succeeded_only=True)
     env = gym.make(TASK, cfg=cfg).unwrapped
+    if args.dataset_file is not None:  # until enough episodes ended stacked; at most two 30 s episodes per demo and env
+        manager = env.recorder_manager
+        steps = 2 * int(env.max_episode_length) * (1 + args.num_demos // args.num_envs)
+        stop = lambda: manager.exported_successful_episode_count >= args.num_demos  # noqa: E731
     env.reset()
     with torch.inference_mode():
-        _, counts = run(env, args.steps)
+        _, counts = run(env, steps, noise=args.noise, stop=stop)
     score, passed = criterion_for(TASK).judge({}, counts)
     print(
         f"[simlab] {counts['success']} of {counts['episodes']} finished episodes ended stacked ({score:.0%});"
         f" the criterion {'passes' if passed else 'fails'}"
     )
+    if args.dataset_file is not None:
+        print(
+            f"[simlab] recorded {manager.exported_successful_episode_count} stacking demonstrations"
+            f" into {args.dataset_file}"
+        )
     env.close()
 
 
