@@ -4,6 +4,7 @@ the CPU and they meet the criterion their task registers (``simlab.tasks.utils.c
 from __future__ import annotations
 
 import os
+import re
 
 import pytest
 
@@ -155,3 +156,14 @@ def test_an_sb3_policy_is_stored_without_pickled_code_and_loads_back(tmp_path):
         assert float((loaded.policy.state_dict()[key] - value).abs().max()) <= float(step) + 1e-6, key
     with np.load(tmp_path / "out" / "model_vecnormalize_8_steps.npz") as back_statistics:
         assert all(np.array_equal(back_statistics[k], v) for k, v in statistics.items())
+
+
+def test_rsl_rl_records_count_iterations_as_make_pretrained_or_say_what_their_number_is():
+    """``iterations`` is the updates run: rsl_rl's ``model_<N>.pt`` is saved after its (N+1)-th update, so
+    make_pretrained writes N + 1. A record whose number was counted otherwise says so in ``iterations_note``."""
+    for task, library in list_pretrained():
+        record = pretrained_record(task, library)
+        if library != "rsl_rl" or record is None:
+            continue
+        number = int(re.fullmatch(r"model_(\d+)\.pt", record["checkpoint"]).group(1))
+        assert record["iterations"] == number + 1 or record.get("iterations_note"), (task, record["iterations"])
