@@ -129,7 +129,8 @@ def test_segmentation_ids_name_bodies():
     data = scene["camera"].data
     ids = data.output["semantic_segmentation"]
     assert ids.dtype == torch.int32 and ids.shape == (2, 120, 160, 1)
-    labels = data.info["semantic_segmentation"]["idToLabels"]
+    assert len(data.info) == 2 and data.info[0] is not data.info[1]  # one dict per camera, as Isaac Lab's
+    labels = data.info[1]["semantic_segmentation"]["idToLabels"]
     seen = {labels[int(i)] for i in ids.unique() if i >= 0}
     assert {"Robot/cart", "Robot/pole"} <= seen <= {"Robot/cart", "Robot/pole", "Robot/slider"}
     assert (ids == -1).any()
@@ -268,9 +269,9 @@ def test_save_camera_frames_needs_a_camera(tmp_path, capsys):
 def test_unknown_data_type_says_what_is_allowed():
     SimulationContext(SimulationCfg(device="cpu"))
     with pytest.raises(
-        ValueError, match=r"unknown types \['normals'\]; allowed \(a list of any of them\).*'distance_to_camera'"
+        ValueError, match=r"unknown types \['motion_vectors'\]; allowed \(a list of any of them\).*'distance_to_camera'"
     ):
-        front_camera(["rgb", "normals"]).class_type(front_camera(["rgb", "normals"]))
+        front_camera(["rgb", "motion_vectors"]).class_type(front_camera(["rgb", "motion_vectors"]))
 
 
 def test_camera_on_a_missing_body_lists_the_bodies():

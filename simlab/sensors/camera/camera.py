@@ -1,7 +1,10 @@
-"""Camera sensors: RGB, depth and segmentation images of every env, as torch tensors.
+"""Camera sensors: RGB, depth, normals and segmentation images of every env, as torch tensors.
 
 The camera becomes an MJCF ``<camera>`` of the one model every env shares (on a body, or in the
-env frame), added just before the model compiles. Images are rendered when ``data`` is read and
+env frame), added just before the model compiles. Under ``create_prim`` groups
+(``/World/Origin_.*/CameraSensor``, Isaac Lab's camera tutorial) there is one camera per group: in
+the one world a script without groups for its objects has, each its own MJCF camera (CPU), or one
+per world when the worlds are those groups. Images are rendered when ``data`` is read and
 the scene has moved since the last render (physics steps, resets): on the CPU by MuJoCo's OpenGL
 renderer env by env, on the GPU by MuJoCo Warp's ray tracer for all envs at once, inside the
 captured env step. Both renderers return the same images of the same state (up to shading).
@@ -17,7 +20,13 @@ import mujoco
 import torch
 
 from simlab.sim.spawners.sensors import check_pinhole_cfg, vertical_aperture
-from simlab.utils.math import convert_camera_frame_orientation_convention, quat_from_matrix
+from simlab.sim.utils import xform_group_origins
+from simlab.utils.math import (
+    convert_camera_frame_orientation_convention,
+    create_rotation_matrix_from_view,
+    matrix_from_quat,
+    quat_from_matrix,
+)
 
 from ..sensor_base import SensorBase
 from .camera_data import CameraData
@@ -32,14 +41,25 @@ DATA_TYPES = (
     "depth",
     "distance_to_image_plane",
     "distance_to_camera",
+    "normals",
     "semantic_segmentation",
+    "instance_segmentation_fast",
+    "instance_id_segmentation_fast",
 )
 """The image types simlab's cameras render (``CameraCfg.data_types``)."""
 
 _DEPTH_TYPES = ("depth", "distance_to_image_plane", "distance_to_camera")
+_SEGMENTATION_TYPES = ("semantic_segmentation", "instance_segmentation_fast", "instance_id_segmentation_fast")
+"""Bodies for the semantic and instance images (MuJoCo models have no semantic classes), geoms for instance ids."""
 _ENV_PREFIXES = ("{ENV_REGEX_NS}/", "/World/envs/env_.*/", "/World/envs/env_0/")
 # Bytes per pixel of each output image (seg: RGBA colours, or one int32 id: both 4 bytes).
-_OUTPUT_BYTES = {"rgb": 3, "rgba": 4, "semantic_segmentation": 4, **dict.fromkeys(_DEPTH_TYPES, 4)}
+_OUTPUT_BYTES = {
+    "rgb": 3,
+    "rgba": 4,
+    "normals": 12,
+    **dict.fromkeys(_SEGMENTATION_TYPES, 4),
+    **dict.fromkeys(_DEPTH_TYPES, 4),
+}
 GPU_MEMORY_HEADROOM = 0.9
 """Share of the free GPU memory the camera's buffers may take."""
 
@@ -101,7 +121,7 @@ def camera_memory_bytes(num_envs: int, width: int, height: int, data_types: Sequ
     total = sum(_OUTPUT_BYTES[name] for name in data_types) * pixels
     rgb = any(name in ("rgb", "rgba") for name in data_types)
     depth = any(name in _DEPTH_TYPES for name in data_types)
-    seg = "semantic_segmentation" in data_types
+    seg = any(name in _SEGMENTATION_TYPES for name in data_types)
     total += (3 * rgb + 4 * depth + 4 * seg) * pixels  # the renderer's unpacked images
     if gpu:
         total += warp_context_bytes(num_envs, width, height, rgb, depth, seg)
@@ -129,7 +149,16 @@ class Camera(SensorBase):
         check_camera_cfg(cfg)
         super().__init__(cfg, scene)
         self._data_types = [cfg.data_types] if isinstance(cfg.data_types, str) else list(cfg.data_types)
-        self._body, self._name = camera_parent(cfg.prim_path)
+        self._groups = None if cfg.prim_path.startswith(_ENV_PREFIXES) else xform_group_origins(cfg.prim_path)
+        if self._groups is None:
+            self._body, self._name = camera_parent(cfg.prim_path)
+        else:  # under create_prim groups: a camera at each group (see _add_to_spec)
+            self._body, self._name = None, camera_parent("{ENV_REGEX_NS}/" + cfg.prim_path.rsplit("/", 1)[-1])[1]
+        if "normals" in self._data_types and not str(self.device).startswith("cpu"):
+            raise ValueError(
+                f"CameraCfg('{cfg.prim_path}').data_types: 'normals' are cast as rays on the CPU backend only;"
+                " on the GPU use a RayCasterCameraCfg (normals of static geometry) or drop 'normals'"
+            )
         self._sim.add_build_callback(self._add_to_spec)
         # MuJoCo's GL renderer must be closed, not collected: freeing its GL objects when collected would
         # delete objects of whatever other context is current then (another camera's)
@@ -140,10 +169,10 @@ class Camera(SensorBase):
         self._timestamp = 0.0
 
     def __str__(self) -> str:
-        return (
-            f"Camera @ '{self.cfg.prim_path}': {self.cfg.width}x{self.cfg.height} {self._data_types},"
-            f" {'on body ' + self._body if self._body else 'in the env frame'}"
-        )
+        where = "on body " + self._body if self._body else "in the env frame"
+        if self._groups is not None:
+            where = f"at {len(self._groups)} create_prim groups"
+        return f"Camera @ '{self.cfg.prim_path}': {self.cfg.width}x{self.cfg.height} {self._data_types}, {where}"
 
     # -- Isaac Lab's API ------------------------------------------------------------------------
 
@@ -159,12 +188,70 @@ class Camera(SensorBase):
         return (self.cfg.height, self.cfg.width)
 
     @property
+    def num_instances(self) -> int:
+        """Cameras: one per env, or one per ``create_prim`` group when the groups share one world."""
+        views = getattr(self, "_views", None)
+        return len(views) if views is not None else self._sim.num_envs
+
+    @property
     def frame(self) -> torch.Tensor:
         return self._frame
 
     def reset(self, env_ids: Sequence[int] | torch.Tensor | None = None) -> None:
         # the reset envs get new states: render again when read (all envs render in one pass)
         self._needs_render = True
+
+    def set_world_poses(
+        self,
+        positions: torch.Tensor | None = None,
+        orientations: torch.Tensor | None = None,
+        env_ids: Sequence[int] | torch.Tensor | None = None,
+        convention: str = "ros",
+    ) -> None:
+        """Place the cameras ``env_ids`` at world ``positions`` (M, 3) [m], turned to ``orientations`` (M, 4)
+        (w, x, y, z) in ``convention`` ("opengl", "ros" or "world"); None leaves that part. The next read
+        renders from there. Cameras fixed in the world (in the env frame, or at groups) on the CPU backend;
+        one camera in every env frame takes one pose relative to its env origin."""
+        owner = f"Camera('{self.cfg.prim_path}').set_world_poses"
+        if not self._is_initialized:
+            raise RuntimeError(f"{owner}: call sim.reset() first (the cameras exist from then on)")
+        if self._body is not None or self._sim.physics.name == "cuda":
+            raise NotImplementedError(
+                f"{owner}: simlab moves cameras fixed in the world on the CPU backend only; place a camera on a"
+                " body with CameraCfg.offset"
+            )
+        ids = torch.arange(self.num_instances) if env_ids is None else torch.as_tensor(env_ids).reshape(-1).cpu()
+        model, origins = self._sim.model, self._sim.env_origins.cpu()
+        envs = torch.tensor([env for env, _ in self._views])[ids]
+        cams = [self._views[i][1] for i in ids.tolist()]
+        if positions is not None:
+            local = torch.as_tensor(positions, dtype=torch.float64).reshape(-1, 3).cpu() - origins[envs].double()
+            self._write_camera_field(owner, model.cam_pos, cams, local)
+        if orientations is not None:
+            quats = torch.as_tensor(orientations, dtype=torch.float64).reshape(-1, 4).cpu()
+            opengl = convert_camera_frame_orientation_convention(quats, origin=convention, target="opengl")
+            self._write_camera_field(owner, model.cam_quat, cams, opengl / opengl.norm(dim=-1, keepdim=True))
+        self._needs_render = True
+        self._update_poses()
+
+    def set_world_poses_from_view(
+        self, eyes: torch.Tensor, targets: torch.Tensor, env_ids: Sequence[int] | torch.Tensor | None = None
+    ) -> None:
+        """Place the cameras ``env_ids`` at ``eyes`` (M, 3) looking at ``targets`` (M, 3), up along +z."""
+        rotations = create_rotation_matrix_from_view(eyes, targets, up_axis="Z", device="cpu")
+        self.set_world_poses(eyes, quat_from_matrix(rotations), env_ids, convention="opengl")
+
+    @staticmethod
+    def _write_camera_field(owner: str, field, cams: list[int], values: torch.Tensor) -> None:
+        """``field[cam] = value`` per camera; a camera shared by several envs must get one value."""
+        for cam in set(cams):
+            rows = values[[i for i, c in enumerate(cams) if c == cam]]
+            if not torch.allclose(rows, rows[:1], atol=1e-6):
+                raise ValueError(
+                    f"{owner}: the envs share one camera in the env frame, so it takes one pose relative to the env"
+                    f" origin; got {rows.tolist()}"
+                )
+            field[cam] = rows[0].numpy()
 
     def update(self, dt: float, force_recompute: bool = False) -> None:
         """Called by the scene every physics step: the next read renders the new state."""
@@ -201,14 +288,33 @@ class Camera(SensorBase):
         offset = self.cfg.offset
         rot = torch.tensor(offset.rot, dtype=torch.float64)
         rot = convert_camera_frame_orientation_convention(rot, origin=offset.convention, target="opengl")
-        self.cfg.spawn.func(
-            self.cfg.prim_path,
-            self.cfg.spawn,
-            translation=offset.pos,
-            orientation=rot.tolist(),
-            resolution=(self.cfg.width, self.cfg.height),
-            body=self._body,
-        )
+        self._camera_names, self._per_group = [self._name], False
+        places = [tuple(offset.pos)]
+        groups, num_envs = self._groups, self._sim.num_envs
+        if groups is not None and not (len(groups) == num_envs > 1):  # the groups are not the worlds
+            if num_envs != 1:
+                raise ValueError(
+                    f"Camera '{self.cfg.prim_path}' matches {len(groups)} create_prim groups but the simulation has"
+                    f" {num_envs} worlds: put the cameras under the groups the assets are under, or the assets in one"
+                    " world"
+                )
+            if not str(self.device).startswith("cpu"):
+                raise ValueError(
+                    f"Camera '{self.cfg.prim_path}': several cameras in one world render on the CPU backend only;"
+                    " run with --device cpu, or make one camera per env ('{ENV_REGEX_NS}/Camera')"
+                )
+            self._camera_names = [f"{self._name}_{k}" for k in range(len(groups))]
+            places = [tuple(g + o for g, o in zip(group, offset.pos, strict=True)) for group in groups]
+            self._per_group = True
+        for name, place in zip(self._camera_names, places, strict=True):
+            self.cfg.spawn.func(
+                f"/{name}",
+                self.cfg.spawn,
+                translation=place,
+                orientation=rot.tolist(),
+                resolution=(self.cfg.width, self.cfg.height),
+                body=self._body,
+            )
         # MuJoCo's near clipping plane is the model's (znear * extent): pull it in for a closer camera
         near = self.cfg.spawn.clipping_range[0]
         extent = spec.stat.extent if spec.stat.extent > 0 else 1.0
@@ -217,9 +323,14 @@ class Camera(SensorBase):
 
     def _initialize(self, sim) -> None:
         model = sim.model
-        self._camera_id = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_CAMERA, self._name)
-        if self._camera_id < 0:
-            raise RuntimeError(f"Camera '{self.cfg.prim_path}': the compiled model has no camera '{self._name}'")
+        ids = [mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_CAMERA, name) for name in self._camera_names]
+        if min(ids) < 0:
+            raise RuntimeError(
+                f"Camera '{self.cfg.prim_path}': the compiled model lacks the cameras {self._camera_names}"
+            )
+        self._camera_id = ids[0]
+        # (env, MJCF camera) of each camera this sensor holds
+        self._views = [(0, cam) for cam in ids] if self._per_group else [(env, ids[0]) for env in range(sim.num_envs)]
         n, w, h, dev = self.num_instances, self.cfg.width, self.cfg.height, self.device
         physics = sim.physics
         gpu = physics.name == "cuda"
@@ -229,22 +340,44 @@ class Camera(SensorBase):
             check_gpu_memory(f"Camera '{self.cfg.prim_path}'", needed, free, n, w, h)
         wants_rgb = any(t in ("rgb", "rgba") for t in self._data_types)
         wants_depth = any(t in _DEPTH_TYPES for t in self._data_types)
-        wants_seg = "semantic_segmentation" in self._data_types
+        wants_seg = any(t in _SEGMENTATION_TYPES for t in self._data_types)
         if gpu:
-            from .warp_renderer import WarpCameraRenderer as Renderer
+            from .warp_renderer import WarpCameraRenderer
+
+            self._renderer = WarpCameraRenderer(
+                physics, model, self._camera_id, w, h, wants_rgb, wants_depth, wants_seg
+            )
         else:
-            from .mujoco_renderer import MujocoCameraRenderer as Renderer
-        self._renderer = Renderer(physics, model, self._camera_id, w, h, wants_rgb, wants_depth, wants_seg)
+            from .mujoco_renderer import MujocoCameraRenderer
+
+            self._renderer = MujocoCameraRenderer(
+                physics, model, self._camera_id, w, h, wants_rgb, wants_depth, wants_seg, views=self._views
+            )
 
         d = self._data
         d.image_shape = (h, w)
         d.output = {name: self._new_output(name) for name in self._data_types}
         d.intrinsic_matrices = self._intrinsics().expand(n, 3, 3).clone()
         self._ray_lengths = self._ray_length_per_depth(d.intrinsic_matrices[0])
+        info: dict = dict.fromkeys(self._data_types)
         if wants_seg:
             self._geom_body = torch.as_tensor(model.geom_bodyid, dtype=torch.int32, device=dev)
             self._palette = _palette(model.nbody, dev)
-            d.info["semantic_segmentation"] = {"idToLabels": {b: model.body(b).name for b in range(model.nbody)}}
+            self._geom_palette = _palette(model.ngeom, dev)
+            bodies = {b: model.body(b).name for b in range(model.nbody)}
+            for name in ("semantic_segmentation", "instance_segmentation_fast"):
+                if name in info:
+                    info[name] = {"idToLabels": bodies}
+            if "instance_id_segmentation_fast" in info:
+                geoms = {
+                    g: model.geom(g).name or f"{bodies[int(model.geom_bodyid[g])]}/geom{g}" for g in range(model.ngeom)
+                }
+                info["instance_id_segmentation_fast"] = {"idToLabels": geoms}
+        d.info = [dict(info) for _ in range(n)]  # per camera, as Isaac Lab's
+        if "normals" in self._data_types:  # each pixel centre's ray in the camera's (OpenGL) frame
+            x, y = self._pixel_tangents(d.intrinsic_matrices[0])
+            rays = torch.stack([x, -y, -torch.ones_like(x)], dim=-1).reshape(-1, 3)
+            self._pixel_rays = rays / rays.norm(dim=-1, keepdim=True)
         self._cam_xpos, self._cam_xmat = physics.data("cam_xpos"), physics.data("cam_xmat")
         # rotations from OpenGL camera axes to ROS / world ones (made here: no host copies while rendering)
         identity = torch.eye(3, device=dev)
@@ -254,16 +387,26 @@ class Camera(SensorBase):
             setattr(d, name, torch.zeros(n, 3 if name == "pos_w" else 4, device=dev))
         self._frame = torch.zeros(n, dtype=torch.long, device=dev)
         super()._initialize(sim)
+        self._update_poses()
 
     def _new_output(self, name: str) -> torch.Tensor:
         n, w, h, dev = self.num_instances, self.cfg.width, self.cfg.height, self.device
         if name in ("rgb", "rgba"):
             return torch.zeros(n, h, w, len(name), dtype=torch.uint8, device=dev)
-        if name == "semantic_segmentation" and self.cfg.colorize_semantic_segmentation:
+        if name == "normals":
+            return torch.zeros(n, h, w, 3, dtype=torch.float32, device=dev)
+        if name in _SEGMENTATION_TYPES and self._colorized(name):
             return torch.zeros(n, h, w, 4, dtype=torch.uint8, device=dev)
-        if name == "semantic_segmentation":
+        if name in _SEGMENTATION_TYPES:
             return torch.full((n, h, w, 1), -1, dtype=torch.int32, device=dev)
         return torch.zeros(n, h, w, 1, dtype=torch.float32, device=dev)
+
+    def _colorized(self, name: str) -> bool:
+        return {
+            "semantic_segmentation": self.cfg.colorize_semantic_segmentation,
+            "instance_segmentation_fast": self.cfg.colorize_instance_segmentation,
+            "instance_id_segmentation_fast": self.cfg.colorize_instance_id_segmentation,
+        }[name]
 
     def _intrinsics(self) -> torch.Tensor:
         """(3, 3) intrinsics of the pinhole lens at this resolution (square pixels, centred)."""
@@ -272,14 +415,17 @@ class Camera(SensorBase):
         fy = h * lens.focal_length / vertical_aperture(lens, w, h)
         return torch.tensor([[fx, 0.0, w / 2], [0.0, fy, h / 2], [0.0, 0.0, 1.0]], device=self.device)
 
-    def _ray_length_per_depth(self, intrinsics: torch.Tensor) -> torch.Tensor:
-        """(H, W, 1): distance to the camera over distance to the image plane, per pixel centre."""
+    def _pixel_tangents(self, intrinsics: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
+        """(H, W) x (right) and y (down) of each pixel centre's ray per unit of depth."""
         h, w = self.cfg.height, self.cfg.width
         v, u = torch.meshgrid(
             torch.arange(h, device=self.device) + 0.5, torch.arange(w, device=self.device) + 0.5, indexing="ij"
         )
-        x = (u - intrinsics[0, 2]) / intrinsics[0, 0]
-        y = (v - intrinsics[1, 2]) / intrinsics[1, 1]
+        return (u - intrinsics[0, 2]) / intrinsics[0, 0], (v - intrinsics[1, 2]) / intrinsics[1, 1]
+
+    def _ray_length_per_depth(self, intrinsics: torch.Tensor) -> torch.Tensor:
+        """(H, W, 1): distance to the camera over distance to the image plane, per pixel centre."""
+        x, y = self._pixel_tangents(intrinsics)
         return torch.sqrt(1.0 + x * x + y * y).unsqueeze(-1)
 
     # -- rendering ------------------------------------------------------------------------------
@@ -287,6 +433,7 @@ class Camera(SensorBase):
     def _render(self) -> None:
         self._sim.physics.ensure_forward()  # cameras and geoms where the state puts them
         self._renderer.render()
+        self._update_poses()
         renderer, output = self._renderer, self._data.output
         far = self.cfg.spawn.clipping_range[1]
         for name, image in output.items():
@@ -300,15 +447,45 @@ class Camera(SensorBase):
                 if name == "distance_to_camera":
                     depth = depth * self._ray_lengths
                 image.copy_(self._clip_depth(depth, far))
+            elif name == "normals":
+                image.copy_(self._cast_normals())
             else:
-                body = torch.where(renderer.geom_ids >= 0, self._geom_body[renderer.geom_ids.clamp(min=0).long()], -1)
-                if self.cfg.colorize_semantic_segmentation:
-                    image.copy_(self._palette[(body + 1).long()])
-                else:
-                    image.copy_(body.unsqueeze(-1))
-        self._update_poses()
+                hit = renderer.geom_ids >= 0
+                geom = renderer.geom_ids.clamp(min=0).long()
+                if name == "instance_id_segmentation_fast":  # one instance per geom
+                    ids, palette = torch.where(hit, renderer.geom_ids, -1), self._geom_palette
+                else:  # semantic and instance images: one per body
+                    ids, palette = torch.where(hit, self._geom_body[geom], -1), self._palette
+                image.copy_(palette[(ids + 1).long()] if self._colorized(name) else ids.unsqueeze(-1))
         self._frame += 1
         self._needs_render = False
+
+    def _cast_normals(self) -> torch.Tensor:
+        """(N, H, W, 3) unit normals of the surfaces each pixel's ray hits (zero where none): ``mj_ray`` from
+        every camera, against its world's geoms of groups 0-2 (what the renderer draws), on the physics' threads."""
+        import numpy as np
+
+        physics, d = self._sim.physics, self._data
+        envs = [env for env, _ in self._views]
+        starts = d.pos_w - self._sim.env_origins[envs]  # in each world's own frame
+        rotations = matrix_from_quat(d.quat_w_opengl)
+        directions = torch.einsum("nij,pj->npi", rotations, self._pixel_rays)
+        per_world = len(self._views) // physics.num_envs  # cameras are spread evenly: all in one, or one each
+        pixels = directions.shape[1]
+        pnt = starts.unsqueeze(1).expand(-1, pixels, 3).reshape(physics.num_envs, per_world * pixels, 3)
+        vec = directions.reshape(physics.num_envs, per_world * pixels, 3)
+        dist = np.zeros(vec.shape[:2], np.float32)
+        normal = np.zeros(vec.shape, np.float32)
+        groups = np.array([1, 1, 1, 0, 0, 0], np.uint8)
+        physics.batch.rays(
+            np.ascontiguousarray(pnt.numpy(), np.float32),
+            np.ascontiguousarray(vec.numpy(), np.float32),
+            dist,
+            normal=normal,
+            geomgroup=groups,
+            flg_static=True,
+        )
+        return torch.from_numpy(normal).reshape(len(self._views), self.cfg.height, self.cfg.width, 3)
 
     def _clip_depth(self, depth: torch.Tensor, far: float) -> torch.Tensor:
         beyond = depth > far
@@ -321,8 +498,17 @@ class Camera(SensorBase):
 
     def _update_poses(self) -> None:
         d = self._data
-        d.pos_w.copy_(self._cam_xpos[:, self._camera_id] + self._sim.env_origins)
-        opengl = self._cam_xmat[:, self._camera_id].reshape(-1, 3, 3)  # MuJoCo's camera frame is OpenGL's
+        if self._body is None and self._sim.physics.name != "cuda":
+            # cameras fixed in the world: their poses are the model's, which set_world_poses moves (the CPU
+            # physics holds a copy of the model; the renderer reads this one)
+            envs, cams = zip(*self._views, strict=True)
+            model = self._sim.model
+            origins = self._sim.env_origins[list(envs)]
+            d.pos_w.copy_(torch.as_tensor(model.cam_pos[list(cams)], dtype=torch.float32) + origins)
+            opengl = matrix_from_quat(torch.as_tensor(model.cam_quat[list(cams)], dtype=torch.float32))
+        else:
+            d.pos_w.copy_(self._cam_xpos[:, self._camera_id] + self._sim.env_origins)
+            opengl = self._cam_xmat[:, self._camera_id].reshape(-1, 3, 3)  # MuJoCo's camera frame is OpenGL's
         d.quat_w_opengl.copy_(quat_from_matrix(opengl))
         # R_convention = R_opengl @ (convention from OpenGL); the constant matrices live on the device
         d.quat_w_ros.copy_(quat_from_matrix(opengl @ self._ros_from_opengl))

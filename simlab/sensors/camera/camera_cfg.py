@@ -17,7 +17,8 @@ __all__ = ["DATA_TYPES", "CameraCfg", "TiledCameraCfg"]
 @configclass
 class CameraCfg(SensorBaseCfg):
     """A camera in every env: on a body (``{ENV_REGEX_NS}/Robot/<body>/<name>``) or fixed in the env
-    frame (``{ENV_REGEX_NS}/<name>``), rendering ``data_types`` at ``width`` x ``height``."""
+    frame (``{ENV_REGEX_NS}/<name>``), rendering ``data_types`` at ``width`` x ``height``. Under
+    ``create_prim`` groups (``/World/Origin_.*/<name>``) one camera at each group."""
 
     @configclass
     class OffsetCfg:
@@ -41,11 +42,13 @@ class CameraCfg(SensorBaseCfg):
     distance, ``zero`` 0."""
     colorize_semantic_segmentation: bool = True
     """True: ``semantic_segmentation`` is uint8 RGBA colours (N, H, W, 4); False: int32 body ids (N, H, W, 1),
-    -1 where nothing is hit. ``data.info["semantic_segmentation"]["idToLabels"]`` names the bodies."""
+    -1 where nothing is hit. ``data.info[camera]["semantic_segmentation"]["idToLabels"]`` names the bodies."""
     update_latest_camera_pose: bool = False
     semantic_filter: str | list[str] = "*:*"
     colorize_instance_segmentation: bool = True
+    """``instance_segmentation_fast`` (one instance per body) as RGBA colours, or int32 body ids."""
     colorize_instance_id_segmentation: bool = True
+    """``instance_id_segmentation_fast`` (one instance per geom) as RGBA colours, or int32 geom ids."""
     renderer_cfg: object | None = None
     """Accepted; the renderer follows the device (MuJoCo's OpenGL on the CPU, MuJoCo Warp's on the GPU)."""
 

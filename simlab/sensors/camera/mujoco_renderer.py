@@ -46,7 +46,8 @@ def _no_garbage_collection() -> Iterator[None]:
 
 
 class MujocoCameraRenderer:
-    """Renders model camera ``camera_id`` in every env of a CPU backend.
+    """Renders model camera ``camera_id`` in every env of a CPU backend, or the ``views`` given: (env,
+    camera id) pairs, one image each (several cameras in one world).
 
     After :meth:`render`, ``rgb`` (N, H, W, 3) uint8, ``depth`` (N, H, W) float32 planar depth in
     metres (inf where nothing is hit) and ``geom_ids`` (N, H, W) int32 (-1 where nothing is hit) hold
@@ -63,10 +64,11 @@ class MujocoCameraRenderer:
         rgb: bool,
         depth: bool,
         segmentation: bool,
+        views: list[tuple[int, int]] | None = None,
     ):
         self._physics = physics
         self._model = model
-        self._camera_id = camera_id
+        self._views = views if views is not None else [(env, camera_id) for env in range(physics.num_envs)]
         # No multisampling: each pixel shows what its centre sees, as in MuJoCo Warp's ray tracer, so a
         # policy trained on one device's images plays on the other's (antialiased, a rail thinner than a
         # pixel shows here as a line the GPU's images lack). The context reads it once, when it is made.
@@ -78,7 +80,7 @@ class MujocoCameraRenderer:
         self._data = mujoco.MjData(model)
         self._option = geoms_only_option()
         self._far = float(model.vis.map.zfar * model.stat.extent)
-        n = physics.num_envs
+        n = len(self._views)
         self.rgb = torch.zeros(n, height, width, 3, dtype=torch.uint8) if rgb else None
         self.depth = torch.zeros(n, height, width, dtype=torch.float32) if depth else None
         self.geom_ids = torch.full((n, height, width), -1, dtype=torch.int32) if segmentation else None
@@ -89,28 +91,32 @@ class MujocoCameraRenderer:
 
     def _render_all(self) -> None:
         model, data, renderer = self._model, self._data, self._renderer
-        states = gather_env_states(self._physics, range(self._physics.num_envs))
-        for env in range(self._physics.num_envs):
-            for name, values in states.items():
-                getattr(data, name)[:] = values[env]
-            mujoco.mj_kinematics(model, data)
-            mujoco.mj_comPos(model, data)
-            mujoco.mj_camlight(model, data)
-            renderer.update_scene(data, camera=self._camera_id, scene_option=self._option)
+        envs = sorted({env for env, _ in self._views})
+        states = gather_env_states(self._physics, envs)
+        placed = None
+        for image, (env, camera) in enumerate(self._views):
+            if env != placed:  # the env's state, once for all its cameras
+                for name, values in states.items():
+                    getattr(data, name)[:] = values[envs.index(env)]
+                mujoco.mj_kinematics(model, data)
+                mujoco.mj_comPos(model, data)
+                mujoco.mj_camlight(model, data)
+                placed = env
+            renderer.update_scene(data, camera=camera, scene_option=self._option)
             if self.rgb is not None:
-                renderer.render(out=self.rgb[env].numpy())
+                renderer.render(out=self.rgb[image].numpy())
             if self.depth is not None:
                 renderer.enable_depth_rendering()
                 depth = renderer.render()
                 renderer.disable_depth_rendering()
                 depth[depth >= _FAR_PLANE_FRACTION * self._far] = np.inf
-                self.depth[env] = torch.from_numpy(depth)
+                self.depth[image] = torch.from_numpy(depth)
             if self.geom_ids is not None:
                 renderer.enable_segmentation_rendering()
                 ids = renderer.render()
                 renderer.disable_segmentation_rendering()
                 is_geom = ids[..., 1] == mujoco.mjtObj.mjOBJ_GEOM
-                self.geom_ids[env] = torch.from_numpy(np.where(is_geom, ids[..., 0], -1).astype(np.int32))
+                self.geom_ids[image] = torch.from_numpy(np.where(is_geom, ids[..., 0], -1).astype(np.int32))
 
     def close(self) -> None:
         self._renderer.close()
