@@ -177,6 +177,40 @@ def test_ray_caster_camera_tutorial_writes_the_first_cameras_images(tmp_path):
     assert depth[0].mean() > 1.5 * depth[-1].mean()  # the top row sees farther ground than the bottom row
 
 
+def test_usd_camera_tutorial_writes_every_image_of_the_chosen_camera(tmp_path):
+    """Two cameras in the one world of eight random shapes; the second camera's six images of two steps
+    (update_period 0: a frame per step, frame_padding 0), the segmentations with their labels."""
+    import json
+
+    import imageio.v3 as iio
+
+    script = tmp_path / "run_usd_camera.py"
+    script.write_text((ROOT / "scripts/tutorials/04_sensors/run_usd_camera.py").read_text())
+    out = run_script(
+        str(script), "--enable_cameras", "--save", "--camera_id", "1", "--max_app_steps", "2", cwd=tmp_path
+    )
+    assert out.count("Received shape of normals          :  torch.Size([2, 480, 640, 3])") == 2
+    assert out.count("Received shape of instance id segm.:  torch.Size([2, 480, 640, 4])") == 2
+    folder = tmp_path / "output" / "camera"
+    segmentations = ("semantic_segmentation", "instance_segmentation_fast", "instance_id_segmentation_fast")
+    expected = {
+        f"{name}_{frame}_{frame - 1}.{ext}"
+        for frame in (1, 2)
+        for name, ext in [("rgb", "png"), ("distance_to_image_plane", "npy"), ("normals", "png")]
+        + [(s, "png") for s in segmentations]
+    }
+    expected |= {f"{name}_{frame}_{frame - 1}.json" for frame in (1, 2) for name in segmentations}
+    assert {path.name for path in folder.iterdir()} == expected
+    normals = iio.imread(folder / "normals_2_1.png").reshape(-1, 3)
+    ground = (normals == [128, 128, 255]).all(axis=1).mean()  # (0, 0, 1) coloured (n + 1) / 2
+    assert 0.5 < ground < 1.0, ground  # mostly ground, and the shapes
+    ids = iio.imread(folder / "instance_id_segmentation_fast_2_1.png").reshape(-1, 4)
+    labels = json.loads((folder / "instance_id_segmentation_fast_2_1.json").read_text())["idToLabels"]
+    seen = {labels[str(tuple(int(c) for c in colour))] for colour in {tuple(row) for row in ids.tolist()}}
+    assert "defaultGroundPlane" in seen and any(name.startswith("Obj_") for name in seen)
+    assert iio.imread(folder / "rgb_2_1.png").std() > 10  # an image, not a blank
+
+
 def test_create_empty_tutorial_runs():
     assert "Setup complete" in run_script("scripts/tutorials/00_sim/create_empty.py", "--max_app_steps", "20")
 

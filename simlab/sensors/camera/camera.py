@@ -365,14 +365,17 @@ class Camera(SensorBase):
             self._palette = _palette(model.nbody, dev)
             self._geom_palette = _palette(model.ngeom, dev)
             bodies = {b: model.body(b).name for b in range(model.nbody)}
-            for name in ("semantic_segmentation", "instance_segmentation_fast"):
-                if name in info:
-                    info[name] = {"idToLabels": bodies}
-            if "instance_id_segmentation_fast" in info:
-                geoms = {
-                    g: model.geom(g).name or f"{bodies[int(model.geom_bodyid[g])]}/geom{g}" for g in range(model.ngeom)
-                }
-                info["instance_id_segmentation_fast"] = {"idToLabels": geoms}
+            geoms = {
+                g: model.geom(g).name or f"{bodies[int(model.geom_bodyid[g])]}/geom{g}" for g in range(model.ngeom)
+            }
+            for name in set(_SEGMENTATION_TYPES) & set(info):
+                per_geom = name == "instance_id_segmentation_fast"
+                labels, palette = (geoms, self._geom_palette) if per_geom else (bodies, self._palette)
+                if self._colorized(name):  # keyed by colour, as Isaac Lab's colourised images
+                    labels = {"(0, 0, 0, 0)": "BACKGROUND"} | {
+                        str(tuple(palette[i + 1].tolist())): label for i, label in labels.items()
+                    }
+                info[name] = {"idToLabels": labels}
         d.info = [dict(info) for _ in range(n)]  # per camera, as Isaac Lab's
         if "normals" in self._data_types:  # each pixel centre's ray in the camera's (OpenGL) frame
             x, y = self._pixel_tangents(d.intrinsic_matrices[0])
