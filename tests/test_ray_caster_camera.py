@@ -13,11 +13,13 @@ import torch
 from conftest import DEVICES
 
 import simlab.sim as sim_utils
-from simlab.assets import RigidObject, RigidObjectCfg
+from simlab.assets import AssetBaseCfg, RigidObject, RigidObjectCfg
+from simlab.scene import InteractiveScene, InteractiveSceneCfg
 from simlab.sensors import patterns
 from simlab.sensors.ray_caster import RayCasterCamera, RayCasterCameraCfg
 from simlab.sensors.replicator import BasicWriter
 from simlab.sim.utils import create_prim
+from simlab.utils import configclass
 
 LENS = {"focal_length": 24.0, "horizontal_aperture": 20.955, "width": 8, "height": 6}
 
@@ -140,6 +142,47 @@ def test_camera_rides_on_a_body_and_never_sees_it():
     assert camera.frame.item() == 10
 
 
+@pytest.mark.parametrize("device", DEVICES)
+def test_in_a_scene_each_env_sees_its_own_ground_below_its_box(device):
+    """A scene field like Isaac Lab's: on a box in every env (3 envs, each at its own origin), looking down
+    from 0.5 m below the box's centre; the ground 0.3 m up. The image plane is 0.7 m away everywhere."""
+
+    @configclass
+    class SceneCfg(InteractiveSceneCfg):
+        ground = AssetBaseCfg(
+            prim_path="/World/ground",
+            spawn=sim_utils.GroundPlaneCfg(),
+            init_state=AssetBaseCfg.InitialStateCfg(pos=(0.0, 0.0, 0.3)),
+        )
+        box = RigidObjectCfg(
+            prim_path="{ENV_REGEX_NS}/Box",
+            spawn=sim_utils.CuboidCfg(
+                size=(0.2, 0.2, 0.2), rigid_props=sim_utils.RigidBodyPropertiesCfg(kinematic_enabled=True)
+            ),
+            init_state=RigidObjectCfg.InitialStateCfg(pos=(0.0, 0.0, 1.5)),
+        )
+        camera = RayCasterCameraCfg(
+            prim_path="{ENV_REGEX_NS}/Box",
+            mesh_prim_paths=["/World/ground"],
+            offset=RayCasterCameraCfg.OffsetCfg(pos=(0.0, 0.0, -0.5), rot=(0.0, 1.0, 0.0, 0.0)),
+            data_types=["distance_to_image_plane"],
+            pattern_cfg=patterns.PinholeCameraPatternCfg(**LENS),
+        )
+
+    sim = sim_utils.SimulationContext(sim_utils.SimulationCfg(device=device))
+    scene = InteractiveScene(SceneCfg(num_envs=3, env_spacing=4.0))
+    sim.reset()
+    sim.step()
+    scene.update(sim.get_physics_dt())
+    camera = scene["camera"]
+    torch.testing.assert_close(camera.data.pos_w, scene.env_origins + torch.tensor([0.0, 0.0, 1.0], device=device))
+    torch.testing.assert_close(
+        camera.data.output["distance_to_image_plane"], torch.full((3, 6, 8, 1), 0.7, device=device)
+    )
+    scene.reset(torch.tensor([False, True, False], device=device))
+    assert camera.frame.tolist() == [1, 0, 1]
+
+
 def test_set_world_poses_in_each_convention_reads_back():
     sim = make_sim()
     create_prim("/World/Origin_00/CameraSensor", "Xform", translation=(1.0, 2.0, 0.0))
@@ -150,7 +193,7 @@ def test_set_world_poses_in_each_convention_reads_back():
     torch.testing.assert_close(camera.data.pos_w, torch.tensor([[2.5, 2.5, 2.5]]))
     same = torch.sign(camera.data.quat_w_ros[0, 0]) * torch.sign(quat_ros[0, 0])
     torch.testing.assert_close(camera.data.quat_w_ros * same, quat_ros, atol=1e-5, rtol=0)
-    camera.reset()
+    camera.reset(torch.tensor([True]))  # a bool mask, as the scene resets
     assert camera.frame.item() == 0
     torch.testing.assert_close(camera.data.pos_w, torch.tensor([[2.5, 2.5, 2.5]]))  # the offset stays
 
@@ -212,6 +255,8 @@ def test_basic_writer_writes_each_annotator_as_replicator_lays_it_out(tmp_path):
         writer.attach(["/Render/RenderProduct"])
     with pytest.raises(ValueError, match="Replicator's layout"):
         writer.write({"distance_to_image_plane": depth})
+    with pytest.raises(TypeError, match=r"unknown arguments \['outputdir'\]"):
+        BasicWriter(output_dir=str(tmp_path), outputdir="x")
 
 
 def test_pinhole_pattern_rays_project_back_to_their_pixel_centres():

@@ -27,6 +27,29 @@ import numpy as np
 from simlab.utils.optional import require
 
 _DEPTH_TYPES = ("distance_to_camera", "distance_to_image_plane", "depth")
+# Replicator's switches of what an attached writer asks its render products for, and how it colours them
+_ANNOTATOR_SWITCHES = (
+    "rgb",
+    "bounding_box_2d_tight",
+    "bounding_box_2d_loose",
+    "semantic_segmentation",
+    "instance_id_segmentation",
+    "instance_segmentation",
+    "distance_to_camera",
+    "distance_to_image_plane",
+    "bounding_box_3d",
+    "occlusion",
+    "normals",
+    "motion_vectors",
+    "camera_params",
+    "pointcloud",
+    "pointcloud_include_unlabelled",
+    "skeleton_data",
+    "semantic_types",
+    "colorize_semantic_segmentation",
+    "colorize_instance_id_segmentation",
+    "colorize_instance_segmentation",
+)
 
 
 class BasicWriter:
@@ -45,7 +68,13 @@ class BasicWriter:
         if isinstance(frame_padding, bool) or not isinstance(frame_padding, int) or frame_padding < 0:
             raise ValueError(f"BasicWriter(frame_padding={frame_padding!r}) must be a whole number of digits >= 0")
         # Replicator's rgb=True, normals=True, ... choose what attached render products give; write()
-        # writes every annotator it is handed, so they change nothing here
+        # writes every annotator it is handed (coloured or not already), so they change nothing here
+        unknown = sorted(set(annotators) - set(_ANNOTATOR_SWITCHES))
+        if unknown:
+            raise TypeError(
+                f"BasicWriter got unknown arguments {unknown}; it takes output_dir, frame_padding, colorize_depth,"
+                f" image_output_format and Replicator's switches {list(_ANNOTATOR_SWITCHES)}"
+            )
         self.output_dir = str(output_dir)
         self.frame_padding = frame_padding
         self.colorize_depth = colorize_depth

@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING, ClassVar
 
 import torch
 
+from simlab.utils.env_mask import env_mask
 from simlab.utils.math import (
     combine_frame_transforms,
     convert_camera_frame_orientation_convention,
@@ -212,7 +213,8 @@ class RayCasterCamera(RayCaster):
     # -- debug visualization: a marker at every hit --------------------------------------------
 
     def _debug_vis_callback(self, event) -> None:
-        self.data  # noqa: B018 (casts if an update is due)
+        if self._outdated:
+            self._cast()
         points = self.ray_hits_w.reshape(-1, 3)
         self.ray_visualizer.visualize(points[torch.isfinite(points).all(dim=1)])
 
@@ -255,8 +257,9 @@ class RayCasterCamera(RayCaster):
         self._outdated = True
 
     def _ids(self, env_ids: EnvIds) -> torch.Tensor:
-        if env_ids is None or isinstance(env_ids, slice):
-            return torch.arange(self.num_instances, device=self.device)[env_ids or slice(None)]
+        """Camera indices in the order given (positions match them), from ids, a bool mask, a slice or None."""
+        if env_ids is None or isinstance(env_ids, slice) or getattr(env_ids, "dtype", None) == torch.bool:
+            return env_mask(env_ids, self.num_instances, self.device).nonzero().flatten()
         return torch.as_tensor(env_ids, dtype=torch.long, device=self.device).reshape(-1)
 
     def _require_initialized(self, method: str) -> None:
