@@ -183,6 +183,21 @@ def test_in_a_scene_each_env_sees_its_own_ground_below_its_box(device):
     assert camera.frame.tolist() == [1, 0, 1]
 
 
+def test_debug_markers_sample_a_grid_of_hits_across_the_image():
+    """640 x 480 rays per camera: 32 x 32 markers each, spread over the image (the nearest row's too)."""
+    sim = make_sim()
+    create_prim("/World/Origin_00/CameraSensor", "Xform")
+    create_prim("/World/Origin_01/CameraSensor", "Xform")
+    lens = patterns.PinholeCameraPatternCfg(width=640, height=480)
+    camera = RayCasterCamera(camera_cfg(pattern_cfg=lens, debug_vis=True))
+    sim.reset()
+    camera.set_world_poses_from_view(torch.tensor([[2.5, 2.5, 2.5]] * 2), torch.zeros(2, 3))
+    sim.run_render_callbacks()
+    assert camera.ray_visualizer.count == 2 * 32 * 32
+    hits = camera.ray_hits_w.view(2, 480, 640, 3)
+    assert camera.ray_visualizer._translations[-1].tolist() == hits[1, 472, 630].tolist()  # rows 7 + 15 k
+
+
 def test_set_world_poses_in_each_convention_reads_back():
     sim = make_sim()
     create_prim("/World/Origin_00/CameraSensor", "Xform", translation=(1.0, 2.0, 0.0))

@@ -41,6 +41,8 @@ DATA_TYPES = ("distance_to_image_plane", "distance_to_camera", "normals")
 """What a ray-cast camera measures (``RayCasterCameraCfg.data_types``)."""
 
 EnvIds = Sequence[int] | torch.Tensor | None
+DEBUG_GRID = 32
+"""``debug_vis`` draws the hits of every ``H / DEBUG_GRID``-th row and ``W / DEBUG_GRID``-th column."""
 
 
 class RayCasterCamera(RayCaster):
@@ -215,7 +217,14 @@ class RayCasterCamera(RayCaster):
     def _debug_vis_callback(self, event) -> None:
         if self._outdated:
             self._cast()
-        points = self.ray_hits_w.reshape(-1, 3)
+        # a grid of at most DEBUG_GRID x DEBUG_GRID hits per camera: a render holds a few thousand markers,
+        # and the first rows of a full image (its far edge) would take them all
+        height, width = self.image_shape
+        step_v, step_u = -(-height // DEBUG_GRID), -(-width // DEBUG_GRID)
+        hits = self.ray_hits_w.view(self.num_instances, height, width, 3)[
+            :, step_v // 2 :: step_v, step_u // 2 :: step_u
+        ]
+        points = hits.reshape(-1, 3)
         self.ray_visualizer.visualize(points[torch.isfinite(points).all(dim=1)])
 
     # -- building -------------------------------------------------------------------------------
