@@ -79,3 +79,30 @@ def test_groups_that_are_not_the_worlds_are_refused():
     Camera(CameraCfg(prim_path="/World/Origin_.*/CameraSensor", width=8, height=6))
     with pytest.raises(ValueError, match="matches 2 create_prim groups but the simulation has 3 worlds"):
         sim.reset()
+
+
+def test_a_camera_in_every_env_frame_moves_in_all_envs_at_once():
+    """One MJCF camera serves every env's frame: set_world_poses takes one pose relative to the env origins."""
+    from simlab.scene import InteractiveScene, InteractiveSceneCfg
+    from simlab.utils import configclass
+
+    @configclass
+    class SceneCfg(InteractiveSceneCfg):
+        camera = CameraCfg(prim_path="{ENV_REGEX_NS}/Camera", width=8, height=6, data_types=["distance_to_image_plane"])
+
+    sim = sim_utils.SimulationContext(sim_utils.SimulationCfg(device="cpu"))
+    ground = sim_utils.GroundPlaneCfg()
+    ground.func("/World/ground", ground)
+    scene = InteractiveScene(SceneCfg(num_envs=2, env_spacing=4.0))
+    sim.reset()
+    camera, origins = scene["camera"], scene.env_origins
+    down = torch.tensor([[0.0, 1.0, 0.0, 0.0]] * 2)  # ROS: looking along -z
+    camera.set_world_poses(origins + torch.tensor([0.0, 0.0, 1.5]), down)
+    torch.testing.assert_close(
+        camera.data.output["distance_to_image_plane"], torch.full((2, 6, 8, 1), 1.5), atol=1e-3, rtol=0
+    )
+    torch.testing.assert_close(camera.data.pos_w, origins + torch.tensor([0.0, 0.0, 1.5]))
+    with pytest.raises(ValueError, match="give a pose for every env"):
+        camera.set_world_poses(origins[:1] + 1.0, env_ids=[0])
+    with pytest.raises(ValueError, match="takes one pose relative to the env origin"):
+        camera.set_world_poses(torch.tensor([[0.0, 0.0, 1.0], [0.0, 0.0, 2.0]]) + origins)
