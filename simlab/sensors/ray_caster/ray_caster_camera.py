@@ -212,7 +212,7 @@ class RayCasterCamera(RayCaster):
         d.quat_w_opengl.copy_(convert_camera_frame_orientation_convention(quat_w, origin="world", target="opengl"))
         return pos_w, quat_w
 
-    # -- debug visualization: a marker at every hit --------------------------------------------
+    # -- debug visualization: markers at a grid of hits ----------------------------------------
 
     def _debug_vis_callback(self, event) -> None:
         if self._outdated:
