@@ -2,9 +2,13 @@
 task by teleoperation and Mimic).
 
 Each env runs its own machine over the IK-Abs task: pick cube 2 and place it on cube 1, then pick
-cube 3 and place it on cube 2. Each pick turns the fingers square to the cube's faces; every state
-lasts a fixed number of steps. The script judges the run by the task's registered criterion (the
-share of episodes that end with the cubes stacked) and prints it.
+cube 3 and place it on cube 2. Each pick turns the fingers square to the cube's faces. A move ends
+when the fingertips are near enough its target (or after its most steps), a gripper's open
+or close after a few steps: the machine's next action follows from what the task observes, so a
+policy cloned from its demonstrations can tell when to close the gripper. The script judges the run
+by the task's registered criterion (the share of episodes that end with the cubes stacked) and
+prints it; with ``--dataset_file`` it records the episodes that end stacked with simlab's recorder
+(scripts/imitation_learning/bc.py clones a policy from them).
 
     python scripts/environments/state_machine/stack_cube_sm.py --num_envs 8 --headless --device cpu
 """
@@ -28,16 +32,19 @@ LIFT_HEIGHT = 0.15
 HAND_DOWN = (0.0, 1.0, 0.0, 0.0)
 """The hand's orientation with its z axis (the fingers) pointing down."""
 
-# (name, steps it lasts, gripper command: 1 open, -1 closed) of one pick-and-place
+# (name, most steps it lasts, gripper command: 1 open, -1 closed, a move's reach: it ends once the
+# fingertips are this close to its target [m], 0 for the gripper's states). The grasp starts 12 mm
+# from the cube's centre, the hand still going down while the fingers close: a wide region where a
+# cloned policy learns to close.
 PHASES = (
-    ("above_pick", 10, 1.0),
-    ("at_pick", 12, 1.0),
-    ("grasp", 10, -1.0),
-    ("lift", 15, -1.0),
-    ("above_place", 15, -1.0),
-    ("lower", 12, -1.0),
-    ("release", 10, 1.0),
-    ("retreat", 10, 1.0),
+    ("above_pick", 30, 1.0, 0.02),
+    ("at_pick", 30, 1.0, 0.012),
+    ("grasp", 6, -1.0, 0.0),
+    ("lift", 30, -1.0, 0.02),
+    ("above_place", 40, -1.0, 0.015),
+    ("lower", 30, -1.0, 0.01),
+    ("release", 4, 1.0, 0.0),
+    ("retreat", 20, 1.0, 0.02),
 )
 PAIRS = (("cube_2", "cube_1"), ("cube_3", "cube_2"))
 """(the cube picked, the cube it is placed on), in order."""
@@ -54,7 +61,9 @@ class StackCubesSm:
         self.grasp_yaw = torch.zeros(num_envs, device=device)
         self.steps = torch.tensor([p[1] for p in PHASES] * len(PAIRS), device=device)
         self.gripper = torch.tensor([p[2] for p in PHASES] * len(PAIRS), device=device)
+        self.reach = torch.tensor([p[3] for p in PHASES] * len(PAIRS), device=device)
         self.down = torch.tensor(HAND_DOWN, device=device)
+        self.target = torch.zeros(num_envs, 3, device=device)  # of the fingertips, by the last compute()
 
     @property
     def done(self) -> torch.Tensor:
@@ -96,18 +105,21 @@ class StackCubesSm:
             ],
             dim=1,
         )
-        tip = targets[torch.arange(self.num_envs, device=self.device), phase]
-        hand = tip + up * TCP_OFFSET
+        self.target = targets[torch.arange(self.num_envs, device=self.device), phase]
+        hand = self.target + up * TCP_OFFSET
         zeros = torch.zeros_like(self.grasp_yaw)
         quat = quat_mul(quat_from_euler_xyz(zeros, zeros, self.grasp_yaw), self.down.expand(self.num_envs, 4))
         gripper = self.gripper[state].unsqueeze(-1)
         return torch.cat([hand, quat, gripper], dim=-1)
 
-    def advance(self) -> None:
-        """Count one step; move on where the state has lasted its steps."""
+    def advance(self, tip: torch.Tensor) -> None:
+        """Count one step; move on where a move's target is reached (``tip``: the fingertips' position,
+        env frame) or the state has lasted its most steps."""
         running = ~self.done
         self.waited += running.long()
-        finished = running & (self.waited >= self.steps[self.state.clamp(max=len(self.steps) - 1)])
+        state = self.state.clamp(max=len(self.steps) - 1)
+        reached = torch.linalg.vector_norm(tip - self.target, dim=-1) < self.reach[state]
+        finished = running & (reached | (self.waited >= self.steps[state]))
         self.state += finished.long()
         self.waited[finished] = 0
 
@@ -142,7 +154,7 @@ def run(
         on_step(env, obs, actions)
         if watch is not None:
             watch(obs)
-        machine.advance()
+        machine.advance(env.scene["ee_frame"].data.target_pos_w[:, 0] - origins)
         ended = (terminated | truncated).nonzero().flatten()
         if len(ended):
             machine.reset_idx(ended)

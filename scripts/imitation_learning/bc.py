@@ -1,0 +1,211 @@
+"""Behaviour cloning from recorded demonstrations: an MLP from policy observations to actions (simlab's
+stand-in for Isaac Lab's robomimic BC, which is not installed here), judged by the task's criterion.
+
+``train`` reads an HDF5 dataset that simlab's recorder wrote (``simlab record``, or the stack state
+machine's ``--dataset_file``): per step the policy observation terms ``obs/<term>`` and the
+``actions``. It fits ``actions = mlp((obs - mean) / std)`` by mean squared error and saves the
+weights with the observation terms, their statistics and the task's name in one ``torch.save`` file
+(tensors, strings and numbers only: ``torch.load(weights_only=True)`` reads it). ``play`` steps the
+task with that policy and judges the run as ``simlab bench solve`` and make_pretrained judge a
+checkpoint: the criterion the task registers, over a rollout of ``simlab play`` (seeded reset).
+
+    python scripts/environments/state_machine/stack_cube_sm.py --num_envs 20 --headless --device cpu \\
+        --dataset_file logs/demos/stack.hdf5 --num_demos 100
+    python scripts/imitation_learning/bc.py train --dataset_file logs/demos/stack.hdf5 --out logs/bc/stack.pt
+    python scripts/imitation_learning/bc.py play --checkpoint logs/bc/stack.pt --num_envs 32
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import torch
+import torch.nn as nn
+
+OBS_TERMS = ("eef_pos", "eef_quat", "gripper_pos", "object")
+"""The observation terms Isaac Lab's robomimic configs of the stack task feed BC."""
+
+
+class BCPolicy(nn.Module):
+    """``mlp((obs - mean) / std)``: the observation terms, concatenated in ``terms`` order, to actions."""
+
+    def __init__(self, terms: list[str], obs_dim: int, action_dim: int, hidden: list[int]):
+        super().__init__()
+        self.terms, self.hidden = list(terms), list(hidden)
+        self.register_buffer("obs_mean", torch.zeros(obs_dim))
+        self.register_buffer("obs_std", torch.ones(obs_dim))
+        self.register_buffer("action_mean", torch.zeros(action_dim))
+        self.register_buffer("action_std", torch.ones(action_dim))
+        layers: list[nn.Module] = []
+        for width_in, width_out in zip([obs_dim, *hidden], hidden):
+            layers += [nn.Linear(width_in, width_out), nn.ELU()]
+        self.mlp = nn.Sequential(*layers, nn.Linear(hidden[-1] if hidden else obs_dim, action_dim))
+
+    def forward(self, obs: torch.Tensor) -> torch.Tensor:
+        return self.normalized(obs) * self.action_std + self.action_mean
+
+    def normalized(self, obs: torch.Tensor) -> torch.Tensor:
+        """The actions in units of the demonstrations' spread (what the loss compares)."""
+        return self.mlp((obs - self.obs_mean) / self.obs_std)
+
+    def act(self, policy_obs: dict[str, torch.Tensor]) -> torch.Tensor:
+        """Actions from the env's ``policy`` observation group (a dict of terms)."""
+        return self(torch.cat([policy_obs[t].reshape(policy_obs[t].shape[0], -1) for t in self.terms], dim=-1))
+
+
+def load_demos(path: str, terms: list[str]) -> tuple[torch.Tensor, torch.Tensor, str | None]:
+    """(steps, obs) observations, (steps, actions) actions of every episode in ``path``, and the task
+    that recorded them."""
+    from simlab.utils.datasets import HDF5DatasetFileHandler
+    from simlab.utils.errors import ConfigError
+
+    handler = HDF5DatasetFileHandler()
+    handler.open(path)
+    try:
+        obs, actions = [], []
+        for name in handler.get_episode_names():
+            episode = handler.load_episode(name, "cpu").data
+            recorded = episode.get("obs", {})
+            missing = [t for t in terms if t not in recorded]
+            if missing:
+                raise ConfigError(
+                    f"{path} {name} has no observation term {missing}; it has {sorted(recorded)}: choose --obs_terms"
+                    " among those."
+                )
+            obs.append(torch.cat([recorded[t].reshape(len(recorded[t]), -1).float() for t in terms], dim=-1))
+            actions.append(episode["actions"].float())
+        if not obs:
+            raise ConfigError(f"{path} holds no episodes.")
+        return torch.cat(obs), torch.cat(actions), handler.get_env_name()
+    finally:
+        handler.close()
+
+
+def train(
+    obs: torch.Tensor,
+    actions: torch.Tensor,
+    terms: list[str],
+    hidden: list[int],
+    epochs: int,
+    batch_size: int = 256,
+    lr: float = 1e-3,
+    seed: int = 0,
+) -> tuple[BCPolicy, list[float]]:
+    """Fit a :class:`BCPolicy` by mean squared error of the normalized actions; returns it and the mean
+    loss of each epoch."""
+    generator = torch.Generator().manual_seed(seed)
+    torch.manual_seed(seed)
+    policy = BCPolicy(terms, obs.shape[1], actions.shape[1], hidden)
+    policy.obs_mean[:] = obs.mean(0)
+    policy.obs_std[:] = obs.std(0).clamp(min=1e-2)  # a term that barely moves is not blown up
+    # each action dimension weighs alike: centimetres of the hand's position as much as the gripper's sign
+    policy.action_mean[:], policy.action_std[:] = actions.mean(0), actions.std(0).clamp(min=1e-2)
+    targets = (actions - policy.action_mean) / policy.action_std
+    optimizer = torch.optim.Adam(policy.parameters(), lr=lr)
+    schedule = torch.optim.lr_scheduler.CosineAnnealingLR(optimizer, epochs)
+    losses = []
+    for _ in range(epochs):
+        order, total = torch.randperm(len(obs), generator=generator), 0.0
+        for batch in order.split(batch_size):
+            loss = (policy.normalized(obs[batch]) - targets[batch]).square().mean()
+            optimizer.zero_grad()
+            loss.backward()
+            optimizer.step()
+            total += loss.item() * len(batch)
+        schedule.step()
+        losses.append(total / len(obs))
+    return policy.eval(), losses
+
+
+def save(policy: BCPolicy, path: str, task: str | None) -> None:
+    sizes = [policy.obs_mean.shape[0], policy.mlp[-1].out_features]
+    torch.save(
+        {
+            "state_dict": policy.state_dict(),
+            "terms": policy.terms,
+            "hidden": policy.hidden,
+            "sizes": sizes,
+            "task": task,
+        },
+        path,
+    )
+
+
+def load(path: str) -> tuple[BCPolicy, str | None]:
+    """The policy in ``path`` and its task; weights only (a file from elsewhere runs no code)."""
+    saved = torch.load(path, map_location="cpu", weights_only=True)
+    policy = BCPolicy(saved["terms"], *saved["sizes"], saved["hidden"])
+    policy.load_state_dict(saved["state_dict"])
+    return policy.eval(), saved["task"]
+
+
+def play(task: str, policy: BCPolicy, num_envs: int, seed: int, seconds: float) -> tuple[float, bool, dict]:
+    """Judge ``policy`` on ``task`` by its registered criterion (a seeded rollout as ``simlab play``'s,
+    at least as long as the criterion asks); returns (score, passed, counts)."""
+    import gymnasium as gym
+
+    import simlab.tasks  # noqa: F401 - registers the tasks
+    from simlab.cli.play import rollout
+    from simlab.tasks.utils.criteria import criterion_for
+    from simlab.tasks.utils.parse_cfg import parse_env_cfg
+
+    criterion = criterion_for(task)
+    cfg = parse_env_cfg(task, device="cpu", num_envs=num_envs)
+    cfg.seed = seed
+    env = gym.make(task, cfg=cfg)
+    try:
+        steps = max(1, round(criterion.play_seconds(seconds) / env.unwrapped.step_dt))
+        hook, counts = criterion.make_hook()
+        with torch.inference_mode():
+            result = rollout(
+                env, lambda obs: policy.act(obs["policy"]), steps, hook, stop_on_interrupt=False, seed=seed
+            )
+        score, passed = criterion.judge(result, counts)
+    finally:
+        env.close()
+    return score, passed, counts
+
+
+def main(argv: list[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(description="Behaviour cloning from recorded demonstrations.")
+    commands = parser.add_subparsers(dest="command", required=True)
+    fit = commands.add_parser("train", help="Fit an MLP policy to a dataset's demonstrations.")
+    fit.add_argument("--dataset_file", required=True, help="HDF5 dataset of simlab's recorder.")
+    fit.add_argument("--out", required=True, help="Where the policy goes (a torch.save file).")
+    fit.add_argument("--obs_terms", nargs="+", default=list(OBS_TERMS), help="Policy observation terms to read.")
+    fit.add_argument("--hidden", type=int, nargs="+", default=[256, 256, 256], help="Hidden layer widths.")
+    fit.add_argument("--epochs", type=int, default=100)
+    fit.add_argument("--batch_size", type=int, default=256)
+    fit.add_argument("--lr", type=float, default=1e-3)
+    fit.add_argument("--seed", type=int, default=0)
+    judge = commands.add_parser("play", help="Judge a policy by its task's registered criterion.")
+    judge.add_argument("--checkpoint", required=True, help="A policy `train` wrote.")
+    judge.add_argument("--task", default=None, help="Gymnasium id (default: the task the demonstrations are of).")
+    judge.add_argument("--num_envs", type=int, default=32)
+    judge.add_argument("--seed", type=int, default=42, help="Seed of the play (make_pretrained's default).")
+    judge.add_argument("--seconds", type=float, default=5.0, help="Play at least this long (or the criterion's).")
+    args = parser.parse_args(argv)
+
+    if args.command == "train":
+        obs, actions, task = load_demos(args.dataset_file, args.obs_terms)
+        start = time.perf_counter()
+        policy, losses = train(
+            obs, actions, args.obs_terms, args.hidden, args.epochs, args.batch_size, args.lr, args.seed
+        )
+        save(policy, args.out, task)
+        print(
+            f"[simlab] BC on {len(obs)} steps of {task}: loss {losses[0]:.4g} -> {losses[-1]:.4g} in {args.epochs}"
+            f" epochs ({time.perf_counter() - start:.1f} s); saved {args.out}"
+        )
+        return
+    policy, trained_on = load(args.checkpoint)
+    task = args.task or trained_on
+    if task is None:
+        parser.error(f"{args.checkpoint} names no task: give --task")
+    score, passed, counts = play(task, policy, args.num_envs, args.seed, args.seconds)
+    print(f"[simlab] {task}: score {score:.3f} ({counts}); the criterion {'passes' if passed else 'fails'}")
+
+
+if __name__ == "__main__":
+    main()
