@@ -149,3 +149,25 @@ def test_isaac_labs_ur10_reach_config_runs_after_the_import_mapping():
         env.close()
     finally:
         sys.modules.pop("isaaclab_reach_ur10_joint_pos_env_cfg", None)
+
+
+def test_the_registered_agent_normalizes_observations_and_random_actions_miss_the_criterion():
+    """The task registers Isaac Lab's agent with normalized observations and [256, 128, 64] networks,
+    as the Franka reach tasks that learned; the criterion can fail: random actions score far above 1."""
+    from simlab.tasks.utils.parse_cfg import load_cfg_from_registry
+
+    agent = load_cfg_from_registry("simlab/Reach-UR10-v0", "rsl_rl_cfg_entry_point")
+    assert agent.actor.obs_normalization and agent.critic.obs_normalization
+    assert agent.actor.hidden_dims == [256, 128, 64] and agent.algorithm.entropy_coef == 0.01  # UR10's own
+    criterion = criterion_for("simlab/Reach-UR10-v0")
+    env = make_env(num_envs=16)
+    env.reset()
+    on_step, errors = criterion.make_hook()
+    torch.manual_seed(0)
+    for _ in range(int(criterion.play_seconds(0.0) / env.step_dt)):
+        actions = torch.randn(env.num_envs, 6)
+        obs, *_ = env.step(actions)
+        on_step(env, obs, actions)
+    score, passed = criterion.judge({}, errors)
+    assert not passed and score > 10.0
+    env.close()

@@ -1,4 +1,4 @@
-"""rsl_rl PPO for the UR10 reach task (Isaac Lab's published hyperparameters)."""
+"""rsl_rl PPO for the UR10 reach task: Isaac Lab's published hyperparameters, and the registered variant."""
 
 from simlab.rl.rsl_rl import RslRlMLPModelCfg, RslRlOnPolicyRunnerCfg, RslRlPpoAlgorithmCfg
 from simlab.utils import configclass
@@ -31,3 +31,17 @@ class UR10ReachPPORunnerCfg(RslRlOnPolicyRunnerCfg):
         desired_kl=0.01,
         max_grad_norm=1.0,
     )
+
+
+@configclass
+class UR10ReachNormalizedPPORunnerCfg(UR10ReachPPORunnerCfg):
+    """Isaac Lab's UR10 reach agent with normalized observations and [256, 128, 64] networks, the
+    registered agent of ``simlab/Reach-UR10-v0``: the change that made the Franka reach tasks meet the
+    reach criterion (see ``FrankaReachNormalizedPPORunnerCfg``). The observations are the same (joint
+    states, the commanded pose in the root frame, last actions), and the commanded position, a few
+    tenths of a metre wide, is what an unnormalized policy barely followed there."""
+
+    def __post_init__(self):
+        for model in (self.actor, self.critic):
+            model.obs_normalization = True
+            model.hidden_dims = [256, 128, 64]
