@@ -9,6 +9,7 @@ import gymnasium as gym
 import torch
 
 from simlab.cli.session import check_flags, load_configs, make_env, resolve_seed
+from simlab.envs.utils.spaces import sample_space
 
 __all__ = ["run_random", "save_camera_frames"]
 
@@ -17,13 +18,13 @@ DEFAULT_SEED = 0  # as simlab record: a run without --seed repeats itself
 
 
 def _sample(space: gym.Space, n: int, device: str, zero: bool) -> torch.Tensor:
-    if zero:
-        return torch.zeros((n, gym.spaces.flatdim(space)), device=device)
+    if zero:  # zeros of the action's own shape: (n, 1) for a Discrete space, a dict for a Dict one
+        return sample_space(space, device, batch_size=n, fill_value=0)
     if isinstance(space, gym.spaces.Box):
         low = torch.as_tensor(space.low, device=device).clamp(min=-1.0)
         high = torch.as_tensor(space.high, device=device).clamp(max=1.0)
         return low + (high - low) * torch.rand((n, *space.shape), device=device)
-    return torch.as_tensor(space.sample(), device=device).repeat(n, 1)
+    return sample_space(space, device, batch_size=n)  # one draw per env
 
 
 def run_random(args: argparse.Namespace, zero: bool = False) -> int:

@@ -26,11 +26,10 @@ from .direct_rl_env import (
     DirectRLEnv,
     apply_deprecated_space_fields,
     build_simulation,
-    check_action,
     check_env_cfg,
 )
 from .utils.cuda_graph import EnvStepper
-from .utils.spaces import sample_space, spec_to_gym_space
+from .utils.spaces import check_action, sample_space, spec_to_gym_space
 
 
 class DirectMARLEnv(DebugVisHooks, SimulatedEnv, gym.Env):
@@ -66,7 +65,7 @@ class DirectMARLEnv(DebugVisHooks, SimulatedEnv, gym.Env):
         if self.event_manager is not None and "startup" in self.event_manager.available_modes:
             self.event_manager.apply(mode="startup")
         self.metadata["render_fps"] = 1.0 / self.step_dt
-        self._stepper = EnvStepper(self, self._step_body)
+        self._stepper = EnvStepper(self, self._step_body, action_space=gym.spaces.Dict(self.action_spaces))
 
     def __del__(self):
         if getattr(self, "_is_closed", True) is False:

@@ -44,7 +44,7 @@ from simlab.utils.errors import ConfigError
 from .common import SimulatedEnv
 from .direct_rl_env_cfg import DirectRLEnvCfg
 from .utils.cuda_graph import EnvStepper
-from .utils.spaces import sample_space, spec_to_gym_space
+from .utils.spaces import check_action, sample_space, spec_to_gym_space
 from .utils.viewer import camera_pose, close_renderer, render_frame, show_in_viewer  # noqa: F401 - camera_pose re-exported
 
 logger = logging.getLogger(__name__)
@@ -91,7 +91,7 @@ class DirectRLEnv(DebugVisHooks, SimulatedEnv, gym.Env):
         if self.event_manager is not None and "startup" in self.event_manager.available_modes:
             self.event_manager.apply(mode="startup")
         self.metadata["render_fps"] = 1.0 / self.step_dt
-        self._stepper = EnvStepper(self, self._step_body)
+        self._stepper = EnvStepper(self, self._step_body, action_space=self.single_action_space)
 
     def __del__(self):
         if getattr(self, "_is_closed", True) is False:
@@ -322,23 +322,6 @@ def check_env_cfg(cfg) -> None:
         raise ValueError(f"{type(cfg).__name__}.decimation must be an int >= 1, got {cfg.decimation!r}")
     if not cfg.episode_length_s > 0:
         raise ValueError(f"{type(cfg).__name__}.episode_length_s must be positive, got {cfg.episode_length_s!r}")
-
-
-def check_action(action, space: gym.spaces.Space, num_envs: int, device: str) -> torch.Tensor:
-    """The action as a tensor on ``device`` (float32 for a Box space, detached from autograd),
-    after checking its shape. Finite values are checked by the stepper (``EnvStepper``)."""
-    if not isinstance(action, torch.Tensor):
-        action = torch.as_tensor(np.asarray(action))
-    action = action.detach().to(device)
-    if isinstance(space, gym.spaces.Box):
-        action = action.to(torch.float32)
-    if isinstance(space, (gym.spaces.Box, gym.spaces.MultiDiscrete)):
-        expected = (num_envs, *space.shape)
-        if tuple(action.shape) != expected:
-            raise ValueError(
-                f"Expected actions of shape {expected} (num_envs, *action shape), got {tuple(action.shape)}"
-            )
-    return action
 
 
 def make_event_manager(events_cfg, env):

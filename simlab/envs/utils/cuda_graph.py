@@ -26,10 +26,11 @@ A graph reads and writes fixed addresses, which leaves two things to handle here
   (:mod:`simlab.envs.utils.tensor_slots`; a rebinding that cannot be replayed keeps the step eager,
   naming the slot). docs/env_step.md states the contract.
 
-Finite checks: actions (and observations, where a diverged simulation shows first) are checked
-every step. Eagerly the check raises at once; graphed, flags accumulate on the device and are read
-every ``check_interval`` replays, since a read each step would stall the GPU. Returned tensors are
-fresh copies, so callers may keep them across steps.
+Value checks: actions (finite; a discrete action in its range, given ``action_space``) and
+observations (finite: a diverged simulation shows there first) are checked every step. Eagerly the
+check raises at once; graphed, flags accumulate on the device and are read every ``check_interval``
+replays, since a read each step would stall the GPU. Returned tensors are fresh copies, so callers
+may keep them across steps.
 """
 
 from __future__ import annotations
@@ -39,6 +40,7 @@ import traceback
 from collections.abc import Callable
 from typing import Any
 
+import gymnasium as gym
 import numpy as np
 import torch
 from torch.overrides import TorchFunctionMode
@@ -46,6 +48,7 @@ from torch.overrides import TorchFunctionMode
 from simlab.utils.cuda import gc_paused
 from simlab.utils.errors import SimlabError, describe
 
+from .spaces import ActionValueCheck
 from .tensor_slots import GraphContractError, TensorSlots
 
 
@@ -59,7 +62,14 @@ logger = logging.getLogger(__name__)
 class EnvStepper:
     """Runs ``env._step_body`` eagerly or as a replayed CUDA graph; see the module docstring."""
 
-    def __init__(self, env, body: Callable[[torch.Tensor], Any], warmup: int = 2, check_interval: int = 100):
+    def __init__(
+        self,
+        env,
+        body: Callable[[torch.Tensor], Any],
+        warmup: int = 2,
+        check_interval: int = 100,
+        action_space: gym.spaces.Space | None = None,
+    ):
         self.env = env
         self.body = body
         self.warmup = warmup
@@ -80,6 +90,7 @@ class EnvStepper:
         self._packed: PackedOutputs | None = None
         self.write_backs = 0  # tensors the step rebinds, copied back at each replay (see TensorSlots)
         self._check_actions = bool(getattr(env.cfg, "check_finite_actions", True))
+        self._action_values = ActionValueCheck(action_space, env.device)  # finite; discrete ones in range
         self._bad_action = torch.zeros((), dtype=torch.bool, device=env.device)
         self._bad_obs = torch.zeros((), dtype=torch.bool, device=env.device)
 
@@ -103,13 +114,13 @@ class EnvStepper:
             self.graph = None
         if self.eager_reason is not None:
             if self._check_actions:
-                check_finite_action(action)
+                self._action_values.raise_if_outside(action)
             outputs = self.body(action)
             check_finite_obs(_observations(outputs))
             self._check_divergence()
             return outputs
         if self._check_actions:
-            self._bad_action |= _any_nonfinite(action)
+            self._bad_action |= self._action_values.any_outside(action)
         if self.graph is None and self._calls > self.warmup:
             self._capture(action)
         if self.graph is not None:
@@ -133,9 +144,12 @@ class EnvStepper:
         buffer overflowed (reads a few flags back from the device)."""
         if bool(self._bad_action):
             self._bad_action.zero_()
+            what = (
+                "NaN or inf, or a discrete action out of range," if self._action_values.has_discrete else "NaN or inf"
+            )
             raise ValueError(
-                f"Actions contained NaN or inf in a step among the last {self.check_interval} (the GPU fast path "
-                "checks periodically); actions must be finite"
+                f"Actions contained {what} in a step among the last {self.check_interval} (the GPU fast path "
+                f"checks periodically); {self._action_values.allowed}"
             )
         if bool(self._bad_obs):
             self._bad_obs.zero_()
@@ -205,15 +219,6 @@ class EnvStepper:
             slots.restore()  # the failed body may have rebound slots to capture memory
             logger.warning("CUDA-graph capture of the env step failed; stepping eagerly. (%s)", self.eager_reason)
             print(f"[simlab] CUDA-graph capture of the env step failed, stepping eagerly: {self.eager_reason}")
-
-
-def check_finite_action(action: torch.Tensor | dict[str, torch.Tensor]) -> None:
-    """Raise naming the envs whose action has NaN or inf (reads the result: eager steps only)."""
-    for tensor in _tensors(action):
-        if tensor.is_floating_point() and not bool(torch.isfinite(tensor).all()):
-            bad = (~torch.isfinite(tensor)).reshape(tensor.shape[0], -1).any(dim=1).nonzero().flatten().tolist()
-            more = "..." if len(bad) > 10 else ""
-            raise ValueError(f"Actions contain NaN or inf (envs {bad[:10]}{more}); actions must be finite")
 
 
 def check_finite_obs(observations: Any) -> None:

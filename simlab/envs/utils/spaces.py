@@ -87,6 +87,139 @@ def sample_space(
     return torch.as_tensor(np.asarray(sampled), dtype=dtype, device=device).reshape(shape)
 
 
+# -- actions checked against the env's action space ------------------------------------------------
+
+
+def check_action(action: Any, space: gym.spaces.Space, num_envs: int, device: str | torch.device) -> Any:
+    """A batch of actions for ``space`` (one env's space) as detached torch tensors on ``device``.
+
+    Shapes are ``(num_envs, *space.shape)``; a Discrete action is ``(num_envs, 1)`` (as
+    :func:`sample_space` and skrl give it) or ``(num_envs,)`` (as ``env.action_space.sample()`` gives
+    it). Box actions become float32; Discrete and MultiDiscrete ones must be integers and become int64.
+    A Dict or Tuple space takes a dict or tuple of these. Values (finite, in range) are checked where
+    the step runs, without a host read on the graphed path: :class:`ActionValueCheck`.
+    """
+    return _check_action(action, space, num_envs, torch.device(device), "Actions")
+
+
+def _check_action(action: Any, space: gym.spaces.Space, num_envs: int, device: torch.device, name: str) -> Any:
+    if isinstance(space, gym.spaces.Dict):
+        if not isinstance(action, dict) or set(action) != set(space.spaces):
+            given = f"keys {list(action)}" if isinstance(action, dict) else f"a {type(action).__name__}"
+            raise ValueError(f"{name} for a Dict space must be a dict with the keys {list(space.spaces)}, got {given}")
+        return {k: _check_action(action[k], s, num_envs, device, f"{name}[{k!r}]") for k, s in space.spaces.items()}
+    if isinstance(space, gym.spaces.Tuple):
+        if not isinstance(action, (tuple, list)) or len(action) != len(space.spaces):
+            given = f"{len(action)} items" if isinstance(action, (tuple, list)) else f"a {type(action).__name__}"
+            raise ValueError(f"{name} for a Tuple space must be a tuple of {len(space.spaces)} actions, got {given}")
+        return tuple(
+            _check_action(a, s, num_envs, device, f"{name}[{i}]") for i, (a, s) in enumerate(zip(action, space))
+        )
+    if not isinstance(action, torch.Tensor):
+        try:
+            action = torch.as_tensor(np.asarray(action))
+        except (TypeError, ValueError, RuntimeError) as err:
+            raise ValueError(
+                f"{name} must be a tensor or array of numbers for {space}, got {type(action).__name__}"
+            ) from err
+    action = action.detach()
+    discrete = isinstance(space, gym.spaces.Discrete)
+    if discrete and tuple(action.shape) == (num_envs,):
+        action = action.reshape(num_envs, 1)  # env.action_space.sample() gives one int per env
+    expected = (num_envs, 1) if discrete else (num_envs, *space.shape)
+    if tuple(action.shape) != expected:
+        also = f" or {(num_envs,)}" if discrete else ""
+        raise ValueError(
+            f"{name} for {space} must have shape {expected}{also} (num_envs, *action shape), got {tuple(action.shape)}"
+        )
+    if isinstance(space, gym.spaces.Box):
+        return action.to(device=device, dtype=torch.float32)
+    if isinstance(space, (gym.spaces.Discrete, gym.spaces.MultiDiscrete)):
+        if action.is_floating_point() or action.is_complex() or action.dtype == torch.bool:
+            raise ValueError(f"{name} for {space} must hold integers ({_allowed(space)}), got {action.dtype}")
+        return action.to(device=device, dtype=torch.int64)
+    return action.to(device)
+
+
+class ActionValueCheck:
+    """Finds actions outside the action space by value: NaN or inf, or a Discrete / MultiDiscrete entry
+    out of its range (Box bounds are not checked: Isaac Lab's policies act unbounded and tasks clip).
+
+    :meth:`any_outside` is device ops only, so a graphed step can accumulate it and read it at its
+    periodic check; :meth:`raise_if_outside` reads it back (eager steps). With ``space=None`` only NaN
+    and inf are looked for, in every floating tensor of the action.
+    """
+
+    def __init__(self, space: gym.spaces.Space | None, device: str | torch.device):
+        self.space = space
+        # each discrete space's (lowest, highest) value: built once, no host-to-device copy per step
+        self._ranges: dict[int, tuple] = {}
+        for leaf in _leaf_spaces(space):
+            if isinstance(leaf, gym.spaces.Discrete):
+                self._ranges[id(leaf)] = (int(leaf.start), int(leaf.start + leaf.n - 1))
+            elif isinstance(leaf, gym.spaces.MultiDiscrete):
+                low, high = torch.as_tensor(leaf.start), torch.as_tensor(leaf.start + leaf.nvec - 1)
+                self._ranges[id(leaf)] = (low.to(device), high.to(device))
+        discrete = [leaf for leaf in _leaf_spaces(space) if id(leaf) in self._ranges]
+        self.allowed = "actions must be finite" + "".join(f"; {leaf}: {_allowed(leaf)}" for leaf in discrete)
+        self.has_discrete = bool(discrete)
+
+    def any_outside(self, action: Any) -> torch.Tensor:
+        """A 0-d bool tensor: whether any env's action lies outside the space (no host read)."""
+        flags = [bad.any() for _, _, tensor, bad in self._checked(action)]
+        if not flags:
+            return torch.zeros((), dtype=torch.bool)
+        return flags[0] if len(flags) == 1 else torch.stack(flags).any()
+
+    def raise_if_outside(self, action: Any) -> None:
+        """Raise naming the envs whose action lies outside the space (reads the result back)."""
+        if not bool(self.any_outside(action)):
+            return
+        for name, space, tensor, bad in self._checked(action):
+            envs = bad.reshape(tensor.shape[0], -1).any(dim=1).nonzero().flatten().tolist()
+            if envs:
+                where = f"envs {envs[:10]}{'...' if len(envs) > 10 else ''}"
+                if space is None or isinstance(space, gym.spaces.Box):
+                    raise ValueError(f"{name} contain NaN or inf ({where}); actions must be finite")
+                raise ValueError(f"{name} outside {space} ({where}); allowed: {_allowed(space)}")
+
+    def _checked(self, action: Any, space: gym.spaces.Space | None = None, name: str = "Actions", top: bool = True):
+        """(name, space, tensor, where it is outside the space) for each tensor of the action."""
+        space = self.space if top else space
+        if isinstance(action, dict):
+            for k, sub in action.items():
+                sub_space = space[k] if isinstance(space, gym.spaces.Dict) else None
+                yield from self._checked(sub, sub_space, f"{name}[{k!r}]", top=False)
+        elif isinstance(action, (tuple, list)):
+            for i, sub in enumerate(action):
+                sub_space = space[i] if isinstance(space, gym.spaces.Tuple) else None
+                yield from self._checked(sub, sub_space, f"{name}[{i}]", top=False)
+        elif isinstance(action, torch.Tensor):
+            if id(space) in self._ranges:
+                low, high = self._ranges[id(space)]
+                yield name, space, action, (action < low) | (action > high)
+            elif action.is_floating_point():
+                yield name, space, action, ~torch.isfinite(action)
+
+
+def _leaf_spaces(space: gym.spaces.Space | None) -> list[gym.spaces.Space]:
+    if isinstance(space, gym.spaces.Dict):
+        return [leaf for s in space.spaces.values() for leaf in _leaf_spaces(s)]
+    if isinstance(space, gym.spaces.Tuple):
+        return [leaf for s in space.spaces for leaf in _leaf_spaces(s)]
+    return [] if space is None else [space]
+
+
+def _allowed(space: gym.spaces.Space) -> str:
+    """The values a discrete space allows, in words."""
+    if isinstance(space, gym.spaces.Discrete):
+        return f"integers {space.start} to {space.start + space.n - 1}"
+    if isinstance(space, gym.spaces.MultiDiscrete):
+        starts = "" if not space.start.any() else f" + start {space.start.tolist()}"
+        return f"integers 0 to nvec - 1{starts} in each entry, nvec {space.nvec.tolist()}"
+    return "numbers"
+
+
 # -- JSON round trip (how Isaac Lab stores spaces in env.yaml) -------------------------------------
 
 
