@@ -210,3 +210,13 @@ def test_the_value_check_without_a_space_looks_for_nan_only():
     assert bool(check.any_outside({"a": torch.tensor([[0.0], [INF]])}))
     with pytest.raises(ValueError, match=r"Actions\['a'\] contain NaN or inf \(envs \[1\]\)"):
         check.raise_if_outside({"a": torch.tensor([[0.0], [INF]])})
+
+
+@pytest.mark.parametrize("kind", ["Discrete", "MultiDiscrete"])
+def test_simlab_zero_and_random_step_the_discrete_showcase(tmp_path, capsys, kind):
+    from simlab.cli.main import main
+
+    task = ["--task", f"simlab/Cartpole-Showcase-Box-{kind}-Direct-v0", "--num_envs", "2", "--headless"]
+    for command in ("zero", "random"):
+        assert main([command, *task, "--device", "cpu", "--steps", "3", "--log_root", str(tmp_path)]) == 0
+        assert "[simlab] 3 steps done" in capsys.readouterr().out
