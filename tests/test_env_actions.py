@@ -14,6 +14,7 @@ import gymnasium as gym
 import numpy as np
 import pytest
 import torch
+from conftest import cuda_available
 from test_graph_contract import _Sim, emulated_cuda_graph  # noqa: F401 (a fixture)
 
 import simlab.tasks  # noqa: F401 - registers the tasks
@@ -220,3 +221,23 @@ def test_simlab_zero_and_random_step_the_discrete_showcase(tmp_path, capsys, kin
     for command in ("zero", "random"):
         assert main([command, *task, "--device", "cpu", "--steps", "3", "--log_root", str(tmp_path)]) == 0
         assert "[simlab] 3 steps done" in capsys.readouterr().out
+
+
+@pytest.mark.gpu
+@pytest.mark.skipif(not cuda_available(), reason="needs a CUDA device and MuJoCo Warp")
+def test_the_graphed_discrete_showcase_steps_with_sampled_actions_and_reports_out_of_range_ones():
+    task = "simlab/Cartpole-Showcase-Box-Discrete-Direct-v0"
+    env = gym.make(task, cfg=parse_env_cfg(task, device="cuda:0", num_envs=256)).unwrapped
+    try:
+        env.reset(seed=0)
+        for _ in range(4):  # warm-up steps and the capture
+            env.step(env.action_space.sample())
+        assert env.step_is_graphed, env._stepper.eager_reason
+        env._stepper.check_interval = 2
+        bad = np.zeros(256, dtype=np.int64)
+        bad[7] = 3
+        with pytest.raises(ValueError, match=r"a discrete action out of range.*Discrete\(3\): integers 0 to 2"):
+            for _ in range(2):
+                env.step(bad)
+    finally:
+        env.close()
