@@ -166,7 +166,7 @@ class ActionValueCheck:
 
     def any_outside(self, action: Any) -> torch.Tensor:
         """A 0-d bool tensor: whether any env's action lies outside the space (no host read)."""
-        flags = [bad.any() for _, _, tensor, bad in self._checked(action)]
+        flags = [bad.any() for _, _, _, bad in self._checked(action, self.space, "Actions")]
         if not flags:
             return torch.zeros((), dtype=torch.bool)
         return flags[0] if len(flags) == 1 else torch.stack(flags).any()
@@ -175,7 +175,7 @@ class ActionValueCheck:
         """Raise naming the envs whose action lies outside the space (reads the result back)."""
         if not bool(self.any_outside(action)):
             return
-        for name, space, tensor, bad in self._checked(action):
+        for name, space, tensor, bad in self._checked(action, self.space, "Actions"):
             envs = bad.reshape(tensor.shape[0], -1).any(dim=1).nonzero().flatten().tolist()
             if envs:
                 where = f"envs {envs[:10]}{'...' if len(envs) > 10 else ''}"
@@ -183,17 +183,16 @@ class ActionValueCheck:
                     raise ValueError(f"{name} contain NaN or inf ({where}); actions must be finite")
                 raise ValueError(f"{name} outside {space} ({where}); allowed: {_allowed(space)}")
 
-    def _checked(self, action: Any, space: gym.spaces.Space | None = None, name: str = "Actions", top: bool = True):
+    def _checked(self, action: Any, space: gym.spaces.Space | None, name: str):
         """(name, space, tensor, where it is outside the space) for each tensor of the action."""
-        space = self.space if top else space
         if isinstance(action, dict):
             for k, sub in action.items():
                 sub_space = space[k] if isinstance(space, gym.spaces.Dict) else None
-                yield from self._checked(sub, sub_space, f"{name}[{k!r}]", top=False)
+                yield from self._checked(sub, sub_space, f"{name}[{k!r}]")
         elif isinstance(action, (tuple, list)):
             for i, sub in enumerate(action):
                 sub_space = space[i] if isinstance(space, gym.spaces.Tuple) else None
-                yield from self._checked(sub, sub_space, f"{name}[{i}]", top=False)
+                yield from self._checked(sub, sub_space, f"{name}[{i}]")
         elif isinstance(action, torch.Tensor):
             if id(space) in self._ranges:
                 low, high = self._ranges[id(space)]
