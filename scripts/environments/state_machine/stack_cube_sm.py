@@ -35,15 +35,16 @@ HAND_DOWN = (0.0, 1.0, 0.0, 0.0)
 # (name, most steps it lasts, gripper command: 1 open, -1 closed, a move's reach: it ends once the
 # fingertips are this close to its target [m], 0 for the gripper's states). The grasp starts 12 mm
 # from the cube's centre, the hand still going down while the fingers close: a wide region where a
-# cloned policy learns to close.
+# cloned policy learns to close. The gripper's states last while its fingers move (they close on a
+# cube in 2 steps), so no state repeats one the machine has already left.
 PHASES = (
     ("above_pick", 30, 1.0, 0.02),
     ("at_pick", 30, 1.0, 0.012),
-    ("grasp", 6, -1.0, 0.0),
+    ("grasp", 2, -1.0, 0.0),
     ("lift", 30, -1.0, 0.02),
     ("above_place", 40, -1.0, 0.015),
     ("lower", 30, -1.0, 0.01),
-    ("release", 4, 1.0, 0.0),
+    ("release", 3, 1.0, 0.0),
     ("retreat", 20, 1.0, 0.02),
 )
 PAIRS = (("cube_2", "cube_1"), ("cube_3", "cube_2"))
