@@ -28,11 +28,16 @@ OBS_TERMS = ("eef_pos", "eef_quat", "gripper_pos", "object")
 
 
 class BCPolicy(nn.Module):
-    """``mlp((obs - mean) / std)``: the observation terms, concatenated in ``terms`` order, to actions."""
+    """``mlp((obs - mean) / std)``: the observation terms, concatenated in ``terms`` order, to actions.
 
-    def __init__(self, terms: list[str], obs_dim: int, action_dim: int, hidden: list[int]):
+    With ``relative`` = k, the first k actions are offsets from the first k observation columns (an
+    IK-Abs target from the end effector's position, ``eef_pos`` first): going to a cube is then close
+    to its end-effector-to-cube vector, which the observations hold, and an error shrinks near it.
+    """
+
+    def __init__(self, terms: list[str], obs_dim: int, action_dim: int, hidden: list[int], relative: int = 0):
         super().__init__()
-        self.terms, self.hidden = list(terms), list(hidden)
+        self.terms, self.hidden, self.relative = list(terms), list(hidden), relative
         self.register_buffer("obs_mean", torch.zeros(obs_dim))
         self.register_buffer("obs_std", torch.ones(obs_dim))
         self.register_buffer("action_mean", torch.zeros(action_dim))
@@ -43,7 +48,8 @@ class BCPolicy(nn.Module):
         self.mlp = nn.Sequential(*layers, nn.Linear(hidden[-1] if hidden else obs_dim, action_dim))
 
     def forward(self, obs: torch.Tensor) -> torch.Tensor:
-        return self.normalized(obs) * self.action_std + self.action_mean
+        actions = self.normalized(obs) * self.action_std + self.action_mean
+        return torch.cat([actions[:, : self.relative] + obs[:, : self.relative], actions[:, self.relative :]], dim=-1)
 
     def normalized(self, obs: torch.Tensor) -> torch.Tensor:
         """The actions in units of the demonstrations' spread (what the loss compares)."""
@@ -91,12 +97,14 @@ def train(
     batch_size: int = 256,
     lr: float = 1e-3,
     seed: int = 0,
+    relative: int = 0,
 ) -> tuple[BCPolicy, list[float]]:
     """Fit a :class:`BCPolicy` by mean squared error of the normalized actions; returns it and the mean
     loss of each epoch."""
     generator = torch.Generator().manual_seed(seed)
     torch.manual_seed(seed)
-    policy = BCPolicy(terms, obs.shape[1], actions.shape[1], hidden)
+    policy = BCPolicy(terms, obs.shape[1], actions.shape[1], hidden, relative)
+    actions = torch.cat([actions[:, :relative] - obs[:, :relative], actions[:, relative:]], dim=-1)
     policy.obs_mean[:] = obs.mean(0)
     policy.obs_std[:] = obs.std(0).clamp(min=1e-2)  # a term that barely moves is not blown up
     # each action dimension weighs alike: centimetres of the hand's position as much as the gripper's sign
@@ -124,6 +132,7 @@ def save(policy: BCPolicy, path: str, task: str | None) -> None:
         {
             "state_dict": policy.state_dict(),
             "terms": policy.terms,
+            "relative": policy.relative,
             "hidden": policy.hidden,
             "sizes": sizes,
             "task": task,
@@ -135,7 +144,7 @@ def save(policy: BCPolicy, path: str, task: str | None) -> None:
 def load(path: str) -> tuple[BCPolicy, str | None]:
     """The policy in ``path`` and its task; weights only (a file from elsewhere runs no code)."""
     saved = torch.load(path, map_location="cpu", weights_only=True)
-    policy = BCPolicy(saved["terms"], *saved["sizes"], saved["hidden"])
+    policy = BCPolicy(saved["terms"], *saved["sizes"], saved["hidden"], saved["relative"])
     policy.load_state_dict(saved["state_dict"])
     return policy.eval(), saved["task"]
 
@@ -175,6 +184,9 @@ def main(argv: list[str] | None = None) -> None:
     fit.add_argument("--out", required=True, help="Where the policy goes (a torch.save file).")
     fit.add_argument("--obs_terms", nargs="+", default=list(OBS_TERMS), help="Policy observation terms to read.")
     fit.add_argument("--hidden", type=int, nargs="+", default=[256, 256, 256], help="Hidden layer widths.")
+    fit.add_argument(
+        "--relative", type=int, default=3, help="Leading actions predicted as offsets from the leading obs columns."
+    )
     fit.add_argument("--epochs", type=int, default=100)
     fit.add_argument("--batch_size", type=int, default=256)
     fit.add_argument("--lr", type=float, default=1e-3)
@@ -191,7 +203,7 @@ def main(argv: list[str] | None = None) -> None:
         obs, actions, task = load_demos(args.dataset_file, args.obs_terms)
         start = time.perf_counter()
         policy, losses = train(
-            obs, actions, args.obs_terms, args.hidden, args.epochs, args.batch_size, args.lr, args.seed
+            obs, actions, args.obs_terms, args.hidden, args.epochs, args.batch_size, args.lr, args.seed, args.relative
         )
         save(policy, args.out, task)
         print(
