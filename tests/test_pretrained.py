@@ -51,6 +51,16 @@ def test_a_task_without_a_pretrained_policy_says_what_is_shipped(tmp_path, capsy
     assert "Reach-Franka-v0 (rsl_rl)" in err
 
 
+def test_a_misspelled_task_with_pretrained_is_named_unknown(tmp_path, capsys):
+    from simlab.cli.main import main
+
+    argv = ["play", "--task", "simlab/Velocity-Flat-G2-v0", "--use_pretrained_checkpoint", "--device", "cpu"]
+    assert main([*argv, "--log_root", str(tmp_path / "logs")]) == 2
+    err = capsys.readouterr().err
+    assert "Unknown task 'simlab/Velocity-Flat-G2-v0'" in err and "simlab/Velocity-Flat-G1-v0" in err
+    assert "Train one with" not in err  # no advice to train a task that does not exist
+
+
 def test_a_play_variant_plays_the_policy_of_its_task(tmp_path):
     # Isaac Lab's play.py rule: Isaac-Reach-Franka-Play-v0 plays Isaac-Reach-Franka-v0's checkpoint
     argv = ["play", "--task", "simlab/Reach-Franka-Play-v0", "--use_pretrained_checkpoint", "--headless"]

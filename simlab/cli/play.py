@@ -121,6 +121,9 @@ def run_play(
     lib = get_library(args.library)
     if getattr(args, "use_pretrained_checkpoint", False):
         from simlab.pretrained import pretrained_env_overrides
+        from simlab.tasks.utils.parse_cfg import task_spec
+
+        task_spec(args.task)  # a misspelled id is named as such, not as a task without a shipped policy
 
         trained_with = pretrained_env_overrides(args.task, args.library)
         if trained_with:
