@@ -80,6 +80,8 @@ def test_unknown_task_names_closest():
     with pytest.raises(ValueError, match="Cartpole-v0") as e:
         load_cfg_from_registry("simlab/Cartpol-v0", "env_cfg_entry_point")
     assert "Closest" in str(e.value)
+    # the closest ids and `simlab list`, not every registered id (a line of thousands of characters)
+    assert "simlab list" in str(e.value) and "simlab/Velocity-Rough-Unitree-Go2-v0" not in str(e.value)
     with pytest.raises(ValueError, match="simlab's is 'simlab/Velocity-Flat-Unitree-Go2-v0'"):
         load_cfg_from_registry("Isaac-Velocity-Flat-Unitree-Go2-v0", "env_cfg_entry_point")
 

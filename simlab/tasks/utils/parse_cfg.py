@@ -53,7 +53,11 @@ def task_spec(task_name: str) -> gym.envs.registration.EnvSpec:
         simlab_id = simlab_task_id(name)
         if simlab_id != name and simlab_id in ids:
             hint = f" That is Isaac Lab's id; simlab's is '{simlab_id}' (scripts/reinforcement_learning/ takes either)."
-        raise ConfigError(f"Unknown task '{task_name}'.{hint} Registered tasks: {ids} (see `simlab list`).")
+        # the closest ids and where to see the rest: all of them made a line of thousands of characters
+        raise ConfigError(
+            f"Unknown task '{task_name}'.{hint} {len(ids)} tasks are registered: "
+            "`simlab list` shows them, `simlab list WORD` those whose id contains WORD."
+        )
     return gym.spec(name)
 
 
