@@ -113,6 +113,14 @@ def test_a_clip_is_data_only(tmp_path):
     assert not target.exists()
 
 
+def test_a_missing_clip_or_a_csv_says_what_motion_file_takes(tmp_path):
+    with pytest.raises(ConfigError, match=r"g1_walkk: no such file.*shipped ones: .*g1_walk\.npz"):
+        MotionClip.load("g1_walkk")
+    write_csv(tmp_path / "walk.csv", walking_frames(50.0, 0.5))
+    with pytest.raises(ConfigError, match=r"walk\.csv: not an \.npz file; a retargeted CSV .*clip_from_csv"):
+        MotionClip.load(tmp_path / "walk.csv")  # np.load called it pickled data
+
+
 def test_missing_keys_and_bad_shapes(tmp_path):
     np.savez(tmp_path / "partial.npz", fps=np.array(50.0))
     with pytest.raises(ConfigError, match=r"missing \['body_ang_vel_w'"):

@@ -26,6 +26,7 @@ states by forward kinematics of the robot's MJCF model, and the velocities by ce
 
 from __future__ import annotations
 
+import zipfile
 from dataclasses import dataclass, fields
 from pathlib import Path
 
@@ -66,6 +67,16 @@ class MotionClip:
     @classmethod
     def load(cls, path: str | Path) -> MotionClip:
         """Read a clip, checking its keys, shapes and values; data only (no pickled objects)."""
+        if not Path(path).is_file():
+            raise ConfigError(
+                f"Motion clip {path}: no such file. Give the path of an .npz clip"
+                f" (the shipped ones: {', '.join(shipped_clips()) or 'none'})."
+            )
+        if not zipfile.is_zipfile(path):  # np.load would call a text file pickled data
+            raise ConfigError(
+                f"Motion clip {path}: not an .npz file; a retargeted CSV becomes one with"
+                f" {__name__}.clip_from_csv (docs/humanoids.md, 'From retargeted CSV')."
+            )
         try:
             with np.load(path, allow_pickle=False) as data:
                 arrays = {key: data[key] for key in data.files}
@@ -97,6 +108,11 @@ class MotionClip:
             raise ConfigError(
                 f"{where}: needs fps > 0 and at least 2 frames (fps {self.fps}, {self.num_frames} frames)."
             )
+
+
+def shipped_clips() -> list[str]:
+    """The clips shipped with the tracking tasks (``config/<robot>/motions/*.npz``), as paths."""
+    return sorted(str(p) for p in (Path(__file__).parent / "config").glob("*/motions/*.npz"))
 
 
 _STATE_SHAPES = {
