@@ -70,13 +70,30 @@ def test_errors_are_clear(tmp_path, capsys):
     assert "Cartpole-v0" in capsys.readouterr().err
     assert _run(tmp_path, "play", *SMALL, "--use_last_checkpoint") == 2
     err = capsys.readouterr().err
-    assert "No checkpoint" in err and "logs" in err
+    assert "No checkpoint" in err and "logs" in err and f"simlab train --task {TASK} --library rsl_rl" in err
     assert _run(tmp_path, "train", *SMALL, "--distributed") == 2
     assert "--distributed on the CPU needs --nproc_per_node" in capsys.readouterr().err
     assert _run(tmp_path, "train", *SMALL, "env.actions.joint_efort.scale=1") == 2
     assert "joint_effort" in capsys.readouterr().err
     with pytest.raises(SystemExit):
         _run(tmp_path, "train", *SMALL, "--no_such_flag")
+
+
+def test_a_library_the_task_has_no_agent_for_names_the_flags_it_has(tmp_path, capsys):
+    # the registry's entry-point keys mean nothing on the command line: the flags that work are named
+    argv = ["--task", "simlab/Shadow-Hand-Over-Direct-v0", "--num_envs", "2", "--headless", "--device", "cpu"]
+    assert _run(tmp_path, "train", *argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.endswith(
+        "has no agent config for --library rsl_rl; it has: --library rl_games, --library skrl,"
+        " --library skrl --algorithm IPPO, --library skrl --algorithm MAPPO."
+    )
+    assert _run(tmp_path, "train", *SMALL, "--library", "skrl", "--algorithm", "MAPPO") == 2
+    assert (
+        "it has: --library rl_games, --library rsl_rl, --agent rsl_rl_with_symmetry_cfg_entry_point,"
+        in capsys.readouterr().err
+    )
+    assert not os.path.exists(tmp_path / "logs")  # refused before a run folder is made
 
 
 def test_output_to_a_reader_that_went_away_ends_quietly():

@@ -122,10 +122,10 @@ def _first_readable(candidates: Iterator[str], where: str, trust: bool = False) 
     raise CheckpointNotFoundError(f"No checkpoint in {where}.")
 
 
-def find_last_checkpoint(log_root: str, library: str, experiment: str, trust: bool = False) -> str:
+def find_last_checkpoint(log_root: str, library: str, experiment: str, trust: bool = False, task: str = "...") -> str:
     """The newest readable checkpoint of the newest run of ``experiment`` that has one."""
     log_path = os.path.abspath(os.path.join(log_root, library, experiment))
-    hint = f"Train first (simlab train --task ... --library {library}) or pass --checkpoint PATH."
+    hint = f"Train first (simlab train --task {task} --library {library}) or pass --checkpoint PATH."
     if not os.path.isdir(log_path):
         raise CheckpointNotFoundError(
             f"No checkpoint of '{experiment}' trained with {library}: the folder '{log_path}' does not exist. {hint}"

@@ -33,7 +33,7 @@ def locate_checkpoint(args: argparse.Namespace, experiment: str) -> str:
     if args.checkpoint:
         return resolve_checkpoint(args.checkpoint, args.library, trust)
     if args.use_last_checkpoint:
-        return find_last_checkpoint(args.log_root, args.library, experiment, trust)
+        return find_last_checkpoint(args.log_root, args.library, experiment, trust, task=args.task)
     if getattr(args, "use_pretrained_checkpoint", False):
         from simlab.pretrained import unpack_pretrained_checkpoint
 

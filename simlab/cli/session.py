@@ -132,6 +132,28 @@ def _default_to_amp(args: argparse.Namespace) -> None:
         args.algorithm = "AMP"
 
 
+def _library_entry_point(args: argparse.Namespace, presets: list[str]) -> str:
+    """The agent entry point of ``--library`` / ``--algorithm``; a task without one is refused naming the
+    flags that the task has agents for (the registry's entry-point keys mean nothing on the command line)."""
+    from simlab.tasks.utils.parse_cfg import registry_kwargs
+
+    entry_point = agent_entry_point(args.library, args.algorithm)
+    kwargs = registry_kwargs(args.task, presets)
+    if entry_point in kwargs:
+        return entry_point
+    flags = []
+    for key in sorted(k for k in kwargs if k.endswith("_cfg_entry_point") and k != "env_cfg_entry_point"):
+        name = key.removesuffix("_cfg_entry_point")
+        if name in LIBRARIES:
+            flags.append(f"--library {name}")
+        elif name.startswith("skrl_") and name[5:].upper() in SKRL_ALGORITHMS:
+            flags.append(f"--library skrl --algorithm {name[5:].upper()}")
+        else:  # another config of a library (rsl_rl_with_symmetry)
+            flags.append(f"--agent {key}")
+    given = f"--library {args.library}" + (f" --algorithm {args.algorithm}" if args.algorithm else "")
+    raise ConfigError(f"{args.task} has no agent config for {given}; it has: {', '.join(flags) or 'none'}.")
+
+
 def load_configs(args: argparse.Namespace, overrides: list[str], with_agent: bool = True) -> tuple[Any, Any]:
     """The env and agent configs of ``args.task``: registry defaults, then overrides, then flags.
 
@@ -149,7 +171,7 @@ def load_configs(args: argparse.Namespace, overrides: list[str], with_agent: boo
     agent_cfg = None
     if with_agent:
         _default_to_amp(args)
-        entry_point = getattr(args, "agent", None) or agent_entry_point(args.library, args.algorithm)
+        entry_point = getattr(args, "agent", None) or _library_entry_point(args, registered)
         agent_cfg = load_cfg_from_registry(args.task, entry_point, registered)
     env_cfg, agent_cfg, overrides = select_presets(
         env_cfg, agent_cfg, in_config, getattr(args, "physics", None), overrides, table, args.task
