@@ -1,23 +1,28 @@
 """Behaviour cloning from recorded demonstrations: an MLP from policy observations to actions (simlab's
-stand-in for Isaac Lab's robomimic BC, which is not installed here), judged by the task's criterion.
+stand-in for Isaac Lab's robomimic BC, which simlab does not depend on), judged by the task's criterion.
 
 ``train`` reads an HDF5 dataset that simlab's recorder wrote (``simlab record``, or the stack state
 machine's ``--dataset_file``): per step the policy observation terms ``obs/<term>`` and the
-``actions``. It fits ``actions = mlp((obs - mean) / std)`` by mean squared error and saves the
-weights with the observation terms, their statistics and the task's name in one ``torch.save`` file
+``actions``. It fits ``actions = mlp((obs - mean) / std)`` (actions normalized alike, the leading ones
+as offsets from the end effector: :class:`BCPolicy`) by mean squared error and saves the weights
+with the observation terms, their statistics and the task's name in one ``torch.save`` file
 (tensors, strings and numbers only: ``torch.load(weights_only=True)`` reads it). ``play`` steps the
 task with that policy and judges the run as ``simlab bench solve`` and make_pretrained judge a
 checkpoint: the criterion the task registers, over a rollout of ``simlab play`` (seeded reset).
 
-    python scripts/environments/state_machine/stack_cube_sm.py --num_envs 20 --headless --device cpu \\
-        --dataset_file logs/demos/stack.hdf5 --num_demos 100
+    python scripts/environments/state_machine/stack_cube_sm.py --num_envs 50 --headless --device cpu \\
+        --seed 3 --noise 0.005 --dataset_file logs/demos/stack.hdf5 --num_demos 1000
     python scripts/imitation_learning/bc.py train --dataset_file logs/demos/stack.hdf5 --out logs/bc/stack.pt
     python scripts/imitation_learning/bc.py play --checkpoint logs/bc/stack.pt --num_envs 32
+
+(docs/manipulation.md gives what these measured.)
 """
 
 from __future__ import annotations
 
 import argparse
+import os
+import sys
 import time
 
 import torch
@@ -127,6 +132,7 @@ def train(
 
 
 def save(policy: BCPolicy, path: str, task: str | None) -> None:
+    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
     sizes = [policy.obs_mean.shape[0], policy.mlp[-1].out_features]
     torch.save(
         {
@@ -180,15 +186,15 @@ def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description="Behaviour cloning from recorded demonstrations.")
     commands = parser.add_subparsers(dest="command", required=True)
     fit = commands.add_parser("train", help="Fit an MLP policy to a dataset's demonstrations.")
-    fit.add_argument("--dataset_file", required=True, help="HDF5 dataset of simlab's recorder.")
+    fit.add_argument("--dataset_file", nargs="+", required=True, help="HDF5 datasets of simlab's recorder.")
     fit.add_argument("--out", required=True, help="Where the policy goes (a torch.save file).")
     fit.add_argument("--obs_terms", nargs="+", default=list(OBS_TERMS), help="Policy observation terms to read.")
     fit.add_argument("--hidden", type=int, nargs="+", default=[256, 256, 256], help="Hidden layer widths.")
     fit.add_argument(
         "--relative", type=int, default=3, help="Leading actions predicted as offsets from the leading obs columns."
     )
-    fit.add_argument("--epochs", type=int, default=100)
-    fit.add_argument("--batch_size", type=int, default=256)
+    fit.add_argument("--epochs", type=int, default=150)
+    fit.add_argument("--batch_size", type=int, default=512)
     fit.add_argument("--lr", type=float, default=1e-3)
     fit.add_argument("--seed", type=int, default=0)
     judge = commands.add_parser("play", help="Judge a policy by its task's registered criterion.")
@@ -200,7 +206,10 @@ def main(argv: list[str] | None = None) -> None:
     args = parser.parse_args(argv)
 
     if args.command == "train":
-        obs, actions, task = load_demos(args.dataset_file, args.obs_terms)
+        obs, actions, tasks = zip(*(load_demos(path, args.obs_terms) for path in args.dataset_file))
+        if len(set(tasks)) > 1:
+            parser.error(f"the datasets hold demonstrations of several tasks: {sorted(map(str, set(tasks)))}")
+        obs, actions, task = torch.cat(obs), torch.cat(actions), tasks[0]
         start = time.perf_counter()
         policy, losses = train(
             obs, actions, args.obs_terms, args.hidden, args.epochs, args.batch_size, args.lr, args.seed, args.relative
@@ -220,4 +229,12 @@ def main(argv: list[str] | None = None) -> None:
 
 
 if __name__ == "__main__":
-    main()
+    from simlab.utils.errors import is_intended_error
+
+    try:
+        main()
+    except Exception as error:  # bad input (a missing dataset, a term it lacks) in one line, as the CLI does
+        if not is_intended_error(error):
+            raise
+        print(f"bc.py: error: {error}", file=sys.stderr)
+        sys.exit(2)
