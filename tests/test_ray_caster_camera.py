@@ -270,6 +270,10 @@ def test_basic_writer_writes_each_annotator_as_replicator_lays_it_out(tmp_path):
         writer.attach(["/Render/RenderProduct"])
     with pytest.raises(ValueError, match="Replicator's layout"):
         writer.write({"distance_to_image_plane": depth})
+    for wrong in (depth, {"render_product": depth}, {"render_product": {"array": depth}}):
+        with pytest.raises(ValueError, match=r"annotator 'normals' must map render products to \{'data': array"):
+            writer.write({"annotators": {"rgb": {"render_product": {"data": rgb}}, "normals": wrong}})
+    assert not (out / "rgb_2_002.png").exists()  # nothing written from a refused write
     with pytest.raises(TypeError, match=r"unknown arguments \['outputdir'\]"):
         BasicWriter(output_dir=str(tmp_path), outputdir="x")
 

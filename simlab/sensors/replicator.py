@@ -99,6 +99,13 @@ class BasicWriter:
         sequence = "".join(f"{int(count)}_" for name, count in triggers.items() if "on_time" in name)
         frame = f"{sequence}{self._frame_id:0{self.frame_padding}d}"
         written: list[str] = []
+        for annotator, products in data["annotators"].items():  # all checked before any file is written
+            entries = products.values() if isinstance(products, dict) else [products]
+            if not all(isinstance(entry, dict) and "data" in entry for entry in entries):
+                raise ValueError(
+                    f"BasicWriter.write: annotator {annotator!r} must map render products to {{'data': array, **info}},"
+                    " e.g. {'render_product': {'data': array}}"
+                )
         for annotator, products in data["annotators"].items():
             for product, entry in products.items():
                 folder = os.path.join(self.output_dir, product) if len(products) > 1 else self.output_dir
