@@ -47,8 +47,14 @@ def test_a_task_without_a_pretrained_policy_says_what_is_shipped(tmp_path, capsy
     argv = ["play", "--task", task, "--library", "skrl", "--use_pretrained_checkpoint", "--device", "cpu"]
     assert main([*argv, "--log_root", str(tmp_path / "logs")]) == 2
     err = capsys.readouterr().err
-    assert f"No pretrained skrl policy for {task}" in err and "Shipped:" in err
-    assert "Reach-Franka-v0 (rsl_rl)" in err
+    assert err.strip().endswith(
+        f"No pretrained skrl policy for {task}. Shipped for it: rsl_rl (simlab play --library rsl_rl)."
+    )
+    task = "simlab/Reach-UR10-v0"  # none ships: every shipped policy is named
+    argv[argv.index("simlab/Reach-Franka-v0")] = task
+    assert main([*argv, "--log_root", str(tmp_path / "logs")]) == 2
+    err = capsys.readouterr().err
+    assert f"No pretrained skrl policy for {task}. Shipped: " in err and "simlab/Reach-Franka-v0 (rsl_rl)" in err
 
 
 def test_a_misspelled_task_with_pretrained_is_named_unknown(tmp_path, capsys):

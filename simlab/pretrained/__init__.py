@@ -51,6 +51,12 @@ def pretrained_run_dir(task: str, library: str) -> str:
     """The shipped run folder of ``task`` trained with ``library``; a clear error lists what is shipped."""
     folder = os.path.join(PRETRAINED_DIR, _task_folder(task), library)
     if not os.path.isdir(folder):
+        own = [lib for t, lib in list_pretrained() if t == f"simlab/{_task_folder(task)}"]
+        if own:  # the task ships one for another library: the flag to add, not every shipped policy
+            raise FileNotFoundError(
+                f"No pretrained {library} policy for {task}. Shipped for it: {', '.join(own)}"
+                f" (simlab play --library {own[0]})."
+            )
         shipped = ", ".join(f"{t} ({lib})" for t, lib in list_pretrained()) or "none"
         raise FileNotFoundError(
             f"No pretrained {library} policy for {task}. Shipped: {shipped}. "
