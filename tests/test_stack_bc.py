@@ -62,13 +62,15 @@ def test_the_state_machine_stacks_and_its_demonstrations_are_recorded_with_the_s
             assert 0 < first["grasp_1"] < first["stack_1"] < first["grasp_2"], first
 
 
-def test_a_recorded_demonstration_replays_bit_identically(demos):
-    """The env's first episode (a later one replays within about 1 cm, not bit-identically: the replay
-    starts it from a fresh env, the recording from the end of the episode before)."""
+def test_the_recorded_demonstrations_replay_bit_identically_in_order(demos, capsys):
+    """Both episodes, replayed one after the other as they were recorded in one env. (The second one
+    replayed alone, from a fresh env, deviates by about 1 cm: something of the env's history before
+    its reset, not in the recorded state, carries into the episode.)"""
     from simlab.cli.main import main
 
     argv = ["replay", "--task", TASK, "--device", "cpu", "--headless", "--dataset_file", str(demos[0])]
-    assert main([*argv, "--select_episodes", "0", "--validate_states"]) == 0
+    assert main([*argv, "--validate_states"]) == 0
+    assert capsys.readouterr().out.count("states bit-identical") == 2
 
 
 def test_behaviour_cloning_fits_the_demonstrations_and_saves_weights_only(scripts, demos, tmp_path):
