@@ -112,6 +112,9 @@ def test_list_random_zero(tmp_path, capsys):
     assert main(["list", "GO2"]) == 0  # the word alone, in any case
     out = capsys.readouterr().out
     assert "simlab/Velocity-Rough-Unitree-Go2-v0" in out and "Cartpole" not in out
+    assert main(["list", "gg1"]) == 1  # a typo: the close words, not every id
+    out = capsys.readouterr().out.strip()
+    assert out.startswith("No task id contains 'gg1'. Close words in the ids: ['g1'") and "Cartpole" not in out
     assert _run(tmp_path, "random", *SMALL, "--steps", "3") == 0
     assert (
         _run(
