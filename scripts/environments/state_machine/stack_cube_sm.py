@@ -167,19 +167,21 @@ def main() -> None:
 
     parser = argparse.ArgumentParser(description="Stack the cubes with a scripted state machine.")
     parser.add_argument("--num_envs", type=int, default=8, help="Number of environments to simulate.")
-    parser.add_argument("--steps", type=int, default=240, help="Env steps to run (0.05 s each).")
+    parser.add_argument(
+        "--steps", type=int, default=240, help="Env steps to run (0.05 s each); with --dataset_file: until --num_demos."
+    )
     parser.add_argument("--seed", type=int, default=0, help="Seed of the environment.")
     parser.add_argument(
         "--dataset_file",
         default=None,
         help="Record the episodes that end stacked into this HDF5 file (simlab's recorder).",
     )
-    parser.add_argument("--num_demos", type=int, default=10, help="With --dataset_file: stop after this many.")
+    parser.add_argument("--num_demos", type=int, default=10, help="With --dataset_file: stop once this many are in.")
     parser.add_argument("--noise", type=float, default=0.0, help="Std [m] of noise on the commanded hand position.")
     AppLauncher.add_app_launcher_args(parser)
     args = parser.parse_args()
-    if args.dataset_file is not None and os.path.exists(args.dataset_file):
-        parser.error(f"{args.dataset_file} exists: give another --dataset_file")
+    if args.dataset_file is not None and (os.path.exists(args.dataset_file) or not args.dataset_file.endswith(".hdf5")):
+        parser.error(f"--dataset_file must be a new .hdf5 file, got {args.dataset_file}")
     if args.num_demos < 1 or args.noise < 0:
         parser.error(f"--num_demos must be >= 1 and --noise >= 0, got {args.num_demos} and {args.noise}")
     AppLauncher(args)
