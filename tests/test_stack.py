@@ -256,6 +256,6 @@ def test_the_scripted_stacking_state_machine_passes_the_criterion():
         env.close()
     finally:
         sys.modules.pop("stack_sm", None)
-    assert counts["episodes"] >= 8  # every env finished an episode (a quick one starts another)
+    assert counts["episodes"] >= 8  # as many as the envs at least (a quick env starts another)
     assert criterion_for(script.TASK).judge({}, counts) == (1.0, True)
     assert first_true["grasp_1"] < first_true["stack_1"] < first_true["grasp_2"], first_true
