@@ -245,6 +245,22 @@ def test_an_unreadable_checkpoint_whose_error_has_no_message_is_still_one_line(t
         read_checkpoint(str(path))
 
 
+def test_an_exported_policy_given_as_checkpoint_is_named_as_such(tmp_path):
+    """play --checkpoint exported/policy.pt or .onnx: torch called it corrupt and advised weights_only=False."""
+    from simlab.cli.checkpoints import read_checkpoint
+
+    scripted = tmp_path / "policy.pt"
+    torch.jit.save(torch.jit.script(torch.nn.Linear(2, 1)), str(scripted))
+    (tmp_path / "policy.onnx").write_bytes(b"\x08\x07\x12\x07pytorch")
+    for path, kind in ((scripted, "TorchScript"), (tmp_path / "policy.onnx", "ONNX")):
+        with pytest.raises(CheckpointError, match=rf"is an exported {kind} policy .* not a training checkpoint") as e:
+            read_checkpoint(str(path))
+        assert "weights_only" not in str(e.value)
+    weights = tmp_path / "model_3.pt"
+    torch.save({"iter": 3, "model_state_dict": torch.nn.Linear(2, 1).state_dict()}, weights)
+    assert read_checkpoint(str(weights))["iter"] == 3  # a zip of weights is a checkpoint still
+
+
 def test_torn_newest_checkpoint_is_skipped_with_a_warning(tmp_path, capsys):
     run = _train(tmp_path, "agent.save_interval=1")
     newest, previous = os.path.join(run, "model_1.pt"), os.path.join(run, "model_0.pt")

@@ -64,6 +64,12 @@ def read_checkpoint(path: str, trust: bool = False) -> Any:
         if bad is not None or "policy.pth" not in names:
             raise CheckpointError(f"Checkpoint '{path}' is damaged or not a Stable-Baselines3 model.")
         return names
+    exported = _exported_format(path)
+    if exported:
+        raise CheckpointError(
+            f"Checkpoint '{path}' is an exported {exported} policy (what play writes to exported/), not a training"
+            " checkpoint; pass the run's checkpoint (model_<N>.pt, agent_<N>.pt, ...) or its run folder."
+        )
     try:
         return torch_load(path, map_location="cpu", trust=trust)
     except UntrustedFileError:
@@ -72,6 +78,17 @@ def read_checkpoint(path: str, trust: bool = False) -> Any:
         raise CheckpointError(  # corrupt bytes make pickle raise anything, a MemoryError with no message too
             f"Checkpoint '{path}' cannot be read ({describe(e)}): it is truncated, corrupt or not a torch checkpoint."
         ) from e
+
+
+def _exported_format(path: str) -> str | None:
+    """The format of a policy ``simlab play`` exported (ONNX, TorchScript), else None (torch.load's refusal of
+    them reads as a corrupt file and advises an unsafe load)."""
+    if path.endswith(".onnx"):
+        return "ONNX"
+    with contextlib.suppress(zipfile.BadZipFile, OSError), zipfile.ZipFile(path) as z:
+        if any("/code/__torch__/" in name for name in z.namelist()):  # TorchScript keeps its code
+            return "TorchScript"
+    return None
 
 
 def checkpoint_library(loaded: Any) -> str | None:
