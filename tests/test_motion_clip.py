@@ -94,6 +94,22 @@ def test_nan_and_text_are_named_by_row_and_column(tmp_path):
         clip_from_csv(tmp_path / "text.csv", G1_29DOF, input_fps=30.0)
 
 
+def test_frames_that_would_make_a_wrong_clip_are_refused(tmp_path):
+    frames = walking_frames(30.0, 0.5)
+    frames[2, 3:7] = 0.0  # gave NaN poses, reported as "body_pos_w is not finite"
+    write_csv(tmp_path / "zero.csv", frames)
+    with pytest.raises(ConfigError, match=r"frame 3: the root quaternion \(columns 4-7, x y z w\) is zero"):
+        clip_from_csv(tmp_path / "zero.csv", G1_29DOF, input_fps=30.0)
+    frames = walking_frames(30.0, 0.5)
+    frames[:, 7 + 3] = np.degrees(frames[:, 7 + 3])  # the knee in degrees made a clip
+    write_csv(tmp_path / "degrees.csv", frames)
+    with pytest.raises(ConfigError, match=r"frame 1, column 11 \(left_knee_joint\) is 17.18.* rad, far outside"):
+        clip_from_csv(tmp_path / "degrees.csv", G1_29DOF, input_fps=30.0)
+    (tmp_path / "semicolons.csv").write_text(";".join(["0.5"] * 36) + "\n")
+    with pytest.raises(ConfigError, match=r"column 1: '0.5;0.5;.{29}\.\.\.' is not a number \(columns are separated"):
+        clip_from_csv(tmp_path / "semicolons.csv", G1_29DOF, input_fps=30.0)
+
+
 class _Payload:
     def __init__(self, path):
         self.path = path

@@ -141,8 +141,11 @@ def read_retargeted_csv(path: str | Path, joint_names: list[str]) -> np.ndarray:
             try:
                 value = float(cell)
             except ValueError:
+                text = cell.strip()
+                hint = " (columns are separated by commas)" if any(sep in text for sep in ";\t ") else ""
+                text = text if len(text) <= 40 else text[:37] + "..."
                 raise ConfigError(
-                    f"{path}: row {number}, column {column + 1}: {cell.strip()!r} is not a number."
+                    f"{path}: row {number}, column {column + 1}: {text!r} is not a number{hint}."
                 ) from None
             if not np.isfinite(value):
                 name = _column_name(column, joint_names)
@@ -195,6 +198,7 @@ def clip_from_csv(
     frames = read_retargeted_csv(csv_path, joints)
     if len(frames) < 2:
         raise ConfigError(f"{csv_path}: needs at least 2 frames, has {len(frames)}.")
+    _check_frames(frames, model, joints, str(csv_path))
     root_pos, root_quat, joint_pos = _resample(frames, input_fps, output_fps)
 
     data = mujoco.MjData(model)
@@ -221,6 +225,30 @@ def clip_from_csv(
     )
     clip.check(str(csv_path))
     return clip
+
+
+ANGLE_SLACK = 1.0  # rad beyond a joint's range that a retarget may overshoot; more is another unit (degrees)
+
+
+def _check_frames(frames: np.ndarray, model: mujoco.MjModel, joints: list[str], where: str) -> None:
+    """Refuse what would turn into a wrong clip without an error: a zero root quaternion (NaN poses) and
+    joint angles far outside the joint's range (a CSV in degrees)."""
+    zero = np.flatnonzero(np.linalg.norm(frames[:, 3:ROOT_COLUMNS], axis=1) < 1e-9)
+    if len(zero):
+        raise ConfigError(f"{where}: frame {zero[0] + 1}: the root quaternion (columns 4-7, x y z w) is zero.")
+    for column, name in enumerate(joints):
+        joint = model.joint(name)
+        if not model.jnt_limited[joint.id]:
+            continue
+        low, high = model.jnt_range[joint.id]
+        angles = frames[:, ROOT_COLUMNS + column]
+        far = np.flatnonzero((angles < low - ANGLE_SLACK) | (angles > high + ANGLE_SLACK))
+        if len(far):
+            raise ConfigError(
+                f"{where}: frame {far[0] + 1}, column {ROOT_COLUMNS + column + 1} ({name}) is"
+                f" {angles[far[0]]:g} rad, far outside the joint's range [{low:.3g}, {high:.3g}] rad"
+                " (angles are radians)."
+            )
 
 
 def _resample(frames: np.ndarray, input_fps: float, output_fps: float) -> tuple[np.ndarray, ...]:
