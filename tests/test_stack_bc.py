@@ -77,8 +77,8 @@ def test_behaviour_cloning_fits_the_demonstrations_and_saves_weights_only(script
     _, bc = scripts
     obs, actions, task = bc.load_demos(str(demos[0]), list(bc.OBS_TERMS))
     assert task == TASK and obs.shape == (len(actions), 3 + 4 + 2 + 39) and actions.shape[1] == 8
-    policy, losses = bc.train(obs, actions, list(bc.OBS_TERMS), [64, 64], epochs=15, batch_size=64)
-    assert losses[-1] < 0.5 * losses[0], losses
+    policy, losses = bc.train(obs, actions, list(bc.OBS_TERMS), [64, 64], epochs=40, batch_size=64, relative=3)
+    assert losses[-1] < 0.6 * losses[0], losses  # measured: 0.72 -> 0.32
     bc.save(policy, str(tmp_path / "policy.pt"), task)
     loaded, saved_task = bc.load(str(tmp_path / "policy.pt"))
     assert saved_task == TASK

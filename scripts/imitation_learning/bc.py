@@ -191,7 +191,10 @@ def main(argv: list[str] | None = None) -> None:
     fit.add_argument("--obs_terms", nargs="+", default=list(OBS_TERMS), help="Policy observation terms to read.")
     fit.add_argument("--hidden", type=int, nargs="+", default=[256, 256, 256], help="Hidden layer widths.")
     fit.add_argument(
-        "--relative", type=int, default=3, help="Leading actions predicted as offsets from the leading obs columns."
+        "--relative",
+        type=int,
+        default=3,
+        help="Leading actions predicted as offsets from the leading obs columns (3: the IK-Abs hand from eef_pos).",
     )
     fit.add_argument("--epochs", type=int, default=150)
     fit.add_argument("--batch_size", type=int, default=512)
