@@ -4,15 +4,22 @@ body states), with one-line errors that name the row."""
 from __future__ import annotations
 
 import math
+import os
+import subprocess
+import sys
 
 import numpy as np
 import pytest
+from conftest import load_script
 
 from simlab.robots.unitree import ASSETS_DIR
 from simlab.tasks.manager_based.tracking.motion_clip import MotionClip, clip_from_csv
 from simlab.utils.errors import ConfigError
 
 G1_29DOF = f"{ASSETS_DIR}/unitree_g1_29dof.xml"
+CSV_TO_NPZ = os.path.join(
+    os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "scripts", "tools", "csv_to_npz.py"
+)
 JOINTS = 29
 
 
@@ -147,3 +154,29 @@ def test_missing_keys_and_bad_shapes(tmp_path):
     clip.save(tmp_path / "bad.npz")
     with pytest.raises(ConfigError, match=r"body_pos_w has shape \(26, 5, 3\), expected \(26, 30, 3\)"):
         MotionClip.load(tmp_path / "bad.npz")
+
+
+def test_csv_to_npz_script_converts_and_keeps_what_the_user_had(tmp_path):
+    """mjlab's csv_to_npz.py flags: the clip the tracking env loads; bad input is one line, exit 2."""
+    script = load_script(CSV_TO_NPZ)
+    write_csv(tmp_path / "walk.csv", walking_frames(30.0, 1.0))
+    out = script.main(
+        ["--input-file", str(tmp_path / "walk.csv"), "--input-fps", "30", "--output-name", str(tmp_path / "walk")]
+    )
+    assert out == str(tmp_path / "walk.npz")
+    clip = MotionClip.load(out)
+    assert clip.fps == 50.0 and clip.num_frames == 51 and len(clip.joint_names) == JOINTS
+    before = (tmp_path / "walk.npz").read_bytes()
+    write_csv(tmp_path / "short.csv", walking_frames(30.0, 1.0)[:, :-6])
+    for argv, message in (
+        (["--input_file", str(tmp_path / "walk.csv"), "--output_name", out], "exists; pass --force"),
+        (["--input_file", str(tmp_path / "short.csv"), "--output_name", out, "--force"], "23 joint columns per row"),
+        (["--input_file", str(tmp_path / "nope.csv"), "--output_name", out], "no such file"),
+    ):
+        with pytest.raises(ConfigError, match=message):
+            script.main(argv)
+    assert (tmp_path / "walk.npz").read_bytes() == before  # no refusal touched the clip
+    argv = ["--input_file", str(tmp_path / "short.csv"), "--output_name", str(tmp_path / "short")]
+    done = subprocess.run([sys.executable, CSV_TO_NPZ, *argv], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 2 and done.stderr.startswith("csv_to_npz.py: error: ") and done.stderr.count("\n") == 1
+    assert not (tmp_path / "short.npz").exists()
