@@ -103,12 +103,14 @@ def train(
     lr: float = 1e-3,
     seed: int = 0,
     relative: int = 0,
+    device: str = "cpu",
 ) -> tuple[BCPolicy, list[float]]:
-    """Fit a :class:`BCPolicy` by mean squared error of the normalized actions; returns it and the mean
-    loss of each epoch."""
+    """Fit a :class:`BCPolicy` by mean squared error of the normalized actions on ``device``; returns it
+    (on the CPU) and the mean loss of each epoch."""
     generator = torch.Generator().manual_seed(seed)
     torch.manual_seed(seed)
-    policy = BCPolicy(terms, obs.shape[1], actions.shape[1], hidden, relative)
+    obs, actions = obs.to(device), actions.to(device)
+    policy = BCPolicy(terms, obs.shape[1], actions.shape[1], hidden, relative).to(device)
     actions = torch.cat([actions[:, :relative] - obs[:, :relative], actions[:, relative:]], dim=-1)
     policy.obs_mean[:] = obs.mean(0)
     policy.obs_std[:] = obs.std(0).clamp(min=1e-2)  # a term that barely moves is not blown up
@@ -119,16 +121,16 @@ def train(
     schedule = torch.optim.lr_scheduler.CosineAnnealingLR(optimizer, epochs)
     losses = []
     for _ in range(epochs):
-        order, total = torch.randperm(len(obs), generator=generator), 0.0
+        order, total = torch.randperm(len(obs), generator=generator).to(device), torch.zeros((), device=device)
         for batch in order.split(batch_size):
             loss = (policy.normalized(obs[batch]) - targets[batch]).square().mean()
             optimizer.zero_grad()
             loss.backward()
             optimizer.step()
-            total += loss.item() * len(batch)
+            total += loss.detach() * len(batch)  # summed on the device: no host read per batch
         schedule.step()
-        losses.append(total / len(obs))
-    return policy.eval(), losses
+        losses.append(float(total) / len(obs))
+    return policy.cpu().eval(), losses
 
 
 def save(policy: BCPolicy, path: str, task: str | None) -> None:
@@ -200,6 +202,7 @@ def main(argv: list[str] | None = None) -> None:
     fit.add_argument("--batch_size", type=int, default=512)
     fit.add_argument("--lr", type=float, default=1e-3)
     fit.add_argument("--seed", type=int, default=0)
+    fit.add_argument("--device", default="cpu", help="Where to train: cpu or cuda:N.")
     judge = commands.add_parser("play", help="Judge a policy by its task's registered criterion.")
     judge.add_argument("--checkpoint", required=True, help="A policy `train` wrote.")
     judge.add_argument("--task", default=None, help="Gymnasium id (default: the task the demonstrations are of).")
@@ -215,7 +218,16 @@ def main(argv: list[str] | None = None) -> None:
         obs, actions, task = torch.cat(obs), torch.cat(actions), tasks[0]
         start = time.perf_counter()
         policy, losses = train(
-            obs, actions, args.obs_terms, args.hidden, args.epochs, args.batch_size, args.lr, args.seed, args.relative
+            obs,
+            actions,
+            args.obs_terms,
+            args.hidden,
+            args.epochs,
+            args.batch_size,
+            args.lr,
+            args.seed,
+            args.relative,
+            args.device,
         )
         save(policy, args.out, task)
         print(
