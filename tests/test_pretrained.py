@@ -50,7 +50,7 @@ def test_a_task_without_a_pretrained_policy_says_what_is_shipped(tmp_path, capsy
     assert err.strip().endswith(
         f"No pretrained skrl policy for {task}. Shipped for it: rsl_rl (simlab play --library rsl_rl)."
     )
-    task = "simlab/Reach-UR10-v0"  # none ships: every shipped policy is named
+    task = "simlab/Stack-Cube-Franka-v0"  # none ships (it learns from demonstrations): every shipped policy is named
     argv[argv.index("simlab/Reach-Franka-v0")] = task
     assert main([*argv, "--log_root", str(tmp_path / "logs")]) == 2
     err = capsys.readouterr().err
