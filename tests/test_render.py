@@ -282,3 +282,27 @@ def test_a_velocity_tasks_video_follows_its_robot_over_generated_terrain():
     red, green, blue = frame[..., 0], frame[..., 1], frame[..., 2]
     robot = (red > green + 50) & (red > blue + 50)  # ANYmal's orange shell against grey terrain
     assert robot.mean() > 0.01, f"{robot.mean():.4f} of the frame shows the robot"
+
+
+def test_neighbour_envs_do_not_draw_the_ground_again():
+    """Every env's world holds the ground: a neighbour's copy, moved by its env offset, lay in the
+    reference's plane and z-fought with it (jagged dark patches across the G1/H1/hand videos)."""
+    import mujoco
+
+    from simlab.sim.renderer import EnvSceneBuilder
+
+    xml = """<mujoco><asset><material name="grid" rgba="0.2 0.3 0.4 1"/></asset><worldbody>
+      <geom name="ground" type="plane" size="50 50 0.1" material="grid"/>
+      <body name="box" pos="0 0 0.5"><freejoint/><geom type="box" size="0.1 0.1 0.1"/></body>
+    </worldbody></mujoco>"""
+    model = mujoco.MjModel.from_xml_string(xml)
+    data = mujoco.MjData(model)
+    mujoco.mj_forward(model, data)
+    states = {"qpos": np.stack([data.qpos, data.qpos]), "qvel": np.stack([data.qvel, data.qvel])}
+    scene = mujoco.MjvScene(model, maxgeom=100)
+    camera = mujoco.MjvCamera()
+    EnvSceneBuilder(model).build(scene, states, np.array([[0.0, 0.0, 0.0], [2.5, 0.0, 0.0]]), camera)
+    shown = [g for g in scene.geoms[: scene.ngeom] if g.rgba[3] > 0]
+    planes = [g for g in shown if g.type == mujoco.mjtGeom.mjGEOM_PLANE]
+    boxes = [g for g in shown if g.type == mujoco.mjtGeom.mjGEOM_BOX]
+    assert len(planes) == 1 and len(boxes) == 2  # one ground, both envs' boxes

@@ -4,7 +4,7 @@ Every env is its own MuJoCo world centred on zero; Isaac Lab's world places env 
 ``scene.env_origins[i]``. To show neighbouring envs side by side as Isaac Lab does, the scene is
 built in the frame of one *reference* env: its world is drawn as MuJoCo draws it
 (``mjv_updateScene``), and each other shown env's geoms are appended (``mjv_addGeoms``) and moved
-by that env's origin relative to the reference's. Infinite planes (the ground) are drawn once.
+by that env's origin relative to the reference's. Ground planes (infinite, or on the world body) are drawn once.
 
 The state of the shown envs only is copied from the backend's tensors (CPU or GPU) into one host
 ``MjData``, one env after another, and ``mj_forward`` places their bodies.
@@ -150,11 +150,14 @@ def _restyle(model: mujoco.MjModel, data: mujoco.MjData, geoms, looks: dict[str,
 
 
 def _without_infinite_planes(model: mujoco.MjModel, world_geoms: bool = False) -> mujoco.MjModel:
-    """A copy of ``model`` whose infinite planes (and, with ``world_geoms``, all static geoms of the
-    world body) are invisible (MuJoCo skips geoms with alpha 0)."""
+    """A copy of ``model`` whose ground planes (infinite ones, and the world body's: every env's world
+    holds the ground, and a copy moved by a neighbour's offset z-fights with the reference's) and, with
+    ``world_geoms``, all static geoms of the world body are invisible (MuJoCo skips geoms with alpha 0)."""
     hidden = copy.deepcopy(model)
-    infinite_plane = (hidden.geom_type == mujoco.mjtGeom.mjGEOM_PLANE) & (hidden.geom_size[:, :2].min(axis=1) <= 0)
-    hidden.geom_rgba[infinite_plane, 3] = 0.0
+    plane = hidden.geom_type == mujoco.mjtGeom.mjGEOM_PLANE
+    ground = plane & ((hidden.geom_size[:, :2].min(axis=1) <= 0) | (hidden.geom_bodyid == 0))
+    hidden.geom_rgba[ground, 3] = 0.0
+    hidden.geom_matid[ground] = -1  # a material's alpha would override the geom's
     if world_geoms:
         hidden.geom_rgba[hidden.geom_bodyid == 0, 3] = 0.0
         hidden.geom_matid[hidden.geom_bodyid == 0] = -1  # a material's alpha would override the geom's
