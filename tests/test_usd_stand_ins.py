@@ -154,7 +154,17 @@ def test_an_unknown_usd_path_is_one_line_listing_what_is_available():
     message = str(err.value)
     assert "\n" not in message
     assert "gen3.usd" in message and "MjcfFileCfg" in message and "go2.usd" in message
-    assert "dex_cube_instanceable.usd" in message
+    assert "dex_cube_instanceable.usd" in message and "Near it" not in message  # nothing near a Kinova
+    spawn = sim_utils.UsdFileCfg(usd_path=f"{ISAACLAB_NUCLEUS_DIR}/Robots/Unitree/G1/g1_29dof.usd")
+    with pytest.raises(ConfigError) as err:
+        _scene(robot=AssetBaseCfg(prim_path="/World/Robot", spawn=spawn))
+    near = (
+        "Near it, below ISAAC_NUCLEUS_DIR: IsaacLab/Robots/Unitree/G1/g1.usd, IsaacLab/Robots/Unitree/G1/g1_minimal.usd"
+    )
+    assert str(err.value).endswith(f"{near}.")  # the files of its folder, whole paths
+    spawn = sim_utils.UsdFileCfg(usd_path=f"{ISAAC_NUCLEUS_DIR}/Robots/Unitree/H1/h1.usd")
+    with pytest.raises(ConfigError, match=r"Near it, below ISAAC_NUCLEUS_DIR: IsaacLab/Robots/Unitree/H1/h1\.usd\.$"):
+        _scene(robot=AssetBaseCfg(prim_path="/World/Robot", spawn=spawn))  # the same file name elsewhere
 
 
 def test_docs_list_every_entry():

@@ -298,8 +298,15 @@ def stand_in(cfg: UsdFileCfg) -> SpawnerCfg | None:
 def unknown_usd_message(usd_path: str) -> str:
     """One line: the path is not one simlab stands in for, what to use, and what is available."""
     available = ", ".join(sorted({key.rsplit("/", 1)[-1] for key in USD_STAND_INS}))
+    # the whole paths of the stand-ins in the same folder or of the same file name: a file name alone is
+    # ambiguous (two g1.usd), and a file beside the one given is likely the one meant
+    folder, _, name = nucleus_key(usd_path).lower().rpartition("/")
+    near = [
+        key for key in USD_STAND_INS if key.lower().rpartition("/")[0] == folder or key.lower().endswith(f"/{name}")
+    ]
+    hint = f" Near it, below ISAAC_NUCLEUS_DIR: {', '.join(near)}." if near else ""
     return (
         f"'{usd_path}': simlab reads MJCF and URDF, not USD; use sim_utils.MjcfFileCfg(asset_path=...) or"
         f" sim_utils.UrdfFileCfg(asset_path=...), or a Nucleus path simlab stands in for (docs/porting.md):"
-        f" {available}."
+        f" {available}.{hint}"
     )
