@@ -188,6 +188,24 @@ def test_rl_games_minibatch_above_the_batch_trains_one_minibatch_and_says_so(cap
     assert _fitting_minibatch(64, 16, 8) == 64 and not capsys.readouterr().out  # a divisor stays, silently
 
 
+def test_rl_games_central_value_minibatch_fits_the_rollout_too(capsys):
+    """The OpenAI Shadow LSTM config's critic has its own minibatch_size (32768): with a few envs rl_games
+    divided by zero mini-batches (a ZeroDivisionError traceback); it becomes the rollout, said in one line."""
+    import argparse
+
+    from simlab.cli.libraries import rl_games
+    from simlab.tasks.utils import load_cfg_from_registry
+    from simlab.tasks.utils.parse_cfg import parse_env_cfg
+
+    task = "simlab/Repose-Cube-Shadow-OpenAI-LSTM-Direct-v0"
+    agent_cfg = load_cfg_from_registry(task, "rl_games_cfg_entry_point")
+    env_cfg = parse_env_cfg(task, device="cpu", num_envs=4)
+    rl_games.configure(agent_cfg, argparse.Namespace(seed=None, max_iterations=2), env_cfg)
+    config = agent_cfg["params"]["config"]
+    assert config["minibatch_size"] == config["central_value_config"]["minibatch_size"] == 4 * config["horizon_length"]
+    assert "central_value_config.minibatch_size=32768 is more than a rollout" in capsys.readouterr().out
+
+
 def test_exponent_numbers_in_overrides(tmp_path):
     from simlab.tasks.utils.hydra import parse_override
 

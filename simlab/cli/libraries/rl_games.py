@@ -57,12 +57,17 @@ def configure(agent_cfg: dict, args: argparse.Namespace, env_cfg: Any) -> None:
     config["num_actors"] = num_envs
     if hasattr(args, "max_iterations"):  # training: play makes no mini-batches
         config["minibatch_size"] = _fitting_minibatch(config["minibatch_size"], config["horizon_length"], num_envs)
+        central = config.get("central_value_config") or {}
+        if "minibatch_size" in central:  # the asymmetric critic's own mini-batches of the same rollout
+            central["minibatch_size"] = _fitting_minibatch(
+                central["minibatch_size"], config["horizon_length"], num_envs, "central_value_config.minibatch_size"
+            )
     if getattr(args, "distributed", False):
         config["multi_gpu"] = True  # rl_games starts the group, averages gradients, and adds the rank to the seed
     env_cfg.seed = params["seed"]
 
 
-def _fitting_minibatch(size: int, horizon: int, num_envs: int) -> int:
+def _fitting_minibatch(size: int, horizon: int, num_envs: int, key: str = "minibatch_size") -> int:
     """rl_games' ``minibatch_size`` for a batch of ``horizon`` steps of ``num_envs`` envs.
 
     rl_games (and so Isaac Lab's train.py) refuses a size that does not divide the batch. A size above
@@ -73,7 +78,7 @@ def _fitting_minibatch(size: int, horizon: int, num_envs: int) -> int:
     batch = horizon * num_envs
     if size > batch:
         print(
-            f"[simlab] agent.params.config.minibatch_size={size} is more than a rollout of {horizon} steps x"
+            f"[simlab] agent.params.config.{key}={size} is more than a rollout of {horizon} steps x"
             f" {num_envs} envs holds: training with one mini-batch of {batch}.",
             flush=True,
         )
@@ -82,7 +87,7 @@ def _fitting_minibatch(size: int, horizon: int, num_envs: int) -> int:
         below = next(d for d in range(size, 0, -1) if batch % d == 0)
         above = next(d for d in range(size, batch + 1) if batch % d == 0)
         raise ConfigError(
-            f"agent.params.config.minibatch_size={size} does not divide the batch of {horizon} steps x {num_envs}"
+            f"agent.params.config.{key}={size} does not divide the batch of {horizon} steps x {num_envs}"
             f" envs = {batch}, which rl_games requires; sizes that do: {below} or {above} (or change --num_envs)."
         )
     return size
