@@ -32,6 +32,25 @@ def test_mlp_with_normalizer(tmp_path):
     _check_agree(policy, tmp_path, 5, normalizer)
 
 
+class _CachesItsOutput(torch.nn.Module):
+    """As skrl's shared models: the last output kept on the module for the value head."""
+
+    def __init__(self):
+        super().__init__()
+        self.net = torch.nn.Linear(4, 2)
+        self._shared_output = None
+
+    def forward(self, obs):
+        self._shared_output = self.net(obs)
+        return self._shared_output
+
+
+def test_a_model_that_caches_its_output_exports_without_a_warning(tmp_path, recwarn):
+    torch.manual_seed(0)
+    _check_agree(_CachesItsOutput(), tmp_path, 4)  # the export computes the output all the same
+    assert not [w for w in recwarn if "assigned during export" in str(w.message)]
+
+
 def test_rsl_rl_model(tmp_path):
     from rsl_rl.models import MLPModel
     from tensordict import TensorDict

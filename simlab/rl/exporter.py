@@ -97,6 +97,9 @@ def export_policy_as_onnx(
     with sink, torch.no_grad(), warnings.catch_warnings(), atomic_path(file, suffix=".onnx") as tmp:
         if not verbose:
             warnings.simplefilter("ignore", FutureWarning)
+            # skrl's shared models keep their last output on self for the value call: the export keeps
+            # the computation, and torch's note on the attribute only worried users of every skrl play
+            warnings.filterwarnings("ignore", "The tensor attribute .* was assigned during export", UserWarning)
         torch.onnx.export(
             module,
             (torch.zeros(2, *_shape(obs_dim)),),
