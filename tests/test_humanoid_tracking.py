@@ -133,7 +133,7 @@ def test_a_clip_at_another_rate_is_refused(tmp_path):
     clip.save(tmp_path / "slow.npz")
     cfg = parse_env_cfg("simlab/Tracking-Flat-G1-v0", device="cpu", num_envs=N)
     cfg.commands.motion.motion_file = str(tmp_path / "slow.npz")
-    with pytest.raises(ValueError, match=r"runs at 30 fps but the env steps at 50 Hz"):
+    with pytest.raises(ValueError, match=r"runs at 30 fps but the env steps at 50 Hz.*csv_to_npz.py --output_fps 50,"):
         gym.make("simlab/Tracking-Flat-G1-v0", cfg=cfg)
 
 

@@ -75,7 +75,7 @@ class MotionClip:
         if not zipfile.is_zipfile(path):  # np.load would call a text file pickled data
             raise ConfigError(
                 f"Motion clip {path}: not an .npz file; a retargeted CSV becomes one with"
-                f" {__name__}.clip_from_csv (docs/humanoids.md, 'From retargeted CSV')."
+                " scripts/tools/csv_to_npz.py or clip_from_csv (docs/humanoids.md, 'From retargeted CSV')."
             )
         try:
             with np.load(path, allow_pickle=False) as data:

@@ -44,7 +44,8 @@ class MotionCommand(CommandTerm):
         if abs(clip.fps * env.step_dt - 1.0) > 1e-3:
             raise ConfigError(
                 f"{cfg.motion_file}: the clip runs at {clip.fps:g} fps but the env steps at {1 / env.step_dt:g} Hz;"
-                " convert it at the env's rate (clip_from_csv(..., output_fps=...))."
+                f" convert it at the env's rate (scripts/tools/csv_to_npz.py --output_fps {1 / env.step_dt:g},"
+                " or clip_from_csv(..., output_fps=...))."
             )
         missing = sorted(set(self.robot.joint_names) - set(clip.joint_names))
         if missing:
