@@ -246,8 +246,11 @@ def test_ray_caster_bad_input_is_named():
         build(mesh_prim_paths=["/World/terrain"])
     with pytest.raises(ValueError, match=r"moving bodies.*static geometry only"):
         build(mesh_prim_paths=["{ENV_REGEX_NS}/Obstacle"])
-    with pytest.raises(ValueError, match=r"matches no body of the model; bodies in the model: \['Robot/body'"):
+    with pytest.raises(ValueError, match=r"matches no body of the model; bodies in the model: \['Robot/body'") as e:
         build(prim_path="{ENV_REGEX_NS}/Robot/base")
+    assert "create_prim" not in str(e.value)
+    with pytest.raises(ValueError, match=r"or create its Xform groups first \(sim_utils.create_prim"):
+        build(prim_path="/World/Origin_.*/Scanner")  # Isaac Lab's tutorials' groups, not made yet
     with pytest.raises(ValueError, match=r"ray_alignment='up' is not one of"):
         build(ray_alignment="up")
 

@@ -129,9 +129,12 @@ def find_sensor_bodies(model: mujoco.MjModel, prim_path: str, owner: str) -> tup
     roots = {model.body(b).name for b in range(1, model.nbody) if model.body_parentid[b] == 0}
     ids = [i + 1 for i in match_body_names(names, roots, prim_path)]
     if not ids:
+        in_envs = any(prim_path.startswith(prefix) for prefix in _ENV_PREFIXES[:-1])
+        # a path outside the envs is a create_prim group (Isaac Lab's camera tutorials) not made yet
+        group = "" if in_envs else ", or create its Xform groups first (sim_utils.create_prim('<path>', 'Xform'))"
         raise ValueError(
             f"{owner} prim_path '{prim_path}' matches no body of the model; bodies in the model:"
             f" {names}. Write the path as '{{ENV_REGEX_NS}}/<asset>/<body regex>',"
-            " e.g. '{ENV_REGEX_NS}/Robot/base'."
+            f" e.g. '{{ENV_REGEX_NS}}/Robot/base'{group}."
         )
     return ids, [model.body(b).name for b in ids]
