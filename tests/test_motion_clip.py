@@ -97,8 +97,12 @@ def test_nan_and_text_are_named_by_row_and_column(tmp_path):
     with pytest.raises(ConfigError, match=r"row 5, column 11 \(left_knee_joint\) is nan"):
         clip_from_csv(tmp_path / "nan.csv", G1_29DOF, input_fps=30.0)
     (tmp_path / "text.csv").write_text(",".join(["0"] * 35 + ["knee"]))
-    with pytest.raises(ConfigError, match=r"row 1, column 36: 'knee' is not a number"):
+    with pytest.raises(ConfigError, match=r"row 1, column 36: 'knee' is not a number \(the layout has no header"):
         clip_from_csv(tmp_path / "text.csv", G1_29DOF, input_fps=30.0)
+    write_csv(tmp_path / "late.csv", walking_frames(30.0, 0.5))
+    (tmp_path / "late.csv").write_text((tmp_path / "late.csv").read_text() + ",".join(["0"] * 35 + ["knee"]))
+    with pytest.raises(ConfigError, match=r"row 17, column 36: 'knee' is not a number\.$"):
+        clip_from_csv(tmp_path / "late.csv", G1_29DOF, input_fps=30.0)  # a header only on the first row
 
 
 def test_frames_that_would_make_a_wrong_clip_are_refused(tmp_path):

@@ -143,6 +143,8 @@ def read_retargeted_csv(path: str | Path, joint_names: list[str]) -> np.ndarray:
             except ValueError:
                 text = cell.strip()
                 hint = " (columns are separated by commas)" if any(sep in text for sep in ";\t ") else ""
+                if number == 1 and not hint:
+                    hint = " (the layout has no header row: remove it)"
                 text = text if len(text) <= 40 else text[:37] + "..."
                 raise ConfigError(
                     f"{path}: row {number}, column {column + 1}: {text!r} is not a number{hint}."
