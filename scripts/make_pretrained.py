@@ -14,6 +14,8 @@
         env.motion_file=<clip>.npz          # an AMP humanoid: the task's skrl AMP agent
     python scripts/make_pretrained.py --tasks simlab/Velocity-Rough-Unitree-Go2-v0 --checkpoint model_700.pt \
         --trained_by "..."                  # a policy trained elsewhere
+    python scripts/make_pretrained.py --tasks simlab/Stack-Cube-Franka-IK-Abs-v0 --library bc \
+        --checkpoint logs/bc/stack.pt --trained_by "..."   # a policy cloned from demonstrations
 
 For each task, ``simlab train`` trains it in a child process (the task's registered agent config of
 ``--library``, rsl_rl by default; ``--num_envs``, ``--max_iterations``, ``--seed`` and the Hydra
@@ -47,7 +49,9 @@ script exits with 1 when a task was not shipped.
 ``--checkpoint PATH`` ships a policy trained elsewhere (one task; a checkpoint of the task's agent for
 ``--library``, e.g. an AMP humanoid's ``agent_<timestep>.pt`` with ``--library skrl``) without
 training: its run folder is written from the task's registered configs, and it is judged on
-the CPU only; ``--trained_by`` says in ``record.json`` how it was trained.
+the CPU only; ``--trained_by`` says in ``record.json`` how it was trained. A behaviour-cloned policy
+(``scripts/imitation_learning/bc.py train``; the task registers ``bc_cfg_entry_point``) ships this way
+with ``--library bc``.
 """
 
 from __future__ import annotations
@@ -115,6 +119,11 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
     args = parser.parse_args(argv)
     if not args.list and not args.tasks:
         parser.error("give --tasks ID [ID ...] (or --list to see the tasks)")
+    if args.library == "bc" and args.checkpoint is None and not args.list:
+        parser.error(
+            "--library bc ships a policy cloned from demonstrations: give the --checkpoint that"
+            " scripts/imitation_learning/bc.py train wrote"
+        )
     if args.checkpoint is not None:
         if len(args.tasks or []) != 1:
             parser.error("--checkpoint ships one policy: give exactly one task with --tasks")
@@ -480,12 +489,14 @@ def checkpoint_iteration(checkpoint: str, library: str, agent_cfg: dict) -> int:
     """The training iteration a checkpoint was saved after, counted from 0 as rsl_rl's ``model_<iter>.pt``
     (``record.json``'s ``iterations`` is this + 1): rsl_rl stores it; skrl names the timestep, and
     ``agent_<T>.pt`` is written after T steps, which held T // rollouts updates; SB3 stores its
-    timesteps (a rollout is n_steps of every env)."""
+    timesteps (a rollout is n_steps of every env); a BC policy its epochs."""
     from simlab.pretrained.weights import read_checkpoint
     from simlab.utils.trust import torch_load
 
     if library == "rsl_rl":
         return int(torch_load(checkpoint, map_location="cpu").get("iter", 0))
+    if library == "bc":  # the epochs of its fit (bc.py writes them)
+        return max(0, int(torch_load(checkpoint, map_location="cpu").get("epochs") or 1) - 1)
     if library == "sb3":
         data = read_checkpoint(checkpoint, library)["data"]
         return max(0, int(data["num_timesteps"]) // (int(data["n_steps"]) * int(data["n_envs"])) - 1)
@@ -518,7 +529,7 @@ def adopt_checkpoint(task: str, args: argparse.Namespace, log_root: str, argv: l
     # the task's registered configs as play loads them (skrl on an AMP-only task: its AMP agent)
     play_args = build_parser().parse_args(["play", "--task", task, "--library", args.library, "--device", "cpu"])
     env_cfg, agent_cfg = load_configs(play_args, env_overrides(args))
-    algorithm = agent_cfg["agent"]["class"] if args.library == "skrl" else "PPO"
+    algorithm = agent_cfg["agent"]["class"] if args.library == "skrl" else {"bc": "BC"}.get(args.library, "PPO")
     iteration = checkpoint_iteration(args.checkpoint, args.library, agent_cfg)
     # a run folder as simlab train writes it: the configs, run.yaml, the checkpoint in its library's place
     run_dir = os.path.join(log_root, "adopted", task.split("/")[-1])

@@ -86,6 +86,8 @@ def test_behaviour_cloning_fits_the_demonstrations_and_saves_weights_only(script
 
 
 def test_loading_a_policy_file_that_would_run_code_is_refused_and_runs_nothing(scripts, tmp_path):
+    from simlab.utils.errors import UntrustedFileError
+
     _, bc = scripts
     planted = tmp_path / "planted"
 
@@ -95,7 +97,7 @@ def test_loading_a_policy_file_that_would_run_code_is_refused_and_runs_nothing(s
 
     with open(tmp_path / "policy.pt", "wb") as file:
         pickle.dump({"state_dict": Payload()}, file, protocol=2)  # the protocol torch.save writes
-    with pytest.raises(pickle.UnpicklingError):
+    with pytest.raises(UntrustedFileError, match="holds more than weights"):
         bc.load(str(tmp_path / "policy.pt"))
     assert not planted.exists()
 

@@ -15,54 +15,23 @@ checkpoint: the criterion the task registers, over a rollout of ``simlab play`` 
     python scripts/imitation_learning/bc.py train --dataset_file logs/demos/stack.hdf5 --out logs/bc/stack.pt
     python scripts/imitation_learning/bc.py play --checkpoint logs/bc/stack.pt --num_envs 32
 
-(docs/manipulation.md gives what these measured.)
+The policy and its file are :mod:`simlab.rl.bc`'s: ``simlab play --library bc --checkpoint`` plays it
+too, and ``scripts/make_pretrained.py --library bc --checkpoint`` ships it (docs/manipulation.md gives
+what these measured).
 """
 
 from __future__ import annotations
 
 import argparse
-import os
 import sys
 import time
 
 import torch
-import torch.nn as nn
 
-OBS_TERMS = ("eef_pos", "eef_quat", "gripper_pos", "object")
+from simlab.rl.bc import BCAgentCfg, BCPolicy, load_bc_policy, save_bc_policy
+
+OBS_TERMS = tuple(BCAgentCfg().obs_terms)
 """The observation terms Isaac Lab's robomimic configs of the stack task feed BC."""
-
-
-class BCPolicy(nn.Module):
-    """``mlp((obs - mean) / std)``: the observation terms, concatenated in ``terms`` order, to actions.
-
-    With ``relative`` = k, the first k actions are offsets from the first k observation columns (an
-    IK-Abs target from the end effector's position, ``eef_pos`` first): going to a cube is then close
-    to its end-effector-to-cube vector, which the observations hold, and an error shrinks near it.
-    """
-
-    def __init__(self, terms: list[str], obs_dim: int, action_dim: int, hidden: list[int], relative: int = 0):
-        super().__init__()
-        self.terms, self.hidden, self.relative = list(terms), list(hidden), relative
-        self.register_buffer("obs_mean", torch.zeros(obs_dim))
-        self.register_buffer("obs_std", torch.ones(obs_dim))
-        self.register_buffer("action_mean", torch.zeros(action_dim))
-        self.register_buffer("action_std", torch.ones(action_dim))
-        layers: list[nn.Module] = []
-        for width_in, width_out in zip([obs_dim, *hidden], hidden):
-            layers += [nn.Linear(width_in, width_out), nn.ELU()]
-        self.mlp = nn.Sequential(*layers, nn.Linear(hidden[-1] if hidden else obs_dim, action_dim))
-
-    def forward(self, obs: torch.Tensor) -> torch.Tensor:
-        actions = self.normalized(obs) * self.action_std + self.action_mean
-        return torch.cat([actions[:, : self.relative] + obs[:, : self.relative], actions[:, self.relative :]], dim=-1)
-
-    def normalized(self, obs: torch.Tensor) -> torch.Tensor:
-        """The actions in units of the demonstrations' spread (what the loss compares)."""
-        return self.mlp((obs - self.obs_mean) / self.obs_std)
-
-    def act(self, policy_obs: dict[str, torch.Tensor]) -> torch.Tensor:
-        """Actions from the env's ``policy`` observation group (a dict of terms)."""
-        return self(torch.cat([policy_obs[t].reshape(policy_obs[t].shape[0], -1) for t in self.terms], dim=-1))
 
 
 def load_demos(path: str, terms: list[str]) -> tuple[torch.Tensor, torch.Tensor, str | None]:
@@ -133,28 +102,13 @@ def train(
     return policy.cpu().eval(), losses
 
 
-def save(policy: BCPolicy, path: str, task: str | None) -> None:
-    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
-    sizes = [policy.obs_mean.shape[0], policy.mlp[-1].out_features]
-    torch.save(
-        {
-            "state_dict": policy.state_dict(),
-            "terms": policy.terms,
-            "relative": policy.relative,
-            "hidden": policy.hidden,
-            "sizes": sizes,
-            "task": task,
-        },
-        path,
-    )
+def save(policy: BCPolicy, path: str, task: str | None, epochs: int | None = None) -> None:
+    save_bc_policy(policy, path, task, epochs)
 
 
 def load(path: str) -> tuple[BCPolicy, str | None]:
     """The policy in ``path`` and its task; weights only (a file from elsewhere runs no code)."""
-    saved = torch.load(path, map_location="cpu", weights_only=True)
-    policy = BCPolicy(saved["terms"], *saved["sizes"], saved["hidden"], saved["relative"])
-    policy.load_state_dict(saved["state_dict"])
-    return policy.eval(), saved["task"]
+    return load_bc_policy(path)
 
 
 def play(task: str, policy: BCPolicy, num_envs: int, seed: int, seconds: float) -> tuple[float, bool, dict]:
@@ -190,18 +144,19 @@ def main(argv: list[str] | None = None) -> None:
     fit = commands.add_parser("train", help="Fit an MLP policy to a dataset's demonstrations.")
     fit.add_argument("--dataset_file", nargs="+", required=True, help="HDF5 datasets of simlab's recorder.")
     fit.add_argument("--out", required=True, help="Where the policy goes (a torch.save file).")
+    recipe = BCAgentCfg()  # the defaults: the stack task's registered recipe (simlab.rl.bc)
     fit.add_argument("--obs_terms", nargs="+", default=list(OBS_TERMS), help="Policy observation terms to read.")
-    fit.add_argument("--hidden", type=int, nargs="+", default=[256, 256, 256], help="Hidden layer widths.")
+    fit.add_argument("--hidden", type=int, nargs="+", default=recipe.hidden, help="Hidden layer widths.")
     fit.add_argument(
         "--relative",
         type=int,
-        default=3,
+        default=recipe.relative,
         help="Leading actions predicted as offsets from the leading obs columns (3: the IK-Abs hand from eef_pos).",
     )
-    fit.add_argument("--epochs", type=int, default=150)
-    fit.add_argument("--batch_size", type=int, default=512)
-    fit.add_argument("--lr", type=float, default=1e-3)
-    fit.add_argument("--seed", type=int, default=0)
+    fit.add_argument("--epochs", type=int, default=recipe.epochs)
+    fit.add_argument("--batch_size", type=int, default=recipe.batch_size)
+    fit.add_argument("--lr", type=float, default=recipe.lr)
+    fit.add_argument("--seed", type=int, default=recipe.seed)
     fit.add_argument("--device", default="cpu", help="Where to train: cpu or cuda:N.")
     judge = commands.add_parser("play", help="Judge a policy by its task's registered criterion.")
     judge.add_argument("--checkpoint", required=True, help="A policy `train` wrote.")
@@ -229,7 +184,7 @@ def main(argv: list[str] | None = None) -> None:
             args.relative,
             args.device,
         )
-        save(policy, args.out, task)
+        save(policy, args.out, task, args.epochs)
         print(
             f"[simlab] BC on {len(obs)} steps of {task}: loss {losses[0]:.4g} -> {losses[-1]:.4g} in {args.epochs}"
             f" epochs ({time.perf_counter() - start:.1f} s); saved {args.out}"

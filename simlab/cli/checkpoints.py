@@ -101,6 +101,8 @@ def checkpoint_library(loaded: Any) -> str | None:
         return "rsl_rl"
     if "model" in loaded and "epoch" in loaded:
         return "rl_games"
+    if "state_dict" in loaded and "terms" in loaded:
+        return "bc"  # simlab.rl.bc.save_bc_policy
     if "policy" in loaded or all(isinstance(v, dict) and "policy" in v for v in loaded.values()):
         return "skrl"  # PPO: {"policy": ..., "value": ...}; IPPO / MAPPO: {agent: {"policy": ...}}
     return None

@@ -33,6 +33,7 @@ CHECKPOINT_LAYOUT: dict[str, tuple[list[str], str]] = {
     "skrl": (["checkpoints"], r"agent_\d+\.pt$"),
     "sb3": ([], r"model(_\d+_steps)?\.zip$"),
     "rl_games": (["nn"], r".*\.pth$"),
+    "bc": ([], r".*\.pt$"),  # scripts/imitation_learning/bc.py train --out <name>.pt
 }
 # what a run was trained on: task, library, observation and action sizes (checked by play and resume)
 RUN_INFO = os.path.join("params", "run.yaml")

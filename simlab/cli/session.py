@@ -31,7 +31,7 @@ __all__ = [
 ONE_VIDEO_INTERVAL = 10**12  # a --video_interval no run reaches: one video, from the first step (play)
 VIDEO_FPS = 30  # frames per simulated second of the recorded videos, at most
 
-LIBRARIES = ("rsl_rl", "skrl", "sb3", "rl_games")
+LIBRARIES = ("rsl_rl", "skrl", "sb3", "rl_games", "bc")  # bc: play a behaviour-cloned policy (simlab.rl.bc)
 SKRL_ALGORITHMS = ("PPO", "AMP", "IPPO", "MAPPO")
 
 

@@ -2,7 +2,8 @@
 
 A shipped policy is played, never trained on, so its file keeps only what the library's loader
 reads for play (rsl_rl's ``actor_state_dict``; skrl's ``policy`` and its observation normalizer;
-Stable-Baselines3's policy network, its settings and its VecNormalize statistics), with its weight
+Stable-Baselines3's policy network, its settings and its VecNormalize statistics; a behaviour-cloned
+policy's weights and the sizes that rebuild it, :mod:`simlab.rl.bc`), with its weight
 matrices stored smaller than float32, in one of two forms (``MATRICES``):
 
 - ``int8_rows``: int8 with one float32 scale per row (symmetric, the row's largest magnitude maps
@@ -18,7 +19,7 @@ tensors, dicts, numbers and strings, so ``torch.load(weights_only=True)`` reads 
 :func:`unpack_policy` turns it back into the library's own checkpoint (float32), which play writes
 into the user's log folder and loads as any checkpoint; exports (ONNX, TorchScript) are made there.
 :func:`read_checkpoint` and :func:`write_checkpoint` turn a library's checkpoint file into such a dict
-and back: a torch file for rsl_rl and skrl; for SB3 its ``.zip`` and the ``.npz`` statistics beside it.
+and back: a torch file for rsl_rl, skrl and bc; for SB3 its ``.zip`` and the ``.npz`` statistics beside it.
 
 SB3's zip keeps its settings as JSON, with its spaces, schedules and policy class pickled in it. The
 stored form keeps the JSON settings, the spaces' pickles (read back by simlab's restricted unpickler,
@@ -49,12 +50,15 @@ PLAY_KEYS = {
     "skrl": ("policy", "observation_preprocessor"),
     # SB3's policy (PPO.load needs its value head too) and the optimizer's settings (no moments)
     "sb3": ("policy", "policy.optimizer", "data", "vecnormalize", "version"),
+    # a behaviour-cloned policy (simlab.rl.bc): its weights and what rebuilds the network
+    "bc": ("state_dict", "terms", "relative", "hidden", "sizes", "task", "epochs"),
 }
 # items of SB3's data that the training rebuilds (the last observations, episode buffers): not kept
 _SB3_REBUILT = ("_last_obs", "_last_episode_starts", "_last_original_obs", "ep_info_buffer", "ep_success_buffer")
 _SB3_SPACES = ("observation_space", "action_space")
-# kept when the checkpoint has them: skrl writes its normalizer only when the agent config sets one
-OPTIONAL_KEYS = ("observation_preprocessor",)
+# kept when the checkpoint has them: skrl writes its normalizer only when the agent config sets one; a
+# BC file written before bc.py saved its epochs has none
+OPTIONAL_KEYS = ("observation_preprocessor", "epochs")
 # a packed matrix is {"__packed__": <one of MATRICES>, "values": ..., ("scale": per-row float32)}
 
 

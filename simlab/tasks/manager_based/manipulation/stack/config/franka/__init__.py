@@ -3,12 +3,17 @@ and ``Isaac-Stack-Cube-Instance-Randomize-Franka-v0`` and ``-IK-Rel-v0``, a rand
 
 Isaac Lab trains these from demonstrations (robomimic's BC-RNN), not with RL, so no RL agent is
 registered; the criterion judges any policy by the share of episodes that end with the three cubes
-stacked.
+stacked. The IK-Abs task registers simlab's behaviour cloning (``bc_cfg_entry_point``, where Isaac Lab
+registers ``robomimic_bc_cfg_entry_point``): its policy is shipped (``simlab play --library bc``).
 """
 
 import gymnasium as gym
 
+from . import agents
+
 _CRITERION = "simlab.tasks.manager_based.manipulation.stack.criterion:stacks_cubes"
+# cloned from IK-Abs demonstrations: its actions are IK-Abs targets
+_AGENTS = {"Stack-Cube-Franka-IK-Abs-v0": {"bc_cfg_entry_point": f"{agents.__name__}.bc_cfg:StackCubeBCCfg"}}
 
 for _id, _cfg in (
     ("Stack-Cube-Franka-v0", "stack_joint_pos_env_cfg:FrankaCubeStackEnvCfg"),
@@ -30,5 +35,6 @@ for _id, _cfg in (
         kwargs={
             "env_cfg_entry_point": f"{__name__}.{_cfg}",
             "success_criterion_entry_point": _CRITERION,
+            **_AGENTS.get(_id, {}),
         },
     )

@@ -1,0 +1,1 @@
+"""Agent configs for the Franka stack task: behaviour cloning from demonstrations."""
