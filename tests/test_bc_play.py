@@ -57,6 +57,14 @@ def test_a_bc_checkpoint_that_would_run_code_is_refused_and_runs_nothing(tmp_pat
     assert not planted.exists()
 
 
+def test_a_bc_policy_of_other_terms_is_refused_in_one_line(tmp_path, capsys):
+    for terms, size, said in ((["eef_pos", "nope"], 5, "which this env lacks"), (["eef_pos"], 4, "3 wide")):
+        save_bc_policy(BCPolicy(terms, size, 8, [4]), str(tmp_path / "other.pt"), TASK)
+        argv = ["play", "--task", TASK, "--library", "bc", "--checkpoint", str(tmp_path / "other.pt"), "--headless"]
+        assert main([*argv, "--device", "cpu", "--num_envs", "1", "--log_root", str(tmp_path)]) == 2
+        assert said in capsys.readouterr().err
+
+
 def test_train_with_bc_names_the_command_that_fits_a_policy(tmp_path, capsys):
     argv = ["train", "--task", TASK, "--library", "bc", "--headless", "--device", "cpu", "--log_root", str(tmp_path)]
     assert main(argv) == 2

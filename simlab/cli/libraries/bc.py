@@ -64,8 +64,15 @@ def load_policy(env: gym.Env, agent_cfg: BCAgentCfg, checkpoint: str, trust: boo
     missing = [t for t in policy.terms if t not in starts]
     if missing:
         raise CheckpointError(f"'{checkpoint}' reads the policy terms {missing}, which this env lacks; it has {names}.")
-    columns = [torch.arange(s, s + torch.Size(shape).numel()) for s, shape in (starts[t] for t in policy.terms)]
-    module = _TermColumns(policy, torch.cat(columns))
+    columns = torch.cat(
+        [torch.arange(s, s + torch.Size(shape).numel()) for s, shape in (starts[t] for t in policy.terms)]
+    )
+    if len(columns) != len(policy.obs_mean):
+        raise CheckpointError(
+            f"'{checkpoint}' reads {len(policy.obs_mean)} columns of the terms {policy.terms}; this env's are"
+            f" {len(columns)} wide (a policy of another task, or of other env overrides?)."
+        )
+    module = _TermColumns(policy, columns)
 
     def inputs(obs: dict) -> dict[str, torch.Tensor]:
         group = obs["policy"]
