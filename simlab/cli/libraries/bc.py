@@ -58,15 +58,14 @@ def load_policy(env: gym.Env, agent_cfg: BCAgentCfg, checkpoint: str, trust: boo
         )
     policy, _ = load_bc_policy(checkpoint, trust)
     names, shapes = manager.active_terms["policy"], manager.group_obs_term_dim["policy"]
-    starts, size = {}, 0
+    spans, size = {}, 0  # each term's first column and width in the concatenated group
     for name, shape in zip(names, shapes):
-        starts[name], size = (size, shape), size + int(torch.Size(shape).numel())
-    missing = [t for t in policy.terms if t not in starts]
+        width = int(torch.Size(shape).numel())
+        spans[name], size = (size, width), size + width
+    missing = [t for t in policy.terms if t not in spans]
     if missing:
         raise CheckpointError(f"'{checkpoint}' reads the policy terms {missing}, which this env lacks; it has {names}.")
-    columns = torch.cat(
-        [torch.arange(s, s + torch.Size(shape).numel()) for s, shape in (starts[t] for t in policy.terms)]
-    )
+    columns = torch.cat([torch.arange(start, start + width) for start, width in (spans[t] for t in policy.terms)])
     if len(columns) != len(policy.obs_mean):
         raise CheckpointError(
             f"'{checkpoint}' reads {len(policy.obs_mean)} columns of the terms {policy.terms}; this env's are"
