@@ -97,6 +97,8 @@ def test_make_pretrained_refuses_a_task_it_cannot_judge_or_train_before_training
         script.main(["--tasks", TASK, "--library", "skrl", "--eval_every", "5", "--out", str(tmp_path)])
     with pytest.raises(ValueError, match="Unknown task simlab/Nope-v0"):
         script.main(["--tasks", "simlab/Nope-v0", "--out", str(tmp_path)])
+    with pytest.raises(SystemExit):  # a bc policy is fitted to demonstrations: only --checkpoint ships one
+        script.main(["--tasks", "simlab/Stack-Cube-Franka-IK-Abs-v0", "--library", "bc", "--out", str(tmp_path)])
     assert not os.listdir(tmp_path)
 
 
