@@ -67,6 +67,18 @@ def test_a_misspelled_task_with_pretrained_is_named_unknown(tmp_path, capsys):
     assert "Train one with" not in err  # no advice to train a task that does not exist
 
 
+def test_play_on_the_cpu_takes_the_play_variants_env_count(tmp_path, capsys):
+    """The training task's 4096 envs made a 200-step CPU video take over 5 minutes (the G1's)."""
+    argv = ["play", "--task", "simlab/Reach-Franka-v0", "--use_pretrained_checkpoint", "--headless"]
+    argv += ["--device", "cpu", "--steps", "1", "--no_export", "--log_root", str(tmp_path / "logs")]
+    run_play(build_parser().parse_args(argv), [])
+    assert "Playing 50 envs on the CPU, as simlab/Reach-Franka-Play-v0 does (the task trains 4096)" in (
+        capsys.readouterr().out
+    )
+    run_play(build_parser().parse_args([*argv, "--num_envs", "3"]), [])  # a count given is kept
+    assert "envs on the CPU" not in capsys.readouterr().out
+
+
 def test_a_play_variant_plays_the_policy_of_its_task(tmp_path):
     # Isaac Lab's play.py rule: Isaac-Reach-Franka-Play-v0 plays Isaac-Reach-Franka-v0's checkpoint
     argv = ["play", "--task", "simlab/Reach-Franka-Play-v0", "--use_pretrained_checkpoint", "--headless"]
