@@ -279,6 +279,24 @@ def test_an_exported_policy_given_as_checkpoint_is_named_as_such(tmp_path):
     assert read_checkpoint(str(weights))["iter"] == 3  # a zip of weights is a checkpoint still
 
 
+def test_an_experiment_folder_given_as_checkpoint_names_its_newest_run(tmp_path):
+    """--checkpoint logs/rsl_rl/<experiment> (the folder of runs): 'No checkpoint in the run folder' before."""
+    from simlab.cli.checkpoints import resolve_checkpoint
+    from simlab.utils.errors import CheckpointNotFoundError
+
+    for run in ("2026-01-01_10-00-00", "2026-01-02_10-00-00", "2026-01-03_10-00-00"):
+        (tmp_path / "exp" / run).mkdir(parents=True)
+    for run in ("2026-01-01_10-00-00", "2026-01-02_10-00-00"):  # the newest run has none yet
+        torch.save({"iter": 1, "model_state_dict": {}}, tmp_path / "exp" / run / "model_1.pt")
+    newest = tmp_path / "exp" / "2026-01-02_10-00-00"
+    with pytest.raises(CheckpointNotFoundError, match=rf"holds run folders, not checkpoints.*'{newest}'"):
+        resolve_checkpoint(str(tmp_path / "exp"), "rsl_rl")
+    (tmp_path / "empty").mkdir()
+    with pytest.raises(CheckpointNotFoundError, match=r"No checkpoint in the run folder"):
+        resolve_checkpoint(str(tmp_path / "empty"), "rsl_rl")
+    assert resolve_checkpoint(str(newest), "rsl_rl") == str(newest / "model_1.pt")
+
+
 def test_torn_newest_checkpoint_is_skipped_with_a_warning(tmp_path, capsys):
     run = _train(tmp_path, "agent.save_interval=1")
     newest, previous = os.path.join(run, "model_1.pt"), os.path.join(run, "model_0.pt")

@@ -162,7 +162,18 @@ def resolve_checkpoint(path: str, library: str, trust: bool = False) -> str:
         read_checkpoint(path, trust)
         return os.path.abspath(path)
     if os.path.isdir(path):
-        return _first_readable(_candidates([os.path.abspath(path)], library), f"the run folder '{path}'", trust)
+        try:
+            return _first_readable(_candidates([os.path.abspath(path)], library), f"the run folder '{path}'", trust)
+        except CheckpointNotFoundError:
+            # an experiment's folder (Isaac Lab's logs/<library>/<experiment>) holds runs: name the newest
+            runs = sorted((e.path for e in os.scandir(path) if e.is_dir()), key=_natural_key, reverse=True)
+            newest = next((run for run in runs if next(_candidates([run], library), None)), None)
+            if newest is None:
+                raise
+            raise CheckpointNotFoundError(
+                f"'{path}' holds run folders, not checkpoints; pass one of them (the newest with a checkpoint:"
+                f" '{newest}')."
+            ) from None
     raise CheckpointNotFoundError(f"Checkpoint '{path}' does not exist (looked at '{os.path.abspath(path)}').")
 
 
