@@ -98,7 +98,7 @@ def test_keypoints_are_the_cubes_corners():
 
 def test_play_loads_the_newest_checkpoint_and_does_not_train(trained, tmp_path):
     _, _, _, log_dir = trained
-    with pytest.raises(ConfigError, match="holds no CNN checkpoint"):
+    with pytest.raises(ConfigError, match=r"holds no CNN checkpoint.*env\.feature_extractor\.log_dir=<folder>"):
         make(PLAY, tmp_path)
     env = make(PLAY, log_dir)
     saved = torch.load(next(log_dir.glob("*.pth")), weights_only=True)

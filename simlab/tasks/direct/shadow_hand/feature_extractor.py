@@ -84,8 +84,9 @@ class FeatureExtractor:
             checkpoints = glob.glob(os.path.join(self.log_dir, "*.pth"))
             if not checkpoints:
                 raise ConfigError(
-                    f"feature_extractor.load_checkpoint is set but {self.log_dir} holds no CNN checkpoint (*.pth);"
-                    " train the vision task first (it writes them there) or set feature_extractor.log_dir"
+                    f"feature_extractor.load_checkpoint is set but {os.path.abspath(self.log_dir)} holds no CNN"
+                    " checkpoint (*.pth; a relative log_dir is below the working folder); train the vision task"
+                    " first (it writes them there) or point to them: env.feature_extractor.log_dir=<folder>"
                 )
             newest = max(checkpoints, key=os.path.getctime)
             print(f"[INFO]: Loading feature extractor checkpoint from {newest}")
