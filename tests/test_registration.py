@@ -82,6 +82,7 @@ def test_unknown_task_names_closest():
     assert "Closest" in str(e.value)
     # the closest ids and `simlab list`, not every registered id (a line of thousands of characters)
     assert "simlab list" in str(e.value) and "simlab/Velocity-Rough-Unitree-Go2-v0" not in str(e.value)
+    assert str(e.value).endswith("the Isaac Lab tasks simlab lacks, and why, are in docs/task_families.md.")
     with pytest.raises(ValueError, match="simlab's is 'simlab/Velocity-Flat-Unitree-Go2-v0'"):
         load_cfg_from_registry("Isaac-Velocity-Flat-Unitree-Go2-v0", "env_cfg_entry_point")
 

@@ -56,7 +56,8 @@ def task_spec(task_name: str) -> gym.envs.registration.EnvSpec:
         # the closest ids and where to see the rest: all of them made a line of thousands of characters
         raise ConfigError(
             f"Unknown task '{task_name}'.{hint} {len(ids)} tasks are registered: "
-            "`simlab list` shows them, `simlab list WORD` those whose id contains WORD."
+            "`simlab list` shows them, `simlab list WORD` those whose id contains WORD; the Isaac Lab tasks"
+            " simlab lacks, and why, are in docs/task_families.md."
         )
     return gym.spec(name)
 
