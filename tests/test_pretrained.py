@@ -79,6 +79,22 @@ def test_play_on_the_cpu_takes_the_play_variants_env_count(tmp_path, capsys):
     assert "envs on the CPU" not in capsys.readouterr().out
 
 
+def test_play_on_the_cpu_of_many_envs_without_a_play_variant_says_so(capsys):
+    from types import SimpleNamespace
+
+    from simlab.cli.play import _play_variant_envs_on_cpu
+
+    env_cfg = SimpleNamespace(sim=SimpleNamespace(device="cpu"), scene=SimpleNamespace(num_envs=8192))
+    args = SimpleNamespace(task="simlab/Repose-Cube-Allegro-Direct-v0", num_envs=None)
+    _play_variant_envs_on_cpu(args, env_cfg, [])
+    assert "Playing the task's 8192 envs on the CPU, which takes a while; --num_envs 16" in capsys.readouterr().out
+    assert env_cfg.scene.num_envs == 8192  # said, not changed
+    _play_variant_envs_on_cpu(args, env_cfg, ["env.scene.num_envs=8192"])  # asked for: nothing said
+    env_cfg.sim.device = "cuda:0"
+    _play_variant_envs_on_cpu(args, env_cfg, [])
+    assert not capsys.readouterr().out
+
+
 def test_a_play_variant_plays_the_policy_of_its_task(tmp_path):
     # Isaac Lab's play.py rule: Isaac-Reach-Franka-Play-v0 plays Isaac-Reach-Franka-v0's checkpoint
     argv = ["play", "--task", "simlab/Reach-Franka-Play-v0", "--use_pretrained_checkpoint", "--headless"]

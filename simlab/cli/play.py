@@ -42,6 +42,9 @@ def locate_checkpoint(args: argparse.Namespace, experiment: str) -> str:
     raise ConfigError("play needs --checkpoint PATH, --use_last_checkpoint or --use_pretrained_checkpoint.")
 
 
+CPU_PLAY_ENVS_NOTED = 1024  # more envs than this played on the CPU without --num_envs get a line
+
+
 def _play_variant_envs_on_cpu(args: argparse.Namespace, env_cfg: Any, overrides: list[str]) -> None:
     """On the CPU, play a training task with its ``-Play`` variant's env count unless one is given: the
     training count (4096 G1s) took over 5 minutes for a 200-step video, the Play variant's 50 seconds."""
@@ -52,8 +55,15 @@ def _play_variant_envs_on_cpu(args: argparse.Namespace, env_cfg: Any, overrides:
     from simlab.tasks.utils import load_cfg_from_registry
 
     given = args.num_envs is not None or any(o.split("=", 1)[0].lstrip("+~") == "env.scene.num_envs" for o in overrides)
+    if given or env_cfg.sim.device != "cpu":
+        return
     variant = re.sub(r"(-v\d+)$", r"-Play\1", args.task)
-    if given or env_cfg.sim.device != "cpu" or variant == args.task or variant not in gym.registry:
+    if variant == args.task or variant not in gym.registry:
+        if env_cfg.scene.num_envs > CPU_PLAY_ENVS_NOTED:  # 8192 hands: about a second a step; say so
+            print(
+                f"[simlab] Playing the task's {env_cfg.scene.num_envs} envs on the CPU, which takes a while;"
+                " --num_envs 16 plays a few."
+            )
         return
     play_envs = load_cfg_from_registry(variant, "env_cfg_entry_point").scene.num_envs
     if play_envs < env_cfg.scene.num_envs:
