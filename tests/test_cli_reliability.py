@@ -297,6 +297,23 @@ def test_an_experiment_folder_given_as_checkpoint_names_its_newest_run(tmp_path)
     assert resolve_checkpoint(str(newest), "rsl_rl") == str(newest / "model_1.pt")
 
 
+def test_play_names_the_env_overrides_its_run_trained_with_and_it_lacks(tmp_path, capsys):
+    """A tracking policy trained on another clip fits the default clip in size: play used it silently."""
+    from simlab.cli.checkpoints import note_missing_env_overrides
+
+    run = tmp_path / "run"
+    (run / "params").mkdir(parents=True)
+    trained = ["env.commands.motion.motion_file=dance.npz", "env.rewards.x.weight=2"]
+    dump_yaml(str(run / "params" / "run.yaml"), {"task": "simlab/Tracking-Flat-G1-v0", "env_overrides": trained})
+    checkpoint = str(run / "model_1.pt")
+    assert note_missing_env_overrides(checkpoint, ["env.rewards.x.weight=3"]) == [trained[0]]
+    assert "trained with env.commands.motion.motion_file=dance.npz, which this command does not give" in (
+        capsys.readouterr().out
+    )
+    assert note_missing_env_overrides(checkpoint, [f"+{trained[0]}", "env.rewards.x.weight=2"]) == []
+    assert not capsys.readouterr().out
+
+
 def test_torn_newest_checkpoint_is_skipped_with_a_warning(tmp_path, capsys):
     run = _train(tmp_path, "agent.save_interval=1")
     newest, previous = os.path.join(run, "model_1.pt"), os.path.join(run, "model_0.pt")

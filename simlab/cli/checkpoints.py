@@ -35,6 +35,7 @@ __all__ = [
     "layer_mismatch",
     "env_sizes",
     "find_last_checkpoint",
+    "note_missing_env_overrides",
     "read_checkpoint",
     "resolve_checkpoint",
 ]
@@ -223,6 +224,24 @@ def check_checkpoint_sizes(checkpoint: str, sizes: dict[str, Any], force: bool =
     if problems and info.get("env_overrides"):
         problems.append(f"its run was trained with {shlex.join(info['env_overrides'])}: give this command the same")
     _refuse(checkpoint, problems, force)
+
+
+def _override_key(text: str) -> str:
+    return text.split("=", 1)[0].lstrip("+~")
+
+
+def note_missing_env_overrides(checkpoint: str, overrides: list[str]) -> list[str]:
+    """Print (and return) the env overrides the checkpoint's run was trained with that ``overrides`` does
+    not set: a tracking policy trained on another clip fits the default one in size, and played it silently."""
+    given = {_override_key(o) for o in overrides}
+    trained = (find_run_info(checkpoint) or {}).get("env_overrides", [])
+    missing = [o for o in trained if _override_key(o) not in given]
+    if missing:
+        print(
+            f"[simlab] Its run was trained with {shlex.join(missing)}, which this command does not give:"
+            " add it to play the env the policy learned in."
+        )
+    return missing
 
 
 def _refuse(checkpoint: str, problems: list[str], force: bool) -> None:

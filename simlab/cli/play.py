@@ -16,6 +16,7 @@ from simlab.cli.checkpoints import (
     checkpoint_load_errors,
     env_sizes,
     find_last_checkpoint,
+    note_missing_env_overrides,
     resolve_checkpoint,
 )
 from simlab.cli.libraries import get_library
@@ -167,6 +168,7 @@ def run_play(
     checkpoint = locate_checkpoint(args, lib.experiment_name(agent_cfg, args.task))
     force, trust = getattr(args, "force", False), getattr(args, "trust_checkpoint", False)
     check_checkpoint_source(checkpoint, args.library, args.task, force=force, trust=trust)
+    note_missing_env_overrides(checkpoint, overrides)
     run_dir = run_dir_of_checkpoint(checkpoint, args.library)
     args.video_interval = ONE_VIDEO_INTERVAL
     env = make_env(
