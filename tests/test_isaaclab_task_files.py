@@ -38,6 +38,7 @@ IMPORT_MAPPING = [
     (r"\bisaacsim\.core\.utils\.torch\b", "simlab.utils.torch_utils"),
     (r"\bisaacsim\.util\.debug_draw\._debug_draw\b", "simlab.markers.debug_draw"),
     (r"\bomni\.replicator\.core\b", "simlab.sensors.replicator"),
+    (r"^(\s*from\s+)pxr\b", r"\1simlab.sim.pxr"),
     (r"\bisaaclab_assets\.robots\b", "simlab.robots"),
     (r"\bisaaclab_assets\b", "simlab.robots"),
     (r"\bisaaclab_tasks\b", "simlab.tasks"),
@@ -217,6 +218,13 @@ CASES = {
         "manager_based.manipulation.cabinet.config.franka.ik_rel_env_cfg",
         "FrankaCabinetEnvCfg",
     ),
+    "cabinet-direct": Case(
+        "Open a drawer (Franka)",
+        ("direct/franka_cabinet",),
+        "direct.franka_cabinet.franka_cabinet_env",
+        "FrankaCabinetEnvCfg",
+        "direct.franka_cabinet.franka_cabinet_env:FrankaCabinetEnv",
+    ),
     "allegro": Case(
         "In-hand cube reorientation (Allegro)",
         ("manager_based/manipulation/inhand",),
@@ -331,7 +339,6 @@ CASES = {
 }
 
 STOPS = {
-    "direct/franka_cabinet/franka_cabinet_env.py": "Open a drawer (Franka)",
     # with the OpenAI variant's config (the copy of Isaac Lab's module, not the one its registration maps to)
     "direct/inhand_manipulation/inhand_manipulation_env.py": "In-hand cube reorientation (Shadow)",
     "direct/shadow_hand/shadow_hand_vision_env.py": "In-hand cube reorientation from cameras (Shadow)",
@@ -340,7 +347,7 @@ STOPS = {
 
 
 def port_line(line: str, package: str, folders: tuple[str, ...]) -> str:
-    if not re.match(r"\s*(from|import)\s+isaac(lab|sim)", line):
+    if not re.match(r"\s*(from|import)\s+(isaac(lab|sim)|pxr\b)", line):
         return line
     for folder in folders:  # the copied folders' own modules: the copy
         dotted = folder.replace("/", ".")
@@ -403,6 +410,7 @@ def test_the_mapping_rewrites_imports_only_and_keeps_copied_folders_local():
         port_line("from isaacsim.core.utils.torch.rotations import compute_rot\n", "p", ())
         == "from simlab.utils.torch_utils.rotations import compute_rot\n"
     )
+    assert port_line("from pxr import UsdGeom\n", "p", ()) == "from simlab.sim.pxr import UsdGeom\n"
     text = 'entry_point="isaaclab_tasks.direct.ant:AntEnv"\n'
     assert port_line(text, "p", folders) == text
 
@@ -501,3 +509,35 @@ def test_isaac_labs_amp_motions_fit_simlabs_28_joint_humanoid(tmp_path):
         sys.path.remove(str(tmp_path))
         for module in [m for m in sys.modules if m == package or m.startswith(package + ".")]:
             del sys.modules[module]
+
+
+@pytest.mark.skipif(not SOURCE, reason="SIMLAB_ISAACLAB_SOURCE (an Isaac Lab 2.x checkout) is not set")
+def test_isaac_labs_franka_cabinet_reads_the_grasp_frame_simlabs_env_reads(tmp_path):
+    """Isaac Lab's direct cabinet env takes the hand and finger poses from the stage (``pxr`` ->
+    ``simlab.sim.pxr``); the grasp frame it makes of them is the one simlab's env makes from the bodies."""
+    from simlab.sim import SimulationContext
+    from simlab.tasks.direct.franka_cabinet.franka_cabinet_env import FrankaCabinetEnv, FrankaCabinetEnvCfg
+
+    package = "isaaclab_port_cabinet_grasp"
+    port_folders(TASKS, ("direct/franka_cabinet",), tmp_path, package)
+    sys.path.insert(0, str(tmp_path))
+    try:
+        module = importlib.import_module(f"{package}.direct.franka_cabinet.franka_cabinet_env")
+        cfg = module.FrankaCabinetEnvCfg()
+        cfg.scene.num_envs, cfg.sim.device = 2, "cpu"
+        env = module.FrankaCabinetEnv(cfg)
+        theirs = env.robot_local_grasp_pos.clone(), env.robot_local_grasp_rot.clone()
+        env.close()
+    finally:
+        sys.path.remove(str(tmp_path))
+        for name in [m for m in sys.modules if m == package or m.startswith(package + ".")]:
+            del sys.modules[name]
+    SimulationContext.clear_instance()
+    cfg = FrankaCabinetEnvCfg()
+    cfg.scene.num_envs, cfg.sim.device = 2, "cpu"
+    env = FrankaCabinetEnv(cfg)
+    try:
+        torch.testing.assert_close(theirs[0], env.robot_local_grasp_pos, atol=1e-5, rtol=0)
+        torch.testing.assert_close(theirs[1], env.robot_local_grasp_rot, atol=1e-5, rtol=0)
+    finally:
+        env.close()

@@ -135,6 +135,11 @@ class PhysicsBackend(ABC):
         self._qpos0 = torch.as_tensor(qpos, dtype=torch.float32, device=self.device).clone()
         self._moves_from_qpos0 = bool((self._qpos0.cpu() != torch.as_tensor(self.model.qpos0).float()).any())
 
+    @property
+    def initial_qpos(self) -> torch.Tensor:
+        """The joint positions ``reset`` puts the worlds in (``nq`` values; read, do not write)."""
+        return self._qpos0
+
     def reset(self, env_ids: EnvIds = None) -> None:
         """Restore the initial state of the selected worlds (all when ``None``), then forward."""
         self._reset(env_ids)
