@@ -527,9 +527,16 @@ class Camera(SensorBase):
 
 
 class TiledCamera(Camera):
-    """Isaac Lab's ``TiledCamera``: simlab's cameras render every env in one batch already."""
+    """Isaac Lab's ``TiledCamera``: simlab's cameras render every env in one batch already.
+
+    Its ``data.info`` is one dict by data type for all cameras (Isaac Lab's tiled layout), where
+    ``Camera``'s is a list of such dicts, one per camera."""
 
     cfg: TiledCameraCfg
+
+    def _initialize(self, sim) -> None:
+        super()._initialize(sim)
+        self._data.info = dict(self._data.info[0]) if self._data.info else {}
 
 
 def _rotation(convert, identity: torch.Tensor, target: str) -> torch.Tensor:
