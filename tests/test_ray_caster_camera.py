@@ -292,3 +292,37 @@ def test_pinhole_pattern_rays_project_back_to_their_pixel_centres():
     torch.testing.assert_close(pixels[0], torch.stack([u.reshape(-1), v.reshape(-1)], dim=-1))
     assert math.isclose(k[0, 1, 1].item(), 6 * 24.0 / 10.0, rel_tol=1e-6)
     assert math.isclose(k[0, 1, 2].item(), -0.05 * 6 * 24.0 / 10.0 + 3.0, rel_tol=1e-6)
+
+
+class _HostReads(torch.overrides.TorchFunctionMode):
+    """Records the torch calls that read a tensor's values back to the host (a sync on the GPU)."""
+
+    READS = ("nonzero", "item", "tolist", "__bool__", "numpy", "cpu", "unique", "argwhere")
+
+    def __init__(self):
+        super().__init__()
+        self.calls: list[str] = []
+
+    def __torch_function__(self, func, types, args=(), kwargs=None):
+        name = getattr(func, "__name__", "")
+        if name in self.READS:
+            self.calls.append(name)
+        return func(*args, **(kwargs or {}))
+
+
+def test_a_masked_reset_reads_nothing_back_to_the_host():
+    """The scene resets sensors with a bool mask inside the env step, which a CUDA graph captures: the
+    camera's reset must not turn the mask into ids (nonzero reads the device back)."""
+    sim = make_sim()
+    create_prim("/World/Origin_00/CameraSensor", "Xform")
+    create_prim("/World/Origin_01/CameraSensor", "Xform", translation=(5.0, 0.0, 0.0))
+    camera = RayCasterCamera(camera_cfg())
+    sim.reset()
+    camera.set_world_poses_from_view(torch.tensor([[0.0, 0.0, 2.0], [5.0, 0.0, 2.0]]), torch.zeros(2, 3))
+    camera.data  # noqa: B018 - casts: frame 1 in both
+    with _HostReads() as reads:
+        camera.reset(torch.tensor([False, True]))
+    assert reads.calls == []
+    assert camera.frame.tolist() == [1, 0]
+    camera.reset([0])  # ids still work
+    assert camera.frame.tolist() == [0, 0]

@@ -111,8 +111,8 @@ class RayCasterCamera(RayCaster):
         """Restart the frame count of the cameras ``env_ids``; the next read casts again."""
         if not self._is_initialized:
             return
-        ids = self._ids(env_ids)
-        self._frame[ids] = 0
+        # a mask, not ids: the scene resets by mask inside the captured step (ids would read the device back)
+        self._frame.masked_fill_(env_mask(env_ids, self.num_instances, self.device), 0)
         self._update_poses()
         self._outdated = True
 
