@@ -85,3 +85,28 @@ def test_a_stored_bc_policy_unpacks_to_the_policy_within_int8_rows(tmp_path):
     assert float((back.mlp[0].weight - weight).abs().max()) <= float(weight.abs().max()) / 254 * 1.0001
     with pytest.raises(KeyError, match="play needs"):
         pack_policy({"state_dict": {}}, "bc", "stack.pt")
+
+
+def test_a_file_that_is_not_a_bc_policy_is_refused_in_one_line(tmp_path):
+    """bc.py play and make_pretrained read the file directly (no play wrapper): a missing file, bytes torch
+    cannot read and another library's checkpoint each give a CheckpointError naming the file."""
+    from simlab.utils.errors import CheckpointError
+
+    rsl_rl = tmp_path / "model_3.pt"
+    torch.save({"model_state_dict": {"w": torch.zeros(2)}, "iter": 3}, rsl_rl)
+    corrupt = tmp_path / "corrupt.pt"
+    corrupt.write_bytes(b"not a torch file")
+    wrong_sizes = tmp_path / "sizes.pt"
+    _policy_file(wrong_sizes)
+    saved = torch.load(wrong_sizes, weights_only=True)
+    torch.save({**saved, "sizes": [47, 8]}, wrong_sizes)
+    cases = {
+        tmp_path / "missing.pt": "does not exist",
+        rsl_rl: r"not a BC policy.*lacks \['state_dict', 'terms'",
+        corrupt: "Cannot read the BC policy",
+        wrong_sizes: "Cannot read the BC policy",
+    }
+    for path, message in cases.items():
+        with pytest.raises(CheckpointError, match=message) as error:
+            load_bc_policy(str(path))
+        assert str(path) in str(error.value) and "\n" not in str(error.value)

@@ -80,11 +80,31 @@ def save_bc_policy(policy: BCPolicy, path: str, task: str | None, epochs: int | 
     torch.save({**saved, "hidden": policy.hidden, "sizes": sizes, "task": task, "epochs": epochs}, path)
 
 
+_FILE_KEYS = ("state_dict", "terms", "relative", "hidden", "sizes")
+"""What :func:`save_bc_policy` writes that :func:`load_bc_policy` rebuilds the policy from."""
+
+
 def load_bc_policy(path: str, trust: bool = False) -> tuple[BCPolicy, str | None]:
-    """The policy in ``path`` and its task; weights only unless ``trust`` (a file from elsewhere runs no code)."""
+    """The policy in ``path`` and its task; weights only unless ``trust`` (a file from elsewhere runs no code).
+    A file that is missing, unreadable or not such a policy raises a one-line :class:`CheckpointError`."""
+    from simlab.utils.errors import CheckpointError, UntrustedFileError, describe
     from simlab.utils.trust import torch_load
 
-    saved = torch_load(path, map_location="cpu", trust=trust)
-    policy = BCPolicy(saved["terms"], *saved["sizes"], saved["hidden"], saved["relative"])
-    policy.load_state_dict(saved["state_dict"])
-    return policy.eval(), saved["task"]
+    if not os.path.isfile(path):
+        raise CheckpointError(f"The BC policy '{path}' does not exist (looked at '{os.path.abspath(path)}').")
+    written_by = "scripts/imitation_learning/bc.py train writes one"
+    try:
+        saved = torch_load(path, map_location="cpu", trust=trust)
+    except UntrustedFileError:
+        raise
+    except Exception as e:  # noqa: BLE001 - corrupt bytes make torch and pickle raise anything
+        raise CheckpointError(f"Cannot read the BC policy '{path}' ({describe(e)}); {written_by}.") from None
+    missing = [key for key in _FILE_KEYS if not isinstance(saved, dict) or key not in saved]
+    if missing:
+        raise CheckpointError(f"'{path}' is not a BC policy: it lacks {missing} ({written_by}).")
+    try:
+        policy = BCPolicy(saved["terms"], *saved["sizes"], saved["hidden"], saved["relative"])
+        policy.load_state_dict(saved["state_dict"])
+    except (RuntimeError, TypeError, ValueError) as e:  # sizes and weights that do not fit each other
+        raise CheckpointError(f"Cannot read the BC policy '{path}' ({describe(e)}); {written_by}.") from None
+    return policy.eval(), saved.get("task")
