@@ -312,6 +312,11 @@ def test_play_names_the_env_overrides_its_run_trained_with_and_it_lacks(tmp_path
     )
     assert note_missing_env_overrides(checkpoint, [f"+{trained[0]}", "env.rewards.x.weight=2"]) == []
     assert not capsys.readouterr().out
+    # how many envs the run stepped and its seed are no part of what the policy learned: not named
+    run_settings = ["env.scene.num_envs=512", "env.seed=7"]
+    dump_yaml(str(run / "params" / "run.yaml"), {"task": "simlab/Tracking-Flat-G1-v0", "env_overrides": run_settings})
+    assert note_missing_env_overrides(checkpoint, []) == []
+    assert not capsys.readouterr().out
 
 
 def test_torn_newest_checkpoint_is_skipped_with_a_warning(tmp_path, capsys):

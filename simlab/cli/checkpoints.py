@@ -36,6 +36,7 @@ __all__ = [
     "env_sizes",
     "find_last_checkpoint",
     "note_missing_env_overrides",
+    "override_key",
     "read_checkpoint",
     "resolve_checkpoint",
 ]
@@ -226,16 +227,21 @@ def check_checkpoint_sizes(checkpoint: str, sizes: dict[str, Any], force: bool =
     _refuse(checkpoint, problems, force)
 
 
-def _override_key(text: str) -> str:
+def override_key(text: str) -> str:
+    """The config key an override sets (``+env.x=1`` -> ``env.x``)."""
     return text.split("=", 1)[0].lstrip("+~")
+
+
+RUN_SETTINGS = ("env.scene.num_envs", "env.seed")
+"""Env overrides that set how a run ran, not the env a policy learned (play has --num_envs and --seed)."""
 
 
 def note_missing_env_overrides(checkpoint: str, overrides: list[str]) -> list[str]:
     """Print (and return) the env overrides the checkpoint's run was trained with that ``overrides`` does
     not set: a tracking policy trained on another clip fits the default one in size, and played it silently."""
-    given = {_override_key(o) for o in overrides}
+    given = {override_key(o) for o in overrides} | set(RUN_SETTINGS)
     trained = (find_run_info(checkpoint) or {}).get("env_overrides", [])
-    missing = [o for o in trained if _override_key(o) not in given]
+    missing = [o for o in trained if override_key(o) not in given]
     if missing:
         print(
             f"[simlab] Its run was trained with {shlex.join(missing)}, which this command does not give:"

@@ -17,6 +17,7 @@ from simlab.cli.checkpoints import (
     env_sizes,
     find_last_checkpoint,
     note_missing_env_overrides,
+    override_key,
     resolve_checkpoint,
 )
 from simlab.cli.libraries import get_library
@@ -55,7 +56,7 @@ def _play_variant_envs_on_cpu(args: argparse.Namespace, env_cfg: Any, overrides:
 
     from simlab.tasks.utils import load_cfg_from_registry
 
-    given = args.num_envs is not None or any(o.split("=", 1)[0].lstrip("+~") == "env.scene.num_envs" for o in overrides)
+    given = args.num_envs is not None or any(override_key(o) == "env.scene.num_envs" for o in overrides)
     if given or env_cfg.sim.device != "cpu":
         return
     variant = re.sub(r"(-v\d+)$", r"-Play\1", args.task)
