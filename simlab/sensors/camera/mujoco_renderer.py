@@ -93,11 +93,12 @@ class MujocoCameraRenderer:
         model, data, renderer = self._model, self._data, self._renderer
         envs = sorted({env for env, _ in self._views})
         states = gather_env_states(self._physics, envs)
+        row = {env: i for i, env in enumerate(envs)}  # an env's row of states (list.index: n^2 for n envs)
         placed = None
         for image, (env, camera) in enumerate(self._views):
             if env != placed:  # the env's state, once for all its cameras
                 for name, values in states.items():
-                    getattr(data, name)[:] = values[envs.index(env)]
+                    getattr(data, name)[:] = values[row[env]]
                 mujoco.mj_kinematics(model, data)
                 mujoco.mj_comPos(model, data)
                 mujoco.mj_camlight(model, data)
