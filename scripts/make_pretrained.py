@@ -496,6 +496,9 @@ def checkpoint_iteration(checkpoint: str, library: str, agent_cfg: dict) -> int:
     if library == "rsl_rl":
         return int(torch_load(checkpoint, map_location="cpu").get("iter", 0))
     if library == "bc":  # the epochs of its fit (bc.py writes them)
+        from simlab.rl.bc import load_bc_policy
+
+        load_bc_policy(checkpoint)  # a file that is not a BC policy: one-line CheckpointError, not AttributeError
         return max(0, int(torch_load(checkpoint, map_location="cpu").get("epochs") or 1) - 1)
     if library == "sb3":
         data = read_checkpoint(checkpoint, library)["data"]
@@ -619,6 +622,7 @@ def main(argv: list[str] | None = None) -> int:
             print(f"{row['task']}\t{trains}\tshipped: {shipped}\t{row['criterion']}")
         return 0
     import simlab.tasks  # noqa: F401 - registers the tasks
+    from simlab.utils.errors import SimlabError
 
     check_trainable(args.tasks, args.reward_threshold, args.library)
     skipped: dict[str, str | None] = {}
@@ -629,7 +633,7 @@ def main(argv: list[str] | None = None) -> int:
             try:
                 make = adopt_checkpoint if args.checkpoint else make_one
                 skipped[task] = make(task, args, log_root, argv)
-            except (OverBudget, RuntimeError, subprocess.SubprocessError, OSError) as e:
+            except (OverBudget, RuntimeError, subprocess.SubprocessError, OSError, SimlabError) as e:
                 skipped[task] = str(e)
             if skipped[task] is not None:
                 print(f"[make_pretrained] SKIPPED {task}: {skipped[task]}; nothing shipped", flush=True)

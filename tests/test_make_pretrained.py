@@ -364,3 +364,16 @@ def test_a_batch_judges_only_its_own_checkpoints_in_a_shared_log_root(tmp_path):
         run.mkdir(parents=True)
         (run / "model_25.pt").write_bytes(b"")
     assert script.run_checkpoints(str(tmp_path), started) == [str(ours / "model_25.pt")]
+
+
+@pytest.mark.parametrize("saved", [[1, 2], {"iter": 3}])
+def test_a_file_that_is_not_a_bc_policy_gets_a_one_line_error(tmp_path, saved):
+    """--library bc reads the epochs of the fit: a list (AttributeError before) or another library's dict
+    is refused in one line naming the file."""
+    from simlab.utils.errors import CheckpointError
+
+    path = tmp_path / "policy.pt"
+    torch.save(saved, path)
+    with pytest.raises(CheckpointError, match="is not a BC policy") as caught:
+        _script().checkpoint_iteration(str(path), "bc", {})
+    assert "\n" not in str(caught.value)
