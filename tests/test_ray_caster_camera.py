@@ -278,6 +278,19 @@ def test_basic_writer_writes_each_annotator_as_replicator_lays_it_out(tmp_path):
         BasicWriter(output_dir=str(tmp_path), outputdir="x")
 
 
+def test_basic_writer_refuses_names_that_leave_its_output_folder(tmp_path):
+    """A render product or annotator named '../x' would write beside output_dir: refused, nothing written."""
+    writer = BasicWriter(output_dir=str(tmp_path / "out"))
+    rgb = np.full((2, 2, 3), 7, np.uint8)
+    for products in ({"left": {"data": rgb}, "../escaped": {"data": rgb}}, {"render_product": {"data": rgb}}):
+        annotator = "rgb" if "left" in products else "../escaped_rgb"
+        with pytest.raises(ValueError, match="must be plain file names") as caught:
+            writer.write({"annotators": {annotator: products}})
+        assert "\n" not in str(caught.value)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
+    assert list((tmp_path / "out").iterdir()) == []
+
+
 def test_pinhole_pattern_rays_project_back_to_their_pixel_centres():
     """Each ray, put through the intrinsics, lands on the centre of its pixel (row by row)."""
     lens = patterns.PinholeCameraPatternCfg(**LENS, vertical_aperture=10.0, vertical_aperture_offset=-0.05)

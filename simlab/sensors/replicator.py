@@ -106,6 +106,8 @@ class BasicWriter:
                     f"BasicWriter.write: annotator {annotator!r} must map render products to {{'data': array, **info}},"
                     " e.g. {'render_product': {'data': array}}"
                 )
+            for name in [annotator, *(products if isinstance(products, dict) else [])]:
+                _check_plain_name(name)
         for annotator, products in data["annotators"].items():
             for product, entry in products.items():
                 folder = os.path.join(self.output_dir, product) if len(products) > 1 else self.output_dir
@@ -146,6 +148,16 @@ def _colorize_normals(normals: np.ndarray) -> np.ndarray:
     normals = np.asarray(normals, dtype=np.float64)[..., :3]
     finite = np.isfinite(normals).all(axis=-1, keepdims=True)
     return np.where(finite, np.round((np.clip(normals, -1.0, 1.0) * 0.5 + 0.5) * 255.0), 0.0).astype(np.uint8)
+
+
+def _check_plain_name(name: Any) -> None:
+    """Annotator and render-product names become file and folder names: one plain name each, so a
+    ``'../x'`` cannot write outside ``output_dir``."""
+    if not isinstance(name, str) or name in ("", ".", "..") or "/" in name or "\\" in name or "\0" in name:
+        raise ValueError(
+            f"BasicWriter.write: annotator and render product names must be plain file names (no '/', '\\',"
+            f" '.' or '..'), got {name!r}"
+        )
 
 
 def _write_png(path: str, image: np.ndarray) -> str:
