@@ -198,6 +198,22 @@ def test_debug_markers_sample_a_grid_of_hits_across_the_image():
     assert camera.ray_visualizer._translations[-1].tolist() == hits[1, 472, 630].tolist()  # rows 7 + 15 k
 
 
+def test_camera_env_ids_are_ids_in_their_order_or_the_ids_a_mask_selects():
+    """The one helper Camera and RayCasterCamera turn env_ids into camera indices with: given ids keep
+    their order (the poses given with them match it); a mask, slice or None select ascending ids."""
+    from simlab.utils.env_mask import env_ids_in_order
+
+    for env_ids, expected in (
+        ([2, 0, 2], [2, 0, 2]),
+        (torch.tensor([[1], [0]]), [1, 0]),
+        (torch.tensor([True, False, True]), [0, 2]),
+        (slice(1, None), [1, 2]),
+        (None, [0, 1, 2]),
+    ):
+        ids = env_ids_in_order(env_ids, 3, "cpu")
+        assert ids.dtype == torch.long and ids.tolist() == expected
+
+
 def test_set_world_poses_in_each_convention_reads_back():
     sim = make_sim()
     create_prim("/World/Origin_00/CameraSensor", "Xform", translation=(1.0, 2.0, 0.0))

@@ -43,6 +43,14 @@ def env_mask(env_ids: EnvIds, num_envs: int, device: torch.device | str) -> torc
     return mask
 
 
+def env_ids_in_order(env_ids: EnvIds, num_envs: int, device: torch.device | str) -> torch.Tensor:
+    """``env_ids`` as a 1-D long tensor of ids: given ids in their order (values given with them match
+    it, repeats kept), a bool mask, slice or None as the ascending ids they select (a host read)."""
+    if env_ids is None or isinstance(env_ids, slice) or is_mask(env_ids):
+        return env_mask(env_ids, num_envs, device).nonzero().flatten()
+    return torch.as_tensor(env_ids, dtype=torch.long, device=device).reshape(-1)
+
+
 def is_mask(env_ids: EnvIds) -> bool:
     return isinstance(env_ids, torch.Tensor) and env_ids.dtype == torch.bool
 

@@ -21,7 +21,7 @@ import torch
 
 from simlab.sim.spawners.sensors import check_pinhole_cfg, vertical_aperture
 from simlab.sim.utils import xform_group_origins
-from simlab.utils.env_mask import env_mask
+from simlab.utils.env_mask import env_ids_in_order
 from simlab.utils.math import (
     convert_camera_frame_orientation_convention,
     create_rotation_matrix_from_view,
@@ -221,10 +221,7 @@ class Camera(SensorBase):
                 f"{owner}: simlab moves cameras fixed in the world on the CPU backend only; place a camera on a"
                 " body with CameraCfg.offset"
             )
-        if env_ids is None or isinstance(env_ids, slice) or getattr(env_ids, "dtype", None) == torch.bool:
-            ids = env_mask(env_ids, self.num_instances, "cpu").nonzero().flatten()
-        else:
-            ids = torch.as_tensor(env_ids, dtype=torch.long).reshape(-1).cpu()
+        ids = env_ids_in_order(env_ids, self.num_instances, "cpu")
         if not self._per_group and len(set(ids.tolist())) != self.num_instances:
             raise ValueError(
                 f"{owner}: the envs share one camera in the env frame; give a pose for every env (env_ids=None)"

@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING, ClassVar
 
 import torch
 
-from simlab.utils.env_mask import env_mask
+from simlab.utils.env_mask import env_ids_in_order, env_mask
 from simlab.utils.math import (
     combine_frame_transforms,
     convert_camera_frame_orientation_convention,
@@ -127,7 +127,7 @@ class RayCasterCamera(RayCaster):
         (M, 4) (w, x, y, z) in ``convention`` ("opengl", "ros" or "world"); None leaves that part.
         Stored as the offset from the frame the camera rides on, so it moves with that frame."""
         self._require_initialized("set_world_poses")
-        ids = self._ids(env_ids)
+        ids = env_ids_in_order(env_ids, self.num_instances, self.device)
         view_pos, view_quat = self._view_pose()
         view_pos, view_quat = view_pos[ids], view_quat[ids]
         if positions is not None:
@@ -147,7 +147,7 @@ class RayCasterCamera(RayCaster):
     def set_intrinsic_matrices(self, matrices: torch.Tensor, focal_length: float = 1.0, env_ids: EnvIds = None) -> None:
         """Give the cameras ``env_ids`` new (M, 3, 3) intrinsics; their rays follow."""
         self._require_initialized("set_intrinsic_matrices")
-        ids = self._ids(env_ids)
+        ids = env_ids_in_order(env_ids, self.num_instances, self.device)
         self._data.intrinsic_matrices[ids] = torch.as_tensor(matrices, dtype=torch.float32, device=self.device)
         self._focal_length = focal_length
         starts, directions = self.cfg.pattern_cfg.func(
@@ -264,12 +264,6 @@ class RayCasterCamera(RayCaster):
         SensorBase._initialize(self, sim)  # not the ray caster's: no grid pattern, no drifts
         self._update_poses()
         self._outdated = True
-
-    def _ids(self, env_ids: EnvIds) -> torch.Tensor:
-        """Camera indices in the order given (positions match them), from ids, a bool mask, a slice or None."""
-        if env_ids is None or isinstance(env_ids, slice) or getattr(env_ids, "dtype", None) == torch.bool:
-            return env_mask(env_ids, self.num_instances, self.device).nonzero().flatten()
-        return torch.as_tensor(env_ids, dtype=torch.long, device=self.device).reshape(-1)
 
     def _require_initialized(self, method: str) -> None:
         if not self._is_initialized:
