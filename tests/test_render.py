@@ -284,18 +284,22 @@ def test_a_velocity_tasks_video_follows_its_robot_over_generated_terrain():
     assert robot.mean() > 0.01, f"{robot.mean():.4f} of the frame shows the robot"
 
 
-def test_neighbour_envs_do_not_draw_the_ground_again():
+def test_neighbour_envs_do_not_draw_the_ground_again(monkeypatch):
     """Every env's world holds the ground: a neighbour's copy, moved by its env offset, lay in the
-    reference's plane and z-fought with it (jagged dark patches across the G1/H1/hand videos)."""
+    reference's plane and z-fought with it (jagged dark patches across the G1/H1/hand videos). Only the
+    ground is hidden: a finite plane on the world body (a wall) is each env's own and stays drawn."""
     import mujoco
 
     from simlab.sim.renderer import EnvSceneBuilder
+    from simlab.sim.spawners.from_files import GroundPlaneCfg, from_files
 
-    xml = """<mujoco><asset><material name="grid" rgba="0.2 0.3 0.4 1"/></asset><worldbody>
-      <geom name="ground" type="plane" size="50 50 0.1" material="grid"/>
+    spec = mujoco.MjSpec.from_string("""<mujoco><worldbody>
+      <geom name="wall" type="plane" size="1 1 0.1" pos="0 1 1" zaxis="0 -1 0" rgba="0.5 0.5 0.5 1"/>
       <body name="box" pos="0 0 0.5"><freejoint/><geom type="box" size="0.1 0.1 0.1"/></body>
-    </worldbody></mujoco>"""
-    model = mujoco.MjModel.from_xml_string(xml)
+    </worldbody></mujoco>""")
+    monkeypatch.setattr(from_files, "current_spec", lambda: spec)
+    from_files.spawn_ground_plane("/World/ground", GroundPlaneCfg())  # as the terrain makes it: 100 x 100 m
+    model = spec.compile()
     data = mujoco.MjData(model)
     mujoco.mj_forward(model, data)
     states = {"qpos": np.stack([data.qpos, data.qpos]), "qvel": np.stack([data.qvel, data.qvel])}
@@ -305,4 +309,6 @@ def test_neighbour_envs_do_not_draw_the_ground_again():
     shown = [g for g in scene.geoms[: scene.ngeom] if g.rgba[3] > 0]
     planes = [g for g in shown if g.type == mujoco.mjtGeom.mjGEOM_PLANE]
     boxes = [g for g in shown if g.type == mujoco.mjtGeom.mjGEOM_BOX]
-    assert len(planes) == 1 and len(boxes) == 2  # one ground, both envs' boxes
+    ground, wall = (mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, n) for n in ("ground", "wall"))
+    assert sorted(g.objid for g in planes) == sorted([ground, wall, wall])  # one ground, both envs' walls
+    assert len(boxes) == 2  # both envs' boxes

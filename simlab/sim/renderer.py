@@ -149,18 +149,32 @@ def _restyle(model: mujoco.MjModel, data: mujoco.MjData, geoms, looks: dict[str,
             geom.pos += data.xmat[model.geom_bodyid[gid]].reshape(3, 3) @ shift
 
 
-def _without_infinite_planes(model: mujoco.MjModel, world_geoms: bool = False) -> mujoco.MjModel:
-    """A copy of ``model`` whose ground planes (infinite ones, and the world body's: every env's world
-    holds the ground, and a copy moved by a neighbour's offset z-fights with the reference's) and, with
-    ``world_geoms``, all static geoms of the world body are invisible (MuJoCo skips geoms with alpha 0)."""
+def _ground(model: mujoco.MjModel) -> np.ndarray:
+    """Which geoms are the ground every env's world holds: infinite planes, and the planes
+    ``spawn_ground_plane`` made (a terrain's, a scene's ``GroundPlaneCfg``), known by their material.
+    Other planes (a finite wall or table top on the world body) are the envs' own."""
+    from simlab.sim.spawners.from_files.from_files import GROUND_PLANE_MATERIAL
+
+    plane = model.geom_type == mujoco.mjtGeom.mjGEOM_PLANE
+    infinite = model.geom_size[:, :2].min(axis=1) <= 0
+    spawned = [
+        mat >= 0
+        and (mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_MATERIAL, mat) or "").endswith(f"/{GROUND_PLANE_MATERIAL}")
+        for mat in model.geom_matid
+    ]
+    return plane & (infinite | np.array(spawned, dtype=bool))
+
+
+def _without_ground(model: mujoco.MjModel, world_geoms: bool = False) -> mujoco.MjModel:
+    """A copy of ``model`` whose ground (a neighbour's copy, moved by its env offset, z-fights with the
+    reference's) and, with ``world_geoms``, all static geoms of the world body are invisible (MuJoCo
+    skips geoms with alpha 0)."""
     hidden = copy.deepcopy(model)
-    plane = hidden.geom_type == mujoco.mjtGeom.mjGEOM_PLANE
-    ground = plane & ((hidden.geom_size[:, :2].min(axis=1) <= 0) | (hidden.geom_bodyid == 0))
+    ground = _ground(hidden)
+    if world_geoms:
+        ground |= hidden.geom_bodyid == 0
     hidden.geom_rgba[ground, 3] = 0.0
     hidden.geom_matid[ground] = -1  # a material's alpha would override the geom's
-    if world_geoms:
-        hidden.geom_rgba[hidden.geom_bodyid == 0, 3] = 0.0
-        hidden.geom_matid[hidden.geom_bodyid == 0] = -1  # a material's alpha would override the geom's
     return hidden
 
 
@@ -169,9 +183,9 @@ class EnvSceneBuilder:
 
     def __init__(self, model: mujoco.MjModel):
         self.model = model
-        self.neighbour_model = _without_infinite_planes(model)
+        self.neighbour_model = _without_ground(model)
         # a neighbour drawn where it is (a shared terrain) would draw the terrain again on the reference's
-        self.same_frame_neighbour_model = _without_infinite_planes(model, world_geoms=True)
+        self.same_frame_neighbour_model = _without_ground(model, world_geoms=True)
         self.data = mujoco.MjData(model)
         self.option = mujoco.MjvOption()
         self._perturb = mujoco.MjvPerturb()

@@ -143,6 +143,11 @@ def fuse_static_bodies(child: mujoco.MjSpec, path: str) -> mujoco.MjSpec:
     return fused
 
 
+GROUND_PLANE_MATERIAL = "ground_plane_grid"
+"""The last part of the material name of a ground :func:`spawn_ground_plane` made: renders of several
+envs know the ground every env's world holds by it (and draw it once)."""
+
+
 def spawn_ground_plane(prim_path: str, cfg: GroundPlaneCfg, translation=None, orientation=None) -> mujoco.MjsGeom:
     """An infinite plane at z = 0 (plus ``translation``) with a checker texture."""
     spec = current_spec()
@@ -156,7 +161,9 @@ def spawn_ground_plane(prim_path: str, cfg: GroundPlaneCfg, translation=None, or
         width=256,
         height=256,
     )
-    material = spec.add_material(name=f"{name}/grid", texrepeat=[1.0, 1.0], texuniform=True, reflectance=0.05)
+    material = spec.add_material(
+        name=f"{name}/{GROUND_PLANE_MATERIAL}", texrepeat=[1.0, 1.0], texuniform=True, reflectance=0.05
+    )
     material.textures[mujoco.mjtTextureRole.mjTEXROLE_RGB] = tex.name
     return spec.worldbody.add_geom(
         name=name,
