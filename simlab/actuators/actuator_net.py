@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import os
 import pickle
-import zipfile
 from typing import TYPE_CHECKING, Literal
 
 import torch
@@ -33,6 +32,7 @@ from torch import nn
 from simlab.utils.assets import retrieve_file_path
 from simlab.utils.env_mask import PerEnvState, env_mask
 from simlab.utils.errors import ConfigError, UntrustedFileError
+from simlab.utils.trust import is_torchscript
 from simlab.utils.types import ArticulationActions
 
 from .actuator_pd import DCMotor
@@ -108,14 +108,6 @@ def resolve_network_file(path: str) -> str:
         return retrieve_file_path(path)
     except FileNotFoundError as e:
         raise ConfigError(f"network_file: {e}") from None
-
-
-def is_torchscript(path: str) -> bool:
-    """Whether ``path`` is a TorchScript archive (a zip with compiled code), not a ``torch.save`` file."""
-    if not zipfile.is_zipfile(path):
-        return False
-    with zipfile.ZipFile(path) as archive:
-        return any(n.endswith("/constants.pkl") or "/code/" in n for n in archive.namelist())
 
 
 def load_actuator_network(

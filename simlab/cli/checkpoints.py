@@ -25,7 +25,7 @@ from simlab.cli.runs import CHECKPOINT_LAYOUT, find_run_info, is_checkpoint_name
 from simlab.rl.utils import is_multi_agent
 from simlab.utils.errors import CheckpointError, CheckpointNotFoundError, SimlabError, UntrustedFileError, describe
 from simlab.utils.io import remove_stale_temp_files
-from simlab.utils.trust import torch_load
+from simlab.utils.trust import is_torchscript, torch_load
 
 __all__ = [
     "check_checkpoint_sizes",
@@ -87,10 +87,7 @@ def _exported_format(path: str) -> str | None:
     them reads as a corrupt file and advises an unsafe load)."""
     if path.endswith(".onnx"):
         return "ONNX"
-    with contextlib.suppress(zipfile.BadZipFile, OSError), zipfile.ZipFile(path) as z:
-        if any("/code/__torch__/" in name for name in z.namelist()):  # TorchScript keeps its code
-            return "TorchScript"
-    return None
+    return "TorchScript" if is_torchscript(path) else None
 
 
 def checkpoint_library(loaded: Any) -> str | None:

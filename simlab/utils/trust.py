@@ -16,6 +16,7 @@ import os
 import pickle
 import re
 import tempfile
+import zipfile
 from collections.abc import Callable, Iterator
 from typing import Any
 
@@ -74,6 +75,16 @@ def torch_load(
         raise UntrustedFileError(
             f"Refused to load {name}: it holds more than weights ({_first_reason(e)}); {hint}."
         ) from None
+
+
+def is_torchscript(path: str | os.PathLike) -> bool:
+    """Whether ``path`` is a TorchScript archive (a zip that carries compiled code, which ``torch.jit.load``
+    runs), not a ``torch.save`` file of weights. Reads the archive's names only."""
+    if not zipfile.is_zipfile(path):
+        return False
+    with contextlib.suppress(zipfile.BadZipFile, OSError), zipfile.ZipFile(path) as archive:
+        return any(n.endswith("/constants.pkl") or "/code/" in n for n in archive.namelist())
+    return False
 
 
 @contextlib.contextmanager

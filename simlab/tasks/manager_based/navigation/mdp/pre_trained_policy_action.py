@@ -30,7 +30,6 @@ from typing import TYPE_CHECKING
 import torch
 from torch import nn
 
-from simlab.actuators.actuator_net import is_torchscript
 from simlab.managers import ActionTerm, ObservationManager
 from simlab.pretrained import POLICY_FILE, pretrained_run_dir
 from simlab.pretrained.weights import FORMAT as STORED_POLICY_FORMAT
@@ -38,6 +37,7 @@ from simlab.pretrained.weights import unpack_policy
 from simlab.utils.assets import retrieve_file_path
 from simlab.utils.env_mask import PerEnvState, env_mask
 from simlab.utils.errors import ConfigError, UntrustedFileError
+from simlab.utils.trust import is_torchscript
 
 if TYPE_CHECKING:
     from simlab.envs import ManagerBasedRLEnv
