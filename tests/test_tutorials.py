@@ -104,6 +104,24 @@ def test_quadruped_base_env_tutorial_stands_anymal_on_rough_terrain():
     assert 0.4 < heights[0] < 0.7 and min(heights) > 0.15, (heights[0], min(heights))
 
 
+def test_quadruped_base_env_tutorial_loads_a_torchscript_policy_only_when_trusted(tmp_path):
+    """TorchScript is code: the tutorial's --checkpoint is refused before anything is loaded unless trusted."""
+    import torch
+
+    policy = tmp_path / "policy.pt"
+    torch.jit.save(torch.jit.script(torch.nn.Linear(2, 1)), str(policy))
+    script = ROOT / "scripts/tutorials/03_envs/create_quadruped_base_env.py"
+    result = subprocess.run(
+        [sys.executable, str(script), "--headless", "--device", "cpu", "--checkpoint", str(policy)],
+        capture_output=True, text=True, timeout=120,
+    )  # fmt: skip
+    assert result.returncode == 2, result.stdout[-2000:] + result.stderr[-2000:]
+    assert result.stderr.strip().splitlines() == [
+        f"Refused to load --checkpoint '{policy}': a TorchScript policy is code, which loading runs;"
+        " add --trust_checkpoint if you trust the file."
+    ]
+
+
 def test_launch_app_tutorial_takes_its_own_flags_beside_the_launchers():
     out = run_script(
         "scripts/tutorials/00_sim/launch_app.py", "--size", "0.5", "--width", "640", "--height", "480",

@@ -2,8 +2,9 @@
 
 Isaac Lab's tutorial ``create_quadruped_base_env.py`` with simlab imports. Isaac Lab's version runs a
 locomotion policy it downloads from its Nucleus server (``Policies/ANYmal-C/HeightScan/policy.pt``),
-which simlab cannot read: pass a TorchScript policy of your own with ``--checkpoint``; without one the
-robot holds its default joint positions (zero actions).
+which simlab cannot read: pass a TorchScript policy of your own with ``--checkpoint`` and
+``--trust_checkpoint`` (TorchScript is code, which loading runs); without one the robot holds its default
+joint positions (zero actions).
 
 .. code-block:: bash
 
@@ -21,10 +22,19 @@ from simlab.app import AppLauncher
 parser = argparse.ArgumentParser(description="Tutorial on creating a quadruped base environment.")
 parser.add_argument("--num_envs", type=int, default=64, help="Number of environments to spawn.")
 parser.add_argument("--checkpoint", type=str, default=None, help="TorchScript policy (obs -> joint actions).")
+parser.add_argument(
+    "--trust_checkpoint", action="store_true", help="Load --checkpoint: TorchScript is code, which loading runs."
+)
 # append AppLauncher cli args
 AppLauncher.add_app_launcher_args(parser)
 # parse the arguments
 args_cli = parser.parse_args()
+if args_cli.checkpoint is not None and not args_cli.trust_checkpoint:
+    parser.exit(
+        2,
+        f"Refused to load --checkpoint '{args_cli.checkpoint}': a TorchScript policy is code, which loading runs;"
+        " add --trust_checkpoint if you trust the file.\n",
+    )
 
 # launch the app
 app_launcher = AppLauncher(args_cli)
