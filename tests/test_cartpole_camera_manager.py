@@ -80,3 +80,31 @@ def test_rgb_observation_is_mean_free_and_clip_bounds_its_space():
         assert space.contains(image[0].numpy()) and (image.abs() == 0.02).any()  # the clip was reached
     finally:
         env.close()
+
+
+def test_two_image_history_renders_once_per_step_and_reaches_rsl_rl_as_channels():
+    from simlab.rl.rsl_rl import RslRlVecEnvWrapper
+
+    cfg = CartpoleDepthCameraEnvCfg()
+    cfg.scene.num_envs, cfg.sim.device, cfg.seed = 2, "cpu", 3
+    cfg.observations.policy.image.history_length = 2
+    cfg.observations.policy.image.flatten_history_dim = False
+    env = ManagerBasedRLEnv(cfg=cfg)
+    try:
+        wrapped = RslRlVecEnvWrapper(env)
+        camera = env.scene["tiled_camera"]
+        first = wrapped.get_observations()["policy"]
+        assert first.shape == (2, 2, 100, 100)  # (N, images x channels, H, W), as rsl_rl's CNNs take them
+        assert torch.equal(first[:, 0], first[:, 1])  # a fresh history repeats its first image
+        frames = int(camera.frame[0])
+        obs, _, _, extras = wrapped.step(torch.ones(2, 1))
+        assert int(camera.frame[0]) == frames + 1  # one render per step: no final observations
+        assert "final_obs" not in extras
+        images = obs["policy"]
+        torch.testing.assert_close(images[:, 0], first[:, 1])  # the older image first
+        newest = env.observation_manager.compute_group("policy", update_history=False)[:, -1, ..., 0]
+        assert not torch.equal(images[:, 1], images[:, 0])  # the pushed cart moved
+        # the newest image is the camera's depth now (the term's value, unchanged by the wrapper)
+        torch.testing.assert_close(images[:, 1], newest)
+    finally:
+        env.close()

@@ -109,7 +109,8 @@ class ManagerBasedRLEnv(ManagerBasedEnv, gym.Env):
         obs, reward, terminated, truncated, final_obs, log = self._stepper(action)
         self.obs_buf, self.reward_buf = obs, reward
         self.reset_terminated, self.reset_time_outs = terminated, truncated
-        self.extras["final_obs"] = final_obs
+        if final_obs is not None:
+            self.extras["final_obs"] = final_obs
         self.extras["time_outs"] = truncated
         # Episode logs are means over the envs that finished; as in Isaac Lab they are refreshed
         # only in steps where some env finished (one read of a flag per step, unless the consumer
@@ -147,7 +148,9 @@ class ManagerBasedRLEnv(ManagerBasedEnv, gym.Env):
         self.reset_buf |= diverged
         reward = self.reward_manager.compute(dt=self.step_dt)
         # The observation the finished episodes ended in, before their reset (for bootstrapping).
-        final_obs = self.observation_manager.compute(update_history=False)
+        final_obs = None
+        if self.cfg.final_observations or recording:
+            final_obs = self.observation_manager.compute(update_history=False)
         if recording:  # eager only (a graph blocker): the recorders take env ids
             self.obs_buf = final_obs
             self.recorder_manager.record_post_step()

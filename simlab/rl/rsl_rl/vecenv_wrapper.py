@@ -114,8 +114,7 @@ class RslRlVecEnvWrapper(VecEnv):
     def _to_tensordict(self, obs: dict[str, torch.Tensor] | torch.Tensor) -> TensorDict:
         if isinstance(obs, torch.Tensor):
             obs = {"policy": obs}
-        # image groups come as (N, H, W, C) (Isaac Lab's layout); rsl_rl's CNNs take (N, C, H, W)
-        groups = {name: value.permute(0, 3, 1, 2) if value.ndim == 4 else value for name, value in obs.items()}
+        groups = {name: _channels_first(value) for name, value in obs.items()}
         return TensorDict(groups, batch_size=[self.num_envs])
 
     def _set_action_bounds(self, base: Any, clip: float) -> None:
@@ -123,3 +122,15 @@ class RslRlVecEnvWrapper(VecEnv):
         shape = (self.num_actions,)
         base.single_action_space = gym.spaces.Box(low=-clip, high=clip, shape=shape)
         base.action_space = gym.vector.utils.batch_space(base.single_action_space, self.num_envs)
+
+
+def _channels_first(value: torch.Tensor) -> torch.Tensor:
+    """Image groups come as (N, H, W, C) (Isaac Lab's layout), or (N, k, H, W, C) for an image term's
+    history of k (``history_length=k, flatten_history_dim=False``); rsl_rl's CNNs take (N, C, H, W),
+    so a history's images are stacked along the channels, oldest first."""
+    if value.ndim == 4:
+        return value.permute(0, 3, 1, 2)
+    if value.ndim == 5:
+        n, k, h, w, c = value.shape
+        return value.permute(0, 1, 4, 2, 3).reshape(n, k * c, h, w)
+    return value

@@ -5,6 +5,10 @@ The cart, pole, actions, events, rewards and terminations of :mod:`.cartpole_env
 only a 100 x 100 image of its env from a tiled camera in front of the rail (``mdp.image``: RGB in
 [0, 1] minus each image's mean colour, or the distance to the camera in metres, 0 where nothing is hit).
 Envs stand 20 m apart so that no camera sees a neighbour.
+
+One image shows where the pole is, not how fast it turns: the shipped policies see the last two,
+``env.observations.policy.image.history_length=2`` with ``flatten_history_dim=False`` (rsl_rl's
+wrapper stacks a history's images along the channels).
 """
 
 from __future__ import annotations
@@ -77,6 +81,7 @@ class CartpoleRGBCameraEnvCfg(CartpoleEnvCfg):
         super().__post_init__()
         self.viewer.eye = (7.0, 0.0, 2.5)
         self.viewer.lookat = (0.0, 0.0, 2.5)
+        self.final_observations = False  # one render per step (the agents here do not read extras["final_obs"])
 
 
 @configclass
@@ -88,3 +93,4 @@ class CartpoleDepthCameraEnvCfg(CartpoleEnvCfg):
         super().__post_init__()
         self.viewer.eye = (7.0, 0.0, 2.5)
         self.viewer.lookat = (0.0, 0.0, 2.5)
+        self.final_observations = False  # one render per step (the agents here do not read extras["final_obs"])
