@@ -16,8 +16,7 @@ from simlab.managers import ObservationTermCfg as ObsTerm
 from simlab.managers import SceneEntityCfg
 from simlab.robots.ant import ANT_CFG
 from simlab.scene import InteractiveScene, InteractiveSceneCfg
-from simlab.utils import configclass
-from simlab.utils.errors import ConfigError
+from simlab.utils import configclass, versions
 
 FEET = ["front_left_foot", "front_right_foot", "left_back_foot", "right_back_foot"]
 
@@ -71,12 +70,85 @@ def test_incoming_wrench_matches_mujocos_force_and_torque_sensors():
     assert ours[:, 0].abs().amax() < 1e-3
 
 
-def test_without_the_post_constraint_pass_it_says_how_to_get_it():
-    sim = sim_utils.SimulationContext(sim_utils.SimulationCfg(dt=1 / 120, device="cpu"))
-    scene = InteractiveScene(AntSceneCfg(num_envs=1, env_spacing=3.0))
+def _ant_after_random_efforts(device: str, compiled_in: bool, steps: int = 40) -> dict[str, torch.Tensor]:
+    """Three ants pushed by random joint efforts, world 1 heavier (per-world masses, set_const): the
+    incoming wrenches and MuJoCo's post-constraint fields at the end, with the state they belong to."""
+    sim = sim_utils.SimulationContext(sim_utils.SimulationCfg(dt=1 / 120, device=device))
+    scene = InteractiveScene(AntSceneCfg(num_envs=3, env_spacing=3.0))
+    if compiled_in:
+        sim_utils.compute_body_interaction_forces(sim.spec)
     sim.reset()
-    with pytest.raises(ConfigError, match="mdp.body_incoming_wrench"):
-        _ = scene["robot"].data.body_incoming_joint_wrench_b
+    robot = scene["robot"]
+    masses = robot.root_physx_view.get_masses()
+    masses[1] *= 1.5
+    robot.root_physx_view.set_masses(masses, [1])
+    generator = torch.Generator().manual_seed(0)
+    for _ in range(steps):  # falling, landing on the feet
+        efforts = torch.rand(3, robot.num_joints, generator=generator) * 2 - 1
+        robot.set_joint_effort_target(efforts.to(sim.device))
+        scene.write_data_to_sim()
+        sim.step()
+        scene.update(sim.get_physics_dt())
+    read = {"wrench": robot.data.body_incoming_joint_wrench_b}
+    read |= {name: sim.physics.post_constraint(name) for name in ("cacc", "cfrc_int", "cfrc_ext")}
+    read["qpos"] = sim.physics.data("qpos")
+    return {name: value.clone().cpu() for name, value in read.items()}
+
+
+def test_without_the_pass_compiled_in_it_runs_when_read_with_the_compiled_in_values(monkeypatch):
+    """Isaac Lab's task files read PhysX's incoming joint forces with nothing that turns MuJoCo's
+    post-constraint pass on before the model compiles: the backend runs it when they are read. The
+    same run with the pass compiled in and without: the same state, read both ways, the same values
+    (MuJoCo's own computation both times, so exactly)."""
+    compiled_in = _ant_after_random_efforts("cpu", compiled_in=True)
+    sim_utils.SimulationContext.clear_instance()
+    monkeypatch.setattr(versions, "_warned", set())  # the note is given once per process
+    with pytest.warns(UserWarning, match="post-constraint pass"):  # a one-time note says what it costs
+        on_demand = _ant_after_random_efforts("cpu", compiled_in=False)
+    assert torch.equal(on_demand["qpos"], compiled_in["qpos"])  # the pass changes no trajectory
+    assert compiled_in["cfrc_ext"][:, 2:].abs().amax() > 1.0  # the ants stand on their feet: contact forces
+    for name in ("wrench", "cacc", "cfrc_int", "cfrc_ext"):
+        assert torch.equal(on_demand[name], compiled_in[name]), name
+
+
+def test_the_pass_run_when_read_follows_the_state():
+    """Computed once per state: a step, a state write, a mass change give new values, as the compiled-in pass."""
+    sim = sim_utils.SimulationContext(sim_utils.SimulationCfg(dt=1 / 120, device="cpu"))
+    scene = InteractiveScene(AntSceneCfg(num_envs=2, env_spacing=3.0))
+    sim.reset()
+    robot, physics = scene["robot"], sim.physics
+    for _ in range(30):
+        sim.step()
+    first = physics.post_constraint("cfrc_int").clone()
+    assert torch.equal(physics.post_constraint("cfrc_int"), first)  # the same state: not run again
+    sim.step()
+    assert not torch.equal(physics.post_constraint("cfrc_int"), first)
+    pose = robot.data.root_state_w[:, :7].clone()
+    pose[:, 2] += 1.0  # lifted off the ground: the feet carry nothing
+    robot.write_root_pose_to_sim(pose)
+    feet = [robot.body_names.index(b) for b in FEET]
+    assert robot.data.body_incoming_joint_wrench_b[:, feet].abs().amax() < 1.0
+    with pytest.raises(ValueError, match="cfrc_int"):
+        physics.post_constraint("qfrc_constraint")
+
+
+@pytest.mark.gpu
+def test_the_pass_run_when_read_on_the_gpu_gives_mujoco_warps_own():
+    """MuJoCo Warp: the pass launched when read equals the one its forward runs with the pass on
+    (``opt.run_rne_postconstraint``), at the same state; and it agrees with the compiled-in run."""
+    on_demand = _ant_after_random_efforts("cuda:0", compiled_in=False)
+    sim = sim_utils.SimulationContext.instance()
+    physics = sim.physics
+    physics.wp_model.opt.run_rne_postconstraint = True  # MuJoCo Warp's forward runs the pass itself
+    physics._graphs.clear()
+    physics.forward()  # the same state: forward is a function of it
+    torch.testing.assert_close(physics.data("cfrc_int").cpu(), on_demand["cfrc_int"], atol=1e-4, rtol=1e-4)
+    torch.testing.assert_close(physics.data("cfrc_ext").cpu(), on_demand["cfrc_ext"], atol=1e-4, rtol=1e-4)
+    sim_utils.SimulationContext.clear_instance()
+    compiled_in = _ant_after_random_efforts("cuda:0", compiled_in=True)
+    assert compiled_in["cfrc_ext"][:, 2:].abs().amax() > 1.0
+    # two GPU runs: contacts are gathered in no fixed order, so the float sums may differ slightly
+    torch.testing.assert_close(on_demand["wrench"], compiled_in["wrench"], atol=2e-2, rtol=2e-2)
 
 
 def test_isaaclab_ant_observation_term_runs_in_the_manager_based_env():

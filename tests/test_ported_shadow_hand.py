@@ -20,7 +20,6 @@ from conftest import load_script
 
 from simlab.tasks.direct.inhand_manipulation.inhand_manipulation_env import InHandManipulationEnv
 from simlab.tasks.direct.shadow_hand.shadow_hand_env_cfg import ShadowHandEnvCfg, ShadowHandOpenAIEnvCfg
-from simlab.utils.errors import ConfigError
 
 PORTED = Path(__file__).parent / "ported"
 NUM_ENVS = 4
@@ -90,14 +89,18 @@ def test_ported_openai_config_runs_and_matches_simlab_s(ported):
         env.close()
 
 
-def test_isaac_lab_s_env_asking_physx_for_joint_forces_is_told_what_to_use(ported):
-    """Isaac Lab's env with the OpenAI config reads PhysX's incoming joint forces
-    (``body_incoming_joint_wrench_b``): its model lacks MuJoCo's post-constraint pass, and the error
-    says how to turn it on."""
+def test_isaac_lab_s_env_reads_physx_s_joint_forces_for_its_critic(ported):
+    """Isaac Lab's env with the OpenAI config reads PhysX's incoming joint forces for its critic
+    (``root_physx_view.get_link_incoming_joint_force()``) and nothing turns MuJoCo's post-constraint
+    pass on before the model compiles: the backend runs the pass when they are read. The fingertip
+    wrenches in the critic's state are those simlab's asset data give."""
     cfg_module, env_module = ported
     env = make(env_module.InHandManipulationEnv, cfg_module.ShadowHandOpenAIEnvCfg())
     try:
-        with pytest.raises(ConfigError, match=r"compute_body_interaction_forces\(sim.spec\) before sim.reset\(\)"):
-            env.reset()
+        obs = run(env, steps=10)
+        assert obs["policy"].shape == (NUM_ENVS, 42) and obs["critic"].shape == (NUM_ENVS, 187)
+        tips = env.hand.data.body_incoming_joint_wrench_b[:, env.finger_bodies].reshape(NUM_ENVS, -1)
+        torch.testing.assert_close(env.fingertip_force_sensors.reshape(NUM_ENVS, -1), tips)
+        assert tips.abs().amax() > 1e-3  # the fingers touch the cube
     finally:
         env.close()

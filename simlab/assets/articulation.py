@@ -553,34 +553,24 @@ class ArticulationData(RootedAssetData):
         world (through its free joint: zero; through a fixed base: what holds the robot).
 
         MuJoCo's ``cfrc_int`` (the interaction force with the parent, computed by the post-constraint
-        pass; ``mdp.body_incoming_wrench`` turns that pass on), moved from the tree's centre of mass
-        to the body's origin and rotated into the body's frame. It is what MuJoCo's force and torque
-        sensors on a site at the body's origin read. As PhysX's joint forces (and simlab's contact
-        sensor), it is the wrench of the last physics step: ``mj_step`` computes it from the state
-        the step starts from, with the body poses of that state, so reading it costs no forward pass.
+        pass: in every forward pass of a model compiled with it, as ``mdp.body_incoming_wrench`` and
+        ``sim_utils.compute_body_interaction_forces`` do, else by the backend when read), moved from
+        the tree's centre of mass to the body's origin and rotated into the body's frame. It is what
+        MuJoCo's force and torque sensors on a site at the body's origin read, at the current state
+        (worlds whose state changed since their last forward pass are forwarded first).
 
         It is PhysX's ``get_link_incoming_joint_force()``, which Isaac Lab's in-hand tasks read for the
         fingertips: there a body with ``disable_gravity`` is weightless. Here that is MuJoCo's gravity
         compensation, a joint-space force that ``cfrc_int`` does not see: the joints would still carry
         the body's weight. The compensating force on the body and the bodies it carries (at their
         centres of mass) is taken out, so a weightless fingertip at rest reads zero, as in PhysX."""
-        from simlab.sim.simulation_context import computes_body_interaction_forces
-        from simlab.utils.errors import ConfigError
-
         a = self._asset
-        if not computes_body_interaction_forces(a._sim.model):
-            raise ConfigError(
-                f"'{a.cfg.prim_path}': body_incoming_joint_wrench_b needs MuJoCo's post-constraint pass, which this"
-                " model does not run: observe mdp.body_incoming_wrench in the env config, or call sim_utils."
-                "compute_body_interaction_forces(sim.spec) before sim.reset() (a direct env: in _setup_scene)."
-            )
-        if not hasattr(self, "_cfrc_int"):
-            self._cfrc_int = a._sim.physics.data("cfrc_int")
-        # cfrc_int comes from the whole forward pass: a kinematics-only refresh (the cuda backend's
-        # ensure_kinematics) would pair the new poses with the last step's forces
-        a._physics.ensure_forward()
+        # cfrc_int comes from the whole forward pass (post_constraint forwards stale worlds): a
+        # kinematics-only refresh (the cuda backend's ensure_kinematics) would pair the new poses
+        # with the last step's forces
+        cfrc_int = a._physics.post_constraint("cfrc_int")
         ids = a._body_index
-        spatial = self._cfrc_int[:, ids]  # [torque about the tree's centre of mass, force], world axes
+        spatial = cfrc_int[:, ids]  # [torque about the tree's centre of mass, force], world axes
         force = spatial[..., 3:6]
         offset = self._xpos[:, ids] - self._subtree_com[:, self._rootids]
         torque = spatial[..., 0:3] - torch.linalg.cross(offset, force, dim=-1)

@@ -57,9 +57,9 @@ class BodyPropertiesView:
         return tensor.reshape(*tensor.shape[:-2], 9).cpu()
 
     def get_link_incoming_joint_force(self) -> torch.Tensor:
-        """PhysX's incoming joint wrenches, (count, num_bodies, 6): ``data.body_incoming_joint_wrench_b``,
-        for a model that runs MuJoCo's post-constraint pass (``sim_utils.compute_body_interaction_forces``
-        before the model compiles; its error says so otherwise)."""
+        """PhysX's incoming joint wrenches, (count, num_bodies, 6): ``data.body_incoming_joint_wrench_b``
+        (MuJoCo's post-constraint pass: compiled in by ``sim_utils.compute_body_interaction_forces``
+        before the model compiles, else run by the backend when read)."""
         return self._asset.data.body_incoming_joint_wrench_b
 
     def _field(self, name: str) -> torch.Tensor:

@@ -9,6 +9,7 @@ assets resolve their joints and bodies against it. From then on ``step()`` advan
 from __future__ import annotations
 
 import enum
+import functools
 import math
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
@@ -243,6 +244,7 @@ class SimulationContext:
                 num_threads=opts.num_threads,
                 nconmax=opts.nconmax,
                 njmax=opts.njmax,
+                post_constraint_model=functools.partial(compile_with_post_constraint, self.spec),
             )
             mark("physics backend")  # for MuJoCo Warp: imported, initialised, model and data on the GPU
             self.backend.set_initial_qpos(initial_qpos)
@@ -415,20 +417,14 @@ class SimulationContext:
 POST_CONSTRAINT_TRIGGER = "simlab/contact_forces"
 """The world site whose accelerometer makes MuJoCo compute ``cfrc_ext`` and ``cfrc_int`` at every step."""
 
-_POST_CONSTRAINT_SENSORS = (
-    mujoco.mjtSensor.mjSENS_ACCELEROMETER,
-    mujoco.mjtSensor.mjSENS_FORCE,
-    mujoco.mjtSensor.mjSENS_TORQUE,
-    mujoco.mjtSensor.mjSENS_FRAMELINACC,
-    mujoco.mjtSensor.mjSENS_FRAMEANGACC,
-)
-
 
 def compute_body_interaction_forces(spec: mujoco.MjSpec) -> None:
     """Make MuJoCo (C and Warp) fill ``cfrc_int`` and ``cfrc_ext`` at every forward pass.
 
     They come from ``mj_rnePostConstraint``, which the forward pass runs only for a model with an
-    acceleration-stage sensor: one accelerometer on a world site is added (once)."""
+    acceleration-stage sensor: one accelerometer on a world site is added (once). Without it the
+    backend runs the pass when they are read (``PhysicsBackend.post_constraint``): on the GPU one
+    pass instead of one in every substep's forward, on the CPU one more forward pass per read."""
     if spec.site(POST_CONSTRAINT_TRIGGER) is None:
         spec.worldbody.add_site(name=POST_CONSTRAINT_TRIGGER, group=5)
         spec.add_sensor(
@@ -439,9 +435,19 @@ def compute_body_interaction_forces(spec: mujoco.MjSpec) -> None:
         )
 
 
-def computes_body_interaction_forces(model: mujoco.MjModel) -> bool:
-    """Whether the forward pass of ``model`` fills ``cfrc_int`` / ``cfrc_ext`` (see above)."""
-    return any(int(t) in {int(s) for s in _POST_CONSTRAINT_SENSORS} for t in model.sensor_type)
+def compile_with_post_constraint(spec: mujoco.MjSpec) -> mujoco.MjModel:
+    """``spec``'s model with one more sensor, which makes its forward pass run the post-constraint
+    pass: the cpu backend runs its forward pass beside the model's to give that pass on demand
+    (``PhysicsBackend.post_constraint``). A frame acceleration of the world body: no site is added,
+    so every other object keeps its id."""
+    spec = spec.copy()
+    spec.add_sensor(
+        name=POST_CONSTRAINT_TRIGGER,
+        type=mujoco.mjtSensor.mjSENS_FRAMELINACC,
+        objtype=mujoco.mjtObj.mjOBJ_XBODY,
+        objname="world",
+    )
+    return spec.compile()
 
 
 def _apply_render_cfg(spec: mujoco.MjSpec, render: RenderCfg) -> None:

@@ -7,6 +7,7 @@ warp or mujoco_warp; ``make_backend`` checks for them only when ``cuda`` is aske
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 import mujoco
@@ -31,6 +32,7 @@ def make_backend(
     num_threads: int = 0,
     nconmax: int | None = None,
     njmax: int | None = None,
+    post_constraint_model: Callable[[], mujoco.MjModel] | None = None,
     **cuda_options: Any,
 ) -> PhysicsBackend:
     """The backend for ``device`` and ``engine`` (``SimulationCfg.engine``).
@@ -38,7 +40,9 @@ def make_backend(
     ``"cpu"`` runs MuJoCo through mjbatch (``num_threads`` workers), ``"cuda"`` / ``"cuda:N"`` runs
     MuJoCo Warp (``nconmax`` / ``njmax`` contact and constraint buffers per world, and any other
     option of :class:`CudaBackend`, e.g. ``overflow_check_interval``); engine
-    ``"mujoco_warp"`` with ``"cpu"`` runs MuJoCo Warp on Warp's CPU device.
+    ``"mujoco_warp"`` with ``"cpu"`` runs MuJoCo Warp on Warp's CPU device. ``post_constraint_model``
+    compiles ``model`` with the post-constraint pass on: the cpu backend's way to run that pass on
+    demand (``PhysicsBackend.post_constraint``); MuJoCo Warp launches it by itself.
     """
     if engine not in ENGINES:
         raise ValueError(f"unknown physics engine '{engine}': expected one of {ENGINES}")
@@ -51,7 +55,9 @@ def make_backend(
             " use device 'cpu', or engine 'auto' / 'mujoco_warp' on the GPU"
         )
     if device == "cpu" and engine != "mujoco_warp":
-        return CpuBackend(model, num_envs, device="cpu", num_threads=num_threads)
+        return CpuBackend(
+            model, num_envs, device="cpu", num_threads=num_threads, post_constraint_model=post_constraint_model
+        )
     from .cuda import CudaBackend, require_cuda_backend
 
     require_cuda_backend(device)  # clear RuntimeError with the install hint

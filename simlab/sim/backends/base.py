@@ -49,6 +49,28 @@ from simlab.utils.env_mask import masked_copy_
 
 EnvIds = Sequence[int] | torch.Tensor | None
 
+# The MjData fields of MuJoCo's post-constraint pass (mj_rnePostConstraint): body accelerations and
+# the forces on each body from outside its tree and from its parent (PhysX's incoming joint forces).
+POST_CONSTRAINT_FIELDS = ("cacc", "cfrc_int", "cfrc_ext")
+
+# The sensor types whose evaluation makes MuJoCo's forward pass run the post-constraint pass.
+_POST_CONSTRAINT_SENSORS = frozenset(
+    int(t)
+    for t in (
+        mujoco.mjtSensor.mjSENS_ACCELEROMETER,
+        mujoco.mjtSensor.mjSENS_FORCE,
+        mujoco.mjtSensor.mjSENS_TORQUE,
+        mujoco.mjtSensor.mjSENS_FRAMELINACC,
+        mujoco.mjtSensor.mjSENS_FRAMEANGACC,
+    )
+)
+
+
+def runs_post_constraint(model: mujoco.MjModel) -> bool:
+    """Whether the forward pass of ``model`` runs the post-constraint pass (it has such a sensor)."""
+    return any(int(t) in _POST_CONSTRAINT_SENSORS for t in model.sensor_type)
+
+
 # Model constants that MuJoCo's set_const writes; a backend makes them per world (in its own dtype)
 # before the first set_const, so they read as model fields afterwards.
 SET_CONST_OUTPUTS = (
@@ -129,6 +151,44 @@ class PhysicsBackend(ABC):
         self.state_version += 1  # also covers state writes announced by a forward instead of mark_stale
         if env_ids is None or self.forwards_all_worlds:
             self._clear_stale()
+
+    def post_constraint(self, name: str) -> torch.Tensor:
+        """``cacc``, ``cfrc_int`` or ``cfrc_ext`` (``POST_CONSTRAINT_FIELDS``) at the current state.
+
+        MuJoCo computes them in its post-constraint pass, which the forward pass runs only for a model
+        with an acceleration-stage sensor (``sim_utils.compute_body_interaction_forces`` adds one
+        before the model compiles). For another model the backend runs the pass itself when these are
+        read, once per state, with the values the compiled-in pass gives (``_post_constraint``).
+        """
+        if name not in POST_CONSTRAINT_FIELDS:
+            raise ValueError(f"the post-constraint pass computes {', '.join(POST_CONSTRAINT_FIELDS)}, not '{name}'")
+        self.ensure_forward()
+        if runs_post_constraint(self.model):
+            return self.data(name)
+        if getattr(self, "_post_constraint_version", None) != self.state_version:
+            from simlab.utils.versions import warn_once
+
+            warn_once(
+                "This model's forward pass does not run MuJoCo's post-constraint pass (cacc, cfrc_int, cfrc_ext:"
+                " incoming joint forces); simlab runs it when they are read"
+                f" ({self._post_constraint_cost}). sim_utils.compute_body_interaction_forces(sim.spec) before"
+                " sim.reset() compiles it into every forward pass instead."
+            )
+            self._post_constraint()
+            self._post_constraint_version = self.state_version
+        return self._post_constraint_data(name)
+
+    _post_constraint_cost = "one pass per read"
+    """What running the pass on demand costs on this backend (for the one-time note)."""
+
+    def _post_constraint(self) -> None:
+        """Run the post-constraint pass at the current state of every world (forwarded: see
+        ``post_constraint``), giving what a model compiled with the pass has after its forward."""
+        raise NotImplementedError(f"the {self.name} backend cannot run MuJoCo's post-constraint pass on demand")
+
+    def _post_constraint_data(self, name: str) -> torch.Tensor:
+        """Where ``_post_constraint`` left field ``name``: (num_envs, nbody, 6)."""
+        return self.data(name)
 
     def set_initial_qpos(self, qpos) -> None:
         """The joint positions ``reset`` and ``restart`` put the worlds in (``nq`` values)."""

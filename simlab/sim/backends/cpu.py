@@ -9,6 +9,7 @@ zero-copy tensor: nothing is copied per step on the Python side.
 from __future__ import annotations
 
 import os
+from collections.abc import Callable
 
 import mjbatch
 import mujoco
@@ -17,7 +18,7 @@ import torch
 
 from simlab.utils.memory import available_memory, check_env_memory
 
-from .base import SET_CONST_OUTPUTS, EnvIds, PhysicsBackend
+from .base import POST_CONSTRAINT_FIELDS, SET_CONST_OUTPUTS, EnvIds, PhysicsBackend
 
 
 def check_host_memory(model: mujoco.MjModel, data: mujoco.MjData, num_envs: int, num_threads: int) -> None:
@@ -43,7 +44,10 @@ class CpuBackend(PhysicsBackend):
         num_threads: int = 0,
         nconmax: int | None = None,
         njmax: int | None = None,
+        post_constraint_model: Callable[[], mujoco.MjModel] | None = None,
     ):
+        """``post_constraint_model`` compiles ``model`` with one more sensor, which makes its forward
+        pass run the post-constraint pass: how this backend runs that pass on demand (``post_constraint``)."""
         # nconmax / njmax size the GPU's fixed buffers; MuJoCo C grows its arena as needed.
         self._probe = mujoco.MjData(model)  # for field dtypes: a binding's dtype is fixed at first bind
         # first: nothing of size num_envs before the check (the base class's buffers included)
@@ -62,6 +66,10 @@ class CpuBackend(PhysicsBackend):
         # Each world's time, to see MuJoCo restart a world (see _step), and the worlds it restarted.
         self._time_view = torch.from_numpy(self.batch.bind("time", np.float64))
         self._restarted = torch.zeros(num_envs, dtype=torch.bool)
+        # The post-constraint pass on demand: a second batch, made at the first read (_post_constraint).
+        self._post_constraint_model = post_constraint_model
+        self._post: mjbatch.Batch | None = None
+        self._constants_set = np.zeros(num_envs, dtype=bool)  # worlds set_const ran in, for the second batch
 
     @property
     def num_threads(self) -> int:
@@ -126,7 +134,51 @@ class CpuBackend(PhysicsBackend):
                 self.model_field(name)
             except ValueError:
                 continue  # not a model array (stat.meaninertia is a scalar of a struct)
-        self.batch.set_const(self._ids_numpy(env_ids))
+        ids = self._ids_numpy(env_ids)
+        self.batch.set_const(ids)
+        self._constants_set[slice(None) if ids is None else ids] = True
+
+    # -- the post-constraint pass on demand ------------------------------------------------------
+
+    _post_constraint_cost = "one more forward pass per read, in a second batch of the worlds"
+
+    def _post_constraint(self) -> None:
+        """mjbatch runs MuJoCo's pipeline, not its single passes: the worlds' forward pass is run
+        again in a second batch of the model compiled with the pass on, from each world's state
+        (``bind("state")``: what this batch's last forward started from) and its per-world model
+        fields. The same computation as the compiled-in pass, so the same values."""
+        if self._post is None:
+            if self._post_constraint_model is None:
+                raise NotImplementedError(
+                    "this cpu backend was made without post_constraint_model, so it cannot run MuJoCo's post-constraint"
+                    " pass on demand: compile it in (sim_utils.compute_body_interaction_forces before sim.reset())"
+                )
+            self._post = mjbatch.Batch(self._post_constraint_model(), self.num_envs, num_threads=self.num_threads)
+            if self._post.nstate != self.batch.nstate:
+                raise RuntimeError("the model with the post-constraint pass has another state size than the model")
+            self._state = self.batch.bind("state")
+            self._post_state = self._post.bind("state")
+            self._post_fields: dict[str, np.ndarray] = {}
+            self._post_out = {n: torch.from_numpy(self._post.bind(n, np.float32)) for n in POST_CONSTRAINT_FIELDS}
+        self._copy_model_fields()
+        if self._constants_set.any():  # derived constants from the same inputs, then the values this batch holds
+            self._post.set_const(np.flatnonzero(self._constants_set))
+            self._constants_set[:] = False
+            self._copy_model_fields()
+        np.copyto(self._post_state, self._state)
+        self._post.forward()
+
+    def _copy_model_fields(self) -> None:
+        """The per-world model fields into the second batch (sensor fields: its model has one more sensor)."""
+        for key, values in self._model.items():
+            target = self._post_fields.get(key)
+            if target is None:
+                dtype = np.float32 if values.dtype == torch.float32 else None
+                target = self._post_fields[key] = self._post.expand(key, dtype)
+            target[tuple(slice(0, n) for n in values.shape)] = values.numpy()
+
+    def _post_constraint_data(self, name: str) -> torch.Tensor:
+        return self._post_out[name]
 
 
 def _blown_up(state: torch.Tensor) -> torch.Tensor:

@@ -386,6 +386,12 @@ class CudaBackend(PhysicsBackend):
 
         self._run("kinematics", body)
 
+    def _post_constraint(self) -> None:
+        """MuJoCo Warp's post-constraint pass (``rne_postconstraint``) on the last forward's results: a
+        graph of its own, or recorded into an env step being captured, as the other physics calls."""
+        m, d, mjw = self.wp_model, self.wp_data, self._mjw
+        self._run("rne_postconstraint", lambda: mjw.rne_postconstraint(m, d))
+
     def _reset(self, env_ids: EnvIds) -> None:
         """Reset the selected worlds (``mujoco_warp.reset_data`` with a mask), then forward all."""
         if env_ids is None:
