@@ -62,6 +62,53 @@ def test_the_state_machine_stacks_and_its_demonstrations_are_recorded_with_the_s
             assert 0 < first["grasp_1"] < first["stack_1"] < first["grasp_2"], first
 
 
+def test_the_demonstrations_hold_the_machines_clean_actions_beside_the_noisy_ones_applied(demos):
+    with h5py.File(demos[0]) as file:
+        demo = file["data/demo_0"]
+        applied, clean = torch.from_numpy(demo["actions"][:]), torch.from_numpy(demo["clean_actions"][:])
+    assert applied.shape == clean.shape
+    torch.testing.assert_close(applied[:, 3:], clean[:, 3:], rtol=0, atol=0)  # the noise is on the hand's position
+    spread = (applied[:, :3] - clean[:, :3]).std()
+    assert 0.0025 < spread < 0.0035, spread  # --noise 0.003
+
+
+def test_the_machine_drives_an_ik_rel_arm_by_delta_poses_clipped_to_a_step(scripts):
+    """task_actions: a far aim is one step of MAX_STEP towards it, in the action's units (Isaac Lab's scale
+    0.5); an aim within a step is reached."""
+    from simlab.utils.math import quat_from_euler_xyz, quat_mul, subtract_frame_transforms
+
+    sm, _ = scripts
+    task = "simlab/Stack-Cube-Instance-Randomize-Franka-IK-Rel-v0"
+    cfg = parse_env_cfg(task, device="cpu", num_envs=2)
+    cfg.seed = 0
+    env = gym.make(task, cfg=cfg).unwrapped
+    env.reset()
+    robot = env.scene["robot"].data
+    hand = robot.body_names.index("panda_hand")
+
+    def hand_pose():
+        return subtract_frame_transforms(
+            robot.root_pos_w, robot.root_quat_w, robot.body_pos_w[:, hand], robot.body_quat_w[:, hand]
+        )
+
+    pos, quat = hand_pose()
+    zeros = torch.zeros(2)
+    turned = quat_mul(quat_from_euler_xyz(zeros, zeros, torch.full((2,), 2.0)), quat)  # 2 rad about z
+    gripper = torch.tensor([[1.0], [-1.0]])
+    far = sm.task_actions(env, torch.cat([pos + torch.tensor([1.0, 0.0, 0.0]), quat, gripper], dim=-1))
+    turn = sm.task_actions(env, torch.cat([pos, turned, gripper], dim=-1))
+    most_pos, most_rot = sm.MAX_STEP
+    torch.testing.assert_close(far[:, :6], torch.tensor([[most_pos / 0.5, 0, 0, 0, 0, 0]] * 2), atol=1e-5, rtol=0)
+    torch.testing.assert_close(turn[:, 3:6], torch.tensor([[0.0, 0.0, most_rot / 0.5]] * 2), atol=1e-5, rtol=0)
+    assert far[:, 6:].equal(gripper) and turn[:, 6:].equal(gripper)
+    aim = torch.cat([pos + torch.tensor([0.03, -0.02, 0.02]), quat, gripper], dim=-1)
+    for _ in range(15):
+        env.step(sm.task_actions(env, aim))
+    reached, _ = hand_pose()
+    env.close()
+    assert torch.linalg.vector_norm(reached - aim[:, :3], dim=-1).max() < 0.003, reached - aim[:, :3]
+
+
 def test_the_recorded_demonstrations_replay_bit_identically_in_order(demos, capsys):
     """Both episodes, replayed one after the other as they were recorded in one env. (The second one
     replayed alone, from a fresh env, deviates by about 1 cm: something of the env's history before

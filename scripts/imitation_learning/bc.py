@@ -34,8 +34,11 @@ OBS_TERMS = tuple(BCAgentCfg().obs_terms)
 """The observation terms Isaac Lab's robomimic configs of the stack task feed BC."""
 
 
-def load_demos(path: str, terms: list[str]) -> tuple[torch.Tensor, torch.Tensor, str | None]:
-    """(steps, obs) observations, (steps, actions) actions of every episode in ``path``, and the task
+def load_demos(
+    path: str, terms: list[str], actions_key: str = "actions"
+) -> tuple[torch.Tensor, torch.Tensor, str | None]:
+    """(steps, obs) observations, (steps, actions) actions (the dataset's ``actions_key``: ``actions``
+    as applied, or the state machine's ``clean_actions``) of every episode in ``path``, and the task
     that recorded them."""
     from simlab.utils.datasets import HDF5DatasetFileHandler
     from simlab.utils.errors import ConfigError
@@ -53,8 +56,13 @@ def load_demos(path: str, terms: list[str]) -> tuple[torch.Tensor, torch.Tensor,
                     f"{path} {name} has no observation term {missing}; it has {sorted(recorded)}: choose --obs_terms"
                     " among those."
                 )
+            if actions_key not in episode:
+                keys = sorted(k for k, v in episode.items() if isinstance(v, torch.Tensor))
+                raise ConfigError(
+                    f"{path} {name} has no '{actions_key}'; it has {keys}: choose --actions_key among those."
+                )
             obs.append(torch.cat([recorded[t].reshape(len(recorded[t]), -1).float() for t in terms], dim=-1))
-            actions.append(episode["actions"].float())
+            actions.append(episode[actions_key].float())
         if not obs:
             raise ConfigError(f"{path} holds no episodes.")
         return torch.cat(obs), torch.cat(actions), handler.get_env_name()
@@ -146,6 +154,11 @@ def main(argv: list[str] | None = None) -> None:
     fit.add_argument("--out", required=True, help="Where the policy goes (a torch.save file).")
     recipe = BCAgentCfg()  # the defaults: the stack task's registered recipe (simlab.rl.bc)
     fit.add_argument("--obs_terms", nargs="+", default=list(OBS_TERMS), help="Policy observation terms to read.")
+    fit.add_argument(
+        "--actions_key",
+        default="actions",
+        help="The labels: 'actions' (as applied) or 'clean_actions' (the state machine's, before its --noise).",
+    )
     fit.add_argument("--hidden", type=int, nargs="+", default=recipe.hidden, help="Hidden layer widths.")
     fit.add_argument(
         "--relative",
@@ -158,6 +171,7 @@ def main(argv: list[str] | None = None) -> None:
     fit.add_argument("--lr", type=float, default=recipe.lr)
     fit.add_argument("--seed", type=int, default=recipe.seed)
     fit.add_argument("--device", default="cpu", help="Where to train: cpu or cuda:N.")
+    fit.add_argument("--threads", type=int, default=1, help="CPU threads torch trains with.")
     judge = commands.add_parser("play", help="Judge a policy by its task's registered criterion.")
     judge.add_argument("--checkpoint", required=True, help="A policy `train` wrote.")
     judge.add_argument("--task", default=None, help="Gymnasium id (default: the task the demonstrations are of).")
@@ -167,11 +181,12 @@ def main(argv: list[str] | None = None) -> None:
     args = parser.parse_args(argv)
 
     if args.command == "train":
-        obs, actions, tasks = zip(*(load_demos(path, args.obs_terms) for path in args.dataset_file))
+        obs, actions, tasks = zip(*(load_demos(path, args.obs_terms, args.actions_key) for path in args.dataset_file))
         if len(set(tasks)) > 1:
             parser.error(f"the datasets hold demonstrations of several tasks: {sorted(map(str, set(tasks)))}")
         obs, actions, task = torch.cat(obs), torch.cat(actions), tasks[0]
         start = time.perf_counter()
+        torch.set_num_threads(args.threads)
         policy, losses = train(
             obs,
             actions,

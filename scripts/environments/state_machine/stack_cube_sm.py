@@ -1,16 +1,21 @@
 """Stack the three cubes with a scripted pick-and-place state machine (simlab's; Isaac Lab records this
 task by teleoperation and Mimic).
 
-Each env runs its own machine over the IK-Abs task: pick cube 2 and place it on cube 1, then pick
-cube 3 and place it on cube 2. Each pick turns the fingers square to the cube's faces. A move ends
-when the fingertips are near enough its target (or after its most steps), a gripper's open
-or close after a few steps: the machine's next action follows from what the task observes, so a
+Each env runs its own machine: pick cube 2 and place it on cube 1, then pick cube 3 and place it on
+cube 2. The machine aims the hand at absolute poses (the IK-Abs task's actions); on a task whose arm
+takes relative poses (IK-Rel, also the instance-randomized one) :func:`task_actions` turns each aim into
+a delta pose from where the hand is, clipped to a step. Each pick turns the fingers square to the
+cube's faces. A move ends when the fingertips are near enough its target (or after its most steps), a
+gripper's open or close after a few steps: the machine's next action follows from what the task observes, so a
 policy cloned from its demonstrations can tell when to close the gripper. The script judges the run
 by the task's registered criterion (the share of episodes that end with the cubes stacked) and
 prints it; with ``--dataset_file`` it records the episodes that end stacked with simlab's recorder
-(scripts/imitation_learning/bc.py clones a policy from them).
+(scripts/imitation_learning/bc.py clones a policy from them), and besides the ``actions`` it applied
+(with ``--noise``) the machine's own actions before the noise as ``clean_actions`` (the label to clone).
 
     python scripts/environments/state_machine/stack_cube_sm.py --num_envs 8 --headless --device cpu
+    python scripts/environments/state_machine/stack_cube_sm.py --num_envs 8 --headless --device cpu \
+        --task simlab/Stack-Cube-Instance-Randomize-Franka-IK-Rel-v0
 """
 
 from __future__ import annotations
@@ -22,9 +27,13 @@ from collections.abc import Callable
 
 import torch
 
+import simlab.utils.math as math_utils
 from simlab.utils.math import quat_from_euler_xyz, quat_mul, yaw_quat
 
 TASK = "simlab/Stack-Cube-Franka-IK-Abs-v0"
+"""The default task; any stack task whose ``arm_action`` is a differential-IK pose (IK-Abs or IK-Rel)."""
+MAX_STEP = (0.1, 0.5)
+"""The most a relative action moves the hand in one step: position [m], rotation [rad]."""
 TCP_OFFSET = 0.1034
 """The fingertip centre below the hand [m] (the task's end-effector frame)."""
 LIFT_HEIGHT = 0.15
@@ -125,32 +134,66 @@ class StackCubesSm:
         self.waited[finished] = 0
 
 
+def task_actions(env, actions: torch.Tensor, max_step: tuple[float, float] = MAX_STEP) -> torch.Tensor:
+    """The env's actions for the machine's (hand pose in the robot's root frame, gripper): as they are
+    where the ``arm_action`` takes absolute poses; where it takes relative ones, the pose error from
+    its end-effector frame now to that frame on the aimed hand, translation and rotation vector each
+    clipped to ``max_step`` (m, rad) in length and divided by the term's scale (after its offset)."""
+    term = env.action_manager.get_term("arm_action")
+    if not term.cfg.controller.use_relative_mode:
+        return actions
+    robot = env.scene[term.cfg.asset_name].data
+    body = robot.body_names.index(term.cfg.body_name)
+    pos, quat = math_utils.subtract_frame_transforms(
+        robot.root_pos_w, robot.root_quat_w, robot.body_pos_w[:, body], robot.body_quat_w[:, body]
+    )
+    aim_pos, aim_quat = actions[:, :3], actions[:, 3:7]
+    if term.cfg.body_offset is not None:  # the action moves the frame at the offset, not the body
+        offset = term.cfg.body_offset
+        offset_pos = torch.tensor(offset.pos, device=actions.device).expand_as(pos)
+        offset_rot = torch.tensor(offset.rot, device=actions.device).expand_as(quat)
+        pos, quat = math_utils.combine_frame_transforms(pos, quat, offset_pos, offset_rot)
+        aim_pos, aim_quat = math_utils.combine_frame_transforms(aim_pos, aim_quat, offset_pos, offset_rot)
+    delta = torch.cat(math_utils.compute_pose_error(pos, quat, aim_pos, aim_quat), dim=-1)
+    for part, most in zip((delta[:, :3], delta[:, 3:]), max_step):
+        part *= most / torch.linalg.vector_norm(part, dim=-1, keepdim=True).clamp(min=most)
+    scale = torch.as_tensor(term.cfg.scale, device=actions.device)
+    offset = torch.as_tensor(term.cfg.offset, device=actions.device)
+    return torch.cat([(delta - offset) / scale, actions[:, 7:]], dim=-1)
+
+
 def run(
     env,
     steps: int,
     watch: Callable[[dict], None] | None = None,
     noise: float = 0.0,
     stop: Callable[[], bool] | None = None,
+    task: str = TASK,
 ) -> tuple[StackCubesSm, dict[str, int]]:
-    """Step ``env`` (the IK-Abs stack task) ``steps`` times under the machine, or until ``stop()``;
-    returns it and the criterion's counts (episodes, and those that ended stacked). ``watch`` sees each
-    step's observations; ``noise`` [m] is the std of a Gaussian offset added to each commanded hand
-    position (demonstrations that show how to come back from small errors)."""
+    """Step ``env`` (the stack ``task``) ``steps`` times under the machine, or until ``stop()``; returns
+    it and the criterion's counts (episodes, and those that ended stacked). ``watch`` sees each step's
+    observations; ``noise`` [m] is the std of a Gaussian offset added to each aimed hand position
+    (demonstrations that show how to come back from small errors). Each step's action without the
+    noise goes to the env's recorder as ``clean_actions``."""
+    from simlab.managers import SceneEntityCfg
     from simlab.tasks.manager_based.manipulation.stack.config.franka.stack_joint_pos_env_cfg import CUBE_SIZE
+    from simlab.tasks.manager_based.manipulation.stack.mdp.observations import object_pose_w
     from simlab.tasks.utils.criteria import criterion_for
 
-    on_step, counts = criterion_for(TASK).make_hook()
+    on_step, counts = criterion_for(task).make_hook()
     machine = StackCubesSm(env.num_envs, CUBE_SIZE, env.device)
     origins = env.scene.env_origins
+    cubes = {n: SceneEntityCfg(n) for n in ("cube_1", "cube_2", "cube_3")}  # the cubes in focus of collections
     for _ in range(steps):
         if stop is not None and stop():
             break
-        names = ("cube_1", "cube_2", "cube_3")
-        positions = {n: env.scene[n].data.root_pos_w - origins for n in names}
-        quats = {n: env.scene[n].data.root_quat_w for n in names}
-        actions = machine.compute(positions, quats)
+        poses = {n: object_pose_w(env, cfg) for n, cfg in cubes.items()}
+        aims = machine.compute({n: p - origins for n, (p, _) in poses.items()}, {n: q for n, (_, q) in poses.items()})
+        actions = clean = task_actions(env, aims)
         if noise > 0:
-            actions[:, :3] += noise * torch.randn_like(actions[:, :3])
+            noisy = torch.cat([aims[:, :3] + noise * torch.randn_like(aims[:, :3]), aims[:, 3:]], dim=-1)
+            actions = task_actions(env, noisy)
+        env.recorder_manager.add_to_episodes("clean_actions", clean)
         obs, _, terminated, truncated, _ = env.step(actions)
         on_step(env, obs, actions)
         if watch is not None:
@@ -178,6 +221,7 @@ def main() -> None:
     )
     parser.add_argument("--num_demos", type=int, default=10, help="With --dataset_file: stop once this many are in.")
     parser.add_argument("--noise", type=float, default=0.0, help="Std [m] of noise on the commanded hand position.")
+    parser.add_argument("--task", default=TASK, help="A stack task whose arm takes IK-Abs or IK-Rel poses.")
     AppLauncher.add_app_launcher_args(parser)
     args = parser.parse_args()
     if args.dataset_file is not None and (os.path.exists(args.dataset_file) or not args.dataset_file.endswith(".hdf5")):
@@ -193,20 +237,23 @@ def main() -> None:
     from simlab.tasks.utils.criteria import criterion_for
     from simlab.tasks.utils.parse_cfg import parse_env_cfg
 
-    cfg = parse_env_cfg(TASK, device=args.device, num_envs=args.num_envs)
+    cfg = parse_env_cfg(args.task, device=args.device, num_envs=args.num_envs)
+    arm = getattr(cfg.actions, "arm_action", None)
+    if getattr(getattr(arm, "controller", None), "command_type", None) != "pose":
+        parser.error(f"--task {args.task} has no differential-IK pose arm_action: give an IK-Abs or IK-Rel stack task")
     cfg.seed = args.seed
     steps, stop = args.steps, None
     if args.dataset_file is not None:
-        add_demo_recorders(cfg, args.dataset_file, TASK, succeeded_only=True)
-    env = gym.make(TASK, cfg=cfg).unwrapped
+        add_demo_recorders(cfg, args.dataset_file, args.task, succeeded_only=True)
+    env = gym.make(args.task, cfg=cfg).unwrapped
     if args.dataset_file is not None:  # until enough episodes ended stacked; at most two 30 s episodes per demo and env
         manager = env.recorder_manager
         steps = 2 * int(env.max_episode_length) * (1 + args.num_demos // args.num_envs)
         stop = lambda: manager.exported_successful_episode_count >= args.num_demos  # noqa: E731
     env.reset()
     with torch.inference_mode():
-        _, counts = run(env, steps, noise=args.noise, stop=stop)
-    score, passed = criterion_for(TASK).judge({}, counts)
+        _, counts = run(env, steps, noise=args.noise, stop=stop, task=args.task)
+    score, passed = criterion_for(args.task).judge({}, counts)
     print(
         f"[simlab] {counts['success']} of {counts['episodes']} finished episodes ended stacked ({score:.0%});"
         f" the criterion {'passes' if passed else 'fails'}"

@@ -12,8 +12,13 @@ import gymnasium as gym
 from . import agents
 
 _CRITERION = "simlab.tasks.manager_based.manipulation.stack.criterion:stacks_cubes"
-# cloned from IK-Abs demonstrations: its actions are IK-Abs targets
-_AGENTS = {"Stack-Cube-Franka-IK-Abs-v0": {"bc_cfg_entry_point": f"{agents.__name__}.bc_cfg:StackCubeBCCfg"}}
+# cloned from each task's own demonstrations (the IK-Abs targets, the IK-Rel deltas)
+_AGENTS = {
+    "Stack-Cube-Franka-IK-Abs-v0": {"bc_cfg_entry_point": f"{agents.__name__}.bc_cfg:StackCubeBCCfg"},
+    "Stack-Cube-Instance-Randomize-Franka-IK-Rel-v0": {
+        "bc_cfg_entry_point": f"{agents.__name__}.bc_cfg:StackCubeIKRelBCCfg"
+    },
+}
 
 for _id, _cfg in (
     ("Stack-Cube-Franka-v0", "stack_joint_pos_env_cfg:FrankaCubeStackEnvCfg"),

@@ -9,3 +9,12 @@ from simlab.utils import configclass
 @configclass
 class StackCubeBCCfg(BCAgentCfg):
     experiment_name: str = "franka_stack"
+
+
+@configclass
+class StackCubeIKRelBCCfg(BCAgentCfg):
+    """The IK-Rel tasks' recipe: their actions are already deltas from the end effector, so none is
+    predicted as an offset from an observation."""
+
+    experiment_name: str = "franka_stack_ik_rel"
+    relative: int = 0
