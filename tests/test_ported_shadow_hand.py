@@ -3,9 +3,10 @@
 ``tests/ported/shadow_hand_env_cfg.py`` is Isaac Lab's file with its ``isaaclab`` imports rewritten
 and nothing else. Its ``ShadowHandEnvCfg`` runs in Isaac Lab's own ``inhand_manipulation_env.py``
 (ported beside it); its ``ShadowHandOpenAIEnvCfg`` (noise models, domain randomization with the fixed
-tendon term, the asymmetric critic) runs in simlab's in-hand env, which turns on the MuJoCo pass that
-the fingertip wrenches Isaac Lab's file asks PhysX's articulation view for need. The OpenAI config holds
-the same settings as simlab's registered one.
+tendon term, the asymmetric critic) runs in simlab's in-hand env, which compiles in the MuJoCo pass that
+the fingertip wrenches need, and in Isaac Lab's, which asks PhysX's articulation view for them (the
+backend then runs that pass when they are read). The OpenAI config holds the same settings as simlab's
+registered one.
 """
 
 from __future__ import annotations
