@@ -42,10 +42,10 @@ def test_only_import_lines_name_simlab():
     assert simlab_lines and all(re.match(r"(from|import) simlab", line) for line in simlab_lines), simlab_lines
 
 
-def make(env_class, cfg):
+def make(env_class, cfg, device: str = "cpu"):
     cfg.seed = 0
     cfg.scene.num_envs = NUM_ENVS
-    cfg.sim.device = "cpu"
+    cfg.sim.device = device
     cfg.sim.mujoco = ShadowHandEnvCfg().sim.mujoco  # simlab's MuJoCo settings for the task
     return env_class(cfg)
 
@@ -54,7 +54,8 @@ def run(env, steps: int = 20) -> dict:
     obs, _ = env.reset(seed=0)
     generator = torch.Generator().manual_seed(0)
     for _ in range(steps):
-        obs, reward, *_ = env.step(0.5 * (2 * torch.rand(NUM_ENVS, 20, generator=generator) - 1))
+        actions = 0.5 * (2 * torch.rand(NUM_ENVS, 20, generator=generator) - 1)
+        obs, reward, *_ = env.step(actions.to(env.device))
         assert all(torch.isfinite(group).all() for group in obs.values()) and torch.isfinite(reward).all()
     return obs
 
@@ -103,5 +104,22 @@ def test_isaac_lab_s_env_reads_physx_s_joint_forces_for_its_critic(ported):
         tips = env.hand.data.body_incoming_joint_wrench_b[:, env.finger_bodies].reshape(NUM_ENVS, -1)
         torch.testing.assert_close(env.fingertip_force_sensors.reshape(NUM_ENVS, -1), tips)
         assert tips.abs().amax() > 1e-3  # the fingers touch the cube
+    finally:
+        env.close()
+
+
+@pytest.mark.gpu
+def test_isaac_lab_s_env_reads_the_joint_forces_inside_its_captured_step(ported):
+    """On the GPU the env step is replayed as one CUDA graph: the post-constraint pass launched when the
+    critic reads the forces is recorded into it, so each replay gives the forces of its own state."""
+    cfg_module, env_module = ported
+    env = make(env_module.InHandManipulationEnv, cfg_module.ShadowHandOpenAIEnvCfg(), device="cuda:0")
+    try:
+        obs = run(env, steps=10)  # warm-up, capture, replays
+        assert env._stepper.is_graphed, env._stepper.mode
+        replayed = env.fingertip_force_sensors.clone()  # what the last replay's critic read
+        eager = env.hand.data.body_incoming_joint_wrench_b[:, env.finger_bodies]  # run again, now, same state
+        torch.testing.assert_close(replayed, eager, atol=1e-4, rtol=1e-4)
+        assert eager.abs().amax() > 1e-3 and obs["critic"].shape == (NUM_ENVS, 187)
     finally:
         env.close()
