@@ -89,6 +89,7 @@ def test_a_failed_measurement_is_a_row_and_a_failing_exit_code(monkeypatch, caps
     ("argv", "printed"),
     [
         (["raycast", "--num_envs", "2", "--rounds", "1", "--casts", "2"], "binned cast"),
+        (["postconstraint", "--device", "cpu", "--num_envs", "2", "--steps", "2", "--rounds", "1"], "run when read"),
         (["ops", "update", "--task", "simlab/Cartpole-v0", "--device", "cpu", "--num_envs", "8"], "aten."),
         (["ops", "sync", "--device", "cpu", "--num_envs", "8", "--iterations", "1", "--rounds", "1"], "env steps/s"),
         (["startup", "--device", "cpu", "--runs", "1", "--num_envs", "16", "--top", "3"], "first iteration per run"),

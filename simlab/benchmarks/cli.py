@@ -14,6 +14,7 @@ The costs of single parts, each with its own flags (``simlab bench <tool> --help
     simlab bench video --task simlab/Cartpole-v0 --device cpu           # env steps while recording a video
     simlab bench terrain                                                # a step on plane, boxes and height fields
     simlab bench raycast --num_envs 64                                  # one height scan against a physics step
+    simlab bench postconstraint --device cuda:0 --num_envs 8192         # the Shadow hand's joint forces: pass on or not
 
 Figures are measured on the machine at hand. Ratios compare variants measured in alternating
 rounds within the same run, which is what holds up on a noisy machine.
@@ -150,6 +151,7 @@ TOOLS = {
     "video": "simlab.benchmarks.video_cost",
     "terrain": "simlab.benchmarks.terrain_cost",
     "raycast": "simlab.benchmarks.ray_cast_cost",
+    "postconstraint": "simlab.benchmarks.post_constraint_cost",
 }
 OP_COUNTERS = {
     "step": "simlab.benchmarks.step_ops",
