@@ -132,6 +132,13 @@ def test_behaviour_cloning_fits_the_demonstrations_and_saves_weights_only(script
     torch.testing.assert_close(loaded(obs[:50]), policy(obs[:50]).detach(), rtol=0, atol=0)
 
 
+def test_training_takes_the_recipe_the_demonstrations_task_registers(scripts):
+    _, bc = scripts
+    assert bc.recipe_for(TASK).relative == 3  # IK-Abs: the hand's target as an offset from the fingertips
+    assert bc.recipe_for("simlab/Stack-Cube-Instance-Randomize-Franka-IK-Rel-v0").relative == 0  # deltas already
+    assert bc.recipe_for("simlab/Cartpole-v0") == bc.recipe_for(None) == bc.BCAgentCfg()  # none registered
+
+
 def test_loading_a_policy_file_that_would_run_code_is_refused_and_runs_nothing(scripts, tmp_path):
     from simlab.utils.errors import UntrustedFileError
 

@@ -3,8 +3,10 @@ stand-in for Isaac Lab's robomimic BC, which simlab does not depend on), judged 
 
 ``train`` reads an HDF5 dataset that simlab's recorder wrote (``simlab record``, or the stack state
 machine's ``--dataset_file``): per step the policy observation terms ``obs/<term>`` and the
-``actions``. It fits ``actions = mlp((obs - mean) / std)`` (actions normalized alike, the leading ones
-as offsets from the end effector: :class:`BCPolicy`) by mean squared error and saves the weights
+``actions`` (or, with ``--actions_key clean_actions``, the state machine's actions before its noise).
+It fits ``actions = mlp((obs - mean) / std)`` (actions normalized alike, the leading ones as offsets
+from the end effector on IK-Abs: :class:`BCPolicy`) by mean squared error, with the settings of the
+recipe the demonstrations' task registers (``bc_cfg_entry_point``) unless given, and saves the weights
 with the observation terms, their statistics and the task's name in one ``torch.save`` file
 (tensors, strings and numbers only: ``torch.load(weights_only=True)`` reads it). ``play`` steps the
 task with that policy and judges the run as ``simlab bench solve`` and make_pretrained judge a
@@ -68,6 +70,31 @@ def load_demos(
         return torch.cat(obs), torch.cat(actions), handler.get_env_name()
     finally:
         handler.close()
+
+
+def dataset_task(path: str) -> str | None:
+    """The task whose episodes ``path`` holds (the recorder stores its name)."""
+    from simlab.utils.datasets import HDF5DatasetFileHandler
+
+    handler = HDF5DatasetFileHandler()
+    handler.open(path)
+    try:
+        return handler.get_env_name()
+    finally:
+        handler.close()
+
+
+def recipe_for(task: str | None) -> BCAgentCfg:
+    """The BC recipe ``task`` registers (``bc_cfg_entry_point``), else :class:`BCAgentCfg`'s defaults."""
+    import gymnasium as gym
+
+    import simlab.tasks  # noqa: F401 - registers the tasks
+    from simlab.tasks.utils.parse_cfg import load_cfg_from_registry
+
+    spec = gym.registry.get(task) if task else None
+    if spec is not None and "bc_cfg_entry_point" in spec.kwargs:
+        return load_cfg_from_registry(task, "bc_cfg_entry_point")
+    return BCAgentCfg()
 
 
 def train(
@@ -152,24 +179,22 @@ def main(argv: list[str] | None = None) -> None:
     fit = commands.add_parser("train", help="Fit an MLP policy to a dataset's demonstrations.")
     fit.add_argument("--dataset_file", nargs="+", required=True, help="HDF5 datasets of simlab's recorder.")
     fit.add_argument("--out", required=True, help="Where the policy goes (a torch.save file).")
-    recipe = BCAgentCfg()  # the defaults: the stack task's registered recipe (simlab.rl.bc)
-    fit.add_argument("--obs_terms", nargs="+", default=list(OBS_TERMS), help="Policy observation terms to read.")
+    # unset: the recipe the demonstrations' task registers (bc_cfg_entry_point), else BCAgentCfg's
+    fit.add_argument("--obs_terms", nargs="+", default=None, help="Policy observation terms to read.")
     fit.add_argument(
         "--actions_key",
         default="actions",
         help="The labels: 'actions' (as applied) or 'clean_actions' (the state machine's, before its --noise).",
     )
-    fit.add_argument("--hidden", type=int, nargs="+", default=recipe.hidden, help="Hidden layer widths.")
+    fit.add_argument("--hidden", type=int, nargs="+", default=None, help="Hidden layer widths.")
     fit.add_argument(
         "--relative",
         type=int,
-        default=recipe.relative,
+        default=None,
         help="Leading actions predicted as offsets from the leading obs columns (3: the IK-Abs hand from eef_pos).",
     )
-    fit.add_argument("--epochs", type=int, default=recipe.epochs)
-    fit.add_argument("--batch_size", type=int, default=recipe.batch_size)
-    fit.add_argument("--lr", type=float, default=recipe.lr)
-    fit.add_argument("--seed", type=int, default=recipe.seed)
+    for name, kind in (("epochs", int), ("batch_size", int), ("lr", float), ("seed", int)):
+        fit.add_argument(f"--{name}", type=kind, default=None)
     fit.add_argument("--device", default="cpu", help="Where to train: cpu or cuda:N.")
     fit.add_argument("--threads", type=int, default=1, help="CPU threads torch trains with.")
     judge = commands.add_parser("play", help="Judge a policy by its task's registered criterion.")
@@ -181,6 +206,10 @@ def main(argv: list[str] | None = None) -> None:
     args = parser.parse_args(argv)
 
     if args.command == "train":
+        recipe = recipe_for(dataset_task(args.dataset_file[0]))
+        for name in ("obs_terms", "hidden", "relative", "epochs", "batch_size", "lr", "seed"):
+            if getattr(args, name) is None:
+                setattr(args, name, getattr(recipe, name))
         obs, actions, tasks = zip(*(load_demos(path, args.obs_terms, args.actions_key) for path in args.dataset_file))
         if len(set(tasks)) > 1:
             parser.error(f"the datasets hold demonstrations of several tasks: {sorted(map(str, set(tasks)))}")
