@@ -109,17 +109,39 @@ def test_isaac_lab_s_env_reads_physx_s_joint_forces_for_its_critic(ported):
 
 
 @pytest.mark.gpu
-def test_isaac_lab_s_env_reads_the_joint_forces_inside_its_captured_step(ported):
-    """On the GPU the env step is replayed as one CUDA graph: the post-constraint pass launched when the
-    critic reads the forces is recorded into it, so each replay gives the forces of its own state."""
+def test_isaac_lab_s_env_reads_the_joint_forces_on_the_gpu(ported):
+    """On MuJoCo Warp the pass is one launch when read (Isaac Lab's env resets by ids: its step runs eagerly)."""
     cfg_module, env_module = ported
     env = make(env_module.InHandManipulationEnv, cfg_module.ShadowHandOpenAIEnvCfg(), device="cuda:0")
     try:
-        obs = run(env, steps=10)  # warm-up, capture, replays
+        obs = run(env, steps=10)
+        read = env.fingertip_force_sensors.clone()  # what the last step's critic read
+        again = env.hand.data.body_incoming_joint_wrench_b[:, env.finger_bodies]  # the same state, read again
+        torch.testing.assert_close(read, again, atol=1e-4, rtol=1e-4)
+        assert again.abs().amax() > 1e-3 and obs["critic"].shape == (NUM_ENVS, 187)
+    finally:
+        env.close()
+
+
+@pytest.mark.gpu
+def test_the_pass_run_when_read_is_recorded_into_the_captured_env_step():
+    """simlab's in-hand env, which resets by mask, replays its step as one CUDA graph. Built with the pass
+    left out of the model (as Isaac Lab's env leaves it), the launch made when its critic reads the
+    forces is recorded into that graph: each replay gives the forces of its own state."""
+    from unittest import mock
+
+    import simlab.sim as sim_utils
+    from simlab.sim.backends.base import runs_post_constraint
+
+    with mock.patch.object(sim_utils, "compute_body_interaction_forces"):  # the env's _setup_scene calls it
+        env = make(InHandManipulationEnv, ShadowHandOpenAIEnvCfg(), device="cuda:0")
+    try:
+        assert not runs_post_constraint(env.sim.model)  # nothing makes MuJoCo Warp's forward run the pass
+        run(env, steps=10)  # warm-up, capture, replays
         assert env._stepper.is_graphed, env._stepper.mode
         replayed = env.fingertip_force_sensors.clone()  # what the last replay's critic read
-        eager = env.hand.data.body_incoming_joint_wrench_b[:, env.finger_bodies]  # run again, now, same state
+        eager = env.hand.data.body_incoming_joint_wrench_b[:, env._tips]  # run again now, at the same state
         torch.testing.assert_close(replayed, eager, atol=1e-4, rtol=1e-4)
-        assert eager.abs().amax() > 1e-3 and obs["critic"].shape == (NUM_ENVS, 187)
+        assert eager.abs().amax() > 1e-3
     finally:
         env.close()
