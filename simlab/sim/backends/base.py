@@ -108,6 +108,7 @@ class PhysicsBackend(ABC):
         """Worlds found blown up so far (``take_diverged``), on the device."""
         self._qpos0 = torch.as_tensor(model.qpos0, dtype=torch.float32, device=self.device)
         self._moves_from_qpos0 = False  # set_initial_qpos gave a start other than qpos0
+        self._compiled_post_constraint = runs_post_constraint(model)  # else post_constraint runs it when read
         self.state_version = 0
         """Counts the changes of state (steps, resets, writes announced with ``mark_stale`` or followed
         by a forward, and each capture or replay of a graphed env step): values computed from the
@@ -163,7 +164,7 @@ class PhysicsBackend(ABC):
         if name not in POST_CONSTRAINT_FIELDS:
             raise ValueError(f"the post-constraint pass computes {', '.join(POST_CONSTRAINT_FIELDS)}, not '{name}'")
         self.ensure_forward()
-        if runs_post_constraint(self.model):
+        if self._compiled_post_constraint:
             return self.data(name)
         if getattr(self, "_post_constraint_version", None) != self.state_version:
             from simlab.utils.versions import warn_once
