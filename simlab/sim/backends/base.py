@@ -46,6 +46,7 @@ import mujoco
 import torch
 
 from simlab.utils.env_mask import masked_copy_
+from simlab.utils.versions import warn_once
 
 EnvIds = Sequence[int] | torch.Tensor | None
 
@@ -167,8 +168,6 @@ class PhysicsBackend(ABC):
         if self._compiled_post_constraint:
             return self.data(name)
         if getattr(self, "_post_constraint_version", None) != self.state_version:
-            from simlab.utils.versions import warn_once
-
             warn_once(
                 "This model's forward pass does not run MuJoCo's post-constraint pass (cacc, cfrc_int, cfrc_ext:"
                 " incoming joint forces); simlab runs it when they are read"
