@@ -168,6 +168,28 @@ def test_reset_selected_worlds_only(kind: str, cartpole: mujoco.MjModel) -> None
     assert torch.all(sim.data("qvel") == 0)
 
 
+def test_an_episode_started_by_mark_reset_follows_from_the_written_state_alone() -> None:
+    """Two worlds with different pasts, given the same state by an env reset, step alike to the bit.
+    Without ``mark_reset`` they do not: the world that never moved keeps its float64 height (0.0234,
+    not a float32), which a write of the float32 value it already shows leaves in place; and the
+    other world's solver warm start is its last acceleration. Each alone leaves them apart."""
+    model = mujoco.MjModel.from_xml_string(
+        '<mujoco><option timestep="0.005"/><worldbody><geom type="plane" size="1 1 .1"/>'
+        '<body pos="0 0 0.0234"><freejoint/><geom type="box" size=".0234 .0234 .0234"/></body>'
+        "</worldbody></mujoco>"
+    )
+    sim = make("cpu", model, 2)
+    sim.data("qfrc_applied")[1, :3] = torch.tensor([3.0, 1.0, -2.0])  # world 1 is pushed about
+    sim.step(20)
+    sim.data("qpos")[:] = sim.data("qpos")[0].clone()  # world 0 rests where it started: both rest there
+    sim.data("qvel")[:] = 0.0
+    sim.data("qfrc_applied")[:] = 0.0
+    sim.mark_reset(torch.tensor([True, True]))
+    sim.step(20)
+    for name in ("qpos", "qvel"):
+        assert torch.equal(sim.data(name)[0], sim.data(name)[1]), name
+
+
 @pytest.mark.parametrize("kind", BACKENDS)
 def test_per_world_gravity(kind: str, cartpole: mujoco.MjModel) -> None:
     sim = make(kind, cartpole, 2)

@@ -110,7 +110,7 @@ class DirectMARLEnv(DebugVisHooks, SimulatedEnv, gym.Env):
             self.seed(seed)
         self._reset_idx(self._all_env_ids)
         self.scene.write_data_to_sim()
-        self.sim.physics.mark_stale()
+        self.sim.physics.mark_reset()
         self.obs_dict = self._get_observations()
         self.agents = [agent for agent in self.possible_agents if agent in self.obs_dict]
         return self.obs_dict, self.extras

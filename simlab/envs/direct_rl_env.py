@@ -105,7 +105,7 @@ class DirectRLEnv(DebugVisHooks, SimulatedEnv, gym.Env):
             self.seed(seed)
         self._reset_idx(self._all_env_ids)
         self.scene.write_data_to_sim()
-        self.sim.physics.mark_stale()
+        self.sim.physics.mark_reset()
         self.obs_buf = self._observations()
         return self.obs_buf, self.extras
 
@@ -173,7 +173,7 @@ class DirectRLEnv(DebugVisHooks, SimulatedEnv, gym.Env):
             env_ids = finished.nonzero().flatten()
             if len(env_ids):
                 self._reset_idx(env_ids)
-        self.sim.physics.mark_stale(finished)  # body poses follow when read
+        self.sim.physics.mark_reset(finished)  # body poses follow when read
 
     def render(self, recompute: bool = False) -> np.ndarray | None:
         """An RGB frame (H, W, 3) of env ``cfg.viewer.env_index`` for ``render_mode="rgb_array"``;

@@ -143,7 +143,7 @@ class ManagerBasedEnv(SimulatedEnv):
         self.recorder_manager.record_pre_reset(mask)
         self._reset_idx(mask)
         self.scene.write_data_to_sim()
-        self.sim.physics.mark_stale(mask)
+        self.sim.physics.mark_reset(mask)
         self.recorder_manager.record_post_reset(mask)
         self.obs_buf = self.observation_manager.compute(update_history=True)
         return self.obs_buf, self.extras
@@ -164,7 +164,7 @@ class ManagerBasedEnv(SimulatedEnv):
             self.seed(seed)
         self._reset_idx(mask)
         self.scene.reset_to(state, ids, is_relative=is_relative)
-        self.sim.physics.mark_stale(mask)
+        self.sim.physics.mark_reset(mask)
         self.recorder_manager.record_post_reset(ids)
         self.obs_buf = self.observation_manager.compute(update_history=True)
         return self.obs_buf, self.extras

@@ -218,7 +218,7 @@ class ManagerBasedRLEnv(ManagerBasedEnv, gym.Env):
         ):
             log.update(manager.reset(mask))
         masked_copy_(self.episode_length_buf, mask, 0)
-        self.sim.physics.mark_stale(mask)  # the next physics step writes the scene's targets
+        self.sim.physics.mark_reset(mask)  # the next physics step writes the scene's targets
         return log
 
     def _render_human(self) -> None:

@@ -20,6 +20,9 @@ Simulation semantics shared by all backends:
   positions): ``qpos0`` itself stays the configuration the model's geometry is written in,
   because MuJoCo turns a hinge by ``qpos - qpos0``.
 * ``forward(env_ids)`` recomputes derived quantities from ``qpos``/``qvel`` after a state write.
+* ``mark_reset(env_ids)`` follows an env reset's writes: each selected world then starts from exactly
+  the state its tensors show (solver warm start cleared, no float64 digits beyond the float32
+  tensors on the CPU), so an episode follows from its recorded initial state alone.
 
 Derived quantities are computed when first read, as Isaac Lab's lazy data buffers are. A step
 without its final forward, or a state write announced with ``mark_stale(env_ids)``, leaves the
@@ -45,7 +48,7 @@ from collections.abc import Sequence
 import mujoco
 import torch
 
-from simlab.utils.env_mask import masked_copy_
+from simlab.utils.env_mask import env_mask, masked_copy_
 from simlab.utils.versions import warn_once
 
 EnvIds = Sequence[int] | torch.Tensor | None
@@ -230,6 +233,21 @@ class PhysicsBackend(ABC):
         else:
             self._stale[self._ids_cpu(env_ids)] = True
             self._any_stale = True
+
+    def mark_reset(self, env_ids: EnvIds = None) -> None:
+        """Note that these worlds (all when ``None``) were reset and their new state written: an
+        episode starts there from exactly the state the tensors show, with nothing of the worlds'
+        past carried over, so that it follows from its recorded initial state alone. Clears the
+        solver's warm start (as ``mj_resetData`` does); a backend that simulates in more precision
+        than the tensors drops the digits beyond them (``_forget_past``). Marks the worlds stale."""
+        mask = env_mask(env_ids, self.num_envs, self.device)
+        masked_copy_(self.data("qacc_warmstart"), mask, 0.0)
+        self._forget_past(mask)
+        self.mark_stale(env_ids)
+
+    def _forget_past(self, mask: torch.Tensor) -> None:  # noqa: B027 - optional hook
+        """Make the masked worlds' simulation state exactly the tensors' values (a backend whose
+        tensors are the state itself has nothing to do)."""
 
     @property
     def is_stale(self) -> bool:

@@ -4,6 +4,13 @@ mjbatch keeps each world's integration state and steps the worlds on a C++ threa
 GIL released. ``Batch.bind(field, float32)`` returns a float32 array that mjbatch synchronises
 with the float64 simulation both ways around every call, so ``torch.from_numpy`` on it is a live,
 zero-copy tensor: nothing is copied per step on the Python side.
+
+mjbatch copies a float32 binding into the simulation only where its value changed since the last
+call, so a write of the value a tensor already shows leaves the float64 state as it was, with its
+digits beyond float32. After an env reset (``mark_reset``) this backend therefore copies the
+tensors' values into the worlds' float64 state at their next call: else an episode would start from
+a state that depends on the world's past (the float64 digits of a cube that rests where it rested
+before) and could not be replayed from its recorded initial state.
 """
 
 from __future__ import annotations
@@ -70,6 +77,12 @@ class CpuBackend(PhysicsBackend):
         self._post_constraint_model = post_constraint_model
         self._post: mjbatch.Batch | None = None
         self._constants_set = np.zeros(num_envs, dtype=bool)  # worlds set_const ran in, for the second batch
+        # The worlds' float64 integration states, and where each state field lies in a row.
+        self._state = self.batch.bind("state")
+        self._state_columns = _state_columns(model)
+        if max(c.stop for c in self._state_columns.values()) != self.batch.nstate:
+            raise RuntimeError("mjbatch's state rows are not laid out as mj_getState's integration state")
+        self._forget = np.zeros(num_envs, dtype=bool)  # worlds whose state becomes the tensors' at the next call
 
     @property
     def num_threads(self) -> int:
@@ -107,6 +120,7 @@ class CpuBackend(PhysicsBackend):
         # MuJoCo's own tests on what a step starts from (mj_checkPos / mj_checkVel restart the world,
         # a control above 1e10 is zeroed; both with a console warning only) catch what time cannot
         # show (a world at time 0).
+        self._commit_reset_worlds()
         time = self._time_view
         before = time.clone()
         self._restarted |= _blown_up(self.data("qpos")) | _blown_up(self.data("qvel")) | _blown_up(self.data("ctrl"))
@@ -121,10 +135,28 @@ class CpuBackend(PhysicsBackend):
         return restarted
 
     def _forward(self, env_ids: EnvIds) -> None:
+        self._commit_reset_worlds()
         self.batch.forward(self._ids_numpy(env_ids))
 
     def _reset(self, env_ids: EnvIds) -> None:
+        self._commit_reset_worlds()
         self.batch.reset(self._ids_numpy(env_ids))
+
+    def _forget_past(self, mask: torch.Tensor) -> None:
+        # at the next call, not now: a later write of the value the simulation held before would go unseen
+        self._forget |= mask.cpu().numpy()
+
+    def _commit_reset_worlds(self) -> None:
+        """The float32 tensors' values into the float64 state of the worlds ``mark_reset`` named (those
+        of the state fields bound so far: the others were not written)."""
+        if not self._forget.any():
+            return
+        rows = np.flatnonzero(self._forget)
+        for name, tensor in self._data.items():
+            columns = self._state_columns.get(name)
+            if columns is not None and tensor.dtype == torch.float32:
+                self._state[rows, columns] = tensor.numpy()[rows].reshape(len(rows), -1)
+        self._forget[:] = False
 
     def set_const(self, env_ids: EnvIds = None) -> None:
         # mjbatch makes each constant it changes per world in float64 unless it is already: bind them
@@ -156,7 +188,6 @@ class CpuBackend(PhysicsBackend):
             self._post = mjbatch.Batch(self._post_constraint_model(), self.num_envs, num_threads=self.num_threads)
             if self._post.nstate != self.batch.nstate:
                 raise RuntimeError("the model with the post-constraint pass has another state size than the model")
-            self._state = self.batch.bind("state")
             self._post_state = self._post.bind("state")
             self._post_fields: dict[str, np.ndarray] = {}
             self._post_out = {n: torch.from_numpy(self._post.bind(n, np.float32)) for n in POST_CONSTRAINT_FIELDS}
@@ -179,6 +210,32 @@ class CpuBackend(PhysicsBackend):
 
     def _post_constraint_data(self, name: str) -> torch.Tensor:
         return self._post_out[name]
+
+
+def _state_columns(model: mujoco.MjModel) -> dict[str, slice]:
+    """Where each MjData field of MuJoCo's integration state lies in a ``bind("state")`` row (the
+    components in mj_getState's order, that of their mjtState bits)."""
+    fields = {
+        mujoco.mjtState.mjSTATE_TIME: "time",
+        mujoco.mjtState.mjSTATE_QPOS: "qpos",
+        mujoco.mjtState.mjSTATE_QVEL: "qvel",
+        mujoco.mjtState.mjSTATE_ACT: "act",
+        mujoco.mjtState.mjSTATE_WARMSTART: "qacc_warmstart",
+        mujoco.mjtState.mjSTATE_CTRL: "ctrl",
+        mujoco.mjtState.mjSTATE_QFRC_APPLIED: "qfrc_applied",
+        mujoco.mjtState.mjSTATE_XFRC_APPLIED: "xfrc_applied",
+        mujoco.mjtState.mjSTATE_EQ_ACTIVE: "eq_active",
+        mujoco.mjtState.mjSTATE_MOCAP_POS: "mocap_pos",
+        mujoco.mjtState.mjSTATE_MOCAP_QUAT: "mocap_quat",
+        mujoco.mjtState.mjSTATE_USERDATA: "userdata",
+        mujoco.mjtState.mjSTATE_PLUGIN: "plugin_state",
+    }
+    columns, start = {}, 0
+    for bit in sorted(fields, key=int):
+        size = mujoco.mj_stateSize(model, bit)
+        columns[fields[bit]] = slice(start, start + size)
+        start += size
+    return columns
 
 
 def _blown_up(state: torch.Tensor) -> torch.Tensor:
