@@ -188,3 +188,28 @@ def test_record_keeps_an_existing_dataset_and_writes_the_file_it_names(tmp_path,
     assert main(["record", *common, "--dataset_file", str(dataset), "--overwrite"]) == 0
     assert f"into {dataset}" in capsys.readouterr().out
     assert dataset.read_bytes()[:8] == b"\x89HDF\r\n\x1a\n"  # an HDF5 file now
+
+
+def test_a_relative_state_moves_between_envs_to_the_bit():
+    """``get_state(is_relative=True)`` holds root positions from the env origins exactly (each env is
+    its own MuJoCo world), so an env's state put into another env is the same state: through the
+    world frame, ``(q + origin) - origin`` rounds in float32 where physics has left ``q`` off the grid."""
+    import gymnasium as gym
+
+    import simlab.tasks  # noqa: F401 - registers the tasks
+    from simlab.tasks.utils.parse_cfg import parse_env_cfg
+
+    task = "simlab/Lift-Cube-Franka-v0"
+    env = gym.make(task, cfg=parse_env_cfg(task, device="cpu", num_envs=4)).unwrapped
+    env.reset()
+    cube = env.scene["object"]
+    moved = torch.tensor([[0.4123457, -0.1987655, 0.0550001, 0.9, 0.1, 0.2, 0.3]])  # off the origins' grid
+    cube.write_root_pose_to_sim(moved + torch.cat([env.scene.env_origins[3], torch.zeros(4)]), torch.tensor([3]))
+    env.sim.step()  # physics leaves the position and the unit quaternion off any grid
+    state = env.scene.get_state(is_relative=True)
+    row = {g: {n: {k: v[3:4] for k, v in entry.items()} for n, entry in group.items()} for g, group in state.items()}
+    env.scene.reset_to(row, torch.tensor([0]), is_relative=True)
+    after = env.scene.get_state(is_relative=True)["rigid_object"]["object"]
+    env.close()
+    for key, value in after.items():
+        assert torch.equal(value[0], value[3]), key

@@ -166,8 +166,18 @@ class RootedAsset(AssetBase):
         env = self._env_index(env_ids)
         self._check_rows(root_pose, 7, env, "root_pose")
         origins = self._sim.env_origins if is_mask(env) else self._sim.env_origins[env]
-        pos = root_pose[:, :3] - origins
-        quat = math_utils.normalize(root_pose[:, 3:7])
+        self._write_root_pose(root_pose[:, :3] - origins, math_utils.normalize(root_pose[:, 3:7]), env)
+
+    def write_root_pose_env_to_sim(self, root_pose: torch.Tensor, env_ids: EnvIds = None) -> None:
+        """A root pose read as ``data.root_pose_env`` (position from the env origin, unit quaternion
+        w, x, y, z), written back to the bit: the env's world coordinates themselves, not through
+        the world frame, and the quaternion as given (normalizing a float32 unit quaternion again
+        can change its last digit)."""
+        env = self._env_index(env_ids)
+        self._check_rows(root_pose, 7, env, "root_pose")
+        self._write_root_pose(root_pose[:, :3], root_pose[:, 3:7], env)
+
+    def _write_root_pose(self, pos: torch.Tensor, quat: torch.Tensor, env) -> None:
         if self._is_fixed_base:
             if self._mocap_id < 0:
                 raise RuntimeError(f"'{self.cfg.prim_path}' is welded to the world; its pose cannot be written")
@@ -304,12 +314,18 @@ class RootedAssetData:
 
     @property
     def root_pos_w(self) -> torch.Tensor:
+        return self.root_pos_env + self._origins
+
+    @property
+    def root_pos_env(self) -> torch.Tensor:
+        """Root position from the env origin: the coordinates of the env's own MuJoCo world, exact
+        (``root_pos_w - env_origins`` rounds twice in float32). What a relative scene state holds."""
         a = self._asset
         if a._is_fixed_base:
             if a._mocap_id >= 0:
-                return a._mocap_pos[:, a._mocap_id] + self._origins
-            return self._derived(self._xpos)[:, a._root_body] + self._origins
-        return a._qpos[:, a._root_pos_cols] + self._origins
+                return a._mocap_pos[:, a._mocap_id]
+            return self._derived(self._xpos)[:, a._root_body]
+        return a._qpos[:, a._root_pos_cols]
 
     @property
     def root_quat_w(self) -> torch.Tensor:
@@ -345,6 +361,11 @@ class RootedAssetData:
     @property
     def root_pose_w(self) -> torch.Tensor:
         return torch.cat([self.root_pos_w, self.root_quat_w], dim=-1)
+
+    @property
+    def root_pose_env(self) -> torch.Tensor:
+        """Root position from the env origin (``root_pos_env``) and quaternion (w, x, y, z)."""
+        return torch.cat([self.root_pos_env, self.root_quat_w], dim=-1)
 
     @property
     def root_vel_w(self) -> torch.Tensor:

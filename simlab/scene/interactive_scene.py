@@ -139,13 +139,13 @@ class InteractiveScene:
         """The state of every asset, Isaac Lab's layout: ``state["articulation"|"rigid_object"][name]``
         holds ``root_pose`` (pos, quat w-x-y-z), ``root_velocity`` (world lin, ang) and, for
         articulations, ``joint_position`` / ``joint_velocity``. ``is_relative``: root positions from the
-        env origins. Copies: later steps do not change them."""
+        env origins, exactly (each env is its own MuJoCo world centred there), so that an env's state
+        put into any other env (``reset_to``) is the same state to the bit. Copies: later steps do
+        not change them."""
         state: dict[str, dict] = {"articulation": {}, "deformable_object": {}, "rigid_object": {}}
         for group, assets in (("articulation", self.articulations), ("rigid_object", self.rigid_objects)):
             for name, asset in assets.items():
-                root_pose = asset.data.root_pose_w.clone()
-                if is_relative:
-                    root_pose[:, :3] -= self.env_origins
+                root_pose = (asset.data.root_pose_env if is_relative else asset.data.root_pose_w).clone()
                 entry = {"root_pose": root_pose, "root_velocity": asset.data.root_vel_w.clone()}
                 if group == "articulation":
                     entry["joint_position"] = asset.data.joint_pos.clone()
@@ -173,11 +173,10 @@ class InteractiveScene:
                 if name not in assets:
                     raise KeyError(f"The state has {group} '{name}', which this scene lacks; it has {list(assets)}.")
                 asset = assets[name]
-                root_pose = entry["root_pose"].to(self.device).clone()
-                if is_relative:
-                    root_pose[:, :3] += self.env_origins[ids]
+                root_pose = entry["root_pose"].to(self.device)
                 if not asset.is_fixed_base:
-                    asset.write_root_pose_to_sim(root_pose, env_ids=ids)
+                    write_pose = asset.write_root_pose_env_to_sim if is_relative else asset.write_root_pose_to_sim
+                    write_pose(root_pose, env_ids=ids)
                     asset.write_root_velocity_to_sim(entry["root_velocity"].to(self.device), env_ids=ids)
                 if group == "articulation":
                     pos, vel = entry["joint_position"].to(self.device), entry["joint_velocity"].to(self.device)
