@@ -404,7 +404,12 @@ class RootedAssetData:
 
     @property
     def body_pos_w(self) -> torch.Tensor:
-        return self._derived(self._xpos)[:, self._asset._body_index] + self._origins[:, None]
+        return self.body_pos_env + self._origins[:, None]
+
+    @property
+    def body_pos_env(self) -> torch.Tensor:
+        """Body positions from the env origin (the env's own world, exact: see ``root_pos_env``)."""
+        return self._derived(self._xpos)[:, self._asset._body_index]
 
     @property
     def body_quat_w(self) -> torch.Tensor:

@@ -75,8 +75,10 @@ class _BodyFrameAction(ActionTerm):
 
     def _ee_pose_b(self) -> tuple[torch.Tensor, torch.Tensor]:
         data = self._asset.data
+        # positions from the env origin: the same difference, without the origin's float32 rounding
+        body = self._body_idx
         pos_b, quat_b = math_utils.subtract_frame_transforms(
-            data.root_pos_w, data.root_quat_w, data.body_pos_w[:, self._body_idx], data.body_quat_w[:, self._body_idx]
+            data.root_pos_env, data.root_quat_w, data.body_pos_env[:, body], data.body_quat_w[:, body]
         )
         if self._offset_pos is not None:
             pos_b, quat_b = math_utils.combine_frame_transforms(pos_b, quat_b, self._offset_pos, self._offset_rot)
