@@ -5,7 +5,8 @@ The bar is set for a policy trained from demonstrations, as Isaac Lab trains thi
 cloning on recorded or Mimic-generated demonstrations), not with RL: such policies stack most but
 not all of the time. The scripted state machine (scripts/environments/state_machine/stack_cube_sm.py)
 stacked 49 of 49 episodes on the CPU, and simlab's behaviour cloning from 1000 of its demonstrations
-(scripts/imitation_learning/bc.py) 96 of 102 (0.94; docs/manipulation.md).
+(scripts/imitation_learning/bc.py) 96 of 102 (0.94; docs/manipulation.md); on the instance-randomized
+IK-Rel task, through clipped delta poses, the machine stacked 45 of 45 and the cloned policy 123 of 127.
 Episodes that end any other way (a cube dropped, the 30 s limit) count as failed.
 """
 
