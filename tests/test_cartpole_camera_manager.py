@@ -82,14 +82,19 @@ def test_rgb_observation_is_mean_free_and_clip_bounds_its_space():
         env.close()
 
 
-def test_two_image_history_renders_once_per_step_and_reaches_rsl_rl_as_channels():
-    from simlab.rl.rsl_rl import RslRlVecEnvWrapper
-
+def two_image_env() -> ManagerBasedRLEnv:
+    """The depth cartpole whose policy sees the last two images (as its shipped policy)."""
     cfg = CartpoleDepthCameraEnvCfg()
     cfg.scene.num_envs, cfg.sim.device, cfg.seed = 2, "cpu", 3
     cfg.observations.policy.image.history_length = 2
     cfg.observations.policy.image.flatten_history_dim = False
-    env = ManagerBasedRLEnv(cfg=cfg)
+    return ManagerBasedRLEnv(cfg=cfg)
+
+
+def test_two_image_history_renders_once_per_step_and_reaches_rsl_rl_as_channels():
+    from simlab.rl.rsl_rl import RslRlVecEnvWrapper
+
+    env = two_image_env()
     try:
         wrapped = RslRlVecEnvWrapper(env)
         camera = env.scene["tiled_camera"]
@@ -106,5 +111,32 @@ def test_two_image_history_renders_once_per_step_and_reaches_rsl_rl_as_channels(
         assert not torch.equal(images[:, 1], images[:, 0])  # the pushed cart moved
         # the newest image is the camera's depth now (the term's value, unchanged by the wrapper)
         torch.testing.assert_close(images[:, 1], newest)
+    finally:
+        env.close()
+
+
+def test_a_two_image_policy_plays_as_it_acted_in_training(tmp_path):
+    """play's rsl_rl policy (load_policy, the exported module's input) stacks the images as training did."""
+    from simlab.cli.libraries.rsl_rl import load_policy, make_runner
+    from simlab.tasks.direct.cartpole.agents.rsl_rl_camera_ppo_cfg import CartpoleCameraPPORunnerCfg
+
+    env = two_image_env()
+    try:
+        agent_cfg = CartpoleCameraPPORunnerCfg()
+        agent_cfg.device = "cpu"
+        torch.manual_seed(0)
+        runner = make_runner(env, agent_cfg, None)
+        path = str(tmp_path / "model_0.pt")
+        runner.save(path)
+        policy = load_policy(env, agent_cfg, path)
+        for _ in range(2):  # two different images in the history
+            stacked, *_ = runner.env.step(torch.ones(2, 1))
+        raw = env.obs_buf  # (N, 2, H, W, 1), as the env gives it
+        assert raw["policy"].shape == (2, 2, 100, 100, 1)
+        with torch.no_grad():
+            expected = runner.alg.actor(stacked).clamp(-1.0, 1.0)
+            torch.testing.assert_close(policy(raw), expected)
+            swapped = policy({"policy": raw["policy"].flip(1)})  # the newest image first: another action
+        assert not torch.allclose(swapped, expected)
     finally:
         env.close()

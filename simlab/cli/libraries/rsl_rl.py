@@ -32,6 +32,7 @@ from rsl_rl.utils.logger import Logger  # noqa: E402
 from simlab.rl.rsl_rl import RslRlOnPolicyRunnerCfg, RslRlVecEnvWrapper  # noqa: E402
 from simlab.rl.rsl_rl.fast_update import FastPPOUpdate, fast_update_unsupported  # noqa: E402
 from simlab.rl.rsl_rl.graphed_act import GraphedAct, graphed_act_unsupported  # noqa: E402
+from simlab.rl.rsl_rl.vecenv_wrapper import stack_image_history  # noqa: E402
 
 
 def experiment_name(agent_cfg: RslRlOnPolicyRunnerCfg, task: str) -> str:
@@ -394,8 +395,9 @@ def load_policy(env: gym.Env, agent_cfg: RslRlOnPolicyRunnerCfg, checkpoint: str
         module = ClampActions(module, -agent_cfg.clip_actions, agent_cfg.clip_actions)
 
     def inputs(obs: dict) -> dict[str, torch.Tensor]:
-        if len(groups) == 1 and obs[groups[0]].ndim == 4:
-            return {"policy": obs[groups[0]]}  # (N, H, W, C), as the env gives it
+        if len(groups) == 1 and obs[groups[0]].ndim in (4, 5):
+            # (N, H, W, C) as the env gives it; an image history as one image of k * C channels
+            return {"policy": stack_image_history(obs[groups[0]])}
         return {"policy": torch.cat([obs[g].reshape(obs[g].shape[0], -1) for g in groups], dim=-1)}
 
     return Policy({"policy": module}, inputs, {"policy": obs_shape}, device=agent_cfg.device, obs_groups=list(groups))

@@ -18,7 +18,7 @@ require("rsl_rl")
 TensorDict = require("tensordict").TensorDict
 from rsl_rl.env import VecEnv  # noqa: E402
 
-__all__ = ["RslRlVecEnvWrapper"]
+__all__ = ["RslRlVecEnvWrapper", "stack_image_history"]
 
 
 class RslRlVecEnvWrapper(VecEnv):
@@ -124,13 +124,18 @@ class RslRlVecEnvWrapper(VecEnv):
         base.action_space = gym.vector.utils.batch_space(base.single_action_space, self.num_envs)
 
 
+def stack_image_history(value: torch.Tensor) -> torch.Tensor:
+    """An image term's history of k, ``(N, k, H, W, C)`` (``history_length=k``,
+    ``flatten_history_dim=False``), as one ``(N, H, W, k * C)`` image: the images stacked along the
+    channels, oldest first. Any other tensor is returned as it is."""
+    if value.ndim != 5:
+        return value
+    n, k, h, w, c = value.shape
+    return value.permute(0, 2, 3, 1, 4).reshape(n, h, w, k * c)
+
+
 def _channels_first(value: torch.Tensor) -> torch.Tensor:
-    """Image groups come as (N, H, W, C) (Isaac Lab's layout), or (N, k, H, W, C) for an image term's
-    history of k (``history_length=k, flatten_history_dim=False``); rsl_rl's CNNs take (N, C, H, W),
-    so a history's images are stacked along the channels, oldest first."""
-    if value.ndim == 4:
-        return value.permute(0, 3, 1, 2)
-    if value.ndim == 5:
-        n, k, h, w, c = value.shape
-        return value.permute(0, 1, 4, 2, 3).reshape(n, k * c, h, w)
-    return value
+    """Image groups come as (N, H, W, C) (Isaac Lab's layout), or as an image term's history
+    (:func:`stack_image_history`); rsl_rl's CNNs take (N, C, H, W)."""
+    value = stack_image_history(value)
+    return value.permute(0, 3, 1, 2) if value.ndim == 4 else value
