@@ -140,3 +140,30 @@ def test_a_two_image_policy_plays_as_it_acted_in_training(tmp_path):
         assert not torch.allclose(swapped, expected)
     finally:
         env.close()
+
+
+def test_two_image_history_on_the_mujoco_warp_backend(monkeypatch):
+    """The GPU code path (MuJoCo Warp physics and ray tracer, on Warp's CPU device) of the env its
+    policy is trained on: one render per step, the history's shape."""
+    pytest.importorskip("mujoco_warp")
+    import simlab.sim.simulation_context as simulation_context
+    from simlab.sensors.camera.warp_renderer import WarpCameraRenderer
+    from simlab.sim.backends.cuda import CudaBackend
+
+    def warp_on_cpu(model, num_envs, device, **options):
+        return CudaBackend(model, num_envs, device="cpu", nconmax=options.get("nconmax"), njmax=options.get("njmax"))
+
+    monkeypatch.setattr(simulation_context, "make_backend", warp_on_cpu)
+    env = two_image_env()
+    try:
+        camera = env.scene["tiled_camera"]
+        assert isinstance(camera._renderer, WarpCameraRenderer)
+        frames = int(camera.frame[0])
+        for _ in range(2):
+            obs, *_ = env.step(torch.ones(2, 1))
+        assert obs["policy"].shape == (2, 2, 100, 100, 1) and int(camera.frame[0]) == frames + 2
+        newest = obs["policy"][:, 1, ..., 0]
+        for row, col in ((60, 30), (70, 80)):  # the ground where the pinhole model puts it, as on the CPU
+            assert float(newest[0, row, col]) == pytest.approx(ground_distance(row, col), abs=0.02)
+    finally:
+        env.close()
