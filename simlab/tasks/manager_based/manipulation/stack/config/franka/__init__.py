@@ -16,6 +16,7 @@ _CRITERION = "simlab.tasks.manager_based.manipulation.stack.criterion:stacks_cub
 # cloned from each task's own demonstrations (the IK-Abs targets, the IK-Rel deltas)
 _AGENTS = {
     "Stack-Cube-Franka-IK-Abs-v0": {"bc_cfg_entry_point": f"{agents.__name__}.bc_cfg:StackCubeBCCfg"},
+    "Stack-Cube-Franka-IK-Rel-v0": {"bc_cfg_entry_point": f"{agents.__name__}.bc_cfg:StackCubeIKRelBCCfg"},
     "Stack-Cube-Instance-Randomize-Franka-IK-Rel-v0": {
         "bc_cfg_entry_point": f"{agents.__name__}.bc_cfg:StackCubeIKRelBCCfg"
     },
