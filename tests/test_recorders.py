@@ -192,8 +192,9 @@ def test_record_keeps_an_existing_dataset_and_writes_the_file_it_names(tmp_path,
 
 def test_a_relative_state_moves_between_envs_to_the_bit():
     """``get_state(is_relative=True)`` holds root positions from the env origins exactly (each env is
-    its own MuJoCo world), so an env's state put into another env is the same state: through the
-    world frame, ``(q + origin) - origin`` rounds in float32 where physics has left ``q`` off the grid."""
+    its own MuJoCo world) and the root's turning in its own frame, so an env's state put into another
+    env is the same state: through the world frame, ``(q + origin) - origin`` and the turning's
+    rotation there and back round in float32 where physics has left them off the grid."""
     import gymnasium as gym
 
     import simlab.tasks  # noqa: F401 - registers the tasks
@@ -205,7 +206,8 @@ def test_a_relative_state_moves_between_envs_to_the_bit():
     cube = env.scene["object"]
     moved = torch.tensor([[0.4123457, -0.1987655, 0.0550001, 0.9, 0.1, 0.2, 0.3]])  # off the origins' grid
     cube.write_root_pose_to_sim(moved + torch.cat([env.scene.env_origins[3], torch.zeros(4)]), torch.tensor([3]))
-    env.sim.step()  # physics leaves the position and the unit quaternion off any grid
+    cube.write_root_velocity_to_sim(torch.tensor([[0.1, 0.2, 0.3, 0.7, -1.3, 2.9]]), torch.tensor([3]))
+    env.sim.step()  # physics leaves the position, unit quaternion and turning off any grid
     state = env.scene.get_state(is_relative=True)
     row = {g: {n: {k: v[3:4] for k, v in entry.items()} for n, entry in group.items()} for g, group in state.items()}
     env.scene.reset_to(row, torch.tensor([0]), is_relative=True)

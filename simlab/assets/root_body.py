@@ -200,6 +200,16 @@ class RootedAsset(AssetBase):
         self._write_cols(self._qvel, self._root_ang_cols, env, ang_vel_b)
         self._physics.mark_stale(env)
 
+    def write_root_ang_vel_b_to_sim(self, ang_vel_b: torch.Tensor, env_ids: EnvIds = None) -> None:
+        """Root angular velocity in the root's frame (``data.root_ang_vel_b``): MuJoCo's free joint
+        holds it so, and this writes it to the bit (through the world frame it rounds in float32)."""
+        if self._is_fixed_base:
+            return
+        env = self._env_index(env_ids)
+        self._check_rows(ang_vel_b, 3, env, "ang_vel_b")
+        self._write_cols(self._qvel, self._root_ang_cols, env, ang_vel_b)
+        self._physics.mark_stale(env)
+
     # Isaac Lab 2.x names for the same writes.
     write_root_link_pose_to_sim = write_root_pose_to_sim
     write_root_com_velocity_to_sim = write_root_velocity_to_sim

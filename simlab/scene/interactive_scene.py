@@ -138,15 +138,20 @@ class InteractiveScene:
     def get_state(self, is_relative: bool = False) -> dict[str, dict[str, dict[str, torch.Tensor]]]:
         """The state of every asset, Isaac Lab's layout: ``state["articulation"|"rigid_object"][name]``
         holds ``root_pose`` (pos, quat w-x-y-z), ``root_velocity`` (world lin, ang) and, for
-        articulations, ``joint_position`` / ``joint_velocity``. ``is_relative``: root positions from the
-        env origins, exactly (each env is its own MuJoCo world centred there), so that an env's state
-        put into any other env (``reset_to``) is the same state to the bit. Copies: later steps do
-        not change them."""
+        articulations, ``joint_position`` / ``joint_velocity``; besides, ``root_ang_vel_b``: the root's
+        angular velocity in its own frame, as MuJoCo's free joint holds it (the world-frame one turned
+        back rounds in float32). ``is_relative``: root positions from the env origins, exactly (each
+        env is its own MuJoCo world centred there). ``reset_to`` puts a relative state into any env to
+        the bit. Copies: later steps do not change them."""
         state: dict[str, dict] = {"articulation": {}, "deformable_object": {}, "rigid_object": {}}
         for group, assets in (("articulation", self.articulations), ("rigid_object", self.rigid_objects)):
             for name, asset in assets.items():
                 root_pose = (asset.data.root_pose_env if is_relative else asset.data.root_pose_w).clone()
-                entry = {"root_pose": root_pose, "root_velocity": asset.data.root_vel_w.clone()}
+                entry = {
+                    "root_pose": root_pose,
+                    "root_velocity": asset.data.root_vel_w.clone(),
+                    "root_ang_vel_b": asset.data.root_ang_vel_b.clone(),
+                }
                 if group == "articulation":
                     entry["joint_position"] = asset.data.joint_pos.clone()
                     entry["joint_velocity"] = asset.data.joint_vel.clone()
@@ -178,6 +183,8 @@ class InteractiveScene:
                     write_pose = asset.write_root_pose_env_to_sim if is_relative else asset.write_root_pose_to_sim
                     write_pose(root_pose, env_ids=ids)
                     asset.write_root_velocity_to_sim(entry["root_velocity"].to(self.device), env_ids=ids)
+                    if "root_ang_vel_b" in entry:  # absent from Isaac Lab's states
+                        asset.write_root_ang_vel_b_to_sim(entry["root_ang_vel_b"].to(self.device), env_ids=ids)
                 if group == "articulation":
                     pos, vel = entry["joint_position"].to(self.device), entry["joint_velocity"].to(self.device)
                     asset.write_joint_state_to_sim(pos, vel, env_ids=ids)
