@@ -8,9 +8,12 @@ Each env is its own MuJoCo world, so a frame is drawn in env ``env_index``'s wor
 neighbouring envs nearest the look-at point drawn beside it at their origins.
 
 A world-frame camera names a fixed point of the world, often its origin on the ground, wherever the
-robots stand; the frames of ``env.render()`` keep its direction but look at the middle of the shown
-envs' robots, no farther away than configured and closer where they would fill less of the picture.
-The other origin types name a point on an env or a robot and are kept as given.
+robots stand; the frames of ``env.render()`` keep its direction but look at the middle of what the
+shown envs are about: their articulations (the robots) and the objects lying near them, not the props
+they stand on nor objects kept far off (the parked instances of a rigid object collection); no farther
+away than configured and closer where that would fill less of the picture. The camera is aimed once,
+at the first frame, and then stands still. The other origin types name a point on an env or a robot
+and are kept as given.
 """
 
 from __future__ import annotations
@@ -36,6 +39,9 @@ MAX_SHOWN_ENVS = 16
 
 ORIGIN_TYPES = ("world", "env", "asset_root", "asset_body")
 RENDERERS = ("auto", "opengl", "warp")
+NEAR = 0.5
+"""An object is framed with the robots when it lies wholly in their box grown on every side by this
+share of its largest side."""
 
 
 @dataclass
@@ -101,33 +107,63 @@ def view_frame(env, viewer, max_envs: int = MAX_SHOWN_ENVS) -> ViewFrame:
         return frame
     # the envs in the camera's reach of the look-at point (the reference env may stand far off)
     reach = distance[env_ids] <= np.linalg.norm(eye - lookat)
-    return _aimed_at_robots(env, frame, reach if reach.any() else np.ones(len(env_ids), bool), viewer.resolution)
+    rows = reach if reach.any() else np.ones(len(env_ids), bool)
+    # aimed once, at the first frame, and kept while the shown envs and the configured camera are:
+    # the camera stands still rather than chasing what moves (a falling object, a swinging arm)
+    key = (tuple(env_ids), tuple(eye), tuple(lookat), tuple(rows), tuple(viewer.resolution))
+    aim = getattr(env, "_view_aim", None)
+    if aim is None or aim[0] != key:
+        aim = env._view_aim = (key, _aim(env, frame, rows, viewer.resolution))
+    eye, lookat = aim[1]
+    return ViewFrame(frame.env_ids, frame.offsets, eye.copy(), lookat.copy())
 
 
-def _aimed_at_robots(env, frame: ViewFrame, rows: np.ndarray, resolution: tuple[int, int]) -> ViewFrame:
-    """``frame`` with its camera turned to the middle of the visible geoms off the world body of its
-    envs ``rows`` (the box of their bounding spheres), at the configured distance or, if they fit
-    from nearer, there."""
+def _framed_geoms(env) -> tuple[np.ndarray, np.ndarray]:
+    """The visible geoms off the world body, split into what the env is about (its articulations: the
+    robots, a cabinet) and the rest (objects, props); all of them in the first part if it has no
+    articulations."""
+    model = env.sim.model
+    visible = (model.geom_bodyid > 0) & (model.geom_rgba[:, 3] > 0) & (model.geom_group < 3)
+    bodies = [b for asset in env.scene.articulations.values() for b in asset._body_ids]
+    subject = visible & np.isin(model.geom_bodyid, bodies)
+    if not subject.any():
+        return np.flatnonzero(visible), np.zeros(0, dtype=int)
+    return np.flatnonzero(subject), np.flatnonzero(visible & ~subject)
+
+
+def _aim(env, frame: ViewFrame, rows: np.ndarray, resolution: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
+    """The eye and look-at point of ``frame``, turned to the middle of the robots of its envs ``rows``
+    and the objects near them (the box of their bounding spheres), at the configured distance or, if
+    they fit from nearer, there."""
     import torch
 
     towards_eye = frame.eye - frame.lookat
     configured = float(np.linalg.norm(towards_eye))
     model = env.sim.model
-    geoms = np.flatnonzero((model.geom_bodyid > 0) & (model.geom_rgba[:, 3] > 0) & (model.geom_group < 3))
-    if len(geoms) == 0 or configured < 1e-9:
-        return frame
+    subject, others = _framed_geoms(env)
+    if len(subject) == 0 or configured < 1e-9:
+        return frame.eye, frame.lookat
     ids = np.asarray(frame.env_ids)[rows]
     xpos = env.sim.physics.data("geom_xpos")
     xpos = xpos[torch.as_tensor(ids, device=xpos.device)].reshape(len(ids), model.ngeom, 3)
-    centres = xpos[:, geoms].cpu().numpy().astype(np.float64) + frame.offsets[rows, None]  # the reference's frame
-    radii = model.geom_rbound[geoms][None, :, None]
-    low, high = (centres - radii).min(axis=(0, 1)), (centres + radii).max(axis=(0, 1))
+    xpos = xpos.cpu().numpy().astype(np.float64) + frame.offsets[rows, None]  # the reference's frame
+    radii = model.geom_rbound[:, None]
+    low, high = (
+        (xpos[:, subject] - radii[subject]).min(axis=(0, 1)),
+        (xpos[:, subject] + radii[subject]).max(axis=(0, 1)),
+    )
+    # the objects lying wholly near the robots (what they handle), not the props they stand on nor
+    # objects kept far off (the parked instances of a rigid object collection)
+    margin = NEAR * float((high - low).max())
+    o_low, o_high = xpos[:, others] - radii[others], xpos[:, others] + radii[others]
+    near = ((o_low >= low - margin) & (o_high <= high + margin)).all(axis=-1)
+    if near.any():
+        low, high = np.minimum(low, o_low[near].min(axis=0)), np.maximum(high, o_high[near].max(axis=0))
     lookat = (low + high) / 2
     half_fovy = np.radians(model.vis.global_.fovy) / 2
     half_fovx = np.arctan(np.tan(half_fovy) * resolution[0] / resolution[1])
     fits = float(np.linalg.norm(high - low)) / 2 / np.sin(min(half_fovy, half_fovx))
-    eye = lookat + towards_eye / configured * min(configured, fits)
-    return ViewFrame(frame.env_ids, frame.offsets, eye, lookat)
+    return lookat + towards_eye / configured * min(configured, fits), lookat
 
 
 def renderer_kind(uses_mujoco_warp: bool) -> str:
