@@ -1,10 +1,12 @@
 """The default (world-frame) video camera frames what an env is about: its robots and the objects near
-them, not bodies kept far off; and it stands still once aimed."""
+them, not bodies kept far off; once aimed, it moves only with the robots' roots (a running robot stays
+in the picture, a fixed-base arm's camera stands still)."""
 
 from __future__ import annotations
 
 import gymnasium as gym
 import numpy as np
+import pytest
 import torch
 
 import simlab.tasks  # noqa: F401 - registers the tasks
@@ -60,3 +62,78 @@ def test_a_far_object_does_not_pull_the_camera_and_a_near_one_does():
         env.close()
     np.testing.assert_allclose(far, inside, atol=1e-9)
     assert beside[1] > inside[1] + 0.1, (beside, inside)
+
+
+def _in_picture(u, frame, points: np.ndarray) -> np.ndarray:
+    """Where ``points`` (reference frame) land in ``frame``'s picture: (x, y) in [-1, 1] inside it."""
+    forward = (frame.lookat - frame.eye) / np.linalg.norm(frame.lookat - frame.eye)
+    right = np.cross(forward, [0.0, 0.0, 1.0])
+    right /= np.linalg.norm(right)
+    up = np.cross(right, forward)
+    rel = points - frame.eye
+    depth = rel @ forward
+    assert (depth > 0).all(), "behind the camera"
+    width, height = u.cfg.viewer.resolution
+    tan_y = np.tan(np.radians(u.sim.model.vis.global_.fovy) / 2)
+    return np.stack([rel @ right / depth / (tan_y * width / height), rel @ up / depth / tan_y], axis=-1)
+
+
+def _robot_geoms(u) -> np.ndarray:
+    model = u.sim.model
+    return np.flatnonzero(np.isin(model.geom_bodyid, u.scene["robot"]._body_ids) & (model.geom_rgba[:, 3] > 0))
+
+
+def test_a_running_robot_stays_in_the_picture():
+    """The humanoid's root carried 20 m across the floor, 5 cm a frame, then teleported 30 m: the camera
+    follows without jumps and keeps every one of its geoms in the picture (the aim held from the first
+    frame loses it after a metre or two)."""
+    env = _make("simlab/Humanoid-v0")
+    try:
+        u = env.unwrapped
+        robot = u.scene["robot"]
+        start = robot.data.root_state_w[:, :7].clone()
+        geoms = _robot_geoms(u)
+        first = view_frame(u, u.cfg.viewer)
+        path = [np.array([0.05 * i, 0.03 * i, 0.0]) for i in range(401)] + [np.array([-30.0, 10.0, 0.0])]
+        previous = first
+        for step, offset in enumerate(path):
+            pose = start.clone()
+            pose[:, :3] += torch.as_tensor(offset, dtype=pose.dtype)
+            robot.write_root_pose_to_sim(pose)
+            u.sim.forward()
+            frame = view_frame(u, u.cfg.viewer)
+            xpos = u.sim.physics.data("geom_xpos")[0].numpy().astype(np.float64)[geoms]
+            assert (np.abs(_in_picture(u, frame, xpos)) < 0.9).all(), f"out of the picture at {offset}"
+            if step < len(path) - 1:  # no jumps: the camera moves no more than the robot did
+                assert np.linalg.norm(frame.lookat - previous.lookat) <= 0.0584 + 1e-9
+            np.testing.assert_allclose(frame.eye - frame.lookat, first.eye - first.lookat, atol=1e-9)
+            previous = frame
+    finally:
+        env.close()
+    assert np.linalg.norm(frame.lookat - first.lookat) > 25.0
+
+
+@pytest.mark.parametrize(
+    "task", ["simlab/Lift-Cube-Franka-v0", "simlab/Stack-Cube-Instance-Randomize-Franka-IK-Rel-v0"]
+)
+def test_a_fixed_base_arm_moving_leaves_the_camera_still(task):
+    """The arm swings through its workspace (random actions) and the parked cubes fall: the camera
+    of the first frame is kept, to the bit."""
+    env = _make(task)
+    try:
+        u = env.unwrapped
+        hand = u.scene["robot"].find_bodies("panda_hand")[0][0]
+        first = view_frame(u, u.cfg.viewer)
+        hand_start = u.scene["robot"].data.body_pos_w[0, hand].clone()
+        generator = torch.Generator().manual_seed(0)
+        travel = 0.0
+        for _ in range(40):
+            action = 2 * torch.rand(env.action_space.shape, generator=generator) - 1
+            env.step(action)
+            travel = max(travel, float(torch.linalg.norm(u.scene["robot"].data.body_pos_w[0, hand] - hand_start)))
+            frame = view_frame(u, u.cfg.viewer)
+            np.testing.assert_array_equal(frame.lookat, first.lookat)
+            np.testing.assert_array_equal(frame.eye, first.eye)
+    finally:
+        env.close()
+    assert travel > 0.1, f"the hand moved only {travel:.3f} m"

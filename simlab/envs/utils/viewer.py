@@ -11,9 +11,11 @@ A world-frame camera names a fixed point of the world, often its origin on the g
 robots stand; the frames of ``env.render()`` keep its direction but look at the middle of what the
 shown envs are about: their articulations (the robots) and the objects lying near them, not the props
 they stand on nor objects kept far off (the parked instances of a rigid object collection); no farther
-away than configured and closer where that would fill less of the picture. The camera is aimed once,
-at the first frame, and then stands still. The other origin types name a point on an env or a robot
-and are kept as given.
+away than configured and closer where that would fill less of the picture. The camera is aimed at the
+first frame and then moves only with the robots' roots, once they have left a dead zone around the
+point it follows: a fixed-base arm never moves it (nor do the objects it handles), a walking or
+running robot is followed smoothly, its gait's sway barely. The other origin types name a point on
+an env or a robot and are kept as given.
 """
 
 from __future__ import annotations
@@ -42,6 +44,10 @@ RENDERERS = ("auto", "opengl", "warp")
 NEAR = 0.5
 """An object is framed with the robots when it lies wholly in their box grown on every side by this
 share of its largest side."""
+FOLLOW = 0.1
+"""The dead zone of a world-frame camera: it moves with the shown robots once the mean of their roots
+lies farther than this share of its distance from the point it follows, and then just enough to
+bring it back to the zone's edge (no jumps; a sway inside the zone does not move it)."""
 
 
 @dataclass
@@ -108,14 +114,43 @@ def view_frame(env, viewer, max_envs: int = MAX_SHOWN_ENVS) -> ViewFrame:
     # the envs in the camera's reach of the look-at point (the reference env may stand far off)
     reach = distance[env_ids] <= np.linalg.norm(eye - lookat)
     rows = reach if reach.any() else np.ones(len(env_ids), bool)
-    # aimed once, at the first frame, and kept while the shown envs and the configured camera are:
-    # the camera stands still rather than chasing what moves (a falling object, a swinging arm)
+    # aimed at the first frame (and again when the shown envs or the configured camera change), then
+    # moved only with the robots' roots: not chasing a falling object or a swinging arm
     key = (tuple(env_ids), tuple(eye), tuple(lookat), tuple(rows), tuple(viewer.resolution))
     aim = getattr(env, "_view_aim", None)
+    roots = _roots(env, frame, rows)
     if aim is None or aim[0] != key:
-        aim = env._view_aim = (key, _aim(env, frame, rows, viewer.resolution))
-    eye, lookat = aim[1]
-    return ViewFrame(frame.env_ids, frame.offsets, eye.copy(), lookat.copy())
+        aim = (key, *_aim(env, frame, rows, viewer.resolution), roots)
+    else:
+        aim = (key, *_follow(*aim[1:], roots))
+    env._view_aim = aim
+    return ViewFrame(frame.env_ids, frame.offsets, aim[1].copy(), aim[2].copy())
+
+
+def _roots(env, frame: ViewFrame, rows: np.ndarray) -> np.ndarray | None:
+    """The mean root position of the articulations of ``frame``'s envs ``rows`` (in the reference's
+    frame); None without articulations."""
+    articulations = list(env.scene.articulations.values())
+    if not articulations:
+        return None
+    ids = np.asarray(frame.env_ids)[rows]
+    pos = [a.data.root_pos_env.detach().cpu().numpy()[ids].astype(np.float64) for a in articulations]
+    return (np.mean(pos, axis=0) + frame.offsets[rows]).mean(axis=0)
+
+
+def _follow(
+    eye: np.ndarray, lookat: np.ndarray, followed: np.ndarray | None, roots: np.ndarray | None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+    """The camera (``eye``, ``lookat``) and the point it follows, moved just enough that ``roots`` lie
+    within ``FOLLOW`` of its distance from that point."""
+    if followed is None or roots is None:
+        return eye, lookat, followed
+    moved = roots - followed
+    off, slack = float(np.linalg.norm(moved)), FOLLOW * float(np.linalg.norm(eye - lookat))
+    if off <= slack:
+        return eye, lookat, followed
+    shift = moved * (1.0 - slack / off)
+    return eye + shift, lookat + shift, followed + shift
 
 
 def _framed_geoms(env) -> tuple[np.ndarray, np.ndarray]:
