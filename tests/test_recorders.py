@@ -217,6 +217,30 @@ def test_a_relative_state_moves_between_envs_to_the_bit():
         assert torch.equal(value[0], value[3]), key
 
 
+def test_a_states_edited_root_velocity_is_written():
+    """A state whose ``root_velocity`` was changed after ``get_state`` (as Isaac Lab's code may do:
+    there the velocity is that key) is written with the new velocity: ``root_ang_vel_b`` replaces
+    the angular part only where it is that same turning, exactly."""
+    import gymnasium as gym
+
+    import simlab.tasks  # noqa: F401 - registers the tasks
+    from simlab.tasks.utils.parse_cfg import parse_env_cfg
+
+    task = "simlab/Lift-Cube-Franka-v0"
+    env = gym.make(task, cfg=parse_env_cfg(task, device="cpu", num_envs=2)).unwrapped
+    env.reset()
+    cube = env.scene["object"]
+    cube.write_root_velocity_to_sim(torch.tensor([[0.0, 0.0, 0.0, 0.7, -1.3, 2.9]]).repeat(2, 1))
+    state = env.scene.get_state()
+    edited = torch.tensor([0.1, 0.2, 0.3, -0.5, 0.25, 0.0])
+    state["rigid_object"]["object"]["root_velocity"][1] = edited
+    env.scene.reset_to(state)
+    velocity = cube.data.root_vel_w.clone()
+    env.close()
+    torch.testing.assert_close(velocity[1], edited, atol=1e-6, rtol=0)
+    torch.testing.assert_close(velocity[0, 3:], torch.tensor([0.7, -1.3, 2.9]), atol=1e-6, rtol=0)
+
+
 def test_demos_recorded_in_several_envs_replay_bit_identically_in_one(tmp_path, capsys):
     """Each env sits at its own origin, the replay's one env at another: the arm's IK reads the hand's
     pose from the robot's root in env-frame positions, so nothing of an origin's float32 rounding

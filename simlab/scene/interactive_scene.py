@@ -12,6 +12,7 @@ from dataclasses import fields
 
 import torch
 
+import simlab.utils.math as math_utils
 from simlab.assets import (
     Articulation,
     ArticulationCfg,
@@ -182,9 +183,12 @@ class InteractiveScene:
                 if not asset.is_fixed_base:
                     write_pose = asset.write_root_pose_env_to_sim if is_relative else asset.write_root_pose_to_sim
                     write_pose(root_pose, env_ids=ids)
-                    asset.write_root_velocity_to_sim(entry["root_velocity"].to(self.device), env_ids=ids)
+                    velocity = entry["root_velocity"].to(self.device)
+                    asset.write_root_velocity_to_sim(velocity, env_ids=ids)
                     if "root_ang_vel_b" in entry:  # absent from Isaac Lab's states
-                        asset.write_root_ang_vel_b_to_sim(entry["root_ang_vel_b"].to(self.device), env_ids=ids)
+                        quat = root_pose[:, 3:7] if is_relative else math_utils.normalize(root_pose[:, 3:7])
+                        ang_vel_b = _exact_turning(entry["root_ang_vel_b"].to(self.device), quat, velocity[:, 3:6])
+                        asset.write_root_ang_vel_b_to_sim(ang_vel_b, env_ids=ids)
                 if group == "articulation":
                     pos, vel = entry["joint_position"].to(self.device), entry["joint_velocity"].to(self.device)
                     asset.write_joint_state_to_sim(pos, vel, env_ids=ids)
@@ -285,3 +289,12 @@ class InteractiveScene:
                         value.prim_path, value.spawn, translation=value.init_state.pos, orientation=value.init_state.rot
                     )
                 self.extras[entry] = value
+
+
+def _exact_turning(ang_vel_b: torch.Tensor, quat: torch.Tensor, ang_vel_w: torch.Tensor) -> torch.Tensor:
+    """A state's ``root_ang_vel_b`` where it is its world-frame ``root_velocity`` turning (to float32
+    rounding), else that turning in the root's frame: code that edits a state's ``root_velocity``,
+    Isaac Lab's key for it, gets the velocity it wrote."""
+    from_w = math_utils.quat_apply_inverse(quat, ang_vel_w)
+    same = (ang_vel_b - from_w).norm(dim=-1, keepdim=True) <= 1e-5 * (1 + from_w.norm(dim=-1, keepdim=True))
+    return torch.where(same, ang_vel_b, from_w)
