@@ -3,9 +3,9 @@ and ``Isaac-Stack-Cube-Instance-Randomize-Franka-v0`` and ``-IK-Rel-v0``, a rand
 
 Isaac Lab trains these from demonstrations (robomimic's BC-RNN), not with RL, so no RL agent is
 registered; the criterion judges any policy by the share of episodes that end with the three cubes
-stacked. The IK-Abs task and the instance-randomized IK-Rel task register simlab's behaviour cloning
-(``bc_cfg_entry_point``, where Isaac Lab registers ``robomimic_bc_cfg_entry_point``): their policies are
-shipped (``simlab play --library bc``).
+stacked. The IK-Abs task and both IK-Rel tasks (plain and instance-randomized) register simlab's
+behaviour cloning (``bc_cfg_entry_point``, where Isaac Lab registers ``robomimic_bc_cfg_entry_point``):
+their policies are shipped (``simlab play --library bc``).
 """
 
 import gymnasium as gym
