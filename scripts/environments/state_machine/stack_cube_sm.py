@@ -142,17 +142,12 @@ def task_actions(env, actions: torch.Tensor, max_step: tuple[float, float] = MAX
     term = env.action_manager.get_term("arm_action")
     if not term.cfg.controller.use_relative_mode:
         return actions
-    robot = env.scene[term.cfg.asset_name].data
-    body = robot.body_names.index(term.cfg.body_name)
-    pos, quat = math_utils.subtract_frame_transforms(
-        robot.root_pos_w, robot.root_quat_w, robot.body_pos_w[:, body], robot.body_quat_w[:, body]
-    )
+    pos, quat = term._ee_pose_b()  # the frame the action moves, as the term reads it (root frame)
     aim_pos, aim_quat = actions[:, :3], actions[:, 3:7]
-    if term.cfg.body_offset is not None:  # the action moves the frame at the offset, not the body
+    if term.cfg.body_offset is not None:  # that frame is at the offset from the body
         offset = term.cfg.body_offset
         offset_pos = torch.tensor(offset.pos, device=actions.device).expand_as(pos)
         offset_rot = torch.tensor(offset.rot, device=actions.device).expand_as(quat)
-        pos, quat = math_utils.combine_frame_transforms(pos, quat, offset_pos, offset_rot)
         aim_pos, aim_quat = math_utils.combine_frame_transforms(aim_pos, aim_quat, offset_pos, offset_rot)
     delta = torch.cat(math_utils.compute_pose_error(pos, quat, aim_pos, aim_quat), dim=-1)
     for part, most in zip((delta[:, :3], delta[:, 3:]), max_step):
