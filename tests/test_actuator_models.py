@@ -369,6 +369,38 @@ def test_the_shipped_networks_hold_their_robots_up_as_the_dc_motors_they_imitate
     assert abs(heights[1] - heights[0]) < 0.01, heights
 
 
+def test_the_anydrive_network_holds_swinging_legs_still():
+    """ANYmal-D hung by its base, every target 0.1 rad off the default pose: after 0.5 s the legs are
+    still, as under the DC motor the network imitates. Its swinging knee (0.07 kg m^2) made the drive
+    fitted to a 2-step *sensing* delay oscillate without end (knees at 7.8 rad/s, 0.07 rad off target)."""
+    from test_locomotion import robot_scene
+
+    import simlab.sim as sim_utils
+    from simlab.robots import anymal
+
+    props = anymal.ANYMAL_D_CFG.spawn.articulation_props.replace(fix_root_link=True)
+    hung = anymal.ANYMAL_D_CFG.replace(
+        spawn=anymal.ANYMAL_D_CFG.spawn.replace(articulation_props=props),
+        init_state=anymal.ANYMAL_D_CFG.init_state.replace(pos=(0.0, 0.0, 1.0)),  # feet well off the ground
+    )
+    for model in (anymal.ANYDRIVE_3_STIFF_ACTUATOR_CFG, anymal.ANYDRIVE_3_LSTM_ACTUATOR_CFG):
+        sim, scene = robot_scene(hung.replace(actuators={"legs": model}), num_envs=1)
+        legs = scene["robot"]
+        legs.set_joint_position_target(legs.data.default_joint_pos + 0.1)
+        speeds = []
+        for step in range(200):
+            scene.write_data_to_sim()
+            sim.step()
+            scene.update(sim.get_physics_dt())
+            if step >= 100:
+                speeds.append(legs.data.joint_vel.abs().max().item())
+        offset = (legs.data.joint_pos - legs.data.default_joint_pos - 0.1).abs().max().item()
+        sim_utils.SimulationContext.clear_instance()
+        name = type(legs.actuators["legs"]).__name__
+        assert max(speeds) < 0.01, f"{name}: joints still moving at {max(speeds):.3f} rad/s"
+        assert offset < 0.05, f"{name}: {offset:.3f} rad off target"  # sagging 0.035 rad under gravity at kp 200
+
+
 # -- in a simulated scene, on both backends ----------------------------------------------------------
 
 

@@ -4,20 +4,30 @@
     python scripts/tools/fit_actuator_nets.py --out /tmp/nets --nets unitree_go1_mlp
 
 What each network imitates, the *reference actuator*: simlab's ``DCMotor`` (PD law, torque-speed
-limits) acting on the joint state ``delay`` physics steps old,
+limits, read at the current speed) with a latency of ``d`` physics steps, in one of two places:
 
-    tau_k = clip_dc(kp * e_{k-d} - kd * qd_{k-d}; qd_k),    e = q* - q,
+* ``delayed="state"``: the drive acts on the joint state ``d`` steps old (sensing latency),
+  ``tau_k = clip_dc(kp e_{k-d} - kd qd_{k-d}; qd_k)``, ``e = q* - q``;
+* ``delayed="target"``: the targets arrive ``d`` steps late and the drive's own loop reads the current
+  state (Isaac Lab's ``DelayedPDActuator``), ``tau_k = clip_dc(kp (q*_{k-d} - q_k) - kd qd_k; qd_k)``.
+  The network sees only ``e`` and ``qd``; ``q*_{k-d} - q_k = e_{k-d} - dt (qd_k + ... + qd_{k-d+1})``
+  exactly, as MuJoCo advances a joint by ``q_k = q_{k-1} + dt qd_k`` each step.
 
-its torque-speed limits read at the current speed (a loop latency of sensing, computing and
-sending). The joint signals are smooth random processes (each sequence has its own time scale,
-5-200 ms, and amplitude), so that the nets see slow and fast, small and saturating motions.
+A state latency puts the delay inside the position loop: a stiff drive on a light joint then
+oscillates (kp 200, kd 11 on the ANYdrive's 0.05-0.1 kg m^2 swinging knee: a growing 20 Hz
+oscillation for a 2-step delay, which the torque limits turn into a limit cycle). A target latency
+leaves the loop as stable as the undelayed motor.
+
+The joint signals are smooth random processes (each sequence has its own time scale, 20-300 ms, and
+amplitude), so that the nets see slow and fast, small and saturating motions.
 
 * ``unitree_go1_mlp.pt``: :class:`ActuatorMLP` 6-32-32-1 with Isaac Lab's ``GO1_ACTUATOR_CFG`` inputs
   (``input_idx`` [0, 1, 2], ``pos_scale`` -1, ``vel_scale`` 1, ``torque_scale`` 1); reference:
-  simlab's ``GO1_DC_ACTUATOR_CFG`` (kp 25, kd 0.5, 23.7 N m, 30 rad/s), delay 2 steps;
+  simlab's ``GO1_DC_ACTUATOR_CFG`` (kp 25, kd 0.5, 23.7 N m, 30 rad/s), state delayed 2 steps (its
+  soft loop stays stable);
 * ``anydrive_3_lstm.pt``: :class:`ActuatorLSTM`, one layer of 16; reference: simlab's
   ``ANYDRIVE_3_STIFF_ACTUATOR_CFG`` (kp 200, kd 11, which holds ANYmal up; 120 N m saturation, 80 N m
-  limit, 7.5 rad/s), delay 2 steps.
+  limit, 7.5 rad/s), targets delayed 2 steps.
 
 The delays are physics steps: 10 ms at the locomotion tasks' 5 ms step. The script prints each
 net's error on held-out sequences (RMS and the 99.9th percentile, in N m).
@@ -30,6 +40,7 @@ import math
 import os
 import time
 from dataclasses import dataclass
+from typing import Literal
 
 import torch
 
@@ -48,13 +59,14 @@ class Reference:
     effort_limit: float
     velocity_limit: float
     delay: int
+    delayed: Literal["state", "target"]  # where the latency is (module docstring)
     error_scale: float  # typical position error [rad] of the training signals
     speed_scale: float  # typical joint speed [rad/s]
 
 
 REFERENCES = {
-    "unitree_go1_mlp": Reference(25.0, 0.5, 23.7, 23.7, 30.0, 2, error_scale=0.4, speed_scale=10.0),
-    "anydrive_3_lstm": Reference(200.0, 11.0, 120.0, 80.0, 7.5, 2, error_scale=0.15, speed_scale=3.0),
+    "unitree_go1_mlp": Reference(25.0, 0.5, 23.7, 23.7, 30.0, 2, "state", error_scale=0.4, speed_scale=10.0),
+    "anydrive_3_lstm": Reference(200.0, 11.0, 120.0, 80.0, 7.5, 2, "target", error_scale=0.15, speed_scale=3.0),
 }
 
 
@@ -76,8 +88,10 @@ def reference_torque(ref: Reference, error: torch.Tensor, speed: torch.Tensor) -
     """The reference actuator's torque for (num, steps) signals; the first ``delay`` steps repeat the
     first sample (as a delay buffer does after a reset)."""
     d = ref.delay
-    old_e = torch.cat([error[:, :1].expand(-1, d), error[:, :-d]], dim=1) if d else error
-    old_qd = torch.cat([speed[:, :1].expand(-1, d), speed[:, :-d]], dim=1) if d else speed
+    old_e, old_qd = delayed(error, d), delayed(speed, d)
+    if ref.delayed == "target":  # the late target against the current state: q*_{k-d} - q_k
+        old_e = old_e - DT * sum((delayed(speed, j) for j in range(d)), torch.zeros_like(speed))
+        old_qd = speed
     cfg = DCMotorCfg(
         joint_names_expr=[".*"],
         stiffness=ref.kp,
@@ -89,6 +103,11 @@ def reference_torque(ref: Reference, error: torch.Tensor, speed: torch.Tensor) -
     motor = cfg.class_type(cfg, ["joint"], [0], error.numel(), "cpu")
     motor._joint_vel.copy_(speed.reshape(-1, 1))  # the limits are read at the current speed
     return motor._clip_effort((ref.kp * old_e - ref.kd * old_qd).reshape(-1, 1)).reshape(error.shape)
+
+
+def delayed(signal: torch.Tensor, d: int) -> torch.Tensor:
+    """(num, steps) ``signal`` ``d`` steps late, its first sample repeated before the start."""
+    return torch.cat([signal[:, :1].expand(-1, d), signal[:, :-d]], dim=1) if d else signal
 
 
 def data(ref: Reference, num: int, steps: int, seed: int) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
