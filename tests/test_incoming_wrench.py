@@ -112,7 +112,7 @@ def test_without_the_pass_compiled_in_it_runs_when_read_with_the_compiled_in_val
 
 
 def test_the_pass_run_when_read_follows_the_state():
-    """Computed once per state: a step, a state write, a mass change give new values, as the compiled-in pass."""
+    """Computed once per state: a step and a state write give new values, as the compiled-in pass."""
     sim = sim_utils.SimulationContext(sim_utils.SimulationCfg(dt=1 / 120, device="cpu"))
     scene = InteractiveScene(AntSceneCfg(num_envs=2, env_spacing=3.0))
     sim.reset()
