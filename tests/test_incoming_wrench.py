@@ -132,6 +132,18 @@ def test_the_pass_run_when_read_follows_the_state():
         physics.post_constraint("qfrc_constraint")
 
 
+def test_the_pass_run_when_read_refuses_a_spec_edited_after_the_model_compiled():
+    """The cpu backend runs the pass in the spec compiled again: a geom added to the spec after
+    ``sim.reset()`` (which the simulation never sees) would be in that model's contacts, not in the
+    simulated worlds'. It says so instead of giving other forces."""
+    sim = sim_utils.SimulationContext(sim_utils.SimulationCfg(dt=1 / 120, device="cpu"))
+    scene = InteractiveScene(AntSceneCfg(num_envs=1, env_spacing=3.0))
+    sim.reset()
+    sim.spec.worldbody.add_geom(type=mujoco.mjtGeom.mjGEOM_BOX, size=[0.5, 0.5, 0.5], pos=[0, 0, 0.5])
+    with pytest.raises(RuntimeError, match=r"edited after sim.reset\(\)"):
+        _ = scene["robot"].data.body_incoming_joint_wrench_b
+
+
 @pytest.mark.gpu
 def test_the_pass_run_when_read_on_the_gpu_gives_mujoco_warps_own():
     """MuJoCo Warp: the pass launched when read equals the one its forward runs with the pass on

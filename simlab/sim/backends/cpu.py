@@ -185,7 +185,14 @@ class CpuBackend(PhysicsBackend):
                     "this cpu backend was made without post_constraint_model, so it cannot run MuJoCo's post-constraint"
                     " pass on demand: compile it in (sim_utils.compute_body_interaction_forces before sim.reset())"
                 )
-            self._post = mjbatch.Batch(self._post_constraint_model(), self.num_envs, num_threads=self.num_threads)
+            model = self._post_constraint_model()
+            sizes = ("nq", "nv", "na", "nu", "nbody", "ngeom", "nsite", "neq", "nmocap", "nuserdata")
+            if any(getattr(model, n) != getattr(self.model, n) for n in sizes):  # one more sensor only
+                raise RuntimeError(
+                    "MuJoCo's post-constraint pass runs on demand in the scene's spec compiled again, and that spec"
+                    " no longer matches the simulated model (was it edited after sim.reset()?)"
+                )
+            self._post = mjbatch.Batch(model, self.num_envs, num_threads=self.num_threads)
             if self._post.nstate != self.batch.nstate:
                 raise RuntimeError("the model with the post-constraint pass has another state size than the model")
             self._post_state = self._post.bind("state")
