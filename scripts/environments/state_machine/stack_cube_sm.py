@@ -178,7 +178,8 @@ def run(
     on_step, counts = criterion_for(task).make_hook()
     machine = StackCubesSm(env.num_envs, CUBE_SIZE, env.device)
     origins = env.scene.env_origins
-    cubes = {n: SceneEntityCfg(n) for n in ("cube_1", "cube_2", "cube_3")}  # the cubes in focus of collections
+    # each cube, or the one in focus where the cubes are collections (the instance-randomized task)
+    cubes = {n: SceneEntityCfg(n) for n in ("cube_1", "cube_2", "cube_3")}
     for _ in range(steps):
         if stop is not None and stop():
             break
