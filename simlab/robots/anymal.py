@@ -21,10 +21,10 @@ ANYDRIVE_3_SIMPLE_ACTUATOR_CFG = DCMotorCfg(
 ANYmal-C in its default pose: see ``ANYDRIVE_3_STIFF_ACTUATOR_CFG``."""
 
 ANYDRIVE_3_STIFF_ACTUATOR_CFG = ANYDRIVE_3_SIMPLE_ACTUATOR_CFG.replace(stiffness={".*": 200.0}, damping={".*": 11.0})
-"""simlab's stand-in for Isaac Lab's ``ANYDRIVE_3_LSTM_ACTUATOR_CFG`` (an actuator network trained on
-the real drives, a file simlab does not ship): the same DC-motor limits (80 N m, 120 N m saturation,
-7.5 rad/s), with a stiffness that holds the robot as the real drives do and a damping that keeps
-the simple model's damping ratio.
+"""simlab's DC-motor stand-in for Isaac Lab's ``ANYDRIVE_3_LSTM_ACTUATOR_CFG`` (whose network Isaac Lab
+trained on the real drives; simlab's network of that name is fitted to this motor): the same DC-motor
+limits (80 N m, 120 N m saturation, 7.5 rad/s), with a stiffness that holds the robot as the real
+drives do and a damping that keeps the simple model's damping ratio.
 
 In the default pose each HAA, HFE and KFE carries about 22 N m (a quarter of the 45 kg on a lever of
 about 0.2 m: the feet stand 0.2 m outboard of the HAA axes and 0.2 m ahead of or behind the knees).
@@ -47,7 +47,8 @@ ANYDRIVE_3_LSTM_ACTUATOR_CFG = ActuatorNetLSTMCfg(
 )
 """Isaac Lab's ANYdrive 3.0 LSTM actuator config (its limits). Its network path names simlab's
 ``simlab/actuators/nets/anydrive_3_lstm.pt``: an LSTM fitted here to ``ANYDRIVE_3_STIFF_ACTUATOR_CFG``
-with a 2-physics-step delay (docs/actuators.md), not the network ANYbotics trained on the real drives.
+receiving its targets 2 physics steps late (docs/actuators.md), not the network ANYbotics trained on
+the real drives.
 ANYmal-B and ANYmal-D use it; ANYmal-C keeps the DC-motor drive its shipped policies were trained with."""
 
 
@@ -72,9 +73,12 @@ ANYMAL_C_CFG = ArticulationCfg(
     actuators={"legs": ANYDRIVE_3_STIFF_ACTUATOR_CFG},
     soft_joint_pos_limit_factor=0.95,
 )
-"""ANYmal-C. Isaac Lab drives it with an LSTM actuator network (``ANYDRIVE_3_LSTM_ACTUATOR_CFG``),
-a trained file simlab does not ship; here a stiffer DC-motor ANYdrive (``ANYDRIVE_3_STIFF_ACTUATOR_CFG``)
-that holds the robot in its default pose."""
+"""ANYmal-C. Isaac Lab drives it with its LSTM actuator network of the real drives
+(``ANYDRIVE_3_LSTM_ACTUATOR_CFG``); here the stiffer DC-motor ANYdrive (``ANYDRIVE_3_STIFF_ACTUATOR_CFG``)
+that holds the robot in its default pose, which simlab's shipped ANYmal-C policies were trained with.
+simlab's network of that config name is an LSTM fitted to this DC motor with a 2-step command latency
+(ANYmal-B and -D use it); ``ANYMAL_C_CFG.replace(actuators={"legs": ANYDRIVE_3_LSTM_ACTUATOR_CFG})``
+drives ANYmal-C with it."""
 
 
 ANYMAL_B_CFG = ANYMAL_C_CFG.replace(
@@ -82,7 +86,7 @@ ANYMAL_B_CFG = ANYMAL_C_CFG.replace(
     actuators={"legs": ANYDRIVE_3_LSTM_ACTUATOR_CFG},
 )
 """ANYmal-B (30.4 kg) with ANYmal-C's pose and spawn height, driven as Isaac Lab drives it by the ANYdrive
-LSTM actuator network config (simlab's network: the stiff DC-motor ANYdrive with a 2-step delay)."""
+LSTM actuator network config (simlab's network: the stiff DC-motor ANYdrive with a 2-step command latency)."""
 
 ANYMAL_D_CFG = ANYMAL_C_CFG.replace(
     spawn=ANYMAL_C_CFG.spawn.replace(asset_path=os.path.join(ASSETS_DIR, "anybotics_anymal_d.xml")),
@@ -90,4 +94,4 @@ ANYMAL_D_CFG = ANYMAL_C_CFG.replace(
 )
 """ANYmal-D (51.5 kg) with ANYmal-C's pose and spawn height, driven as Isaac Lab drives it by ANYmal-C's
 ANYdrive LSTM actuator network config (Isaac Lab has no network of ANYmal-D's drives either; simlab's
-network: the stiff DC-motor ANYdrive with a 2-step delay)."""
+network: the stiff DC-motor ANYdrive with a 2-step command latency)."""
