@@ -132,14 +132,19 @@ def test_the_pass_run_when_read_follows_the_state():
         physics.post_constraint("qfrc_constraint")
 
 
-def test_the_pass_run_when_read_refuses_a_spec_edited_after_the_model_compiled():
+@pytest.mark.parametrize("edit", ["geom", "late_pass"])
+def test_the_pass_run_when_read_refuses_a_spec_edited_after_the_model_compiled(edit):
     """The cpu backend runs the pass in the spec compiled again: a geom added to the spec after
     ``sim.reset()`` (which the simulation never sees) would be in that model's contacts, not in the
-    simulated worlds'. It says so instead of giving other forces."""
+    simulated worlds'; the pass asked for too late (``compute_body_interaction_forces`` after
+    ``sim.reset()``) would fail to compile on its sensor's name. It says what happened instead."""
     sim = sim_utils.SimulationContext(sim_utils.SimulationCfg(dt=1 / 120, device="cpu"))
     scene = InteractiveScene(AntSceneCfg(num_envs=1, env_spacing=3.0))
     sim.reset()
-    sim.spec.worldbody.add_geom(type=mujoco.mjtGeom.mjGEOM_BOX, size=[0.5, 0.5, 0.5], pos=[0, 0, 0.5])
+    if edit == "geom":
+        sim.spec.worldbody.add_geom(type=mujoco.mjtGeom.mjGEOM_BOX, size=[0.5, 0.5, 0.5], pos=[0, 0, 0.5])
+    else:
+        sim_utils.compute_body_interaction_forces(sim.spec)
     with pytest.raises(RuntimeError, match=r"edited after sim.reset\(\)"):
         _ = scene["robot"].data.body_incoming_joint_wrench_b
 

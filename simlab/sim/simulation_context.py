@@ -439,10 +439,9 @@ def compile_with_post_constraint(spec: mujoco.MjSpec) -> mujoco.MjModel:
     """``spec``'s model with one more sensor, which makes its forward pass run the post-constraint
     pass: the cpu backend runs its forward pass beside the model's to give that pass on demand
     (``PhysicsBackend.post_constraint``). A frame acceleration of the world body: no site is added,
-    so every other object keeps its id."""
+    so every other object keeps its id. Unnamed: no name of the spec's can clash with it."""
     spec = spec.copy()
     spec.add_sensor(
-        name=POST_CONSTRAINT_TRIGGER,
         type=mujoco.mjtSensor.mjSENS_FRAMELINACC,
         objtype=mujoco.mjtObj.mjOBJ_XBODY,
         objname="world",
