@@ -6,9 +6,10 @@ only a 100 x 100 image of its env from a tiled camera in front of the rail (``md
 [0, 1] minus each image's mean colour, or the distance to the camera in metres, 0 where nothing is hit).
 Envs stand 20 m apart so that no camera sees a neighbour.
 
-One image shows where the pole is, not how fast it turns: the shipped policies see the last two,
-``env.observations.policy.image.history_length=2`` with ``flatten_history_dim=False`` (rsl_rl's
-wrapper stacks a history's images along the channels).
+One image shows where the pole is, not how fast it turns: a policy sees the last k with
+``env.observations.policy.image.history_length=k`` and ``flatten_history_dim=False`` (rsl_rl's wrapper
+stacks a history's images along the channels). No policy of these tasks is shipped yet; docs/cameras.md
+gives the GPU command that would train one on the last three.
 """
 
 from __future__ import annotations
