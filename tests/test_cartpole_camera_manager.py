@@ -83,7 +83,7 @@ def test_rgb_observation_is_mean_free_and_clip_bounds_its_space():
 
 
 def two_image_env() -> ManagerBasedRLEnv:
-    """The depth cartpole whose policy sees the last two images (as its shipped policy)."""
+    """The depth cartpole whose policy sees the last two images."""
     cfg = CartpoleDepthCameraEnvCfg()
     cfg.scene.num_envs, cfg.sim.device, cfg.seed = 2, "cpu", 3
     cfg.observations.policy.image.history_length = 2
