@@ -369,6 +369,32 @@ def test_the_shipped_networks_hold_their_robots_up_as_the_dc_motors_they_imitate
     assert abs(heights[1] - heights[0]) < 0.01, heights
 
 
+def test_the_anydrive_reference_is_the_dc_motor_on_targets_two_steps_late():
+    """The fitting script's ANYdrive reference, written in the network's inputs (position error and
+    velocity) alone, is the stiff DC motor acting on the targets of 2 physics steps before and the
+    current joint state, on a joint advanced as MuJoCo advances it (``q_k = q_{k-1} + dt qd_k``)."""
+    from simlab.robots.anymal import ANYDRIVE_3_STIFF_ACTUATOR_CFG
+
+    fit = load_script(os.path.join(ROOT, "scripts", "tools", "fit_actuator_nets.py"), "fit_actuator_nets")
+    ref = fit.REFERENCES["anydrive_3_lstm"]
+    cfg = ANYDRIVE_3_STIFF_ACTUATOR_CFG
+    motor = cfg.class_type(cfg, ["knee"], [0], 8, "cpu")
+    torch.manual_seed(0)
+    steps, inertia = 60, 0.07
+    targets = (0.3 * torch.randn(8, steps // 4)).repeat_interleave(4, dim=1)  # held 4 steps, as a policy's
+    q, qd = torch.zeros(8, 1), torch.zeros(8, 1)
+    errors, speeds, torques = [], [], []
+    for k in range(steps):
+        late = targets[:, max(k - ref.delay, 0), None]
+        torques.append(motor.compute(actions(late), q, qd).joint_efforts[:, 0].clone())
+        errors.append(targets[:, k] - q[:, 0])
+        speeds.append(qd[:, 0].clone())
+        qd = qd + fit.DT * torques[-1][:, None] / inertia
+        q = q + fit.DT * qd
+    expected = fit.reference_torque(ref, torch.stack(errors, 1), torch.stack(speeds, 1))
+    torch.testing.assert_close(torch.stack(torques, 1)[:, ref.delay :], expected[:, ref.delay :])
+
+
 def test_the_anydrive_network_holds_swinging_legs_still():
     """ANYmal-D hung by its base, every target 0.1 rad off the default pose: after 0.5 s the legs are
     still, as under the DC motor the network imitates. Its swinging knee (0.07 kg m^2) made the drive
