@@ -427,6 +427,37 @@ def test_the_anydrive_network_holds_swinging_legs_still():
         assert offset < 0.05, f"{name}: {offset:.3f} rad off target"  # sagging 0.035 rad under gravity at kp 200
 
 
+def test_the_go1_network_lets_swinging_legs_come_to_rest():
+    """Go1 hung by its base, every target 0.1 rad off the default pose, on the Go1 MLP: by 1.5 s its
+    legs are at rest, as under the MLP's reference (the DC motor on the state 2 steps old, a loop
+    damped only slowly: 0.016 rad/s at 1.5-1.75 s). The first network, fitted without held targets,
+    damped 0.39 instead of 0.5 N m s/rad about rest, and its legs still swung at 0.085 rad/s then."""
+    from test_locomotion import robot_scene
+
+    import simlab.sim as sim_utils
+    from simlab.robots import unitree
+
+    props = unitree.UNITREE_GO1_CFG.spawn.articulation_props.replace(fix_root_link=True)
+    hung = unitree.UNITREE_GO1_CFG.replace(
+        spawn=unitree.UNITREE_GO1_CFG.spawn.replace(articulation_props=props),
+        init_state=unitree.UNITREE_GO1_CFG.init_state.replace(pos=(0.0, 0.0, 1.0)),  # feet well off the ground
+    )
+    sim, scene = robot_scene(hung, num_envs=1)
+    legs = scene["robot"]
+    legs.set_joint_position_target(legs.data.default_joint_pos + 0.1)
+    speeds = []
+    for step in range(350):
+        scene.write_data_to_sim()
+        sim.step()
+        scene.update(sim.get_physics_dt())
+        if step >= 300:
+            speeds.append(legs.data.joint_vel.abs().max().item())
+    offset = (legs.data.joint_pos - legs.data.default_joint_pos - 0.1).abs().max().item()
+    sim_utils.SimulationContext.clear_instance()
+    assert max(speeds) < 0.03, f"joints still moving at {max(speeds):.3f} rad/s"
+    assert offset < 0.05, f"{offset:.3f} rad off target"  # sagging 0.03 rad under gravity at kp 25
+
+
 # -- in a simulated scene, on both backends ----------------------------------------------------------
 
 

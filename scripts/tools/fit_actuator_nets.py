@@ -20,9 +20,11 @@ leaves the loop as stable as the undelayed motor.
 
 The joint signals are smooth random processes (each sequence has its own time scale, 20-300 ms, and
 amplitude), so that the nets see slow and fast, small and saturating motions. With ``held_targets``
-(the ANYdrive's), the position errors also jump every 4 physics steps, as a policy's targets do at
+(both nets), the position errors also jump every 4 physics steps, as a policy's targets do at
 the locomotion tasks' decimation: without them the LSTM was off by 7.4 N m RMS (13 %) on ANYmal-D's
-trajectories under actions of standard deviation 1, 2.5 N m with them.
+trajectories under actions of standard deviation 1, 2.5 N m with them; the MLP's damping about rest
+was 0.39 instead of 0.5 N m s/rad (its gradient there): a hung Go1's legs still swung at 0.04 rad/s
+after 2 s, 7 times its reference's speed.
 
 * ``unitree_go1_mlp.pt``: :class:`ActuatorMLP` 6-32-32-1 with Isaac Lab's ``GO1_ACTUATOR_CFG`` inputs
   (``input_idx`` [0, 1, 2], ``pos_scale`` -1, ``vel_scale`` 1, ``torque_scale`` 1); reference:
@@ -70,7 +72,7 @@ class Reference:
 
 
 REFERENCES = {
-    "unitree_go1_mlp": Reference(25.0, 0.5, 23.7, 23.7, 30.0, 2, "state", False, error_scale=0.4, speed_scale=10.0),
+    "unitree_go1_mlp": Reference(25.0, 0.5, 23.7, 23.7, 30.0, 2, "state", True, error_scale=0.4, speed_scale=10.0),
     "anydrive_3_lstm": Reference(200.0, 11.0, 120.0, 80.0, 7.5, 2, "target", True, error_scale=0.15, speed_scale=3.0),
 }
 
