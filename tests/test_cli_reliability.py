@@ -49,17 +49,30 @@ def _subprocess_env() -> dict[str, str]:
 
 
 def test_two_processes_started_together_get_their_own_run_folder(tmp_path):
-    # both processes wait for the same wall-clock instant, early in a second, then create their run folder
-    start = int(time.time()) + 3.2
+    # Both processes import first and say so; only then is the shared instant (early in a second) fixed and sent to
+    # them, so a slow start on a loaded machine cannot put them in different seconds.
     code = (
         "import sys, time; from simlab.cli.runs import make_run_dir; "
-        f"time.sleep(max(0.0, {start} - time.time())); "
+        "print('ready', flush=True); start = float(sys.stdin.readline()); "
+        "time.sleep(max(0.0, start - time.time())); "
         f"print(make_run_dir({str(tmp_path)!r}, 'rsl_rl', 'cartpole'))"
     )
     procs = [
-        subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, env=_subprocess_env()) for _ in range(2)
+        subprocess.Popen(
+            [sys.executable, "-c", code],
+            stdin=subprocess.PIPE,
+            stdout=subprocess.PIPE,
+            env=_subprocess_env(),
+            text=True,
+        )
+        for _ in range(2)
     ]
-    folders = [p.communicate(timeout=60)[0].decode().strip() for p in procs]
+    assert [p.stdout.readline().strip() for p in procs] == ["ready", "ready"]
+    start = int(time.time()) + 1.2
+    for p in procs:  # both get the instant before either is waited for
+        p.stdin.write(f"{start}\n")
+        p.stdin.flush()
+    folders = [p.communicate(timeout=60)[0].strip() for p in procs]
     assert all(p.returncode == 0 for p in procs)
     assert folders[0] != folders[1] and all(os.path.isdir(f) for f in folders), folders
     assert os.path.basename(folders[0])[:19] == os.path.basename(folders[1])[:19]  # the same second
