@@ -395,35 +395,44 @@ def test_the_anydrive_reference_is_the_dc_motor_on_targets_two_steps_late():
     torch.testing.assert_close(torch.stack(torques, 1)[:, ref.delay :], expected[:, ref.delay :])
 
 
+def _hung_legs_settle(robot_cfg, steps: int, settled_from: int) -> tuple[float, float]:
+    """The robot hung by its base (feet well off the ground), every joint target 0.1 rad off the default
+    pose: its fastest joint speed from physics step ``settled_from`` on, and its largest offset from
+    the targets at the end."""
+    from test_locomotion import robot_scene
+
+    import simlab.sim as sim_utils
+
+    props = robot_cfg.spawn.articulation_props.replace(fix_root_link=True)
+    hung = robot_cfg.replace(
+        spawn=robot_cfg.spawn.replace(articulation_props=props),
+        init_state=robot_cfg.init_state.replace(pos=(0.0, 0.0, 1.0)),
+    )
+    sim, scene = robot_scene(hung, num_envs=1)
+    legs = scene["robot"]
+    legs.set_joint_position_target(legs.data.default_joint_pos + 0.1)
+    speeds = []
+    for step in range(steps):
+        scene.write_data_to_sim()
+        sim.step()
+        scene.update(sim.get_physics_dt())
+        if step >= settled_from:
+            speeds.append(legs.data.joint_vel.abs().max().item())
+    offset = (legs.data.joint_pos - legs.data.default_joint_pos - 0.1).abs().max().item()
+    sim_utils.SimulationContext.clear_instance()
+    return max(speeds), offset
+
+
 def test_the_anydrive_network_holds_swinging_legs_still():
     """ANYmal-D hung by its base, every target 0.1 rad off the default pose: after 0.5 s the legs are
     still, as under the DC motor the network imitates. Its swinging knee (0.07 kg m^2) made the drive
     fitted to a 2-step *sensing* delay oscillate without end (knees at 7.8 rad/s, 0.07 rad off target)."""
-    from test_locomotion import robot_scene
-
-    import simlab.sim as sim_utils
     from simlab.robots import anymal
 
-    props = anymal.ANYMAL_D_CFG.spawn.articulation_props.replace(fix_root_link=True)
-    hung = anymal.ANYMAL_D_CFG.replace(
-        spawn=anymal.ANYMAL_D_CFG.spawn.replace(articulation_props=props),
-        init_state=anymal.ANYMAL_D_CFG.init_state.replace(pos=(0.0, 0.0, 1.0)),  # feet well off the ground
-    )
     for model in (anymal.ANYDRIVE_3_STIFF_ACTUATOR_CFG, anymal.ANYDRIVE_3_LSTM_ACTUATOR_CFG):
-        sim, scene = robot_scene(hung.replace(actuators={"legs": model}), num_envs=1)
-        legs = scene["robot"]
-        legs.set_joint_position_target(legs.data.default_joint_pos + 0.1)
-        speeds = []
-        for step in range(200):
-            scene.write_data_to_sim()
-            sim.step()
-            scene.update(sim.get_physics_dt())
-            if step >= 100:
-                speeds.append(legs.data.joint_vel.abs().max().item())
-        offset = (legs.data.joint_pos - legs.data.default_joint_pos - 0.1).abs().max().item()
-        sim_utils.SimulationContext.clear_instance()
-        name = type(legs.actuators["legs"]).__name__
-        assert max(speeds) < 0.01, f"{name}: joints still moving at {max(speeds):.3f} rad/s"
+        speed, offset = _hung_legs_settle(anymal.ANYMAL_D_CFG.replace(actuators={"legs": model}), 200, 100)
+        name = type(model).__name__
+        assert speed < 0.01, f"{name}: joints still moving at {speed:.3f} rad/s"
         assert offset < 0.05, f"{name}: {offset:.3f} rad off target"  # sagging 0.035 rad under gravity at kp 200
 
 
@@ -432,29 +441,10 @@ def test_the_go1_network_lets_swinging_legs_come_to_rest():
     legs are at rest, as under the MLP's reference (the DC motor on the state 2 steps old, a loop
     damped only slowly: 0.016 rad/s at 1.5-1.75 s). The first network, fitted without held targets,
     damped 0.39 instead of 0.5 N m s/rad about rest, and its legs still swung at 0.085 rad/s then."""
-    from test_locomotion import robot_scene
-
-    import simlab.sim as sim_utils
     from simlab.robots import unitree
 
-    props = unitree.UNITREE_GO1_CFG.spawn.articulation_props.replace(fix_root_link=True)
-    hung = unitree.UNITREE_GO1_CFG.replace(
-        spawn=unitree.UNITREE_GO1_CFG.spawn.replace(articulation_props=props),
-        init_state=unitree.UNITREE_GO1_CFG.init_state.replace(pos=(0.0, 0.0, 1.0)),  # feet well off the ground
-    )
-    sim, scene = robot_scene(hung, num_envs=1)
-    legs = scene["robot"]
-    legs.set_joint_position_target(legs.data.default_joint_pos + 0.1)
-    speeds = []
-    for step in range(350):
-        scene.write_data_to_sim()
-        sim.step()
-        scene.update(sim.get_physics_dt())
-        if step >= 300:
-            speeds.append(legs.data.joint_vel.abs().max().item())
-    offset = (legs.data.joint_pos - legs.data.default_joint_pos - 0.1).abs().max().item()
-    sim_utils.SimulationContext.clear_instance()
-    assert max(speeds) < 0.03, f"joints still moving at {max(speeds):.3f} rad/s"
+    speed, offset = _hung_legs_settle(unitree.UNITREE_GO1_CFG, 350, 300)
+    assert speed < 0.03, f"joints still moving at {speed:.3f} rad/s"
     assert offset < 0.05, f"{offset:.3f} rad off target"  # sagging 0.03 rad under gravity at kp 25
 
 
