@@ -15,13 +15,13 @@ from __future__ import annotations
 import argparse
 import contextlib
 import statistics
-import time
 from unittest import mock
 
 import gymnasium as gym
 import torch
 
 import simlab.sim as sim_utils
+from simlab.benchmarks.timing import time_loop
 
 TASK = "simlab/Repose-Cube-Shadow-Direct-v0"
 VARIANTS = {
@@ -49,22 +49,14 @@ def _make_env(device: str, num_envs: int, critic: bool, compiled_in: bool):
 
 def _steps_per_second(env, steps: int, rounds: int) -> list[float]:
     generator = torch.Generator(device=env.device).manual_seed(0)
+    width = env.single_action_space.shape[-1]
 
-    def actions() -> torch.Tensor:
-        return 2 * torch.rand(env.num_envs, 20, generator=generator, device=env.device) - 1
+    def step() -> None:
+        env.step(2 * torch.rand(env.num_envs, width, generator=generator, device=env.device) - 1)
 
-    sync = torch.cuda.synchronize if torch.device(env.device).type == "cuda" else lambda: None
     for _ in range(10):  # warm-up: the CUDA graph's capture
-        env.step(actions())
-    rates = []
-    for _ in range(rounds):
-        sync()
-        start = time.perf_counter()
-        for _ in range(steps):
-            env.step(actions())
-        sync()
-        rates.append(env.num_envs * steps / (time.perf_counter() - start))
-    return rates
+        step()
+    return [env.num_envs / time_loop(step, steps, str(env.device)) for _ in range(rounds)]
 
 
 def main(argv: list[str] | None = None) -> None:
