@@ -113,6 +113,7 @@ class PhysicsBackend(ABC):
         self._qpos0 = torch.as_tensor(model.qpos0, dtype=torch.float32, device=self.device)
         self._moves_from_qpos0 = False  # set_initial_qpos gave a start other than qpos0
         self._compiled_post_constraint = runs_post_constraint(model)  # else post_constraint runs it when read
+        self._post_constraint_version: int | None = None  # the state_version the pass was last run at
         self.state_version = 0
         """Counts the changes of state (steps, resets, writes announced with ``mark_stale`` or followed
         by a forward, and each capture or replay of a graphed env step): values computed from the
@@ -170,7 +171,7 @@ class PhysicsBackend(ABC):
         self.ensure_forward()
         if self._compiled_post_constraint:
             return self.data(name)
-        if getattr(self, "_post_constraint_version", None) != self.state_version:
+        if self._post_constraint_version != self.state_version:
             warn_once(
                 "This model's forward pass does not run MuJoCo's post-constraint pass (cacc, cfrc_int, cfrc_ext:"
                 " incoming joint forces); simlab runs it when they are read"
