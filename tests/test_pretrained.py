@@ -211,3 +211,26 @@ def test_rsl_rl_records_count_iterations_as_make_pretrained_or_say_what_their_nu
             continue
         number = int(re.fullmatch(r"model_(\d+)\.pt", record["checkpoint"]).group(1))
         assert record["iterations"] == number + 1 or record.get("iterations_note"), (task, record["iterations"])
+
+
+def test_play_without_library_plays_the_tasks_only_shipped_policy(tmp_path, capsys):
+    """Stack-Cube-Franka-IK-Rel-v0 ships a bc policy only: --use_pretrained_checkpoint plays it without
+    --library bc, and says so."""
+    task = "simlab/Stack-Cube-Franka-IK-Rel-v0"
+    argv = ["play", "--task", task, "--use_pretrained_checkpoint", "--headless", "--device", "cpu"]
+    argv += ["--num_envs", "2", "--steps", "2", "--no_export", "--log_root", str(tmp_path / "logs")]
+    result = run_play(build_parser().parse_args(argv), [])
+    assert result["checkpoint"].startswith(str(tmp_path / "logs" / "pretrained" / "bc"))
+    assert f"Playing the bc policy shipped for {task} (--library bc)." in capsys.readouterr().out
+
+
+def test_play_without_library_of_a_task_shipping_several_takes_rsl_rl():
+    from simlab.cli.play import choose_library
+    from simlab.pretrained import pretrained_libraries
+
+    assert pretrained_libraries("simlab/Cartpole-v0") == ["rsl_rl", "sb3", "skrl"]
+    parse = build_parser().parse_args
+    assert choose_library(parse(["play", "--task", "simlab/Cartpole-v0", "--use_pretrained_checkpoint"])) == "rsl_rl"
+    given = ["play", "--task", "simlab/Stack-Cube-Franka-IK-Rel-v0", "--use_pretrained_checkpoint", "--library", "skrl"]
+    assert choose_library(parse(given)) == "skrl"  # as given: the error then lists what ships
+    assert choose_library(parse(["play", "--task", "simlab/Stack-Cube-Franka-IK-Rel-v0"])) == "rsl_rl"

@@ -92,13 +92,15 @@ def _add_common(p: argparse.ArgumentParser, video: bool = True, seed_default: st
     )
 
 
-def _add_agent(p: argparse.ArgumentParser) -> None:
+def _add_agent(
+    p: argparse.ArgumentParser, library_default: str | None = "rsl_rl", default_help: str = "rsl_rl"
+) -> None:
     p.add_argument(
         "--library",
         "--rl_library",
         choices=LIBRARIES,
-        default="rsl_rl",
-        help="RL library (default: rsl_rl); --rl_library is Isaac Lab 3.0's name.",
+        default=library_default,  # None: the command picks (play: the library of the task's shipped policy)
+        help=f"RL library (default: {default_help}); --rl_library is Isaac Lab 3.0's name.",
     )
     p.add_argument(
         "--algorithm",
@@ -169,7 +171,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("play", help="Run a trained policy; export it to ONNX and TorchScript.", epilog=OVERRIDES_HELP)
     _add_common(p)
-    _add_agent(p)
+    _add_agent(p, None, "rsl_rl; with --use_pretrained_checkpoint, that of the task's only shipped policy")
     p.add_argument(
         "--use_last_checkpoint",
         action="store_true",

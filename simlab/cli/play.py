@@ -27,7 +27,26 @@ from simlab.cli.train import uses_multi_agent_learner
 from simlab.rl.deploy_metadata import deploy_metadata
 from simlab.utils.errors import ConfigError
 
-__all__ = ["RealTimePacer", "locate_checkpoint", "rollout", "run_play"]
+__all__ = ["RealTimePacer", "choose_library", "locate_checkpoint", "rollout", "run_play"]
+
+
+DEFAULT_LIBRARY = "rsl_rl"
+
+
+def choose_library(args: argparse.Namespace) -> str:
+    """``--library`` as given; without it, for ``--use_pretrained_checkpoint`` the library of the task's
+    shipped policy where only one ships (said in a line), else rsl_rl. Isaac Lab's play scripts are one
+    per library and name theirs (simlab.cli.isaaclab_scripts passes it), so this never overrules them."""
+    if getattr(args, "library", None) is not None:
+        return args.library
+    if getattr(args, "use_pretrained_checkpoint", False):
+        from simlab.pretrained import pretrained_libraries
+
+        shipped = pretrained_libraries(args.task)
+        if len(shipped) == 1:
+            print(f"[simlab] Playing the {shipped[0]} policy shipped for {args.task} (--library {shipped[0]}).")
+            return shipped[0]
+    return DEFAULT_LIBRARY
 
 
 def locate_checkpoint(args: argparse.Namespace, experiment: str) -> str:
@@ -152,12 +171,15 @@ def run_play(
 ) -> dict[str, Any]:
     """Play ``args.task`` with a trained policy; returns the episode statistics and exported files."""
     check_flags(args)
-    lib = get_library(args.library)
-    if getattr(args, "use_pretrained_checkpoint", False):
-        from simlab.pretrained import pretrained_env_overrides
+    pretrained = getattr(args, "use_pretrained_checkpoint", False)
+    if pretrained:
         from simlab.tasks.utils.parse_cfg import task_spec
 
         task_spec(args.task)  # a misspelled id is named as such, not as a task without a shipped policy
+    args.library = choose_library(args)
+    lib = get_library(args.library)
+    if pretrained:
+        from simlab.pretrained import pretrained_env_overrides
 
         trained_with = pretrained_env_overrides(args.task, args.library)
         if trained_with:

@@ -23,6 +23,7 @@ __all__ = [
     "copy_pretrained_run",
     "list_pretrained",
     "pretrained_env_overrides",
+    "pretrained_libraries",
     "pretrained_record",
     "pretrained_run_dir",
     "unpack_pretrained_checkpoint",
@@ -47,11 +48,16 @@ def list_pretrained() -> list[tuple[str, str]]:
     return pairs
 
 
+def pretrained_libraries(task: str) -> list[str]:
+    """The libraries of the policies shipped for ``task`` (its ``-Play`` variant: the task's own), sorted."""
+    return [lib for t, lib in list_pretrained() if t == f"simlab/{_task_folder(task)}"]
+
+
 def pretrained_run_dir(task: str, library: str) -> str:
     """The shipped run folder of ``task`` trained with ``library``; a clear error lists what is shipped."""
     folder = os.path.join(PRETRAINED_DIR, _task_folder(task), library)
     if not os.path.isdir(folder):
-        own = [lib for t, lib in list_pretrained() if t == f"simlab/{_task_folder(task)}"]
+        own = pretrained_libraries(task)
         if own:  # the task ships one for another library: the flag to add, not every shipped policy
             raise FileNotFoundError(
                 f"No pretrained {library} policy for {task}. Shipped for it: {', '.join(own)}"
