@@ -250,3 +250,42 @@ def test_demos_recorded_in_several_envs_replay_bit_identically_in_one(tmp_path, 
     assert main(["record", *common, "--num_envs", "4", "--num_demos", "4", "env.episode_length_s=0.5"]) == 0
     assert main(["replay", *common, "--validate_states"]) == 0
     assert capsys.readouterr().out.count("states bit-identical") == 4
+
+
+def test_a_state_restored_by_scene_reset_to_replays_bit_identically():
+    """``scene.reset_to`` called directly starts the worlds from exactly the state it writes, as the
+    env's resets do (the backend's ``mark_reset``): the float64 digits and the solver's warm start the
+    worlds had before are dropped, so the same actions from the same restored state give the same
+    states to the bit, whatever ran in between (the cube rests on the table: its contacts warm-start)."""
+    import gymnasium as gym
+
+    import simlab.tasks  # noqa: F401 - registers the tasks
+    from simlab.tasks.utils.parse_cfg import parse_env_cfg
+
+    task = "simlab/Lift-Cube-Franka-v0"
+    env = gym.make(task, cfg=parse_env_cfg(task, device="cpu", num_envs=2)).unwrapped
+    env.reset()
+    generator = torch.Generator().manual_seed(0)
+    actions = [0.5 * torch.randn(2, env.action_manager.total_action_dim, generator=generator) for _ in range(12)]
+    for action in actions[:4]:
+        env.step(action)
+    start = env.scene.get_state()
+
+    def replay() -> list[dict]:
+        env.scene.reset_to(start)
+        states = []
+        for action in actions[4:]:
+            env.step(action)
+            states.append(env.scene.get_state())
+        return states
+
+    first = replay()
+    for action in actions[:6]:  # elsewhere in between: other float64 digits, another warm start
+        env.step(-action)
+    second = replay()
+    env.close()
+    for step, (a, b) in enumerate(zip(first, second, strict=True)):
+        for group, assets in a.items():
+            for name, entry in assets.items():
+                for key, value in entry.items():
+                    assert torch.equal(value, b[group][name][key]), f"step {step}: {group}/{name}/{key}"

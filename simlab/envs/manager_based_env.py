@@ -163,8 +163,7 @@ class ManagerBasedEnv(SimulatedEnv):
         if seed is not None:
             self.seed(seed)
         self._reset_idx(mask)
-        self.scene.reset_to(state, ids, is_relative=is_relative)
-        self.sim.physics.mark_reset(mask)
+        self.scene.reset_to(state, ids, is_relative=is_relative)  # marks the worlds reset
         self.recorder_manager.record_post_reset(ids)
         self.obs_buf = self.observation_manager.compute(update_history=True)
         return self.obs_buf, self.extras

@@ -168,6 +168,9 @@ class InteractiveScene:
         """Write a ``get_state`` state (one row per env of ``env_ids``) into the simulation. Roots
         welded to the world keep their pose.
 
+        The worlds then start from exactly this state, as after an env reset (the physics backend's
+        ``mark_reset``), so the same actions from it give the same states to the bit.
+
         Unlike Isaac Lab (whose code marks it FIXME), the joint targets are not set to the written
         joint state: an effort-driven joint with damping would then be pulled towards the recorded
         velocity, and a replay would leave the recording. The action terms set the targets they drive.
@@ -193,6 +196,9 @@ class InteractiveScene:
                     pos, vel = entry["joint_position"].to(self.device), entry["joint_velocity"].to(self.device)
                     asset.write_joint_state_to_sim(pos, vel, env_ids=ids)
         self.write_data_to_sim()
+        # the worlds start from exactly the state written (no warm start, no float64 digits of their
+        # past), as after an env's reset: a restored state then replays bit-identically
+        self.sim.physics.mark_reset(ids)
 
     def keys(self) -> list[str]:
         terrain = [self._terrain_name] if self._terrain is not None else []
