@@ -142,6 +142,60 @@ def test_a_two_image_policy_plays_as_it_acted_in_training(tmp_path):
         env.close()
 
 
+def test_two_image_history_reaches_rl_games_as_channels_and_plays_as_the_player_acts(tmp_path):
+    """rl_games' CNN takes one (H, W, C) image: a history of two depth images is one image of two
+    channels, oldest first (as rsl_rl's wrapper stacks it), in training and in play's policy."""
+    from simlab.cli.libraries.rl_games import _runner, load_policy
+    from simlab.tasks.utils import load_cfg_from_registry
+
+    env = two_image_env()
+    try:
+        agent_cfg = load_cfg_from_registry("simlab/Cartpole-Depth-v0", "rl_games_cfg_entry_point")
+        agent_cfg["params"]["config"].update(device="cpu", device_name="cpu")
+        runner, wrapped = _runner(env, agent_cfg)
+        assert wrapped.observation_space.shape == (100, 100, 2)
+        for _ in range(2):  # two different images in the history
+            stacked, *_ = wrapped.step(torch.ones(2, 1))
+        raw = env.obs_buf["policy"]  # (N, 2, H, W, 1), as the env gives it
+        assert stacked.shape == (2, 100, 100, 2) and not torch.equal(raw[:, 0], raw[:, 1])
+        clip = agent_cfg["params"]["env"]["clip_observations"]
+        for k in range(2):
+            torch.testing.assert_close(stacked[..., k], raw[:, k, ..., 0].clamp(-clip, clip), rtol=0, atol=0)
+        runner.params["config"].update(env_info=wrapped.get_env_info(), vec_env=wrapped)
+        torch.manual_seed(0)
+        player = runner.create_player()
+        player.has_batch_dimension = True  # what its own env loop finds out from the first observation
+        path = str(tmp_path / "cartpole.pth")
+        torch.save({"model": player.model.state_dict()}, path)  # rl_games' checkpoint layout
+        policy = load_policy(env, agent_cfg, path)
+        with torch.no_grad():
+            expected = player.get_action(stacked, is_deterministic=True)
+            torch.testing.assert_close(policy({"policy": raw}), expected)
+            swapped = policy({"policy": raw.flip(1)})  # the newest image first: another action
+        assert not torch.allclose(swapped, expected)
+    finally:
+        env.close()
+
+
+def test_skrl_refuses_an_image_history_in_one_line(tmp_path, capsys):
+    """skrl's image models take one (H, W, C) image: a history is refused before training, naming the setting."""
+    from simlab.cli.main import main
+
+    argv = ["train", "--task", "simlab/Cartpole-Depth-v0", "--library", "skrl", "--num_envs", "2", "--device", "cpu"]
+    argv += ["--headless", "--max_iterations", "1", "--log_root", str(tmp_path / "logs")]
+    argv += [
+        "env.observations.policy.image.history_length=2",
+        "env.observations.policy.image.flatten_history_dim=false",
+    ]
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip().splitlines()[-1]  # after skrl's own log lines
+    assert err == (
+        "simlab train: error: skrl takes one image per observation, but term 'policy/image' gives the last 2"
+        " images (2, 100, 100, 1) (history_length=2, flatten_history_dim=False): train with rsl_rl or"
+        " rl_games, which stack them along the channels, or set history_length=0."
+    ), err
+
+
 def test_two_image_history_on_the_mujoco_warp_backend(monkeypatch):
     """The GPU code path (MuJoCo Warp physics and ray tracer, on Warp's CPU device) of the env its
     policy is trained on: one render per step, the history's shape."""

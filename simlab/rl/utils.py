@@ -5,10 +5,18 @@ from __future__ import annotations
 from typing import Any
 
 import gymnasium as gym
+import torch
 
 from simlab.utils.optional import require
 
-__all__ = ["check_single_agent", "is_multi_agent", "require", "unwrapped_env"]
+__all__ = [
+    "check_single_agent",
+    "image_history_terms",
+    "is_multi_agent",
+    "require",
+    "stack_image_history",
+    "unwrapped_env",
+]
 
 
 def unwrapped_env(env: Any) -> Any:
@@ -37,3 +45,29 @@ def check_single_agent(env: Any, wrapper: str) -> Any:
         if not hasattr(base, attr):
             raise TypeError(f"{wrapper}: {type(base).__name__} is not a simlab vector env (it has no '{attr}').")
     return base
+
+
+def stack_image_history(value: torch.Tensor) -> torch.Tensor:
+    """An image term's history of k, ``(N, k, H, W, C)`` (``history_length=k``,
+    ``flatten_history_dim=False``), as one ``(N, H, W, k * C)`` image: the images stacked along the
+    channels, oldest first. Any other tensor is returned as it is."""
+    if value.ndim != 5:
+        return value
+    n, k, h, w, c = value.shape
+    return value.permute(0, 2, 3, 1, 4).reshape(n, h, w, k * c)
+
+
+def image_history_terms(env: Any) -> dict[str, tuple[int, ...]]:
+    """The observation terms (``"group/term"``) of a manager-based env that give an image's history,
+    ``(k, H, W, C)`` per env (``history_length=k`` and ``flatten_history_dim=False`` on an image
+    term), with that shape; empty for an env without such terms or without an observation manager."""
+    manager = getattr(unwrapped_env(env), "observation_manager", None)
+    if manager is None:
+        return {}
+    terms = {}
+    for group, names in manager.active_terms.items():
+        cfgs, dims = manager._group_obs_term_cfgs[group], manager.group_obs_term_dim[group]
+        for name, cfg, dim in zip(names, cfgs, dims, strict=True):
+            if cfg.history_length and not cfg.flatten_history_dim and len(dim) == 4:
+                terms[f"{group}/{name}"] = tuple(dim)
+    return terms

@@ -250,9 +250,10 @@ def load_policy(env: gym.Env, agent_cfg: dict, checkpoint: str, trust: bool = Fa
     groups = wrapped.obs_groups["obs"]
 
     def inputs(obs: dict) -> dict[str, torch.Tensor]:
-        return {"policy": torch.cat([obs[g].reshape(obs[g].shape[0], -1) for g in groups], dim=-1)}
+        return {"policy": wrapped.rl_games_input(obs)}  # as training saw them (an image's history stacked)
 
-    dim = wrapped.observation_space.shape[0]
+    shape = wrapped.observation_space.shape
+    dim = shape if len(shape) == 3 else shape[0]  # an image input: its (H, W, C)
     not_exportable = (
         "exporting an rl_games policy with an RNN (its hidden state per env) is not supported yet"
         if player.is_rnn

@@ -21,7 +21,7 @@ from typing import Any
 import gymnasium as gym
 import torch
 
-from simlab.rl.utils import check_single_agent, require
+from simlab.rl.utils import check_single_agent, require, stack_image_history
 
 require("rl_games")
 from rl_games.common import env_configurations, vecenv  # noqa: E402
@@ -81,11 +81,18 @@ class RlGamesVecEnvWrapper(IVecEnv):
     @staticmethod
     def _group_shape(space: gym.Space, groups: list[str]) -> tuple[int, ...]:
         """What rl_games sees of these groups: one image group keeps its (H, W, C) shape (for its CNNs,
-        which take channels last); anything else is flattened and concatenated."""
+        which take channels last), an image history (k, H, W, C) is one image of k * C channels (as
+        rsl_rl's wrapper stacks it: :func:`stack_image_history`); anything else is flattened and
+        concatenated."""
         if not isinstance(space, gym.spaces.Dict):
             return (gym.spaces.flatdim(space),)
-        if len(groups) == 1 and isinstance(space[groups[0]], gym.spaces.Box) and len(space[groups[0]].shape) == 3:
-            return tuple(space[groups[0]].shape)
+        if len(groups) == 1 and isinstance(space[groups[0]], gym.spaces.Box):
+            shape = space[groups[0]].shape
+            if len(shape) == 3:
+                return tuple(shape)
+            if len(shape) == 4:
+                k, h, w, c = shape
+                return (h, w, k * c)
         return (sum(gym.spaces.flatdim(space[g]) for g in groups),)
 
     @property
@@ -148,19 +155,24 @@ class RlGamesVecEnvWrapper(IVecEnv):
     def close(self) -> None:
         self.env.close()
 
-    def _cat(self, obs: Any, groups: list[str], shape: tuple[int, ...]) -> torch.Tensor:
+    def rl_games_input(self, obs: Any, key: str = "obs") -> torch.Tensor:
+        """The env's observations of the groups of ``key`` ("obs" or "states") as rl_games takes them,
+        unclipped: for training here, and for the played policy (the same images stacked the same way)."""
         if not isinstance(obs, dict):
-            x = obs
-        else:
-            x = torch.cat([obs[g].reshape(self.num_envs, -1) for g in groups], dim=-1).view(self.num_envs, *shape)
-        x = torch.clamp(x, -self._clip_obs, self._clip_obs)
+            return obs
+        n = next(iter(obs.values())).shape[0]
+        parts = [stack_image_history(obs[g]).reshape(n, -1) for g in self.obs_groups[key]]
+        return torch.cat(parts, dim=-1).view(n, *self._shapes[key])
+
+    def _cat(self, obs: Any, key: str) -> torch.Tensor:
+        x = torch.clamp(self.rl_games_input(obs, key), -self._clip_obs, self._clip_obs)
         return x.to(device=self._rl_device).clone()
 
     def _process_obs(self, obs: Any) -> torch.Tensor | dict[str, torch.Tensor]:
-        actor = self._cat(obs, self.obs_groups["obs"], self._shapes["obs"])
+        actor = self._cat(obs, "obs")
         if "states" not in self.obs_groups:
             return actor
-        return {"obs": actor, "states": self._cat(obs, self.obs_groups["states"], self._shapes["states"])}
+        return {"obs": actor, "states": self._cat(obs, "states")}
 
 
 class RlGamesGpuEnv(IVecEnv):

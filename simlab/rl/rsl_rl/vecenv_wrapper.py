@@ -12,7 +12,7 @@ from typing import Any
 import gymnasium as gym
 import torch
 
-from simlab.rl.utils import check_single_agent, require
+from simlab.rl.utils import check_single_agent, require, stack_image_history
 
 require("rsl_rl")
 TensorDict = require("tensordict").TensorDict
@@ -122,16 +122,6 @@ class RslRlVecEnvWrapper(VecEnv):
         shape = (self.num_actions,)
         base.single_action_space = gym.spaces.Box(low=-clip, high=clip, shape=shape)
         base.action_space = gym.vector.utils.batch_space(base.single_action_space, self.num_envs)
-
-
-def stack_image_history(value: torch.Tensor) -> torch.Tensor:
-    """An image term's history of k, ``(N, k, H, W, C)`` (``history_length=k``,
-    ``flatten_history_dim=False``), as one ``(N, H, W, k * C)`` image: the images stacked along the
-    channels, oldest first. Any other tensor is returned as it is."""
-    if value.ndim != 5:
-        return value
-    n, k, h, w, c = value.shape
-    return value.permute(0, 2, 3, 1, 4).reshape(n, h, w, k * c)
 
 
 def _channels_first(value: torch.Tensor) -> torch.Tensor:

@@ -12,7 +12,7 @@ from typing import Any, Literal
 
 import gymnasium as gym
 
-from simlab.rl.utils import is_multi_agent, require
+from simlab.rl.utils import image_history_terms, is_multi_agent, require
 
 __all__ = ["SkrlVecEnvWrapper"]
 
@@ -42,6 +42,7 @@ def SkrlVecEnvWrapper(  # noqa: N802 - a function named like the class it return
         module = "skrl.envs.wrappers.jax"
     else:
         raise ValueError(f"Unknown ml_framework '{ml_framework}'. Allowed: 'torch', 'jax', 'jax-numpy'.")
+    _refuse_image_histories(env)
     require("skrl")
     wrap_env = importlib.import_module(module).wrap_env
     multi = is_multi_agent(env)
@@ -51,3 +52,16 @@ def SkrlVecEnvWrapper(  # noqa: N802 - a function named like the class it return
         kind = "multi-agent" if multi else "single-agent"
         raise ValueError(f"wrapper='{wrapper}' does not fit {type(env.unwrapped).__name__}, a {kind} env.")
     return wrap_env(env, wrapper=wrapper, verbose=False)
+
+
+def _refuse_image_histories(env: gym.Env) -> None:
+    """skrl hands a model its observation in the space's shape, and its image models (``permute`` to
+    channels first, ``conv2d``) take one (H, W, C) image: an image term's history, (k, H, W, C), would
+    fail deep in the model. rsl_rl's and rl_games' wrappers stack it into one image of k * C channels."""
+    for term, shape in image_history_terms(env).items():
+        if term.split("/")[0] in ("policy", "critic"):  # the groups skrl reads
+            raise ValueError(
+                f"skrl takes one image per observation, but term '{term}' gives the last {shape[0]} images"
+                f" {shape} (history_length={shape[0]}, flatten_history_dim=False): train with rsl_rl or rl_games,"
+                " which stack them along the channels, or set history_length=0."
+            )
