@@ -110,6 +110,18 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
     )
     parser.add_argument("--trained_by", default=None, help="With --checkpoint: how it was trained, for record.json.")
     parser.add_argument(
+        "--agent",
+        default=None,
+        help="The task's agent config to train and play with (its registry key, e.g."
+        " rsl_rl_distillation_cfg_entry_point; default: the library's); kept in record.json, play uses it",
+    )
+    parser.add_argument(
+        "--teacher",
+        default=None,
+        help="With a distillation --agent: the teacher's checkpoint (or run folder) the student learns from;"
+        " named in record.json",
+    )
+    parser.add_argument(
         "--overrides",
         nargs="+",
         default=[],
@@ -124,6 +136,8 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
             "--library bc ships a policy cloned from demonstrations: give the --checkpoint that"
             " scripts/imitation_learning/bc.py train wrote"
         )
+    if args.teacher is not None and (args.agent is None or args.resume is not None):
+        parser.error("--teacher is the checkpoint a distillation --agent learns from: give --agent, and not --resume")
     if args.checkpoint is not None:
         if len(args.tasks or []) != 1:
             parser.error("--checkpoint ships one policy: give exactly one task with --tasks")
@@ -218,6 +232,7 @@ def script_command(task: str, args: argparse.Namespace, *flags: str) -> str:
     """This script's command line for ``task`` with ``flags``, keeping the run's library and ``--overrides``."""
     command = ["python", "scripts/make_pretrained.py", "--tasks", task, *flags]
     command += ["--library", args.library] if args.library != LIBRARY else []
+    command += ["--agent", args.agent] if args.agent else []
     command += ["--overrides", *args.overrides] if args.overrides else []
     return shlex.join(command)
 
@@ -232,6 +247,10 @@ def train_command(task: str, args: argparse.Namespace, log_root: str) -> list[st
             command += [f"--{flag}", str(getattr(args, flag))]
     if args.resume is not None:
         command += ["--checkpoint", args.resume]
+    if args.agent is not None:
+        command += ["--agent", args.agent]
+    if args.teacher is not None:  # simlab train's --checkpoint of a distillation: the teacher
+        command += ["--checkpoint", args.teacher]
     if args.eval_every is not None:  # parse_args allows it for rsl_rl only
         command.append(f"agent.save_interval={args.eval_every}")
     return command + list(args.overrides)
@@ -249,7 +268,7 @@ def judge_checkpoints(task: str, args: argparse.Namespace, checkpoints: list[str
     num_envs = load_yaml(os.path.join(run_dir, "params", "env.yaml"))["scene"]["num_envs"]
     judge = CheckpointJudge(
         task, args.library, args.device, args.eval_envs, args.eval_seconds, args.seed, args.reward_threshold,
-        env_overrides(args),
+        env_overrides(args), args.agent,
     )  # fmt: skip
     try:
         for checkpoint in checkpoints:
@@ -320,6 +339,7 @@ def evaluate_on_cpu(task: str, checkpoint: str, iteration: int, args: argparse.N
         args.seed,
         args.reward_threshold,
         env_overrides(args),
+        args.agent,
     )
     seconds = judge.criterion.play_seconds(args.eval_seconds)
     try:
@@ -417,6 +437,10 @@ def record_header(task: str, args: argparse.Namespace, argv: list[str]) -> dict[
         "made_by": shlex.join(["python", "scripts/make_pretrained.py", *argv]),
         "date": datetime.date.today().isoformat(),
     }
+    if args.agent:  # play --use_pretrained_checkpoint loads the policy with this agent config
+        header["agent"] = args.agent
+    if args.teacher:
+        header["teacher"] = args.teacher
     if args.resume:
         header["resumed_from"] = args.resume
         earlier = resumed_run_command(args.resume)
@@ -530,9 +554,12 @@ def adopt_checkpoint(task: str, args: argparse.Namespace, log_root: str, argv: l
     from simlab.tasks.utils.criteria import criterion_for
 
     # the task's registered configs as play loads them (skrl on an AMP-only task: its AMP agent)
-    play_args = build_parser().parse_args(["play", "--task", task, "--library", args.library, "--device", "cpu"])
+    play_argv = ["play", "--task", task, "--library", args.library, "--device", "cpu"]
+    play_args = build_parser().parse_args(play_argv + (["--agent", args.agent] if args.agent else []))
     env_cfg, agent_cfg = load_configs(play_args, env_overrides(args))
     algorithm = agent_cfg["agent"]["class"] if args.library == "skrl" else {"bc": "BC"}.get(args.library, "PPO")
+    if getattr(agent_cfg, "class_name", None) == "DistillationRunner":
+        algorithm = "Distillation"
     iteration = checkpoint_iteration(args.checkpoint, args.library, agent_cfg)
     # a run folder as simlab train writes it: the configs, run.yaml, the checkpoint in its library's place
     run_dir = os.path.join(log_root, "adopted", task.split("/")[-1])
@@ -597,8 +624,11 @@ def task_table() -> list[dict[str, Any]]:
     return rows
 
 
-def check_trainable(tasks: list[str], reward_threshold: float | None, library: str = LIBRARY) -> None:
-    """Before hours of training start: every task exists, has a criterion and a config for ``library``."""
+def check_trainable(
+    tasks: list[str], reward_threshold: float | None, library: str = LIBRARY, agent: str | None = None
+) -> None:
+    """Before hours of training start: every task exists, has a criterion and a config for ``library``
+    (the ``agent`` entry point when one is given)."""
     import gymnasium as gym
 
     from simlab.tasks.utils.criteria import criterion_for
@@ -608,6 +638,10 @@ def check_trainable(tasks: list[str], reward_threshold: float | None, library: s
             raise ValueError(f"Unknown task {task}; see python scripts/make_pretrained.py --list")
         criterion_for(task, reward_threshold)
         keys = gym.spec(task).kwargs
+        if agent is not None and agent not in keys:
+            raise ValueError(
+                f"{task} has no agent config {agent}; its configs: {sorted(k for k in keys if 'cfg' in k)}."
+            )
         if not any(k.startswith(f"{library}_") and k.endswith("cfg_entry_point") for k in keys):
             raise ValueError(f"{task} has no {library} config ({library}_cfg_entry_point) to play a {library} policy.")
 
@@ -624,7 +658,7 @@ def main(argv: list[str] | None = None) -> int:
     import simlab.tasks  # noqa: F401 - registers the tasks
     from simlab.utils.errors import SimlabError
 
-    check_trainable(args.tasks, args.reward_threshold, args.library)
+    check_trainable(args.tasks, args.reward_threshold, args.library, args.agent)
     skipped: dict[str, str | None] = {}
     with tempfile.TemporaryDirectory() as scratch:
         log_root = os.path.abspath(args.log_root or scratch)

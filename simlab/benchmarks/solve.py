@@ -65,8 +65,10 @@ class CheckpointJudge:
         seed: int,
         reward_threshold: float | None = None,
         env_overrides: list[str] | None = None,
+        agent: str | None = None,
     ):
         self.task, self.library, self.device = task, library, device
+        self.agent = agent  # the agent config's registry key (None: the library's default)
         self.env_overrides = list(env_overrides or [])  # the trained env's settings (an image stack, say)
         self.eval_envs, self.eval_seconds, self.seed = eval_envs, eval_seconds, seed
         self.criterion = criterion_for(task, reward_threshold)
@@ -82,6 +84,7 @@ class CheckpointJudge:
 
         argv = ["play", "--task", self.task, "--library", self.library, "--headless", "--no_export"]
         argv += ["--num_envs", str(self.eval_envs), "--device", self.device, "--seed", str(self.seed)]
+        argv += ["--agent", self.agent] if self.agent else []
         args = build_parser().parse_args(argv)
         env_cfg, agent_cfg = load_configs(args, [*self.env_overrides, *self.criterion.play_overrides])
         get_library(self.library).configure(agent_cfg, args, env_cfg)

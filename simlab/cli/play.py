@@ -179,12 +179,16 @@ def run_play(
     args.library = choose_library(args)
     lib = get_library(args.library)
     if pretrained:
-        from simlab.pretrained import pretrained_env_overrides
+        from simlab.pretrained import pretrained_agent, pretrained_env_overrides
 
         trained_with = pretrained_env_overrides(args.task, args.library)
         if trained_with:
             print(f"[simlab] The pretrained policy was trained with {' '.join(trained_with)}; play uses the same.")
         overrides = [*trained_with, *overrides]
+        agent = pretrained_agent(args.task, args.library)
+        if agent and not getattr(args, "agent", None):  # e.g. a distilled student: its own agent config
+            print(f"[simlab] The pretrained policy was made with --agent {agent}; play uses the same.")
+            args.agent = agent
     env_cfg, agent_cfg = load_configs(args, overrides)
     _play_variant_envs_on_cpu(args, env_cfg, overrides)
     lib.configure(agent_cfg, args, env_cfg)

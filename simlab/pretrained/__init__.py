@@ -6,7 +6,8 @@ turns it back into the library's checkpoint in the user's log folder and exports
 its record: ``record.json`` (how
 ``scripts/make_pretrained.py`` made it: commands, seed, iterations, the task's criterion and the
 value the policy reached on the CPU; :func:`pretrained_record`; the env overrides it was trained
-with, which play applies: :func:`pretrained_env_overrides`), or ``record.txt`` for the first
+with, which play applies: :func:`pretrained_env_overrides`; the agent config it was made with, which
+play loads it with: :func:`pretrained_agent`), or ``record.txt`` for the first
 cartpoles.
 """
 
@@ -22,6 +23,7 @@ __all__ = [
     "PRETRAINED_DIR",
     "copy_pretrained_run",
     "list_pretrained",
+    "pretrained_agent",
     "pretrained_env_overrides",
     "pretrained_libraries",
     "pretrained_record",
@@ -85,6 +87,13 @@ def pretrained_env_overrides(task: str, library: str) -> list[str]:
     changes its observation): play applies them before the user's own."""
     record = pretrained_record(task, library)
     return list(record.get("env_overrides", [])) if record else []
+
+
+def pretrained_agent(task: str, library: str) -> str | None:
+    """The agent config the shipped policy was made with (its registry key, e.g. a distilled student's
+    ``rsl_rl_distillation_cfg_entry_point``), None for the library's default: play loads it with that one."""
+    record = pretrained_record(task, library)
+    return record.get("agent") if record else None
 
 
 def copy_pretrained_run(task: str, library: str, log_root: str) -> str:

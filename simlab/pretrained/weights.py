@@ -1,7 +1,8 @@
 """The one file a shipped policy is stored as: ``policy.pt``, the weights play loads and nothing else.
 
 A shipped policy is played, never trained on, so its file keeps only what the library's loader
-reads for play (rsl_rl's ``actor_state_dict``; skrl's ``policy`` and its observation normalizer;
+reads for play (rsl_rl's ``actor_state_dict``, a distilled student's ``student_state_dict``; skrl's
+``policy`` and its observation normalizer;
 Stable-Baselines3's policy network, its settings and its VecNormalize statistics; a behaviour-cloned
 policy's weights and the sizes that rebuild it, :mod:`simlab.rl.bc`), with its weight
 matrices stored smaller than float32, in one of two forms (``MATRICES``):
@@ -100,6 +101,8 @@ def pack_policy(checkpoint: dict[str, Any], library: str, name: str, matrices: s
     if library not in PLAY_KEYS:
         raise ValueError(f"Cannot store a {library} policy; the libraries with stored policies: {sorted(PLAY_KEYS)}.")
     keys = PLAY_KEYS[library]
+    if library == "rsl_rl" and "student_state_dict" in checkpoint:  # a distilled student: play loads it alone
+        keys = ("student_state_dict", *keys[1:])
     missing = [key for key in keys if key not in checkpoint and key not in OPTIONAL_KEYS]
     if missing:
         raise KeyError(f"The checkpoint has no {missing} (it has {sorted(checkpoint)}); play needs {list(keys)}.")

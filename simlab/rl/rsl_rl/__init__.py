@@ -1,4 +1,4 @@
-"""rsl_rl (rsl-rl-lib 5.x) support: the env wrapper, runner config classes and policy export.
+"""rsl_rl (rsl-rl-lib 5.x) support: the env wrapper, runner config classes (PPO and distillation) and policy export.
 
 The config classes import without rsl_rl installed (task configs use them); the wrapper needs
 ``pip install "simlab[rsl_rl]"``.
@@ -6,6 +6,11 @@ The config classes import without rsl_rl installed (task configs use them); the 
 
 from typing import Any
 
+from .distillation_cfg import (
+    RslRlDistillationAlgorithmCfg,
+    RslRlDistillationRunnerCfg,
+    RslRlDistillationStudentTeacherCfg,
+)
 from .exporter import export_policy_as_jit, export_policy_as_onnx
 from .rl_cfg import (
     RslRlCNNModelCfg,
@@ -18,6 +23,9 @@ from .rl_cfg import (
 
 __all__ = [
     "RslRlCNNModelCfg",
+    "RslRlDistillationAlgorithmCfg",
+    "RslRlDistillationRunnerCfg",
+    "RslRlDistillationStudentTeacherCfg",
     "RslRlMLPModelCfg",
     "RslRlOnPolicyRunnerCfg",
     "RslRlPpoActorCriticCfg",

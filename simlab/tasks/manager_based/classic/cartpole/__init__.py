@@ -4,6 +4,9 @@ import gymnasium as gym
 
 from . import agents
 
+# a student taught by the state cartpole's PPO policy (the camera tasks' reads the `teacher` group)
+_DISTILLATION = f"{agents.__name__}.rsl_rl_distillation_cfg"
+
 gym.register(
     id="simlab/Cartpole-v0",
     entry_point="simlab.envs:ManagerBasedRLEnv",
@@ -13,6 +16,7 @@ gym.register(
         "success_criterion_entry_point": "simlab.tasks.utils.criteria:pole_upright",
         "rsl_rl_cfg_entry_point": f"{agents.__name__}.rsl_rl_ppo_cfg:CartpolePPORunnerCfg",
         "rsl_rl_with_symmetry_cfg_entry_point": f"{agents.__name__}.rsl_rl_ppo_cfg:CartpolePPORunnerWithSymmetryCfg",
+        "rsl_rl_distillation_cfg_entry_point": f"{_DISTILLATION}:CartpoleDistillationRunnerCfg",
         "skrl_cfg_entry_point": f"{agents.__name__}:skrl_ppo_cfg.yaml",
         "sb3_cfg_entry_point": f"{agents.__name__}:sb3_ppo_cfg.yaml",
         "rl_games_cfg_entry_point": f"{agents.__name__}:rl_games_ppo_cfg.yaml",
@@ -32,6 +36,7 @@ for _kind in ("RGB", "Depth"):
             "success_criterion_entry_point": "simlab.tasks.utils.criteria:pole_upright",
             "rl_games_cfg_entry_point": f"{_CAMERA_AGENTS}:rl_games_camera_ppo_cfg.yaml",
             "rsl_rl_cfg_entry_point": f"{_CAMERA_AGENTS}.rsl_rl_camera_ppo_cfg:CartpoleCameraPPORunnerCfg",
+            "rsl_rl_distillation_cfg_entry_point": f"{_DISTILLATION}:CartpoleCameraDistillationRunnerCfg",
             "skrl_cfg_entry_point": f"{_CAMERA_AGENTS}:skrl_camera_ppo_cfg.yaml",
         },
     )

@@ -8,8 +8,9 @@ Envs stand 20 m apart so that no camera sees a neighbour.
 
 One image shows where the pole is, not how fast it turns: a policy sees the last k with
 ``env.observations.policy.image.history_length=k`` and ``flatten_history_dim=False`` (rsl_rl's wrapper
-stacks a history's images along the channels). No policy of these tasks is shipped yet; docs/cameras.md
-gives the GPU command that would train one on the last three.
+stacks a history's images along the channels). A ``teacher`` group holds the state cartpole's
+observations (joint positions and velocities) for distillation: the state cartpole's PPO policy teaches a
+student that sees the images only (``--agent rsl_rl_distillation_cfg_entry_point``; docs/cameras.md).
 """
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ from simlab.sensors import TiledCameraCfg
 from simlab.utils import configclass
 
 from . import mdp
-from .cartpole_env_cfg import CartpoleEnvCfg, CartpoleSceneCfg
+from .cartpole_env_cfg import CartpoleEnvCfg, CartpoleSceneCfg, ObservationsCfg
 
 
 def _camera(data_type: str) -> TiledCameraCfg:
@@ -60,6 +61,8 @@ class RGBObservationsCfg:
             self.concatenate_terms = True
 
     policy: ObsGroup = RGBCameraPolicyCfg()
+    # the state cartpole's observations, for a teacher only (distillation): no policy of the image reads it
+    teacher: ObsGroup = ObservationsCfg.PolicyCfg()
 
 
 @configclass
@@ -71,6 +74,7 @@ class DepthObservationsCfg:
         )
 
     policy: ObsGroup = DepthCameraPolicyCfg()
+    teacher: ObsGroup = ObservationsCfg.PolicyCfg()
 
 
 @configclass

@@ -19,13 +19,16 @@ def register_velocity_tasks(
     terrains: tuple[str, ...] = ("Flat", "Rough"),
     biped: bool = False,
     symmetry: bool = False,
+    distillation: tuple[str, ...] = (),
 ) -> None:
     """Register ``robot``'s tasks from the configs in ``package`` (the robot's ``__name__``).
 
     A quadruped is solved when it tracks the planar velocity; a biped when it tracks the planar velocity
     and the yaw rate with few falls, and on rough ground (but for Play, which has no curriculum) when the
     terrain curriculum keeps it at level 3 or higher. ``symmetry`` adds the runner with symmetry
-    augmentation (``...PPORunnerWithSymmetryCfg``)."""
+    augmentation (``...PPORunnerWithSymmetryCfg``); ``distillation`` names the terrains with a student-teacher
+    runner (``agents/rsl_rl_distillation_cfg:...DistillationRunnerCfg``, ``--agent
+    rsl_rl_distillation_cfg_entry_point``)."""
     prefix = robot.replace("-", "")
     runners = f"{package}.agents.rsl_rl_ppo_cfg"
     for terrain in terrains:
@@ -43,6 +46,9 @@ def register_velocity_tasks(
             }
             if symmetry:
                 kwargs["rsl_rl_with_symmetry_cfg_entry_point"] = f"{runners}:{prefix}{terrain}PPORunnerWithSymmetryCfg"
+            if terrain in distillation:
+                distiller = f"{package}.agents.rsl_rl_distillation_cfg:{prefix}{terrain}DistillationRunnerCfg"
+                kwargs["rsl_rl_distillation_cfg_entry_point"] = distiller
             gym.register(
                 id=f"simlab/Velocity-{terrain}-{robot}{suffix}-v0",
                 entry_point="simlab.envs:ManagerBasedRLEnv",
