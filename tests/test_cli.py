@@ -31,7 +31,13 @@ def _only_run(tmp_path, library):
 
 
 @pytest.mark.parametrize("library", LIBRARIES)
-def test_train_play_export(tmp_path, library):
+def test_train_play_export(tmp_path, library, monkeypatch):
+    import tempfile
+
+    # nothing is left in the temp folder (SB3's default logger would make <temp>/SB3-<date>)
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path / "tmp"))
+    monkeypatch.delenv("SB3_LOGDIR", raising=False)
+    (tmp_path / "tmp").mkdir()
     seed = "agent.params.seed=5" if library == "rl_games" else "agent.seed=5"
     assert _run(tmp_path, "train", *SMALL, "--library", library, "--max_iterations", "2", seed) == 0
     run = _only_run(tmp_path, library)
@@ -50,6 +56,7 @@ def test_train_play_export(tmp_path, library):
     jit_actions = torch.jit.load(os.path.join(exported[0], "policy.pt"))(torch.from_numpy(obs)).detach().numpy()
     assert onnx_actions.shape == (5, 1)
     np.testing.assert_allclose(onnx_actions, jit_actions, atol=1e-5)
+    assert not list((tmp_path / "tmp").glob("SB3-*"))
 
 
 def test_resume_continues_iterations(tmp_path):

@@ -159,10 +159,11 @@ def test_a_stored_policy_unpacks_to_the_checkpoint_within_half_a_step_of_int8(tm
         unpack_policy(str(tmp_path / "model_7.pt"))
 
 
-def test_an_sb3_policy_is_stored_without_pickled_code_and_loads_back(tmp_path):
+def test_an_sb3_policy_is_stored_without_pickled_code_and_loads_back(tmp_path, monkeypatch):
     """SB3's zip as policy.pt: the policy's weights, the settings as JSON with only the spaces' pickles
     (no policy class, schedule or buffers), the VecNormalize statistics; play's loader reads it back."""
     import json
+    import tempfile
     import zipfile
 
     import gymnasium as gym
@@ -171,6 +172,7 @@ def test_an_sb3_policy_is_stored_without_pickled_code_and_loads_back(tmp_path):
 
     pytest.importorskip("stable_baselines3")
     from stable_baselines3 import PPO
+    from stable_baselines3.common.logger import Logger
     from stable_baselines3.common.vec_env import DummyVecEnv
 
     from simlab.cli.libraries.sb3 import _safe_objects
@@ -178,7 +180,13 @@ def test_an_sb3_policy_is_stored_without_pickled_code_and_loads_back(tmp_path):
 
     net = {"net_arch": [8]}
     model = PPO("MlpPolicy", DummyVecEnv([lambda: gym.make("Pendulum-v1")]), n_steps=8, batch_size=8, policy_kwargs=net)
+    # SB3's default logger makes a folder <temp>/SB3-<date> when a model learns (left empty in /tmp):
+    # one that writes nothing, as simlab's train gives its own (TensorBoard in the run folder)
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
+    monkeypatch.delenv("SB3_LOGDIR", raising=False)
+    model.set_logger(Logger(folder=None, output_formats=[]))
     model.learn(8)  # an optimizer step: Adam's moments exist, and are not stored
+    assert not list(tmp_path.glob("SB3-*"))
     (tmp_path / "run").mkdir()
     model.save(tmp_path / "run" / "model_8_steps.zip")
     statistics = {"obs/mean": np.arange(3.0), "obs/var": np.ones(3), "obs/count": np.asarray(9.0), "clip_obs": 5.0}
