@@ -195,18 +195,27 @@ class RootedAsset(AssetBase):
         env = self._env_index(env_ids)
         self._check_rows(root_velocity, 6, env, "root_velocity")
         quat = self._qpos[:, self._root_quat_cols] if is_mask(env) else self._qpos[env, self._root_quat_cols]
-        self._write_cols(self._qvel, self._root_lin_cols, env, root_velocity[:, :3])
-        ang_vel_b = math_utils.quat_apply_inverse(quat, root_velocity[:, 3:6])  # MuJoCo's free joint: body frame
-        self._write_cols(self._qvel, self._root_ang_cols, env, ang_vel_b)
-        self._physics.mark_stale(env)
+        ang_vel_b = math_utils.quat_apply_inverse(quat, root_velocity[:, 3:6])
+        self._write_root_velocity(root_velocity[:, :3], ang_vel_b, env)
 
-    def write_root_ang_vel_b_to_sim(self, ang_vel_b: torch.Tensor, env_ids: EnvIds = None) -> None:
+    def write_root_ang_vel_b_to_sim(
+        self, ang_vel_b: torch.Tensor, env_ids: EnvIds = None, lin_vel_w: torch.Tensor | None = None
+    ) -> None:
         """Root angular velocity in the root's frame (``data.root_ang_vel_b``): MuJoCo's free joint
-        holds it so, and this writes it to the bit (through the world frame it rounds in float32)."""
+        holds it so, and this writes it to the bit (through the world frame it rounds in float32).
+        With ``lin_vel_w``, the linear velocity (world frame) too: a state's whole velocity in one write."""
         if self._is_fixed_base:
             return
         env = self._env_index(env_ids)
         self._check_rows(ang_vel_b, 3, env, "ang_vel_b")
+        if lin_vel_w is not None:
+            self._check_rows(lin_vel_w, 3, env, "lin_vel_w")
+        self._write_root_velocity(lin_vel_w, ang_vel_b, env)
+
+    def _write_root_velocity(self, lin_vel_w: torch.Tensor | None, ang_vel_b: torch.Tensor, env) -> None:
+        # MuJoCo's free joint holds the linear velocity in the world frame, the angular in the body's
+        if lin_vel_w is not None:
+            self._write_cols(self._qvel, self._root_lin_cols, env, lin_vel_w)
         self._write_cols(self._qvel, self._root_ang_cols, env, ang_vel_b)
         self._physics.mark_stale(env)
 

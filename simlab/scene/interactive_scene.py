@@ -187,11 +187,12 @@ class InteractiveScene:
                     write_pose = asset.write_root_pose_env_to_sim if is_relative else asset.write_root_pose_to_sim
                     write_pose(root_pose, env_ids=ids)
                     velocity = entry["root_velocity"].to(self.device)
-                    asset.write_root_velocity_to_sim(velocity, env_ids=ids)
                     if "root_ang_vel_b" in entry:  # absent from Isaac Lab's states
                         quat = root_pose[:, 3:7] if is_relative else math_utils.normalize(root_pose[:, 3:7])
                         ang_vel_b = _exact_turning(entry["root_ang_vel_b"].to(self.device), quat, velocity[:, 3:6])
-                        asset.write_root_ang_vel_b_to_sim(ang_vel_b, env_ids=ids)
+                        asset.write_root_ang_vel_b_to_sim(ang_vel_b, env_ids=ids, lin_vel_w=velocity[:, :3])
+                    else:
+                        asset.write_root_velocity_to_sim(velocity, env_ids=ids)
                 if group == "articulation":
                     pos, vel = entry["joint_position"].to(self.device), entry["joint_velocity"].to(self.device)
                     asset.write_joint_state_to_sim(pos, vel, env_ids=ids)
