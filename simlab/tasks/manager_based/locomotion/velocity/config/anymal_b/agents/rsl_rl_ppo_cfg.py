@@ -16,7 +16,7 @@ class AnymalBRoughPPORunnerCfg(VelocityRoughPPORunnerCfg):
 @configclass
 class AnymalBFlatPPORunnerCfg(AnymalBRoughPPORunnerCfg):
     def __post_init__(self):
-        flat_runner(self, "anymal_b_flat")
+        flat_runner(self, "anymal_b_flat", init_std=0.5)
 
 
 def _with_symmetry(runner: RslRlOnPolicyRunnerCfg) -> None:

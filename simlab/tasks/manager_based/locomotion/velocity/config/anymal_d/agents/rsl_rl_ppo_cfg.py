@@ -14,4 +14,4 @@ class AnymalDRoughPPORunnerCfg(VelocityRoughPPORunnerCfg):
 @configclass
 class AnymalDFlatPPORunnerCfg(AnymalDRoughPPORunnerCfg):
     def __post_init__(self):
-        flat_runner(self, "anymal_d_flat")
+        flat_runner(self, "anymal_d_flat", init_std=0.5)

@@ -13,4 +13,4 @@ class UnitreeGo1RoughPPORunnerCfg(VelocityRoughPPORunnerCfg):
 @configclass
 class UnitreeGo1FlatPPORunnerCfg(UnitreeGo1RoughPPORunnerCfg):
     def __post_init__(self):
-        flat_runner(self, "unitree_go1_flat")
+        flat_runner(self, "unitree_go1_flat", init_std=0.5)
