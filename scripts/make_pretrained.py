@@ -26,12 +26,15 @@ the task's criterion (registered with the task, ``success_criterion_entry_point`
 ``--cpu_eval_envs`` envs for ``--eval_seconds``), where ``--use_pretrained_checkpoint`` plays it
 after install, and shipped only if it passes there too.
 
-Shipped into ``<out>/<task name>/<library>/``: the run's ``params/`` (its configs and command), the
+Shipped into ``<out>/<task name>/<library>/``: the run's ``params/`` (the agent config, the command and
+the run's description; not the resolved env config, ``env.yaml``: about 18 KB a policy, which the task's
+registered config at the same commit and the overrides in the command rebuild), the
 policy's weights in one file, ``policy.pt`` (:mod:`simlab.pretrained.weights`: what play loads, the
 matrices as int8 rows, or float16 where int8's replay misses the criterion; no critic, no optimizer
 state, so training cannot resume from it; play makes
 the ONNX and TorchScript exports wherever it plays it), and ``record.json``: this script's command,
-the training command, seed, iterations, device, the criterion and its value on both devices (the CPU
+the training command, seed, iterations, device, the observation terms of each group in the order the
+policy read them (``observations``, manager-based tasks), the criterion and its value on both devices (the CPU
 replay plays the stored weights, as ``--use_pretrained_checkpoint`` will), the files' sizes, the
 ``env.*`` overrides of
 ``--overrides`` (``env_overrides``), which ``simlab play --use_pretrained_checkpoint`` applies too,
@@ -397,6 +400,22 @@ def stage_and_replay(
     return staged, cpu, matrices
 
 
+UNSHIPPED_PARAMS = "env.yaml"  # the resolved env config: rebuilt from the task and the command
+
+
+def observation_terms(env_yaml: str) -> dict[str, list[str]]:
+    """``{group: [term, ...]}`` of a manager-based run's ``params/env.yaml``, in the order its groups
+    concatenate them; empty for a direct task (no observation manager)."""
+    from simlab.utils.io import load_yaml
+
+    groups = load_yaml(env_yaml).get("observations") or {}
+    return {
+        group: [name for name, term in cfg.items() if isinstance(term, dict) and "func" in term]
+        for group, cfg in groups.items()
+        if isinstance(cfg, dict)
+    }
+
+
 def ship(task: str, staged_checkpoint: str, record: dict[str, Any], out: str) -> str:
     """Copy the staged run (:func:`stage`) into ``out``, less the checkpoint play makes of ``policy.pt``."""
     from simlab.cli.runs import run_dir_of_checkpoint
@@ -406,7 +425,11 @@ def ship(task: str, staged_checkpoint: str, record: dict[str, Any], out: str) ->
     staged = run_dir_of_checkpoint(staged_checkpoint, library)
     target = os.path.join(out, task.split("/")[-1], library)
     shutil.rmtree(target, ignore_errors=True)
-    shutil.copytree(os.path.join(staged, "params"), os.path.join(target, "params"))
+    params = os.path.join(staged, "params")
+    shutil.copytree(params, os.path.join(target, "params"), ignore=shutil.ignore_patterns(UNSHIPPED_PARAMS))
+    observations = observation_terms(os.path.join(params, UNSHIPPED_PARAMS))
+    if observations:
+        record["observations"] = observations
     shutil.copy2(os.path.join(staged, POLICY_FILE), target)
     files = [os.path.join(root, name) for root, _, names in os.walk(target) for name in names]
     record["files_bytes"] = {os.path.relpath(f, target): os.path.getsize(f) for f in sorted(files)}

@@ -4,6 +4,7 @@ simlab's shipped flat-ground ANYmal-C policy, frozen, read as weights only."""
 from __future__ import annotations
 
 import importlib
+import json
 import os
 import pickle
 import sys
@@ -44,16 +45,9 @@ def test_isaac_lab_policy_path_names_the_shipped_flat_policy():
 
 
 def test_low_level_observations_are_those_the_shipped_policy_was_trained_with():
-    """The velocity task's policy group, in its order, as the shipped run's params/env.yaml lists it."""
-    with open(os.path.join(os.path.dirname(SHIPPED), "params", "env.yaml")) as f:
-        lines = f.read().split("\n")
-    start = lines.index("observations:") + 1
-    group = lines.index("  policy:", start)
-    trained = [
-        line.strip()[:-1]
-        for line, after in zip(lines[group + 1 :], lines[group + 2 :])
-        if line.startswith("    ") and not line.startswith("     ") and after.strip().startswith("func:")
-    ]
+    """The velocity task's policy group, in its order, as the shipped run's record lists it."""
+    with open(os.path.join(os.path.dirname(SHIPPED), "record.json")) as f:
+        trained = json.load(f)["observations"]["policy"]
     assert len(trained) == 7, trained
     env = make_env(2)
     term = env.action_manager.get_term("pre_trained_policy_action")

@@ -1,7 +1,8 @@
 """Policies trained here and shipped with simlab: ``simlab play --use_pretrained_checkpoint``.
 
 Each is a run folder, ``simlab/pretrained/<task name>/<library>/``: ``params/`` as ``simlab train``
-writes it, the policy's weights in one file, ``policy.pt`` (:mod:`simlab.pretrained.weights`; play
+writes it less the resolved env config (``env.yaml``: the task and the command rebuild it; the record
+lists the observation terms the policy reads), the policy's weights in one file, ``policy.pt`` (:mod:`simlab.pretrained.weights`; play
 turns it back into the library's checkpoint in the user's log folder and exports it there), and
 its record: ``record.json`` (how
 ``scripts/make_pretrained.py`` made it: commands, seed, iterations, the task's criterion and the
