@@ -13,11 +13,13 @@ from __future__ import annotations
 import contextlib
 from types import SimpleNamespace
 
+import gymnasium as gym
 import pytest
 import torch
 from conftest import cuda_available
 from torch.utils._python_dispatch import TorchDispatchMode
 
+import simlab.tasks  # noqa: F401 - registers the tasks
 from simlab.envs import ManagerBasedRLEnv
 from simlab.envs.mdp import generated_commands
 from simlab.envs.utils.cuda_graph import EnvStepper
@@ -26,6 +28,7 @@ from simlab.managers import CommandTerm, CommandTermCfg, ManagerTermBase
 from simlab.managers import ObservationTermCfg as ObsTerm
 from simlab.managers import RewardTermCfg as RewTerm
 from simlab.tasks.manager_based.classic.cartpole.cartpole_env_cfg import CartpoleEnvCfg
+from simlab.tasks.utils import parse_env_cfg
 from simlab.utils import configclass
 from simlab.utils.env_mask import masked_copy_
 
@@ -56,6 +59,22 @@ def test_write_back_copies_rebound_tensors_into_the_old_ones_wherever_they_sit()
     assert term.buf is old["buf"] and torch.equal(old["buf"], torch.ones(3))
     assert term.pair[0] is old["pair"] and torch.equal(old["pair"], torch.ones(2))
     assert root.logs["a"] is old["a"] and float(old["a"]) == 5.0
+
+
+def test_write_back_leaves_the_dict_the_step_was_given_as_it_was():
+    """A multi-agent task keeps its actions dict (``self.actions = actions``, Isaac Lab's cart double
+    pendulum): that dict is the stepper's static input, which each replay refills, so the write-back
+    must not swap the old tensors into it."""
+    env = SimpleNamespace(actions={"cart": torch.zeros(2), "pendulum": torch.zeros(2)})
+    old = dict(env.actions)
+    static = {"cart": torch.ones(2), "pendulum": torch.full((2,), 2.0)}
+    given = dict(static)
+    slots = TensorSlots(env, "env")
+    env.actions = static  # the step keeps the dict it was given
+    assert slots.write_back("cpu") == 2
+    assert all(static[agent] is given[agent] for agent in given)  # still the tensors the graph reads
+    assert all(env.actions[agent] is old[agent] for agent in old)
+    assert torch.equal(old["pendulum"], torch.full((2,), 2.0))
 
 
 def test_write_back_reads_swapped_tensors_before_writing_any():
@@ -349,6 +368,36 @@ def test_the_emulated_graph_fails_a_capture_that_reads_back(emulated_cuda_graph)
     for _ in range(3):
         stepper(torch.zeros(4, 2))
     assert not stepper.is_graphed and "not permitted when stream is capturing" in stepper.eager_reason
+
+
+def test_a_multi_agent_step_replays_each_steps_actions(emulated_cuda_graph):
+    """The cart double pendulum (a DirectMARLEnv task that keeps its actions dict), its step captured
+    in the emulated graph: each replay applies that step's actions (the emulation replays the torch
+    ops, not the physics), and what the caller passed and got back in the warm-up steps stays as it was."""
+    task = "simlab/Cart-Double-Pendulum-Direct-v0"
+    cfg = parse_env_cfg(task, device="cpu", num_envs=4)
+    cfg.episode_length_s = 3.5 * cfg.sim.dt * cfg.decimation  # time-outs at steps 3 and 6
+    env = gym.make(task, cfg=cfg).unwrapped
+    env.sim.physics.forwards_all_worlds = True  # a masked reset then marks worlds stale without a host read
+    env._stepper.eager_reason = None  # capture as on a GPU
+    env.reset(seed=1)
+    generator = torch.Generator().manual_seed(0)
+    cart = env._cart_dof_idx[0]
+    for i in range(6):
+        actions = {agent: torch.rand(4, 1, generator=generator) * 2 - 1 for agent in env.possible_agents}
+        sent = {agent: action.clone() for agent, action in actions.items()}
+        _, _, terminated, time_outs, _ = env.step(actions)
+        effort = env.robot.data.joint_effort_target[:, cart]
+        torch.testing.assert_close(effort, sent["cart"][:, 0] * env.cfg.cart_action_scale, msg=f"step {i}")
+        if i == 1:  # the last warm-up step
+            warm_up = actions, sent, terminated, {agent: t.clone() for agent, t in terminated.items()}, time_outs
+    assert env.step_is_graphed, env.step_mode
+    actions, sent, terminated, terminated_then, time_outs = warm_up
+    for agent in env.possible_agents:
+        assert torch.equal(actions[agent], sent[agent]), agent
+        assert torch.equal(terminated[agent], terminated_then[agent]), agent
+        assert not time_outs[agent].any(), agent
+    env.close()
 
 
 # -- on the GPU ------------------------------------------------------------------------------------

@@ -138,13 +138,14 @@ class DirectMARLEnv(DebugVisHooks, SimulatedEnv, gym.Env):
         self.common_step_counter += 1
         obs, rewards, terminated, time_outs, final_obs, self.final_state_buf = self._stepper(actions)
         self.obs_dict, self.reward_dict = obs, rewards
-        self.terminated_dict, self.time_out_dict = terminated, time_outs
+        # terminated_dict / time_out_dict stay the step body's own: a graphed step's replays refill
+        # them, so they must not be the tensors handed to the caller (the caller may keep those)
         self.agents = [agent for agent in self.possible_agents if agent in self.obs_dict]
         for agent in self.possible_agents:
             extras = self.extras.setdefault(agent, {})
             if agent in final_obs:
                 extras["final_obs"] = final_obs[agent]
-        return self.obs_dict, self.reward_dict, self.terminated_dict, self.time_out_dict, self.extras
+        return self.obs_dict, self.reward_dict, terminated, time_outs, self.extras
 
     def _step_body(self, actions: dict[str, torch.Tensor]):
         """The step, as the single-agent env's (fixed shapes: eager or replayed as a graph)."""

@@ -130,8 +130,10 @@ class EnvStepper:
             self.graph.replay()
             outputs = self._packed.fresh_copy()  # the next replay overwrites the graph's buffers
         else:
+            # the body gets copies: what the env keeps of them (``self.actions = actions``) the
+            # capture's write-back refills at each replay, which must not be the caller's tensors
             with DeviceListIndices(torch.device(self.env.device), self._index_cache):
-                outputs = self.body(action)
+                outputs = self.body(_map_tensors(action, torch.clone))
             self._bad_obs |= _any_nonfinite(_observations(outputs))
             # copies: the capture's write-back refills the tensors the env holds, which may be these
             outputs = _map_tensors(outputs, torch.clone)

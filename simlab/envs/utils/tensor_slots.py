@@ -149,11 +149,15 @@ def _restored(before: Any, now: Any, path: str, copies: list, device: torch.devi
             copies.append((before, now, path))
         return before
     if isinstance(before, dict) and isinstance(now, dict):  # a rebuilt dict (``self.metrics = {...}``)
-        for key in before.keys() & now.keys():
-            now[key] = _restored(before[key], now[key], f"{path}[{key!r}]", copies, device)
+        # ``now`` itself is left as it is: it may be the step's input (a multi-agent task's
+        # ``self.actions = actions``: the stepper's static actions, which each replay refills)
+        restored = {
+            key: _restored(before[key], value, f"{path}[{key!r}]", copies, device) if key in before else value
+            for key, value in now.items()
+        }
         if before.keys() != now.keys():
-            return now  # other keys: keep the new dict, holding the old tensors where it can
-        before.update(now)  # the old dict object too: readers may hold it
+            return restored  # other keys: a new dict, holding the old tensors where it can
+        before.update(restored)  # the old dict object too: readers may hold it
         return before
     if isinstance(before, (list, tuple)) and isinstance(now, (list, tuple)) and len(before) == len(now):
         items = [_restored(b, n, f"{path}[{i}]", copies, device) for i, (b, n) in enumerate(zip(before, now))]
