@@ -284,7 +284,10 @@ def _rollout(task: str, use_cuda_graph: bool, steps: int = 300):
         )
         action = {a: _random_action(sp, generator) for a, sp in spaces.items()}
         out = env.step(action if multi_agent else action[""])
-        outputs.append([t.clone() for t in _flat(out[:4])] + [env.reset_buf.clone(), physics_state(env)["qpos"]])
+        reward = torch.cat([r.reshape(-1) for r in _flat(out[1])])  # every agent's, for _run_stats
+        outputs.append(
+            [t.clone() for t in _flat(out[:4])] + [reward, env.reset_buf.clone(), physics_state(env)["qpos"]]
+        )
     state = physics_state(env)
     mode, graphed = env.step_mode, env.step_is_graphed
     env.close()
@@ -362,10 +365,10 @@ def test_graphed_and_eager_steps_agree_for_every_task(task):
 
 
 def _run_stats(run) -> dict[str, float]:
-    """Resets and mean reward of a rollout (``_rollout``'s per-step lists: obs..., reward, ...)."""
+    """Resets and mean reward of a rollout (``_rollout``'s per-step lists: ..., reward, reset_buf, qpos)."""
     return {
         "resets": sum(int(out[-2].sum()) for out in run),
-        "mean_reward": sum(float(out[-5].mean()) for out in run) / len(run),
+        "mean_reward": sum(float(out[-3].mean()) for out in run) / len(run),
     }
 
 
