@@ -192,11 +192,14 @@ def env_sizes(env: gym.Env) -> dict[str, Any]:
     }
 
 
-def check_checkpoint_source(checkpoint: str, library: str, task: str, force: bool = False, trust: bool = False) -> None:
+def check_checkpoint_source(
+    checkpoint: str, library: str, task: str | None, force: bool = False, trust: bool = False
+) -> None:
     """Refuse (``CheckpointError``) a checkpoint written by another library or trained on another task.
 
-    The library is read from the file's contents, the task from its run's ``params/run.yaml``.
-    ``force`` turns the refusal into a warning.
+    The library is read from the file's contents, the task from its run's ``params/run.yaml``; ``task``
+    None accepts any task (``--init_weights`` fine-tunes another task's weights). ``force`` turns the
+    refusal into a warning.
     """
     problems: list[str] = []
     written_by = checkpoint_library(read_checkpoint(checkpoint, trust))
@@ -206,7 +209,7 @@ def check_checkpoint_source(checkpoint: str, library: str, task: str, force: boo
     if written_by is None and info.get("library") not in (None, library):
         problems.append(f"its run was trained with {info['library']}, not {library}")
     # a task's -Play variant plays what the task trained (Isaac Lab's train-then-play workflow)
-    if info.get("task") not in (None, task, task.replace("-Play", "")):
+    if task is not None and info.get("task") not in (None, task, task.replace("-Play", "")):
         problems.append(f"its run trained the task '{info['task']}', not '{task}' (use --task {info['task']})")
     _refuse(checkpoint, problems, force)
 

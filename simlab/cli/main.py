@@ -150,6 +150,22 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--max_iterations", type=int, default=None, help="Training iterations (default: the agent's).")
     p.add_argument("--run_name", default="", help="Suffix of the run folder: <timestamp>_<run_name>.")
     p.add_argument(
+        "--init_weights",
+        default=None,
+        metavar="CHECKPOINT",
+        help="Start a new run (iteration 0, a fresh optimizer) from this checkpoint's network weights: its actor, "
+        "and its critic where it has one. It may come from another task with the same observation and action "
+        "sizes (fine-tuning); --checkpoint resumes a run of this task instead. rsl_rl.",
+    )
+    p.add_argument(
+        "--warmup_critic",
+        type=int,
+        default=0,
+        metavar="N",
+        help="With --init_weights: the first N iterations train the critic only (the actor's weights are put "
+        "back after each update), so an untrained critic does not steer the policy it was given.",
+    )
+    p.add_argument(
         "--export_io_descriptors",
         action="store_true",
         help="Write the policy's observation and action terms to <run>/io_descriptors/IO_descriptors.yaml "

@@ -135,14 +135,24 @@ def run_train(args: argparse.Namespace, overrides: list[str], argv: list[str] | 
     # add the rank to their own seeds themselves)
     env_cfg.seed = None if env_cfg.seed is None else env_cfg.seed + ranks.rank
     trust = getattr(args, "trust_checkpoint", False)
+    distilling = getattr(lib, "needs_teacher", lambda cfg: False)(agent_cfg)
+    if distilling and not args.checkpoint:
+        raise ConfigError(
+            f"Distillation ({args.agent or 'this agent'}) needs the teacher's checkpoint: pass --checkpoint <the"
+            f" teacher's run folder or model_<N>.pt> (Isaac Lab's train.py: --load_run <run>). Train the teacher"
+            f" first, e.g. simlab train --task {args.task}."
+        )
     resume = resolve_checkpoint(args.checkpoint, args.library, trust) if args.checkpoint else None
-    if resume:
+    # a teacher may come from another task (a state policy teaches a camera one): its fit is its layer sizes
+    of_this_task = resume is not None and not (distilling and lib.is_teacher_checkpoint(resume, trust))
+    if of_this_task:
         check_checkpoint_source(resume, args.library, args.task, force=getattr(args, "force", False), trust=trust)
+    _resolve_init_weights(args, lib, trust)
     run_dir = None
     if ranks.is_main:  # only rank 0 writes the run folder
         run_dir = make_run_dir(args.log_root, args.library, lib.experiment_name(agent_cfg, args.task), args.run_name)
     try:
-        startup, start = _train_in(run_dir, ranks, lib, args, overrides, env_cfg, agent_cfg, resume, argv)
+        startup, start = _train_in(run_dir, ranks, lib, args, overrides, env_cfg, agent_cfg, resume, argv, of_this_task)
     except BaseException as error:
         removed = run_dir is not None and remove_if_empty_run(run_dir, args.library)
         if removed:
@@ -161,6 +171,30 @@ def run_train(args: argparse.Namespace, overrides: list[str], argv: list[str] | 
             f"({startup + took:.1f} s in all). Run folder: {run_dir}"
         )
     return run_dir
+
+
+def _resolve_init_weights(args: argparse.Namespace, lib: Any, trust: bool) -> None:
+    """``--init_weights`` (and ``--warmup_critic``): refuse it with ``--checkpoint`` or a library that cannot
+    take it, or a checkpoint of another library; else make ``args.init_weights`` its absolute path (its
+    task may differ)."""
+    warmup = getattr(args, "warmup_critic", 0)
+    if warmup < 0:
+        raise ConfigError(f"--warmup_critic must be >= 0 (iterations that train the critic only), got {warmup}.")
+    if not getattr(args, "init_weights", None):
+        if warmup:
+            raise ConfigError("--warmup_critic warms up a critic for weights given by --init_weights: give that too.")
+        return
+    if args.checkpoint:
+        raise ConfigError(
+            "--init_weights starts a new run from a checkpoint's weights and --checkpoint resumes a run: give one."
+        )
+    if not hasattr(lib, "init_weights"):
+        raise ConfigError(
+            f"--init_weights is supported with --library rsl_rl, not {args.library}; --checkpoint resumes a"
+            f" {args.library} run of this task."
+        )
+    args.init_weights = resolve_checkpoint(args.init_weights, args.library, trust)
+    check_checkpoint_source(args.init_weights, args.library, None, force=getattr(args, "force", False), trust=trust)
 
 
 def _stopped_writing(run_dir: str, library: str, error: BaseException, removed: bool) -> str:
@@ -185,6 +219,7 @@ def _train_in(
     agent_cfg: Any,
     resume: str | None,
     argv: Any,
+    of_this_task: bool = True,
 ) -> tuple[float, float]:
     """Write the run's params (rank 0), build the env and train; returns the start-up time and when
     training began."""
@@ -202,16 +237,25 @@ def _train_in(
         if multi and not is_multi_agent(env):
             raise ConfigError(f"--algorithm {args.algorithm} needs a multi-agent task; {args.task} has one agent.")
         sizes = env_sizes(env)
-        if resume:
+        if resume and of_this_task:
             check_checkpoint_sizes(resume, sizes, force=getattr(args, "force", False))
+        init = getattr(args, "init_weights", None)
+        if init:  # another task's weights fit when its sizes are this env's
+            check_checkpoint_sizes(init, sizes, force=getattr(args, "force", False))
         args.shared_settings = _settings_all_ranks_share(args, overrides, env)
         if ranks.world_size > 1 and args.library != "rl_games":  # rl_games checks once its agent started the group
             distributed.check_same_settings(args.shared_settings)
         if run_dir is not None:
-            info = {"task": args.task, "library": args.library, "algorithm": args.algorithm or "PPO", **sizes}
+            distilling = getattr(lib, "needs_teacher", lambda cfg: False)(agent_cfg)
+            algorithm = "Distillation" if distilling else args.algorithm or "PPO"
+            info = {"task": args.task, "library": args.library, "algorithm": algorithm, **sizes}
+            if resume and not of_this_task:  # the teacher's checkpoint, which the student learned from
+                info["teacher"] = resume
             env_overrides = env_overrides_in(overrides)
             if env_overrides:  # named when a play without them does not fit the checkpoint
                 info["env_overrides"] = env_overrides
+            if init:  # where its weights started (fine-tuned from another task's policy, say)
+                info["init_weights"] = init
             write_run_info(run_dir, info)
             spread = f" on each of {ranks.world_size} processes" if ranks.world_size > 1 else ""
             print(
@@ -224,7 +268,7 @@ def _train_in(
         resume_collector_after_start_up()  # paused by the `simlab` command for its imports and env build
         startup = seconds_since_process_start()
         start = time.perf_counter()
-        with checkpoint_load_errors(resume, args.library, args.task, only_state_dicts=True):
+        with checkpoint_load_errors(resume or init, args.library, args.task, only_state_dicts=True):
             lib.train(env, agent_cfg, run_dir, args, resume)
     finally:
         env.close()

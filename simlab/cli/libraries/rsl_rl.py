@@ -1,4 +1,5 @@
-"""rsl_rl adapter: ``OnPolicyRunner`` training with a progress bar, resume and Ctrl+C saves."""
+"""rsl_rl adapter: ``OnPolicyRunner`` training with a progress bar, resume and Ctrl+C saves; ``DistillationRunner``
+(an agent config with ``class_name="DistillationRunner"``) distils a teacher checkpoint into a student."""
 
 from __future__ import annotations
 
@@ -19,14 +20,14 @@ from simlab.cli.libraries.progress import ProgressBar
 from simlab.cli.policy import ClampActions, Policy
 from simlab.cli.session import check_mini_batches, check_training_settings
 from simlab.rl.utils import require
-from simlab.utils.errors import ConfigError, TrainingDivergedError
+from simlab.utils.errors import CheckpointError, ConfigError, TrainingDivergedError
 from simlab.utils.io import atomic_torch_saves
 from simlab.utils.startup import mark
-from simlab.utils.trust import weights_only_copy
+from simlab.utils.trust import torch_load, weights_only_copy
 from simlab.utils.versions import warn_once
 
 require("rsl_rl")
-from rsl_rl.runners import OnPolicyRunner  # noqa: E402
+from rsl_rl.runners import DistillationRunner, OnPolicyRunner  # noqa: E402
 from rsl_rl.utils.logger import Logger  # noqa: E402
 
 from simlab.rl.rsl_rl import RslRlOnPolicyRunnerCfg, RslRlVecEnvWrapper  # noqa: E402
@@ -37,6 +38,24 @@ from simlab.rl.rsl_rl.vecenv_wrapper import stack_image_history  # noqa: E402
 
 def experiment_name(agent_cfg: RslRlOnPolicyRunnerCfg, task: str) -> str:
     return agent_cfg.experiment_name
+
+
+def is_distillation(agent_cfg: Any) -> bool:
+    """True for a distillation agent (Isaac Lab's train.py picks the runner by ``class_name`` too)."""
+    return getattr(agent_cfg, "class_name", None) == "DistillationRunner"
+
+
+def needs_teacher(agent_cfg: Any) -> bool:
+    """A distillation trains nothing without the teacher's checkpoint (``--checkpoint``)."""
+    return is_distillation(agent_cfg)
+
+
+def is_teacher_checkpoint(path: str, trust: bool = False) -> bool:
+    """True for a checkpoint that holds a policy to distil (a PPO run's ``actor_state_dict``, no student):
+    it may come from another task (the state cartpole teaches the camera one), so the checks that a
+    checkpoint fits this task are the teacher's layer sizes when it loads."""
+    loaded = torch_load(path, map_location="cpu", trust=trust)
+    return isinstance(loaded, dict) and "actor_state_dict" in loaded and "student_state_dict" not in loaded
 
 
 def configure(agent_cfg: RslRlOnPolicyRunnerCfg, args: argparse.Namespace, env_cfg: Any) -> None:
@@ -54,6 +73,7 @@ def configure(agent_cfg: RslRlOnPolicyRunnerCfg, args: argparse.Namespace, env_c
             "agent.num_steps_per_env": agent_cfg.num_steps_per_env,
             "agent.algorithm.num_learning_epochs": getattr(algorithm, "num_learning_epochs", None),
             "agent.algorithm.num_mini_batches": getattr(algorithm, "num_mini_batches", None),
+            "agent.algorithm.gradient_length": getattr(algorithm, "gradient_length", None),
             "agent.save_interval": agent_cfg.save_interval,
             "agent.max_iterations": agent_cfg.max_iterations,
         },
@@ -70,7 +90,7 @@ def configure(agent_cfg: RslRlOnPolicyRunnerCfg, args: argparse.Namespace, env_c
 
 
 def _recurrent(agent_cfg: RslRlOnPolicyRunnerCfg) -> bool:
-    models = (getattr(agent_cfg, "actor", None), getattr(agent_cfg, "critic", None))
+    models = [getattr(agent_cfg, name, None) for name in ("actor", "critic", "student", "teacher")]
     return any("RNN" in str(getattr(model, "class_name", "")) for model in models)
 
 
@@ -186,17 +206,43 @@ class _Runner(OnPolicyRunner):
         )
 
 
+class _DistillationRunner(_Runner, DistillationRunner):
+    """rsl_rl's distillation runner (it refuses to learn before a teacher is loaded), in simlab's process group."""
+
+
 def make_runner(env: gym.Env, agent_cfg: RslRlOnPolicyRunnerCfg, log_dir: str | None) -> OnPolicyRunner:
     wrapped = RslRlVecEnvWrapper(env, clip_actions=agent_cfg.clip_actions)
-    cfg = agent_cfg.to_rsl_rl_dict(list(wrapped.get_observations().keys()))
+    groups = list(wrapped.get_observations().keys())
+    cfg = agent_cfg.to_rsl_rl_dict(groups)
     # rsl_rl's NaN check reads three flags back per step (each a CPU-GPU sync); simlab's env step
     # checks observations and rewards itself (simlab.envs.utils.cuda_graph).
     cfg["check_for_nan"] = False
+    distill = is_distillation(agent_cfg)
+    if distill:
+        _check_distillation_groups(cfg["obs_groups"], groups, env.unwrapped)
     with contextlib.redirect_stdout(io.StringIO()):  # it prints the models; params/agent.yaml has them
-        runner = _Runner(wrapped, cfg, log_dir=log_dir, device=agent_cfg.device)
+        runner_class = _DistillationRunner if distill else _Runner
+        runner = runner_class(wrapped, cfg, log_dir=log_dir, device=agent_cfg.device)
+    if distill:  # simlab's fast update and graphed act are PPO's
+        runner.update_kind, runner.act_kind = "rsl_rl's distillation", "eager"
+        return runner
     runner.update_kind = use_fast_update(runner.alg, agent_cfg.fast_update)
     runner.act_kind = use_graphed_act(runner.alg, agent_cfg.graph_act)
     return runner
+
+
+def _check_distillation_groups(obs_groups: dict[str, list[str]], groups: list[str], env: Any) -> None:
+    """One line for a student or teacher set that names an observation group the env lacks (rsl_rl
+    would fall back to the student's "policy" group for a missing teacher without a word)."""
+    task = getattr(getattr(env, "spec", None), "id", None) or type(env).__name__
+    for name in ("student", "teacher"):
+        missing = [g for g in obs_groups[name] if g not in groups]
+        if missing:
+            raise ConfigError(
+                f"The distillation's {name} reads the observation group '{missing[0]}', which {task} does not"
+                f" have (its groups: {', '.join(groups)}). Add that group to the env's observations, or set"
+                f" agent.obs_groups.{name}=[<groups>] (the {name}'s observations)."
+            )
 
 
 def use_graphed_act(alg: Any, setting: bool | None) -> str:
@@ -264,17 +310,27 @@ def train(
     logger.verbose = bool(getattr(args, "verbose", False))
     _logs_without_host_sync(runner, logger)
     if run_dir is not None:
+        update_name = "Student" if is_distillation(agent_cfg) else "PPO"
         print(
-            f"[simlab] PPO update: {runner.update_kind}; policy in the rollout: {runner.act_kind}",
+            f"[simlab] {update_name} update: {runner.update_kind}; policy in the rollout: {runner.act_kind}",
             flush=True,
         )
     import simlab
 
     runner.add_git_repo_to_log(simlab.__file__)
-    if resume_path:
-        with weights_only_copy(resume_path, getattr(args, "trust_checkpoint", False)) as path:
+    trust = getattr(args, "trust_checkpoint", False)
+    teacher = resume_path is not None and is_distillation(agent_cfg) and is_teacher_checkpoint(resume_path, trust)
+    if teacher:
+        _load_teacher(runner, resume_path, agent_cfg.device, trust)
+        print(f"[simlab] Distilling the teacher {resume_path} into the student")
+        resume_path = None  # the student starts fresh (random initial episode lengths as in a new run)
+    elif resume_path:
+        with weights_only_copy(resume_path, trust) as path:
             runner.load(path, map_location=agent_cfg.device)
         print(f"[simlab] Resumed from {resume_path} at iteration {runner.current_learning_iteration}")
+    if getattr(args, "init_weights", None):
+        init_weights(runner, args.init_weights, agent_cfg.device, trust)
+        warm_up_critic(runner, getattr(args, "warmup_critic", 0))
     guard_divergence(runner, run_dir)
     on_checkpoint = getattr(args, "on_checkpoint", None)
     if on_checkpoint is not None:
@@ -305,6 +361,61 @@ def train(
     except OSError:  # the run folder cannot be written (full disk, read-only): nothing more to flush there
         logger.close_bar()
         raise
+
+
+def init_weights(runner: OnPolicyRunner, checkpoint: str, device: str, trust: bool = False) -> None:
+    """``--init_weights``: the actor (and the critic, where the file has one) start from ``checkpoint``'s
+    weights; the optimizer, learning rate and iteration count start fresh. A layer of another size
+    raises torch's error, which ``checkpoint_load_errors`` turns into one line."""
+    with weights_only_copy(checkpoint, trust) as path:
+        critic = "critic_state_dict" in torch_load(path, map_location="cpu", trust=trust)
+        runner.load(path, load_cfg={"actor": True, "critic": critic}, map_location=device)
+    models = "actor and critic" if critic else "actor (the critic starts untrained)"
+    print(f"[simlab] Initialized the {models} from {checkpoint}; training starts at iteration 0")
+
+
+def warm_up_critic(runner: OnPolicyRunner, iterations: int) -> None:
+    """The run's first ``iterations`` updates train the critic only: after each, the actor's weights are put
+    back and its optimizer moments cleared. (Within an update the actor still moves, so the adaptive
+    learning rate sees the KL it would.) For an actor taken from a policy whose critic was not."""
+    if iterations <= 0:
+        return
+    alg = runner.alg
+    actor = alg._raw_actor
+    kept = {name: value.detach().clone() for name, value in actor.state_dict().items()}
+    update = alg.update  # rsl_rl's, or simlab's fast update
+    left = [iterations]
+
+    def update_critic_only(*args: Any, **kwargs: Any) -> Any:
+        losses = update(*args, **kwargs)
+        with torch.no_grad():
+            for name, value in actor.state_dict().items():
+                value.copy_(kept[name])  # in place: a captured graph keeps reading the same tensors
+            for param in actor.parameters():
+                for moment in alg.optimizer.state.get(param, {}).values():
+                    if torch.is_tensor(moment):
+                        moment.zero_()  # Adam's step too: its first actor step is a first step
+        left[0] -= 1
+        if left[0] == 0:
+            alg.update = update
+        return losses
+
+    alg.update = update_critic_only
+    print(f"[simlab] The first {iterations} iterations train the critic only")
+
+
+def _load_teacher(runner: DistillationRunner, checkpoint: str, device: str, trust: bool) -> None:
+    """Load a PPO checkpoint's actor as the teacher (rsl_rl's choice for a checkpoint with an actor);
+    a teacher model of another shape is one line naming the first layer that differs."""
+    with weights_only_copy(checkpoint, trust) as path:
+        try:
+            runner.load(path, load_cfg={"teacher": True}, map_location=device)
+        except RuntimeError as e:
+            first = next((line.strip() for line in str(e).splitlines()[1:] if line.strip()), str(e))
+            raise CheckpointError(
+                f"The teacher checkpoint '{checkpoint}' does not fit agent.teacher ({first}): the teacher's model"
+                " and observation group must be those the checkpoint's policy was trained with. Nothing was trained."
+            ) from e
 
 
 def _logs_without_host_sync(runner: OnPolicyRunner, logger: _ProgressLogger) -> None:
@@ -383,10 +494,22 @@ def guard_divergence(runner: OnPolicyRunner, run_dir: str) -> None:
 
 def load_policy(env: gym.Env, agent_cfg: RslRlOnPolicyRunnerCfg, checkpoint: str, trust: bool = False) -> Policy:
     runner = make_runner(env, agent_cfg, None)
+    played = "student" if is_distillation(agent_cfg) else "actor"  # what the checkpoint's policy is called
+    if played == "student" and is_teacher_checkpoint(checkpoint, trust):
+        raise CheckpointError(
+            f"Checkpoint '{checkpoint}' holds a PPO policy (a teacher), not a distilled student: play it without"
+            " --agent (the task's PPO agent), or distil it first (simlab train --agent <distillation entry point>"
+            " --checkpoint <it>)."
+        )
+    if played == "actor" and "student_state_dict" in torch_load(checkpoint, map_location="cpu", trust=trust):
+        raise CheckpointError(
+            f"Checkpoint '{checkpoint}' holds a distilled student, not a PPO policy: play it with the distillation"
+            " agent it was trained with (--agent rsl_rl_distillation_cfg_entry_point, or the task's other one)."
+        )
     with weights_only_copy(checkpoint, trust) as path:
-        runner.load(path, load_cfg={"actor": True}, map_location=agent_cfg.device)
+        runner.load(path, load_cfg={played: True}, map_location=agent_cfg.device)
     actor = runner.alg.get_policy()
-    groups = runner.cfg["obs_groups"]["actor"]
+    groups = runner.cfg["obs_groups"][played]
     if getattr(actor, "obs_groups_2d", None):  # a CNN actor: it reads one image group
         module, obs_shape = _image_actor(actor, groups)
     else:
