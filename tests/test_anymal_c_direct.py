@@ -84,3 +84,32 @@ def test_isaac_labs_own_direct_task_walks_as_simlabs(terrain):
     kept = ~resets[0]
     assert kept.any()
     torch.testing.assert_close(observations[0][:, kept], observations[1][:, kept])
+
+
+def test_the_direct_flat_task_observes_and_acts_as_the_manager_based_one():
+    """The shipped direct flat policy started from the manager-based one (docs/locomotion.md); that holds
+    while the direct task reads a state as the manager task does, term for term and joint for joint,
+    and turns actions into the same joint targets on the same drives at the same rate."""
+    from types import SimpleNamespace
+
+    cfg = parse_env_cfg("simlab/Velocity-Flat-Anymal-C-v0", device="cpu", num_envs=N)
+    cfg.seed, cfg.observations.policy.enable_corruption = 0, False  # noise-free: the direct task has none
+    env = gym.make("simlab/Velocity-Flat-Anymal-C-v0", cfg=cfg).unwrapped
+    try:
+        env.reset()
+        for _ in range(5):
+            env.step(0.3 * torch.randn(N, 12))
+        robot = env.scene["robot"]
+        command = env.command_manager.get_command("base_velocity")
+        state = SimpleNamespace(
+            _robot=robot, _commands=command, _actions=env.action_manager.action, _height_scanner=None
+        )
+        direct = AnymalCEnv._get_observations(state)["policy"]
+        torch.testing.assert_close(direct, env.observation_manager.compute()["policy"])
+        direct_cfg = AnymalCFlatEnvCfg()
+        term = env.action_manager.get_term("joint_pos")
+        assert term.cfg.scale == direct_cfg.action_scale and term.cfg.use_default_offset
+        assert direct_cfg.robot.actuators["legs"] == cfg.scene.robot.actuators["legs"]
+        assert (direct_cfg.sim.dt, direct_cfg.decimation) == (cfg.sim.dt, cfg.decimation)
+    finally:
+        env.close()
