@@ -97,8 +97,8 @@ def test_a_library_the_task_has_no_agent_for_names_the_flags_it_has(tmp_path, ca
     )
     assert _run(tmp_path, "train", *SMALL, "--library", "skrl", "--algorithm", "MAPPO") == 2
     assert (
-        "it has: --library rl_games, --library rsl_rl, --agent rsl_rl_with_symmetry_cfg_entry_point,"
-        in capsys.readouterr().err
+        "it has: --library rl_games, --library rsl_rl, --agent rsl_rl_distillation_cfg_entry_point,"
+        " --agent rsl_rl_with_symmetry_cfg_entry_point," in capsys.readouterr().err
     )
     assert not os.path.exists(tmp_path / "logs")  # refused before a run folder is made
 
