@@ -130,6 +130,7 @@ def test_anymal_d_flat_distillation_is_registered_with_isaac_labs_settings():
         assert d["student"]["distribution_cfg"]["init_std"] == 0.1
 
 
+@pytest.mark.slow  # 8 to 30 s on the 2-core machine: a training, three judged checkpoints, a CPU replay
 def test_make_pretrained_distils_judges_and_ships_a_student_that_play_loads_with_its_agent(
     tmp_path, monkeypatch, teacher
 ):
@@ -163,3 +164,22 @@ def test_make_pretrained_distils_judges_and_ships_a_student_that_play_loads_with
     args = build_parser().parse_args(argv)
     result = run_play(args, [])
     assert args.agent == AGENT and result["steps"] == 5
+
+
+def test_the_camera_cartpole_distils_the_state_policy_from_its_teacher_group(tmp_path, teacher):
+    """The depth camera cartpole's teacher group is the state cartpole's policy observation, so the state
+    policy loads as its teacher; one short iteration of its CNN student runs."""
+    argv = ["train", "--task", "simlab/Cartpole-Depth-v0", "--agent", AGENT, "--checkpoint", teacher, "--headless"]
+    argv += ["--device", "cpu", "--num_envs", "2", "--max_iterations", "1", "--log_root", str(tmp_path / "logs")]
+    argv += ["agent.num_steps_per_env=4", "env.observations.policy.image.history_length=3"]
+    argv += ["env.observations.policy.image.flatten_history_dim=False"]
+    assert main(argv) == 0
+    (checkpoint,) = glob.glob(str(tmp_path / "logs" / "rsl_rl" / "cartpole_camera_distillation" / "*" / "model_0.pt"))
+    saved = torch.load(checkpoint, weights_only=True)
+    shipped = torch.load(teacher, weights_only=True)["actor_state_dict"]
+    assert all(torch.equal(saved["teacher_state_dict"][k], shipped[k]) for k in shipped)
+    assert any(k.startswith("cnn") for k in saved["student_state_dict"])  # the student reads the images
+    from simlab.utils.io import load_yaml
+
+    info = load_yaml(os.path.join(os.path.dirname(checkpoint), "params", "run.yaml"))
+    assert info["algorithm"] == "Distillation" and info["observations"]["teacher"] == 4 and info["teacher"] == teacher
