@@ -183,3 +183,45 @@ def test_the_camera_cartpole_distils_the_state_policy_from_its_teacher_group(tmp
 
     info = load_yaml(os.path.join(os.path.dirname(checkpoint), "params", "run.yaml"))
     assert info["algorithm"] == "Distillation" and info["observations"]["teacher"] == 4 and info["teacher"] == teacher
+
+
+def test_a_distillation_checkpoint_resumes_the_student(tmp_path, capsys, teacher):
+    """--checkpoint of a distillation run (student, teacher and optimizer) resumes it where it stopped."""
+    base = ["train", "--task", TASK, "--agent", AGENT, "--headless", "--device", "cpu", "--num_envs", "8"]
+    base += ["--max_iterations", "2", "--log_root", str(tmp_path / "logs")]
+    assert main([*base, "--checkpoint", teacher, "--run_name", "first"]) == 0
+    (first,) = glob.glob(str(tmp_path / "logs" / "rsl_rl" / "cartpole" / "*_first" / "model_1.pt"))
+    capsys.readouterr()
+    assert main([*base, "--checkpoint", first, "--run_name", "second"]) == 0
+    assert f"Resumed from {first} at iteration 1" in capsys.readouterr().out
+    (last,) = glob.glob(str(tmp_path / "logs" / "rsl_rl" / "cartpole" / "*_second" / "model_2.pt"))
+    resumed, started = torch.load(last, weights_only=True), torch.load(first, weights_only=True)
+    assert resumed["iter"] == 2 and all(
+        torch.equal(resumed["teacher_state_dict"][k], v) for k, v in started["teacher_state_dict"].items()
+    )
+
+
+def test_the_deprecated_student_teacher_config_converts_to_student_and_teacher_models():
+    """Isaac Lab's rsl-rl < 4 form, ``policy = RslRlDistillationStudentTeacherCfg(...)``: the same runner dict
+    as the student / teacher form (the teacher with the Gaussian output a PPO actor's checkpoint has)."""
+    from simlab.rl.rsl_rl import RslRlDistillationRunnerCfg, RslRlDistillationStudentTeacherCfg
+    from simlab.tasks.utils import load_cfg_from_registry
+
+    new = load_cfg_from_registry("simlab/Velocity-Flat-Anymal-D-v0", AGENT)
+    old = RslRlDistillationRunnerCfg(
+        num_steps_per_env=120,
+        max_iterations=300,
+        save_interval=50,
+        experiment_name="anymal_d_flat",
+        obs_groups={"student": ["policy"], "teacher": ["policy"]},
+        policy=RslRlDistillationStudentTeacherCfg(
+            init_noise_std=0.1,
+            student_hidden_dims=[128, 128, 128],
+            teacher_hidden_dims=[128, 128, 128],
+            activation="elu",
+        ),
+        algorithm=new.algorithm,
+    )
+    assert old.to_rsl_rl_dict(["policy"]) == new.to_rsl_rl_dict(["policy"])
+    with pytest.raises(ValueError, match="not both"):
+        old.replace(student=new.student).to_rsl_rl_dict(["policy"])
