@@ -137,3 +137,44 @@ def test_a_fixed_base_arm_moving_leaves_the_camera_still(task):
     finally:
         env.close()
     assert travel > 0.1, f"the hand moved only {travel:.3f} m"
+
+
+def test_a_camera_named_between_far_apart_envs_frames_the_reference_env():
+    """The camera cartpoles stand 20 m apart and their viewer names the world point (0, 0, 2.5) from
+    7 m: no env within the camera's reach of it (the 4 envs stand at (+-10, +-10)). The video shows
+    env 0 from the configured direction and distance: its cart anywhere on the rail (up to the 3 m
+    bound) and its pole lie in the picture, large enough to see (framed from the middle of all four,
+    env 0 lay behind the camera)."""
+    task = "simlab/Cartpole-Depth-v0"
+    cfg = load_cfg_from_registry(task, "env_cfg_entry_point")
+    cfg.scene.num_envs = 4
+    cfg.sim.device = "cpu"
+    cfg.seed = 0
+    env = gym.make(task, cfg=cfg)
+    try:
+        u = env.unwrapped
+        env.reset(seed=0)
+        robot = u.scene["robot"]
+        model = u.sim.model
+        bodies = np.asarray(robot._body_ids)  # the MuJoCo body of each of the robot's bodies
+        cart, pole = (
+            int(np.flatnonzero(model.geom_bodyid == bodies[robot.find_bodies(n)[0][0]])[0]) for n in ("cart", "pole")
+        )
+        first = view_frame(u, u.cfg.viewer)
+        configured = np.subtract(u.cfg.viewer.eye, u.cfg.viewer.lookat)
+        for x in (-3.0, 0.0, 3.0):
+            joints = torch.tensor([[x, 0.0]]).repeat(u.num_envs, 1)
+            robot.write_joint_state_to_sim(joints, torch.zeros_like(joints))
+            u.sim.forward()
+            frame = view_frame(u, u.cfg.viewer)
+            np.testing.assert_allclose(frame.eye - frame.lookat, configured, atol=1e-9)
+            np.testing.assert_array_equal(frame.lookat, first.lookat)  # a fixed-base robot: no follow
+            xpos = u.sim.physics.data("geom_xpos")[0].numpy().astype(np.float64)
+            xmat = u.sim.physics.data("geom_xmat")[0].numpy().astype(np.float64).reshape(-1, 3, 3)
+            half_pole = xmat[pole] @ [0.0, 0.0, model.geom_size[pole, 2]]
+            points = np.stack([xpos[cart], xpos[pole] - half_pole, xpos[pole] + half_pole])
+            seen = _in_picture(u, frame, points)
+            assert (np.abs(seen) < 0.9).all(), f"env 0's cartpole out of the picture with the cart at {x} m: {seen}"
+            assert np.ptp(seen[:, 1]) > 0.2, f"the pole spans only {np.ptp(seen[:, 1]) / 2:.0%} of the picture's height"
+    finally:
+        env.close()

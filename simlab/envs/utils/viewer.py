@@ -9,13 +9,14 @@ neighbouring envs nearest the look-at point drawn beside it at their origins.
 
 A world-frame camera names a fixed point of the world, often its origin on the ground, wherever the
 robots stand; the frames of ``env.render()`` keep its direction but look at the middle of what the
-shown envs are about: their articulations (the robots) and the objects lying near them, not the props
-they stand on nor objects kept far off (the parked instances of a rigid object collection); no farther
-away than configured and closer where that would fill less of the picture. The camera is aimed at the
-first frame and then moves only with the robots' roots, once they have left a dead zone around the
-point it follows: a fixed-base arm never moves it (nor do the objects it handles), a walking or
-running robot is followed smoothly, its gait's sway barely. The other origin types name a point on
-an env or a robot and are kept as given.
+envs within the camera's reach of that point are about (where no env is, as between envs standing far
+apart: env ``env_index`` and the envs within reach of it): their articulations (the robots) and the
+objects lying near them, not the props they stand on nor objects kept far off (the parked instances
+of a rigid object collection); no farther away than configured and closer where that would fill less
+of the picture. The camera is aimed at the first frame and then moves only with the robots' roots,
+once they have left a dead zone around the point it follows: a fixed-base arm never moves it (nor do
+the objects it handles), a walking or running robot is followed smoothly, its gait's sway barely. The
+other origin types name a point on an env or a robot and are kept as given.
 """
 
 from __future__ import annotations
@@ -104,7 +105,13 @@ def view_frame(env, viewer, max_envs: int = MAX_SHOWN_ENVS) -> ViewFrame:
     origins = env.scene.env_origins.detach().cpu().numpy().astype(np.float64)
     ref = viewer.env_index
     offsets = frame_offsets - frame_offsets[ref]  # how far each world's geoms are moved when drawn
-    distance = np.linalg.norm(origins[:, :2] - frame_offsets[ref, :2] - lookat[:2], axis=1)
+    local = origins[:, :2] - frame_offsets[ref, :2]  # the env origins in the reference's frame
+    reach = float(np.linalg.norm(eye - lookat))
+    distance = np.linalg.norm(local - lookat[:2], axis=1)
+    if viewer.origin_type == "world" and not (distance <= reach).any():
+        # no env within the camera's reach of the world point it names (envs far apart, that point
+        # between them): the camera is about the reference env and the envs within reach of it
+        distance = np.linalg.norm(local - local[ref], axis=1)
     order = distance.copy()
     order[ref] = -1.0  # the reference env comes first
     env_ids = np.argsort(order, kind="stable")[: max(1, max_envs)].tolist()
@@ -112,8 +119,8 @@ def view_frame(env, viewer, max_envs: int = MAX_SHOWN_ENVS) -> ViewFrame:
     if viewer.origin_type != "world":
         return frame
     # the envs in the camera's reach of the look-at point (the reference env may stand far off)
-    reach = distance[env_ids] <= np.linalg.norm(eye - lookat)
-    rows = reach if reach.any() else np.ones(len(env_ids), bool)
+    near = distance[env_ids] <= reach
+    rows = near if near.any() else np.ones(len(env_ids), bool)
     # aimed at the first frame (and again when the shown envs or the configured camera change), then
     # moved only with the robots' roots: not chasing a falling object or a swinging arm
     key = (tuple(env_ids), tuple(eye), tuple(lookat), tuple(rows), tuple(viewer.resolution))
