@@ -152,7 +152,9 @@ def run_train(args: argparse.Namespace, overrides: list[str], argv: list[str] | 
     if ranks.is_main:  # only rank 0 writes the run folder
         run_dir = make_run_dir(args.log_root, args.library, lib.experiment_name(agent_cfg, args.task), args.run_name)
     try:
-        startup, start = _train_in(run_dir, ranks, lib, args, overrides, env_cfg, agent_cfg, resume, argv, of_this_task)
+        startup, start = _train_in(
+            run_dir, ranks, lib, args, overrides, env_cfg, agent_cfg, resume, argv, of_this_task, distilling
+        )
     except BaseException as error:
         removed = run_dir is not None and remove_if_empty_run(run_dir, args.library)
         if removed:
@@ -220,6 +222,7 @@ def _train_in(
     resume: str | None,
     argv: Any,
     of_this_task: bool = True,
+    distilling: bool = False,
 ) -> tuple[float, float]:
     """Write the run's params (rank 0), build the env and train; returns the start-up time and when
     training began."""
@@ -246,7 +249,6 @@ def _train_in(
         if ranks.world_size > 1 and args.library != "rl_games":  # rl_games checks once its agent started the group
             distributed.check_same_settings(args.shared_settings)
         if run_dir is not None:
-            distilling = getattr(lib, "needs_teacher", lambda cfg: False)(agent_cfg)
             algorithm = "Distillation" if distilling else args.algorithm or "PPO"
             info = {"task": args.task, "library": args.library, "algorithm": algorithm, **sizes}
             if resume and not of_this_task:  # the teacher's checkpoint, which the student learned from

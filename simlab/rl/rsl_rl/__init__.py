@@ -13,6 +13,7 @@ from .distillation_cfg import (
 )
 from .exporter import export_policy_as_jit, export_policy_as_onnx
 from .rl_cfg import (
+    RslRlBaseRunnerCfg,
     RslRlCNNModelCfg,
     RslRlMLPModelCfg,
     RslRlOnPolicyRunnerCfg,
@@ -22,6 +23,7 @@ from .rl_cfg import (
 )
 
 __all__ = [
+    "RslRlBaseRunnerCfg",
     "RslRlCNNModelCfg",
     "RslRlDistillationAlgorithmCfg",
     "RslRlDistillationRunnerCfg",

@@ -12,12 +12,12 @@ reads: ``obs_groups`` (the ``student`` and ``teacher`` observation sets), the tw
 
 from __future__ import annotations
 
-from dataclasses import MISSING, field
-from typing import Any, Literal
+from dataclasses import MISSING
+from typing import ClassVar, Literal
 
 from simlab.utils import configclass
 
-from .rl_cfg import RslRlMLPModelCfg, _default_device
+from .rl_cfg import RslRlBaseRunnerCfg, RslRlMLPModelCfg
 
 __all__ = [
     "RslRlDistillationAlgorithmCfg",
@@ -59,23 +59,12 @@ class RslRlDistillationStudentTeacherCfg:
 
 
 @configclass
-class RslRlDistillationRunnerCfg:
-    """The runner: rollout length, iterations, student and teacher models, algorithm, logging."""
+class RslRlDistillationRunnerCfg(RslRlBaseRunnerCfg):
+    """The distillation runner (rsl_rl ``DistillationRunner``): the runner settings, student and teacher
+    models, and algorithm."""
 
     class_name: str = "DistillationRunner"
     """The rsl_rl runner this config is for (simlab train picks the runner by it, as Isaac Lab's train.py does)."""
-    seed: int = 42
-    device: str = field(default_factory=_default_device)
-    num_steps_per_env: int = MISSING
-    """Environment steps per env collected in each iteration."""
-    max_iterations: int = MISSING
-    obs_groups: dict[str, list[str]] = {}
-    """Observation sets -> env observation groups: ``{"student": [...], "teacher": [...]}``. A set left
-    out reads the env group of its name ("student" falls back to "policy"); simlab refuses a teacher that
-    would silently read the student's observations because the env has no "teacher" group."""
-    clip_actions: float | None = None
-    """Clip the student's actions to [-clip_actions, clip_actions] in the wrapper; None does not clip."""
-    check_for_nan: bool = True
     student: RslRlMLPModelCfg = MISSING
     """The student model (an MLP, or :class:`~simlab.rl.rsl_rl.RslRlCNNModelCfg` for image groups); its
     distribution's ``init_std`` is the exploration noise of its rollouts (the loss never changes it)."""
@@ -84,29 +73,19 @@ class RslRlDistillationRunnerCfg:
     algorithm: RslRlDistillationAlgorithmCfg = MISSING
     policy: RslRlDistillationStudentTeacherCfg | None = None
     """Deprecated: set ``student`` and ``teacher`` instead."""
-    save_interval: int = MISSING
-    experiment_name: str = MISSING
-    run_name: str = ""
-    logger: Literal["tensorboard", "wandb", "neptune"] = "tensorboard"
-    wandb_project: str = "simlab"
-    neptune_project: str = "simlab"
-    resume: bool = False
-    load_run: str = ".*"
-    load_checkpoint: str = "model_.*.pt"
 
-    def to_rsl_rl_dict(self, obs_group_names: list[str] | None = None) -> dict[str, Any]:
-        """The dict ``DistillationRunner`` takes; ``obs_group_names`` (the env's groups) fills ``obs_groups``."""
-        cfg = _convert_deprecated(self)
-        cfg.validate()
-        d = cfg.to_dict()
-        for key in ("policy", "class_name"):
-            d.pop(key, None)
-        groups = list(obs_group_names or ["policy"])
-        obs_groups = dict(d["obs_groups"])
-        obs_groups.setdefault("student", ["student"] if "student" in groups else ["policy"])
+    _not_for_rsl_rl: ClassVar[tuple[str, ...]] = ("policy", "class_name")
+
+    def _without_deprecated(self) -> RslRlDistillationRunnerCfg:
+        return _convert_deprecated(self)
+
+    def _fill_obs_groups(self, obs_groups: dict[str, list[str]], env_groups: list[str]) -> dict[str, list[str]]:
+        """A set left out reads the env group of its name ("student" falls back to "policy"); simlab
+        refuses a teacher that would silently read the student's observations because the env has no
+        "teacher" group."""
+        obs_groups.setdefault("student", ["student"] if "student" in env_groups else ["policy"])
         obs_groups.setdefault("teacher", ["teacher"])  # never the student's own groups by default
-        d["obs_groups"] = obs_groups
-        return d
+        return obs_groups
 
 
 def _convert_deprecated(cfg: RslRlDistillationRunnerCfg) -> RslRlDistillationRunnerCfg:

@@ -4,6 +4,7 @@
 reads: ``obs_groups``, the ``actor`` / ``critic`` model dicts (``class_name`` + ``MLPModel`` kwargs,
 ``distribution_cfg`` for a stochastic actor), and ``algorithm`` (``class_name`` + ``PPO`` kwargs).
 The pre-4.0 ``policy = RslRlPpoActorCriticCfg(...)`` form is still accepted and converted.
+``RslRlBaseRunnerCfg`` holds the settings every runner config shares (the distillation one derives from it too).
 """
 
 from __future__ import annotations
@@ -11,11 +12,12 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Callable
 from dataclasses import MISSING, field
-from typing import Any, Literal
+from typing import Any, ClassVar, Literal
 
 from simlab.utils import configclass
 
 __all__ = [
+    "RslRlBaseRunnerCfg",
     "RslRlCNNModelCfg",
     "RslRlMLPModelCfg",
     "RslRlOnPolicyRunnerCfg",
@@ -137,8 +139,9 @@ class RslRlPpoAlgorithmCfg:
 
 
 @configclass
-class RslRlOnPolicyRunnerCfg:
-    """The runner: rollout length, iterations, models, algorithm, logging and checkpoints."""
+class RslRlBaseRunnerCfg:
+    """What every rsl_rl runner config has: seed, device, rollout length, iterations, observation sets,
+    action clipping, logging and checkpoints. Each runner config adds its models and ``algorithm``."""
 
     seed: int = 42
     device: str = field(default_factory=_default_device)
@@ -147,11 +150,54 @@ class RslRlOnPolicyRunnerCfg:
     """Environment steps per env collected in each iteration."""
     max_iterations: int = MISSING
     obs_groups: dict[str, list[str]] = {}
-    """Observation sets -> env observation groups, e.g. ``{"actor": ["policy"], "critic": ["critic"]}``.
-    Empty: the actor reads "policy", the critic "critic" if the env has that group, else "policy"."""
+    """Observation sets -> env observation groups: ``{"actor": [...], "critic": [...]}`` for PPO,
+    ``{"student": [...], "teacher": [...]}`` for distillation. ``to_rsl_rl_dict`` fills the sets left
+    out from the env's groups, as each runner config's ``_fill_obs_groups`` says."""
     clip_actions: float | None = None
-    """Clip actions to [-clip_actions, clip_actions] in the wrapper; None does not clip."""
+    """Clip actions (a distillation's: the student's) to [-clip_actions, clip_actions] in the wrapper;
+    None does not clip."""
     check_for_nan: bool = True
+    save_interval: int = MISSING
+    """Iterations between checkpoints."""
+    experiment_name: str = MISSING
+    """Folder under ``logs/rsl_rl/``."""
+    run_name: str = ""
+    """Appended to the run folder's time stamp: ``<timestamp>_<run_name>``."""
+    logger: Literal["tensorboard", "wandb", "neptune"] = "tensorboard"
+    wandb_project: str = "simlab"
+    neptune_project: str = "simlab"
+    resume: bool = False
+    load_run: str = ".*"
+    """Run folder to resume from (regex; the latest match)."""
+    load_checkpoint: str = "model_.*.pt"
+    """Checkpoint file to resume from (regex; the latest match)."""
+
+    _not_for_rsl_rl: ClassVar[tuple[str, ...]] = ()
+    """Fields the rsl_rl runner does not take (simlab's own, deprecated ones), left out of its dict."""
+
+    def to_rsl_rl_dict(self, obs_group_names: list[str] | None = None) -> dict[str, Any]:
+        """The dict the rsl_rl runner takes; ``obs_group_names`` (the env's groups) fills ``obs_groups``."""
+        cfg = self._without_deprecated()
+        cfg.validate()
+        d = cfg.to_dict()
+        for key in self._not_for_rsl_rl:
+            d.pop(key, None)
+        d["obs_groups"] = self._fill_obs_groups(dict(d["obs_groups"]), list(obs_group_names or ["policy"]))
+        return d
+
+    def _without_deprecated(self) -> RslRlBaseRunnerCfg:
+        """A copy with the deprecated fields turned into their replacements."""
+        return self.copy()
+
+    def _fill_obs_groups(self, obs_groups: dict[str, list[str]], env_groups: list[str]) -> dict[str, list[str]]:
+        """``obs_groups`` with the sets it leaves out read from ``env_groups``."""
+        return obs_groups
+
+
+@configclass
+class RslRlOnPolicyRunnerCfg(RslRlBaseRunnerCfg):
+    """The PPO runner (rsl_rl ``OnPolicyRunner``): the runner settings, actor, critic and algorithm."""
+
     fast_update: bool | None = None
     """simlab's PPO update (:mod:`simlab.rl.rsl_rl.fast_update`): rsl_rl's update math with no host
     read per mini-batch, replayed as one CUDA graph on the GPU. None: on CUDA wherever it covers
@@ -169,32 +215,17 @@ class RslRlOnPolicyRunnerCfg:
     """Deprecated: set ``actor`` and ``critic`` instead."""
     empirical_normalization: bool | None = None
     """Deprecated: set ``obs_normalization`` of the models instead."""
-    save_interval: int = MISSING
-    """Iterations between checkpoints."""
-    experiment_name: str = MISSING
-    """Folder under ``logs/rsl_rl/``."""
-    run_name: str = ""
-    """Appended to the run folder's time stamp: ``<timestamp>_<run_name>``."""
-    logger: Literal["tensorboard", "wandb", "neptune"] = "tensorboard"
-    wandb_project: str = "simlab"
-    neptune_project: str = "simlab"
-    resume: bool = False
-    load_run: str = ".*"
-    """Run folder to resume from (regex; the latest match)."""
-    load_checkpoint: str = "model_.*.pt"
-    """Checkpoint file to resume from (regex; the latest match)."""
 
-    def to_rsl_rl_dict(self, obs_group_names: list[str] | None = None) -> dict[str, Any]:
-        """The dict ``OnPolicyRunner`` takes; ``obs_group_names`` (the env's groups) resolves ``obs_groups``."""
-        cfg = _convert_deprecated(self)
-        cfg.validate()
-        d = cfg.to_dict()
-        for key in ("policy", "empirical_normalization", "fast_update", "graph_act"):
-            d.pop(key, None)
-        if not d["obs_groups"]:
-            groups = obs_group_names or ["policy"]
-            d["obs_groups"] = {"actor": ["policy"], "critic": ["critic"] if "critic" in groups else ["policy"]}
-        return d
+    _not_for_rsl_rl: ClassVar[tuple[str, ...]] = ("policy", "empirical_normalization", "fast_update", "graph_act")
+
+    def _without_deprecated(self) -> RslRlOnPolicyRunnerCfg:
+        return _convert_deprecated(self)
+
+    def _fill_obs_groups(self, obs_groups: dict[str, list[str]], env_groups: list[str]) -> dict[str, list[str]]:
+        """Empty: the actor reads "policy", the critic "critic" if the env has that group, else "policy"."""
+        if obs_groups:
+            return obs_groups
+        return {"actor": ["policy"], "critic": ["critic"] if "critic" in env_groups else ["policy"]}
 
 
 def _convert_deprecated(cfg: RslRlOnPolicyRunnerCfg) -> RslRlOnPolicyRunnerCfg:
