@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 
 import gymnasium as gym
+import mujoco
 import numpy as np
 import pytest
 import torch
@@ -13,7 +14,7 @@ from conftest import rendering_available
 
 import simlab.sim as sim_utils
 import simlab.tasks  # noqa: F401 - registers the tasks
-from simlab.assets import ArticulationCfg
+from simlab.assets import ArticulationCfg, AssetBaseCfg
 from simlab.robots.cartpole import CARTPOLE_CFG
 from simlab.scene import InteractiveScene, InteractiveSceneCfg
 from simlab.sensors import TiledCameraCfg
@@ -43,14 +44,16 @@ def front_camera(data_types, prim_path="{ENV_REGEX_NS}/Camera", **changes) -> Ti
     return cfg.replace(**changes)
 
 
-def cartpole_scene(camera: TiledCameraCfg, num_envs: int = 2):
+def cartpole_scene(camera: TiledCameraCfg, num_envs: int = 2, light: sim_utils.LightCfg | None = None):
     @configclass
     class SceneCfg(InteractiveSceneCfg):
         robot: ArticulationCfg = CARTPOLE_CFG.replace(prim_path="{ENV_REGEX_NS}/Robot")
         camera: TiledCameraCfg = None
+        light: AssetBaseCfg | None = None
 
     sim = SimulationContext(SimulationCfg(device="cpu"))
-    scene = InteractiveScene(SceneCfg(num_envs=num_envs, env_spacing=20.0, camera=camera))
+    light = AssetBaseCfg(prim_path="/World/light", spawn=light) if light is not None else None
+    scene = InteractiveScene(SceneCfg(num_envs=num_envs, env_spacing=20.0, camera=camera, light=light))
     sim.reset()
     scene.update(sim.get_physics_dt())
     return sim, scene
@@ -161,6 +164,33 @@ def test_image_shows_the_cart_and_follows_the_pole():
     torch.testing.assert_close(tipped[0], upright[0])  # env 0 did not move
     changed = (tipped[1].int() - upright[1].int()).abs().amax(dim=-1) > 30
     assert changed.sum() > 20  # env 1's pole moved
+
+
+@needs_gl
+def test_a_dome_light_is_the_sky_of_videos_and_not_of_camera_images():
+    """A visible dome light gives the model a skybox in its colour, which a video draws above the
+    horizon; a camera sensor's RGB and depth images are bit-identical with and without it (the shipped
+    camera policies were trained on a black background)."""
+    from simlab.sim.renderer import OffscreenRenderer
+
+    shots = {}
+    for visible in (True, False):
+        dome = sim_utils.DomeLightCfg(color=(0.2, 0.4, 0.8), intensity=2000.0, visible_in_primary_ray=visible)
+        sim, scene = cartpole_scene(front_camera(["rgb", "depth"]), light=dome)
+        set_pole(scene, [0.0, 0.5])
+        output = scene["camera"].data.output
+        video = OffscreenRenderer(sim.model, 64, 48, max_envs=1)
+        frame = video.render(sim.physics, [0], np.zeros((1, 3)), eye=(-5.0, 0.0, 2.0), lookat=(0.0, 0.0, 2.0))
+        video.close()
+        skyboxes = int((sim.model.tex_type == mujoco.mjtTexture.mjTEXTURE_SKYBOX).sum())
+        shots[visible] = skyboxes, output["rgb"].clone(), output["depth"].clone(), frame
+    (sky, rgb, depth, frame), (no_sky, rgb_before, depth_before, frame_before) = shots[True], shots[False]
+    assert (sky, no_sky) == (1, 0)
+    assert torch.isinf(depth).sum() > 100  # the camera sees past everything, where a sky would be
+    assert torch.equal(rgb, rgb_before) and torch.equal(depth, depth_before)
+    red, green, blue = frame[0].astype(int).T  # the video's top row: the dome's blue sky, black without it
+    assert (blue > red + 40).all() and (blue > green).all()
+    assert not frame_before[0].any()
 
 
 @needs_gl

@@ -239,6 +239,28 @@ def test_lights_take_isaac_lab_settings():
         assert model.light_dir[light["spot"]].tolist() == pytest.approx([0.0, 0.0, 1.0])  # -z turned over: up
 
 
+def test_a_visible_dome_light_is_the_sky():
+    """The first dome light visible to primary rays gives the model a skybox: a gradient from its colour
+    overhead to a darker shade; a dome hidden from them adds none."""
+    sky = mujoco.mjtTexture.mjTEXTURE_SKYBOX
+    with sim_utils.build_simulation_context(device="cpu") as sim:
+        hidden = sim_utils.DomeLightCfg(color=(0.9, 0.1, 0.1), visible_in_primary_ray=False)
+        hidden.func("/World/hidden", hidden)
+        for name, colour in (("blue", (0.2, 0.4, 0.8)), ("green", (0.1, 0.9, 0.1))):
+            cfg = sim_utils.DomeLightCfg(color=colour)
+            cfg.func(f"/World/{name}", cfg)
+        sim.reset()
+        (texture,) = [sim.model.texture(i) for i in range(sim.model.ntex) if sim.model.tex_type[i] == sky]
+        assert texture.name == "/World/blue/sky"
+        pixels = sim.model.tex_data[texture.adr[0] : texture.adr[0] + texture.width[0] * texture.height[0] * 3]
+        red, green, blue = pixels.reshape(-1, 3).astype(int).T
+        assert (blue >= red).all() and (green >= red).all() and blue.max() > 150
+    with sim_utils.build_simulation_context(device="cpu") as sim:
+        hidden.func("/World/hidden", hidden)
+        sim.reset()
+        assert sky not in sim.model.tex_type
+
+
 def test_clear_empties_the_stage_for_a_new_scene():
     with sim_utils.build_simulation_context(device="cpu", add_ground_plane=True) as sim:
         sim.reset()

@@ -81,6 +81,9 @@ class MujocoCameraRenderer:
         # (use_shadows=False), and the mirror pass alone was 40 % of a 100 x 100 image drawn on the CPU.
         self._renderer.scene.flags[mujoco.mjtRndFlag.mjRND_REFLECTION] = 0
         self._renderer.scene.flags[mujoco.mjtRndFlag.mjRND_SHADOW] = 0
+        # No sky (a dome light's skybox, drawn in videos): MuJoCo Warp's ray tracer leaves missed rays
+        # black here too, and policies were trained on images with a black background.
+        self._renderer.scene.flags[mujoco.mjtRndFlag.mjRND_SKYBOX] = 0
         self._data = mujoco.MjData(model)
         self._option = geoms_only_option()
         self._far = float(model.vis.map.zfar * model.stat.extent)

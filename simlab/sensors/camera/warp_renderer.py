@@ -75,6 +75,7 @@ class WarpCameraRenderer:
                 cam_active=[camera_id],
                 enabled_geom_groups=[0, 1, 2],
                 use_shadows=False,
+                render_skybox=False,  # missed rays black, as the CPU camera draws them (no sky)
             )
             # One render outside any graph capture: it builds and loads the render kernel.
             self._refit_and_render()

@@ -4,6 +4,12 @@ Isaac Lab's (USD) light settings carry over: the brightness is ``intensity * 2**
 ``enable_color_temperature`` tints the colour with a black body's at ``color_temperature`` kelvin.
 Dome and distant lights shine from above (a dome adds ambient light); a sphere or cylinder light is
 a point light at its position, a disk light a spot light along its prim's -z axis.
+
+A dome light that is ``visible_in_primary_ray`` (Isaac Lab's default) is also the sky a viewer sees:
+MuJoCo's skybox, a gradient from the dome's colour overhead to a darker shade below. Videos and the
+native viewer draw it; camera sensors do not (their renderers turn MuJoCo's skybox flag off, and MuJoCo
+Warp's ray tracer draws none), so their images do not depend on it. A ``texture_file`` is not read:
+the sky shows the dome's colour.
 """
 
 from __future__ import annotations
@@ -37,6 +43,28 @@ def black_body_rgb(kelvin: float) -> tuple[float, float, float]:
     return tuple(min(max(c, 0.0), 255.0) / 255.0 for c in (red, green, blue))
 
 
+SKY_HORIZON_SHADE = 0.4
+"""The sky's colour below the horizon, as a share of its colour overhead."""
+SKY_TEXTURE_WIDTH = 64
+"""Pixels per side of each of the sky's six cube faces: a smooth gradient needs few."""
+
+
+def add_sky(spec: mujoco.MjSpec, prim_path: str, color) -> None:
+    """Give ``spec`` a skybox that fades from ``color`` overhead to a darker shade below, unless it has
+    one (MuJoCo draws one skybox: the first dome light's)."""
+    if any(texture.type == mujoco.mjtTexture.mjTEXTURE_SKYBOX for texture in spec.textures):
+        return
+    spec.add_texture(
+        name=f"{prim_path.rstrip('/')}/sky",
+        type=mujoco.mjtTexture.mjTEXTURE_SKYBOX,
+        builtin=mujoco.mjtBuiltin.mjBUILTIN_GRADIENT,
+        rgb1=[min(1.0, c) for c in color],
+        rgb2=[min(1.0, c) * SKY_HORIZON_SHADE for c in color],
+        width=SKY_TEXTURE_WIDTH,
+        height=SKY_TEXTURE_WIDTH,
+    )
+
+
 def spawn_light(prim_path: str, cfg: LightCfg, translation=None, orientation=None):
     """Add the light to the spec being built."""
     spec = current_spec()
@@ -58,6 +86,8 @@ def spawn_light(prim_path: str, cfg: LightCfg, translation=None, orientation=Non
     if isinstance(cfg, DomeLightCfg):
         # A dome light is light from everywhere: MuJoCo's headlight ambient term plus a top light.
         spec.visual.headlight.ambient = [0.4 * c for c in diffuse]
+        if cfg.visible_in_primary_ray:
+            add_sky(spec, prim_path, color)
     return spec.worldbody.add_light(
         name=prim_path.rstrip("/").split("/")[-1] or "light",
         type=kind,
