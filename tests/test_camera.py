@@ -350,7 +350,9 @@ def test_warp_renderer_matches_mujoco_renderer(warp_device):
     from simlab.sensors.camera.warp_renderer import WarpCameraRenderer
     from simlab.sim.backends.cuda import CudaBackend
 
-    sim, scene = cartpole_scene(front_camera(["rgb"]).replace(width=80, height=60))
+    # a visible dome light: its sky is in the model, and neither renderer draws it in a camera's image
+    dome = sim_utils.DomeLightCfg(color=(0.75, 0.75, 0.75), intensity=2000.0)
+    sim, scene = cartpole_scene(front_camera(["rgb"]).replace(width=80, height=60), light=dome)
     set_pole(scene, [0.3, -0.8])
     physics, model, camera_id = sim.physics, sim.model, scene["camera"]._camera_id
     physics.ensure_forward()

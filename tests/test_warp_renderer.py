@@ -68,6 +68,21 @@ def test_warp_frames_show_the_envs_where_opengl_draws_them(cartpoles):
     assert overlap > 0.5, f"the poles moved in different places: IoU {overlap:.2f}"
 
 
+def test_warp_frames_show_the_dome_lights_sky_as_opengl_does(cartpoles):
+    """The cartpole's dome light is the sky above the horizon: the ray tracer shades missed rays with
+    the model's skybox, in the colours OpenGL draws it."""
+    eye, lookat = (-6.0, 0.0, 2.5), (0.0, 0.0, 2.5)  # level: the upper half of the frame is sky
+    shot = lambda renderer: renderer.render(cartpoles.sim.physics, [0], np.zeros((1, 3)), eye, lookat)  # noqa: E731
+    sky = shot(WarpRenderer(cartpoles.sim.spec, cartpoles.sim.physics, *SIZE, max_envs=1))[:10].astype(int)
+    assert sky.min() > 100  # the dome's light grey, not black
+    if not rendering_available():
+        pytest.skip("no OpenGL backend here to compare with")
+    from simlab.sim.renderer import OffscreenRenderer
+
+    gl_sky = shot(OffscreenRenderer(cartpoles.sim.model, *SIZE, max_envs=1))[:10].astype(int)
+    assert np.abs(sky - gl_sky).max() <= 4
+
+
 def test_renderer_choice(monkeypatch, cartpoles):
     monkeypatch.setenv("SIMLAB_RENDERER", "warp")
     assert renderer_kind(uses_mujoco_warp=True) == "warp"

@@ -78,6 +78,7 @@ class WarpRenderer:
                 render_rgb=True,
                 render_depth=True,
                 cam_active=[CAMERA_NAME],
+                render_skybox=True,  # a dome light's sky, as the OpenGL path draws it
             )
             self._rgb = wp.zeros((n, height, width), dtype=wp.vec3)
             self._depth = wp.zeros((n, height, width), dtype=float)
