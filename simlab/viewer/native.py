@@ -1,9 +1,13 @@
 """The native viewer: MuJoCo's own window (``mujoco.viewer.launch_passive``), where there is a display.
 
 The followed env is MuJoCo's data of the window; its neighbours are drawn into the window's user
-scene at their origins. Keys: space pauses / resumes, the right arrow steps once while paused,
-``[`` / ``]`` follow the previous / next env, ``-`` / ``=`` draw less / more often, ``V`` turns
-drawing off and on (training at full speed). Letter and digit keys that a teleoperation device
+scene at their origins. The camera starts where the env's videos look from and at (``cfg.viewer``,
+``simlab.envs.utils.viewer.view_frame``) and moves with the followed env, or with the asset a camera
+of ``origin_type="asset_root"`` / ``"asset_body"`` follows, keeping the person's turns and zoom.
+
+Keys: space pauses / resumes, the right arrow steps once while paused, ``[`` / ``]`` follow the
+previous / next env, ``-`` / ``=`` draw less / more often, ``V`` turns drawing off and on (training
+at full speed). Letter and digit keys that a teleoperation device
 listens for (``simlab.devices.Se3Keyboard``: W, S, A, D, ...) go to it instead, through
 :data:`simlab.devices.keys.key_hub`, as taps: MuJoCo's window reports presses, not releases.
 
@@ -65,9 +69,13 @@ class NativeViewer(LiveViewer):
             )
         except Exception as err:  # noqa: BLE001 - GLFW errors come in many types
             raise ViewerError(f"MuJoCo's viewer window did not open ({err}); use --viewer web instead") from err
-        if source.eye_offset is not None:
+        # the env's viewer camera (cfg.viewer) as its videos have it; then moved with the followed env
+        # (or asset) by as much as that moves, keeping the person's turns and zoom
+        self._anchor = source.anchor(follow)
+        camera = source.camera(follow)
+        if camera is not None:
             with self._handle.lock():
-                set_free_camera(self._handle.cam, source.eye_offset, (0.0, 0.0, 0.0))
+                set_free_camera(self._handle.cam, *camera)
         self._start()
 
     def _on_key(self, key: int) -> None:
@@ -109,6 +117,9 @@ class NativeViewer(LiveViewer):
             for name, values in snapshot.states.items():  # the followed env is the window's own data
                 getattr(self._data, name)[:] = values[0]
             mujoco.mj_forward(self._model, self._data)
+            if snapshot.anchor is not None and self._anchor is not None:
+                self._handle.cam.lookat[:] += snapshot.anchor - self._anchor
+            self._anchor = snapshot.anchor
             scene = self._handle.user_scn
             scene.ngeom = 0
             self._builder.add_neighbours(scene, snapshot.states, snapshot.offsets)

@@ -9,12 +9,14 @@ touched: a CUDA-graphed GPU step stays graphed.
 
 from __future__ import annotations
 
+import copy
 from dataclasses import dataclass, field
 
 import mujoco
 import numpy as np
 import torch
 
+from simlab.envs.utils.viewer import camera_pose, view_frame
 from simlab.sim.renderer import DecorGeom, SceneDecor, gather_env_states
 
 __all__ = ["EnvSnapshot", "SimSource"]
@@ -30,6 +32,7 @@ class EnvSnapshot:
     episode_return: float | None = None  # of the followed env's running episode
     episode_length: int | None = None
     decor: list[DecorGeom] = field(default_factory=list)  # the followed env's debug markers
+    anchor: np.ndarray | None = None  # the point of the followed env the camera moves with (SimSource.anchor)
 
 
 class SimSource:
@@ -42,9 +45,11 @@ class SimSource:
         env_origins: torch.Tensor,
         step_dt: float,
         eye_offset: np.ndarray | None = None,
+        env=None,
     ):
         self.model = model
         self.eye_offset = eye_offset  # where the camera starts, relative to what it looks at
+        self._env = env  # the env whose ``cfg.viewer`` places the camera; None for a bare simulation
         self.physics = physics
         self.env_origins = env_origins
         self.num_envs = int(env_origins.shape[0])
@@ -56,11 +61,35 @@ class SimSource:
         viewer = env.cfg.viewer
         eye_offset = np.asarray(viewer.eye, dtype=np.float64) - np.asarray(viewer.lookat, dtype=np.float64)
         # the worlds' frame offsets (zero on a shared terrain), which is how far their geoms are moved
-        return cls(env.sim.model, env.sim.physics, env.sim.env_origins, float(env.step_dt), eye_offset)
+        return cls(env.sim.model, env.sim.physics, env.sim.env_origins, float(env.step_dt), eye_offset, env)
 
     @classmethod
     def of_sim(cls, sim) -> SimSource:
         return cls(sim.model, sim.physics, sim.env_origins, float(sim.get_physics_dt()))
+
+    def camera(self, follow: int) -> tuple[np.ndarray, np.ndarray] | None:
+        """The eye and look-at point of the env's viewer camera (``cfg.viewer``) showing env ``follow``,
+        in its MuJoCo frame: where ``env.render()``'s video camera looks from and at (``view_frame``)."""
+        if self._env is None:
+            return None
+        env = self._env
+        aim = getattr(env, "_view_aim", None)  # the video camera's remembered aim: left as it was
+        try:
+            frame = view_frame(env, _viewer_of(env, follow))
+        finally:
+            env._view_aim = aim
+        return frame.eye, frame.lookat
+
+    def anchor(self, follow: int) -> np.ndarray | None:
+        """The point of env ``follow`` (its MuJoCo frame) the camera moves with: the origin of the frame
+        ``cfg.viewer.origin_type`` names (an asset's root or body, as it moves), or the env's origin for
+        a world-frame camera (the viewer follows an env)."""
+        if self._env is None:
+            return None
+        viewer = _viewer_of(self._env, follow)
+        if viewer.origin_type == "world":
+            viewer.origin_type = "env"
+        return camera_pose(self._env, viewer)[1]
 
     def shown_envs(self, follow: int, max_envs: int) -> tuple[list[int], np.ndarray]:
         """Env ``follow`` and the ``max_envs - 1`` envs whose origins are nearest it, with their
@@ -77,7 +106,15 @@ class SimSource:
     def snapshot(self, env_ids: list[int], offsets: np.ndarray) -> EnvSnapshot:
         """The shown envs' state and the followed env's debug markers (debug_vis of commands, sensors, ...)."""
         decor = self._decor.capture(int(env_ids[0]), self.env_origins)
-        return EnvSnapshot(list(env_ids), offsets, gather_env_states(self.physics, env_ids), decor=decor)
+        states = gather_env_states(self.physics, env_ids)
+        return EnvSnapshot(list(env_ids), offsets, states, decor=decor, anchor=self.anchor(int(env_ids[0])))
+
+
+def _viewer_of(env, follow: int):
+    """A copy of ``env.cfg.viewer`` about env ``follow``."""
+    viewer = copy.copy(env.cfg.viewer)
+    viewer.env_index = follow
+    return viewer
 
 
 class HostKinematics:
