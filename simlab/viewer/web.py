@@ -8,6 +8,11 @@ listens for keys (``simlab.devices.Se3Keyboard``), a Teleop tab has a button per
 key's button acts while held down (viser repeats its event), the others act once per click.
 Playing a velocity task, a Steer tab sets the followed env's command (``simlab.viewer.steering``):
 a slider per component within the task's ranges, Stop, and a button back to the task's commands.
+
+The camera starts where the env's videos look from and at (``cfg.viewer``, ``SimSource.camera``) and
+moves with the followed env, or with the asset ``cfg.viewer`` follows (``SimSource.anchor``). mjviser
+shifts the scene so that its tracked body sits at viser's origin, where the page's camera looks; here
+that is the world body (its geoms are drawn once, not from its pose), posed at the look-at point.
 """
 
 from __future__ import annotations
@@ -31,6 +36,7 @@ from simlab.viewer.steering import VelocitySteering
 __all__ = ["WebViewer"]
 
 TELEOP_REPEAT_HZ = 10.0  # a held teleop button's event rate; Se3Keyboard holds a tap for 0.2 s
+LOOKAT_LABEL = "Look-at point (cfg.viewer)"  # the Track body choice that keeps the env's viewer camera
 
 
 def _check_can_listen(host: str, port: int) -> None:
@@ -97,6 +103,12 @@ class WebViewer(LiveViewer):
         # mjviser edits visual scales of the model it is given; it gets its own copy.
         self.scene = ViserMujocoScene(self.server, _copy_model(source.model), num_envs=self.num_shown)
         self.scene.env_idx = 0  # row 0 is always the followed env
+        camera = source.camera(follow)
+        self._eye_offset = None if camera is None else camera[0] - camera[1]
+        self._lookat_from_anchor = None  # where the camera looks, relative to the point it moves with
+        if camera is not None:
+            self._lookat_from_anchor = camera[1] - source.anchor(follow)
+            self.scene._tracked_body_id = 0  # the world body, drawn at the look-at point (see _draw)
         self._neighbour_fixed = self._add_neighbour_fixed_geometry()
         self._offsets_drawn: np.ndarray | None = None
         self._build_gui()
@@ -142,6 +154,8 @@ class WebViewer(LiveViewer):
         if not self.server.get_clients():
             return  # nobody is looking: no work (a page that connects later gets the next frame)
         xpos, xmat = self._kinematics.body_poses(snapshot)
+        if self._lookat_from_anchor is not None and snapshot.anchor is not None:
+            xpos[0, 0] = snapshot.anchor + self._lookat_from_anchor  # mjviser centres the tracked body
         mocap_pos = mocap_quat = None
         if "mocap_pos" in snapshot.states:
             mocap_pos = snapshot.states["mocap_pos"] + snapshot.offsets[:, None]
@@ -208,9 +222,11 @@ class WebViewer(LiveViewer):
 
             bodies = [mujoco.mj_id2name(self.source.model, mujoco.mjtObj.mjOBJ_BODY, b) or f"body {b}"
                       for b in range(self.source.model.nbody)]  # fmt: skip
+            bodies[0] = LOOKAT_LABEL  # the world body stands for the viewer camera's look-at point
+            options = bodies if self._lookat_from_anchor is not None else bodies[1:]
             tracked = self.scene._tracked_body_id  # mjviser's: the body the camera keeps centred
             if tracked is not None:
-                track = gui.add_dropdown("Track body", options=bodies[1:], initial_value=bodies[tracked])
+                track = gui.add_dropdown("Track body", options=options, initial_value=bodies[tracked])
 
                 @track.on_update
                 def _(_) -> None:
@@ -223,7 +239,7 @@ class WebViewer(LiveViewer):
         with tabs.add_tab("Camera"):
             # Row 0 is always the followed env: hide mjviser's own env slider (shown for num_envs > 1).
             shown, self.scene.num_envs = self.scene.num_envs, 1
-            self.scene.create_scene_gui(*_camera_angles(self.source.eye_offset))
+            self.scene.create_scene_gui(*_camera_angles(self._eye_offset))
             self.scene.num_envs = shown
         with tabs.add_tab("Visualization"):
             self.scene.create_overlay_gui()
