@@ -6,19 +6,17 @@ from __future__ import annotations
 
 import contextlib
 import math
-import time
 
-import gymnasium as gym
 import mujoco
 import mujoco.viewer
 import numpy as np
 import pytest
 import torch
+from viewer_camera import draw_frame, make_env
 
 import simlab.tasks  # noqa: F401 - registers the tasks
 import simlab.viewer.native as native
 from simlab.envs.utils.viewer import view_frame
-from simlab.tasks.utils import load_cfg_from_registry
 from simlab.viewer import SimSource
 
 
@@ -67,31 +65,10 @@ def _eye(cam: mujoco.MjvCamera) -> np.ndarray:
     return np.asarray(cam.lookat) - cam.distance * forward
 
 
-def _draw(viewer: native.NativeViewer) -> None:
-    """One frame drawn from the simulation's current state."""
-    drawn = viewer.frames_drawn
-    viewer._next_frame = 0.0
-    viewer.after_step()
-    deadline = time.monotonic() + 10
-    while viewer.frames_drawn == drawn and time.monotonic() < deadline:
-        time.sleep(0.01)
-    assert viewer.frames_drawn > drawn and not viewer.failed
-
-
-def _make(task: str, num_envs: int = 2, **viewer):
-    cfg = load_cfg_from_registry(task, "env_cfg_entry_point")
-    cfg.scene.num_envs, cfg.sim.device = num_envs, "cpu"
-    for name, value in viewer.items():
-        setattr(cfg.viewer, name, value)
-    env = gym.make(task, cfg=cfg)
-    env.reset(seed=0)
-    return env
-
-
 def test_the_native_viewer_looks_from_the_videos_eye_at_their_look_at_point(open_native):
     """The depth cartpole's camera looks level at its cart 2.5 m up (eye (7, 0, 2.5), lookat (0, 0, 2.5)),
     not from the ground at the floor's edge."""
-    env = _make("simlab/Cartpole-Depth-v0")
+    env = make_env("simlab/Cartpole-Depth-v0")
     try:
         u = env.unwrapped
         video = view_frame(u, u.cfg.viewer)
@@ -106,7 +83,7 @@ def test_the_native_viewer_looks_from_the_videos_eye_at_their_look_at_point(open
 
 def test_the_native_viewer_moves_with_the_followed_asset_and_env(open_native):
     eye, lookat = (3.0, 0.0, 3.0), (0.0, 0.0, 1.0)
-    env = _make("simlab/Cartpole-v0", origin_type="asset_root", asset_name="robot", eye=eye, lookat=lookat)
+    env = make_env("simlab/Cartpole-v0", origin_type="asset_root", asset_name="robot", eye=eye, lookat=lookat)
     try:
         u = env.unwrapped
         robot = u.scene["robot"]
@@ -120,11 +97,11 @@ def test_the_native_viewer_moves_with_the_followed_asset_and_env(open_native):
         pose[1, :3] += torch.tensor([1.0, 0.5, 0.0])  # env 1's robot moves; env 0's stays
         robot.write_root_pose_to_sim(pose)
         u.sim.forward()
-        _draw(viewer)
+        draw_frame(viewer)
         np.testing.assert_allclose(cam.lookat, root + lookat + [1.0, 0.5, 0.0], atol=1e-6)
         assert (cam.azimuth, cam.elevation, cam.distance) == (30.0, -20.0, 5.0)
         viewer.controls.follow = 0  # `[`: follow env 0, whose robot stands where env 1's stood
-        _draw(viewer)
+        draw_frame(viewer)
         np.testing.assert_allclose(cam.lookat, root + lookat, atol=1e-6)
     finally:
         env.close()

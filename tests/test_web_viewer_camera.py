@@ -8,15 +8,14 @@ import importlib.util
 import threading
 import time
 
-import gymnasium as gym
 import numpy as np
 import pytest
 import torch
 from headless_browser import free_port
+from viewer_camera import draw_frame, make_env
 
 import simlab.tasks  # noqa: F401 - registers the tasks
 from simlab.envs.utils.viewer import view_frame
-from simlab.tasks.utils import load_cfg_from_registry
 from simlab.viewer import SimSource
 
 pytestmark = pytest.mark.skipif(
@@ -67,27 +66,6 @@ def _camera(viewer, page: _Page) -> tuple[np.ndarray, np.ndarray]:
     return page.client.camera.position - shift, page.client.camera.look_at - shift
 
 
-def _draw(viewer) -> None:
-    """One frame drawn from the simulation's current state."""
-    drawn = viewer.frames_drawn
-    viewer._next_frame = 0.0
-    viewer.after_step()
-    deadline = time.monotonic() + 10
-    while viewer.frames_drawn == drawn and time.monotonic() < deadline:
-        time.sleep(0.01)
-    assert viewer.frames_drawn > drawn and not viewer.failed
-
-
-def _make(task: str, num_envs: int = 2, **viewer):
-    cfg = load_cfg_from_registry(task, "env_cfg_entry_point")
-    cfg.scene.num_envs, cfg.sim.device = num_envs, "cpu"
-    for name, value in viewer.items():
-        setattr(cfg.viewer, name, value)
-    env = gym.make(task, cfg=cfg)
-    env.reset(seed=0)
-    return env
-
-
 @pytest.fixture
 def open_web():
     from simlab.viewer.web import WebViewer
@@ -99,7 +77,7 @@ def open_web():
         opened.append(viewer)
         page = _Page(viewer)
         opened.append(page)
-        _draw(viewer)
+        draw_frame(viewer)
         return viewer, page
 
     yield open_on
@@ -110,7 +88,7 @@ def open_web():
 def test_the_web_viewer_looks_from_the_videos_eye_at_their_look_at_point(open_web):
     """The cartpoles' world-frame camera (eye (8, 0, 5), lookat (0, 0, 0)) frames both envs in videos,
     looking at a point between them; it stays there while a cart slides along its rail."""
-    env = _make("simlab/Cartpole-v0")
+    env = make_env("simlab/Cartpole-v0")
     try:
         u = env.unwrapped
         video = view_frame(u, u.cfg.viewer)
@@ -123,7 +101,7 @@ def test_the_web_viewer_looks_from_the_videos_eye_at_their_look_at_point(open_we
         joint_pos[0, 0] += 1.0  # env 0's cart moves 1 m along its rail
         robot.write_joint_state_to_sim(joint_pos, robot.data.joint_vel.clone())
         u.sim.forward()
-        _draw(viewer)
+        draw_frame(viewer)
         eye, lookat = _camera(viewer, page)
         np.testing.assert_allclose(lookat, video.lookat, atol=1e-6)
         np.testing.assert_allclose(eye, video.eye, atol=1e-6)
@@ -133,7 +111,7 @@ def test_the_web_viewer_looks_from_the_videos_eye_at_their_look_at_point(open_we
 
 def test_the_web_viewer_moves_with_the_followed_asset_and_env(open_web):
     eye, lookat = (3.0, 0.0, 3.0), (0.0, 0.0, 1.0)
-    env = _make("simlab/Cartpole-v0", origin_type="asset_root", asset_name="robot", eye=eye, lookat=lookat)
+    env = make_env("simlab/Cartpole-v0", origin_type="asset_root", asset_name="robot", eye=eye, lookat=lookat)
     try:
         u = env.unwrapped
         robot = u.scene["robot"]
@@ -145,10 +123,10 @@ def test_the_web_viewer_moves_with_the_followed_asset_and_env(open_web):
         pose[1, :3] += torch.tensor([1.0, 0.5, 0.0])  # env 1's robot moves; env 0's stays
         robot.write_root_pose_to_sim(pose)
         u.sim.forward()
-        _draw(viewer)
+        draw_frame(viewer)
         np.testing.assert_allclose(_camera(viewer, page)[1], root + lookat + [1.0, 0.5, 0.0], atol=1e-6)
         viewer.controls.follow = 0  # follow env 0, whose robot stands where env 1's stood
-        _draw(viewer)
+        draw_frame(viewer)
         np.testing.assert_allclose(_camera(viewer, page)[1], root + lookat, atol=1e-6)
     finally:
         env.close()
