@@ -44,11 +44,9 @@ class SimSource:
         physics,
         env_origins: torch.Tensor,
         step_dt: float,
-        eye_offset: np.ndarray | None = None,
         env=None,
     ):
         self.model = model
-        self.eye_offset = eye_offset  # where the camera starts, relative to what it looks at
         self._env = env  # the env whose ``cfg.viewer`` places the camera; None for a bare simulation
         self.physics = physics
         self.env_origins = env_origins
@@ -58,10 +56,7 @@ class SimSource:
 
     @classmethod
     def of_env(cls, env) -> SimSource:
-        viewer = env.cfg.viewer
-        eye_offset = np.asarray(viewer.eye, dtype=np.float64) - np.asarray(viewer.lookat, dtype=np.float64)
-        # the worlds' frame offsets (zero on a shared terrain), which is how far their geoms are moved
-        return cls(env.sim.model, env.sim.physics, env.sim.env_origins, float(env.step_dt), eye_offset, env)
+        return cls(env.sim.model, env.sim.physics, env.sim.env_origins, float(env.step_dt), env)
 
     @classmethod
     def of_sim(cls, sim) -> SimSource:
