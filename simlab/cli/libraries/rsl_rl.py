@@ -54,8 +54,12 @@ def is_teacher_checkpoint(path: str, trust: bool = False) -> bool:
     """True for a checkpoint that holds a policy to distil (a PPO run's ``actor_state_dict``, no student):
     it may come from another task (the state cartpole teaches the camera one), so the checks that a
     checkpoint fits this task are the teacher's layer sizes when it loads."""
-    loaded = torch_load(path, map_location="cpu", trust=trust)
-    return isinstance(loaded, dict) and "actor_state_dict" in loaded and "student_state_dict" not in loaded
+    return _holds_teacher(torch_load(path, map_location="cpu", trust=trust))
+
+
+def _holds_teacher(saved: Any) -> bool:
+    """A loaded checkpoint with a PPO run's actor and no student."""
+    return isinstance(saved, dict) and "actor_state_dict" in saved and "student_state_dict" not in saved
 
 
 def configure(agent_cfg: RslRlOnPolicyRunnerCfg, args: argparse.Namespace, env_cfg: Any) -> None:
@@ -495,13 +499,14 @@ def guard_divergence(runner: OnPolicyRunner, run_dir: str) -> None:
 def load_policy(env: gym.Env, agent_cfg: RslRlOnPolicyRunnerCfg, checkpoint: str, trust: bool = False) -> Policy:
     runner = make_runner(env, agent_cfg, None)
     played = "student" if is_distillation(agent_cfg) else "actor"  # what the checkpoint's policy is called
-    if played == "student" and is_teacher_checkpoint(checkpoint, trust):
+    saved = torch_load(checkpoint, map_location="cpu", trust=trust)  # read once for both checks
+    if played == "student" and _holds_teacher(saved):
         raise CheckpointError(
             f"Checkpoint '{checkpoint}' holds a PPO policy (a teacher), not a distilled student: play it without"
             " --agent (the task's PPO agent), or distil it first (simlab train --agent <distillation entry point>"
             " --checkpoint <it>)."
         )
-    if played == "actor" and "student_state_dict" in torch_load(checkpoint, map_location="cpu", trust=trust):
+    if played == "actor" and "student_state_dict" in saved:
         raise CheckpointError(
             f"Checkpoint '{checkpoint}' holds a distilled student, not a PPO policy: play it with the distillation"
             " agent it was trained with (--agent rsl_rl_distillation_cfg_entry_point, or the task's other one)."
