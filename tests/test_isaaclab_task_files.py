@@ -433,6 +433,21 @@ def test_the_porting_table_lists_every_case_and_stop():
         assert f"| {family} |" in section and f"`{path}`" in section, path
 
 
+def test_the_porting_table_has_a_row_for_every_registered_family_of_isaac_labs():
+    """Every family of docs/task_families.yaml that simlab registers and Isaac Lab has files for (its ids
+    listed, no ``why_not``) says in docs/porting.md's table whether Isaac Lab's files run, and where."""
+    import yaml
+
+    docs = Path(__file__).parent.parent / "docs"
+    section = (docs / "porting.md").read_text().split("### Isaac Lab's task files, family by family", 1)[1]
+    section = section.split("\n## ", 1)[0]
+    families = yaml.safe_load((docs / "task_families.yaml").read_text())
+    missing = [
+        f["family"] for f in families if f["isaaclab"] and "why_not" not in f and f"| {f['family']} |" not in section
+    ]
+    assert not missing, f"docs/porting.md: no row for {missing}"
+
+
 @pytest.mark.skipif(not SOURCE, reason="SIMLAB_ISAACLAB_SOURCE (an Isaac Lab 2.x checkout) is not set")
 @pytest.mark.parametrize("name", sorted(CASES))
 def test_isaac_labs_task_files_run_after_the_import_mapping(name, tmp_path):
