@@ -207,3 +207,21 @@ def test_rough_plane_stands_in_as_a_height_field_the_ray_caster_scans():
     heights = scene["scanner"].data.ray_hits_w[..., 2]
     assert torch.isfinite(heights).all() and heights.min() >= -1e-4 and heights.max() <= 0.1 + 1e-4
     assert heights.std() > 0.01  # bumps, not a plane
+
+
+def test_the_robot_stand_holds_the_arm_at_its_top_and_reaches_the_ground():
+    """Isaac Sim's robot stand, as Isaac Lab's diff-IK tutorial mounts its arm (scaled by 2, at the robot's
+    base, the ground 1.05 m below): a static box whose top is at the prop's origin and whose foot is 1.03 m
+    below it (where Isaac Lab's arms demo puts the ground)."""
+    spawn = sim_utils.UsdFileCfg(
+        usd_path=f"{ISAAC_NUCLEUS_DIR}/Props/Mounts/Stand/stand_instanceable.usd", scale=(2.0, 2.0, 2.0)
+    )
+    _scene(table=AssetBaseCfg(prim_path="{ENV_REGEX_NS}/Table", spawn=spawn))
+    model = sim_utils.SimulationContext.instance().model
+    assert model.ngeom == 1  # a static box (each env is a world of its own)
+    geom = model.geom(0)
+    assert geom.type == mujoco.mjtGeom.mjGEOM_BOX and model.body_dofnum[geom.bodyid] == 0
+    data = mujoco.MjData(model)
+    mujoco.mj_forward(model, data)
+    top, foot = data.geom_xpos[0, 2] + geom.size[2], data.geom_xpos[0, 2] - geom.size[2]
+    assert abs(top) < 1e-9 and abs(foot + 1.03) < 1e-6

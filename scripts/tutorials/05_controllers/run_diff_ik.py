@@ -1,8 +1,8 @@
 """Drive the Franka's hand through a cycle of goal poses with the differential IK controller.
 
 Isaac Lab's ``05_controllers/run_diff_ik.py`` tutorial with ``isaaclab`` imports replaced by ``simlab``
-(and the table a box instead of a USD prop). Every 150 steps the goal changes; the script prints the
-remaining position and orientation error of the hand at each change.
+(its mount, Nucleus's robot stand, is simlab's stand-in for it: docs/porting.md). Every 150 steps the goal
+changes; the script prints the remaining position and orientation error of the hand at each change.
 
     python scripts/tutorials/05_controllers/run_diff_ik.py --num_envs 4 --headless --device cpu
 """
@@ -31,12 +31,13 @@ from simlab.markers.config import FRAME_MARKER_CFG  # noqa: E402
 from simlab.robots.franka import FRANKA_PANDA_HIGH_PD_CFG  # noqa: E402
 from simlab.scene import InteractiveScene, InteractiveSceneCfg  # noqa: E402
 from simlab.utils import configclass  # noqa: E402
+from simlab.utils.assets import ISAAC_NUCLEUS_DIR  # noqa: E402
 from simlab.utils.math import quat_error_magnitude, subtract_frame_transforms  # noqa: E402
 
 
 @configclass
 class TableTopSceneCfg(InteractiveSceneCfg):
-    """A ground plane, a light, a table and the robot on it."""
+    """A ground plane, a light, a mount and the robot on it."""
 
     ground = AssetBaseCfg(
         prim_path="/World/defaultGroundPlane",
@@ -48,8 +49,9 @@ class TableTopSceneCfg(InteractiveSceneCfg):
     )
     table = AssetBaseCfg(
         prim_path="{ENV_REGEX_NS}/Table",
-        spawn=sim_utils.CuboidCfg(size=(1.2, 1.2, 1.0)),
-        init_state=AssetBaseCfg.InitialStateCfg(pos=(0.35, 0.0, -0.5)),
+        spawn=sim_utils.UsdFileCfg(
+            usd_path=f"{ISAAC_NUCLEUS_DIR}/Props/Mounts/Stand/stand_instanceable.usd", scale=(2.0, 2.0, 2.0)
+        ),
     )
     robot = FRANKA_PANDA_HIGH_PD_CFG.replace(prim_path="{ENV_REGEX_NS}/Robot")
 

@@ -48,6 +48,11 @@ TABLE_SIZE = (1.2, 1.2, 1.05)
 """simlab's stand-in for the Seattle lab table: a box, its top at the prop's origin as Isaac Lab's table
 (its lift and stack scenes put the robot's base and the objects at z = 0 on it, the ground at -1.05)."""
 
+STAND_SIZE = (0.2, 0.2, 0.515)
+"""simlab's stand-in for Isaac Sim's robot stand (``Props/Mounts/Stand/stand_instanceable.usd``): a box, its
+top at the prop's origin. Its height is where Isaac Lab puts it: scaled by 2 under an arm's base, 1.03 m above
+the ground in Isaac Lab's arms demo (1.05 m in its diff-IK tutorial); the 20 cm square foot is simlab's own."""
+
 ROUGH_PLANE_SIZE = 30.0
 """Side of simlab's stand-in for Isaac Sim's ``Environments/Terrains/rough_plane.usd`` [m], centred on the
 origin (Isaac Lab's ray-caster tutorials place their sensors within 11 m of it)."""
@@ -142,13 +147,18 @@ def _block(color: str) -> Callable[[UsdFileCfg], SpawnerCfg]:
     return build
 
 
-def _table(cfg: UsdFileCfg) -> SpawnerCfg:
-    from ..materials import PreviewSurfaceCfg
-    from ..shapes import CuboidCfg
+def _mount(size: tuple[float, float, float], color: tuple[float, float, float]) -> Callable[[UsdFileCfg], SpawnerCfg]:
+    """A static box of ``size`` (scaled by UsdFileCfg.scale), its top at the prop's origin."""
 
-    scale = cfg.scale or (1.0, 1.0, 1.0)
-    material = cfg.visual_material or PreviewSurfaceCfg(diffuse_color=(0.55, 0.45, 0.35))
-    return CuboidCfg(func=_spawn_table, size=tuple(t * s for t, s in zip(TABLE_SIZE, scale)), visual_material=material)
+    def build(cfg: UsdFileCfg) -> SpawnerCfg:
+        from ..materials import PreviewSurfaceCfg
+        from ..shapes import CuboidCfg
+
+        scale = cfg.scale or (1.0, 1.0, 1.0)
+        material = cfg.visual_material or PreviewSurfaceCfg(diffuse_color=color)
+        return CuboidCfg(func=_spawn_table, size=tuple(t * s for t, s in zip(size, scale)), visual_material=material)
+
+    return build
 
 
 def _ground(cfg: UsdFileCfg) -> SpawnerCfg:
@@ -257,7 +267,14 @@ USD_STAND_INS: dict[str, UsdStandIn] = {
         for color in BLOCK_COLORS
     },
     "Props/Mounts/SeattleLabTable/table_instanceable.usd": UsdStandIn(
-        "a 1.2 x 1.2 x 1.05 m box", _table, "static; its top at the prop's origin, as the table's"
+        "a 1.2 x 1.2 x 1.05 m box",
+        _mount(TABLE_SIZE, (0.55, 0.45, 0.35)),
+        "static; its top at the prop's origin, as the table's",
+    ),
+    "Props/Mounts/Stand/stand_instanceable.usd": UsdStandIn(
+        "a 0.2 x 0.2 x 0.515 m box",
+        _mount(STAND_SIZE, (0.3, 0.3, 0.32)),
+        "static; scaled by UsdFileCfg.scale; its top at the prop's origin (the arm's base); the diff-IK tutorial's",
     ),
     "Environments/Grid/default_environment.usd": UsdStandIn(
         "sim_utils.GroundPlaneCfg()", _ground, "Isaac Lab's GroundPlaneCfg.usd_path"
