@@ -13,7 +13,7 @@ import pytest
 from conftest import load_script
 
 from simlab.robots.unitree import ASSETS_DIR
-from simlab.tasks.manager_based.tracking.motion_clip import MotionClip, clip_from_csv
+from simlab.tasks.manager_based.tracking.motion_clip import MotionClip, clip_from_csv, resolve_clip, shipped_clips
 from simlab.utils.errors import ConfigError
 
 G1_29DOF = f"{ASSETS_DIR}/unitree_g1_29dof.xml"
@@ -141,11 +141,29 @@ def test_a_clip_is_data_only(tmp_path):
 
 
 def test_a_missing_clip_or_a_csv_says_what_motion_file_takes(tmp_path):
-    with pytest.raises(ConfigError, match=r"g1_walkk: no such file.*shipped ones: .*g1_walk\.npz"):
+    with pytest.raises(
+        ConfigError, match=r"g1_walkk: no such file.*shipped one's name \(g1_turn, .*g1_walk, .*motions\)"
+    ):
         MotionClip.load("g1_walkk")
     write_csv(tmp_path / "walk.csv", walking_frames(50.0, 0.5))
     with pytest.raises(ConfigError, match=r"walk\.csv: not an \.npz file; a retargeted CSV .*clip_from_csv"):
         MotionClip.load(tmp_path / "walk.csv")  # np.load called it pickled data
+
+
+def test_a_shipped_clip_is_named_by_its_name(tmp_path, monkeypatch):
+    """``motion_file=g1_walk`` is the shipped walk on every machine (a run's override, replayed elsewhere);
+    only a bare name is looked up: a path that is not a file stays an error, and a file of that name wins."""
+    walk = next(clip for clip in shipped_clips() if clip.endswith("g1_walk.npz"))
+    assert resolve_clip("g1_walk") == resolve_clip("g1_walk.npz") == walk
+    assert MotionClip.load("g1_walk").num_frames == MotionClip.load(walk).num_frames
+    with pytest.raises(ConfigError, match="no such file"):
+        resolve_clip(tmp_path / "g1_walk")
+    with pytest.raises(ConfigError, match="no such file"):
+        resolve_clip("../g1_walk")
+    own = tmp_path / "g1_walk.npz"
+    own.write_bytes(b"")
+    monkeypatch.chdir(tmp_path)
+    assert resolve_clip("g1_walk.npz") == "g1_walk.npz"
 
 
 def test_missing_keys_and_bad_shapes(tmp_path):

@@ -66,12 +66,9 @@ class MotionClip:
 
     @classmethod
     def load(cls, path: str | Path) -> MotionClip:
-        """Read a clip, checking its keys, shapes and values; data only (no pickled objects)."""
-        if not Path(path).is_file():
-            raise ConfigError(
-                f"Motion clip {path}: no such file. Give the path of an .npz clip"
-                f" (the shipped ones: {', '.join(shipped_clips()) or 'none'})."
-            )
+        """Read a clip (a path, or a shipped clip's name: ``g1_walk``), checking its keys, shapes and
+        values; data only (no pickled objects)."""
+        path = resolve_clip(path)
         if not zipfile.is_zipfile(path):  # np.load would call a text file pickled data
             raise ConfigError(
                 f"Motion clip {path}: not an .npz file; a retargeted CSV becomes one with"
@@ -113,6 +110,22 @@ class MotionClip:
 def shipped_clips() -> list[str]:
     """The clips shipped with the tracking tasks (``config/<robot>/motions/*.npz``), as paths."""
     return sorted(str(p) for p in (Path(__file__).parent / "config").glob("*/motions/*.npz"))
+
+
+def resolve_clip(path: str | Path) -> str:
+    """``path`` where it is a file, else the shipped clip of that name (``g1_walk`` or ``g1_walk.npz``),
+    so that a run's ``motion_file`` override means the same clip on every machine."""
+    if Path(path).is_file():
+        return str(path)
+    by_name = {Path(clip).stem: clip for clip in shipped_clips()}
+    name = Path(path).name.removesuffix(".npz")
+    if str(path).removesuffix(".npz") == name and name in by_name:
+        return by_name[name]
+    folders = sorted({str(Path(clip).parent) for clip in by_name.values()})
+    raise ConfigError(
+        f"Motion clip {path}: no such file. Give the path of an .npz clip or a shipped one's name"
+        f" ({', '.join(by_name) or 'none'}, in {', '.join(folders) or 'no folder'})."
+    )
 
 
 _STATE_SHAPES = {

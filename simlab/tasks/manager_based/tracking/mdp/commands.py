@@ -236,7 +236,8 @@ class MotionCommandCfg(CommandTermCfg):
     resampling_time_range: tuple[float, float] = (1.0e9, 1.0e9)  # the clip's end resamples, not a timer
     asset_name: str = "robot"
     motion_file: str = MISSING
-    """A clip in the npz format of ``simlab.tasks.manager_based.tracking.motion_clip``, at the env's rate."""
+    """A clip in the npz format of ``simlab.tasks.manager_based.tracking.motion_clip``, at the env's rate: its
+    path, or a shipped clip's name (``g1_walk``)."""
     anchor_body_name: str = MISSING
     body_names: list[str] = MISSING
     pose_range: dict[str, tuple[float, float]] = field(default_factory=dict)

@@ -1,7 +1,9 @@
 """Unitree G1 (29-DoF) motion tracking on flat ground (mjlab's ``Mjlab-Tracking-Flat-Unitree-G1``).
 
-The clip defaults to ``motions/g1_twist.npz`` (made by ``scripts/tools/make_g1_clips.py``); train on
-another with ``env.commands.motion.motion_file=<path>``.
+One policy per clip, as mjlab and Isaac Lab train it. The clip defaults to ``motions/g1_twist.npz`` (made
+by ``scripts/tools/make_g1_clips.py``); train on another with ``env.commands.motion.motion_file=<name>``
+(a shipped clip: ``g1_walk``, ``g1_turn``, ``g1_wave``) or ``=<path>`` (any clip). The criterion judges
+the clip the run trained on.
 """
 
 import os
