@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 import torch
 
-import simlab.tasks  # noqa: F401 - registers the tasks (and the navigation task's Nucleus policy file)
+import simlab.tasks  # noqa: F401 - registers the tasks
 from simlab.assets import RigidObjectCfg
 from simlab.envs import ManagerBasedRLEnv
 from simlab.managers import ActionTerm, ManagerTermBase, ObservationGroupCfg, SceneEntityCfg
@@ -206,11 +206,9 @@ def test_isaac_lab_2_0s_disable_contact_processing_is_accepted():
 
 
 def test_isaac_labs_blind_anymal_c_policy_file_reads_as_torchscript_of_simlabs_policy():
-    from simlab.tasks.manager_based.navigation import ISAACLAB_POLICY_FILES
     from simlab.tasks.manager_based.navigation.mdp import PreTrainedPolicyActionCfg
-    from simlab.tasks.manager_based.navigation.mdp.pre_trained_policy_action import ISAACLAB_POLICIES, load_policy
+    from simlab.tasks.manager_based.navigation.mdp.pre_trained_policy_action import load_policy
 
-    assert set(ISAACLAB_POLICY_FILES) == set(ISAACLAB_POLICIES)
     path = f"{ISAACLAB_NUCLEUS_DIR}/Policies/ANYmal-C/Blind/policy.pt"
     assert check_file_path(path) == 2  # Isaac Lab's answer for a Nucleus file
     scripted = torch.jit.load(read_file(path))  # what Isaac Lab's own navigation action does
@@ -222,6 +220,35 @@ def test_isaac_labs_blind_anymal_c_policy_file_reads_as_torchscript_of_simlabs_p
     with pytest.raises(FileNotFoundError, match="Nucleus"):
         read_file(f"{ISAACLAB_NUCLEUS_DIR}/Policies/ANYmal-D/Blind/policy.pt")
     assert isinstance(read_file(path), io.BytesIO)
+
+
+def test_isaac_labs_height_scan_anymal_c_policy_reads_as_torchscript_of_simlabs_rough_policy(tmp_path):
+    """Isaac Lab's quadruped tutorial (``create_quadruped_base_env.py``) reads ``Policies/ANYmal-C/HeightScan/
+    policy.pt`` with ``read_file`` and ``torch.jit.load``, importing no task package (a fresh process here):
+    the file is simlab's shipped rough ANYmal-C policy, 235 observations (height scan last) to 12 actions."""
+    import subprocess
+    import sys
+
+    from simlab.pretrained import POLICY_FILE, pretrained_run_dir
+    from simlab.tasks.manager_based.navigation.mdp import PreTrainedPolicyActionCfg
+    from simlab.tasks.manager_based.navigation.mdp.pre_trained_policy_action import load_policy
+
+    path = f"{ISAACLAB_NUCLEUS_DIR}/Policies/ANYmal-C/HeightScan/policy.pt"
+    obs = torch.randn(4, 235, generator=torch.Generator().manual_seed(0))
+    torch.save(obs, tmp_path / "obs.pt")
+    script = (
+        "import sys, torch\n"
+        "from simlab.utils.assets import check_file_path, read_file\n"
+        f"assert check_file_path({path!r}) == 2\n"
+        f"policy = torch.jit.load(read_file({path!r})).eval()\n"
+        f"torch.save(policy(torch.load({str(tmp_path / 'obs.pt')!r})), {str(tmp_path / 'act.pt')!r})\n"
+        "assert 'simlab.tasks' not in sys.modules\n"
+    )
+    result = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr[-2000:]
+    shipped = pretrained_run_dir("simlab/Velocity-Rough-Anymal-C-v0", "rsl_rl") + "/" + POLICY_FILE
+    ours = load_policy(PreTrainedPolicyActionCfg(asset_name="robot", policy_path=shipped), "cpu")
+    torch.testing.assert_close(torch.load(tmp_path / "act.pt"), ours(obs))
 
 
 @pytest.mark.parametrize("given", [None, 100.0])

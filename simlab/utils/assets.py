@@ -2,12 +2,14 @@
 
 Isaac Lab's Nucleus directory constants (``ISAACLAB_NUCLEUS_DIR`` and friends) name no server simlab
 can read. A ``UsdFileCfg`` naming a Nucleus robot or prop that simlab ships spawns simlab's model of it
-(``simlab.sim.spawners.from_files.usd_stand_ins``); reading any other path under them is refused with
-an error saying to use an MJCF (or URDF) file instead.
+(``simlab.sim.spawners.from_files.usd_stand_ins``); Isaac Lab's pre-trained policies that simlab ships
+one for read as TorchScript of it (``simlab.pretrained.isaaclab_policies``); reading any other path
+under them is refused with an error saying to use an MJCF (or URDF) file instead.
 """
 
 from __future__ import annotations
 
+import functools
 import io
 import os
 import shutil
@@ -21,7 +23,6 @@ __all__ = [
     "check_file_path",
     "check_usd_path_with_timeout",
     "read_file",
-    "register_nucleus_file",
     "retrieve_file_path",
 ]
 
@@ -36,22 +37,15 @@ ISAACLAB_NUCLEUS_DIR = f"{ISAAC_NUCLEUS_DIR}/IsaacLab"
 _REMOTE_PREFIXES = ("nucleus://", "omniverse://", "http://", "https://", "s3://")
 
 
-# Files under ISAACLAB_NUCLEUS_DIR that simlab makes itself (a pre-trained policy), by path relative to it.
-_NUCLEUS_FILES: dict[str, Callable[[], bytes]] = {}
-
-
-def register_nucleus_file(relative_path: str, make: Callable[[], bytes]) -> None:
-    """Have ``read_file`` of ``<ISAACLAB_NUCLEUS_DIR>/<relative_path>`` return ``make()``'s bytes (a
-    module above this one passes its stand-in down: the navigation task its low-level policy)."""
-    _NUCLEUS_FILES[relative_path] = make
-
-
 def _nucleus_file(path: str | os.PathLike) -> Callable[[], bytes] | None:
-    """The maker of a registered Nucleus file (any Isaac Sim version's ``.../IsaacLab/<relative_path>``)."""
-    path = str(path)
-    if not path.startswith(_REMOTE_PREFIXES):
+    """The maker of a Nucleus file simlab makes itself (any Isaac Sim version's ``.../IsaacLab/<path>``):
+    Isaac Lab's pre-trained policies that a shipped policy stands for."""
+    if not str(path).startswith(_REMOTE_PREFIXES):
         return None
-    return next((make for rel, make in _NUCLEUS_FILES.items() if path.endswith("/IsaacLab/" + rel)), None)
+    from simlab.pretrained.isaaclab_policies import isaaclab_policy, torchscript_policy  # torch, when asked
+
+    isaac_path = isaaclab_policy(str(path))
+    return functools.partial(torchscript_policy, isaac_path) if isaac_path is not None else None
 
 
 def refuse_remote_path(path: str) -> None:
@@ -72,7 +66,7 @@ def _expand(path: str | os.PathLike) -> str:
 
 def check_file_path(path: str | os.PathLike) -> int:
     """0 if the file does not exist, 1 if it is a local file, 2 (Isaac Lab's code for a Nucleus file) for
-    a Nucleus file simlab makes itself (:func:`register_nucleus_file`)."""
+    a Nucleus file simlab makes itself (a pre-trained policy of ``simlab.pretrained.isaaclab_policies``)."""
     if str(path).startswith(_REMOTE_PREFIXES):
         return 2 if _nucleus_file(path) is not None else 0
     return 1 if os.path.isfile(_expand(path)) else 0

@@ -14,16 +14,13 @@ state dict of the actor's layers. A TorchScript file, or a pickle holding more t
 in one line unless the config sets ``trust_policy_file=True`` (as the actuator networks do).
 
 Isaac Lab's Nucleus path of its blind ANYmal-C policy names simlab's shipped ANYmal-C flat-ground
-velocity policy (:data:`ISAACLAB_POLICIES`), trained with the same observations (48 values, no height
-scan) and actions.
+velocity policy (``simlab.pretrained.isaaclab_policies.ISAACLAB_POLICIES``), trained with the same
+observations (48 values, no height scan) and actions.
 """
 
 from __future__ import annotations
 
 import copy
-import functools
-import io
-import os
 import pickle
 from typing import TYPE_CHECKING
 
@@ -31,7 +28,13 @@ import torch
 from torch import nn
 
 from simlab.managers import ActionTerm, ObservationManager
-from simlab.pretrained import POLICY_FILE, pretrained_run_dir
+from simlab.pretrained.isaaclab_policies import (
+    ISAACLAB_POLICIES,
+    MLPPolicy,
+    actor_state,
+    isaaclab_policy,
+    shipped_policy_file,
+)
 from simlab.pretrained.weights import FORMAT as STORED_POLICY_FORMAT
 from simlab.pretrained.weights import unpack_policy
 from simlab.utils.assets import retrieve_file_path
@@ -44,21 +47,13 @@ if TYPE_CHECKING:
 
     from .pre_trained_policy_action_cfg import PreTrainedPolicyActionCfg
 
-ISAACLAB_POLICIES: dict[str, tuple[str, str]] = {
-    "Policies/ANYmal-C/Blind/policy.pt": ("simlab/Velocity-Flat-Anymal-C-v0", "rsl_rl"),
-}
-"""Isaac Lab's pre-trained low-level policies (their path under ``ISAACLAB_NUCLEUS_DIR``) and the
-shipped simlab policy (task, library) that stands for each."""
-
-_ACTIVATIONS = {"elu": nn.ELU, "relu": nn.ReLU, "tanh": nn.Tanh, "selu": nn.SELU, "lrelu": nn.LeakyReLU}
-
 
 def resolve_policy_file(path: str) -> str:
     """The local file of ``policy_path``: simlab's shipped policy for an Isaac Lab Nucleus path of one."""
     if "://" in str(path):
-        for isaac_path, (task, library) in ISAACLAB_POLICIES.items():
-            if str(path).endswith("/" + isaac_path):
-                return os.path.join(pretrained_run_dir(task, library), POLICY_FILE)
+        isaac_path = isaaclab_policy(path)
+        if isaac_path is not None:
+            return shipped_policy_file(isaac_path)
         known = ", ".join(ISAACLAB_POLICIES)
         raise ConfigError(
             f"policy_path '{path}' is a remote (Nucleus) file simlab cannot read; simlab has its own policies for"
@@ -68,70 +63,6 @@ def resolve_policy_file(path: str) -> str:
         return retrieve_file_path(path)
     except FileNotFoundError as e:
         raise ConfigError(f"policy_path: {e}") from None
-
-
-@functools.cache
-def torchscript_policy(isaac_path: str) -> bytes:
-    """The TorchScript file Isaac Lab's own ``PreTrainedPolicyAction`` reads (``torch.jit.load``) for
-    ``isaac_path`` (a key of :data:`ISAACLAB_POLICIES`): simlab's shipped weights that stand for it, as
-    the MLP here, scripted in this process (no code is read from a file)."""
-    task, library = ISAACLAB_POLICIES[isaac_path]
-    what = f"simlab's policy for Isaac Lab's {isaac_path}"
-    state = _actor_state(unpack_policy(os.path.join(pretrained_run_dir(task, library), POLICY_FILE))[1], what)
-    buffer = io.BytesIO()
-    torch.jit.save(torch.jit.script(MLPPolicy(state, "elu", what).eval()), buffer)
-    return buffer.getvalue()
-
-
-def _actor_state(loaded: object, what: str) -> dict[str, torch.Tensor]:
-    """The actor's weights of a loaded file: a stored simlab policy, an rsl_rl checkpoint or a state dict."""
-    if isinstance(loaded, dict) and "actor_state_dict" in loaded:  # rsl_rl >= 3 checkpoint
-        loaded = loaded["actor_state_dict"]
-    elif isinstance(loaded, dict) and "model_state_dict" in loaded:  # rsl_rl 2.x: actor.* keys of the model
-        model = loaded["model_state_dict"]
-        loaded = {k[len("actor.") :]: v for k, v in model.items() if k.startswith("actor.")}
-        loaded.update({k: v for k, v in model.items() if k.startswith("actor_obs_normalizer.")})
-    if not isinstance(loaded, dict) or not all(isinstance(v, torch.Tensor) for v in loaded.values()):
-        raise ConfigError(f"{what} holds a {type(loaded).__name__}, not the weights of a policy.")
-    return loaded
-
-
-class MLPPolicy(nn.Module):
-    """``obs -> action``: an optional observation normalizer (rsl_rl's ``(obs - mean) / (std + 0.01)``)
-    and linear layers with ``activation`` between them; the layers come from the weights' shapes."""
-
-    def __init__(self, state: dict[str, torch.Tensor], activation: str, what: str):
-        super().__init__()
-        if activation not in _ACTIVATIONS:
-            raise ConfigError(f"policy_activation '{activation}' is unknown; one of {sorted(_ACTIVATIONS)}.")
-        # the linear layers: '<prefix><index>.weight' with 2-d weights, in index order
-        weights = {k[: -len(".weight")]: v for k, v in state.items() if k.endswith(".weight") and v.dim() == 2}
-        names = sorted(weights, key=lambda k: int(k.rsplit(".", 1)[-1]) if k.rsplit(".", 1)[-1].isdigit() else -1)
-        if not names or any(not n.rsplit(".", 1)[-1].isdigit() for n in names):
-            raise ConfigError(f"{what} has no MLP weights (keys like 'mlp.0.weight'); found {sorted(state)[:6]}.")
-        layers: list[nn.Module] = []
-        for i, name in enumerate(names):
-            if i:
-                layers.append(_ACTIVATIONS[activation]())
-            out_dim, in_dim = weights[name].shape
-            linear = nn.Linear(in_dim, out_dim)
-            linear.weight.data.copy_(weights[name])
-            linear.bias.data.copy_(state.get(f"{name}.bias", torch.zeros(out_dim)))
-            layers.append(linear)
-        self.mlp = nn.Sequential(*layers)
-        mean = next((v for k, v in state.items() if k.endswith("normalizer._mean")), None)
-        std = next((v for k, v in state.items() if k.endswith("normalizer._std")), None)
-        self.register_buffer("obs_mean", mean.reshape(1, -1) if mean is not None else None)
-        self.register_buffer("obs_scale", 1.0 / (std.reshape(1, -1) + 0.01) if std is not None else None)
-
-    @property
-    def obs_dim(self) -> int:
-        return self.mlp[0].in_features
-
-    def forward(self, obs: torch.Tensor) -> torch.Tensor:
-        if self.obs_mean is not None:
-            obs = (obs - self.obs_mean) * self.obs_scale
-        return self.mlp(obs)
 
 
 def load_policy(cfg: PreTrainedPolicyActionCfg, device: str | torch.device) -> nn.Module:
@@ -157,7 +88,7 @@ def load_policy(cfg: PreTrainedPolicyActionCfg, device: str | torch.device) -> n
         else:
             if isinstance(loaded, dict) and loaded.get("format") == STORED_POLICY_FORMAT:
                 loaded = unpack_policy(path)[1]
-            policy = MLPPolicy(_actor_state(loaded, what), cfg.policy_activation, what)
+            policy = MLPPolicy(actor_state(loaded, what), cfg.policy_activation, what)
     policy = policy.to(device).eval()
     for p in policy.parameters():
         p.requires_grad_(False)
