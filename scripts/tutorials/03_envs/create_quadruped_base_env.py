@@ -1,10 +1,10 @@
 """Create a base environment for the ANYmal-C quadruped with a height-scan sensor on rough terrain.
 
-Isaac Lab's tutorial ``create_quadruped_base_env.py`` with simlab imports. Isaac Lab's version runs a
-locomotion policy it downloads from its Nucleus server (``Policies/ANYmal-C/HeightScan/policy.pt``),
-which simlab cannot read: pass a TorchScript policy of your own with ``--checkpoint`` and
-``--trust_checkpoint`` (TorchScript is code, which loading runs); without one the robot holds its default
-joint positions (zero actions).
+Isaac Lab's tutorial ``create_quadruped_base_env.py`` with simlab imports. It runs the locomotion policy
+Isaac Lab keeps on its Nucleus server (``Policies/ANYmal-C/HeightScan/policy.pt``): simlab reads that path
+as its shipped rough-terrain ANYmal-C policy (TorchScript made in this process from the weights), which
+walks forward at the constant 1 m/s command. ``--checkpoint`` with ``--trust_checkpoint`` runs a
+TorchScript policy of your own instead (TorchScript is code, which loading runs).
 
 .. code-block:: bash
 
@@ -56,7 +56,7 @@ from simlab.scene import InteractiveSceneCfg
 from simlab.sensors import RayCasterCfg, patterns
 from simlab.terrains import TerrainImporterCfg
 from simlab.utils import configclass
-from simlab.utils.assets import check_file_path, read_file
+from simlab.utils.assets import ISAACLAB_NUCLEUS_DIR, check_file_path, read_file
 from simlab.utils.noise import UniformNoiseCfg as Unoise
 
 ##
@@ -110,7 +110,7 @@ class MySceneCfg(InteractiveSceneCfg):
         offset=RayCasterCfg.OffsetCfg(pos=(0.0, 0.0, 20.0)),
         ray_alignment="yaw",
         pattern_cfg=patterns.GridPatternCfg(resolution=0.1, size=[1.6, 1.0]),
-        debug_vis=False,  # Isaac Lab's True: simlab's sensors draw no debug markers (refused)
+        debug_vis=True,
         mesh_prim_paths=["/World/ground"],
     )
 
@@ -210,16 +210,14 @@ def main():
     env_cfg = QuadrupedEnvCfg()
     env = ManagerBasedEnv(cfg=env_cfg)
 
-    # load level policy: Isaac Lab's lies on its Nucleus server, which simlab cannot read
-    policy = None
-    if args_cli.checkpoint is not None:
-        if not check_file_path(args_cli.checkpoint):
-            raise FileNotFoundError(f"Policy file '{args_cli.checkpoint}' does not exist.")
-        file_bytes = read_file(args_cli.checkpoint)
-        # jit load the policy
-        policy = torch.jit.load(file_bytes).to(env.device).eval()
-    else:
-        print("[INFO]: No --checkpoint given: the robot holds its default joint positions.")
+    # load level policy (Isaac Lab's Nucleus path: simlab's shipped policy for it)
+    policy_path = args_cli.checkpoint or ISAACLAB_NUCLEUS_DIR + "/Policies/ANYmal-C/HeightScan/policy.pt"
+    # check if policy file exists
+    if not check_file_path(policy_path):
+        raise FileNotFoundError(f"Policy file '{policy_path}' does not exist.")
+    file_bytes = read_file(policy_path)
+    # jit load the policy
+    policy = torch.jit.load(file_bytes).to(env.device).eval()
 
     # simulate physics
     count = 0
@@ -234,12 +232,13 @@ def main():
                 print("-" * 80)
                 print("[INFO]: Resetting environment...")
             # infer action
-            action = policy(obs["policy"]) if policy is not None else torch.zeros_like(env.action_manager.action)
+            action = policy(obs["policy"])
             # step env
             obs, _ = env.step(action)
-            # print the base height of env 0 above the terrain under it
+            # print the base height of env 0 above the terrain under it and its forward speed
             height = robot.data.root_pos_w[0, 2] - env.scene["height_scanner"].data.ray_hits_w[0, :, 2].mean()
-            print(f"[Env 0]: Base height above terrain: {height.item():.3f}")
+            speed = robot.data.root_lin_vel_b[0, 0]
+            print(f"[Env 0]: Base height above terrain: {height.item():.3f}, forward speed: {speed.item():.3f}")
             # update counter
             count += 1
 
