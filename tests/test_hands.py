@@ -103,6 +103,23 @@ def test_allegro_has_isaac_lab_joints_fingertips_and_pose():
     assert float(robot.data.default_mass[0].sum()) == pytest.approx(0.4154 + 3 * 0.1388 + 0.1231, abs=1e-4)
 
 
+def test_allegro_fingers_are_where_isaac_labs_pose_puts_them():
+    """Isaac Lab's Allegro and its pose are IsaacGymEnvs' (kuka_allegro_description/allegro.urdf, rooted at
+    its mount): the index, middle and ring flexion joints (Allegro joint 1) land at these world points,
+    computed from that URDF's allegro_mount_joint and joint origins. The cube, dropped at (0, -0.17, 0.56),
+    lands just past them, as in Isaac Lab; a hand 2 cm further back leaves it on the fingers' far half."""
+    _, scene = make_scene("allegro")
+    robot = scene["robot"]
+    expected = {
+        "index_link_1": (-0.0451, -0.1326, 0.4966),
+        "middle_link_1": (0.0, -0.1349, 0.4964),
+        "ring_link_1": (0.0451, -0.1326, 0.4966),
+    }
+    for body, position in expected.items():
+        found = robot.data.body_pos_w[0, robot.body_names.index(body)]
+        torch.testing.assert_close(found, torch.tensor(position), atol=2e-3, rtol=0.0, msg=body)
+
+
 def test_shadow_hand_has_isaac_lab_joints_fingertips_and_20_actuated_joints():
     _, scene = make_scene("shadow")
     robot = scene["robot"]

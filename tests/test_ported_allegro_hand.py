@@ -145,7 +145,7 @@ def test_ported_manager_based_inhand_config_steps_as_simlab_s_own():
         assert first[0].shape == (NUM_ENVS, 72)
         torch.testing.assert_close(first[0], first[1])
         generator = torch.Generator().manual_seed(0)
-        for _ in range(10):
+        for _ in range(8):  # before the first cube leaves its hand (the 10th step, env 3)
             actions = 0.2 * (2 * torch.rand(NUM_ENVS, 16, generator=generator) - 1)
             (obs_a, rew_a, term_a, trunc_a, _), (obs_b, rew_b, term_b, trunc_b, _) = (env.step(actions) for env in envs)
             assert not (term_a | trunc_a).any()
