@@ -354,7 +354,7 @@ STOPS = {
 
 
 def port_line(line: str, package: str, folders: tuple[str, ...]) -> str:
-    if not re.match(r"\s*(from|import)\s+(isaac(lab|sim)|pxr\b)", line):
+    if not re.match(r"\s*(from|import)\s+(isaac(lab|sim)|pxr\b|omni\.replicator\b)", line):
         return line
     for folder in folders:  # the copied folders' own modules: the copy
         dotted = folder.replace("/", ".")
@@ -418,6 +418,7 @@ def test_the_mapping_rewrites_imports_only_and_keeps_copied_folders_local():
         == "from simlab.utils.torch_utils.rotations import compute_rot\n"
     )
     assert port_line("from pxr import UsdGeom\n", "p", ()) == "from simlab.sim.pxr import UsdGeom\n"
+    assert port_line("import omni.replicator.core as rep\n", "p", ()) == "import simlab.sensors.replicator as rep\n"
     text = 'entry_point="isaaclab_tasks.direct.ant:AntEnv"\n'
     assert port_line(text, "p", folders) == text
 
