@@ -226,9 +226,28 @@ def kept_text(task: str, args: argparse.Namespace, saved: str | None) -> str:
         return " (no checkpoint written)"
     if args.log_root is None:
         return " (its last checkpoint was in a temporary folder: give --log_root to keep it)"
-    train_on = script_command(task, args, "--resume", saved, "--device", args.device)
+    train_on = script_command(task, args, "--resume", saved, "--device", args.device, *run_setting_flags(task, args))
     ship = script_command(task, args, "--checkpoint", saved, "--trained_by", "...")
     return f"; its last checkpoint is {saved}: train on with `{train_on}`, or judge and ship it as it is with `{ship}`"
+
+
+# what a training and its judging were given, which the command that trains on from it keeps (a chunked
+# training: the same envs, budget, checkpoint interval and run folder each time)
+RUN_SETTINGS = (
+    "num_envs", "max_iterations", "time_budget", "eval_every", "eval_envs", "eval_seconds", "cpu_eval_envs",
+    "seed", "log_root",
+)  # fmt: skip
+
+
+def run_setting_flags(task: str, args: argparse.Namespace) -> list[str]:
+    """``args``' ``RUN_SETTINGS`` that differ from this script's defaults, as flags."""
+    defaults = parse_args(["--tasks", task])
+    flags = []
+    for name in RUN_SETTINGS:
+        value = getattr(args, name)
+        if value != getattr(defaults, name):
+            flags += [f"--{name}", f"{value:g}" if isinstance(value, float) else str(value)]
+    return flags
 
 
 def script_command(task: str, args: argparse.Namespace, *flags: str) -> str:

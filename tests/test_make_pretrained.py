@@ -244,11 +244,29 @@ def test_a_training_stopped_by_the_budget_saves_where_it_is_and_says_how_to_go_o
     args = script.parse_args(["--tasks", TASK, "--time_budget", "9", "--log_root", str(log_root)])
     args.overrides = ["env.episode_length_s=4"]  # trained with it: going on and shipping keep it
     text = script.over_budget_text(TASK, args, saved)
-    assert f"--tasks {TASK} --resume {saved} --device cpu --overrides env.episode_length_s=4`" in text
+    assert f"--tasks {TASK} --resume {saved} --device cpu --time_budget 9 --log_root {log_root} --overrides" in text
+    assert "--overrides env.episode_length_s=4`" in text
     assert f"--checkpoint {saved} --trained_by ... --overrides env.episode_length_s=4`" in text
     scratch = script.parse_args(["--tasks", TASK, "--time_budget", "9"])
     assert "give --log_root to keep it" in script.over_budget_text(TASK, scratch, saved)
     assert script.over_budget_text(TASK, scratch, None).endswith("(no checkpoint written)")
+
+
+def test_the_command_that_trains_on_keeps_the_runs_envs_budget_judging_and_folder():
+    """A training chunked over calls (the GPU's 10-minute limit) goes on with the settings it had: the
+    suggested command once left out --num_envs, --time_budget and --log_root (a resumed run then took the
+    task's envs, trained without a budget and kept its checkpoints in a temporary folder)."""
+    script = _script()
+    argv = ["--tasks", TASK, "--device", "cuda:0", "--num_envs", "8192", "--time_budget", "420"]
+    argv += ["--eval_every", "150", "--eval_envs", "128", "--log_root", "logs/hands"]
+    text = script.over_budget_text(TASK, script.parse_args(argv), "logs/hands/model_300.pt")
+    train_on = text.split("train on with `")[1].split("`")[0]
+    assert train_on == (
+        f"python scripts/make_pretrained.py --tasks {TASK} --resume logs/hands/model_300.pt --device cuda:0"
+        " --num_envs 8192 --time_budget 420 --eval_every 150 --eval_envs 128 --log_root logs/hands"
+    )
+    ship = text.split("ship it as it is with `")[1].split("`")[0]
+    assert "--num_envs" not in ship and "--time_budget" not in ship  # shipping judges on the CPU, no training
 
 
 def test_a_training_someone_else_stops_is_skipped_naming_the_checkpoint_it_saved(tmp_path, capsys):
