@@ -215,6 +215,9 @@ def test_isaac_labs_blind_anymal_c_policy_file_reads_as_torchscript_of_simlabs_p
     ours = load_policy(PreTrainedPolicyActionCfg(asset_name="robot", policy_path=path), "cpu")
     obs = torch.randn(4, 48, generator=torch.Generator().manual_seed(0))
     torch.testing.assert_close(scripted(obs), ours(obs))
+    # a frozen policy: its output takes no gradient, so Isaac Lab's action term, which writes it into its
+    # buffers, steps outside torch.inference_mode too (simlab's action terms write with out=)
+    assert not scripted(obs).requires_grad
     # any other Nucleus file stays unreadable
     assert check_file_path(f"{ISAACLAB_NUCLEUS_DIR}/Policies/ANYmal-D/Blind/policy.pt") == 0
     with pytest.raises(FileNotFoundError, match="Nucleus"):

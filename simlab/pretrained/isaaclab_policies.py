@@ -52,8 +52,9 @@ def torchscript_policy(isaac_path: str) -> bytes:
     :data:`ISAACLAB_POLICIES`): the shipped weights that stand for it, as :class:`MLPPolicy`, scripted here."""
     what = f"simlab's policy for Isaac Lab's {isaac_path}"
     state = actor_state(unpack_policy(shipped_policy_file(isaac_path))[1], what)
+    policy = MLPPolicy(state, "elu", what).eval().requires_grad_(False)  # frozen: its actions take no gradient
     buffer = io.BytesIO()
-    torch.jit.save(torch.jit.script(MLPPolicy(state, "elu", what).eval()), buffer)
+    torch.jit.save(torch.jit.script(policy), buffer)
     return buffer.getvalue()
 
 
