@@ -20,6 +20,7 @@ import pytest
 import torch
 
 import simlab.tasks  # noqa: F401 - registers the tasks
+from simlab.envs import multi_agent_to_single_agent
 from simlab.tasks.direct.inhand_manipulation.inhand_manipulation_env import unscale
 from simlab.tasks.direct.shadow_hand_over.criterion import ball_caught
 from simlab.tasks.utils import parse_env_cfg
@@ -93,6 +94,11 @@ def test_a_ball_at_the_goal_earns_both_agents_and_counts_as_caught_unless_droppe
     on_step(env, None, None)
     assert counts == {"caught": 2, "episodes": 4}
     assert ball_caught().judge({}, counts) == (0.5, False)
+    # PPO (skrl's, make_pretrained --library skrl) plays the two hands as one agent: the hook reads through
+    # that face (it raised AttributeError: '_SingleAgentEnv' object has no attribute 'episode_caught')
+    on_step, counts = ball_caught().make_hook()
+    on_step(multi_agent_to_single_agent(env), None, None)
+    assert counts == {"caught": 2, "episodes": 4}
 
 
 def test_agent_configs_follow_isaac_lab():

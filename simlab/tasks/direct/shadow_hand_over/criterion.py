@@ -17,7 +17,10 @@ def catch_tracker() -> tuple[Callable[[Any, Any, Any], None], dict[str, int]]:
     counts = {"caught": 0, "episodes": 0}
 
     def on_step(env, obs, actions) -> None:
-        env = env.unwrapped  # training and play may wrap the two agents as one
+        env = env.unwrapped
+        # PPO trains and plays the two hands as one agent (multi_agent_to_single_agent): that face keeps
+        # the two-agent env, which records the catches, as .env
+        env = getattr(env, "env", env)
         finished = env.reset_buf  # the envs whose episode ended in this step (already reset)
         if not bool(finished.any()):
             return
