@@ -225,3 +225,10 @@ def test_the_robot_stand_holds_the_arm_at_its_top_and_reaches_the_ground():
     mujoco.mj_forward(model, data)
     top, foot = data.geom_xpos[0, 2] + geom.size[2], data.geom_xpos[0, 2] - geom.size[2]
     assert abs(top) < 1e-9 and abs(foot + 1.03) < 1e-6
+
+
+def test_the_other_anymal_paths_of_isaac_labs_configs_name_the_same_models():
+    """Isaac Lab's ANYmal configs keep a second USD path beside their own (commented out in
+    isaaclab_assets' anymal.py; Isaac Sim's older ANYmal-C file is what several of its tests spawn)."""
+    assert USD_STAND_INS["Robots/ANYbotics/anymal_instanceable.usd"].model == "anybotics_anymal_c.xml"
+    assert USD_STAND_INS["IsaacLab/Robots/ANYbotics/ANYmal-D/anymal_d_minimal.usd"].model == "anybotics_anymal_d.xml"

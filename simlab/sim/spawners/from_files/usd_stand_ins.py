@@ -227,6 +227,9 @@ USD_STAND_INS: dict[str, UsdStandIn] = {
     "IsaacLab/Robots/ANYbotics/ANYmal-B/anymal_b.usd": mjcf("anybotics_anymal_b.xml"),
     "IsaacLab/Robots/ANYbotics/ANYmal-C/anymal_c.usd": mjcf("anybotics_anymal_c.xml"),
     "IsaacLab/Robots/ANYbotics/ANYmal-D/anymal_d.usd": mjcf("anybotics_anymal_d.xml"),
+    "IsaacLab/Robots/ANYbotics/ANYmal-D/anymal_d_minimal.usd": mjcf(
+        "anybotics_anymal_d.xml", "the same model as anymal_d.usd"
+    ),
     "IsaacLab/Robots/Agility/Cassie/cassie.usd": mjcf(
         "agility_cassie.xml", "the achilles rods as equality constraints; docs/locomotion.md"
     ),
@@ -243,6 +246,9 @@ USD_STAND_INS: dict[str, UsdStandIn] = {
     "Robots/IsaacSim/Humanoid/humanoid_instanceable.usd": _HUMANOID,
     "Robots/Humanoid/humanoid_instanceable.usd": _HUMANOID,
     "Robots/Franka/franka_instanceable.usd": _FRANKA,
+    "Robots/ANYbotics/anymal_instanceable.usd": mjcf(
+        "anybotics_anymal_c.xml", "Isaac Sim's older ANYmal-C file (ANYMAL_C_CFG's other path, Isaac Lab's tests)"
+    ),
     "Robots/BostonDynamics/spot/spot.usd": mjcf("boston_dynamics_spot.xml"),
     "Robots/Agility/Digit/digit_v4.usd": mjcf(
         "agility_digit.xml", "the leg rods as equality constraints; docs/locomotion.md"
