@@ -350,6 +350,38 @@ def test_spot_air_time_reward_steps_when_moving_and_stands_when_not():
     torch.testing.assert_close(reward, torch.tensor([0.1 + 0.2 + 0.0 + 0.0, -0.1 + 0.2 + 0.3 + 0.1]))
 
 
+@pytest.mark.parametrize("added_mass", [0.0, 2.5])
+def test_spot_task_robot_stands_with_zero_action(added_mass):
+    """The Spot task's robot, its body as heavy as the task makes it (nominal and the ``add_base_mass``
+    event's +2.5 kg), holds its default pose for 3 s of zero actions on flat ground: no body or leg
+    contact ends the episode and the base stays up. Under Isaac Lab's kp 60 this model sank into a
+    crouch (base 0.35 m) and, 2.5 kg heavier, touched down with a hind leg within 2 s."""
+    cfg = parse_env_cfg("simlab/Velocity-Flat-Spot-v0", device="cpu", num_envs=2)
+    cfg.seed = 0
+    cfg.scene.terrain.terrain_type, cfg.scene.terrain.terrain_generator = "plane", None
+    cfg.curriculum.terrain_levels = None
+    cfg.events.physics_material = None  # the ground's friction 1.0
+    cfg.events.add_base_mass.params["mass_distribution_params"] = (added_mass, added_mass)
+    cfg.events.reset_base.params["velocity_range"] = {}
+    cfg.events.reset_robot_joints.params.update(position_range=(0.0, 0.0), velocity_range=(0.0, 0.0))
+    env = ManagerBasedRLEnv(cfg)
+    try:
+        env.reset()
+        robot = env.scene["robot"]
+        actions = torch.zeros(2, env.action_manager.total_action_dim)
+        heights = []
+        for _ in range(round(3.0 / env.step_dt)):
+            _, _, terminated, truncated, _ = env.step(actions)
+            assert not (terminated | truncated).any(), "a body or leg touched down"
+            heights.append(robot.data.root_pos_w[:, 2].clone())
+        settled = torch.stack(heights[round(0.5 / env.step_dt) :])
+        assert settled.min() > 0.42, settled.min()
+        sag = (robot.data.joint_pos - robot.data.default_joint_pos).abs()
+        assert sag.max() < 0.35, sag.max()  # the knees, held by kp against the robot's weight
+    finally:
+        env.close()
+
+
 def test_terrain_out_of_bounds_is_the_generated_terrains_edge():
     import simlab.envs.mdp as mdp
 

@@ -156,3 +156,16 @@ SPOT_CFG = ArticulationCfg(
 )
 """Spot with Isaac Lab's actuators: hips kp 60 / kd 1.5, 45 N m, targets 0-4 physics steps late; knees
 the same gains and delays with the torque limit of ``joint_parameter_lookup`` (30.6-113.2 N m)."""
+
+SPOT_STIFF_CFG = SPOT_CFG.replace(
+    actuators={
+        "spot_hip": SPOT_CFG.actuators["spot_hip"].replace(stiffness=80.0),
+        "spot_knee": SPOT_CFG.actuators["spot_knee"].replace(stiffness=80.0),
+    }
+)
+"""``SPOT_CFG`` with kp 80 instead of 60 on every joint (same damping, delays and torque limits): the
+robot simlab's Spot task trains. At kp 60 this model has no stable upright stance: with zero action
+it sinks within 2 s into a crouch (base 0.35 m, hind knees 0.7 rad past their targets at 42 N m), and
+with the task's heaviest body (+2.5 kg) its knees touch down, so every episode ended within about a
+second. From kp 70 it stands at 0.45 m with the knees 0.15-0.25 rad off their targets, +2.5 kg
+included (``tests/test_quadruped_zoo.py::test_spot_task_robot_stands_with_zero_action``)."""

@@ -12,7 +12,7 @@ from simlab.managers import ObservationGroupCfg as ObsGroup
 from simlab.managers import ObservationTermCfg as ObsTerm
 from simlab.managers import RewardTermCfg, SceneEntityCfg
 from simlab.managers import TerminationTermCfg as DoneTerm
-from simlab.robots.spot import SPOT_CFG
+from simlab.robots.spot import SPOT_STIFF_CFG
 from simlab.tasks.manager_based.locomotion.velocity.velocity_env_cfg import LocomotionVelocityRoughEnvCfg
 from simlab.terrains import TerrainImporterCfg
 from simlab.utils import configclass
@@ -262,7 +262,8 @@ class SpotFlatEnvCfg(LocomotionVelocityRoughEnvCfg):
         self.sim.mujoco.impratio = 10.0
         # the gait rewards read the feet's contacts at every physics step
         self.scene.contact_forces.update_period = self.sim.dt
-        self.scene.robot = SPOT_CFG.replace(prim_path="{ENV_REGEX_NS}/Robot")
+        # kp 80 where Isaac Lab has 60: this model has no upright stance at 60 (robots/spot.py)
+        self.scene.robot = SPOT_STIFF_CFG.replace(prim_path="{ENV_REGEX_NS}/Robot")
         self.scene.terrain = TerrainImporterCfg(
             prim_path="/World/ground",
             terrain_type="generator",
