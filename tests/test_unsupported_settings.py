@@ -300,3 +300,25 @@ def test_dc_motor_curve_uses_its_own_velocity_limit():
     robot.write_data_to_sim()
     assert robot.actuators["cart"].applied_effort[0, 0].item() == pytest.approx(50.0)  # 100 * (1 - 1/2)
     assert robot.data.joint_velocity_limits[0, 0].item() == pytest.approx(50.0)
+
+
+def test_a_deformable_object_as_isaac_labs_tutorial_writes_it_is_one_line_of_refusal():
+    """Isaac Lab's run_deformable_object.py tutorial: its soft cube's settings (every field of Isaac Lab's
+    DeformableBodyPropertiesCfg is accepted) reach DeformableObjectCfg, which refuses in one line."""
+    from simlab.assets import DeformableObjectCfg
+
+    props = sim_utils.DeformableBodyPropertiesCfg(
+        rest_offset=0.0, contact_offset=0.001, self_collision_filter_distance=0.01, settling_threshold=0.1,
+        sleep_damping=10.0, sleep_threshold=0.05, collision_simplification=True,
+        collision_simplification_remeshing=True, collision_simplification_remeshing_resolution=0,
+        collision_simplification_target_triangle_count=0, collision_simplification_force_conforming=True,
+        max_depenetration_velocity=1.0,
+    )  # fmt: skip
+    spawn = sim_utils.MeshCuboidCfg(
+        size=(0.2, 0.2, 0.2),
+        deformable_props=props,
+        physics_material=sim_utils.DeformableBodyMaterialCfg(poissons_ratio=0.4, youngs_modulus=1e5),
+    )
+    with pytest.raises(ConfigError) as err:
+        DeformableObjectCfg(prim_path="/World/Origin.*/Cube", spawn=spawn)
+    assert "\n" not in str(err.value) and "RigidObjectCfg" in str(err.value)

@@ -17,14 +17,27 @@ from .shapes import CapsuleCfg, ConeCfg, CuboidCfg, CylinderCfg, SphereCfg, spaw
 
 @configclass
 class DeformableBodyPropertiesCfg:
-    """Isaac Lab's (PhysX) deformable-body settings: accepted as a config, refused when spawned."""
+    """Isaac Lab's (PhysX) deformable-body settings, its fields and defaults: accepted as a config (so that
+    its configs build and meet the one-line refusal), refused when spawned."""
 
     deformable_enabled: bool | None = None
     kinematic_enabled: bool = False
     self_collision: bool | None = None
-    simulation_hexahedral_resolution: int = 10
+    self_collision_filter_distance: float | None = None
+    settling_threshold: float | None = None
+    sleep_damping: float | None = None
+    sleep_threshold: float | None = None
     solver_position_iteration_count: int | None = None
     vertex_velocity_damping: float | None = None
+    simulation_hexahedral_resolution: int = 10
+    collision_simplification: bool = True
+    collision_simplification_remeshing: bool = True
+    collision_simplification_remeshing_resolution: int = 0
+    collision_simplification_target_triangle_count: int = 0
+    collision_simplification_force_conforming: bool = True
+    contact_offset: float | None = None
+    rest_offset: float | None = None
+    max_depenetration_velocity: float | None = None
 
 
 @configclass
