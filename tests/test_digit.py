@@ -25,6 +25,7 @@ from test_humanoid_robots import hung, scene_with, stiff
 import simlab.tasks  # noqa: F401 - registers the tasks
 from simlab.envs import ManagerBasedRLEnv
 from simlab.robots import DIGIT_V4_CFG, agility
+from simlab.robots.agility import DIGIT_V4_MOTOR_MODEL_ACTION_SCALE, DIGIT_V4_MOTOR_MODEL_CFG
 from simlab.tasks.utils.parse_cfg import parse_env_cfg
 
 MODEL = agility.ASSETS_DIR + "/agility_digit.xml"
@@ -194,6 +195,42 @@ def test_its_own_gains_alone_do_not_hold_it_up():
     assert (scene["robot"].data.root_pos_w[:, 2] < 0.5).all()
 
 
+def test_motor_model_gains_put_each_motors_reflected_inertia_at_10_hz():
+    """DIGIT_V4_MOTOR_MODEL_CFG's table of armatures is the MJCF's: kp = armature (20 pi)^2 and kd = 4
+    armature 20 pi on every motor, as read back from the built articulation; the passive joints get none."""
+    sim, scene = scene_with(DIGIT_V4_MOTOR_MODEL_CFG)
+    robot = scene["robot"]
+    omega = 2 * math.pi * 10
+    armature, kp, kd = (robot.data.joint_armature[0], robot.data.joint_stiffness[0], robot.data.joint_damping[0])
+    for j, name in enumerate(robot.joint_names):
+        if name in PASSIVE:
+            assert kp[j] == 0 and kd[j] == 0, name
+        else:
+            assert float(kp[j]) == pytest.approx(float(armature[j]) * omega**2, rel=1e-5), name
+            assert float(kd[j]) == pytest.approx(4 * float(armature[j]) * omega, rel=1e-5), name
+    knee = robot.joint_names.index("left_leg_knee")
+    assert float(kp[knee]) == pytest.approx(476.0, abs=0.1)
+    # mjlab's action scale: a unit of action asks a quarter of the effort limit
+    assert DIGIT_V4_MOTOR_MODEL_ACTION_SCALE[".*_knee"] == pytest.approx(0.25 * 200.0 / float(kp[knee]), rel=1e-5)
+
+
+@pytest.mark.parametrize("config, give", [("DIGIT_V4_CFG", (0.5, 0.8)), ("DIGIT_V4_MOTOR_MODEL_CFG", (0.1, 0.2))])
+def test_how_far_the_knees_give_under_the_robots_weight(config, give):
+    """Targets at the default pose, landing from 13 mm: kp 200 / kd 5 let the knees give 0.62 rad within
+    0.5 s (the robot crouches before it tips); the motor model's 476 / 30, 0.16 rad."""
+    sim, scene = scene_with(getattr(agility, config))
+    robot = scene["robot"]
+    knees = robot.find_joints(".*_leg_knee")[0]
+    worst = [0.0]
+
+    def record(i: int) -> None:
+        deflection = robot.data.joint_pos[:, knees] - robot.data.default_joint_pos[:, knees]
+        worst[0] = max(worst[0], float(deflection.abs().max()))
+
+    step(sim, scene, 100, each=record)  # 0.5 s
+    assert give[0] < worst[0] < give[1], worst[0]
+
+
 def make(task: str) -> ManagerBasedRLEnv:
     cfg = parse_env_cfg(task, device="cpu", num_envs=N)
     cfg.seed = 0
@@ -226,6 +263,22 @@ def test_task_builds_and_steps(task):
         env.close()
 
 
+def test_flat_task_stands_1_4_s_on_zero_actions():
+    """The policy's starting point: with zero actions (targets at the default pose) every robot stands
+    74 steps (1.48 s) before it tips past 40 degrees. Isaac Lab's settings (kp 200 / kd 5, a reset
+    that throws the robot at up to 0.5 m/s and 0.5 rad/s) ended them after 34-50 steps."""
+    env = make("simlab/Velocity-Flat-Digit-v0")
+    try:
+        env.reset()
+        first = torch.zeros(N, dtype=torch.long)
+        for i in range(90):
+            _, _, terminated, _, _ = env.step(torch.zeros(N, env.action_manager.total_action_dim))
+            first[(first == 0) & terminated] = i + 1
+        assert (first >= 70).all(), first.tolist()
+    finally:
+        env.close()
+
+
 def ported(terrain: str):
     path = str(Path(__file__).parent / "ported")
     sys.path.insert(0, path)
@@ -240,8 +293,13 @@ def ported(terrain: str):
 def test_isaac_labs_own_task_config_runs_after_the_import_mapping(terrain):
     cfg = ported(terrain)
     ours = parse_env_cfg(f"simlab/Velocity-{terrain}-Digit-v0", device="cpu", num_envs=N)
+    # the same terms and weights, but for the tracking weights simlab raises for MuJoCo (rough_env_cfg.py)
     weights = {name: term.weight for name, term in vars(cfg.rewards).items() if term is not None}
-    assert weights == {name: term.weight for name, term in vars(ours.rewards).items() if term is not None}
+    retuned = {"track_lin_vel_xy_exp": 2.0, "track_ang_vel_z_exp": 2.0}
+    assert {name: term.weight for name, term in vars(ours.rewards).items() if term is not None} == {
+        **weights,
+        **retuned,
+    }
     # Isaac Lab's file leaves the centre-of-mass event on a body named "base", which Digit lacks (its
     # root is torso_base); simlab's task turns it off, as for its other bipeds.
     cfg.events.base_com = None

@@ -2,6 +2,7 @@
 close three loops each (the achilles rod and the two toe rods), held by equality constraints in the
 MJCF (``agility_digit.xml``, which says where its numbers come from)."""
 
+import math
 import os
 
 import simlab.sim as sim_utils
@@ -101,3 +102,46 @@ DIGIT_V4_CFG = ArticulationCfg(
 )
 """Digit V4 (32 joints, Isaac Lab's names; 26 driven: 12 leg motors, 14 arm joints). Passive, set by
 the rods: tarsus, toe pitch, toe roll. Starts in Agility's standing pose (see above), 1.05 m up."""
+
+
+# Agility's motors as digit-v3's MJCF gives them: each joint's armature (the rotor's inertia reflected
+# through its gearbox, also in agility_digit.xml) [kg m^2] and DIGIT_V4_CFG's effort limit [N m].
+DIGIT_MOTORS: dict[str, tuple[float, float]] = {
+    ".*_hip_roll": (0.1728, 112.0),
+    ".*_hip_yaw": (0.0675, 70.0),
+    ".*_hip_pitch": (0.120576, 200.0),
+    ".*_knee": (0.120576, 200.0),
+    ".*_toe_[ab]": (0.035, 45.0),
+    ".*_shoulder_(roll|pitch)": (0.1728, 112.0),
+    ".*_shoulder_yaw": (0.0675, 70.0),
+    ".*_elbow": (0.1728, 112.0),
+    ".*_wrist_.*": (0.035, 45.0),
+}
+DIGIT_NATURAL_FREQ = 10.0 * 2.0 * math.pi  # 10 Hz, mjlab's rule for its MuJoCo robots
+DIGIT_DAMPING_RATIO = 2.0
+
+DIGIT_V4_MOTOR_MODEL_CFG = DIGIT_V4_CFG.replace(
+    actuators={
+        "all": ImplicitActuatorCfg(
+            joint_names_expr=LEG_JOINT_NAMES + ARM_JOINT_NAMES,
+            effort_limit_sim={joint: effort for joint, (_, effort) in DIGIT_MOTORS.items()},
+            stiffness={joint: armature * DIGIT_NATURAL_FREQ**2 for joint, (armature, _) in DIGIT_MOTORS.items()},
+            damping={
+                joint: 2.0 * DIGIT_DAMPING_RATIO * armature * DIGIT_NATURAL_FREQ
+                for joint, (armature, _) in DIGIT_MOTORS.items()
+            },
+        ),
+    },
+)
+"""``DIGIT_V4_CFG`` with mjlab's motor model, the gains the velocity tasks use: PD gains that put each
+motor's reflected inertia (the MJCF's armature) at a 10 Hz, over-damped (ratio 2) response: hip roll,
+shoulders and elbows kp 682 / kd 43, hip pitch and knee 476 / 30, hip and shoulder yaw 266 / 17, toe
+motors and wrists 138 / 9. With ``DIGIT_V4_CFG``'s kp 200 / kd 5 and the targets at the default pose the
+knees give 0.6 rad under the robot's weight within 0.4 s and it falls in 0.7 s; with these they give
+0.13 rad and it stands about 1.3 s before tipping (balancing is the policy's job)."""
+
+DIGIT_V4_MOTOR_MODEL_ACTION_SCALE: dict[str, float] = {
+    joint: 0.25 * effort / (armature * DIGIT_NATURAL_FREQ**2) for joint, (armature, effort) in DIGIT_MOTORS.items()
+}
+"""Per-joint action scale for ``DIGIT_V4_MOTOR_MODEL_CFG`` (mjlab's rule, as the G1's): a unit action asks a
+quarter of the motor's effort limit from its stiffness (hip pitch and knee 0.105 rad, hip roll 0.041)."""
