@@ -262,7 +262,7 @@ class SpotFlatEnvCfg(LocomotionVelocityRoughEnvCfg):
         self.sim.mujoco.impratio = 10.0
         # the gait rewards read the feet's contacts at every physics step
         self.scene.contact_forces.update_period = self.sim.dt
-        # kp 80 where Isaac Lab has 60: this model has no upright stance at 60 (robots/spot.py)
+        # kp 100 where Isaac Lab has 60: this model has no upright stance at 60 (robots/spot.py)
         self.scene.robot = SPOT_STIFF_CFG.replace(prim_path="{ENV_REGEX_NS}/Robot")
         self.scene.terrain = TerrainImporterCfg(
             prim_path="/World/ground",
