@@ -120,6 +120,70 @@ def test_allegro_fingers_are_where_isaac_labs_pose_puts_them():
         torch.testing.assert_close(found, torch.tensor(position), atol=2e-3, rtol=0.0, msg=body)
 
 
+# Joint limits (rad) of IsaacGymEnvs' kuka_allegro_description/allegro.urdf, the description behind Isaac
+# Lab's Allegro USD (menagerie's, which the model had before, are 6-16 % narrower)
+ALLEGRO_URDF_LIMITS = {
+    "(index|middle|ring)_joint_0": (-0.558489, 0.558489),
+    "(index|middle|ring)_joint_[123]": (-0.279244, 1.727825),
+    "thumb_joint_0": (0.279244, 1.57075),
+    "thumb_joint_1": (-0.331603, 1.151883),
+    "thumb_joint_2": (-0.279244, 1.727825),
+    "thumb_joint_3": (-0.279244, 1.762731),
+}
+
+
+def test_allegro_joint_limits_are_isaacgymenvs_urdfs_and_hold_the_default_pose():
+    """Isaac Lab's direct task maps each action onto a joint's range and its manager task scales them to the
+    soft limits (factor 1), so the ranges are the action space: they must be the URDF's."""
+    _, scene = make_scene("allegro")
+    robot = scene["robot"]
+    limits = robot.data.joint_pos_limits[0]
+    covered = []
+    for pattern, (lower, upper) in ALLEGRO_URDF_LIMITS.items():
+        ids = [i for i, name in enumerate(robot.joint_names) if re.fullmatch(pattern, name)]
+        assert ids, pattern
+        covered += ids
+        torch.testing.assert_close(limits[ids], torch.tensor([[lower, upper]] * len(ids)), atol=1e-6, rtol=0.0)
+    assert sorted(covered) == list(range(16))
+    torch.testing.assert_close(robot.data.soft_joint_pos_limits[0], limits)
+    default = robot.data.default_joint_pos[0]
+    assert ((default >= limits[:, 0]) & (default <= limits[:, 1])).all()  # thumb_joint_0's 0.28 too
+
+
+def test_allegro_joints_turn_as_the_urdfs_so_its_limits_carry_over():
+    """In a flexed, spread pose the last phalanges (the point 3 cm along each from its joint) lie where
+    IsaacGymEnvs' allegro.urdf puts them (its joint origins and Isaac Lab's root pose): every joint has the
+    URDF's zero and sign, so the URDF's limits mean the same here. The thumb is 2 mm off (menagerie's thumb
+    base); any one joint of this pose mirrored moves a point 2.4 cm or more."""
+    import mujoco
+
+    sim, scene = make_scene("allegro")
+    model, robot = sim.model, scene["robot"]
+    data = mujoco.MjData(model)
+    pose = posture(
+        robot,
+        {
+            "(index|middle|ring)_joint_0": 0.3,
+            "(index|middle|ring)_joint_[123]": 0.8,
+            "thumb_joint_0": 1.2,
+            "thumb_joint_[123]": 0.6,
+        },
+    )
+    data.qpos[robot._qpos_cols] = pose[0].numpy()
+    mujoco.mj_kinematics(model, data)
+    expected = {
+        "index_link_3": (-0.0750, -0.1531, 0.5881),
+        "middle_link_3": (-0.0288, -0.1579, 0.5877),
+        "ring_link_3": (0.0177, -0.1581, 0.5877),
+        "thumb_link_3": (-0.0257, -0.1001, 0.5967),
+    }
+    for body, position in expected.items():
+        b = model.body(f"Robot/{body}").id
+        along = data.xmat[b].reshape(3, 3)[:, 2]  # the phalanx's axis in this model (the URDF's is its x)
+        found = torch.tensor(data.xpos[b] + 0.03 * along, dtype=torch.float32)
+        torch.testing.assert_close(found, torch.tensor(position), atol=3e-3, rtol=0.0, msg=body)
+
+
 def test_shadow_hand_has_isaac_lab_joints_fingertips_and_20_actuated_joints():
     _, scene = make_scene("shadow")
     robot = scene["robot"]
