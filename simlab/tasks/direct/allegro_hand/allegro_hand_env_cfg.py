@@ -39,8 +39,8 @@ class AllegroHandEnvCfg(DirectRLEnvCfg):
         render_interval=decimation,
         physics_material=RigidBodyMaterialCfg(static_friction=1.0, dynamic_friction=1.0),
         physx=PhysxCfg(bounce_threshold_velocity=0.2),
-        # per world: peaks of 19 contacts and 92 constraint rows measured under random actions (8 worlds,
-        # 150 steps; tests/test_inhand_manipulation.py), with room for more than twice that
+        # per world: peaks of 23 contacts and 108 constraint rows measured under random actions (8 worlds,
+        # 150 steps, the URDF's joint limits; tests/test_inhand_manipulation.py), with room for twice that
         mujoco=MujocoCfg(cone="elliptic", impratio=10.0, nconmax=48, njmax=256),
     )
     # robot
