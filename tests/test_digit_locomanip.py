@@ -119,8 +119,8 @@ LEFT_ARM = [
 def hand_reach(lo: np.ndarray, hi: np.ndarray, targets: np.ndarray, seed: int = 0) -> np.ndarray:
     """Distance [m] from each target (in the torso's frame) to the nearest position the left hand takes
     with its arm's joints within [lo, hi] (the legs at zero, which do not move the torso frame): damped
-    least squares projected on that box, from the hanging arm and from the nearest of 2,000 random arm
-    poses, on the MJCF."""
+    least squares projected on that box, from its middle and from the nearest of 2,000 random arm poses
+    in it, on the MJCF."""
     model = mujoco.MjModel.from_xml_path(ASSETS_DIR + "/agility_digit.xml")
     data = mujoco.MjData(model)
     qpos = [model.joint(name).qposadr[0] for name in LEFT_ARM]
@@ -141,7 +141,7 @@ def hand_reach(lo: np.ndarray, hi: np.ndarray, targets: np.ndarray, seed: int = 
     distances = []
     for target in targets:
         best = np.inf
-        for q in (np.clip(np.zeros(len(lo)), lo, hi), poses[np.argmin(((reached - target) ** 2).sum(1))]):
+        for q in ((lo + hi) / 2, poses[np.argmin(((reached - target) ** 2).sum(1))]):
             for _ in range(40):
                 error = target - position(q)
                 mujoco.mj_jacBody(model, data, jacobian, None, hand)
@@ -153,25 +153,30 @@ def hand_reach(lo: np.ndarray, hi: np.ndarray, targets: np.ndarray, seed: int = 
 
 
 def test_the_arms_action_range_reaches_the_commanded_hand_positions():
-    """Within three units of action (three standard deviations of the runner's initial action noise)
-    the left hand reaches within 5 cm of 60 % of the commanded positions: all the arm reaches at all,
-    whatever its joints, but for the 29 % farther than the arm's length from the shoulder. The velocity
-    task's motor-model scale (0.04-0.08 rad per unit) reached 1 % (docs/locomotion.md)."""
+    """Within three units of action of the default pose (three standard deviations of the runner's
+    initial action noise) the left hand comes within 5 cm of at least half the commanded positions (63 %
+    of these 60; with its joints unbounded the arm reaches 70 % of 300, most of the rest lying beyond
+    its length from the shoulder). The velocity task's motor-model scale (0.04-0.08 rad per unit)
+    reached none of these 60 (docs/locomotion.md)."""
     cfg = parse_env_cfg(TASK, device="cpu", num_envs=1)
     _, _, scale = resolve_matching_names_values(
         cfg.actions.joint_pos.scale, LEFT_ARM, preserve_order=True, strict=False
     )
+    _, _, default = resolve_matching_names_values(
+        cfg.scene.robot.init_state.joint_pos, LEFT_ARM, preserve_order=True, strict=False
+    )
     model = mujoco.MjModel.from_xml_path(ASSETS_DIR + "/agility_digit.xml")
     joint_range = np.array([model.jnt_range[model.joint(name).id] for name in LEFT_ARM])
-    assert (joint_range[:, 0] < 0).all() and (joint_range[:, 1] > 0).all()  # the default pose (zero) inside
     ranges = cfg.commands.left_ee_pose.ranges
     rng = np.random.default_rng(0)
     targets = np.stack(
         [rng.uniform(*ranges.pos_x, 60), rng.uniform(*ranges.pos_y, 60), rng.uniform(*ranges.pos_z, 60)], 1
     )
     reach = 3.0 * np.array(scale)
-    distances = hand_reach(np.maximum(-reach, joint_range[:, 0]), np.minimum(reach, joint_range[:, 1]), targets)
-    assert np.mean(distances < 0.05) >= 0.6, np.mean(distances < 0.05)
+    lo = np.maximum(np.array(default) - reach, joint_range[:, 0])
+    hi = np.minimum(np.array(default) + reach, joint_range[:, 1])
+    distances = hand_reach(lo, hi, targets)
+    assert np.mean(distances < 0.05) >= 0.5, np.mean(distances < 0.05)
 
 
 def ported_cfg():
