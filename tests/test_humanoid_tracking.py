@@ -101,6 +101,18 @@ def test_task_steps_with_finite_observations_and_rewards():
         env.close()
 
 
+def test_task_step_copies_nothing_from_the_host_and_reads_nothing_back():
+    """No tensor of the step (clip restarts and resets included) is made from host data: on the GPU
+    each is a copy from pageable memory, which a CUDA graph capture refuses ("Cannot copy between CPU
+    and CUDA tensors during CUDA graph capture"), and the step then runs eagerly at about half speed."""
+    from simlab.benchmarks import step_ops
+
+    counter = step_ops.count("simlab/Tracking-Flat-G1-v0", num_envs=N, steps=3, engine="mujoco")
+    assert sum(counter.host_copies.values()) == 0, dict(counter.host_copies)
+    assert sum(counter.read_backs.values()) == 0, dict(counter.read_backs)
+    assert counter.torch_ops["commands/motion"] > 0 and counter.torch_ops["terminations/ee_body_pos"] > 0
+
+
 def test_envs_start_in_the_clips_state_and_follow_its_clock():
     env = make("simlab/Tracking-Flat-G1-Play-v0")  # from the clip's start, no start noise
     try:

@@ -43,6 +43,20 @@ _NO_KERNEL = {
 READ_BACKS = ("aten._local_scalar_dense", "aten.nonzero", "aten.item")
 
 
+def copies_from_host(func, args, kwargs) -> bool:
+    """Whether a dispatched op brings host data onto the tensors' device: a tensor made from Python
+    data (``torch.tensor(list)``, indexing with a list: ``aten.lift_fresh``; on the GPU a copy from
+    pageable memory, which a CUDA graph capture refuses) or a copy between a CPU and another device."""
+    name = str(func)
+    if name == "aten.lift_fresh.default":
+        return True
+    if name == "aten._to_copy.default":
+        return _changes_device_or_dtype(args[0], {"device": kwargs.get("device", args[0].device)})
+    if name.startswith("aten.copy_"):
+        return len({t.device.type for t in _tensors(args[:2])}) > 1
+    return False
+
+
 def launches_kernel(func, args, kwargs, outputs) -> bool:
     """Whether a dispatched aten op runs a kernel (on the GPU: a launch): not a view or a
     metadata op (whose outputs all alias its inputs without writing them), nor an allocation."""
@@ -86,6 +100,7 @@ class LaunchCounter(TorchDispatchMode):
         self.torch_ops: collections.Counter[str] = collections.Counter()
         self.warp_launches: collections.Counter[str] = collections.Counter()
         self.read_backs: collections.Counter[str] = collections.Counter()
+        self.host_copies: collections.Counter[str] = collections.Counter()
         self.op_names: dict[str, collections.Counter[str]] = collections.defaultdict(collections.Counter)
         self.active = False
         self.warp_launched = 0  # every Warp launch, counted or not
@@ -94,6 +109,8 @@ class LaunchCounter(TorchDispatchMode):
     def __torch_dispatch__(self, func, types, args=(), kwargs=None):
         kwargs = kwargs or {}
         outputs = func(*args, **kwargs)
+        if self.active and copies_from_host(func, args, kwargs):
+            self.host_copies[self.labels[-1]] += 1
         if self.active and launches_kernel(func, args, kwargs, outputs):
             label = self.labels[-1]
             self.torch_ops[label] += 1
@@ -280,10 +297,13 @@ def report(counter: LaunchCounter, steps: int, top_ops: int = 0) -> str:
             for op, n in counter.op_names[label].most_common(top_ops):
                 lines.append(f"{'':<{width}}    {n / steps:6.1f}  {op}")
     read_backs = sum(counter.read_backs.values()) / steps
+    host_copies = sum(counter.host_copies.values()) / steps
     lines.append(
         f"{'outside physics':<{width}}  {outside_torch:7.1f}  {outside_warp:6.1f}  {outside_torch + outside_warp:7.1f}"
-        f"   (host read-backs: {read_backs:.1f})"
+        f"   (host read-backs: {read_backs:.1f}, copies from the host: {host_copies:.1f})"
     )
+    for label, n in sorted(counter.host_copies.items()):
+        lines.append(f"  copies from the host in {label}: {n / steps:.1f}")
     return "\n".join(lines)
 
 

@@ -40,7 +40,8 @@ class MotionCommand(CommandTerm):
     def __init__(self, cfg: MotionCommandCfg, env: ManagerBasedRLEnv):
         super().__init__(cfg, env)
         self.robot = env.scene[cfg.asset_name]
-        clip = MotionClip.load(cfg.motion_file)
+        # a clip stored without body states gets them by forward kinematics of the robot's model file
+        clip = MotionClip.load(cfg.motion_file, mjcf=getattr(self.robot.cfg.spawn, "asset_path", None))
         if abs(clip.fps * env.step_dt - 1.0) > 1e-3:
             raise ConfigError(
                 f"{cfg.motion_file}: the clip runs at {clip.fps:g} fps but the env steps at {1 / env.step_dt:g} Hz;"
@@ -67,6 +68,8 @@ class MotionCommand(CommandTerm):
         self.num_frames = clip.num_frames
         self.robot_body_ids = torch.tensor(self.robot.find_bodies(cfg.body_names, preserve_order=True)[0], device=dev)
         self.anchor = cfg.body_names.index(cfg.anchor_body_name)
+        self._pose_bounds = _bounds(cfg.pose_range, dev)  # on the device once: no host copy per step
+        self._velocity_bounds = _bounds(cfg.velocity_range, dev)
         self.robot_anchor = self.robot.body_names.index(cfg.anchor_body_name)
 
         self.time_steps = torch.zeros(self.num_envs, dtype=torch.long, device=dev)
@@ -183,11 +186,11 @@ class MotionCommand(CommandTerm):
         """Start the envs where ``mask`` is set at clip times, in the clip's state there, slightly perturbed."""
         self._sample_times(mask)
         n, steps, origins = self.num_envs, self.time_steps, self._env.scene.env_origins
-        pose = _uniform(self.cfg.pose_range, n, self.device)
+        pose = _uniform(self._pose_bounds, n)
         root_pos = self.clip_body_pos_w[steps, 0] + origins + pose[:, :3]
         delta = math_utils.quat_from_euler_xyz(pose[:, 3], pose[:, 4], pose[:, 5])
         root_quat = math_utils.quat_mul(delta, self.clip_body_quat_w[steps, 0])
-        velocity = _uniform(self.cfg.velocity_range, n, self.device)
+        velocity = _uniform(self._velocity_bounds, n)
         root_lin_vel = self.clip_body_lin_vel_w[steps, 0] + velocity[:, :3]
         root_ang_vel = self.clip_body_ang_vel_w[steps, 0] + velocity[:, 3:]
         low, high = self.cfg.joint_position_range
@@ -225,9 +228,13 @@ class MotionCommand(CommandTerm):
         return float(-(p * (p + 1e-12).log()).sum() / math.log(max(self.bin_count, 2)))
 
 
-def _uniform(ranges: dict[str, tuple[float, float]], n: int, device) -> torch.Tensor:
-    bounds = torch.tensor([ranges.get(k, (0.0, 0.0)) for k in ("x", "y", "z", "roll", "pitch", "yaw")], device=device)
-    return bounds[:, 0] + torch.rand(n, 6, device=device) * (bounds[:, 1] - bounds[:, 0])
+def _bounds(ranges: dict[str, tuple[float, float]], device) -> torch.Tensor:
+    """(6, 2) low and high of x, y, z, roll, pitch, yaw (0 where ``ranges`` has no entry)."""
+    return torch.tensor([ranges.get(k, (0.0, 0.0)) for k in ("x", "y", "z", "roll", "pitch", "yaw")], device=device)
+
+
+def _uniform(bounds: torch.Tensor, n: int) -> torch.Tensor:
+    return bounds[:, 0] + torch.rand(n, 6, device=bounds.device) * (bounds[:, 1] - bounds[:, 0])
 
 
 @configclass
