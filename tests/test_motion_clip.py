@@ -155,7 +155,7 @@ def test_a_shipped_clip_is_named_by_its_name(tmp_path, monkeypatch):
     only a bare name is looked up: a path that is not a file stays an error, and a file of that name wins."""
     walk = next(clip for clip in shipped_clips() if clip.endswith("g1_walk.npz"))
     assert resolve_clip("g1_walk") == resolve_clip("g1_walk.npz") == walk
-    assert MotionClip.load("g1_walk").num_frames == MotionClip.load(walk).num_frames
+    assert MotionClip.load("g1_walk", mjcf=G1_29DOF).num_frames == MotionClip.load(walk, mjcf=G1_29DOF).num_frames
     with pytest.raises(ConfigError, match="no such file"):
         resolve_clip(tmp_path / "g1_walk")
     with pytest.raises(ConfigError, match="no such file"):
@@ -168,7 +168,9 @@ def test_a_shipped_clip_is_named_by_its_name(tmp_path, monkeypatch):
 
 def test_missing_keys_and_bad_shapes(tmp_path):
     np.savez(tmp_path / "partial.npz", fps=np.array(50.0))
-    with pytest.raises(ConfigError, match=r"missing \['body_ang_vel_w'"):
+    with pytest.raises(
+        ConfigError, match=r"missing \['joint_names', 'joint_pos', 'joint_vel', 'root_pos_w', 'root_quat_w'\]"
+    ):
         MotionClip.load(tmp_path / "partial.npz")
     write_csv(tmp_path / "walk.csv", walking_frames(50.0, 0.5))
     clip = clip_from_csv(tmp_path / "walk.csv", G1_29DOF, input_fps=50.0)
@@ -202,3 +204,123 @@ def test_csv_to_npz_script_converts_and_keeps_what_the_user_had(tmp_path):
     done = subprocess.run([sys.executable, CSV_TO_NPZ, *argv], capture_output=True, text=True, timeout=120)
     assert done.returncode == 2 and done.stderr.startswith("csv_to_npz.py: error: ") and done.stderr.count("\n") == 1
     assert not (tmp_path / "short.npz").exists()
+
+
+def test_a_clip_without_body_states_gets_the_converters_by_forward_kinematics(tmp_path):
+    """Saved with the root in place of the body states, a converted clip loads as it was converted
+    (float32 storage of the root and angles: within 1e-6 m, 1e-6, 1e-5 m/s and rad/s); a full clip
+    loads as stored, without the model."""
+    write_csv(tmp_path / "walk.csv", walking_frames(30.0, 2.0))
+    clip = clip_from_csv(tmp_path / "walk.csv", G1_29DOF, input_fps=30.0, output_fps=50.0)
+    clip.save(tmp_path / "full.npz")
+    clip.save(tmp_path / "root.npz", body_states=False)
+    with np.load(tmp_path / "root.npz") as stored:
+        assert not {"body_names", "body_pos_w", "body_quat_w"} & set(stored.files)
+        assert stored["root_pos_w"].shape == (101, 3) and stored["root_quat_w"].shape == (101, 4)
+    assert (tmp_path / "root.npz").stat().st_size < (tmp_path / "full.npz").stat().st_size / 4
+    filled = MotionClip.load(tmp_path / "root.npz", mjcf=G1_29DOF)
+    assert filled.body_names == clip.body_names and filled.joint_names == clip.joint_names
+    np.testing.assert_array_equal(filled.joint_pos, clip.joint_pos)
+    np.testing.assert_array_equal(filled.joint_vel, clip.joint_vel)
+    for key, tolerance in (
+        ("body_pos_w", 1e-6),
+        ("body_quat_w", 1e-6),
+        ("body_lin_vel_w", 1e-5),
+        ("body_ang_vel_w", 1e-5),
+    ):
+        np.testing.assert_allclose(getattr(filled, key), getattr(clip, key), atol=tolerance, rtol=0, err_msg=key)
+    full = MotionClip.load(tmp_path / "full.npz")
+    for key in ("body_pos_w", "body_quat_w", "body_lin_vel_w", "body_ang_vel_w"):
+        np.testing.assert_array_equal(getattr(full, key), getattr(clip, key))
+
+
+def test_body_states_are_all_or_none_and_filling_them_needs_the_robots_model(tmp_path):
+    write_csv(tmp_path / "walk.csv", walking_frames(50.0, 0.5))
+    clip_from_csv(tmp_path / "walk.csv", G1_29DOF, input_fps=50.0).save(tmp_path / "full.npz")
+    with np.load(tmp_path / "full.npz") as full:
+        arrays = {k: full[k] for k in full.files if k not in ("body_lin_vel_w", "body_ang_vel_w")}
+    np.savez(tmp_path / "some.npz", **arrays)
+    with pytest.raises(
+        ConfigError,
+        match=r"has \['body_names', 'body_pos_w', 'body_quat_w'\] but not"
+        r" \['body_lin_vel_w', 'body_ang_vel_w'\]; a clip stores all of",
+    ):
+        MotionClip.load(tmp_path / "some.npz", mjcf=G1_29DOF)
+    MotionClip.load(tmp_path / "full.npz").save(tmp_path / "root.npz", body_states=False)
+    with pytest.raises(ConfigError, match=r"stores the root and no body states; .*MotionClip.load\(path, mjcf=...\)"):
+        MotionClip.load(tmp_path / "root.npz")
+    with pytest.raises(ConfigError, match=r"the clip's joints .* are not those of .*unitree_h1.xml"):
+        MotionClip.load(tmp_path / "root.npz", mjcf=f"{ASSETS_DIR}/unitree_h1.xml")
+
+
+# Body states stored in the shipped clips before they were saved without them (the full format, made by
+# clip_from_csv), where a body moves fastest: position, quaternion (w x y z), linear and angular velocity.
+STORED_BODY_STATES = {
+    ("g1_turn", 198, "left_hip_pitch_link"): (
+        (-0.032422, -0.029061, 0.637300),
+        (0.951419, 0.048565, -0.212191, 0.217756),
+        (0.210425, -0.398025, 0.000000),
+        (-0.097345, 0.201520, 0.000000),
+    ),
+    ("g1_turn", 71, "left_hip_yaw_link"): (
+        (0.045256, 0.018750, 0.536198),
+        (0.922213, 0.170405, -0.324023, 0.124479),
+        (-0.142360, 0.037675, -0.101776),
+        (-0.397853, 0.708421, 1.144158),
+    ),
+    ("g1_twist", 13, "left_wrist_yaw_link"): (
+        (0.044014, 0.325043, 0.786166),
+        (0.873188, 0.161948, 0.380704, 0.257644),
+        (-0.087349, 0.369465, 0.290643),
+        (1.200607, -0.362731, 1.029492),
+    ),
+    ("g1_twist", 10, "right_shoulder_roll_link"): (
+        (0.005793, -0.151323, 1.033791),
+        (0.942330, -0.181501, 0.252338, 0.124088),
+        (0.254359, -0.005271, -0.088541),
+        (-0.718196, 1.649078, 1.349585),
+    ),
+    ("g1_walk", 225, "left_ankle_pitch_link"): (
+        (0.300000, 0.113998, 0.103971),
+        (0.991606, 0.129295, 0.000000, 0.000000),
+        (0.783966, 0.000587, 0.000155),
+        (-0.034425, -0.000014, -0.000001),
+    ),
+    ("g1_walk", 232, "left_knee_link"): (
+        (0.438132, 0.041584, 0.367485),
+        (0.990419, 0.122855, 0.062581, 0.007763),
+        (-0.232151, 0.004254, -0.155451),
+        (-0.096730, -2.655920, -0.669472),
+    ),
+    ("g1_wave", 19, "right_wrist_yaw_link"): (
+        (0.222473, -0.289469, 0.887229),
+        (0.951396, -0.292442, 0.052650, -0.080939),
+        (0.332314, 0.080451, 0.881383),
+        (-1.328924, -3.409780, 1.308194),
+    ),
+    ("g1_wave", 50, "right_elbow_link"): (
+        (0.083905, -0.286386, 1.042090),
+        (0.851283, -0.400332, -0.220254, -0.257954),
+        (-0.000375, 0.000000, 0.049025),
+        (-2.883491, -2.559583, 2.660643),
+    ),
+}
+
+
+@pytest.mark.parametrize("name", ["g1_turn", "g1_twist", "g1_walk", "g1_wave"])
+def test_shipped_clips_body_states_are_those_they_stored(name):
+    """The shipped clips store their root and joints; forward kinematics gives back the body states they
+    stored before (to 1e-5 m, 1e-5 in quaternions, 1e-4 m/s and rad/s; the values above have 6 decimals)."""
+    with np.load(resolve_clip(name)) as stored:
+        assert "root_pos_w" in stored.files and "body_pos_w" not in stored.files
+    clip = MotionClip.load(name, mjcf=G1_29DOF)
+    assert clip.body_names[0] == "pelvis" and len(clip.body_names) == 30
+    for (clip_name, frame, body), values in STORED_BODY_STATES.items():
+        if clip_name != name:
+            continue
+        b = clip.body_names.index(body)
+        pos, quat, lin_vel, ang_vel = values
+        np.testing.assert_allclose(clip.body_pos_w[frame, b], pos, atol=1e-5, rtol=0)
+        np.testing.assert_allclose(clip.body_quat_w[frame, b], quat, atol=1e-5, rtol=0)
+        np.testing.assert_allclose(clip.body_lin_vel_w[frame, b], lin_vel, atol=1e-4, rtol=0)
+        np.testing.assert_allclose(clip.body_ang_vel_w[frame, b], ang_vel, atol=1e-4, rtol=0)

@@ -3,7 +3,8 @@
 ``g1_wave`` and ``g1_twist`` are joint-angle curves of the 29-DoF G1 on its planted feet (the pelvis
 placed, frame by frame, so that the soles rest flat where they started). ``g1_walk`` and ``g1_turn``
 are static gaits: foot and centre-of-mass paths (the weight shifted over the stance foot before the
-other one swings), the legs solved by inverse kinematics. All go through the retargeted-CSV converter.
+other one swings), the legs solved by inverse kinematics. All go through the retargeted-CSV converter
+and are saved with their root in place of the body states, which loading fills by forward kinematics.
 
     python scripts/tools/make_g1_clips.py            # rewrites the npz files
 """
@@ -266,13 +267,13 @@ def main() -> None:
             csv = Path(tmp) / f"{name}.csv"
             np.savetxt(csv, frames_for(motion, seconds), delimiter=",", fmt="%.6f")
             clip = clip_from_csv(csv, MJCF, input_fps=FPS, output_fps=FPS)
-            clip.save(OUT / f"{name}.npz")
+            clip.save(OUT / f"{name}.npz", body_states=False)
             print(f"{name}: {clip.num_frames} frames, {(OUT / f'{name}.npz').stat().st_size / 1e3:.0f} kB")
         for name, plan in STEPPING.items():
             csv = Path(tmp) / f"{name}.csv"
             np.savetxt(csv, stepping_frames(plan(), arms_swing), delimiter=",", fmt="%.6f")
             clip = clip_from_csv(csv, MJCF, input_fps=FPS, output_fps=FPS)
-            clip.save(OUT / f"{name}.npz")
+            clip.save(OUT / f"{name}.npz", body_states=False)
             print(f"{name}: {clip.num_frames} frames, {(OUT / f'{name}.npz').stat().st_size / 1e3:.0f} kB")
 
 

@@ -17,6 +17,13 @@ key                   shape            meaning
 ``body_ang_vel_w``    (T, B, 3)        body angular velocities in the world [rad/s]
 ====================  ===============  ==========================================================
 
+The body states (``body_names`` and the four ``body_*`` arrays) are optional, all or none: a clip
+without them stores its root (the floating base, body 0) instead, ``root_pos_w`` (T, 3) and
+``root_quat_w`` (T, 4), and :meth:`MotionClip.load` fills them as the converter does, by forward
+kinematics of the robot's MJCF (the ``mjcf`` argument) and central differences. The bodies are then
+the model's, in its order, without the world. ``save(path, body_states=False)`` writes this form: a
+tenth of the bytes, for clips made by the converter (the shipped ones).
+
 The retargeted-CSV layout (as the widely shared G1 retargets of LAFAN1 use) has one frame per row,
 comma-separated: the root (pelvis) position x, y, z [m], the root quaternion x, y, z, w, then one
 angle per joint in the robot model's joint order. :func:`clip_from_csv` reads it, resamples it to the
@@ -58,16 +65,22 @@ class MotionClip:
     def duration(self) -> float:
         return (self.num_frames - 1) / self.fps
 
-    def save(self, path: str | Path) -> None:
+    def save(self, path: str | Path, body_states: bool = True) -> None:
+        """Write the clip; ``body_states=False`` writes the root (body 0) in place of the body states, for
+        a clip whose bodies are its robot model's in the converter's order (:func:`body_states`)."""
         arrays = {f.name: getattr(self, f.name) for f in fields(self)}
         arrays["joint_names"] = np.array(self.joint_names, dtype=str)
         arrays["body_names"] = np.array(self.body_names, dtype=str)
+        if not body_states:
+            arrays = {k: v for k, v in arrays.items() if k not in BODY_KEYS}
+            arrays["root_pos_w"], arrays["root_quat_w"] = self.body_pos_w[:, 0], self.body_quat_w[:, 0]
         np.savez_compressed(path, **{k: np.asarray(v) for k, v in arrays.items()})
 
     @classmethod
-    def load(cls, path: str | Path) -> MotionClip:
+    def load(cls, path: str | Path, mjcf: str | Path | None = None) -> MotionClip:
         """Read a clip (a path, or a shipped clip's name: ``g1_walk``), checking its keys, shapes and
-        values; data only (no pickled objects)."""
+        values; data only (no pickled objects). A clip without body states gets them by forward
+        kinematics of the robot in ``mjcf``."""
         path = resolve_clip(path)
         if not zipfile.is_zipfile(path):  # np.load would call a text file pickled data
             raise ConfigError(
@@ -79,9 +92,23 @@ class MotionClip:
                 arrays = {key: data[key] for key in data.files}
         except (OSError, ValueError) as err:
             raise ConfigError(f"Motion clip {path}: not a readable npz of arrays ({err}).") from None
-        missing = sorted({f.name for f in fields(cls)} - arrays.keys())
+        stored = [k for k in BODY_KEYS if k in arrays]
+        if stored and len(stored) < len(BODY_KEYS):
+            raise ConfigError(
+                f"Motion clip {path}: has {stored} but not {[k for k in BODY_KEYS if k not in arrays]}; a clip"
+                f" stores all of {list(BODY_KEYS)} or none (then root_pos_w and root_quat_w, and forward"
+                " kinematics fills them)."
+            )
+        missing = sorted({"fps", "joint_names", *_JOINT_SHAPES, *(() if stored else _ROOT_SHAPES)} - arrays.keys())
         if missing:
             raise ConfigError(f"Motion clip {path}: missing {missing}; the format is in {__name__}.")
+        if not stored:
+            if mjcf is None:
+                raise ConfigError(
+                    f"Motion clip {path} stores the root and no body states; loading it needs the robot's MJCF"
+                    " to fill them by forward kinematics: MotionClip.load(path, mjcf=...)."
+                )
+            arrays.update(_filled_body_states(arrays, mjcf, str(path)))
         clip = cls(
             fps=float(arrays["fps"]),
             joint_names=[str(n) for n in arrays["joint_names"]],
@@ -93,18 +120,22 @@ class MotionClip:
 
     def check(self, where: str = "motion clip") -> None:
         sizes = {"T": self.num_frames, "J": len(self.joint_names), "B": len(self.body_names)}
-        for key, shape in _STATE_SHAPES.items():
-            want = tuple(sizes.get(d, d) for d in shape)
-            got = getattr(self, key).shape
-            if got != want:
-                raise ConfigError(f"{where}: {key} has shape {got}, expected {want} (T frames, J joints, B bodies).")
-            bad = np.argwhere(~np.isfinite(getattr(self, key)))
-            if len(bad):
-                raise ConfigError(f"{where}: {key} is not finite at frame {bad[0][0]}.")
+        _check_arrays({k: getattr(self, k) for k in _STATE_SHAPES}, _STATE_SHAPES, sizes, where)
         if not self.fps > 0 or self.num_frames < 2:
             raise ConfigError(
                 f"{where}: needs fps > 0 and at least 2 frames (fps {self.fps}, {self.num_frames} frames)."
             )
+
+
+def _check_arrays(arrays: dict[str, np.ndarray], shapes: dict[str, tuple], sizes: dict[str, int], where: str) -> None:
+    for key, shape in shapes.items():
+        want = tuple(sizes.get(d, d) for d in shape)
+        got = arrays[key].shape
+        if got != want:
+            raise ConfigError(f"{where}: {key} has shape {got}, expected {want} (T frames, J joints, B bodies).")
+        bad = np.argwhere(~np.isfinite(arrays[key]))
+        if len(bad):
+            raise ConfigError(f"{where}: {key} is not finite at frame {bad[0][0]}.")
 
 
 def shipped_clips() -> list[str]:
@@ -128,14 +159,35 @@ def resolve_clip(path: str | Path) -> str:
     )
 
 
-_STATE_SHAPES = {
-    "joint_pos": ("T", "J"),
-    "joint_vel": ("T", "J"),
+_JOINT_SHAPES = {"joint_pos": ("T", "J"), "joint_vel": ("T", "J")}
+_BODY_SHAPES = {
     "body_pos_w": ("T", "B", 3),
     "body_quat_w": ("T", "B", 4),
     "body_lin_vel_w": ("T", "B", 3),
     "body_ang_vel_w": ("T", "B", 3),
 }
+_STATE_SHAPES = {**_JOINT_SHAPES, **_BODY_SHAPES}
+_ROOT_SHAPES = {"root_pos_w": ("T", 3), "root_quat_w": ("T", 4)}
+BODY_KEYS = ("body_names", *_BODY_SHAPES)  # stored all together, or none
+
+
+def _filled_body_states(arrays: dict[str, np.ndarray], mjcf: str | Path, where: str) -> dict[str, np.ndarray]:
+    """The body arrays of a clip stored without them, from its root and joint angles."""
+    sizes = {"T": len(arrays["joint_pos"]), "J": len(arrays["joint_names"])}
+    _check_arrays(arrays, {**_JOINT_SHAPES, **_ROOT_SHAPES}, sizes, where)
+    if (np.linalg.norm(arrays["root_quat_w"], axis=1) < 1e-9).any():
+        raise ConfigError(f"{where}: root_quat_w has a zero quaternion.")
+    model = floating_base_model(mjcf)
+    joints = [str(n) for n in arrays["joint_names"]]
+    if sorted(joints) != sorted(model_joint_names(model)):
+        raise ConfigError(
+            f"{where}: the clip's joints {sorted(joints)} are not those of {mjcf} {sorted(model_joint_names(model))};"
+            " its body states are filled by that model's forward kinematics."
+        )
+    names, *states = body_states(
+        model, joints, arrays["root_pos_w"], arrays["root_quat_w"], arrays["joint_pos"], float(arrays["fps"])
+    )
+    return {"body_names": np.array(names), **dict(zip(_BODY_SHAPES, states))}
 
 
 def read_retargeted_csv(path: str | Path, joint_names: list[str]) -> np.ndarray:
@@ -202,22 +254,55 @@ def model_joint_names(model: mujoco.MjModel) -> list[str]:
     return [model.joint(j).name for j in range(model.njnt) if int(model.jnt_type[j]) in moving]
 
 
+def floating_base_model(mjcf_path: str | Path) -> mujoco.MjModel:
+    model = mujoco.MjModel.from_xml_path(str(mjcf_path))
+    if model.njnt == 0 or model.jnt_type[0] != mujoco.mjtJoint.mjJNT_FREE:
+        raise ConfigError(f"{mjcf_path}: the robot needs a floating base (a free joint first) for a motion clip.")
+    return model
+
+
 def clip_from_csv(
     csv_path: str | Path, mjcf_path: str | Path, input_fps: float, output_fps: float = 50.0
 ) -> MotionClip:
     """A clip from a retargeted CSV of the robot in ``mjcf_path`` (a floating base, then hinge joints)."""
-    model = mujoco.MjModel.from_xml_path(str(mjcf_path))
-    if model.njnt == 0 or model.jnt_type[0] != mujoco.mjtJoint.mjJNT_FREE:
-        raise ConfigError(f"{mjcf_path}: the robot needs a floating base (a free joint first) for a motion clip.")
+    model = floating_base_model(mjcf_path)
     joints = model_joint_names(model)
     frames = read_retargeted_csv(csv_path, joints)
     if len(frames) < 2:
         raise ConfigError(f"{csv_path}: needs at least 2 frames, has {len(frames)}.")
     _check_frames(frames, model, joints, str(csv_path))
     root_pos, root_quat, joint_pos = _resample(frames, input_fps, output_fps)
+    bodies, body_pos, body_quat, body_lin_vel, body_ang_vel = body_states(
+        model, joints, root_pos, root_quat, joint_pos, output_fps
+    )
+    clip = MotionClip(
+        fps=output_fps,
+        joint_names=joints,
+        body_names=bodies,
+        joint_pos=joint_pos.astype(np.float32),
+        joint_vel=np.gradient(joint_pos, 1.0 / output_fps, axis=0).astype(np.float32),
+        body_pos_w=body_pos.astype(np.float32),
+        body_quat_w=body_quat.astype(np.float32),
+        body_lin_vel_w=body_lin_vel.astype(np.float32),
+        body_ang_vel_w=body_ang_vel.astype(np.float32),
+    )
+    clip.check(str(csv_path))
+    return clip
 
+
+def body_states(
+    model: mujoco.MjModel,
+    joint_names: list[str],
+    root_pos: np.ndarray,
+    root_quat: np.ndarray,
+    joint_pos: np.ndarray,
+    fps: float,
+) -> tuple[list[str], np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The bodies of ``model`` (a floating base first) with their world positions, quaternions, and linear
+    and angular velocities by central differences, for T frames of the root pose (position, quaternion
+    w x y z) and joint angles (columns named ``joint_names``) at ``fps``; float64 arrays."""
     data = mujoco.MjData(model)
-    qpos_cols = [model.jnt_qposadr[model.joint(name).id] for name in joints]
+    qpos_cols = [model.jnt_qposadr[model.joint(name).id] for name in joint_names]
     bodies = [model.body(b).name for b in range(1, model.nbody)]
     body_pos = np.zeros((len(joint_pos), len(bodies), 3))
     body_quat = np.zeros((len(joint_pos), len(bodies), 4))
@@ -226,20 +311,8 @@ def clip_from_csv(
         data.qpos[qpos_cols] = joint_pos[t]
         mujoco.mj_kinematics(model, data)
         body_pos[t], body_quat[t] = data.xpos[1:], data.xquat[1:]
-    dt = 1.0 / output_fps
-    clip = MotionClip(
-        fps=output_fps,
-        joint_names=joints,
-        body_names=bodies,
-        joint_pos=joint_pos.astype(np.float32),
-        joint_vel=np.gradient(joint_pos, dt, axis=0).astype(np.float32),
-        body_pos_w=body_pos.astype(np.float32),
-        body_quat_w=body_quat.astype(np.float32),
-        body_lin_vel_w=np.gradient(body_pos, dt, axis=0).astype(np.float32),
-        body_ang_vel_w=_angular_velocity(body_quat, dt).astype(np.float32),
-    )
-    clip.check(str(csv_path))
-    return clip
+    dt = 1.0 / fps
+    return bodies, body_pos, body_quat, np.gradient(body_pos, dt, axis=0), _angular_velocity(body_quat, dt)
 
 
 ANGLE_SLACK = 1.0  # rad beyond a joint's range that a retarget may overshoot; more is another unit (degrees)
