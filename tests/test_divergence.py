@@ -89,3 +89,55 @@ def test_check_finite_actions_false_skips_the_action_check():
     env.step(action)  # no ValueError about the action: the user turned the check off
     assert env._stepper._check_actions is False
     env.close()
+
+
+@pytest.mark.parametrize("engine", ["mujoco", "mujoco_warp"])
+@pytest.mark.parametrize(("field", "bad_value"), [("qvel", float("nan")), ("qpos", 1e25)])
+def test_one_blown_up_allegro_world_is_reset_and_training_goes_on(engine, field, bad_value):
+    """The attack behind a dead 8192-world Allegro run: one world's state turns NaN, or huge but finite
+    (MuJoCo Warp does not restart it; a cube 1e25 m away made the reward's distance inf). That world
+    ends its episode and is counted; the others step on untouched; every observation and reward is finite."""
+    if engine == "mujoco_warp":
+        pytest.importorskip("mujoco_warp")
+    from simlab.tasks.direct.allegro_hand.allegro_hand_env_cfg import AllegroHandEnvCfg
+    from simlab.tasks.direct.inhand_manipulation.inhand_manipulation_env import InHandManipulationEnv
+
+    cfg = AllegroHandEnvCfg()
+    cfg.scene.num_envs, cfg.sim.device, cfg.sim.engine, cfg.seed = 4, "cpu", engine, 1
+    env = InHandManipulationEnv(cfg)
+    env.reset()
+    actions = torch.zeros(4, 16)
+    for _ in range(2):
+        env.step(actions)
+    cube_column = env.hand.num_joints  # the cube's free joint follows the hand's 16 joints
+    env.sim.physics.data(field)[2, cube_column] = bad_value
+    _, reward, terminated, _, extras = env.step(actions)
+    assert terminated.tolist() == [False, False, True, False]
+    assert int(extras["log"]["Physics/diverged"]) == 1
+    assert torch.isfinite(reward).all()
+    for _ in range(3):  # the reset world and the others step on
+        obs, reward, terminated, _, extras = env.step(actions)
+        assert torch.isfinite(obs["policy"]).all() and torch.isfinite(reward).all()
+        assert int(extras["log"]["Physics/diverged"]) == 0 and not terminated.any()
+    env.close()
+
+
+def test_the_others_step_as_if_no_world_had_blown_up():
+    """A restart touches only the blown-up world: the others' states equal a run without it."""
+
+    def run(attack: bool) -> dict[str, torch.Tensor]:
+        env = direct_cartpole()  # seeds the global generator: one env at a time
+        env.reset()
+        if attack:
+            env.sim.physics.data("qvel")[3, 1] = float("nan")
+        for _ in range(3):
+            env.step(torch.linspace(-1, 1, 6).unsqueeze(1))
+        state = {field: env.sim.physics.data(field).clone() for field in ("qpos", "qvel")}
+        env.close()
+        return state
+
+    clean, attacked = run(attack=False), run(attack=True)
+    others = [0, 1, 2, 4, 5]
+    for field in ("qpos", "qvel"):
+        assert torch.equal(clean[field][others], attacked[field][others])
+        assert not torch.equal(clean[field][3], attacked[field][3])  # world 3 was restarted

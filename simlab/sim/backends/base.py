@@ -53,6 +53,10 @@ from simlab.utils.versions import warn_once
 
 EnvIds = Sequence[int] | torch.Tensor | None
 
+MAX_STATE_VALUE = 1e10
+"""MuJoCo's ``mjMAXVAL``: a world whose position or velocity entry exceeds it has blown up (MuJoCo C
+restarts such a world; ``take_diverged`` applies the same bound on every backend)."""
+
 # The MjData fields of MuJoCo's post-constraint pass (mj_rnePostConstraint): body accelerations and
 # the forces on each body from outside its tree and from its parent (PhysX's incoming joint forces).
 POST_CONSTRAINT_FIELDS = ("cacc", "cfrc_int", "cfrc_ext")
@@ -333,12 +337,16 @@ class PhysicsBackend(ABC):
         """(num_envs,) bool: the worlds whose state blew up since the last call; also counted in
         ``diverged_count``. Fixed shape, no host read: an env step calls it after its physics.
 
-        A blown-up world has a non-finite ``qpos`` or ``qvel`` (what MuJoCo Warp leaves), or was
-        restarted by the simulator itself (``_restarted_by_simulator``: MuJoCo C resets a world whose
-        state or acceleration is non-finite or huge, with only a console warning).
+        A blown-up world has a ``qpos`` or ``qvel`` entry that is non-finite or above ``MAX_STATE_VALUE``
+        (what MuJoCo Warp leaves), or was restarted by the simulator itself (``_restarted_by_simulator``:
+        MuJoCo C resets a world whose state or acceleration is non-finite or huge, with only a console
+        warning). Huge but finite counts too: a cube 1e20 m away is finite, but its squared distance in
+        a reward term overflows float32 to inf.
         """
-        finite = torch.isfinite(self.data("qpos")).all(dim=1) & torch.isfinite(self.data("qvel")).all(dim=1)
-        diverged = ~finite
+        qpos, qvel = self.data("qpos"), self.data("qvel")
+        # NaN compares False, so this is False for non-finite rows as well
+        sane = (qpos.abs() <= MAX_STATE_VALUE).all(dim=1) & (qvel.abs() <= MAX_STATE_VALUE).all(dim=1)
+        diverged = ~sane
         restarted = self._restarted_by_simulator()
         if restarted is not None:
             diverged |= restarted

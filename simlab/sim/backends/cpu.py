@@ -25,7 +25,7 @@ import torch
 
 from simlab.utils.memory import available_memory, check_env_memory
 
-from .base import POST_CONSTRAINT_FIELDS, SET_CONST_OUTPUTS, EnvIds, PhysicsBackend
+from .base import MAX_STATE_VALUE, POST_CONSTRAINT_FIELDS, SET_CONST_OUTPUTS, EnvIds, PhysicsBackend
 
 
 def check_host_memory(model: mujoco.MjModel, data: mujoco.MjData, num_envs: int, num_threads: int) -> None:
@@ -247,4 +247,4 @@ def _state_columns(model: mujoco.MjModel) -> dict[str, slice]:
 
 def _blown_up(state: torch.Tensor) -> torch.Tensor:
     """(num_envs,) bool: rows MuJoCo would restart (a value non-finite or above mjMAXVAL, 1e10)."""
-    return ~(state.abs() <= 1e10).all(dim=1)  # NaN compares False
+    return ~(state.abs() <= MAX_STATE_VALUE).all(dim=1)  # NaN compares False
