@@ -12,6 +12,7 @@ import mujoco
 import numpy as np
 import pytest
 import torch
+from test_graph_contract import emulated_cuda_graph  # noqa: F401 (a fixture)
 
 import simlab.tasks  # noqa: F401 - registers the tasks
 from simlab.robots.unitree import ASSETS_DIR
@@ -22,6 +23,7 @@ from simlab.tasks.utils.parse_cfg import load_cfg_from_registry, parse_env_cfg
 
 N = 4
 CLIPS = sorted(Path(MOTIONS_DIR).glob("*.npz"))
+G1_29DOF_MJCF = f"{ASSETS_DIR}/unitree_g1_29dof.xml"
 SOLES = ("left_sole_inner", "left_sole_outer", "right_sole_inner", "right_sole_outer")
 
 
@@ -113,6 +115,34 @@ def test_task_step_copies_nothing_from_the_host_and_reads_nothing_back():
     assert counter.torch_ops["commands/motion"] > 0 and counter.torch_ops["terminations/ee_body_pos"] > 0
 
 
+def test_task_step_is_captured_in_the_emulated_cuda_graph(emulated_cuda_graph, monkeypatch):  # noqa: F811
+    """The env stepper's capture path on the CPU (test_graph_contract.py's emulated graph, which fails a
+    capture that reads back or copies from the host, as a GPU does): the step is captured, and a replay
+    moves the clip clock on."""
+    from simlab.envs.utils.cuda_graph import EnvStepper
+
+    env = make("simlab/Tracking-Flat-G1-v0")
+    try:
+        physics = env.sim.physics
+        # the CPU backend, told to capture as the GPU one does; the replays run torch's ops only, so
+        # MuJoCo's clock stands still, which this backend would take for worlds it restarted
+        monkeypatch.setattr(physics, "can_capture_steps", True, raising=False)
+        monkeypatch.setattr(physics, "forwards_all_worlds", True, raising=False)
+        monkeypatch.setattr(physics, "_restarted_by_simulator", lambda: None)
+        env.reset()
+        stepper = EnvStepper(env, env._step_body, warmup=2)
+        actions = torch.zeros(N, 29)
+        for _ in range(3):  # warm-up, capture
+            stepper(actions)
+        assert stepper.is_graphed and stepper.eager_reason is None, stepper.mode
+        clock = env.command_manager.get_term("motion").time_steps
+        before = clock.clone()
+        stepper(actions)
+        assert (clock != before).any(), "the replay runs the motion command"
+    finally:
+        env.close()
+
+
 def test_envs_start_in_the_clips_state_and_follow_its_clock():
     env = make("simlab/Tracking-Flat-G1-Play-v0")  # from the clip's start, no start noise
     try:
@@ -157,7 +187,7 @@ def test_adaptive_sampling_starts_where_the_policy_fails():
 
 
 def test_a_clip_at_another_rate_is_refused(tmp_path):
-    clip = MotionClip.load(CLIPS[0])
+    clip = MotionClip.load(CLIPS[0], mjcf=G1_29DOF_MJCF)
     clip.fps = 30.0
     clip.save(tmp_path / "slow.npz")
     cfg = parse_env_cfg("simlab/Tracking-Flat-G1-v0", device="cpu", num_envs=N)
@@ -170,8 +200,8 @@ def test_a_clip_at_another_rate_is_refused(tmp_path):
 def test_shipped_clip_is_physically_trackable(path):
     """Quasi-static checks of each frame: the soles touch the ground without sinking, those that touch
     do not slide, the centre of mass is over the soles that touch, no two bodies overlap."""
-    clip = MotionClip.load(path)
-    spec = mujoco.MjSpec.from_file(f"{ASSETS_DIR}/unitree_g1_29dof.xml")
+    clip = MotionClip.load(path, mjcf=G1_29DOF_MJCF)
+    spec = mujoco.MjSpec.from_file(G1_29DOF_MJCF)
     for geom in spec.geoms:  # every geom collides with every other (MuJoCo skips parent-child pairs)
         geom.contype, geom.conaffinity = 1, 1
     model = spec.compile()
