@@ -333,3 +333,29 @@ def test_contact_buffers_hold_the_cube_squeezed_by_the_closed_hand(task):
         assert reserved.njmax >= 1.5 * max(rows), f"constraint rows per world {rows}, njmax {reserved.njmax}"
     finally:
         env.close()
+
+
+def test_the_rotation_distances_stay_finite_at_their_edge_cases():
+    """Finite physics gives finite rewards: the two in-hand rotation distances (direct: asin of the
+    difference's vector part; manager: ``quat_error_magnitude``) at identical, sign-flipped and opposite
+    orientations, at |q| slightly above 1 from float error (asin's argument clamped), and at a zero quaternion."""
+    from simlab.tasks.direct.inhand_manipulation.inhand_manipulation_env import compute_rewards
+    from simlab.utils.math import quat_error_magnitude
+
+    identity = torch.tensor([1.0, 0.0, 0.0, 0.0])
+    half_turn_x = torch.tensor([0.0, 1.0, 0.0, 0.0])
+    tilted = torch.nn.functional.normalize(torch.tensor([0.3, 0.9, -0.2, 0.25]), dim=0)
+    q1 = torch.stack([identity, tilted, -tilted, half_turn_x * (1 + 1e-6), tilted * (1 + 1e-6), torch.zeros(4)])
+    q2 = torch.stack([identity, tilted, tilted, identity, -tilted * (1 + 1e-6), identity])
+    expected = torch.tensor([0.0, 0.0, 0.0, torch.pi, 0.0, 0.0])
+    for distance in (rotation_distance, quat_error_magnitude):
+        angle = distance(q1, q2)
+        assert torch.isfinite(angle).all(), distance.__name__
+        torch.testing.assert_close(angle, expected, atol=2e-3, rtol=0)  # float32 asin near 1: ~1e-3
+    n = len(q1)
+    reward, *_ = compute_rewards(
+        torch.zeros(n, dtype=torch.bool), torch.zeros(n, dtype=torch.bool), torch.zeros(n), torch.zeros(1),
+        torch.zeros(n, 3), q1, torch.zeros(n, 3), q2,
+        -10.0, 1.0, 0.1, torch.zeros(n, 16), -0.0002, 0.2, 250.0, 0.24, 0.0, 0.1,
+    )  # fmt: skip
+    assert torch.isfinite(reward).all()
