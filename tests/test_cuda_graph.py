@@ -409,6 +409,10 @@ def test_a_diverged_world_is_reset_or_reported_when_graphed():
     obs, _, terminated, _, extras = env.step(actions)
     assert terminated[3] and int(extras["log"]["Physics/diverged"]) == 1
     assert torch.isfinite(obs["policy"]).all()
+    env.sim.physics.data("qpos")[7, 0] = 1e25  # huge but finite: MuJoCo Warp leaves it in place
+    obs, reward, terminated, _, extras = env.step(actions)
+    assert terminated[7] and int(extras["log"]["Physics/diverged"]) == 1
+    assert torch.isfinite(obs["policy"]).all() and torch.isfinite(reward).all()
     env.sim.on_divergence = "raise"
     env._stepper.check_interval = 2
     env.scene["cartpole"]._qvel[5] = float("nan")
