@@ -91,24 +91,29 @@ def test_check_finite_actions_false_skips_the_action_check():
     env.close()
 
 
-@pytest.mark.parametrize("engine", ["mujoco", "mujoco_warp"])
+@pytest.mark.parametrize(
+    ("device", "engine"),
+    [("cpu", "mujoco"), ("cpu", "mujoco_warp"), pytest.param("cuda:0", "auto", marks=pytest.mark.gpu)],
+)
 @pytest.mark.parametrize(("field", "bad_value"), [("qvel", float("nan")), ("qpos", 1e25)])
-def test_one_blown_up_allegro_world_is_reset_and_training_goes_on(engine, field, bad_value):
+def test_one_blown_up_allegro_world_is_reset_and_training_goes_on(device, engine, field, bad_value):
     """The attack behind a dead 8192-world Allegro run: one world's state turns NaN, or huge but finite
     (MuJoCo Warp does not restart it; a cube 1e25 m away made the reward's distance inf). That world
-    ends its episode and is counted; the others step on untouched; every observation and reward is finite."""
-    if engine == "mujoco_warp":
+    ends its episode and is counted; the others step on untouched; every observation and reward is
+    finite. On the GPU the step is the replayed CUDA graph."""
+    if engine != "mujoco":
         pytest.importorskip("mujoco_warp")
     from simlab.tasks.direct.allegro_hand.allegro_hand_env_cfg import AllegroHandEnvCfg
     from simlab.tasks.direct.inhand_manipulation.inhand_manipulation_env import InHandManipulationEnv
 
     cfg = AllegroHandEnvCfg()
-    cfg.scene.num_envs, cfg.sim.device, cfg.sim.engine, cfg.seed = 4, "cpu", engine, 1
+    cfg.scene.num_envs, cfg.sim.device, cfg.sim.engine, cfg.seed = 4, device, engine, 1
     env = InHandManipulationEnv(cfg)
     env.reset()
-    actions = torch.zeros(4, 16)
-    for _ in range(2):
+    actions = torch.zeros(4, 16, device=env.device)
+    for _ in range(4):  # on the GPU: the warm-up steps and the capture
         env.step(actions)
+    assert env.step_is_graphed == device.startswith("cuda"), env.step_mode
     cube_column = env.hand.num_joints  # the cube's free joint follows the hand's 16 joints
     env.sim.physics.data(field)[2, cube_column] = bad_value
     _, reward, terminated, _, extras = env.step(actions)
