@@ -210,7 +210,7 @@ class _RecordingGraph(TorchDispatchMode):
         kwargs = kwargs or {}
         if func.__name__.startswith(("_local_scalar_dense", "nonzero", "is_nonzero")):
             raise RuntimeError(f"{func.__name__}: operation not permitted when stream is capturing")
-        if func.__name__.startswith("lift_fresh"):  # a tensor made from Python data: on a GPU a pageable copy
+        if func.__name__.startswith("lift_fresh") and args[0].dim() > 0:  # from Python data: a pageable copy on a GPU
             raise RuntimeError(f"{func.__name__}: Cannot copy between CPU and CUDA tensors during CUDA graph capture")
         schema = func._schema
         given = {**{a.name: v for a, v in zip(schema.arguments, args)}, **kwargs}

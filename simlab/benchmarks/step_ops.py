@@ -46,10 +46,12 @@ READ_BACKS = ("aten._local_scalar_dense", "aten.nonzero", "aten.item")
 def copies_from_host(func, args, kwargs) -> bool:
     """Whether a dispatched op brings host data onto the tensors' device: a tensor made from Python
     data (``torch.tensor(list)``, indexing with a list: ``aten.lift_fresh``; on the GPU a copy from
-    pageable memory, which a CUDA graph capture refuses) or a copy between a CPU and another device."""
+    pageable memory, which a CUDA graph capture refuses) or a copy between a CPU and another device.
+    0-d ones are left out: a number written by indexing (``x[:, 2] = 0.0``) is one, and reaches the
+    kernel by value (such steps are captured on the GPU); ``torch.tensor(number, device=...)`` is missed."""
     name = str(func)
     if name == "aten.lift_fresh.default":
-        return True
+        return args[0].dim() > 0
     if name == "aten._to_copy.default":
         return _changes_device_or_dtype(args[0], {"device": kwargs.get("device", args[0].device)})
     if name.startswith("aten.copy_"):
