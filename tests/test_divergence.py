@@ -146,3 +146,43 @@ def test_the_others_step_as_if_no_world_had_blown_up():
     for field in ("qpos", "qvel"):
         assert torch.equal(clean[field][others], attacked[field][others])
         assert not torch.equal(clean[field][3], attacked[field][3])  # world 3 was restarted
+
+
+def test_rsl_rl_training_goes_on_past_a_blown_up_world():
+    """End to end: a world turns NaN in the middle of an rsl_rl rollout; the run finishes its
+    iterations with finite weights and the rollout's logs carry the count."""
+    import gymnasium as gym
+
+    import simlab.tasks  # noqa: F401 - registers the tasks
+    from simlab.cli.libraries.rsl_rl import make_runner
+    from simlab.tasks.utils import load_cfg_from_registry, parse_env_cfg
+
+    task = "simlab/Cartpole-Direct-v0"
+    env = gym.make(task, cfg=parse_env_cfg(task, device="cpu", num_envs=8))
+    agent = load_cfg_from_registry(task, "rsl_rl_cfg_entry_point")
+    agent.num_steps_per_env, agent.device = 8, "cpu"
+    physics = env.unwrapped.sim.physics
+    physics_step, physics_steps = physics.step, [0]
+
+    def step_then_blow_up(*args, **kwargs):
+        out = physics_step(*args, **kwargs)
+        physics_steps[0] += 1
+        if physics_steps[0] == 20:  # iteration 2 of 3 (2 physics steps per env step, 8 env steps each)
+            physics.data("qvel")[5, 1] = float("nan")
+        return out
+
+    physics.step = step_then_blow_up
+    runner = make_runner(env, agent, None)
+    env_step, counts = runner.env.step, []
+
+    def step_and_record(actions):
+        out = env_step(actions)
+        counts.append(int(out[-1]["log"]["Physics/diverged"]))
+        return out
+
+    runner.env.step = step_and_record
+    runner.learn(num_learning_iterations=3)
+    assert len(counts) == 24 and sum(counts) == 1 and counts.index(1) == 9
+    weights = runner.alg.save()["actor_state_dict"].values()
+    assert all(torch.isfinite(w).all() for w in weights)
+    env.close()
