@@ -186,3 +186,21 @@ def test_rsl_rl_training_goes_on_past_a_blown_up_world():
     weights = runner.alg.save()["actor_state_dict"].values()
     assert all(torch.isfinite(w).all() for w in weights)
     env.close()
+
+
+def test_a_task_term_dividing_by_zero_still_raises():
+    """Resetting blown-up worlds hides no task bug: a reward that is inf in one world with finite physics
+    stops the step with the error, which names the task's math, not the physics."""
+    env = direct_cartpole()
+    env.reset()
+    get_rewards = env._get_rewards
+
+    def one_over_zero_in_world_2():
+        divisor = (torch.arange(6) != 2).float()  # a term whose denominator is 0 in world 2
+        return get_rewards() / divisor
+
+    env._get_rewards = one_over_zero_in_world_2
+    with pytest.raises(ValueError, match=r"NaN or inf, with every world's positions and velocities finite.*divides"):
+        env.step(torch.zeros(6, 1))
+    assert int(env.sim.physics.diverged_count) == 0
+    env.close()

@@ -58,6 +58,13 @@ class SimulationDivergedError(SimlabError, RuntimeError):
 
 logger = logging.getLogger(__name__)
 
+# Worlds whose qpos/qvel blew up are put back before the task's terms read them (take_diverged),
+# so what is left is the task's own math or a derived quantity
+_CAUSE = (
+    ", with every world's positions and velocities finite (blown-up worlds are reset before the task reads them): a task term"
+    " divides by zero or leaves its domain (asin, acos, sqrt, log), or reads a non-finite physics quantity"
+)
+
 
 class EnvStepper:
     """Runs ``env._step_body`` eagerly or as a replayed CUDA graph; see the module docstring."""
@@ -156,8 +163,7 @@ class EnvStepper:
         if bool(self._bad_obs):
             self._bad_obs.zero_()
             raise ValueError(
-                f"Observations or rewards contained NaN or inf in a step among the last {self.check_interval}: the "
-                "simulation diverged (large actions or gains for the time step?) or a task term divides by zero"
+                f"Observations or rewards contained NaN or inf in a step among the last {self.check_interval}{_CAUSE}"
             )
         self.env.sim.physics.check_overflow()
         self._check_divergence()
@@ -225,10 +231,7 @@ class EnvStepper:
 
 def check_finite_obs(observations: Any) -> None:
     if bool(_any_nonfinite(observations)):
-        raise ValueError(
-            "Observations or rewards contain NaN or inf: the simulation diverged (large actions or gains for"
-            " the time step?) or a task term divides by zero"
-        )
+        raise ValueError(f"Observations or rewards contain NaN or inf{_CAUSE}")
 
 
 def _any_nonfinite(value: Any) -> torch.Tensor:
