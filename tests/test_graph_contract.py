@@ -198,7 +198,8 @@ class _RecordingGraph(TorchDispatchMode):
     replay runs them again on the same tensors, writing each result into the tensor recorded then
     (as a graph's kernels write fixed addresses). As on a GPU, capture leaves the tensors that existed
     before it unchanged, and a read back to the host or a tensor made from host data (a copy from
-    pageable memory on a GPU: ``torch.tensor(list)``, indexing with a list) fails it."""
+    pageable memory on a GPU: ``torch.tensor(list, device=...)``) fails it. The stepper captures
+    under ``DeviceListIndices``, so list indices and indexed writes of numbers make none."""
 
     def __init__(self):
         super().__init__()
@@ -210,7 +211,7 @@ class _RecordingGraph(TorchDispatchMode):
         kwargs = kwargs or {}
         if func.__name__.startswith(("_local_scalar_dense", "nonzero", "is_nonzero")):
             raise RuntimeError(f"{func.__name__}: operation not permitted when stream is capturing")
-        if func.__name__.startswith("lift_fresh") and args[0].dim() > 0:  # from Python data: a pageable copy on a GPU
+        if func.__name__.startswith("lift_fresh"):  # a tensor made from Python data: on a GPU a pageable copy
             raise RuntimeError(f"{func.__name__}: Cannot copy between CPU and CUDA tensors during CUDA graph capture")
         schema = func._schema
         given = {**{a.name: v for a, v in zip(schema.arguments, args)}, **kwargs}

@@ -45,13 +45,13 @@ READ_BACKS = ("aten._local_scalar_dense", "aten.nonzero", "aten.item")
 
 def copies_from_host(func, args, kwargs) -> bool:
     """Whether a dispatched op brings host data onto the tensors' device: a tensor made from Python
-    data (``torch.tensor(list)``, indexing with a list: ``aten.lift_fresh``; on the GPU a copy from
-    pageable memory, which a CUDA graph capture refuses) or a copy between a CPU and another device.
-    0-d ones are left out: a number written by indexing (``x[:, 2] = 0.0``) is one, and reaches the
-    kernel by value (such steps are captured on the GPU); ``torch.tensor(number, device=...)`` is missed."""
+    data (``torch.tensor(list, device=...)``: ``aten.lift_fresh``; on the GPU a copy from pageable
+    memory, which a CUDA graph capture refuses) or a copy between a CPU and another device. The step
+    is counted as it is captured, with Python list indices and numbers written by indexing turned into
+    device tensors (:class:`~simlab.envs.utils.cuda_graph.DeviceListIndices`), so those do not count."""
     name = str(func)
     if name == "aten.lift_fresh.default":
-        return args[0].dim() > 0
+        return True
     if name == "aten._to_copy.default":
         return _changes_device_or_dtype(args[0], {"device": kwargs.get("device", args[0].device)})
     if name.startswith("aten.copy_"):
@@ -254,6 +254,8 @@ def make_env(task: str, num_envs: int, seed: int, engine: str = "mujoco_warp"):
 
 
 def count(task: str, num_envs: int, steps: int, seed: int = 0, engine: str = "mujoco_warp") -> LaunchCounter:
+    from simlab.envs.utils.cuda_graph import DeviceListIndices
+
     env = make_env(task, num_envs, seed, engine)
     counter = LaunchCounter()
     if engine == "mujoco_warp":
@@ -267,7 +269,9 @@ def count(task: str, num_envs: int, steps: int, seed: int = 0, engine: str = "mu
         env.action_manager.total_action_dim if hasattr(env, "action_manager") else env.single_action_space.shape[-1]
     )
     actions = torch.rand(env.num_envs, action_dim) * 2 - 1
-    with torch.inference_mode(), counter:
+    # as the capture runs it: list indices and indexed writes of numbers through device tensors
+    list_indices = DeviceListIndices(torch.device(env.device), {})
+    with torch.inference_mode(), list_indices, counter:
         for _ in range(3):  # warm-up: lazy buffers, index caches, compiled kernels
             env.step(actions)
         counter.active = True
