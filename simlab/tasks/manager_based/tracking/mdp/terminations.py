@@ -34,8 +34,8 @@ def bad_anchor_ori(env: ManagerBasedRLEnv, command_name: str, threshold: float) 
 class bad_motion_body_pos_z_only(ManagerTermBase):  # noqa: N801 - a term, named like the function terms
     """One of ``body_names`` (of the command's bodies) is more than ``threshold`` above or below its clip height.
 
-    A class so that the bodies' indices are a device tensor made once: indexing with a list would copy
-    it from the host every step, which a CUDA graph capture refuses."""
+    A class so that the bodies' indices are a device tensor made once, and their names are checked
+    when the env is built (a list index is copied from the host at every eager step)."""
 
     def __init__(self, cfg: TerminationTermCfg, env: ManagerBasedRLEnv):
         super().__init__(cfg, env)
