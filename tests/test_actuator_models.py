@@ -57,8 +57,7 @@ def signal(k: int, n: int = 4, scale: float = 1.0) -> torch.Tensor:
 
 
 def set_lags(actuator, lags: list[int]) -> None:
-    for buffer in (actuator.positions_delay_buffer, actuator.velocities_delay_buffer, actuator.efforts_delay_buffer):
-        buffer.set_time_lag(torch.tensor(lags, dtype=torch.int))
+    actuator.targets_delay_buffer.set_time_lag(torch.tensor(lags, dtype=torch.int))
 
 
 def test_delayed_pd_applies_the_command_of_d_steps_before():
@@ -81,7 +80,7 @@ def test_delayed_pd_applies_the_command_of_d_steps_before():
 def test_delays_are_drawn_in_range_and_redrawn_only_where_the_mask_is_set():
     torch.manual_seed(0)
     pd = build(DelayedPDActuatorCfg(joint_names_expr=NAMES, stiffness=1.0, damping=0.0, min_delay=1, max_delay=5), 64)
-    lags = pd.positions_delay_buffer.time_lags
+    lags = pd.targets_delay_buffer.time_lags  # one delay for positions, velocities and efforts
     mask = torch.arange(64) % 2 == 0
     seen = set()
     for _ in range(10):
@@ -89,8 +88,6 @@ def test_delays_are_drawn_in_range_and_redrawn_only_where_the_mask_is_set():
         pd.reset(mask)
         assert torch.equal(lags[~mask], before[~mask])
         assert int(lags.min()) >= 1 and int(lags.max()) <= 5
-        for buffer in (pd.velocities_delay_buffer, pd.efforts_delay_buffer):  # one delay for all targets
-            assert torch.equal(buffer.time_lags, lags)
         seen |= set(lags[mask].tolist())
     assert seen == {1, 2, 3, 4, 5}
 
@@ -501,7 +498,7 @@ def test_the_models_drive_a_simulated_cartpole(backend, tmp_path, monkeypatch):
         actuator = cartpole.actuators["all"]
         twin = actuator.cfg.class_type(actuator.cfg, cartpole.joint_names, [0, 1], 3, "cpu")
         if name in ("delayed", "remotized"):
-            set_lags(twin, actuator.positions_delay_buffer.time_lags.tolist())
+            set_lags(twin, actuator.targets_delay_buffer.time_lags.tolist())
         for k in range(12):
             target = 0.3 * torch.sin(torch.full((3, 2), 0.5 * k) + torch.arange(3).view(-1, 1))
             cartpole.set_joint_position_target(target)
@@ -586,7 +583,7 @@ def test_the_graphed_step_redraws_delays_only_for_the_envs_it_resets(emulated_cu
     cfg = DelayedPDActuatorCfg(joint_names_expr=NAMES, stiffness=5.0, damping=1.0, min_delay=0, max_delay=5)
     env = ActuatorToyEnv({"delayed": cfg}, n=8)
     stepper = EnvStepper(env, env._step_body, warmup=2)
-    lags = env.actuators["delayed"].positions_delay_buffer.time_lags
+    lags = env.actuators["delayed"].targets_delay_buffer.time_lags
     drawn = set()
     for k in range(20):
         before = lags.clone()

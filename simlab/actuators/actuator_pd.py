@@ -207,8 +207,9 @@ class DelayedPDActuator(IdealPDActuator):
 
     ``d`` is drawn per env, uniformly in ``[min_delay, max_delay]``, at construction and at every
     reset of that env; after a reset an env gets its oldest command since the reset until it has
-    ``d`` of them, never one from before. The delay buffers (one per target kind, sharing the lags)
-    keep their state on the device and reset by mask, so the model runs inside a graphed step.
+    ``d`` of them, never one from before. One delay buffer (``targets_delay_buffer``: positions,
+    velocities and efforts stacked, where Isaac Lab has three buffers sharing their lags) keeps its
+    state on the device and resets by mask, so the model runs inside a graphed step.
     """
 
     cfg: DelayedPDActuatorCfg
@@ -221,10 +222,11 @@ class DelayedPDActuator(IdealPDActuator):
                 f"{type(cfg).__name__} for {joint_names}: min_delay={low!r} and max_delay={high!r} must be"
                 " integers (physics steps) with 0 <= min_delay <= max_delay."
             )
-        self.positions_delay_buffer = DelayBuffer(high, num_envs, device=device)
-        self.velocities_delay_buffer = DelayBuffer(high, num_envs, device=device)
-        self.efforts_delay_buffer = DelayBuffer(high, num_envs, device=device)
+        # One buffer for the three target kinds, stacked (num_envs, 3, num_joints): they share the lags,
+        # and one ring costs a third of the kernels of three (this runs every physics step).
+        self.targets_delay_buffer = DelayBuffer(high, num_envs, device=device)
         self._no_effort = torch.zeros_like(self.computed_effort)
+        self._targets = torch.zeros(num_envs, 3, self.num_joints, device=device)
         self.reset(None)
 
     def reset(self, env_ids) -> None:
@@ -233,16 +235,19 @@ class DelayedPDActuator(IdealPDActuator):
         lags = torch.randint(
             self.cfg.min_delay, self.cfg.max_delay + 1, (self.num_envs,), dtype=torch.int, device=self.device
         )
-        for buffer in (self.positions_delay_buffer, self.velocities_delay_buffer, self.efforts_delay_buffer):
-            buffer.set_time_lag(lags, batch_mask=mask)
-            buffer.reset(batch_mask=mask)
+        self.targets_delay_buffer.set_time_lag(lags, batch_mask=mask)
+        self.targets_delay_buffer.reset(batch_mask=mask)
 
     def compute(self, control_action, joint_pos, joint_vel):
         efforts = control_action.joint_efforts if control_action.joint_efforts is not None else self._no_effort
+        targets = (control_action.joint_positions, control_action.joint_velocities, efforts)
+        positions, velocities, efforts = self.targets_delay_buffer.compute(
+            torch.stack(targets, dim=1, out=self._targets)
+        ).unbind(1)
         delayed = ArticulationActions(
-            joint_positions=self.positions_delay_buffer.compute(control_action.joint_positions),
-            joint_velocities=self.velocities_delay_buffer.compute(control_action.joint_velocities),
-            joint_efforts=self.efforts_delay_buffer.compute(efforts),
+            joint_positions=positions,
+            joint_velocities=velocities,
+            joint_efforts=efforts,
             joint_indices=control_action.joint_indices,
         )
         return super().compute(delayed, joint_pos, joint_vel)

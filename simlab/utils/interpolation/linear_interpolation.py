@@ -19,15 +19,19 @@ class LinearInterpolation:
             )
         if torch.any(self._x[1:] < self._x[:-1]):
             raise ValueError("x must be sorted in ascending order.")
+        # One row per segment (start x, start y, slope), made once: a query is then a clamp, a search,
+        # one gather and a multiply-add, five kernels (actuator models run it every physics step).
+        span = self._x[1:] - self._x[:-1]
+        slope = torch.where(span > 0, (self._y[1:] - self._y[:-1]) / torch.where(span > 0, span, 1.0), 0.0)
+        segments = torch.stack((self._x[:-1], self._y[:-1], slope), dim=1)
+        self._segments = segments if len(segments) else torch.stack((self._x, self._y, torch.zeros_like(self._x)), 1)
+        self._inner_x = self._x[1:-1].contiguous()  # where one segment ends and the next begins
 
     def compute(self, q: torch.Tensor) -> torch.Tensor:
         """The interpolated values at the query points ``q`` (any shape; the result has the same shape)."""
-        flat = q.reshape(-1)
-        # index of the first sample >= q (searchsorted), and the one before it; both clamped to the ends
-        upper = torch.searchsorted(self._x, flat.to(self._x.dtype).contiguous()).clamp(max=self._x.numel() - 1)
-        lower = (upper - 1).clamp(min=0)
-        x0, x1 = self._x[lower], self._x[upper]
-        span = x1 - x0
-        weight = torch.where(span > 0, (flat - x0) / torch.where(span > 0, span, torch.ones_like(span)), 0.0)
-        weight = weight.clamp(0.0, 1.0)  # beyond the samples: hold the end value
-        return (self._y[lower] + weight * (self._y[upper] - self._y[lower])).reshape(q.shape)
+        # beyond the samples: hold the end values
+        clamped = torch.clamp(q.to(self._x.dtype), self._x[0], self._x[-1])
+        # (..., 3): the segment that ends at or after q
+        segment = self._segments[torch.searchsorted(self._inner_x, clamped)]
+        x0, y0, slope = segment.unbind(-1)
+        return torch.addcmul(y0, slope, clamped - x0)
