@@ -291,10 +291,12 @@ class RemotizedPDActuator(DelayedPDActuator):
         return self._joint_parameter_lookup[:, 2]
 
     def compute(self, control_action, joint_pos, joint_vel):
-        action = super().compute(control_action, joint_pos, joint_vel)
-        limit = self._torque_limit.compute(joint_pos)
-        torch.clamp(self.applied_effort, min=-limit, max=limit, out=self.applied_effort)
-        return action
+        # the table is the only limit: the PD's one clip reads it (no clip at an infinite limit first)
+        self._limit = self._torque_limit.compute(joint_pos)
+        return super().compute(control_action, joint_pos, joint_vel)
+
+    def _clip_effort(self, effort: torch.Tensor, out: torch.Tensor | None = None) -> torch.Tensor:
+        return torch.clamp(effort, min=-self._limit, max=self._limit, out=out)
 
 
 def _first_set(*values):
