@@ -77,6 +77,23 @@ def test_delayed_pd_applies_the_command_of_d_steps_before():
     torch.testing.assert_close(pd.applied_effort, out.joint_efforts)
 
 
+def test_isaac_labs_three_delay_buffer_names_set_and_read_the_one_lag():
+    """Isaac Lab code sets the lags through its three buffer names, one after the other, and reads
+    ``positions_delay_buffer.time_lags``: both work on the one stacked buffer."""
+    pd = build(DelayedPDActuatorCfg(joint_names_expr=NAMES, stiffness=1.0, damping=0.0, max_delay=3))
+    lags = torch.tensor([3, 2, 1, 0], dtype=torch.int)
+    for buffer in (pd.positions_delay_buffer, pd.velocities_delay_buffer, pd.efforts_delay_buffer):
+        buffer.set_time_lag(lags)
+    assert pd.positions_delay_buffer.time_lags.tolist() == [3, 2, 1, 0]
+    assert pd.targets_delay_buffer.time_lags.tolist() == [3, 2, 1, 0]
+    q0 = signal(0)
+    first = pd.compute(actions(q0), torch.zeros(4, 2), torch.zeros(4, 2)).joint_efforts.clone()
+    later = pd.compute(actions(signal(1)), torch.zeros(4, 2), torch.zeros(4, 2)).joint_efforts
+    torch.testing.assert_close(first, q0)  # kp 1: every env starts from the first command
+    torch.testing.assert_close(later[3], signal(1)[3])  # lag 0: the new command
+    torch.testing.assert_close(later[0], q0[0])  # lag 3: still the first
+
+
 def test_delays_are_drawn_in_range_and_redrawn_only_where_the_mask_is_set():
     torch.manual_seed(0)
     pd = build(DelayedPDActuatorCfg(joint_names_expr=NAMES, stiffness=1.0, damping=0.0, min_delay=1, max_delay=5), 64)

@@ -229,6 +229,21 @@ class DelayedPDActuator(IdealPDActuator):
         self._targets = torch.zeros(num_envs, 3, self.num_joints, device=device)
         self.reset(None)
 
+    # Isaac Lab's three buffer names, kept for code that reads or sets the lags through them (e.g.
+    # ``act.positions_delay_buffer.time_lags``): all three are the one stacked buffer, so a lag set
+    # through any of them applies to positions, velocities and efforts alike.
+    @property
+    def positions_delay_buffer(self) -> DelayBuffer:
+        return self.targets_delay_buffer
+
+    @property
+    def velocities_delay_buffer(self) -> DelayBuffer:
+        return self.targets_delay_buffer
+
+    @property
+    def efforts_delay_buffer(self) -> DelayBuffer:
+        return self.targets_delay_buffer
+
     def reset(self, env_ids) -> None:
         mask = env_mask(env_ids, self.num_envs, self.device)
         # a lag drawn for every env, kept where the mask is set: no host read, fixed shapes
