@@ -5,6 +5,7 @@ sliding, the centre of mass over the soles that touch, no self-penetration, join
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import gymnasium as gym
@@ -42,6 +43,15 @@ def test_task_ids_and_criterion():
     assert judge({}, {"error": 0.08 * 100, "samples": 100, "falls": 0}) == (pytest.approx(0.08), True)
     assert not judge({}, {"error": 0.08 * 100, "samples": 100, "falls": 1})[1]
     assert not judge({}, {"error": 0.12 * 100, "samples": 100, "falls": 0})[1]
+
+
+def test_each_shipped_clip_has_its_own_task_id():
+    """One policy per clip: the family's id tracks the walk, the others their clip, train and play alike."""
+    for clip, name in (("", "g1_walk"), ("-Turn", "g1_turn"), ("-Wave", "g1_wave"), ("-Twist", "g1_twist")):
+        for suffix in ("", "-Play"):
+            cfg = parse_env_cfg(f"simlab/Tracking-Flat-G1{clip}{suffix}-v0", device="cpu", num_envs=N)
+            assert os.path.basename(cfg.commands.motion.motion_file) == f"{name}.npz"
+            assert criterion_for(f"simlab/Tracking-Flat-G1{clip}{suffix}-v0") is not None
 
 
 def test_staying_alive_pays_at_the_agents_initial_action_noise():

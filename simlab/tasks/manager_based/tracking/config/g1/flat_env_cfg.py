@@ -1,9 +1,10 @@
 """Unitree G1 (29-DoF) motion tracking on flat ground (mjlab's ``Mjlab-Tracking-Flat-Unitree-G1``).
 
-One policy per clip, as mjlab and Isaac Lab train it. The clip defaults to ``motions/g1_twist.npz`` (made
-by ``scripts/tools/make_g1_clips.py``); train on another with ``env.commands.motion.motion_file=<name>``
-(a shipped clip: ``g1_walk``, ``g1_turn``, ``g1_wave``) or ``=<path>`` (any clip). The criterion judges
-the clip the run trained on.
+One policy per clip, as mjlab and Isaac Lab train it. ``simlab/Tracking-Flat-G1-v0`` tracks the walk
+(``motions/g1_walk.npz``, made by ``scripts/tools/make_g1_clips.py``); each other shipped clip has its own
+task id, so that each has its own shipped policy: ``simlab/Tracking-Flat-G1-{Turn,Wave,Twist}-v0``. Train
+on any other clip with ``env.commands.motion.motion_file=<path>``. The criterion judges the clip the run
+trained on.
 """
 
 import os
@@ -40,7 +41,7 @@ class G1FlatTrackingEnvCfg(TrackingEnvCfg):
         self.scene.robot = G1_29DOF_CFG.replace(prim_path="{ENV_REGEX_NS}/Robot")
         self.actions.joint_pos.scale = G1_29DOF_ACTION_SCALE
         motion = self.commands.motion
-        motion.motion_file = os.path.join(MOTIONS_DIR, "g1_twist.npz")
+        motion.motion_file = os.path.join(MOTIONS_DIR, "g1_walk.npz")
         motion.anchor_body_name = "torso_link"
         motion.body_names = TRACKED_BODIES
         self.terminations.ee_body_pos.params["body_names"] = END_EFFECTORS
@@ -58,3 +59,53 @@ class G1FlatTrackingEnvCfg_PLAY(G1FlatTrackingEnvCfg):  # noqa: N801 - Isaac Lab
         self.commands.motion.pose_range = {}
         self.commands.motion.velocity_range = {}
         self.commands.motion.joint_position_range = (0.0, 0.0)
+
+
+# The other shipped clips, one task id each (simlab/Tracking-Flat-G1-{Turn,Wave,Twist}-v0), so that each
+# clip has its own shipped policy.
+
+
+def _clip(name: str) -> str:
+    return os.path.join(MOTIONS_DIR, f"{name}.npz")
+
+
+@configclass
+class G1FlatTrackingTurnEnvCfg(G1FlatTrackingEnvCfg):
+    def __post_init__(self):
+        super().__post_init__()
+        self.commands.motion.motion_file = _clip("g1_turn")
+
+
+@configclass
+class G1FlatTrackingTurnEnvCfg_PLAY(G1FlatTrackingEnvCfg_PLAY):  # noqa: N801
+    def __post_init__(self):
+        super().__post_init__()
+        self.commands.motion.motion_file = _clip("g1_turn")
+
+
+@configclass
+class G1FlatTrackingWaveEnvCfg(G1FlatTrackingEnvCfg):
+    def __post_init__(self):
+        super().__post_init__()
+        self.commands.motion.motion_file = _clip("g1_wave")
+
+
+@configclass
+class G1FlatTrackingWaveEnvCfg_PLAY(G1FlatTrackingEnvCfg_PLAY):  # noqa: N801
+    def __post_init__(self):
+        super().__post_init__()
+        self.commands.motion.motion_file = _clip("g1_wave")
+
+
+@configclass
+class G1FlatTrackingTwistEnvCfg(G1FlatTrackingEnvCfg):
+    def __post_init__(self):
+        super().__post_init__()
+        self.commands.motion.motion_file = _clip("g1_twist")
+
+
+@configclass
+class G1FlatTrackingTwistEnvCfg_PLAY(G1FlatTrackingEnvCfg_PLAY):  # noqa: N801
+    def __post_init__(self):
+        super().__post_init__()
+        self.commands.motion.motion_file = _clip("g1_twist")
