@@ -10,6 +10,8 @@ env's articulation reads them (``joint_pos``, ``joint_vel``, ``body_pos_w`` less
 first env that was not reset during the ``--seconds`` recorded. A clip made this way is a motion
 the humanoid's own physics produced, so a policy of the same body can reproduce every feature of it
 (AMP's discriminator can only tell the two apart by style, not by what the simulator cannot do).
+The file stores the root's and the joints' states; the loader fills the body states by forward
+kinematics, which gives them back within 2e-5 (``--body_states`` stores them too, as Isaac Lab does).
 
 The humanoid tasks (``simlab/Humanoid-v0``, ``simlab/Humanoid-Direct-v0``) use the same
 ``humanoid.xml`` as the AMP humanoid (joint and body names match), and run towards +x.
@@ -87,6 +89,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--seconds", type=float, default=6.0, help="Length of the clip.")
     parser.add_argument("--seed", type=int, default=7)
     parser.add_argument("--log_root", default="logs", help="Where play copies the pretrained policy.")
+    parser.add_argument(
+        "--body_states", action="store_true", help="Store the body states too (5x the bytes; Isaac Lab's own form)."
+    )
     args = parser.parse_args(argv)
     if not args.seconds > 0 or args.skip_seconds < 0:
         parser.error(f"--seconds must be > 0 and --skip_seconds >= 0, got {args.seconds} and {args.skip_seconds}")
@@ -103,7 +108,7 @@ def main(argv: list[str] | None = None) -> int:
         clip, env = recorder.clip()
     except RuntimeError as e:  # the policy fell in every env: say so, no traceback
         parser.exit(2, f"{parser.prog}: error: {e}\n")
-    write_motion_file(args.out, **clip)
+    write_motion_file(args.out, **clip, body_states=args.body_states)
     torso = clip["body_names"].index("torso")
     pos = clip["body_positions"][:, torso]
     duration = (len(pos) - 1) / clip["fps"]

@@ -28,13 +28,11 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from simlab.robots.humanoid import ASSETS_DIR
+from .body_states import angular_velocities, quat_multiply
+from .motion_file import HUMANOID_XML, write_motion_file
 
-from .motion_file import write_motion_file
+__all__ = ["CLIPS", "HUMANOID_XML", "ClipSpec", "make_clip", "write_clips"]
 
-__all__ = ["CLIPS", "ClipSpec", "make_clip", "write_clips"]
-
-HUMANOID_XML = os.path.join(ASSETS_DIR, "humanoid.xml")
 FOOT_GEOMS = {
     "right_foot": ("right_right_foot", "left_right_foot"),
     "left_foot": ("left_left_foot", "right_left_foot"),
@@ -173,39 +171,13 @@ CLIPS = {
 """The shipped clips: cadence in gait cycles per second (two steps each)."""
 
 
-def _quat_multiply(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Hamilton products of (..., 4) quaternions (w, x, y, z)."""
-    aw, ax, ay, az = np.moveaxis(a, -1, 0)
-    bw, bx, by, bz = np.moveaxis(b, -1, 0)
-    return np.stack(
-        [
-            aw * bw - ax * bx - ay * by - az * bz,
-            aw * bx + ax * bw + ay * bz - az * by,
-            aw * by - ax * bz + ay * bw + az * bx,
-            aw * bz + ax * by - ay * bx + az * bw,
-        ],
-        axis=-1,
-    )
-
-
 def _torso_quat(roll: float, pitch: float, yaw: float) -> np.ndarray:
     """The quaternion (w, x, y, z) of intrinsic z-y-x (yaw, pitch, roll) rotations."""
     half = np.array([roll, pitch, yaw]) / 2
     qx = np.array([math.cos(half[0]), math.sin(half[0]), 0.0, 0.0])
     qy = np.array([math.cos(half[1]), 0.0, math.sin(half[1]), 0.0])
     qz = np.array([math.cos(half[2]), 0.0, 0.0, math.sin(half[2])])
-    return _quat_multiply(qz, _quat_multiply(qy, qx))
-
-
-def _angular_velocities(quats: np.ndarray, dt: float) -> np.ndarray:
-    """World-frame angular velocities (F, B, 3) of quaternion tracks (F, B, 4): 2 dq/dt q^-1."""
-    quats = quats.copy()
-    for f in range(1, len(quats)):  # one sign along each track, so differences are small
-        flip = (quats[f] * quats[f - 1]).sum(-1) < 0
-        quats[f, flip] *= -1
-    dq = np.gradient(quats, dt, axis=0)
-    conj = quats * np.array([1.0, -1.0, -1.0, -1.0])
-    return 2.0 * _quat_multiply(dq, conj)[..., 1:]
+    return quat_multiply(qz, quat_multiply(qy, qx))
 
 
 def _lowest_point(model: mujoco.MjModel, data: mujoco.MjData, geom_names: tuple[str, ...]) -> np.ndarray:
@@ -354,7 +326,7 @@ def make_clip(spec: ClipSpec, fps: float = 60.0, xml_path: str = HUMANOID_XML) -
         "body_positions": body_positions,
         "body_rotations": body_rotations,
         "body_linear_velocities": np.gradient(body_positions, dt, axis=0),
-        "body_angular_velocities": _angular_velocities(body_rotations, dt),
+        "body_angular_velocities": angular_velocities(body_rotations, dt),
     }
     torso = body_names.index("torso")
     duration = dt * (num_frames - 1)
@@ -374,6 +346,7 @@ def write_clips(folder: str, names: list[str] | None = None, fps: float = 60.0) 
         if name not in CLIPS:
             raise ValueError(f"Unknown clip '{name}'. Clips: {list(CLIPS)}")
         clip, stats = make_clip(CLIPS[name], fps)
-        write_motion_file(os.path.join(folder, f"humanoid_{name}.npz"), **clip)
+        # the root and joints only: the loader fills the body states (finite differences of FK poses)
+        write_motion_file(os.path.join(folder, f"humanoid_{name}.npz"), **clip, body_states=False)
         all_stats[name] = stats
     return all_stats

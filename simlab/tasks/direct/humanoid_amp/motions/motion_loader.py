@@ -12,16 +12,17 @@ import torch
 
 from simlab.utils.math import quat_slerp
 
-from .motion_file import read_motion_file
+from .motion_file import HUMANOID_XML, read_motion_file
 
 __all__ = ["MotionLoader"]
 
 
 class MotionLoader:
-    """A clip read from an Isaac Lab motion file (see :mod:`.motion_file`)."""
+    """A clip read from an Isaac Lab motion file (see :mod:`.motion_file`); ``mjcf`` is the model whose
+    forward kinematics fills the body states of a file that stores its root instead."""
 
-    def __init__(self, motion_file: str, device: torch.device | str) -> None:
-        clip = read_motion_file(motion_file)
+    def __init__(self, motion_file: str, device: torch.device | str, mjcf: str = HUMANOID_XML) -> None:
+        clip = read_motion_file(motion_file, mjcf)
         self.motion_file = motion_file
         self.device = device
         self._dof_names = [str(name) for name in clip["dof_names"].tolist()]
