@@ -10,6 +10,7 @@ from __future__ import annotations
 import json
 import os
 import shutil
+import zipfile
 
 import numpy as np
 import onnxruntime
@@ -54,6 +55,9 @@ def test_make_pretrained_ships_a_policy_that_play_finds(tmp_path, monkeypatch):
     assert not (shipped / "params" / "env.yaml").exists() and "observations" not in record
     assert record["files_bytes"]["policy.pt"] == os.path.getsize(shipped / "policy.pt")
     assert record["weights"] == "int8_rows"  # the smallest form: its replay met the criterion
+    assert {entry.compress_type for entry in zipfile.ZipFile(shipped / "policy.pt").infolist()} == {
+        zipfile.ZIP_DEFLATED
+    }
     name, checkpoint = unpack_policy(str(shipped / "policy.pt"))
     assert name == record["checkpoint"] and set(checkpoint) == set(PLAY_KEYS["rsl_rl"])
 
@@ -394,3 +398,16 @@ def test_a_file_that_is_not_a_bc_policy_gets_a_one_line_error(tmp_path, saved):
     with pytest.raises(CheckpointError, match="is not a BC policy") as caught:
         _script().checkpoint_iteration(str(path), "bc", {})
     assert "\n" not in str(caught.value)
+
+
+def test_a_deflated_policy_file_loads_as_the_stored_one_and_is_smaller(tmp_path):
+    """The shipped form of new policies: torch.save's archive with its entries deflated. The stored
+    policies (torch.save's plain archive) read back through the loader to the same weights."""
+    stored = os.path.join(REPO, "simlab", "pretrained", "Humanoid-AMP-Walk-Direct-v0", "skrl", "policy.pt")
+    deflated = str(tmp_path / "policy.pt")
+    _script().save_deflated(torch.load(stored, weights_only=True), deflated)
+    assert {entry.compress_type for entry in zipfile.ZipFile(deflated).infolist()} == {zipfile.ZIP_DEFLATED}
+    assert os.path.getsize(deflated) < 0.95 * os.path.getsize(stored)  # int8 rows: 621,673 -> 581,431 bytes
+    (name, checkpoint), (stored_name, stored_checkpoint) = unpack_policy(deflated), unpack_policy(stored)
+    assert name == stored_name
+    torch.testing.assert_close(checkpoint, stored_checkpoint, rtol=0, atol=0)
