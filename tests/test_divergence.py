@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import pytest
 import torch
+from test_graph_contract import emulated_cuda_graph  # noqa: F401 (a fixture)
 
 from simlab.envs import ManagerBasedRLEnv
 from simlab.envs.utils.cuda_graph import SimulationDivergedError
@@ -200,7 +201,71 @@ def test_a_task_term_dividing_by_zero_still_raises():
         return get_rewards() / divisor
 
     env._get_rewards = one_over_zero_in_world_2
-    with pytest.raises(ValueError, match=r"NaN or inf, with every world's positions and velocities finite.*divides"):
+    with pytest.raises(ValueError, match=r"NaN or inf in this step: reward, in 1 world\(s\) \(2\).*divides") as info:
         env.step(torch.zeros(6, 1))
     assert int(env.sim.physics.diverged_count) == 0
+    assert "\n" not in str(info.value)
     env.close()
+
+
+def test_the_error_names_the_observation_term_the_worlds_and_their_state():
+    """A non-finite observation names its column by the task's term (the direct Allegro's fingertip
+    velocities), the world, and that world's largest position, velocity and action then."""
+    from simlab.tasks.direct.allegro_hand.allegro_hand_env_cfg import AllegroHandEnvCfg
+    from simlab.tasks.direct.inhand_manipulation.inhand_manipulation_env import InHandManipulationEnv
+
+    cfg = AllegroHandEnvCfg()
+    cfg.scene.num_envs, cfg.sim.device, cfg.seed = 4, "cpu", 1
+    env = InHandManipulationEnv(cfg)
+    env.reset()
+    compute = env._compute_intermediate_values
+
+    def nan_in_world_1():
+        compute()
+        env.fingertip_velocities = env.fingertip_velocities.clone()
+        env.fingertip_velocities[1, 2, 4] = float("nan")  # fingertip 2's angular velocity, y
+
+    env._compute_intermediate_values = nan_in_world_1
+    actions = torch.zeros(4, 16)
+    actions[1, 0] = 3.0
+    with pytest.raises(ValueError) as info:
+        env.step(actions)
+    message = str(info.value)
+    # 16 + 16 + 3 + 4 + 3 + 3 + 3 + 4 + 4 + 12 + 16 columns come first; then 6 per fingertip
+    assert "obs['policy'] columns 100 (fingertip_velocities[16]), in 1 world(s) (1)" in message
+    assert "|action| 3 then" in message and "|qvel| nan" not in message
+    env.close()
+
+
+def test_a_graphed_step_names_the_columns_and_worlds_at_its_check_without_host_reads(
+    emulated_cuda_graph,  # noqa: F811
+    monkeypatch,
+):
+    """Graphed, the worlds and columns accumulate on the device between two checks (no read per step)."""
+    from test_graph_contract import ToyEnv
+
+    from simlab.envs.utils.cuda_graph import EnvStepper
+
+    env = ToyEnv()
+    body = env._step_body
+    poison = torch.zeros(4, 4)
+
+    def step_body(action):
+        obs, reward, error = body(action)
+        return {"policy": obs["policy"] + poison}, reward, error
+
+    stepper = EnvStepper(env, step_body, warmup=1, check_interval=4)
+    for _ in range(2):  # the warm-up call and the capture
+        stepper(torch.zeros(4, 2))
+    assert stepper.is_graphed
+    reads = []
+    for name in ("__bool__", "item", "tolist"):
+        original = getattr(torch.Tensor, name)
+        monkeypatch.setattr(torch.Tensor, name, lambda self, *a, _o=original, _n=name: reads.append(_n) or _o(self, *a))
+    poison[2, 3] = float("inf")
+    stepper(torch.zeros(4, 2))  # step 3: flagged on the device
+    poison[2, 3] = 0.0
+    assert reads == []
+    with pytest.raises(ValueError, match=r"among the last 4: obs\['policy'\] columns 3, in 1 world\(s\) \(2\)"):
+        stepper(torch.zeros(4, 2))  # step 4: the periodic check
+    stepper(torch.zeros(4, 2))  # cleared: the next interval starts clean

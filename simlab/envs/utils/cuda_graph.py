@@ -27,15 +27,19 @@ A graph reads and writes fixed addresses, which leaves two things to handle here
   naming the slot). docs/env_step.md states the contract.
 
 Value checks: actions (finite; a discrete action in its range, given ``action_space``) and
-observations (finite: a diverged simulation shows there first) are checked every step. Eagerly the
-check raises at once; graphed, flags accumulate on the device and are read every ``check_interval``
-replays, since a read each step would stall the GPU. Returned tensors are fresh copies, so callers
-may keep them across steps.
+observations and rewards (finite) are checked every step. Eagerly the check raises at once; graphed,
+flags accumulate on the device and are read every ``check_interval`` replays, since a read each step
+would stall the GPU. The observation check (:class:`OutputCheck`) keeps, per world and per output
+column, where a value was not finite, and the largest position, velocity and action those worlds had
+then, so that its error names the observation columns (term names where the env gives them), the
+worlds, and whether their physics was sane. Returned tensors are fresh copies, so callers may keep
+them across steps.
 """
 
 from __future__ import annotations
 
 import logging
+import math
 import traceback
 from collections.abc import Callable
 from typing import Any
@@ -61,8 +65,8 @@ logger = logging.getLogger(__name__)
 # Worlds whose qpos/qvel blew up are put back before the task's terms read them (take_diverged),
 # so what is left is the task's own math or a derived quantity
 _CAUSE = (
-    ", with every world's positions and velocities finite (blown-up worlds are reset before the task reads them): a task term"
-    " divides by zero or leaves its domain (asin, acos, sqrt, log), or reads a non-finite physics quantity"
+    "blown-up worlds (a position or velocity non-finite or above 1e10) are reset before the task reads them, so a task"
+    " term divides by zero or leaves its domain (asin, acos, sqrt, log), or reads a non-finite physics quantity"
 )
 
 
@@ -99,7 +103,7 @@ class EnvStepper:
         self._check_actions = bool(getattr(env.cfg, "check_finite_actions", True))
         self._action_values = ActionValueCheck(action_space, env.device)  # finite; discrete ones in range
         self._bad_action = torch.zeros((), dtype=torch.bool, device=env.device)
-        self._bad_obs = torch.zeros((), dtype=torch.bool, device=env.device)
+        self._outputs = OutputCheck(env)
 
     @property
     def is_graphed(self) -> bool:
@@ -123,7 +127,8 @@ class EnvStepper:
             if self._check_actions:
                 self._action_values.raise_if_outside(action)
             outputs = self.body(action)
-            check_finite_obs(_observations(outputs))
+            self._outputs.track(outputs, action)
+            self._outputs.raise_if_bad("in this step")
             self._check_divergence()
             return outputs
         if self._check_actions:
@@ -141,7 +146,7 @@ class EnvStepper:
             # capture's write-back refills at each replay, which must not be the caller's tensors
             with DeviceListIndices(torch.device(self.env.device), self._index_cache):
                 outputs = self.body(_map_tensors(action, torch.clone))
-            self._bad_obs |= _any_nonfinite(_observations(outputs))
+            self._outputs.track(outputs, action)
             # copies: the capture's write-back refills the tensors the env holds, which may be these
             outputs = _map_tensors(outputs, torch.clone)
         if self._calls % self.check_interval == 0:
@@ -160,12 +165,16 @@ class EnvStepper:
                 f"Actions contained {what} in a step among the last {self.check_interval} (the GPU fast path "
                 f"checks periodically); {self._action_values.allowed}"
             )
-        if bool(self._bad_obs):
-            self._bad_obs.zero_()
-            raise ValueError(
-                f"Observations or rewards contained NaN or inf in a step among the last {self.check_interval}{_CAUSE}"
-            )
-        self.env.sim.physics.check_overflow()
+        physics = self.env.sim.physics
+        try:
+            physics.check_overflow()  # first: physics that dropped contacts may be what made an output non-finite
+        except RuntimeError as err:
+            if self._outputs.any_bad():
+                where = self._outputs.describe()
+                self._outputs.clear()
+                raise RuntimeError(f"{err} Observations or rewards were non-finite too: {where}.") from None
+            raise
+        self._outputs.raise_if_bad(f"in a step among the last {self.check_interval}")
         self._check_divergence()
 
     def _check_divergence(self) -> None:
@@ -203,7 +212,7 @@ class EnvStepper:
                 torch.cuda.graph(graph, capture_error_mode="thread_local"),
             ):
                 outputs = self.body(self._static_action)
-                self._bad_obs.logical_or_(_any_nonfinite(_observations(outputs)))
+                self._outputs.track(outputs, self._static_action)
                 self._packed = PackedOutputs(outputs)  # before the write-back, which may overwrite an output
                 self.write_backs = slots.write_back(env.device)
             self.graph = graph
@@ -229,16 +238,127 @@ class EnvStepper:
             print(f"[simlab] CUDA-graph capture of the env step failed, stepping eagerly: {self.eager_reason}")
 
 
-def check_finite_obs(observations: Any) -> None:
-    if bool(_any_nonfinite(observations)):
-        raise ValueError(f"Observations or rewards contain NaN or inf{_CAUSE}")
+class OutputCheck:
+    """Where a step's observations or rewards were not finite: per world and per output column, with the
+    largest ``|qpos|``, ``|qvel|`` and ``|action|`` those worlds had in those steps.
+
+    :meth:`track` is device ops on buffers made at its first call (a warm-up step, before any capture),
+    so a captured step accumulates into them; :meth:`any_bad` and :meth:`describe` read them back (the
+    periodic check, or an eager step). The state read is the one the observations came from (after the
+    step's resets): it says whether the physics was sane there, or blew up below the divergence guard.
+    """
+
+    def __init__(self, env: Any):
+        self.env = env
+        self._columns: dict[str, torch.Tensor] = {}  # output name -> (columns,) bool
+        self._worlds: torch.Tensor | None = None  # (num_worlds,) bool
+        self._extent: torch.Tensor | None = None  # (num_worlds, 3): max |qpos|, |qvel|, |action| there
+
+    def track(self, outputs: Any, action: Any) -> None:
+        """Note the worlds and columns of this step's non-finite observations and rewards (no host read)."""
+        named = [(name, t) for name, t in _named_tensors(_observations(outputs)) if t.is_floating_point() and t.dim()]
+        if not named:
+            return
+        bad_worlds = None
+        for name, tensor in named:
+            bad = ~torch.isfinite(tensor.reshape(tensor.shape[0], -1))
+            if name not in self._columns:
+                self._columns[name] = torch.zeros(bad.shape[1], dtype=torch.bool, device=bad.device)
+            self._columns[name] |= bad.any(dim=0)
+            worlds = bad.any(dim=1)
+            bad_worlds = worlds if bad_worlds is None else bad_worlds | worlds
+        extent = self._state_extent(action, bad_worlds.shape[0])
+        if self._worlds is None:
+            self._worlds = torch.zeros_like(bad_worlds)
+            self._extent = torch.zeros_like(extent)
+        self._worlds |= bad_worlds
+        # NaN wins in maximum: a NaN state or action shows as nan
+        torch.maximum(self._extent, torch.where(bad_worlds.unsqueeze(1), extent, 0.0), out=self._extent)
+
+    def _state_extent(self, action: Any, num_worlds: int) -> torch.Tensor:
+        physics = self.env.sim.physics
+        columns = []
+        for name in ("qpos", "qvel"):
+            data = physics.data(name) if hasattr(physics, "data") else None
+            fits = data is not None and data.dim() == 2 and data.shape[0] == num_worlds and data.shape[1] > 0
+            columns.append(data.abs().amax(dim=1) if fits else torch.zeros(num_worlds, device=self.env.device))
+        actions = [t.reshape(num_worlds, -1).float().abs().amax(dim=1) for t in _tensors(action) if t.numel()]
+        columns.append(torch.stack(actions).amax(dim=0) if actions else torch.zeros(num_worlds, device=self.env.device))
+        return torch.stack(columns, dim=1)
+
+    def any_bad(self) -> bool:
+        """Whether a tracked step had a non-finite output (reads one flag back)."""
+        return self._worlds is not None and bool(self._worlds.any())
+
+    def clear(self) -> None:
+        for tensor in (*self._columns.values(), self._worlds, self._extent):
+            if tensor is not None:
+                tensor.zero_()
+
+    def raise_if_bad(self, when: str) -> None:
+        if self.any_bad():
+            where = self.describe()
+            self.clear()
+            raise ValueError(f"Observations or rewards contained NaN or inf {when}: {where}; {_CAUSE}")
+
+    def describe(self) -> str:
+        """Which outputs and columns, how many worlds (the first few), and their largest state and action."""
+        parts = []
+        for name, columns in self._columns.items():
+            ids = columns.nonzero().flatten().tolist()
+            if ids and columns.numel() == 1:  # a reward, one value per world
+                parts.append(name)
+            elif ids:
+                labels = _column_labels(self.env, name, columns.numel())
+                shown = ", ".join(labels[i] for i in ids[:8]) + (", ..." if len(ids) > 8 else "")
+                parts.append(f"{name} columns {shown}")
+        worlds = self._worlds.nonzero().flatten()
+        qpos, qvel, action = self._extent[worlds].amax(dim=0).tolist() if len(worlds) else (0.0, 0.0, 0.0)
+        shown = ", ".join(map(str, worlds[:5].tolist())) + (", ..." if len(worlds) > 5 else "")
+        return (
+            f"{' and '.join(parts)}, in {len(worlds)} world(s) ({shown}), whose largest |qpos| was {qpos:.3g}, "
+            f"|qvel| {qvel:.3g} and |action| {action:.3g} then"
+        )
 
 
-def _any_nonfinite(value: Any) -> torch.Tensor:
-    finite = [torch.isfinite(t).all() for t in _tensors(value) if t.is_floating_point()]
-    if not finite:
-        return torch.zeros((), dtype=torch.bool)
-    return ~(finite[0] if len(finite) == 1 else torch.stack(finite).all())  # few kernels: it runs every step
+def _named_tensors(value: Any, name: str = "") -> list[tuple[str, torch.Tensor]]:
+    """The tensors of nested dicts, tuples and lists with their paths: ``obs['policy']``, ``reward``."""
+    if isinstance(value, torch.Tensor):
+        return [(name, value)]
+    if isinstance(value, dict):
+        return [pair for key, item in value.items() for pair in _named_tensors(item, f"{name}[{key!r}]")]
+    if isinstance(value, (tuple, list)):
+        # a step's (observations, rewards): name them so
+        names = ("obs", "reward") if not name and len(value) == 2 else [f"{name}[{i}]" for i in range(len(value))]
+        return [pair for item, sub in zip(value, names) for pair in _named_tensors(item, sub)]
+    return []
+
+
+def _column_labels(env: Any, name: str, width: int) -> list[str]:
+    """A label per column of output ``name`` (``obs['policy']``): the term and index within it where the
+    env names them (a manager-based env's observation terms, or a direct env's ``observation_columns``),
+    else the column index."""
+    labels: list[str] | None = None
+    group = name[len("obs['") : -len("']")] if name.startswith("obs['") and name.endswith("']") else None
+    if group is not None:
+        manager = getattr(env, "observation_manager", None)
+        if manager is not None and manager.group_obs_concatenate.get(group, False):
+            terms = zip(manager.active_terms[group], manager.group_obs_term_dim[group])
+            labels = _term_labels([(term, math.prod(dim)) for term, dim in terms])
+        elif hasattr(env, "observation_columns"):
+            layout = env.observation_columns(group)
+            labels = _term_labels(layout) if layout else None
+    if labels is None or len(labels) != width:
+        return [str(i) for i in range(width)]
+    return labels
+
+
+def _term_labels(layout: list[tuple[str, int]]) -> list[str]:
+    """``"<column> (<term>[<index in the term>])"`` for each column of terms laid out one after another."""
+    labels: list[str] = []
+    for term, width in layout:
+        labels += [f"{len(labels) + i} ({term}[{i}])" for i in range(width)]
+    return labels
 
 
 def _observations(outputs: Any) -> Any:

@@ -281,36 +281,44 @@ class InHandManipulationEnv(DirectRLEnv):
 
     def compute_reduced_observations(self) -> torch.Tensor:
         """OpenAI's observations (arXiv:1808.00177, table 2): fingertips, cube position, rotation to the goal."""
-        return torch.cat(
-            (
-                self.fingertip_pos.reshape(self.num_envs, self.num_fingertips * 3),
-                self.object_pos,
-                quat_mul_conjugate(self.object_rot, self.goal_rot),
-                self.actions,
-            ),
-            dim=-1,
-        )
+        return torch.cat([term for _, term in self._reduced_observation_terms()], dim=-1)
 
     def compute_full_observations(self) -> torch.Tensor:
+        return torch.cat([term for _, term in self._full_observation_terms()], dim=-1)
+
+    def _reduced_observation_terms(self) -> list[tuple[str, torch.Tensor]]:
+        return [
+            ("fingertip_pos", self.fingertip_pos.reshape(self.num_envs, self.num_fingertips * 3)),
+            ("object_pos", self.object_pos),
+            ("rotation_to_goal", quat_mul_conjugate(self.object_rot, self.goal_rot)),
+            ("actions", self.actions),
+        ]
+
+    def _full_observation_terms(self) -> list[tuple[str, torch.Tensor]]:
         n, tips = self.num_envs, self.num_fingertips
-        return torch.cat(
-            (
-                unscale(self.hand_dof_pos, self.hand_dof_lower_limits, self.hand_dof_upper_limits),
-                self.cfg.vel_obs_scale * self.hand_dof_vel,
-                self.object_pos,
-                self.object_rot,
-                self.object_linvel,
-                self.cfg.vel_obs_scale * self.object_angvel,
-                self.in_hand_pos,
-                self.goal_rot,
-                quat_mul_conjugate(self.object_rot, self.goal_rot),
-                self.fingertip_pos.reshape(n, tips * 3),
-                self.fingertip_rot.reshape(n, tips * 4),
-                self.fingertip_velocities.reshape(n, tips * 6),
-                self.actions,
-            ),
-            dim=-1,
-        )
+        return [
+            ("hand_dof_pos", unscale(self.hand_dof_pos, self.hand_dof_lower_limits, self.hand_dof_upper_limits)),
+            ("hand_dof_vel", self.cfg.vel_obs_scale * self.hand_dof_vel),
+            ("object_pos", self.object_pos),
+            ("object_rot", self.object_rot),
+            ("object_linvel", self.object_linvel),
+            ("object_angvel", self.cfg.vel_obs_scale * self.object_angvel),
+            ("in_hand_pos", self.in_hand_pos),
+            ("goal_rot", self.goal_rot),
+            ("rotation_to_goal", quat_mul_conjugate(self.object_rot, self.goal_rot)),
+            ("fingertip_pos", self.fingertip_pos.reshape(n, tips * 3)),
+            ("fingertip_rot", self.fingertip_rot.reshape(n, tips * 4)),
+            ("fingertip_velocities", self.fingertip_velocities.reshape(n, tips * 6)),
+            ("actions", self.actions),
+        ]
+
+    def observation_columns(self, group: str) -> list[tuple[str, int]] | None:
+        """The policy observation's terms and widths, in order: what the step's non-finite-output error
+        names columns by (only read on that error path)."""
+        if group != "policy":
+            return None
+        terms = self._reduced_observation_terms() if self.cfg.obs_type == "openai" else self._full_observation_terms()
+        return [(name, term.shape[-1]) for name, term in terms]
 
     def compute_full_state(self) -> torch.Tensor:
         """The critic's observation: the full observations and the fingertips' force-torque readings
