@@ -45,6 +45,17 @@ def test_bench_physics_and_env_print_tables_and_json(tmp_path, capsys):
     assert "outside physics" in printed
 
 
+def test_bench_env_builds_each_task_with_the_env_overrides(tmp_path):
+    """`--overrides env.x=v` changes the benched env (an A/B of a setting): Cartpole's decimation 2 made 3,
+    seen in the physics steps per env step; agent.* ones do not reach the env suites."""
+    out = tmp_path / "bench.json"
+    argv = ["env", "--device", "cpu", "--tasks", "simlab/Cartpole-v0", "--num_envs", "4", "--steps", "2"]
+    assert main([*argv, "--overrides", "env.decimation=3", "agent.seed=5", "--json", str(out)]) == 0
+    (row,) = json.loads(out.read_text())["results"]["env"]
+    assert row["overrides"] == "env.decimation=3"
+    assert row["physics_steps_per_s"] == pytest.approx(row["env_steps_per_s"] * 3)
+
+
 def test_bench_train_runs_the_ppo_update_asked_for(tmp_path):
     rows = {}
     for update in ("fast", "rsl_rl"):

@@ -226,7 +226,8 @@ def main(argv: list[str] | None = None) -> int:
         nargs="+",
         default=[],
         metavar="KEY=VALUE",
-        help="env.* / agent.* overrides as `simlab train` takes them (the evaluation env gets the env.* ones)",
+        help="env.* / agent.* overrides as `simlab train` takes them (solve: the evaluation env gets the env.* ones; "
+        "env and inference: each task's env is built with the env.* ones, e.g. env.sim.mujoco.njmax=96)",
     )
     solve.add_argument(
         "--allow_module",

@@ -9,6 +9,7 @@ alternating rounds, so ``ratio = physics steps/s through the env / raw physics s
 from __future__ import annotations
 
 import time
+from collections.abc import Sequence
 
 import gymnasium as gym
 import torch
@@ -20,13 +21,17 @@ from .timing import gpu_memory_mb, interleaved, reset_gpu_memory_peak, synchroni
 DEFAULT_TASKS = ["simlab/Cartpole-v0", "simlab/Cartpole-Direct-v0", "simlab/Ant-Direct-v0", "simlab/Humanoid-Direct-v0"]
 
 
-def make_env(task: str, num_envs: int, device: str, cuda_graph: bool = True):
+def make_env(task: str, num_envs: int, device: str, cuda_graph: bool = True, overrides: Sequence[str] = ()):
+    """The task's env at ``num_envs``, with ``overrides`` (``env.*`` ones, as ``simlab train`` takes them:
+    ``env.sim.mujoco.njmax=96``) applied to its config: an A/B of a setting in one benchmark."""
     import simlab.tasks  # noqa: F401 - registers the tasks
     from simlab.tasks.utils import parse_env_cfg
+    from simlab.tasks.utils.hydra import apply_overrides
 
     sim_utils.SimulationContext.clear_instance()
     cfg = parse_env_cfg(task, device=device, num_envs=num_envs)
     cfg.sim.use_cuda_graph = cuda_graph
+    apply_overrides(cfg, None, overrides)
     return gym.make(task, cfg=cfg).unwrapped
 
 
@@ -145,10 +150,16 @@ def _plus(value: float | None, extra: float) -> float | None:
 
 
 def bench_env(
-    task: str, num_envs: int, device: str, steps: int, with_policy: bool = False, cuda_graph: bool = True
+    task: str,
+    num_envs: int,
+    device: str,
+    steps: int,
+    with_policy: bool = False,
+    cuda_graph: bool = True,
+    overrides: Sequence[str] = (),
 ) -> dict:
     reset_gpu_memory_peak(device)
-    env = make_env(task, num_envs, device, cuda_graph)
+    env = make_env(task, num_envs, device, cuda_graph, overrides)
     env.reset()
     policy = None
     if with_policy:
@@ -191,6 +202,7 @@ def bench_env(
         "render_share": renders_per_step * seconds["render"] / seconds["env"] if cameras else None,
         "policy": with_policy,
         "cuda_graph": _graph_state(env),
+        "overrides": " ".join(overrides),
     }
     env.close()
     return row

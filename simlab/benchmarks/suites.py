@@ -31,14 +31,21 @@ def physics(device: str, num_envs: list[int], steps: int, robots: list[str], **_
 
 
 def env_step(device: str, num_envs: list[int], steps: int, tasks: list[str] | None, **kw) -> list[dict]:
-    return _env_rows(device, num_envs, steps, tasks, False, kw.get("graphs", [True]))
+    return _env_rows(device, num_envs, steps, tasks, False, kw.get("graphs", [True]), _env_overrides(kw))
 
 
 def env_step_with_policy(device: str, num_envs: list[int], steps: int, tasks: list[str] | None, **kw) -> list[dict]:
-    return _env_rows(device, num_envs, steps, tasks, True, kw.get("graphs", [True]))
+    return _env_rows(device, num_envs, steps, tasks, True, kw.get("graphs", [True]), _env_overrides(kw))
 
 
-def _env_rows(device, num_envs, steps, tasks, with_policy: bool, graphs: list[bool]) -> list[dict]:
+def _env_overrides(kw: dict) -> list[str]:
+    """The ``env.*`` ones of ``--overrides``: the env suites build each task with them."""
+    from simlab.tasks.utils.hydra import env_overrides_in
+
+    return env_overrides_in(getattr(kw.get("solve_args"), "overrides", None) or [])
+
+
+def _env_rows(device, num_envs, steps, tasks, with_policy: bool, graphs: list[bool], overrides=()) -> list[dict]:
     from .env_suites import DEFAULT_TASKS, bench_env
 
     rows: list[dict] = []
@@ -48,7 +55,9 @@ def _env_rows(device, num_envs, steps, tasks, with_policy: bool, graphs: list[bo
                 _guarded(
                     rows,
                     {"task": task, "device": device, "num_envs": n},
-                    lambda task=task, n=n, graph=graph: bench_env(task, n, device, steps, with_policy, graph),
+                    lambda task=task, n=n, graph=graph: bench_env(
+                        task, n, device, steps, with_policy, graph, overrides
+                    ),
                 )
     return rows
 
