@@ -63,6 +63,57 @@ def test_task_resets_and_steps(robot, task):
         env.close()
 
 
+@pytest.mark.parametrize("robot", ["G1", "H1"])
+def test_flat_tasks_contact_buffers_hold_the_robot_fallen_on_the_ground(robot):
+    """The flat tasks reserve MuJoCo Warp buffers from measured peaks (``sim.mujoco.nconmax`` / ``njmax``
+    per world, below MuJoCo Warp's estimate): the worst case they must hold is the robot lying on the
+    ground. Eight worlds drop it 0.25 m onto its front, back and sides, the first four with their joints
+    held at the default pose, the others driven to random points of their ranges (limbs spread, bent or
+    crossed), for 2 s; MuJoCo C counts each world's contacts and constraint rows after every physics step.
+    The reserved sizes hold 1.5 times the peaks (MuJoCo Warp's collision functions are its own, so a pair
+    may give a few more contacts there). A walking robot under random actions peaks lower (8 contacts,
+    34 rows for either robot)."""
+    import mujoco
+
+    worlds = 8
+    env = make(f"simlab/Velocity-Flat-{robot}-v0", num_envs=worlds)
+    try:
+        env.reset()
+        robot_asset, physics = env.scene["robot"], env.sim.physics
+        model, data = env.sim.model, mujoco.MjData(env.sim.model)
+        generator = torch.Generator().manual_seed(0)
+        low, high = robot_asset.data.joint_pos_limits.unbind(-1)
+        default = robot_asset.data.default_joint_pos
+        targets = low + torch.rand(low.shape, generator=generator) * (high - low)
+        targets[:4] = default[:4]
+        # lying: a quarter turn about +y (on the front), -y (back), +x and -x (sides), 0.25 m up
+        axes = torch.tensor([[0.0, 1.0, 0.0], [0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [-1.0, 0.0, 0.0]]).repeat(2, 1)
+        half = torch.tensor(torch.pi / 4)
+        quat = torch.cat((torch.cos(half).expand(worlds, 1), torch.sin(half) * axes), dim=-1)
+        position = env.scene.env_origins + torch.tensor([0.0, 0.0, 0.25])
+        robot_asset.write_root_pose_to_sim(torch.cat((position, quat), dim=-1))
+        robot_asset.write_root_velocity_to_sim(torch.zeros(worlds, 6))
+        robot_asset.write_joint_state_to_sim(default, torch.zeros_like(default))
+        qpos, qvel = physics.data("qpos"), physics.data("qvel")
+        contacts, rows = [0] * worlds, [0] * worlds
+        for _ in range(round(2.0 / env.physics_dt)):
+            robot_asset.set_joint_position_target(targets)
+            env.scene.write_data_to_sim()
+            env.sim.step(render=False)
+            for world in range(worlds):
+                data.qpos[:], data.qvel[:] = qpos[world].numpy(), qvel[world].numpy()
+                mujoco.mj_forward(model, data)
+                contacts[world], rows[world] = max(contacts[world], data.ncon), max(rows[world], data.nefc)
+        # lying on the ground at the end, not standing
+        height = qpos[:, 2] - env.scene.env_origins[:, 2]
+        assert (height < 0.35).all(), height
+        reserved = env.cfg.sim.mujoco  # peaks measured: G1 15 contacts / 64 rows, H1 11 / 44
+        assert reserved.nconmax >= 1.5 * max(contacts), f"contacts per world {contacts}, nconmax {reserved.nconmax}"
+        assert reserved.njmax >= 1.5 * max(rows), f"constraint rows per world {rows}, njmax {reserved.njmax}"
+    finally:
+        env.close()
+
+
 def test_feet_air_time_positive_biped_pays_single_support_up_to_the_threshold():
     env = make("simlab/Velocity-Flat-G1-v0")
     try:
