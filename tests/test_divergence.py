@@ -269,3 +269,26 @@ def test_a_graphed_step_names_the_columns_and_worlds_at_its_check_without_host_r
     with pytest.raises(ValueError, match=r"among the last 4: obs\['policy'\] columns 3, in 1 world\(s\) \(2\)"):
         stepper(torch.zeros(4, 2))  # step 4: the periodic check
     stepper(torch.zeros(4, 2))  # cleared: the next interval starts clean
+
+
+def test_snapshots_keep_the_state_a_bad_world_started_its_step_from(tmp_path, monkeypatch):
+    """SIMLAB_SNAPSHOT_BAD_WORLDS=<file>: the error writes each bad world's state from the start of its
+    first bad step, and the action it got, to replay it."""
+    path = tmp_path / "bad_worlds.pt"
+    monkeypatch.setenv("SIMLAB_SNAPSHOT_BAD_WORLDS", str(path))
+    env = direct_cartpole()
+    env.reset()
+    for _ in range(3):
+        env.step(torch.zeros(6, 1))
+    get_rewards = env._get_rewards
+    env._get_rewards = lambda: get_rewards() / (torch.arange(6) != 2).float()  # inf in world 2
+    before = {name: env.sim.physics.data(name).clone() for name in ("qpos", "qvel")}
+    action = torch.linspace(-1, 1, 6).unsqueeze(1)
+    with pytest.raises(ValueError, match=rf"in 1 world\(s\) \(2\).*its action: {path}\)") as info:
+        env.step(action)
+    assert "\n" not in str(info.value)
+    kept = torch.load(path)
+    assert kept["worlds"].tolist() == [2]
+    assert torch.equal(kept["qpos"], before["qpos"][2:3]) and torch.equal(kept["qvel"], before["qvel"][2:3])
+    assert torch.equal(kept["action0"], action[2:3])
+    env.close()

@@ -40,6 +40,7 @@ from __future__ import annotations
 
 import logging
 import math
+import os
 import traceback
 from collections.abc import Callable
 from typing import Any
@@ -50,6 +51,7 @@ import torch
 from torch.overrides import TorchFunctionMode
 
 from simlab.utils.cuda import gc_paused
+from simlab.utils.env_mask import masked_copy_
 from simlab.utils.errors import SimlabError, describe
 
 from .spaces import ActionValueCheck
@@ -126,6 +128,7 @@ class EnvStepper:
         if self.eager_reason is not None:
             if self._check_actions:
                 self._action_values.raise_if_outside(action)
+            self._outputs.before_step(action)
             outputs = self.body(action)
             self._outputs.track(outputs, action)
             self._outputs.raise_if_bad("in this step")
@@ -144,6 +147,7 @@ class EnvStepper:
         else:
             # the body gets copies: what the env keeps of them (``self.actions = actions``) the
             # capture's write-back refills at each replay, which must not be the caller's tensors
+            self._outputs.before_step(action)
             with DeviceListIndices(torch.device(self.env.device), self._index_cache):
                 outputs = self.body(_map_tensors(action, torch.clone))
             self._outputs.track(outputs, action)
@@ -211,6 +215,7 @@ class EnvStepper:
                 DeviceListIndices(torch.device(env.device), self._index_cache),
                 torch.cuda.graph(graph, capture_error_mode="thread_local"),
             ):
+                self._outputs.before_step(self._static_action)
                 outputs = self.body(self._static_action)
                 self._outputs.track(outputs, self._static_action)
                 self._packed = PackedOutputs(outputs)  # before the write-back, which may overwrite an output
@@ -248,11 +253,33 @@ class OutputCheck:
     step's resets): it says whether the physics was sane there, or blew up below the divergence guard.
     """
 
-    def __init__(self, env: Any):
+    SNAPSHOT_FIELDS = ("qpos", "qvel", "qacc_warmstart", "ctrl", "act")
+    """What a snapshot keeps of a world's state at the start of the step: with the action, what its
+    physics step follows from (the task's own state, e.g. a goal, aside)."""
+
+    def __init__(self, env: Any, snapshot_path: str | None = None):
         self.env = env
         self._columns: dict[str, torch.Tensor] = {}  # output name -> (columns,) bool
         self._worlds: torch.Tensor | None = None  # (num_worlds,) bool
         self._extent: torch.Tensor | None = None  # (num_worlds, 3): max |qpos|, |qvel|, |action| there
+        # SIMLAB_SNAPSHOT_BAD_WORLDS=<file.pt>: keep each bad world's state from the start of its first bad
+        # step (a copy of the state per step: a debugging aid, off by default) and write them there on error
+        self.snapshot_path = snapshot_path or os.environ.get("SIMLAB_SNAPSHOT_BAD_WORLDS")
+        self._before: dict[str, torch.Tensor] = {}  # the state at the start of this step
+        self._snapshot: dict[str, torch.Tensor] = {}  # ... at the start of each bad world's first bad step
+
+    def before_step(self, action: Any) -> None:
+        """Keep the state the step starts from, where snapshots are on (device copies, no host read)."""
+        if not self.snapshot_path:
+            return
+        physics = self.env.sim.physics
+        current = {name: physics.data(name) for name in self.SNAPSHOT_FIELDS if _has_data(physics, name)}
+        current |= {f"action{i}": t for i, t in enumerate(_tensors(action))}
+        for name, tensor in current.items():
+            if name not in self._before:  # first call: a warm-up step, before any capture
+                self._before[name] = torch.empty_like(tensor)
+                self._snapshot[name] = torch.zeros_like(tensor)
+            self._before[name].copy_(tensor)
 
     def track(self, outputs: Any, action: Any) -> None:
         """Note the worlds and columns of this step's non-finite observations and rewards (no host read)."""
@@ -271,6 +298,9 @@ class OutputCheck:
         if self._worlds is None:
             self._worlds = torch.zeros_like(bad_worlds)
             self._extent = torch.zeros_like(extent)
+        first = bad_worlds & ~self._worlds
+        for name, snapshot in self._snapshot.items():
+            masked_copy_(snapshot, first, self._before[name])
         self._worlds |= bad_worlds
         # NaN wins in maximum: a NaN state or action shows as nan
         torch.maximum(self._extent, torch.where(bad_worlds.unsqueeze(1), extent, 0.0), out=self._extent)
@@ -291,15 +321,25 @@ class OutputCheck:
         return self._worlds is not None and bool(self._worlds.any())
 
     def clear(self) -> None:
-        for tensor in (*self._columns.values(), self._worlds, self._extent):
+        for tensor in (*self._columns.values(), *self._snapshot.values(), self._worlds, self._extent):
             if tensor is not None:
                 tensor.zero_()
 
     def raise_if_bad(self, when: str) -> None:
         if self.any_bad():
-            where = self.describe()
+            where = self.describe() + self.save_snapshot()
             self.clear()
             raise ValueError(f"Observations or rewards contained NaN or inf {when}: {where}; {_CAUSE}")
+
+    def save_snapshot(self) -> str:
+        """Write the bad worlds' snapshots (``{"worlds", "qpos", ..., "action0"}``, a row per world) to
+        ``snapshot_path``; returns what the error adds ('' where snapshots are off)."""
+        if not self._snapshot or self._worlds is None:
+            return ""
+        worlds = self._worlds.nonzero().flatten()
+        rows = {name: tensor[worlds].cpu() for name, tensor in self._snapshot.items()}
+        torch.save({"worlds": worlds.cpu(), **rows}, self.snapshot_path)
+        return f" (the state each started its first such step from, and its action: {self.snapshot_path})"
 
     def describe(self) -> str:
         """Which outputs and columns, how many worlds (the first few), and their largest state and action."""
@@ -319,6 +359,15 @@ class OutputCheck:
             f"{' and '.join(parts)}, in {len(worlds)} world(s) ({shown}), whose largest |qpos| was {qpos:.3g}, "
             f"|qvel| {qvel:.3g} and |action| {action:.3g} then"
         )
+
+
+def _has_data(physics: Any, name: str) -> bool:
+    """Whether the backend has MjData field ``name`` per world (``act`` is missing where nothing has one)."""
+    try:
+        physics.data(name)
+    except ValueError:
+        return False
+    return True
 
 
 def _named_tensors(value: Any, name: str = "") -> list[tuple[str, torch.Tensor]]:
