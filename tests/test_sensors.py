@@ -638,6 +638,55 @@ def test_contact_sensor_bodies_in_the_articulations_order():
     assert bool((feet.data.force_matrix_w[:, :, 1] == 0).all())
 
 
+def test_contact_sensor_adds_no_mujoco_sensor_for_a_body_that_cannot_touch(monkeypatch):
+    """Only bodies with a colliding geom get a MuJoCo contact sensor (each costs MuJoCo Warp a pass over
+    the contacts); the G1's 12 bodies without one (hip pitch and roll links, ankle pitch links, ...) read
+    zero. The forces are those of a sensor on every body: the same G1, dropped on its side so that legs,
+    arms and fingers touch, gives bit-equal readings with a MuJoCo sensor added for every body (the earlier build)."""
+    import mujoco
+
+    import simlab.sensors.contact_sensor as contact_sensor
+    from simlab.robots.unitree import G1_CFG
+
+    @configclass
+    class SceneCfg(InteractiveSceneCfg):
+        ground = AssetBaseCfg(prim_path="/World/ground", spawn=sim_utils.GroundPlaneCfg())
+        robot = G1_CFG.replace(prim_path="{ENV_REGEX_NS}/Robot")
+        contacts = ContactSensorCfg(prim_path="{ENV_REGEX_NS}/Robot/.*")
+
+    def run() -> tuple[torch.Tensor, int, list[str]]:
+        sim_utils.SimulationContext.clear_instance()
+        sim, scene = make_scene(SceneCfg(num_envs=1, env_spacing=3.0))
+        robot = scene["robot"]
+        on_side = torch.tensor([[0.0, 0.0, 0.3, math.cos(math.pi / 4), math.sin(math.pi / 4), 0.0, 0.0]])
+        robot.write_root_pose_to_sim(on_side)
+        for _ in range(100):
+            scene.write_data_to_sim()
+            sim.step()
+            scene.update(DT)
+        model = sim.model
+        sensors = sum(int(t) == mujoco.mjtSensor.mjSENS_CONTACT for t in model.sensor_type)
+        return scene["contacts"].data.net_forces_w.clone(), sensors, scene["contacts"].body_names
+
+    forces, sensors, names = run()
+    # the bodies without a colliding geom in the G1's model (no collision shape on them)
+    idle = [i for i, name in enumerate(names) if not name.endswith(TOUCHING_G1_BODIES)]
+    assert len(names) == 38 and sensors == 26 and len(idle) == 12
+    assert bool((forces[:, idle] == 0).all())
+    touching = [i for i in range(38) if i not in idle and float(forces[0, i].norm()) > 1.0]
+    assert len(touching) >= 3, [names[i] for i in touching]  # a thigh, an arm and a foot lie on the ground
+    monkeypatch.setattr(contact_sensor, "_bodies_that_can_touch", lambda spec: {b.name for b in spec.bodies})
+    every_body, sensors_every_body, _ = run()
+    assert sensors_every_body == 38
+    assert torch.equal(forces, every_body)
+
+
+TOUCHING_G1_BODIES = (
+    "pelvis", "hip_yaw_link", "knee_link", "ankle_roll_link", "torso_link", "shoulder_yaw_link", "elbow_pitch_link",
+    "elbow_roll_link", "one_link", "two_link", "three_link", "four_link", "five_link", "six_link",
+)  # fmt: skip
+
+
 # -- in an env step ---------------------------------------------------------------------------------
 
 
