@@ -259,6 +259,7 @@ class OutputCheck:
 
     def __init__(self, env: Any, snapshot_path: str | None = None):
         self.env = env
+        # kept as "all finite so far" (fewer kernels per step than "some value bad"): False marks a bad one
         self._columns: dict[str, torch.Tensor] = {}  # output name -> (columns,) bool
         self._worlds: torch.Tensor | None = None  # (num_worlds,) bool
         self._extent: torch.Tensor | None = None  # (num_worlds, 3): max |qpos|, |qvel|, |action| there
@@ -282,48 +283,59 @@ class OutputCheck:
             self._before[name].copy_(tensor)
 
     def track(self, outputs: Any, action: Any) -> None:
-        """Note the worlds and columns of this step's non-finite observations and rewards (no host read)."""
+        """Note the worlds and columns of this step's non-finite observations and rewards (no host read;
+        some fifteen small kernels per step)."""
         named = [(name, t) for name, t in _named_tensors(_observations(outputs)) if t.is_floating_point() and t.dim()]
         if not named:
             return
-        bad_worlds = None
+        good_worlds = None
         for name, tensor in named:
-            bad = ~torch.isfinite(tensor.reshape(tensor.shape[0], -1))
+            finite = torch.isfinite(tensor.reshape(tensor.shape[0], -1))
             if name not in self._columns:
-                self._columns[name] = torch.zeros(bad.shape[1], dtype=torch.bool, device=bad.device)
-            self._columns[name] |= bad.any(dim=0)
-            worlds = bad.any(dim=1)
-            bad_worlds = worlds if bad_worlds is None else bad_worlds | worlds
-        extent = self._state_extent(action, bad_worlds.shape[0])
+                self._columns[name] = torch.ones(finite.shape[1], dtype=torch.bool, device=finite.device)
+            self._columns[name] &= finite.all(dim=0)
+            worlds = finite.all(dim=1)
+            good_worlds = worlds if good_worlds is None else good_worlds & worlds
+        extent = self._state_extent(action, good_worlds.shape[0])
         if self._worlds is None:
-            self._worlds = torch.zeros_like(bad_worlds)
+            self._worlds = torch.ones_like(good_worlds)
             self._extent = torch.zeros_like(extent)
-        first = bad_worlds & ~self._worlds
-        for name, snapshot in self._snapshot.items():
-            masked_copy_(snapshot, first, self._before[name])
-        self._worlds |= bad_worlds
+        if self._snapshot:
+            first = self._worlds > good_worlds  # good until now, bad in this step
+            for name, snapshot in self._snapshot.items():
+                masked_copy_(snapshot, first, self._before[name])
+        self._worlds &= good_worlds
         # NaN wins in maximum: a NaN state or action shows as nan
-        torch.maximum(self._extent, torch.where(bad_worlds.unsqueeze(1), extent, 0.0), out=self._extent)
+        torch.maximum(self._extent, torch.where(good_worlds.unsqueeze(1), 0.0, extent), out=self._extent)
 
     def _state_extent(self, action: Any, num_worlds: int) -> torch.Tensor:
+        """(num_worlds, 3): each world's largest |qpos|, |qvel| and |action| entry (one kernel each)."""
         physics = self.env.sim.physics
         columns = []
         for name in ("qpos", "qvel"):
             data = physics.data(name) if hasattr(physics, "data") else None
             fits = data is not None and data.dim() == 2 and data.shape[0] == num_worlds and data.shape[1] > 0
-            columns.append(data.abs().amax(dim=1) if fits else torch.zeros(num_worlds, device=self.env.device))
-        actions = [t.reshape(num_worlds, -1).float().abs().amax(dim=1) for t in _tensors(action) if t.numel()]
-        columns.append(torch.stack(actions).amax(dim=0) if actions else torch.zeros(num_worlds, device=self.env.device))
+            columns.append(torch.linalg.vector_norm(data, math.inf, dim=1) if fits else None)
+        actions = [
+            torch.linalg.vector_norm(t.reshape(num_worlds, -1).float(), math.inf, dim=1)
+            for t in _tensors(action)
+            if t.numel()
+        ]
+        columns.append(actions[0] if len(actions) == 1 else torch.stack(actions).amax(dim=0) if actions else None)
+        if any(column is None for column in columns):  # a stand-in physics or no action: zeros there
+            zeros = torch.zeros(num_worlds, device=self.env.device)
+            columns = [zeros if column is None else column for column in columns]
         return torch.stack(columns, dim=1)
 
     def any_bad(self) -> bool:
         """Whether a tracked step had a non-finite output (reads one flag back)."""
-        return self._worlds is not None and bool(self._worlds.any())
+        return self._worlds is not None and not bool(self._worlds.all())
 
     def clear(self) -> None:
-        for tensor in (*self._columns.values(), *self._snapshot.values(), self._worlds, self._extent):
-            if tensor is not None:
-                tensor.zero_()
+        for tensor in (*self._columns.values(), self._worlds):
+            tensor.fill_(True)
+        for tensor in (*self._snapshot.values(), self._extent):
+            tensor.zero_()
 
     def raise_if_bad(self, when: str) -> None:
         if self.any_bad():
@@ -336,7 +348,7 @@ class OutputCheck:
         ``snapshot_path``; returns what the error adds ('' where snapshots are off)."""
         if not self._snapshot or self._worlds is None:
             return ""
-        worlds = self._worlds.nonzero().flatten()
+        worlds = (~self._worlds).nonzero().flatten()
         rows = {name: tensor[worlds].cpu() for name, tensor in self._snapshot.items()}
         torch.save({"worlds": worlds.cpu(), **rows}, self.snapshot_path)
         return f" (the state each started its first such step from, and its action: {self.snapshot_path})"
@@ -345,14 +357,14 @@ class OutputCheck:
         """Which outputs and columns, how many worlds (the first few), and their largest state and action."""
         parts = []
         for name, columns in self._columns.items():
-            ids = columns.nonzero().flatten().tolist()
+            ids = (~columns).nonzero().flatten().tolist()
             if ids and columns.numel() == 1:  # a reward, one value per world
                 parts.append(name)
             elif ids:
                 labels = _column_labels(self.env, name, columns.numel())
                 shown = ", ".join(labels[i] for i in ids[:8]) + (", ..." if len(ids) > 8 else "")
                 parts.append(f"{name} columns {shown}")
-        worlds = self._worlds.nonzero().flatten()
+        worlds = (~self._worlds).nonzero().flatten()
         qpos, qvel, action = self._extent[worlds].amax(dim=0).tolist() if len(worlds) else (0.0, 0.0, 0.0)
         shown = ", ".join(map(str, worlds[:5].tolist())) + (", ..." if len(worlds) > 5 else "")
         return (
