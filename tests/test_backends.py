@@ -360,6 +360,46 @@ def test_warp_contact_overflow_names_the_setting_on_the_cpu() -> None:
         small.check_overflow()
 
 
+TWO_BOXES = """
+<mujoco>
+  <worldbody>
+    <geom type="plane" size="5 5 0.1"/>
+    <body name="feet" pos="0 0 0.052"><freejoint/>
+      <geom type="box" size=".1 .05 .05" pos="0 -.1 0" mass="1"/>
+      <geom type="box" size=".1 .05 .05" pos="0 .1 0" mass="1"/>
+    </body>
+  </worldbody>
+  <sensor><contact body2="feet" data="force" reduce="netforce"/></sensor>
+</mujoco>
+"""
+
+
+def test_warp_contact_sensor_slots_follow_nconmax_and_overflow_raises_on_the_cpu() -> None:
+    """Each MuJoCo contact sensor keeps nconmax contacts per world (rounded up to a power of two, at most
+    MuJoCo Warp's 64), and more matches than that raise instead of dropping force silently (Warp's CPU
+    device). A body of two boxes lands on the plane with 8 contacts in world 0 and flies in world 1, so the
+    two worlds' shared pool of 2 x 4 holds them while world 0's sensor, with 4 slots, does not."""
+    try:
+        from simlab.sim.backends.cuda import CudaBackend
+    except ImportError as err:
+        pytest.skip(f"mujoco-warp is not installed: {err}")
+    model = mujoco.MjModel.from_xml_string(TWO_BOXES)
+    weight = 2.0 * 9.81
+    for nconmax, slots in ((8, 8), (24, 32)):
+        sim = CudaBackend(model, 2, device="cpu", nconmax=nconmax, overflow_check_interval=0)
+        assert sim.wp_model.opt.contact_sensor_maxmatch == slots
+        sim.data("qpos")[1, 2] = 2.0  # world 1 in the air
+        sim.step(100)
+        sim.check_overflow()
+        force = sim.data("sensordata")
+        assert float(force[0, 2].abs()) == pytest.approx(weight, rel=1e-3) and float(force[1].abs().max()) == 0.0
+    few = CudaBackend(model, 2, device="cpu", nconmax=4, overflow_check_interval=0)
+    few.data("qpos")[1, 2] = 2.0
+    few.step(100)
+    with pytest.raises(RuntimeError, match=r"matched more contacts than its slots .*mujoco\.nconmax \(now 4"):
+        few.check_overflow()
+
+
 def test_warp_kinematics_pass_gives_the_forward_pass_body_poses_on_the_cpu() -> None:
     """Reading body poses runs MuJoCo Warp's kinematics, centre-of-mass and velocity passes only
     (Warp's CPU device, so CI runs it): bit for bit the poses and velocities a forward pass gives;

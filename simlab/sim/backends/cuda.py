@@ -47,7 +47,16 @@ _OVERFLOW_SETTINGS = {
     1 << 2: ("broadphase found more candidate contacts than nconmax * num_envs", "nconmax"),
     1 << 3: ("narrowphase produced more contacts than nconmax * num_envs", "nconmax"),
     1 << 4: ("CCD produced more contacts than its buffer (sized from nconmax)", "nconmax"),
+    1 << 6: ("a contact sensor matched more contacts than its slots (sized from nconmax, at most 64)", "nconmax"),
 }
+_MAX_CONTACT_MATCH_SLOTS = 64  # MuJoCo Warp's default contact_sensor_maxmatch
+
+
+def contact_match_slots(nconmax: int) -> int:
+    """Contacts each MuJoCo contact sensor keeps per world: ``nconmax`` (a body is in no more contacts than
+    its world reserves) rounded up to a power of two, at most MuJoCo Warp's 64. Every physics step fills
+    (worlds, sensors, slots) buffers, so fewer slots are less memory to write."""
+    return min(_MAX_CONTACT_MATCH_SLOTS, 1 << max(0, nconmax - 1).bit_length())
 
 
 def require_cuda_backend(device: str = "cuda") -> tuple[Any, Any]:
@@ -256,6 +265,9 @@ class CudaBackend(PhysicsBackend):
         wp.synchronize_device(self._wp_device)
         self.nconmax = self.wp_data.naconmax // num_envs
         self.njmax = self.wp_data.njmax
+        # unless the model sets them (a numeric "contact_sensor_maxmatch"); matches beyond raise (check_overflow)
+        if mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_NUMERIC, "contact_sensor_maxmatch") < 0:
+            self.wp_model.opt.contact_sensor_maxmatch = contact_match_slots(self.nconmax)
 
         self._data_fields = {f.name: f for f in dataclasses.fields(type(self.wp_data))}
         self._data: dict[str, torch.Tensor] = {}
