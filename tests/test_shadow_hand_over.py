@@ -124,6 +124,47 @@ def test_one_training_iteration(tmp_path, library, algorithm):
     assert list((tmp_path / "logs" / library).glob("*/*/"))
 
 
+def test_an_agent_config_trains_and_plays_with_the_algorithm_it_names():
+    """make_pretrained names the agent config (--agent) but no --algorithm: a MAPPO config must get the
+    two-agent env (it crashed in skrl's models on PPO's single-agent view)."""
+    from simlab.cli.main import build_parser
+    from simlab.cli.session import load_configs
+    from simlab.cli.train import uses_multi_agent_learner
+    from simlab.utils.errors import ConfigError
+
+    base = ["train", "--task", TASK, "--library", "skrl", "--device", "cpu", "--num_envs", "2"]
+    for agent, algorithm in (("skrl_mappo_cfg_entry_point", "MAPPO"), ("skrl_ippo_cfg_entry_point", "IPPO")):
+        args = build_parser().parse_args([*base, "--agent", agent])
+        load_configs(args, [])
+        assert args.algorithm == algorithm and uses_multi_agent_learner(args)
+    args = build_parser().parse_args([*base, "--agent", "skrl_cfg_entry_point"])
+    load_configs(args, [])
+    assert not uses_multi_agent_learner(args)  # Isaac Lab's default: PPO, the two hands as one agent
+    args = build_parser().parse_args([*base, "--agent", "skrl_mappo_cfg_entry_point", "--algorithm", "PPO"])
+    with pytest.raises(ConfigError, match="is a skrl MAPPO config, but --algorithm PPO"):
+        load_configs(args, [])
+
+
+@pytest.mark.slow
+def test_a_mappo_checkpoint_named_by_its_agent_config_is_judged(tmp_path):
+    """make_pretrained's path: train with --agent alone, then the criterion judges the checkpoint in the
+    two-agent env (the judge built PPO's single-agent view and crashed)."""
+    from simlab.benchmarks.solve import CheckpointJudge
+    from simlab.cli.main import main
+
+    agent = "skrl_mappo_cfg_entry_point"
+    argv = ["train", "--task", TASK, "--library", "skrl", "--agent", agent, "--num_envs", "4", "--device", "cpu"]
+    argv += ["--headless", "--max_iterations", "1", "--log_root", str(tmp_path)]
+    assert main(argv) == 0
+    (checkpoint,) = tmp_path.glob("skrl/*/*/checkpoints/agent_*.pt")
+    judge = CheckpointJudge(TASK, "skrl", "cpu", 4, 8.0, 42, agent=agent)
+    try:
+        judge(str(checkpoint), 0, {"rollout": 0.0, "update": 0.0})
+    finally:
+        judge.close()
+    assert judge.evaluations[-1]["score"] == 0.0 and not judge.evaluations[-1]["passed"]
+
+
 def test_only_import_lines_of_the_ported_files_name_simlab():
     for path in (PORTED / "isaaclab_shadow_hand_over").glob("shadow_hand_over_env*.py"):
         code = [line for line in path.read_text().splitlines() if line and not line.startswith("#")]

@@ -81,6 +81,7 @@ class CheckpointJudge:
         from simlab.cli.libraries import get_library
         from simlab.cli.main import build_parser
         from simlab.cli.session import load_configs, make_env
+        from simlab.cli.train import uses_multi_agent_learner
 
         argv = ["play", "--task", self.task, "--library", self.library, "--headless", "--no_export"]
         argv += ["--num_envs", str(self.eval_envs), "--device", self.device, "--seed", str(self.seed)]
@@ -88,7 +89,8 @@ class CheckpointJudge:
         args = build_parser().parse_args(argv)
         env_cfg, agent_cfg = load_configs(args, [*self.env_overrides, *self.criterion.play_overrides])
         get_library(self.library).configure(agent_cfg, args, env_cfg)
-        self._env = make_env(args, env_cfg, None, single_agent=True)
+        # skrl's IPPO / MAPPO (an --agent config naming one) play the two-agent env, as they trained
+        self._env = make_env(args, env_cfg, None, single_agent=not uses_multi_agent_learner(args))
         self._agent_cfg = agent_cfg
         seconds = self.criterion.play_seconds(self.eval_seconds)  # whole episodes where it judges those
         self._steps = max(1, round(seconds / self._env.unwrapped.step_dt))

@@ -132,6 +132,24 @@ def _default_to_amp(args: argparse.Namespace) -> None:
         args.algorithm = "AMP"
 
 
+def _algorithm_of_agent_cfg(args: argparse.Namespace, agent_cfg: Any) -> None:
+    """skrl with ``--agent`` and no ``--algorithm`` learns with the algorithm its config names: an IPPO or
+    MAPPO config needs the two-agent env (not PPO's single-agent view), an AMP config the motion data."""
+    if getattr(args, "library", None) != "skrl" or not getattr(args, "agent", None) or not isinstance(agent_cfg, dict):
+        return
+    named = str((agent_cfg.get("agent") or {}).get("class", "")).upper()
+    if named not in SKRL_ALGORITHMS:
+        return
+    given = getattr(args, "algorithm", None)
+    if given is None:
+        args.algorithm = named
+    elif given.upper() != named:
+        raise ConfigError(
+            f"--agent {args.agent} is a skrl {named} config, but --algorithm {given} was given: "
+            f"give --algorithm {named}, or leave --algorithm out."
+        )
+
+
 def _library_entry_point(args: argparse.Namespace, presets: list[str]) -> str:
     """The agent entry point of ``--library`` / ``--algorithm``; a task without one is refused naming the
     flags that the task has agents for (the registry's entry-point keys mean nothing on the command line)."""
@@ -173,6 +191,7 @@ def load_configs(args: argparse.Namespace, overrides: list[str], with_agent: boo
         _default_to_amp(args)
         entry_point = getattr(args, "agent", None) or _library_entry_point(args, registered)
         agent_cfg = load_cfg_from_registry(args.task, entry_point, registered)
+        _algorithm_of_agent_cfg(args, agent_cfg)
     env_cfg, agent_cfg, overrides = select_presets(
         env_cfg, agent_cfg, in_config, getattr(args, "physics", None), overrides, table, args.task
     )
