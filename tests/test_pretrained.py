@@ -159,6 +159,33 @@ def test_a_stored_policy_unpacks_to_the_checkpoint_within_half_a_step_of_int8(tm
         unpack_policy(str(tmp_path / "model_7.pt"))
 
 
+def test_a_skrl_multi_agent_policy_is_stored_per_agent(tmp_path):
+    """skrl's IPPO / MAPPO checkpoints hold one checkpoint per agent (the handover's two hands): each
+    agent's policy and normalizer are kept, its value, normalizers of values and optimizer are not."""
+    import torch
+
+    from simlab.pretrained.weights import pack_policy, unpack_policy
+
+    def one_agent(scale: float) -> dict:
+        return {
+            "policy": {"net.0.weight": scale * torch.ones(8, 5), "log_std_parameter": torch.zeros(3)},
+            "value": {"net.0.weight": torch.ones(8, 7)},
+            "optimizer": {"state": {}},
+            "observation_preprocessor": {"running_mean": torch.ones(5)},
+            "value_preprocessor": {"running_mean": torch.ones(1)},
+        }
+
+    checkpoint = {"right_hand": one_agent(1.0), "left_hand": one_agent(-2.0)}
+    torch.save(pack_policy(checkpoint, "skrl", "checkpoints/agent_16.pt"), tmp_path / "policy.pt")
+    name, back = unpack_policy(str(tmp_path / "policy.pt"))
+    assert name == "checkpoints/agent_16.pt" and set(back) == {"right_hand", "left_hand"}
+    for agent, scale in (("right_hand", 1.0), ("left_hand", -2.0)):
+        assert set(back[agent]) == {"policy", "observation_preprocessor"}
+        torch.testing.assert_close(back[agent]["policy"]["net.0.weight"], scale * torch.ones(8, 5))
+    with pytest.raises(KeyError, match="has no \\['policy'\\]"):  # neither one policy nor one per agent
+        pack_policy({"right_hand": {"value": {}}}, "skrl", "checkpoints/agent_16.pt")
+
+
 def test_an_sb3_policy_is_stored_without_pickled_code_and_loads_back(tmp_path, monkeypatch):
     """SB3's zip as policy.pt: the policy's weights, the settings as JSON with only the spaces' pickles
     (no policy class, schedule or buffers), the VecNormalize statistics; play's loader reads it back."""

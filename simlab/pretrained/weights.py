@@ -103,11 +103,27 @@ def pack_policy(checkpoint: dict[str, Any], library: str, name: str, matrices: s
     keys = PLAY_KEYS[library]
     if library == "rsl_rl" and "student_state_dict" in checkpoint:  # a distilled student: play loads it alone
         keys = ("student_state_dict", *keys[1:])
+    if library == "skrl" and _per_agent(checkpoint):  # IPPO / MAPPO: each agent's policy under its name
+        state = {agent: _play_state(part, keys, matrices) for agent, part in checkpoint.items()}
+    else:
+        state = _play_state(checkpoint, keys, matrices)
+    return {"format": FORMAT, "matrices": matrices, "checkpoint": name, "state": state}
+
+
+def _per_agent(checkpoint: dict[str, Any]) -> bool:
+    """skrl's multi-agent checkpoints hold one checkpoint per agent, keyed by the agent's name."""
+    return (
+        "policy" not in checkpoint
+        and bool(checkpoint)
+        and all(isinstance(part, dict) and "policy" in part for part in checkpoint.values())
+    )
+
+
+def _play_state(checkpoint: dict[str, Any], keys: tuple[str, ...], matrices: str) -> dict[str, Any]:
     missing = [key for key in keys if key not in checkpoint and key not in OPTIONAL_KEYS]
     if missing:
         raise KeyError(f"The checkpoint has no {missing} (it has {sorted(checkpoint)}); play needs {list(keys)}.")
-    state = {key: _pack(checkpoint[key], matrices) for key in keys if key in checkpoint}
-    return {"format": FORMAT, "matrices": matrices, "checkpoint": name, "state": state}
+    return {key: _pack(checkpoint[key], matrices) for key in keys if key in checkpoint}
 
 
 def unpack_policy(path: str) -> tuple[str, dict[str, Any]]:
