@@ -338,6 +338,59 @@ def test_what_the_warm_up_steps_returned_is_not_refilled_by_the_replays(emulated
         assert torch.equal(error, value)
 
 
+def _toy_rollout_with_a_reset_between_replays(graphed: bool) -> tuple[list[torch.Tensor], ToyEnv, EnvStepper]:
+    """Six steps; before the fifth (a replay, graphed) eager code rebinds what the step rebinds, as an
+    env's ``reset()`` does (its observation code rebinds the same names the step's does)."""
+    env = ToyEnv()
+    env.cfg.sim.use_cuda_graph = graphed
+    if not graphed:
+        env.sim.can_capture_steps = False
+    stepper = EnvStepper(env, env._step_body, warmup=1)
+    outputs = []
+    for i in range(6):
+        if i == 4:
+            env.scene.articulations["robot"].data.pos = torch.full((4, 2), 3.0)
+            env.command_manager._terms["target"].metrics["error"] = torch.zeros(4)
+        obs, reward, _ = stepper(torch.full((4, 2), 0.1 * (i + 1)))
+        outputs.append(torch.cat([obs["policy"].flatten(), reward]))
+    assert stepper.is_graphed == graphed, stepper.mode
+    return outputs, env, stepper
+
+
+def test_a_reset_between_replays_is_where_the_next_replay_starts(emulated_cuda_graph):
+    """Eager code between replays (an env's ``reset()``: a checkpoint judge resets the running env for
+    each checkpoint) rebinds slots the graph holds: the next replay starts from the values it wrote, and
+    the slots point at the graph's tensors again, so readers see what the replays compute."""
+    eager, _, _ = _toy_rollout_with_a_reset_between_replays(graphed=False)
+    graphed, env, stepper = _toy_rollout_with_a_reset_between_replays(graphed=True)
+    for i, (a, b) in enumerate(zip(graphed, eager)):
+        torch.testing.assert_close(a, b, msg=lambda m, i=i: f"step {i}: {m}")
+    held = {id(before) for _, _, before, _ in stepper._slots.slots}
+    assert id(env.scene.articulations["robot"].data.pos) in held
+    assert id(env.command_manager._terms["target"].metrics["error"]) in held
+
+
+def test_the_stepper_holds_the_tensors_the_graph_writes_when_their_slots_are_rebound(emulated_cuda_graph):
+    """A CUDA graph holds no tensor: once eager code rebinds a slot, the tensor the replays write into
+    would be freed and handed out again by torch (a policy loaded next got its weights overwritten each
+    step, and judged a checkpoint with inf rewards; issue 40). The stepper keeps them."""
+    import gc
+    import weakref
+
+    env = ToyEnv()
+    stepper = EnvStepper(env, env._step_body, warmup=1)
+    for _ in range(2):  # the warm-up step and the capture
+        stepper(torch.zeros(4, 2))
+    assert stepper.is_graphed
+    data = env.scene.articulations["robot"].data
+    written = weakref.ref(data.pos)  # rebound by the step: each replay writes the step's positions there
+    stepper.graph.ops.clear()  # the emulation's records hold tensors; a CUDA graph does not
+    stepper.graph._undo.clear()
+    data.pos = torch.zeros(4, 2)  # an eager reset
+    gc.collect()
+    assert written() is not None
+
+
 def test_without_the_write_back_the_replays_read_stale_tensors(emulated_cuda_graph, monkeypatch):
     """The emulation is faithful enough to show the bug the write-back fixes."""
     monkeypatch.setattr(TensorSlots, "write_back", lambda self, device: 0)

@@ -102,6 +102,9 @@ class EnvStepper:
         self._static_action: torch.Tensor | None = None
         self._packed: PackedOutputs | None = None
         self.write_backs = 0  # tensors the step rebinds, copied back at each replay (see TensorSlots)
+        # The env's tensors as the capture found them: the graph reads and writes these addresses, so they
+        # are held here (a CUDA graph holds no tensor) even where eager code (a reset) rebinds their slots
+        self._slots: TensorSlots | None = None
         self._check_actions = bool(getattr(env.cfg, "check_finite_actions", True))
         self._action_values = ActionValueCheck(action_space, env.device)  # finite; discrete ones in range
         self._bad_action = torch.zeros((), dtype=torch.bool, device=env.device)
@@ -138,6 +141,8 @@ class EnvStepper:
             self._bad_action |= self._action_values.any_outside(action)
         if self.graph is None and self._calls > self.warmup:
             self._capture(action)
+        if self.graph is not None and self._slots is not None:
+            self._refill_slots()
         if self.graph is not None:
             self.env.sim.physics.before_replay()
             for static, given in zip(_tensors(self._static_action), _tensors(action)):
@@ -192,11 +197,26 @@ class EnvStepper:
                 "gains, or the time step (sim.dt). With sim.on_divergence='reset' such worlds end their episode."
             )
 
+    def _refill_slots(self) -> None:
+        """Before a replay: slots that eager code (``env.reset()``) pointed at new tensors since the last
+        step go back to the graph's tensors, refilled with the new values (``TensorSlots.refill``). Else
+        the graph would write into tensors nobody holds any more, which torch hands out again (the weights
+        of a policy loaded next: a checkpoint judged in a running env read them overwritten), and eager
+        readers would see values the graph no longer updates. A slot the graph cannot refill (another
+        shape) ends the graph: the env steps eagerly from then on, saying why."""
+        try:
+            self._slots.refill(self.env.device)
+        except GraphContractError as err:
+            self.release()
+            self.eager_reason = f"a tensor the graph holds was rebound outside the step: {describe(err)}"
+            print(f"[simlab] the env step runs eagerly from now on: {self.eager_reason}")
+
     def release(self) -> None:
         """Drop the graph and its buffers now (``env.close()``), not whenever garbage collection runs."""
         self.graph = None
         self._packed = None
         self._static_action = None
+        self._slots = None
         self.eager_reason = self.eager_reason or "released"
 
     def _capture(self, action: torch.Tensor) -> None:
@@ -221,6 +241,7 @@ class EnvStepper:
                 self._packed = PackedOutputs(outputs)  # before the write-back, which may overwrite an output
                 self.write_backs = slots.write_back(env.device)
             self.graph = graph
+            self._slots = slots
         except Exception as err:  # noqa: BLE001 - any capture failure means: stay eager
             # the first error, not the failed end of the capture (a contract error names the slot itself)
             while err.__context__ is not None and not isinstance(err, GraphContractError):

@@ -46,6 +46,7 @@ class TensorSlots:
 
     def __init__(self, root: Any, name: str = "env", skip: tuple[Any, ...] = ()):
         self.slots: list[tuple[Any, Any, Any, str]] = []  # (container, key, value, path)
+        self.written: list[tuple[Any, Any, Any, str]] = []  # the slots the step rebinds (write_back)
         skipped = {id(obj) for obj in skip}
         visited: set[int] = set()
         stack: list[tuple[Any, str]] = [(root, name)]
@@ -71,14 +72,26 @@ class TensorSlots:
 
     def write_back(self, device: torch.device | str) -> int:
         """Inside the capture, after the step on ``device``: copy each rebound tensor into the tensor its
-        slot held before and point the slot at that one again. Returns how many tensors are copied per replay."""
+        slot held before and point the slot at that one again. Returns how many tensors are copied per replay.
+        The slots it found rebound are kept (``written``) for :meth:`refill`."""
+        self.written = [slot for slot in self.slots if _rebound(slot)]
+        return self._copy_back(self.written, device)
+
+    def refill(self, device: torch.device | str) -> int:
+        """Outside the capture, before a replay: where code run eagerly since (an env's ``reset()``, whose
+        observations rebind what the step rebinds) pointed a slot of :attr:`written` at a new tensor, copy
+        it into the tensor the graph holds and point the slot back there. The graph then starts from what
+        that code wrote, and nobody is left holding a tensor the graph does not update. Returns how many
+        slots were refilled."""
+        rebound = [slot for slot in self.written if _rebound(slot)]
+        self._copy_back(rebound, device)
+        return len(rebound)
+
+    def _copy_back(self, slots: list[tuple[Any, Any, Any, str]], device: torch.device | str) -> int:
         device = torch.device(device)
         copies: list[tuple[torch.Tensor, torch.Tensor, str]] = []  # (old, new, path)
-        for container, key, before, path in self.slots:
-            now = _get(container, key)
-            if now is before or now is _MISSING:
-                continue
-            _set(container, key, _restored(before, now, path, copies, device))
+        for container, key, before, path in slots:
+            _set(container, key, _restored(before, _get(container, key), path, copies, device))
         # A new tensor may share memory with another slot's old one (``self.prev = self.cur;
         # self.cur = new``): read every such source before anything is written.
         targets = {old.untyped_storage().data_ptr() for old, _, _ in copies}
@@ -100,6 +113,13 @@ class TensorSlots:
 
 
 _MISSING = object()
+
+
+def _rebound(slot: tuple[Any, Any, Any, str]) -> bool:
+    """Whether the slot holds another object than when it was recorded (and still exists)."""
+    container, key, before, _ = slot
+    now = _get(container, key)
+    return now is not before and now is not _MISSING
 
 
 def _items(obj: Any, path: str) -> Iterator[tuple[Any, Any, str, bool]]:
