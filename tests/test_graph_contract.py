@@ -391,6 +391,42 @@ def test_the_stepper_holds_the_tensors_the_graph_writes_when_their_slots_are_reb
     assert written() is not None
 
 
+def test_the_allegro_env_reset_between_replays_frees_nothing_the_graph_writes(emulated_cuda_graph):
+    """Issue 40 end to end on the CPU: the direct Allegro task's step captured (the emulated graph), then
+    ``env.reset()``, as the checkpoint judge does before each checkpoint (rsl_rl's env wrapper resets
+    it). Every tensor the replays write into must stay alive: the reset's observation code rebinds nine
+    of them, which a CUDA graph (it holds no tensor) would go on writing after torch freed them."""
+    import gc
+    import weakref
+
+    from simlab.tasks.direct.allegro_hand.allegro_hand_env_cfg import AllegroHandEnvCfg
+    from simlab.tasks.direct.inhand_manipulation.inhand_manipulation_env import InHandManipulationEnv
+
+    cfg = AllegroHandEnvCfg()
+    cfg.scene.num_envs, cfg.sim.device, cfg.seed = 4, "cpu", 1
+    env = InHandManipulationEnv(cfg)
+    env.sim.physics.forwards_all_worlds = True  # a masked reset then marks worlds stale without a host read
+    env._stepper.eager_reason = None  # capture as on a GPU (the physics itself is not replayed here)
+    env.reset()
+    for _ in range(3):  # two warm-up steps and the capture
+        env.step(torch.zeros(4, 16))
+    assert env.step_is_graphed, env.step_mode
+    graph = env._stepper.graph
+    made = graph._made  # storages the capture allocated (a CUDA graph's private pool keeps those)
+    written = [
+        weakref.ref(args[0])
+        for func, args, *_ in graph.ops
+        if func.__name__.startswith("copy_") and args[0].untyped_storage().data_ptr() not in made
+    ]
+    assert len(written) >= 9
+    graph.ops.clear()  # the emulation's records hold tensors; a CUDA graph does not
+    graph._undo.clear()
+    env.reset()
+    gc.collect()
+    assert all(ref() is not None for ref in written), "a tensor the replays write into was freed by env.reset()"
+    env.close()
+
+
 def test_without_the_write_back_the_replays_read_stale_tensors(emulated_cuda_graph, monkeypatch):
     """The emulation is faithful enough to show the bug the write-back fixes."""
     monkeypatch.setattr(TensorSlots, "write_back", lambda self, device: 0)
