@@ -593,7 +593,7 @@ def test_videos_no_false_warning_and_never_overwritten(tmp_path, capsys):
     assert not glob.glob(os.path.join(run, "videos", "**", ".*"), recursive=True)  # no temporary files left
 
 
-def test_multi_agent_runs_record_per_agent_sizes_and_play(tmp_path):
+def test_multi_agent_runs_record_per_agent_sizes_and_play(tmp_path, capsys):
     task = ["--task", "simlab/Cart-Double-Pendulum-Direct-v0", "--num_envs", "4", "--device", "cpu"]
     ippo = ["--library", "skrl", "--algorithm", "IPPO"]
     assert _run(tmp_path, "train", *task, *ippo, "--max_iterations", "1") == 0
@@ -601,3 +601,7 @@ def test_multi_agent_runs_record_per_agent_sizes_and_play(tmp_path):
     info = load_yaml(os.path.join(run, "params", "run.yaml"))
     assert info["algorithm"] == "IPPO" and set(info["observations"]) == {"cart", "pendulum"}
     assert _run(tmp_path, "play", *task, *ippo, "--use_last_checkpoint", "--steps", "2", "--no_export") == 0
+    # played as PPO's one agent for both (no --algorithm), the refusal names the flag that fits
+    capsys.readouterr()
+    assert _run(tmp_path, "play", *task, "--library", "skrl", "--use_last_checkpoint", "--steps", "2") == 2
+    assert "its run trained skrl's IPPO: give --algorithm IPPO" in capsys.readouterr().err

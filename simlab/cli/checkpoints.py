@@ -224,6 +224,8 @@ def check_checkpoint_sizes(checkpoint: str, sizes: dict[str, Any], force: bool =
     ]
     if problems and info.get("env_overrides"):
         problems.append(f"its run was trained with {shlex.join(info['env_overrides'])}: give this command the same")
+    if problems and info.get("algorithm") in ("IPPO", "MAPPO"):  # one policy per agent, not PPO's one for all
+        problems.append(f"its run trained skrl's {info['algorithm']}: give --algorithm {info['algorithm']}")
     _refuse(checkpoint, problems, force)
 
 
