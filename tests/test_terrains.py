@@ -130,42 +130,6 @@ def test_generated_terrain_compiles_with_the_designed_heights(box_tiles_as):
     assert ground_height(model, -TILE - 0.5, 0.0) == pytest.approx(0.0, abs=1e-6)
 
 
-def test_one_height_field_is_the_same_ground_as_one_geom_per_tile():
-    """``one_height_field`` builds the tile grid as one height field: the heights a ray finds at any
-    point of the grid and of its border are those of the model with one geom per tile (box tiles as
-    height fields, flat tiles as boxes), while the terrain has 5 geoms (4 border boxes) instead of 18."""
-    mergeable = {k: v for k, v in small_terrain().sub_terrains.items() if k != "boxes"}  # see below
-    cfg = small_terrain(num_cols=6, sub_terrains=mergeable)
-    models = {}
-    for one in (False, True):
-        sim, _ = compiled(cfg.replace(one_height_field=one))
-        models[one] = sim.model
-        sim_utils.SimulationContext.clear_instance()
-    terrain_geoms = {one: int((m.geom_bodyid == 0).sum()) for one, m in models.items()}
-    assert terrain_geoms == {False: 2 * 6 + 4, True: 1 + 4}
-    assert models[True].nhfield == 1
-    half = np.array([2 * TILE / 2 + 0.5, 6 * TILE / 2 + 0.5])  # the grid and half a metre of border
-    points = np.random.default_rng(0).uniform(-half, half, size=(300, 2))
-    points = np.concatenate([points, [[0.0, 0.0], [TILE, 0.0], [0.0, TILE], [-TILE, -2 * TILE]]])  # tile corners
-    heights = {}
-    for one, model in models.items():
-        data = mujoco.MjData(model)
-        mujoco.mj_forward(model, data)
-        geomid = np.zeros(1, dtype=np.int32)
-        down = np.array([0.0, 0.0, -1.0])
-        heights[one] = np.array(
-            [10.0 - mujoco.mj_ray(model, data, [x, y, 10.0], down, None, 1, -1, geomid) for x, y in points]
-        )
-    assert np.ptp(heights[False]) > 0.1  # slopes and stairs: not a flat ground
-    np.testing.assert_allclose(heights[True], heights[False], atol=1e-6)
-    # a random box grid has no flat border: its edge meets the next tile with a step, which one height
-    # field cannot hold; per-tile colours need per-tile geoms
-    with pytest.raises(ValueError, match=r"tile \(row \d, col \d, boxes\) meets a neighbour .* border_width"):
-        compiled(small_terrain(one_height_field=True))
-    with pytest.raises(ValueError, match="one_height_field=True .* color_scheme='none'"):
-        TerrainGenerator(cfg.replace(one_height_field=True, color_scheme="height"))
-
-
 def test_same_seed_same_terrain_and_cache():
     first, second = TerrainGenerator(small_terrain(seed=7)), TerrainGenerator(small_terrain(seed=7))
     other = TerrainGenerator(small_terrain(seed=8))

@@ -1,6 +1,5 @@
-"""A generated terrain added to a MuJoCo spec: one height field geom per tile (flat tiles a box), all
-static in the world body (the border around the grid is four boxes), or with
-``TerrainGeneratorCfg.one_height_field`` the whole tile grid as one height field.
+"""A generated terrain added to a MuJoCo spec: one height field geom per tile, all static in the
+world body (the border around the grid is four boxes).
 
 Tiles made of boxes (stairs, box grids) are sampled into height fields by default
 (``TerrainGeneratorCfg.box_tiles_as="height_field"``): Isaac Lab's rough preset would otherwise add
@@ -14,7 +13,6 @@ import numpy as np
 
 from simlab.sim.spawners.materials import MdlFileCfg, PreviewSurfaceCfg, RigidBodyMaterialCfg
 
-from .height_field import samples
 from .terrain_generator import TerrainGenerator
 
 HFIELD_BASE_DEPTH = 1.0
@@ -66,14 +64,6 @@ def add_terrain_to_spec(
     for i, (centre, size) in enumerate(terrain.border_boxes):
         add_box(f"{name}/border_{i}", centre, size)
     tile_geoms_from = len(geoms)
-    if terrain.cfg.one_height_field:
-        cfg = terrain.cfg
-        grid_size = (cfg.num_rows * cfg.size[0], cfg.num_cols * cfg.size[1])
-        corner = np.array([-grid_size[0] / 2, -grid_size[1] / 2, 0.0])
-        geoms.append(add_height_field(spec, f"{name}/tiles", one_grid(terrain), corner, grid_size))
-        geoms[-1].friction = physics_material.friction()
-        geoms[-1].material = material.name
-        return geoms
     for tile in terrain.tiles:
         tile_name = f"{name}/tile_{tile.row}_{tile.col}"
         shift = np.array([*tile.corner, 0.0])
@@ -91,39 +81,6 @@ def add_terrain_to_spec(
         for geom, rgba in zip(coloured, terrain_colors(scheme, tops, np.random.default_rng(terrain.seed)), strict=True):
             geom.material, geom.rgba = "", rgba.tolist()
     return geoms
-
-
-def one_grid(terrain: TerrainGenerator) -> np.ndarray:
-    """Heights [m] of the whole tile grid, indexed [x, y] from its corner, for
-    ``TerrainGeneratorCfg.one_height_field``: every tile's own samples, neighbours sharing the samples
-    of their common edge (where each tile's height field had its own, at the same height)."""
-    cfg = terrain.cfg
-    nx, ny = samples(cfg.size[0], cfg.horizontal_scale), samples(cfg.size[1], cfg.horizontal_scale)
-    grid = np.full((cfg.num_rows * (nx - 1) + 1, cfg.num_cols * (ny - 1) + 1), np.nan)
-    for tile in terrain.tiles:
-        where = f"TerrainGeneratorCfg.one_height_field: tile (row {tile.row}, col {tile.col}, {tile.kind})"
-        heights = terrain.tile_heights(tile)
-        if heights is None:  # a flat tile: one box under the whole tile
-            (centre, full), size = tile.geometry.boxes[0], np.array(cfg.size)
-            covers = np.allclose(full[:2], size) and np.allclose(centre[:2], size / 2)
-            if len(tile.geometry.boxes) != 1 or not covers:
-                raise ValueError(f"{where} is made of boxes; box tiles need box_tiles_as='height_field'")
-            heights = np.full((nx, ny), centre[2] + full[2] / 2)
-        if heights.shape != (nx, ny):
-            raise ValueError(
-                f"{where} has {heights.shape} samples where {(nx, ny)} fit horizontal_scale={cfg.horizontal_scale};"
-                " set box_height_field_scale=None so that every tile is sampled alike"
-            )
-        block = grid[tile.row * (nx - 1) : tile.row * (nx - 1) + nx, tile.col * (ny - 1) : tile.col * (ny - 1) + ny]
-        shared = ~np.isnan(block)
-        if shared.any() and not np.allclose(block[shared], heights[shared], atol=1e-9):
-            step = float(np.abs(block[shared] - heights[shared]).max())
-            raise ValueError(
-                f"{where} meets a neighbour {step:.3f} m higher or lower at their common edge, a step one height"
-                " field cannot hold; give its sub-terrain a border_width, or set one_height_field=False"
-            )
-        block[...] = heights
-    return grid
 
 
 def surface_height(spec: mujoco.MjSpec, geom: mujoco.MjsGeom) -> float:

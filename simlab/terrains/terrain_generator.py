@@ -212,12 +212,6 @@ def validate(cfg: TerrainGeneratorCfg) -> None:
         )
     if cfg.box_tiles_as not in BOX_TILES_AS:
         raise ValueError(f"TerrainGeneratorCfg.box_tiles_as='{cfg.box_tiles_as}' is not one of {BOX_TILES_AS}")
-    if cfg.one_height_field and (cfg.color_scheme != "none" or cfg.box_tiles_as != "height_field"):
-        raise ValueError(
-            "TerrainGeneratorCfg.one_height_field=True builds the tiles as one height field geom: it needs"
-            f" color_scheme='none' (one colour) and box_tiles_as='height_field', got color_scheme="
-            f"'{cfg.color_scheme}', box_tiles_as='{cfg.box_tiles_as}'"
-        )
     if cfg.box_height_field_scale is not None and cfg.box_height_field_scale <= 0:
         raise ValueError(
             f"TerrainGeneratorCfg.box_height_field_scale must be > 0 [m] or None, got {cfg.box_height_field_scale}"

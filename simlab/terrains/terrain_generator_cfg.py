@@ -40,12 +40,6 @@ class TerrainGeneratorCfg:
     wide) or "boxes" (one box geom per box: exact vertical faces, slower collision; see docs/terrains.md)."""
     box_height_field_scale: float | None = None
     """simlab's: sample spacing of box tiles built as height fields [m]; None: ``horizontal_scale``."""
-    one_height_field: bool = False
-    """simlab's: build the whole tile grid as one height field geom (each tile's samples, flat tiles at
-    their height) instead of one geom per tile: the same ground, and each robot geom pairs with one
-    terrain geom instead of one per tile (MuJoCo Warp tests every pair in every world at every physics
-    step). Needs neighbouring tiles to meet at the same height, one sample spacing for all tiles and
-    ``color_scheme="none"``; see docs/terrains.md."""
     difficulty_range: tuple[float, float] = (0.0, 1.0)
     use_cache: bool = False
     """Generated terrains are always cached in memory by config (with a seed); kept for Isaac Lab's configs."""
