@@ -382,6 +382,73 @@ def test_spot_task_robot_stands_with_zero_action(added_mass):
         env.close()
 
 
+SPOT_TASK = "simlab/Velocity-Flat-Spot-v0"
+
+
+def throw_spot_onto_the_cobblestones(cfg) -> None:
+    """The worst contact case of Spot's task: robots dropped from up to 0.3 m in any orientation (upright
+    to upside down), pushed every 0.5-1 s hard enough to roll them over, legs swung across their ranges
+    (action scale 1.5), and no body-contact termination, so that fallen robots lie and flail on the
+    cobblestones with the body, hips and legs touching."""
+    cfg.terminations.body_contact = None
+    cfg.events.reset_base.params["pose_range"] = {
+        "x": (-0.5, 0.5), "y": (-0.5, 0.5), "z": (0.05, 0.3),
+        "roll": (-3.14, 3.14), "pitch": (-1.57, 1.57), "yaw": (-3.14, 3.14),
+    }  # fmt: skip
+    cfg.events.push_robot.interval_range_s = (0.5, 1.0)
+    cfg.events.push_robot.params["velocity_range"] = {
+        "x": (-2.0, 2.0), "y": (-2.0, 2.0), "z": (-1.5, 0.5),
+        "roll": (-4.0, 4.0), "pitch": (-4.0, 4.0), "yaw": (-2.0, 2.0),
+    }  # fmt: skip
+    cfg.actions.joint_pos.scale = 1.5
+
+
+def test_spot_buffers_hold_robots_thrown_onto_the_cobblestones():
+    """MuJoCo Warp's kernels on Warp's CPU device with the task's own buffers (nconmax 32, njmax 192:
+    an overflow raises), in the worst case above, 1.5 s episodes: twice the peaks fit. 64 worlds for 6 s
+    of this peaked at 20 contacts and 81 constraint rows in a world (pyramidal cones: 4 rows a contact)."""
+    pytest.importorskip("mujoco_warp")
+    from simlab.tasks.utils.contact_buffers import measure_task_buffers
+
+    peaks, diverged, reserved = measure_task_buffers(
+        SPOT_TASK,
+        num_envs=8,
+        env_steps=100,
+        headroom=1,
+        episode_length_s=1.5,
+        configure=throw_spot_onto_the_cobblestones,
+    )
+    assert diverged == 0
+    assert peaks.contacts_per_world >= 8, peaks  # more than four feet touch: the robots lie on the ground
+    assert (reserved["nconmax"], reserved["njmax"]) == (32, 192)
+    assert reserved["nconmax"] >= 2 * peaks.contacts_per_world, peaks
+    assert reserved["njmax"] >= 2 * peaks.constraint_rows, peaks
+
+
+@pytest.mark.parametrize("engine", ["mujoco", "mujoco_warp"])
+def test_spot_task_steps_on_both_cpu_backends_as_configured(engine):
+    """Spot's task as configured (pyramidal cones with impratio 10, MuJoCo Warp's buffers at nconmax 32
+    and njmax 192) builds and steps on MuJoCo C (mjbatch) and on MuJoCo Warp on Warp's CPU device."""
+    if engine == "mujoco_warp":
+        pytest.importorskip("mujoco_warp")
+    cfg = parse_env_cfg(SPOT_TASK, device="cpu", num_envs=N)
+    cfg.sim.engine, cfg.sim.use_cuda_graph, cfg.seed = engine, False, 0
+    env = ManagerBasedRLEnv(cfg)
+    try:
+        model = env.sim.model
+        assert model.opt.cone == mujoco.mjtCone.mjCONE_PYRAMIDAL and model.opt.impratio == 10.0
+        if engine == "mujoco_warp":
+            assert (env.sim.physics.nconmax, env.sim.physics.njmax) == (32, 192)
+        env.reset()
+        for _ in range(10):
+            obs, reward, _, _, _ = env.step(0.3 * torch.randn(N, env.action_manager.total_action_dim))
+            assert torch.isfinite(obs["policy"]).all() and torch.isfinite(reward).all()
+        if engine == "mujoco_warp":
+            env.sim.physics.check_overflow()
+    finally:
+        env.close()
+
+
 def test_terrain_out_of_bounds_is_the_generated_terrains_edge():
     import simlab.envs.mdp as mdp
 

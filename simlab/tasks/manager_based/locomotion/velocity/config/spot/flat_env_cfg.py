@@ -256,10 +256,18 @@ class SpotFlatEnvCfg(LocomotionVelocityRoughEnvCfg):
         self.sim.physics_material.dynamic_friction = 1.0
         self.sim.physics_material.friction_combine_mode = "multiply"
         self.sim.physics_material.restitution_combine_mode = "multiply"
-        # menagerie's Spot option: elliptic friction cones hold the feet where pyramidal ones let them creep
-        # under the soft kp-60 legs (tests/test_quadruped_zoo.py: it stands 5 s at its default pose)
-        self.sim.mujoco.cone = "elliptic"
+        # Friction: pyramidal cones (MuJoCo's default, simlab's, and that of Isaac Lab's MuJoCo-Warp
+        # velocity presets) with impratio 10 (menagerie's Spot option): the robot stands as with
+        # menagerie's elliptic cones (tests/test_quadruped_zoo.py) and the GPU step is 20 % faster (the
+        # elliptic cone's Hessian is rebuilt in every Newton iteration). docs/locomotion.md has the A/B.
+        self.sim.mujoco.cone = "pyramidal"
         self.sim.mujoco.impratio = 10.0
+        # MuJoCo Warp's buffers per world, from the worst case driven on the CPU (robots thrown onto the
+        # cobblestones, pushed and flailing, 64 worlds for 6 s: at most 20 contacts and 81 rows in a world,
+        # 3 contacts a world pooled): instead of its height-field estimate (128 contacts, 1048 rows: each
+        # row is a thread in every Newton iteration). The worlds share one pool of nconmax * num_envs.
+        self.sim.mujoco.nconmax = 32
+        self.sim.mujoco.njmax = 192
         # the gait rewards read the feet's contacts at every physics step
         self.scene.contact_forces.update_period = self.sim.dt
         # kp 100 where Isaac Lab has 60: this model has no upright stance at 60 (robots/spot.py)
