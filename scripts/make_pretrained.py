@@ -44,8 +44,9 @@ A batch of tasks trains one after the other; ``--time_budget`` caps each task's 
 process is stopped there and saves the iteration it is at, which is judged as any checkpoint and
 shipped when it solves the task; else the ``SKIPPED`` line names that checkpoint when ``--log_root``
 keeps it, and ``--resume PATH`` trains on from it). A task that
-fails (not solved in its iterations or budget, failed on the CPU, or an error) is skipped with one
-``SKIPPED`` line saying why, and the next one trains.
+fails (not solved in its iterations or budget, failed on the CPU, a checkpoint whose play raised,
+say on NaN observations, or another error) is skipped with one ``SKIPPED`` line saying why, and the
+next one trains.
 Every task must have a criterion and a config of ``--library``, checked before any training starts. The
 script exits with 1 when a task was not shipped.
 
@@ -173,6 +174,25 @@ class OverBudget(RuntimeError):
     """Training did not solve the task within ``--time_budget``."""
 
 
+class JudgeFailed(RuntimeError):
+    """Playing a checkpoint to judge it raised (a policy that drives the env to NaN, say)."""
+
+
+def judge_one(judge: Any, checkpoint: str, iteration: int) -> None:
+    """Play ``checkpoint`` with ``judge`` (a :class:`~simlab.benchmarks.solve.CheckpointJudge`); an error
+    while it plays becomes a one-line :class:`JudgeFailed` naming the checkpoint, which skips the task,
+    not the batch. simlab's own errors (no OpenGL here, say) pass as they are: they already say what to do."""
+    from simlab.utils.errors import SimlabError
+
+    try:
+        judge(checkpoint, iteration, {"rollout": 0.0, "update": 0.0})
+    except SimlabError:
+        raise
+    except Exception as e:  # whatever the env or the policy raised: the cause stays chained
+        first_line = (str(e).strip().splitlines() or [""])[0]
+        raise JudgeFailed(f"judging {checkpoint} failed: {type(e).__name__}: {first_line}") from e
+
+
 SAVE_GRACE_S = 120.0  # how long a training stopped by the budget may take to save its checkpoint
 # The training's run folder: <log_root>/<library>/<experiment>/<time>_<pid>_make_pretrained. The
 # process id keeps two make_pretrained processes sharing a log root (on one GPU) from judging each
@@ -295,7 +315,10 @@ def judge_checkpoints(task: str, args: argparse.Namespace, checkpoints: list[str
     try:
         for checkpoint in checkpoints:
             iteration = checkpoint_iteration(checkpoint, args.library, agent_cfg)
-            judge(checkpoint, iteration, {"rollout": 0.0, "update": 0.0})
+            try:
+                judge_one(judge, checkpoint, iteration)
+            except JudgeFailed as e:  # say what the training kept and how to go on from it
+                raise JudgeFailed(str(e) + kept_text(task, args, checkpoints[-1])) from e
             judge.evaluations[-1]["time_to_checkpoint_s"] = os.path.getmtime(checkpoint) - started
             print(f"[make_pretrained] {os.path.basename(checkpoint)}: {judge.evaluations[-1]['score']:.3f}", flush=True)
             if judge.evaluations[-1]["passed"]:
@@ -365,7 +388,7 @@ def evaluate_on_cpu(task: str, checkpoint: str, iteration: int, args: argparse.N
     )
     seconds = judge.criterion.play_seconds(args.eval_seconds)
     try:
-        judge(checkpoint, iteration, {"rollout": 0.0, "update": 0.0})
+        judge_one(judge, checkpoint, iteration)
     finally:
         judge.close()
     (entry,) = judge.evaluations
@@ -521,6 +544,10 @@ def make_one(task: str, args: argparse.Namespace, log_root: str, argv: list[str]
     solved = next(e for e in row["evaluations"] if e["passed"])
     try:
         staged, cpu, matrices = stage_and_replay(task, solved["checkpoint"], solved["iteration"], args, log_root)
+    except JudgeFailed as e:  # the stored weights played and raised on the CPU (NaN observations, say)
+        raise JudgeFailed(
+            f"{os.path.basename(solved['checkpoint'])} passed on {args.device} ({solved['score']:.3f}), but {e}"
+        ) from e
     except (RuntimeError, SimlabError) as e:  # e.g. a camera task on a host without OpenGL
         raise RuntimeError(
             f"{os.path.basename(solved['checkpoint'])} passed on {args.device} ({solved['score']:.3f}), but its"

@@ -411,3 +411,29 @@ def test_a_deflated_policy_file_loads_as_the_stored_one_and_is_smaller(tmp_path)
     (name, checkpoint), (stored_name, stored_checkpoint) = unpack_policy(deflated), unpack_policy(stored)
     assert name == stored_name
     torch.testing.assert_close(checkpoint, stored_checkpoint, rtol=0, atol=0)
+
+
+def test_a_checkpoint_whose_play_raises_skips_its_task_with_a_line_and_the_batch_goes_on(tmp_path, capsys, monkeypatch):
+    """A policy that drove the env to NaN while it was judged once ended the whole batch with a traceback."""
+    from simlab.benchmarks.solve import CheckpointJudge
+
+    played = CheckpointJudge.__call__
+
+    def nan_on_the_first_task(judge, path, iteration, seconds):
+        if judge.task == TASK:
+            raise ValueError("Observations or rewards contained NaN or inf after a step: obs['policy']\nmore")
+        return played(judge, path, iteration, seconds)
+
+    monkeypatch.setattr(CheckpointJudge, "__call__", nan_on_the_first_task)
+    out, log_root = tmp_path / "pretrained", tmp_path / "logs"
+    argv = ["--tasks", TASK, "simlab/Cartpole-v0", *TINY, "--reward_threshold=-1e9"]
+    assert _script().main([*argv, "--out", str(out), "--log_root", str(log_root)]) == 1
+    printed = capsys.readouterr().out
+    (skipped,) = [line for line in printed.splitlines() if "SKIPPED" in line]
+    (run,) = log_root.glob("rsl_rl/cartpole_direct/*_make_pretrained")
+    assert f"SKIPPED {TASK}: judging {run}/model_0.pt failed: ValueError: Observations or rewards" in skipped
+    assert "more" not in skipped and f"--resume {run}/model_1.pt --device cpu" in skipped
+    assert skipped.endswith("; nothing shipped")
+    # the batch went on: the second task trained, was judged and shipped
+    assert (out / "Cartpole-v0" / "rsl_rl" / "record.json").is_file() and not (out / "Cartpole-Direct-v0").exists()
+    assert f"{TASK}: NOT shipped; simlab/Cartpole-v0: shipped" in printed
