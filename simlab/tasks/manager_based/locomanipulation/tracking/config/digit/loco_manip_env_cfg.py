@@ -24,7 +24,10 @@ tracking weighted 2, resets at rest): with zero actions every robot stands 74 st
 under Isaac Lab's settings. The arms keep Isaac Lab's 0.5 rad per unit of action: at the motor
 model's 0.04-0.08 rad, three units of action reached within 5 cm of 1 % of the commanded hand
 positions and a 40-iteration CPU run left the hands 0.41 m from them; at 0.5, 71 % (all the arm can
-reach) and 0.30 m.
+reach) and 0.30 m. The arms start with the forearms forward, each hand in the middle of its command box
+(``ARM_POSE``), not hanging: hanging 0.42 m and 90 degrees from its commands, the hands cost a robot alive
+more per second than the termination penalty is worth over PPO's horizon, so falling paid
+(``agents/rsl_rl_ppo_cfg.py``, tests/test_digit_locomanip.py).
 """
 
 import math
@@ -53,6 +56,32 @@ ARM_ACTION_SCALE = 0.5
 """Arm targets per unit of action [rad]: Isaac Lab's scale. The velocity task's motor-model rule (a
 quarter of the effort limit over the stiffness) gives the arms 0.04-0.08 rad, with which the hands
 reach almost none of the commanded positions (docs/locomotion.md)."""
+
+
+ARM_POSE = {
+    "shoulder_pitch": -0.05,
+    "shoulder_roll": 0.17,
+    "shoulder_yaw": 0.07,
+    "elbow": -1.10,
+    "wrist_roll": 0.18,
+    "wrist_pitch": -0.40,
+    "wrist_yaw": -0.15,
+}
+"""The left arm's default pose [rad]: upper arm hanging, forearm forward, the hand at the middle of its
+command box (0.3 m ahead, 0.275 m out, level with the torso's origin) in the commands' middle orientation
+(damped least squares on the MJCF from the upper arm hanging and the elbow bent). Hanging straight, the
+hands started 0.42 m and 90 degrees from their commands on average; here 0.20 m."""
+MIRRORED = {"shoulder_pitch", "elbow", "wrist_pitch"}
+"""The arm joints about the y axis, whose angle the right arm shares; the others change sign."""
+
+
+def _arm_pose() -> dict[str, float]:
+    """Both arms' joints at ``ARM_POSE``, the right arm mirroring the left."""
+    return {
+        f"{side}_arm_{joint}": q if side == "left" or joint in MIRRORED else -q
+        for side in ("left", "right")
+        for joint, q in ARM_POSE.items()
+    }
 
 
 def _with_arm_scale(scale: dict[str, float], arm_scale: float) -> dict[str, float]:
@@ -171,6 +200,9 @@ class DigitLocoManipEnvCfg(DigitRoughEnvCfg):
         self.rewards.termination_penalty.weight = -100.0
         # the legs keep the velocity task's motor-model scale; the arms reach for the hand commands
         self.actions.joint_pos.scale = _with_arm_scale(self.actions.joint_pos.scale, ARM_ACTION_SCALE)
+        # the arms start (and their actions are offsets from) the hands in the middle of their commands
+        legs = {k: v for k, v in self.scene.robot.init_state.joint_pos.items() if k != ARM_JOINT_NAMES[0]}
+        self.scene.robot.init_state.joint_pos = {**legs, **_arm_pose()}
         # flat ground: no height scan, no terrain curriculum
         self.scene.terrain.terrain_type = "plane"
         self.scene.terrain.terrain_generator = None
