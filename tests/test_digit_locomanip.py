@@ -106,6 +106,12 @@ def test_criterion_measures_the_hands_and_fails_an_untrained_policy():
         score, passed = criterion.judge({}, state)
         assert not passed and score > 1.0
         assert float(torch.cat(state["hand_errors"]).mean()) > 0.2
+        # the judge's log names what the score is the largest of (each error over its tolerance)
+        parts = state["parts"]
+        assert parts["hand_m"] == pytest.approx(float(torch.cat(state["hand_errors"]).mean()))
+        assert score == pytest.approx(
+            max(parts["speed_m_s"] / 0.25, parts["yaw_rate_rad_s"] / 0.3, parts["hand_m"] / 0.1)
+        )
     finally:
         env.close()
 

@@ -127,11 +127,15 @@ class CheckpointJudge:
             "passed": passed,
             "evaluation_s": took,
         }
+        parts = state.get("parts") if isinstance(state, dict) else None  # a criterion's measures behind its score
+        if parts:
+            entry["parts"] = parts
         self.evaluation_seconds += took
         self.evaluations.append(entry)
         print(
             f"[solve] {os.path.basename(path)} at {entry['time_to_checkpoint_s']:.1f} s: "
-            f"score {score:.3f} {'PASS' if passed else 'fail'} (evaluated in {took:.1f} s)",
+            f"score {score:.3f} {'PASS' if passed else 'fail'} (evaluated in {took:.1f} s)"
+            + (" [" + ", ".join(f"{name} {value:.3f}" for name, value in parts.items()) + "]" if parts else ""),
             flush=True,
         )
         if passed:

@@ -60,11 +60,10 @@ def tracks_velocity_and_hands(max_hand_error: float = HAND_MAX_POSITION_ERROR) -
         envs = samples / max(1, sums["steps"])
         fall_rate = sums["falls"] / envs * 20.0 / max(sums["seconds"], 1e-9)
         hand = float(torch.cat(state["hand_errors"]).mean()) if state["hand_errors"] else float("inf")
-        score = max(
-            sums["speed"] / samples / BIPED_MAX_SPEED_ERROR,
-            sums["yaw_rate"] / samples / BIPED_MAX_YAW_RATE_ERROR,
-            hand / max_hand_error,
-        )
+        speed, yaw_rate = sums["speed"] / samples, sums["yaw_rate"] / samples
+        score = max(speed / BIPED_MAX_SPEED_ERROR, yaw_rate / BIPED_MAX_YAW_RATE_ERROR, hand / max_hand_error)
+        # what the score is the largest of, for the judge's log: a score of 2 may be any of them
+        state["parts"] = {"speed_m_s": speed, "yaw_rate_rad_s": yaw_rate, "hand_m": hand, "falls_per_20s": fall_rate}
         return score, score < 1.0 and fall_rate < BIPED_MAX_FALL_RATE
 
     return Criterion(
