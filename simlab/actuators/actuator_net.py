@@ -187,6 +187,10 @@ class ActuatorNetMLP(DCMotor):
     def reset(self, env_ids) -> None:
         self.state.reset(env_mask(env_ids, self.num_envs, self.device))
 
+    def restart(self, mask: torch.Tensor) -> None:
+        super().restart(mask)
+        self.state.reset(mask)  # zeros: no draw
+
     def compute(self, control_action, joint_pos, joint_vel):
         for history, newest in (
             (self._joint_pos_error_history, control_action.joint_positions - joint_pos),
@@ -235,6 +239,10 @@ class ActuatorNetLSTM(DCMotor):
 
     def reset(self, env_ids) -> None:
         self.state.reset(env_mask(env_ids, self.num_envs, self.device))
+
+    def restart(self, mask: torch.Tensor) -> None:
+        super().restart(mask)
+        self.state.reset(mask)  # zeros: no draw
 
     def compute(self, control_action, joint_pos, joint_vel):
         self.sea_input[:, 0, 0] = (control_action.joint_positions - joint_pos).flatten()

@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, ClassVar
 import torch
 
 from simlab.utils.buffers import DelayBuffer
-from simlab.utils.env_mask import env_mask
+from simlab.utils.env_mask import env_mask, masked_copy_
 from simlab.utils.errors import ConfigError
 from simlab.utils.interpolation import LinearInterpolation
 from simlab.utils.string import resolve_matching_names_values
@@ -95,6 +95,14 @@ class ActuatorBase:
 
     def reset(self, env_ids) -> None:
         """Stateless models have nothing to reset."""
+
+    def restart(self, mask: torch.Tensor) -> None:
+        """The physics restarted the worlds in ``mask`` (their state blew up): zero the efforts computed
+        from that state there (and, in models with memory, forget it), so that readers (``applied_torque``,
+        ``computed_torque`` rewards) see finite values until the env's reset of those worlds in the same
+        step. Draws nothing (the reset draws: a draw here, every step, would shift every later one)."""
+        masked_copy_(self.computed_effort, mask, 0.0)
+        masked_copy_(self.applied_effort, mask, 0.0)
 
     def compute(
         self, control_action: ArticulationActions, joint_pos: torch.Tensor, joint_vel: torch.Tensor
@@ -185,6 +193,10 @@ class DCMotor(IdealPDActuator):
         self._vel_at_effort_lim = self.velocity_limit * (1 + self.effort_limit / self._saturation_effort)
         """The corner speed: where the torque-speed line meets the effort limit of the other sign."""
 
+    def restart(self, mask: torch.Tensor) -> None:
+        super().restart(mask)
+        masked_copy_(self._joint_vel, mask, 0.0)
+
     def compute(self, control_action, joint_pos, joint_vel):
         self._joint_vel.copy_(joint_vel)
         return super().compute(control_action, joint_pos, joint_vel)
@@ -252,6 +264,10 @@ class DelayedPDActuator(IdealPDActuator):
         )
         self.targets_delay_buffer.set_time_lag(lags, batch_mask=mask)
         self.targets_delay_buffer.reset(batch_mask=mask)
+
+    def restart(self, mask: torch.Tensor) -> None:
+        super().restart(mask)
+        self.targets_delay_buffer.reset(batch_mask=mask)  # forgets the targets, keeps the lags (no draw)
 
     def compute(self, control_action, joint_pos, joint_vel):
         efforts = control_action.joint_efforts if control_action.joint_efforts is not None else self._no_effort

@@ -229,6 +229,11 @@ class Articulation(RootedAsset):
         for actuator in self.actuators.values():
             actuator.reset(env_ids)
 
+    def restart(self, mask: torch.Tensor) -> None:
+        super().restart(mask)
+        for actuator in self.actuators.values():
+            actuator.restart(mask)
+
     def write_data_to_sim(self) -> None:
         """Turn joint targets into MuJoCo controls and apply external wrenches."""
         super().write_data_to_sim()

@@ -140,6 +140,10 @@ class AssetBase(ABC):
     def reset(self, env_ids: EnvIds = None) -> None:
         pass
 
+    def restart(self, mask: torch.Tensor) -> None:
+        """Clear what this asset keeps derived from the state of worlds the physics restarted
+        (``InteractiveScene.restart``); the state itself lives in the physics, which restarted it."""
+
     def write_data_to_sim(self) -> None:
         pass
 

@@ -87,9 +87,12 @@ class SimulatedEnv:
 
     def _restart_diverged(self) -> torch.Tensor:
         """The worlds whose physics blew up in this step (``PhysicsBackend.take_diverged``), put back
-        to the model's initial state; the step ends their episodes (terminated)."""
+        to the model's initial state, with what the scene derived from the blown-up state cleared
+        (``InteractiveScene.restart``: torques, actuator and contact histories), so that terminations
+        and rewards read finite values there; the step ends their episodes (terminated)."""
         diverged = self.sim.physics.take_diverged()
         self.sim.physics.restart(diverged)
+        self.scene.restart(diverged)
         return diverged
 
     @property

@@ -124,6 +124,14 @@ class InteractiveScene:
         for entity in self._entities():
             entity.reset(env_ids)
 
+    def restart(self, mask: torch.Tensor) -> None:
+        """The physics restarted the worlds in ``mask`` (their state blew up: ``PhysicsBackend.restart``):
+        every entity clears what it derived from that state there (actuator efforts and histories,
+        contact histories), so that the rest of the step reads finite values until the env's reset of
+        these worlds. By mask, drawing nothing: it runs every step, and a draw would shift every later one."""
+        for entity in self._entities():
+            entity.restart(mask)
+
     def write_data_to_sim(self) -> None:
         for asset in (
             *self.articulations.values(),

@@ -187,6 +187,9 @@ class ContactSensor(SensorBase):
         if d.contact_pos_w is not None:
             masked_copy_(d.contact_pos_w, mask, torch.nan)  # no contact known yet
 
+    def restart(self, mask: torch.Tensor) -> None:
+        self.reset(mask)  # forces, their history and the air times: what reset clears, with no draw
+
     def update(self, dt: float, force_recompute: bool = False) -> None:
         """Read this step's forces (called by the scene every physics step)."""
         if not self._is_initialized:

@@ -73,6 +73,11 @@ class SensorBase(DebugVisHooks):
     def reset(self, env_ids: torch.Tensor | None = None) -> None:
         pass
 
+    def restart(self, mask: torch.Tensor) -> None:
+        """Clear what this sensor kept from the worlds the physics restarted (``InteractiveScene.restart``).
+        A sensor that computes its readings when read has nothing to clear; one that accumulates them
+        in its update (``ContactSensor``'s history and air times) clears them, drawing nothing."""
+
     def _debug_vis_simulation(self) -> SimulationContext:
         return self._sim
 

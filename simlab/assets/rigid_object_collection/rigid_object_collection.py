@@ -154,6 +154,9 @@ class RigidObjectCollection:
             zeros = torch.zeros(rows, len(ids), 3, device=self.device)
             composer.set_forces_and_torques(zeros, zeros, body_ids=ids, env_ids=env_ids)
 
+    def restart(self, mask: torch.Tensor) -> None:
+        """Nothing derived from the worlds' state is kept here (``InteractiveScene.restart``)."""
+
     def update(self, dt: float) -> None:
         for rigid_object in self.rigid_objects.values():
             rigid_object.update(dt)

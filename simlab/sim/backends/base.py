@@ -57,6 +57,10 @@ MAX_STATE_VALUE = 1e10
 """MuJoCo's ``mjMAXVAL``: a world whose position or velocity entry exceeds it has blown up (MuJoCo C
 restarts such a world; ``take_diverged`` applies the same bound on every backend)."""
 
+LAST_STEP_FIELDS = ("qacc", "actuator_force", "qfrc_actuator")
+"""MjData fields of what the last physics step applied, read as it left them (no forward: see above);
+``restart`` zeroes them in the worlds it restarts."""
+
 # The MjData fields of MuJoCo's post-constraint pass (mj_rnePostConstraint): body accelerations and
 # the forces on each body from outside its tree and from its parent (PhysX's incoming joint forces).
 POST_CONSTRAINT_FIELDS = ("cacc", "cfrc_int", "cfrc_ext")
@@ -355,11 +359,21 @@ class PhysicsBackend(ABC):
 
     def restart(self, mask: torch.Tensor) -> None:
         """Put the masked worlds back to the model's initial state (``qpos0``, at rest), by mask (no
-        host read), so that no non-finite value survives in them; marks them stale."""
+        host read), so that no non-finite value survives in them; marks them stale.
+
+        What the last step applied there (``LAST_STEP_FIELDS``: read as the step left it, without a
+        forward) is zeroed, as MuJoCo's own restart (``mj_resetData``) leaves it: a restarted world
+        has had no acceleration and no actuator force. Other derived fields follow at the next read
+        (the worlds are stale)."""
         masked_copy_(self.data("qpos"), mask, self._qpos0.expand(self.num_envs, -1))
         for name in ("qvel", "act", "qacc_warmstart", "ctrl", "qfrc_applied", "xfrc_applied"):
             tensor = self.data(name)
             if tensor.numel():
+                masked_copy_(tensor, mask, 0.0)
+        bound = self.bound_data()
+        for name in LAST_STEP_FIELDS:  # only those something reads (bound): no kernel for the others
+            tensor = bound.get(name)
+            if tensor is not None and tensor.numel():
                 masked_copy_(tensor, mask, 0.0)
         self.mark_stale(mask)
 
