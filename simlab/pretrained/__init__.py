@@ -2,10 +2,10 @@
 
 Each is a run folder, ``simlab/pretrained/<task name>/<library>/``: ``params/`` as ``simlab train``
 writes it less the resolved env config (``env.yaml``: the task and the command rebuild it; the record
-lists the observation terms the policy reads), the policy's weights in one file, ``policy.pt`` (:mod:`simlab.pretrained.weights`; play
-turns it back into the library's checkpoint in the user's log folder and exports it there), and
-its record: ``record.json`` (how
-``scripts/make_pretrained.py`` made it: commands, seed, iterations, the task's criterion and the
+lists the observation terms the policy reads), the policy's weights in one file, ``policy.pt``
+(:mod:`simlab.pretrained.weights`; play turns it back into the library's checkpoint in the user's log
+folder and exports it there), and its record: ``record.json`` (how ``scripts/make_pretrained.py``
+made it: commands, seed, iterations, the task's criterion and the
 value the policy reached on the CPU; :func:`pretrained_record`; the env overrides it was trained
 with, which play applies: :func:`pretrained_env_overrides`; the agent config it was made with, which
 play loads it with: :func:`pretrained_agent`), or ``record.txt`` for the first
