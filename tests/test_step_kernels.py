@@ -42,8 +42,8 @@ def go2_scene(num_envs: int = 3):
 def test_go2_flat_step_stays_within_its_kernel_budget():
     """The Go2 flat env step outside the physics (GPU backend counted on the CPU, docs/locomotion.md):
     687 torch kernels and a forward (115 MuJoCo Warp launches) before issue 12's cuts, 395 torch
-    kernels and no forward after; with the CPU backend this test uses, 404 then, 419 since the divergence
-    guard's restart also clears each restarted world's derived state (torques, actuator memory)."""
+    kernels and no forward after; with the CPU backend this test uses, 404 when written, 410 later, 419
+    since the divergence guard's restart also clears each restarted world's derived state."""
     script = load_counter_script()
     env = script.make_env("simlab/Velocity-Flat-Unitree-Go2-v0", num_envs=4, seed=0, engine="mujoco")
     forwards = []
