@@ -262,7 +262,8 @@ def test_allegro_direct_step_stays_within_its_kernel_budget():
     """The direct Allegro step outside the physics (``simlab bench ops step``, GPU backend counted on
     Warp's CPU device, docs/dexterous.md): 380 torch kernels and two forward passes (212 MuJoCo Warp
     launches) per step before issue 40's cuts, 232 and one (106) after; with the CPU backend this test
-    uses, 245 and one forward."""
+    uses, 245 and one forward, then 262 with the NaN check's per-term accumulators and the divergence
+    guard's restart clearing the actuator's efforts (by mask, every step)."""
     from simlab.benchmarks import step_ops
 
     env = step_ops.make_env(ALLEGRO, num_envs=4, seed=0, engine="mujoco")
@@ -284,7 +285,7 @@ def test_allegro_direct_step_stays_within_its_kernel_budget():
     assert truncated.all()
     assert len(forwards) == 1, "one forward pass per step: the fingertips' poses the observations read (after resets)"
     outside = sum(n for label, n in counter.torch_ops.items() if label != "physics")
-    assert outside <= 260, f"{outside} torch kernels per step outside the physics:\n{step_ops.report(counter, 1, 3)}"
+    assert outside <= 265, f"{outside} torch kernels per step outside the physics:\n{step_ops.report(counter, 1, 3)}"
 
 
 @pytest.mark.parametrize("task", [ALLEGRO, SHADOW, "simlab/Repose-Cube-Shadow-OpenAI-FF-Direct-v0"])
