@@ -53,8 +53,9 @@ _MAX_CONTACT_MATCH_SLOTS = 64  # MuJoCo Warp's default contact_sensor_maxmatch
 
 
 def contact_match_slots(nconmax: int) -> int:
-    """Contacts each MuJoCo contact sensor keeps per world: ``nconmax`` (a body is in no more contacts than
-    its world reserves) rounded up to a power of two, at most MuJoCo Warp's 64. Every physics step fills
+    """Contacts each MuJoCo contact sensor keeps per world: ``nconmax`` (the contacts a world reserves on
+    average in the shared pool; one world may use more, and a sensor matching more than its slots
+    raises, naming nconmax) rounded up to a power of two, at most MuJoCo Warp's 64. Every physics step fills
     (worlds, sensors, slots) buffers, so fewer slots are less memory to write."""
     return min(_MAX_CONTACT_MATCH_SLOTS, 1 << max(0, nconmax - 1).bit_length())
 
