@@ -19,7 +19,8 @@
 
 For each task, ``simlab train`` trains it in a child process (the task's registered agent config of
 ``--library``, rsl_rl by default; ``--num_envs``, ``--max_iterations``, ``--seed`` and the Hydra
-``--overrides`` as ``simlab train`` takes them; ``--eval_every`` is rsl_rl's ``save_interval``).
+``--overrides`` as ``simlab train`` takes them; ``--eval_every`` is rsl_rl's ``save_interval``,
+rl_games' ``save_frequency``).
 Its checkpoints are then played in order on the training device, up to the first one that meets
 the task's criterion (registered with the task, ``success_criterion_entry_point``:
 ``simlab.tasks.utils.criteria``). That checkpoint is played again on the CPU (MuJoCo C,
@@ -77,6 +78,8 @@ from typing import Any
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 LIBRARY = "rsl_rl"  # the default library (--library)
+# the agent setting that --eval_every sets: iterations (rl_games: epochs) between saved checkpoints
+EVAL_EVERY = {"rsl_rl": "agent.save_interval", "rl_games": "agent.params.config.save_frequency"}
 
 
 def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
@@ -151,10 +154,10 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
             parser.error("--checkpoint needs --trained_by: how the policy was trained (kept in record.json)")
     elif args.resume is not None and (len(args.tasks or []) != 1 or not os.path.isfile(args.resume)):
         parser.error(f"--resume {args.resume}: give one task with --tasks and an existing checkpoint file")
-    if args.eval_every is not None and args.library != "rsl_rl":
+    if args.eval_every is not None and args.library not in EVAL_EVERY:
         parser.error(
-            "--eval_every sets rsl_rl's save_interval; with skrl give its checkpoint_interval in --overrides"
-            " (SB3 saves every 50 rollouts)"
+            "--eval_every sets rsl_rl's save_interval or rl_games' save_frequency; with skrl give its"
+            " checkpoint_interval in --overrides (SB3 saves every 50 rollouts)"
         )
     # Hydra's +key=value adds a key the config lacks (e.g. +agent.normalize_input=true)
     bad = [o for o in args.overrides if not o.lstrip("+").startswith(("env.", "agent.")) or "=" not in o]
@@ -293,8 +296,8 @@ def train_command(task: str, args: argparse.Namespace, log_root: str) -> list[st
         command += ["--agent", args.agent]
     if args.teacher is not None:  # simlab train's --checkpoint of a distillation: the teacher
         command += ["--checkpoint", args.teacher]
-    if args.eval_every is not None:  # parse_args allows it for rsl_rl only
-        command.append(f"agent.save_interval={args.eval_every}")
+    if args.eval_every is not None:  # parse_args allows it for the libraries of EVAL_EVERY only
+        command.append(f"{EVAL_EVERY[args.library]}={args.eval_every}")
     return command + list(args.overrides)
 
 
@@ -597,7 +600,7 @@ def checkpoint_iteration(checkpoint: str, library: str, agent_cfg: dict) -> int:
     """The training iteration a checkpoint was saved after, counted from 0 as rsl_rl's ``model_<iter>.pt``
     (``record.json``'s ``iterations`` is this + 1): rsl_rl stores it; skrl names the timestep, and
     ``agent_<T>.pt`` is written after T steps, which held T // rollouts updates; SB3 stores its
-    timesteps (a rollout is n_steps of every env); a BC policy its epochs."""
+    timesteps (a rollout is n_steps of every env); a BC policy its epochs; rl_games the epochs done."""
     from simlab.pretrained.weights import read_checkpoint
     from simlab.utils.trust import torch_load
 
@@ -608,6 +611,8 @@ def checkpoint_iteration(checkpoint: str, library: str, agent_cfg: dict) -> int:
 
         load_bc_policy(checkpoint)  # a file that is not a BC policy: one-line CheckpointError, not AttributeError
         return max(0, int(torch_load(checkpoint, map_location="cpu").get("epochs") or 1) - 1)
+    if library == "rl_games":  # epoch 1 is written after the first update
+        return max(0, int(torch_load(checkpoint, map_location="cpu").get("epoch", 1)) - 1)
     if library == "sb3":
         data = read_checkpoint(checkpoint, library)["data"]
         return max(0, int(data["num_timesteps"]) // (int(data["n_steps"]) * int(data["n_envs"])) - 1)
@@ -624,6 +629,8 @@ def checkpoint_name(checkpoint: str, library: str, iteration: int, agent_cfg: di
         return name
     if library == "rsl_rl":
         return f"model_{iteration}.pt"
+    if library == "rl_games":
+        return f"last_ep_{iteration + 1}.pth"  # after iteration + 1 epochs
     return f"agent_{(iteration + 1) * agent_cfg['agent']['rollouts']}.pt"  # after iteration + 1 rollouts
 
 

@@ -437,3 +437,39 @@ def test_a_checkpoint_whose_play_raises_skips_its_task_with_a_line_and_the_batch
     # the batch went on: the second task trained, was judged and shipped
     assert (out / "Cartpole-v0" / "rsl_rl" / "record.json").is_file() and not (out / "Cartpole-Direct-v0").exists()
     assert f"{TASK}: NOT shipped; simlab/Cartpole-v0: shipped" in printed
+
+
+def test_an_rl_games_training_is_judged_shipped_and_played(tmp_path, monkeypatch):
+    """rl_games trains the in-hand tasks in Isaac Lab's validated runs: make_pretrained trains with it,
+    judges its checkpoints (``--eval_every`` is rl_games' save_frequency), ships the played part of
+    one and play finds it. Before, ``--library rl_games`` was refused (a usage error)."""
+    out = tmp_path / "pretrained"
+    argv = ["--tasks", TASK, *TINY, "--library", "rl_games", "--reward_threshold=-1e9", "--out", str(out)]
+    assert _script().main([*argv, "--log_root", str(tmp_path / "runs")]) == 0
+    # a checkpoint every epoch: one per epoch and the last one
+    assert len(list((tmp_path / "runs").glob("rl_games/*/*_make_pretrained/nn/*.pth"))) >= 2
+
+    shipped = out / "Cartpole-Direct-v0" / "rl_games"
+    record = json.loads((shipped / "record.json").read_text())
+    assert record["library"] == "rl_games" and record["cpu_evaluation"]["passed"]
+    assert "agent.params.config.save_frequency=1" in record["train_command"]
+    assert 1 <= record["iterations"] <= 2  # rl_games' epochs, counted as rsl_rl's iterations
+    name, checkpoint = unpack_policy(str(shipped / "policy.pt"))
+    assert name.startswith("nn/") and name.endswith(".pth") and set(checkpoint) == set(PLAY_KEYS["rl_games"])
+    assert "optimizer" not in checkpoint  # what play loads only
+
+    monkeypatch.setattr(simlab.pretrained, "PRETRAINED_DIR", str(out))
+    argv = ["play", "--task", TASK, "--use_pretrained_checkpoint", "--library", "rl_games", "--headless"]
+    argv += ["--device", "cpu", "--num_envs", "2", "--steps", "5", "--log_root", str(tmp_path / "logs")]
+    result = run_play(build_parser().parse_args(argv), [])
+    assert result["checkpoint"].endswith(name.split("/")[-1])
+
+
+def test_rl_games_checkpoints_count_iterations_as_rsl_rl_does(tmp_path):
+    """rl_games stores the epochs done (1 after the first update): iteration epoch - 1, as rsl_rl's model_<iter>.pt."""
+    make_pretrained = _script()
+    path = tmp_path / "last_cartpole_ep_30_rew_5.0.pth"
+    torch.save({"model": {}, "epoch": 30, "frame": 1}, path)
+    assert make_pretrained.checkpoint_iteration(str(path), "rl_games", {}) == 29
+    assert make_pretrained.checkpoint_name(str(path), "rl_games", 29, {}) == path.name
+    assert make_pretrained.checkpoint_name("/x/policy.pt", "rl_games", 29, {}) == "last_ep_30.pth"

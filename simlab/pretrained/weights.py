@@ -4,7 +4,8 @@ A shipped policy is played, never trained on, so its file keeps only what the li
 reads for play (rsl_rl's ``actor_state_dict``, a distilled student's ``student_state_dict``; skrl's
 ``policy`` and its observation normalizer;
 Stable-Baselines3's policy network, its settings and its VecNormalize statistics; a behaviour-cloned
-policy's weights and the sizes that rebuild it, :mod:`simlab.rl.bc`), with its weight
+policy's weights and the sizes that rebuild it, :mod:`simlab.rl.bc`; rl_games' ``model``, the
+value network included: play loads it whole), with its weight
 matrices stored smaller than float32, in one of two forms (``MATRICES``):
 
 - ``int8_rows``: int8 with one float32 scale per row (symmetric, the row's largest magnitude maps
@@ -20,7 +21,7 @@ tensors, dicts, numbers and strings, so ``torch.load(weights_only=True)`` reads 
 :func:`unpack_policy` turns it back into the library's own checkpoint (float32), which play writes
 into the user's log folder and loads as any checkpoint; exports (ONNX, TorchScript) are made there.
 :func:`read_checkpoint` and :func:`write_checkpoint` turn a library's checkpoint file into such a dict
-and back: a torch file for rsl_rl, skrl and bc; for SB3 its ``.zip`` and the ``.npz`` statistics beside it.
+and back: a torch file for rsl_rl, skrl, rl_games and bc; for SB3 its ``.zip`` and the ``.npz`` statistics beside it.
 
 SB3's zip keeps its settings as JSON, with its spaces, schedules and policy class pickled in it. The
 stored form keeps the JSON settings, the spaces' pickles (read back by simlab's restricted unpickler,
@@ -53,6 +54,8 @@ PLAY_KEYS = {
     "sb3": ("policy", "policy.optimizer", "data", "vecnormalize", "version"),
     # a behaviour-cloned policy (simlab.rl.bc): its weights and what rebuilds the network
     "bc": ("state_dict", "terms", "relative", "hidden", "sizes", "task", "epochs"),
+    # rl_games' model (actor, value network, their normalizers: its player loads it whole) and the epochs done
+    "rl_games": ("model", "epoch"),
 }
 # items of SB3's data that the training rebuilds (the last observations, episode buffers): not kept
 _SB3_REBUILT = ("_last_obs", "_last_episode_starts", "_last_original_obs", "ep_info_buffer", "ep_success_buffer")
