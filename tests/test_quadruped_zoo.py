@@ -455,6 +455,69 @@ def test_spot_task_steps_on_both_cpu_backends_as_configured(engine):
         env.close()
 
 
+def test_spot_task_keeps_isaac_labs_control_rate_and_actuator_delays_in_seconds():
+    """Spot's task steps MuJoCo at 200 Hz (Isaac Lab: PhysX at 500 Hz) under Isaac Lab's 50 Hz policy;
+    the actuators' delays, which Isaac Lab counts in its 2 ms physics steps (0-4), are the nearest
+    whole steps of 5 ms: 0-2 (0-10 ms where Isaac Lab's are 0-8 ms)."""
+    from simlab.tasks.manager_based.locomotion.velocity.config.spot.flat_env_cfg import delay_in_physics_steps
+
+    cfg = parse_env_cfg(SPOT_TASK, device="cpu", num_envs=N)
+    assert (cfg.sim.dt, cfg.decimation) == (0.005, 4)
+    assert cfg.sim.dt * cfg.decimation == pytest.approx(0.02)  # Isaac Lab's control period
+    assert cfg.scene.contact_forces.update_period == cfg.sim.dt  # the gait rewards see every physics step
+    for name, actuator in cfg.scene.robot.actuators.items():
+        assert (actuator.min_delay, actuator.max_delay) == (0, 2), name
+        assert spot.SPOT_STIFF_CFG.actuators[name].max_delay == 4  # the robot keeps Isaac Lab's steps
+    assert [delay_in_physics_steps(k, 0.002) for k in range(5)] == [0, 1, 2, 3, 4]
+    assert [delay_in_physics_steps(k, 0.005) for k in range(5)] == [0, 0, 1, 1, 2]
+
+
+def _trot_open_loop(dt: float, decimation: int, max_delay: int) -> tuple[float, float]:
+    """Spot driven by a fixed trot (diagonal pairs in antiphase at 2 Hz: hip flexion +-1 action unit,
+    the knees bent by 1.5 units in the swing half) on flat ground for 4 s: the mean displacement along
+    x [m] and the mean base height [m] of 4 robots."""
+    import math
+
+    cfg = parse_env_cfg(SPOT_TASK, device="cpu", num_envs=4)
+    cfg.sim.dt, cfg.decimation, cfg.sim.render_interval, cfg.seed = dt, decimation, decimation, 0
+    cfg.scene.contact_forces.update_period = dt
+    for actuator in cfg.scene.robot.actuators.values():
+        actuator.max_delay = max_delay
+    cfg.scene.terrain.terrain_type, cfg.scene.terrain.terrain_generator = "plane", None
+    cfg.curriculum.terrain_levels = None
+    cfg.events.physics_material = cfg.events.add_base_mass = cfg.events.push_robot = None
+    cfg.events.reset_base.params.update(pose_range={}, velocity_range={})
+    cfg.events.reset_robot_joints.params.update(position_range=(0.0, 0.0), velocity_range=(0.0, 0.0))
+    cfg.terminations.body_contact = None
+    env = ManagerBasedRLEnv(cfg)
+    try:
+        env.reset()
+        robot = env.scene["robot"]
+        names = robot.joint_names
+        phase = torch.tensor([0.0 if name[:2] in ("fl", "hr") else math.pi for name in names])
+        hy = torch.tensor([float(name.endswith("_hy")) for name in names])
+        kn = torch.tensor([float(name.endswith("_kn")) for name in names])
+        start = robot.data.root_pos_w[:, 0].clone()
+        heights = []
+        for k in range(round(4.0 / env.step_dt)):
+            wave = torch.sin(2 * math.pi * 2.0 * k * env.step_dt + phase)
+            env.step((hy * wave - 1.5 * kn * wave.clamp(min=0)).expand(4, -1).clone())
+            heights.append(robot.data.root_pos_w[:, 2].mean().item())
+        return (robot.data.root_pos_w[:, 0] - start).mean().item(), sum(heights) / len(heights)
+    finally:
+        env.close()
+
+
+def test_spot_trots_open_loop_the_same_at_isaac_labs_physics_rate():
+    """The task's 200 Hz physics moves the robot as Isaac Lab's 500 Hz would: the same open-loop trot
+    carries it as far (1.60 m backwards in 4 s at either rate) at the same height (0.424 m)."""
+    x_500, z_500 = _trot_open_loop(0.002, 10, max_delay=4)
+    x_200, z_200 = _trot_open_loop(0.005, 4, max_delay=2)
+    assert abs(x_500) > 1.0, x_500  # the trot moves the robot
+    assert x_200 == pytest.approx(x_500, abs=0.1)
+    assert z_200 == pytest.approx(z_500, abs=0.01)
+
+
 def test_terrain_out_of_bounds_is_the_generated_terrains_edge():
     import simlab.envs.mdp as mdp
 
