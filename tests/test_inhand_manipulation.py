@@ -83,6 +83,43 @@ def test_a_reached_goal_earns_the_bonus_is_redrawn_and_counts_at_the_episode_end
     assert float(env.consecutive_successes) == pytest.approx(expected)
 
 
+def test_the_step_s_in_place_reward_is_isaac_lab_s_compute_rewards():
+    """The env computes its reward, success counts and running mean in place, reusing the dones'
+    distances; Isaac Lab's functional ``compute_rewards`` on the same state gives the same values (some
+    envs within the goal's tolerance, some flagged for a redraw, some ending, one fallen)."""
+    from simlab.tasks.direct.inhand_manipulation.inhand_manipulation_env import compute_rewards
+
+    env = make(ALLEGRO)
+    cfg = env.cfg
+    generator = torch.Generator().manual_seed(3)
+    for _ in range(3):
+        env.step(hold_actions(env) + 0.1 * (2 * torch.rand(NUM_ENVS, 16, generator=generator) - 1))
+    try:
+        rot = rotation_distance(env.object_rot, env.goal_rot)
+        cfg.success_tolerance = float(rot.sort().values[1]) + 1e-4  # two envs within it
+        cfg.fall_dist = float((env.object_pos - env.in_hand_pos).norm(dim=-1).max()) - 1e-6  # one fallen
+        terminated, time_out = env._get_dones()
+        assert terminated.sum() == 1
+        env.reset_buf.copy_(terminated | torch.tensor([True, False, False, False]))
+        env.reset_goal_buf.copy_(rot == rot.max())  # flagged, not within the tolerance
+        env.successes.copy_(torch.tensor([2.0, 0.0, 1.0, 3.0]))
+        env.consecutive_successes.fill_(0.5)
+        expected = compute_rewards(
+            env.reset_buf, env.reset_goal_buf.clone(), env.successes.clone(), env.consecutive_successes.clone(),
+            env.object_pos, env.object_rot, env.in_hand_pos, env.goal_rot, cfg.dist_reward_scale,
+            cfg.rot_reward_scale, cfg.rot_eps, env.actions, cfg.action_penalty_scale, cfg.success_tolerance,
+            cfg.reach_goal_bonus, cfg.fall_dist, cfg.fall_penalty, cfg.av_factor,
+        )  # fmt: skip
+        reward = env._get_rewards()
+    finally:
+        env.close()
+    assert expected[1].sum() >= 3  # reached or flagged: the bonus is paid somewhere, not everywhere
+    torch.testing.assert_close(reward, expected[0], rtol=1e-6, atol=1e-5)
+    assert torch.equal(env.successes, expected[2])
+    torch.testing.assert_close(env.consecutive_successes, expected[3], rtol=1e-6, atol=0)
+    assert not env.reset_goal_buf.any(), "the reached goals were redrawn at once"
+
+
 def test_solve_criterion_counts_the_goals_of_finished_episodes(allegro):
     from simlab.tasks.utils.criteria import criterion_for
 
@@ -263,7 +300,9 @@ def test_allegro_direct_step_stays_within_its_kernel_budget():
     Warp's CPU device, docs/dexterous.md): 380 torch kernels and two forward passes (212 MuJoCo Warp
     launches) per step before issue 40's cuts, 232 and one (106) after; with the CPU backend this test
     uses, 245 and one forward, then 262 with the NaN check's per-term accumulators and the divergence
-    guard's restart clearing the actuator's efforts (by mask, every step)."""
+    guard's restart clearing the actuator's efforts (by mask, every step); 204 after issue 40.4's cuts
+    (fused PD control and speed cap per physics step, the reward and targets in place, fingertip and
+    joint quantities computed where the observations read them)."""
     from simlab.benchmarks import step_ops
 
     env = step_ops.make_env(ALLEGRO, num_envs=4, seed=0, engine="mujoco")
@@ -285,7 +324,7 @@ def test_allegro_direct_step_stays_within_its_kernel_budget():
     assert truncated.all()
     assert len(forwards) == 1, "one forward pass per step: the fingertips' poses the observations read (after resets)"
     outside = sum(n for label, n in counter.torch_ops.items() if label != "physics")
-    assert outside <= 265, f"{outside} torch kernels per step outside the physics:\n{step_ops.report(counter, 1, 3)}"
+    assert outside <= 206, f"{outside} torch kernels per step outside the physics:\n{step_ops.report(counter, 1, 3)}"
 
 
 @pytest.mark.parametrize("task", [ALLEGRO, SHADOW, "simlab/Repose-Cube-Shadow-OpenAI-FF-Direct-v0"])

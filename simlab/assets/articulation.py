@@ -161,6 +161,15 @@ class Articulation(RootedAsset):
                 self._explicit.append((actuator, contiguous(list(ids), dev), own_ctrl))
         # a host-side flag, so that the step of a robot without speed limits does no clamping
         self._speed_capped = bool(torch.isfinite(data.joint_velocity_limits).any())
+        dof_adr = [int(model.jnt_dofadr[j]) for j in joint_ids]
+        first = min(dof_adr, default=0)
+        if sorted(dof_adr) == list(range(first, first + num_joints)):
+            # consecutive columns in some order: the cap reads the limits in the columns' order
+            self._speed_order = torch.tensor(sorted(range(num_joints), key=dof_adr.__getitem__), device=dev)
+            self._speed_cols = slice(first, first + num_joints)
+        else:
+            self._speed_order, self._speed_cols = slice(None), self._dof_cols
+        self._set_speed_bounds()
         order = sorted(range(len(actuated)), key=lambda k: actuated[k])
         self._actuated = contiguous([actuated[k] for k in order], dev)
         # whether some joints' ctrl holds implicit PD targets (explicit models write their own ctrl)
@@ -243,9 +252,13 @@ class Articulation(RootedAsset):
             return
         d = self.data
         if self._any_implicit:
-            # Implicit: ctrl = kp q* + kd qd* + tau_ff (the PD bias lives in the model; see actuator_cfg).
-            ctrl = d.joint_stiffness * d.joint_pos_target + d.joint_damping * d.joint_vel_target + d.joint_effort_target
+            # Implicit: ctrl = kp q* + kd qd* + tau_ff (the PD bias lives in the model; see actuator_cfg),
+            # in two fused multiply-adds (kernels run before every physics step)
+            ctrl = torch.addcmul(d.joint_effort_target, d.joint_damping, d.joint_vel_target)
+            ctrl.addcmul_(d.joint_stiffness, d.joint_pos_target)
             self._ctrl[:, self._ctrl_cols] = ctrl[:, self._actuated]
+        if not self._explicit:
+            return
         # Explicit models write their joints' ctrl: the torque they compute.
         joint_pos, joint_vel = d.joint_pos, d.joint_vel
         for actuator, j, ctrl_cols in self._explicit:
@@ -303,6 +316,14 @@ class Articulation(RootedAsset):
         """The joint speed cap of the simulation (PhysX's max joint velocity), applied before every physics step."""
         self._write_cols(self.data.joint_velocity_limits, self._joint_index(joint_ids), env_ids, limits)
         self._speed_capped = True
+        self._set_speed_bounds()
+
+    def _set_speed_bounds(self) -> None:
+        """The speed cap's bounds in the order of ``qvel``'s columns (``_speed_cols``): a robot whose
+        joints are a permutation of consecutive columns (breadth-first names over a depth-first model,
+        the Allegro Hand's) is clamped in place over those columns, one kernel per physics step."""
+        limit = self.data.joint_velocity_limits[:, self._speed_order]
+        self._speed_bounds = (-limit, limit)
 
     def _cap_joint_speed(self) -> None:
         """Clip joint velocities to ``joint_velocity_limits`` before the physics step.
@@ -311,8 +332,12 @@ class Articulation(RootedAsset):
         the solver. Clipping the state before each step is the closest MuJoCo-side equivalent: the
         step then starts within the limit (the step itself recomputes everything from qpos and qvel).
         """
-        limit = self.data.joint_velocity_limits
-        self._qvel[:, self._dof_cols] = torch.maximum(torch.minimum(self._qvel[:, self._dof_cols], limit), -limit)
+        lower, upper = self._speed_bounds
+        cols = self._speed_cols
+        if isinstance(cols, slice):  # a view of qvel: clamped in place
+            torch.clamp(self._qvel[:, cols], lower, upper, out=self._qvel[:, cols])
+        else:
+            self._qvel[:, cols] = torch.clamp(self._qvel[:, cols], lower, upper)
 
     def write_joint_armature_to_sim(self, armature, joint_ids=None, env_ids: EnvIds = None) -> None:
         self._write_cols(self.data.joint_armature, self._joint_index(joint_ids), env_ids, armature)

@@ -456,7 +456,12 @@ class RootedAssetData:
 
     @property
     def body_vel_w(self) -> torch.Tensor:
-        return torch.cat([self.body_lin_vel_w, self.body_ang_vel_w], dim=-1)
+        # body_lin_vel_w's and body_ang_vel_w's math from one gather of cvel
+        ids = self._asset._body_index
+        self._physics.ensure_kinematics()
+        cvel = self._cvel[:, ids]
+        offset = self._xpos[:, ids] - self._subtree_com[:, self._rootids]
+        return torch.cat([cvel[..., 3:6] + torch.cross(cvel[..., 0:3], offset, dim=-1), cvel[..., 0:3]], dim=-1)
 
     @property
     def body_state_w(self) -> torch.Tensor:

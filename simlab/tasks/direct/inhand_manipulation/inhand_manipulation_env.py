@@ -38,7 +38,7 @@ from simlab.envs import DirectRLEnv
 from simlab.markers import VisualizationMarkers
 from simlab.sim.spawners.from_files import GroundPlaneCfg, spawn_ground_plane
 from simlab.utils.env_mask import masked_copy_
-from simlab.utils.math import quat_from_angle_axis, quat_mul, sample_uniform, saturate
+from simlab.utils.math import quat_from_angle_axis, quat_mul, sample_uniform
 
 if TYPE_CHECKING:
     from simlab.tasks.direct.allegro_hand.allegro_hand_env_cfg import AllegroHandEnvCfg
@@ -91,6 +91,12 @@ class InHandManipulationEnv(DirectRLEnv):
         self.sim.add_render_callback(self._place_goal_markers)
 
         self._zero_velocities = torch.zeros((n, 6), device=device)  # the cube's at a reset
+        # what the step computes, written in place: a tensor bound anew in each step would cost a copy per
+        # replay of the CUDA graph (simlab.envs.utils.tensor_slots)
+        self._action_targets = torch.zeros((n, len(self.actuated_dof_indices)), device=device)
+        self._goal_dist = torch.zeros(n, device=device)
+        self._rot_dist = torch.zeros(n, device=device)
+        self._fell = torch.zeros(n, dtype=torch.bool, device=device)
         self.successes = torch.zeros(n, device=device)
         self.episode_successes = torch.zeros(n, device=device)
         """Goals reached in each env's last finished episode."""
@@ -118,12 +124,12 @@ class InHandManipulationEnv(DirectRLEnv):
     # actions
 
     def _pre_physics_step(self, actions: torch.Tensor) -> None:
-        self.actions = actions.clone()
+        self.actions.copy_(actions)
         # the actions' targets over the joint ranges, the same for each of the step's physics steps (the
         # limits are read each step: randomization events may change them)
         act = self._actuated
         lower, upper = self.hand_dof_lower_limits[:, act], self.hand_dof_upper_limits[:, act]
-        self._action_targets = scale(self.actions, lower, upper)
+        scale(self.actions, lower, upper, out=self._action_targets)
         if self.cfg.act_moving_average == 1.0:  # no smoothing: the targets are final, set them once
             self._set_targets(self._action_targets, lower, upper)
 
@@ -138,8 +144,11 @@ class InHandManipulationEnv(DirectRLEnv):
 
     def _set_targets(self, targets: torch.Tensor, lower: torch.Tensor, upper: torch.Tensor) -> None:
         act = self._actuated
-        targets = saturate(targets, lower, upper)
-        self.cur_targets[:, act] = targets
+        if isinstance(act, slice):  # every joint: clamped into cur_targets itself
+            targets = torch.clamp(targets, lower, upper, out=self.cur_targets)
+        else:
+            targets = torch.clamp(targets, lower, upper)  # Isaac Lab's saturate, in one kernel
+            self.cur_targets[:, act] = targets
         self.prev_targets[:, act] = targets
         self.hand.set_joint_position_target(targets, joint_ids=act)
 
@@ -159,45 +168,41 @@ class InHandManipulationEnv(DirectRLEnv):
         return {"policy": obs}
 
     def _get_rewards(self) -> torch.Tensor:
-        reward, goal_reached, successes, consecutive = compute_rewards(
-            self.reset_buf,
-            self.reset_goal_buf,
-            self.successes,
-            self.consecutive_successes,
-            self.object_pos,
-            self.object_rot,
-            self.in_hand_pos,
-            self.goal_rot,
-            self.cfg.dist_reward_scale,
-            self.cfg.rot_reward_scale,
-            self.cfg.rot_eps,
-            self.actions,
-            self.cfg.action_penalty_scale,
-            self.cfg.success_tolerance,
-            self.cfg.reach_goal_bonus,
-            self.cfg.fall_dist,
-            self.cfg.fall_penalty,
-            self.cfg.av_factor,
-            goal_dist=self._goal_dist,
-            rot_dist=self._rot_dist,
+        """:func:`compute_rewards` for the env's state, with the env's counters updated in place and the
+        distances the dones computed for this state reused."""
+        cfg = self.cfg
+        if cfg.max_consecutive_success <= 0:  # else the dones computed it
+            rotation_distance(self.object_rot, self.goal_rot, out=self._rot_dist)
+        rot_dist = self._rot_dist
+        reward = self._goal_dist * cfg.dist_reward_scale
+        rot_reward = torch.add(rot_dist, cfg.rot_eps).reciprocal_()
+        if cfg.rot_reward_scale != 1.0:  # a product by 1 changes nothing
+            rot_reward.mul_(cfg.rot_reward_scale)
+        reward.add_(rot_reward)
+        reward.add_(torch.sum(self.actions**2, dim=-1), alpha=cfg.action_penalty_scale)
+        # a reached goal (or one flagged for a redraw) pays the bonus and counts
+        self.reset_goal_buf |= rot_dist <= cfg.success_tolerance
+        reached = self.reset_goal_buf.float()
+        self.successes.add_(reached)
+        reward.add_(reached, alpha=cfg.reach_goal_bonus)
+        if cfg.fall_penalty != 0:
+            reward.add_(self._fell.float(), alpha=cfg.fall_penalty)
+        update_consecutive_successes(
+            self.consecutive_successes, self.successes, (self._fell | self.reset_buf).float(), cfg.av_factor
         )
-        self.reset_goal_buf.copy_(goal_reached)
-        self.successes.copy_(successes)
-        self.consecutive_successes.copy_(consecutive)
         # a reached goal is replaced by a new one at once
         self._reset_target_pose(self.reset_goal_buf)
         return reward
 
     def _get_dones(self) -> tuple[torch.Tensor, torch.Tensor]:
         self._compute_object_pose()
-        # the cube fell: too far from where it belongs in the hand (the reward reads the distance too)
-        self._goal_dist = torch.norm(self.object_pos - self.in_hand_pos, p=2, dim=-1)
-        out_of_reach = self._goal_dist >= self.cfg.fall_dist
+        # the cube fell: too far from where it belongs in the hand (the reward reads both again)
+        torch.linalg.vector_norm(self.object_pos - self.in_hand_pos, dim=-1, out=self._goal_dist)
+        out_of_reach = torch.ge(self._goal_dist, self.cfg.fall_dist, out=self._fell)
         time_out = self.episode_length_buf >= self.max_episode_length - 1
-        self._rot_dist = None
         if self.cfg.max_consecutive_success > 0:
             # a goal within tolerance restarts the episode clock; enough successes end the episode
-            self._rot_dist = rotation_distance(self.object_rot, self.goal_rot)
+            rotation_distance(self.object_rot, self.goal_rot, out=self._rot_dist)
             self.episode_length_buf.masked_fill_(self._rot_dist <= self.cfg.success_tolerance, 0)
             time_out = time_out | (self.successes >= self.cfg.max_consecutive_success)
         return out_of_reach, time_out
@@ -210,7 +215,8 @@ class InHandManipulationEnv(DirectRLEnv):
         self._reset_target_pose(env_mask)
 
         # cube: its default pose shifted by up to reset_position_noise, a random orientation, at rest
-        # (the draws in Isaac Lab's order, so that a seed gives its episodes)
+        # (the draws in Isaac Lab's order, so that a seed gives its episodes); written in the env's frame,
+        # the orientation as drawn (a unit quaternion)
         pos_noise = sample_uniform(-1.0, 1.0, (n, 3), device=device)
         pos = self.object.data.default_root_state[:, 0:3] + (
             self.cfg.reset_position_noise * pos_noise + self.scene.env_origins
@@ -225,8 +231,8 @@ class InHandManipulationEnv(DirectRLEnv):
         delta_max = self.hand_dof_upper_limits - default_pos
         delta_min = self.hand_dof_lower_limits - default_pos
         dof_pos_noise = sample_uniform(-1.0, 1.0, (n, self.num_hand_dofs), device=device)
-        rand_delta = delta_min + (delta_max - delta_min) * 0.5 * dof_pos_noise
-        dof_pos = default_pos + self.cfg.reset_dof_pos_noise * rand_delta
+        rand_delta = torch.addcmul(delta_min, delta_max - delta_min, dof_pos_noise, value=0.5)
+        dof_pos = torch.add(default_pos, rand_delta, alpha=self.cfg.reset_dof_pos_noise)
         dof_vel_noise = sample_uniform(-1.0, 1.0, (n, self.num_hand_dofs), device=device)  # drawn even if unused
         dof_vel = self.hand.data.default_joint_vel
         if self.cfg.reset_dof_vel_noise != 0.0:
@@ -257,22 +263,47 @@ class InHandManipulationEnv(DirectRLEnv):
     # helpers
 
     def _compute_object_pose(self) -> None:
-        """The cube's pose in the env's frame: what the dones and rewards read (no forward pass)."""
-        self.object_pos = self.object.data.root_pos_w - self.scene.env_origins
+        """The cube's pose in the env's frame: what the dones and rewards read (no forward pass; views of
+        the cube's joint state, exact in the env's frame)."""
+        self.object_pos = self.object.data.root_pos_env
         self.object_rot = self.object.data.root_quat_w
 
     def _compute_intermediate_values(self) -> None:
-        """Everything the observations read; the fingertips' poses and velocities are derived quantities,
-        so reading them runs the step's one forward pass (after the resets)."""
-        hand, cube, origins = self.hand.data, self.object.data, self.scene.env_origins
+        """The cube's pose; the rest of what the observations read is computed when read (the properties
+        below), once per step: nothing is kept that a CUDA graph's replay would have to copy."""
         self._compute_object_pose()
-        self.fingertip_pos = hand.body_pos_w[:, self._tips] - origins.unsqueeze(1)
-        self.fingertip_rot = hand.body_quat_w[:, self._tips]
-        self.fingertip_velocities = hand.body_vel_w[:, self._tips]
-        self.hand_dof_pos = hand.joint_pos
-        self.hand_dof_vel = hand.joint_vel
-        self.object_linvel = cube.root_lin_vel_w
-        self.object_angvel = cube.root_ang_vel_w
+
+    # what the observations read (Isaac Lab's env keeps these as attributes); the fingertips' poses and
+    # velocities are derived quantities: reading them runs the step's one kinematics pass (after the resets)
+
+    @property
+    def fingertip_pos(self) -> torch.Tensor:
+        """(num_envs, fingertips, 3) in the env's frame."""
+        return self.hand.data.body_pos_env[:, self._tips]
+
+    @property
+    def fingertip_rot(self) -> torch.Tensor:
+        return self.hand.data.body_quat_w[:, self._tips]
+
+    @property
+    def fingertip_velocities(self) -> torch.Tensor:
+        return self.hand.data.body_vel_w[:, self._tips]
+
+    @property
+    def hand_dof_pos(self) -> torch.Tensor:
+        return self.hand.data.joint_pos
+
+    @property
+    def hand_dof_vel(self) -> torch.Tensor:
+        return self.hand.data.joint_vel
+
+    @property
+    def object_linvel(self) -> torch.Tensor:
+        return self.object.data.root_lin_vel_w
+
+    @property
+    def object_angvel(self) -> torch.Tensor:
+        return self.object.data.root_ang_vel_w
 
     @property
     def object_velocities(self) -> torch.Tensor:
@@ -329,9 +360,9 @@ class InHandManipulationEnv(DirectRLEnv):
         return torch.cat((full[:, :-num_actions], wrenches, self.actions), dim=-1)
 
 
-def scale(x: torch.Tensor, lower: torch.Tensor, upper: torch.Tensor) -> torch.Tensor:
-    """[-1, 1] onto [lower, upper]."""
-    return 0.5 * (x + 1.0) * (upper - lower) + lower
+def scale(x: torch.Tensor, lower: torch.Tensor, upper: torch.Tensor, out: torch.Tensor | None = None) -> torch.Tensor:
+    """[-1, 1] onto [lower, upper]: ``0.5 (x + 1) (upper - lower) + lower`` (into ``out`` if given)."""
+    return torch.addcmul(lower, x + 1.0, upper - lower, value=0.5, out=out)
 
 
 def unscale(x: torch.Tensor, lower: torch.Tensor, upper: torch.Tensor) -> torch.Tensor:
@@ -351,7 +382,9 @@ def random_orientation(rand: torch.Tensor) -> torch.Tensor:
     of (c0, s0, 0, 0) and (c1, 0, s1, 0) is (c0 c1, s0 c1, c0 s1, s0 s1) (half-angle cosines and sines),
     five kernels instead of some thirty."""
     half = rand * (math.pi / 2)
-    cos_sin = torch.stack((torch.cos(half), torch.sin(half)), dim=1)  # (n, [cos, sin], [x, y])
+    cos_sin = torch.empty((*half.shape[:-1], 2, 2), dtype=half.dtype, device=half.device)  # (n, [cos, sin], [x, y])
+    torch.cos(half, out=cos_sin[:, 0])
+    torch.sin(half, out=cos_sin[:, 1])
     # (cos, sin) of y times (cos, sin) of x: rows (c1 c0, c1 s0), (s1 c0, s1 s0) = (w, x), (y, z)
     return (cos_sin[:, :, 1].unsqueeze(-1) * cos_sin[:, :, 0].unsqueeze(-2)).reshape(-1, 4)
 
@@ -361,10 +394,11 @@ _DIFF_INDEX = ((0, 1, 2, 3), (1, 0, 3, 2), (2, 3, 0, 1), (3, 2, 1, 0))  # quat_m
 _DIFF_SIGN = ((1, 1, 1, 1), (1, -1, 1, -1), (1, -1, -1, 1), (1, 1, -1, -1))
 
 
-def quat_mul_conjugate(q1: torch.Tensor, q2: torch.Tensor) -> torch.Tensor:
-    """``quat_mul(q1, quat_conjugate(q2))`` (the rotation from ``q2`` to ``q1``) in four kernels."""
+def quat_mul_conjugate(q1: torch.Tensor, q2: torch.Tensor, rows: slice = slice(None)) -> torch.Tensor:
+    """``quat_mul(q1, quat_conjugate(q2))`` (the rotation from ``q2`` to ``q1``) in four kernels;
+    ``rows`` picks components (1:4, the vector part) without computing the others."""
     index, sign = _diff_tables(q1.device, q1.dtype)
-    return (q1[..., index] * sign * q2[..., None, :]).sum(dim=-1)
+    return (q1[..., index[rows]] * sign[rows] * q2[..., None, :]).sum(dim=-1)
 
 
 @functools.lru_cache(maxsize=16)
@@ -376,10 +410,14 @@ def _diff_tables(device: torch.device, dtype: torch.dtype) -> tuple[torch.Tensor
     )
 
 
-def rotation_distance(object_rot: torch.Tensor, target_rot: torch.Tensor) -> torch.Tensor:
-    """The angle [rad] of the rotation between two orientations (w, x, y, z); never negative."""
-    quat_diff = quat_mul_conjugate(object_rot, target_rot)
-    return 2.0 * torch.asin(torch.clamp(torch.norm(quat_diff[:, 1:4], p=2, dim=-1), max=1.0))
+def rotation_distance(
+    object_rot: torch.Tensor, target_rot: torch.Tensor, out: torch.Tensor | None = None
+) -> torch.Tensor:
+    """The angle [rad] of the rotation between two orientations (w, x, y, z); never negative (into
+    ``out`` if given)."""
+    vector = quat_mul_conjugate(object_rot, target_rot, rows=slice(1, 4))  # the rotation's vector part
+    sine = torch.linalg.vector_norm(vector, dim=-1).clamp_(max=1.0)
+    return torch.asin(sine, out=out).mul_(2.0)
 
 
 def compute_rewards(
@@ -426,12 +464,18 @@ def compute_rewards(
         reward = reward + fall_penalty * fell.float()
 
     # running mean over the episodes that end now (the fallen ones included) of their success counts
-    resets = (fell | reset_buf).float()
+    consecutive_successes = consecutive_successes.clone()
+    update_consecutive_successes(consecutive_successes, successes, (fell | reset_buf).float(), av_factor)
+    return reward, goal_reached, successes, consecutive_successes
+
+
+def update_consecutive_successes(
+    consecutive_successes: torch.Tensor, successes: torch.Tensor, resets: torch.Tensor, av_factor: float
+) -> None:
+    """Isaac Lab's running mean (``av_factor``) of the success counts of the episodes that end now
+    (``resets``: 1.0 where one ends), updated in place; unchanged in a step where none ends."""
     num_resets = resets.sum()
     finished_successes = (successes * resets).sum()
-    consecutive_successes = torch.where(
-        num_resets > 0,
-        av_factor * finished_successes / num_resets.clamp(min=1.0) + (1.0 - av_factor) * consecutive_successes,
-        consecutive_successes,
-    )
-    return reward, goal_reached, successes, consecutive_successes
+    mean = torch.mul(finished_successes, av_factor).div_(num_resets.clamp(min=1.0))
+    mean = torch.add(mean, consecutive_successes, alpha=1.0 - av_factor)
+    torch.where(num_resets > 0, mean, consecutive_successes, out=consecutive_successes)
