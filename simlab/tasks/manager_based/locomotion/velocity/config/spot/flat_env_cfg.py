@@ -282,10 +282,9 @@ class SpotFlatEnvCfg(LocomotionVelocityRoughEnvCfg):
         # row is a thread in every Newton iteration). The worlds share one pool of nconmax * num_envs.
         self.sim.mujoco.nconmax = 32
         self.sim.mujoco.njmax = 192
-        # mjlab's solver caps: the GPU's Newton loop runs until its slowest world converges, which took
-        # up to 17 iterations at 200 Hz (mean 3.5; 32 worlds), so the cap of 10 bounds every step
-        self.sim.mujoco.iterations = 10
-        self.sim.mujoco.ls_iterations = 20
+        # MuJoCo's solver caps (100 iterations, 50 line-search) kept: mjlab's 10 / 20 cut the GPU's Newton
+        # loop (up to 17 iterations at 200 Hz) but, under PPO's first noise, robots fell sooner and
+        # joint accelerations blew up to 1e10 rad/s^2 in unconverged steps (docs/locomotion.md)
         # the gait rewards read the feet's contacts at every physics step
         self.scene.contact_forces.update_period = self.sim.dt
         # kp 100 where Isaac Lab has 60: this model has no upright stance at 60 (robots/spot.py)
