@@ -120,6 +120,36 @@ def test_the_step_s_in_place_reward_is_isaac_lab_s_compute_rewards():
     assert not env.reset_goal_buf.any(), "the reached goals were redrawn at once"
 
 
+def test_allegro_joint_writes_and_speed_cap_in_column_order():
+    """The Allegro Hand's joints (breadth-first names) sit in consecutive qpos/qvel columns in another
+    order: masked state writes and the speed cap work over those columns in place; each joint still gets
+    its own value and its own limit."""
+    env = make(ALLEGRO)
+    try:
+        hand = env.hand
+        assert hand._dof_span is not None and hand._qpos_span is not None  # the case these paths serve
+        n, joints = NUM_ENVS, hand.num_joints
+        before_pos, before_vel = hand.data.joint_pos.clone(), hand.data.joint_vel.clone()
+        pos = 0.01 * torch.arange(joints).repeat(n, 1) + torch.arange(n)[:, None]
+        mask = torch.tensor([True, False, True, False])
+        hand.write_joint_state_to_sim(pos, 100.0 * pos + 1.0, env_ids=mask)
+        assert torch.equal(hand.data.joint_pos[mask], pos[mask])
+        assert torch.equal(hand.data.joint_vel[mask], (100.0 * pos + 1.0)[mask])
+        assert torch.equal(hand.data.joint_pos[~mask], before_pos[~mask])
+        assert torch.equal(hand.data.joint_vel[~mask], before_vel[~mask])
+        limits = 0.5 + 0.25 * torch.arange(joints, dtype=torch.float32)  # one per joint
+        hand.write_joint_velocity_limit_to_sim(limits.repeat(n, 1))
+        velocity = torch.full((n, joints), 1e3)
+        velocity[1] = -1e3
+        velocity[3, 5] = 0.1  # within its limit: kept
+        hand.write_joint_velocity_to_sim(velocity)
+        hand.write_data_to_sim()
+        expected = torch.maximum(torch.minimum(velocity, limits), -limits)
+        assert torch.equal(hand.data.joint_vel, expected)
+    finally:
+        env.close()
+
+
 def test_solve_criterion_counts_the_goals_of_finished_episodes(allegro):
     from simlab.tasks.utils.criteria import criterion_for
 
@@ -300,9 +330,10 @@ def test_allegro_direct_step_stays_within_its_kernel_budget():
     Warp's CPU device, docs/dexterous.md): 380 torch kernels and two forward passes (212 MuJoCo Warp
     launches) per step before issue 40's cuts, 232 and one (106) after; with the CPU backend this test
     uses, 245 and one forward, then 262 with the NaN check's per-term accumulators and the divergence
-    guard's restart clearing the actuator's efforts (by mask, every step); 204 after issue 40.4's cuts
+    guard's restart clearing the actuator's efforts (by mask, every step); 195 after issue 40.4's cuts
     (fused PD control and speed cap per physics step, the reward and targets in place, fingertip and
-    joint quantities computed where the observations read them)."""
+    joint quantities computed where the observations read them, one-kernel divergence test per array,
+    masked joint writes in column order)."""
     from simlab.benchmarks import step_ops
 
     env = step_ops.make_env(ALLEGRO, num_envs=4, seed=0, engine="mujoco")
@@ -324,7 +355,7 @@ def test_allegro_direct_step_stays_within_its_kernel_budget():
     assert truncated.all()
     assert len(forwards) == 1, "one forward pass per step: the fingertips' poses the observations read (after resets)"
     outside = sum(n for label, n in counter.torch_ops.items() if label != "physics")
-    assert outside <= 206, f"{outside} torch kernels per step outside the physics:\n{step_ops.report(counter, 1, 3)}"
+    assert outside <= 196, f"{outside} torch kernels per step outside the physics:\n{step_ops.report(counter, 1, 3)}"
 
 
 @pytest.mark.parametrize("task", [ALLEGRO, SHADOW, "simlab/Repose-Cube-Shadow-OpenAI-FF-Direct-v0"])

@@ -19,7 +19,7 @@ import torch
 import simlab.utils.math as math_utils
 from simlab.actuators import ActuatorBase
 from simlab.actuators.actuator_pd import per_joint_values
-from simlab.utils.env_mask import is_mask, rows
+from simlab.utils.env_mask import is_mask, masked_copy_, rows
 from simlab.utils.string import resolve_matching_names, resolve_matching_names_values
 from simlab.utils.types import ArticulationActions
 
@@ -161,14 +161,11 @@ class Articulation(RootedAsset):
                 self._explicit.append((actuator, contiguous(list(ids), dev), own_ctrl))
         # a host-side flag, so that the step of a robot without speed limits does no clamping
         self._speed_capped = bool(torch.isfinite(data.joint_velocity_limits).any())
-        dof_adr = [int(model.jnt_dofadr[j]) for j in joint_ids]
-        first = min(dof_adr, default=0)
-        if sorted(dof_adr) == list(range(first, first + num_joints)):
-            # consecutive columns in some order: the cap reads the limits in the columns' order
-            self._speed_order = torch.tensor(sorted(range(num_joints), key=dof_adr.__getitem__), device=dev)
-            self._speed_cols = slice(first, first + num_joints)
-        else:
-            self._speed_order, self._speed_cols = slice(None), self._dof_cols
+        # qpos and qvel columns that are consecutive in another order than the joints' (breadth-first
+        # names over a depth-first model, the Allegro Hand's): (their span, the joints in column order)
+        self._qpos_span = column_span([int(model.jnt_qposadr[j]) for j in joint_ids], dev)
+        self._dof_span = column_span([int(model.jnt_dofadr[j]) for j in joint_ids], dev)
+        self._speed_cols, self._speed_order = self._dof_span or (self._dof_cols, slice(None))
         self._set_speed_bounds()
         order = sorted(range(len(actuated)), key=lambda k: actuated[k])
         self._actuated = contiguous([actuated[k] for k in order], dev)
@@ -274,12 +271,27 @@ class Articulation(RootedAsset):
         self.write_joint_velocity_to_sim(velocity, joint_ids, env_ids)
 
     def write_joint_position_to_sim(self, position, joint_ids=None, env_ids: EnvIds = None) -> None:
-        self._write_cols(self._qpos, self._cols(self._qpos_cols, self._qpos_index, joint_ids), env_ids, position)
+        if not self._write_span(self._qpos, self._qpos_span, joint_ids, env_ids, position):
+            self._write_cols(self._qpos, self._cols(self._qpos_cols, self._qpos_index, joint_ids), env_ids, position)
         self._physics.mark_stale(self._env_index(env_ids))
 
     def write_joint_velocity_to_sim(self, velocity, joint_ids=None, env_ids: EnvIds = None) -> None:
-        self._write_cols(self._qvel, self._cols(self._dof_cols, self._dof_index, joint_ids), env_ids, velocity)
+        if not self._write_span(self._qvel, self._dof_span, joint_ids, env_ids, velocity):
+            self._write_cols(self._qvel, self._cols(self._dof_cols, self._dof_index, joint_ids), env_ids, velocity)
         self._physics.mark_stale(self._env_index(env_ids))
+
+    @staticmethod
+    def _write_span(dst: torch.Tensor, span, joint_ids, env_ids: EnvIds, values) -> bool:
+        """Every joint's column by a mask where the columns are consecutive in another order (``span``):
+        the values put in column order and copied in place (a gather and a select, instead of a gather,
+        a select and a scatter). False where this does not apply."""
+        if span is None or joint_ids is not None or not is_mask(env_ids):
+            return False
+        if not isinstance(values, torch.Tensor) or values.dim() != 2:
+            return False
+        cols, order = span
+        masked_copy_(dst[:, cols], env_ids.to(dst.device), values[:, order])
+        return True
 
     # joint targets -------------------------------------------------------------------------------
 
@@ -430,6 +442,18 @@ class Articulation(RootedAsset):
             target[:, self._dof_index] = values
         else:
             target[env[:, None], self._dof_index] = values[env]
+
+
+def column_span(columns: list[int], device) -> tuple[slice, torch.Tensor] | None:
+    """For columns that are consecutive in another order: their span and, for each column in it, which
+    of ``columns`` it is; None otherwise (in order already, or with gaps)."""
+    first = min(columns, default=0)
+    if columns == list(range(first, first + len(columns))) or sorted(columns) != list(
+        range(first, first + len(columns))
+    ):
+        return None
+    order = sorted(range(len(columns)), key=columns.__getitem__)
+    return slice(first, first + len(columns)), torch.tensor(order, dtype=torch.long, device=device)
 
 
 class ArticulationDynamicsView(BodyPropertiesView):

@@ -78,6 +78,13 @@ _POST_CONSTRAINT_SENSORS = frozenset(
 )
 
 
+def _max_abs(rows: torch.Tensor) -> torch.Tensor:
+    """(num_worlds,) the largest |entry| of each row (one kernel; 0 for rows without entries; NaN stays NaN)."""
+    if rows.shape[1] == 0:
+        return torch.zeros(rows.shape[0], dtype=rows.dtype, device=rows.device)
+    return torch.linalg.vector_norm(rows, float("inf"), dim=1)
+
+
 def runs_post_constraint(model: mujoco.MjModel) -> bool:
     """Whether the forward pass of ``model`` runs the post-constraint pass (it has such a sensor)."""
     return any(int(t) in _POST_CONSTRAINT_SENSORS for t in model.sensor_type)
@@ -348,9 +355,10 @@ class PhysicsBackend(ABC):
         a reward term overflows float32 to inf.
         """
         qpos, qvel = self.data("qpos"), self.data("qvel")
-        # NaN compares False, so this is False for non-finite rows as well
-        sane = (qpos.abs() <= MAX_STATE_VALUE).all(dim=1) & (qvel.abs() <= MAX_STATE_VALUE).all(dim=1)
-        diverged = ~sane
+        # each world's largest |entry| (NaN propagates through the max-norm and compares False, so a
+        # non-finite row is not sane either)
+        largest = torch.maximum(_max_abs(qpos), _max_abs(qvel))
+        diverged = torch.le(largest, MAX_STATE_VALUE).logical_not_()
         restarted = self._restarted_by_simulator()
         if restarted is not None:
             diverged |= restarted

@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import functools
 import math
+from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 import torch
@@ -45,6 +46,28 @@ if TYPE_CHECKING:
 
 GOAL_MARKER_POS = (-0.2, -0.45, 0.68)
 """Where the goal cube is drawn, in each env's frame (beside the hand)."""
+
+
+COMPUTED_WHEN_READ: list[str] = []
+"""The env's observation quantities made by :func:`computed_when_read`."""
+
+
+def computed_when_read(compute: Callable[[InHandManipulationEnv], torch.Tensor]) -> property:
+    """An attribute of Isaac Lab's env computed when read instead of kept: a tensor bound anew in each
+    step would cost a copy per replay of the CUDA graph (``simlab.envs.utils.tensor_slots``). A value code
+    assigns to it (Isaac Lab-style code that edits an observation) is what it reads until the next state
+    (``_compute_intermediate_values``)."""
+    name = compute.__name__
+    COMPUTED_WHEN_READ.append(name)
+
+    def get(env: InHandManipulationEnv) -> torch.Tensor:
+        assigned = env.__dict__.get(name)
+        return compute(env) if assigned is None else assigned
+
+    def assign(env: InHandManipulationEnv, value: torch.Tensor) -> None:
+        env.__dict__[name] = value
+
+    return property(get, assign, doc=compute.__doc__)
 
 
 class InHandManipulationEnv(DirectRLEnv):
@@ -223,7 +246,10 @@ class InHandManipulationEnv(DirectRLEnv):
         )
         rot = random_orientation(sample_uniform(-1.0, 1.0, (n, 2), device=device))
         self.object.write_root_pose_to_sim(torch.cat((pos, rot), dim=-1), env_mask)
-        self.object.write_root_velocity_to_sim(self._zero_velocities, env_mask)
+        # at rest: zero in any frame, so written as MuJoCo holds it (the angular part in the cube's frame)
+        # without turning it from the world frame
+        zero = self._zero_velocities
+        self.object.write_root_ang_vel_b_to_sim(zero[:, 3:6], env_mask, lin_vel_w=zero[:, 0:3])
 
         # hand: the default pose moved towards a random point of each joint's range (the limits are read
         # here: randomization events may change them)
@@ -272,36 +298,38 @@ class InHandManipulationEnv(DirectRLEnv):
         """The cube's pose; the rest of what the observations read is computed when read (the properties
         below), once per step: nothing is kept that a CUDA graph's replay would have to copy."""
         self._compute_object_pose()
+        for name in COMPUTED_WHEN_READ:  # what code assigned to them since the last state
+            self.__dict__.pop(name, None)
 
     # what the observations read (Isaac Lab's env keeps these as attributes); the fingertips' poses and
     # velocities are derived quantities: reading them runs the step's one kinematics pass (after the resets)
 
-    @property
+    @computed_when_read
     def fingertip_pos(self) -> torch.Tensor:
         """(num_envs, fingertips, 3) in the env's frame."""
         return self.hand.data.body_pos_env[:, self._tips]
 
-    @property
+    @computed_when_read
     def fingertip_rot(self) -> torch.Tensor:
         return self.hand.data.body_quat_w[:, self._tips]
 
-    @property
+    @computed_when_read
     def fingertip_velocities(self) -> torch.Tensor:
         return self.hand.data.body_vel_w[:, self._tips]
 
-    @property
+    @computed_when_read
     def hand_dof_pos(self) -> torch.Tensor:
         return self.hand.data.joint_pos
 
-    @property
+    @computed_when_read
     def hand_dof_vel(self) -> torch.Tensor:
         return self.hand.data.joint_vel
 
-    @property
+    @computed_when_read
     def object_linvel(self) -> torch.Tensor:
         return self.object.data.root_lin_vel_w
 
-    @property
+    @computed_when_read
     def object_angvel(self) -> torch.Tensor:
         return self.object.data.root_ang_vel_w
 
