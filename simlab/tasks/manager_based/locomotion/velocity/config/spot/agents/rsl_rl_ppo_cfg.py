@@ -1,7 +1,8 @@
 """rsl_rl PPO for the Spot velocity task: Isaac Lab's published hyperparameters but for the initial
 action noise, 0.5 where Isaac Lab has 1.0 (as simlab's Go1 and ANYmal-B/D flat runners): under noise
-1.0 this model's robots fell after 2.6 s on average and their action-smoothness penalty alone cost
-4.8 per second; under 0.5, 5.3 s and 2.4 (the task's resets and commands, 64 envs, CPU)."""
+1.0 this model's robots fell every 3.3 s and their action-smoothness penalty alone cost 4.8 per second;
+under 0.5 every 4.7 s (zero actions: 5.0 s, the task's resets throw them) and 2.4 per second (64 envs,
+3 seeds, 6 s each, CPU; docs/locomotion.md)."""
 
 from simlab.rl.rsl_rl import RslRlMLPModelCfg, RslRlOnPolicyRunnerCfg, RslRlPpoAlgorithmCfg
 from simlab.utils import configclass
