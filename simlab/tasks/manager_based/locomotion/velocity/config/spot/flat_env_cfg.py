@@ -278,8 +278,9 @@ class SpotFlatEnvCfg(LocomotionVelocityRoughEnvCfg):
         self.sim.mujoco.impratio = 10.0
         # MuJoCo Warp's buffers per world, from the worst case driven on the CPU (robots thrown onto the
         # cobblestones, pushed and flailing, 64 worlds for 6 s: at most 20 contacts and 81 rows in a world,
-        # 3 contacts a world pooled): instead of its height-field estimate (128 contacts, 1048 rows: each
-        # row is a thread in every Newton iteration). The worlds share one pool of nconmax * num_envs.
+        # 3 contacts a world pooled, at 500 Hz; 16, 66 and 2 at 200 Hz): instead of its height-field
+        # estimate (128 contacts, 1048 rows: each row is a thread in every Newton iteration). The worlds
+        # share one pool of nconmax * num_envs.
         self.sim.mujoco.nconmax = 32
         self.sim.mujoco.njmax = 192
         # MuJoCo's solver caps (100 iterations, 50 line-search) kept: mjlab's 10 / 20 cut the GPU's Newton
