@@ -43,6 +43,28 @@ def test_bench_physics_and_env_print_tables_and_json(tmp_path, capsys):
     assert env["physics_ms_per_env_step"] > 0
     assert env["outside_physics_share"] == pytest.approx(1.0 - env["ratio"])
     assert "outside physics" in printed
+    # and timed directly, the physics left out
+    assert env["outside_ms_per_step"] > 0
+    assert env["outside_physics_share_timed"] == pytest.approx(env["outside_ms_per_step"] / env["env_ms_per_step"])
+    assert "outside (timed)" in printed
+
+
+def test_bench_env_times_the_step_without_its_physics():
+    """The timed share outside the physics steps the env with MuJoCo's step left out (the rest runs)."""
+    from simlab.benchmarks import env_suites
+
+    env = env_suites.make_env("simlab/Cartpole-Direct-v0", 4, "cpu")
+    env.reset()
+    calls, physics_step = [], env.sim.physics._step
+    env.sim.physics._step = lambda *args: calls.append(args) or physics_step(*args)
+    step = env_suites._step_fn(env)
+    step()
+    assert calls, "the env step runs the physics"
+    calls.clear()
+    versions = env.sim.physics.state_version
+    assert env_suites._seconds_without_physics(env, step, 3, "cpu") > 0
+    assert calls == [] and env.sim.physics.state_version > versions  # stepped, without MuJoCo's step
+    env.close()
 
 
 def test_bench_env_builds_each_task_with_the_env_overrides(tmp_path):

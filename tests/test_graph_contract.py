@@ -391,6 +391,29 @@ def test_the_stepper_holds_the_tensors_the_graph_writes_when_their_slots_are_reb
     assert written() is not None
 
 
+def test_a_recapture_records_what_the_step_runs_now(emulated_cuda_graph):
+    """``recapture()`` drops the graph: the next steps warm up and capture the step as its Python runs
+    then (a benchmark that leaves the physics out changes it), and replay that."""
+    env = ToyEnv()
+    stepper = EnvStepper(env, env._step_body, warmup=1)
+    for _ in range(3):
+        stepper(torch.zeros(4, 2))
+    first = stepper.graph
+    body = env._step_body
+    env._step_body = lambda action: body(2.0 * action)  # what the step runs, changed
+    stepper.body = env._step_body
+    stepper.recapture()
+    assert not stepper.is_graphed and stepper.mode == "warming up"
+    obs = [stepper(torch.full((4, 2), 0.5))[0]["policy"].clone() for _ in range(4)]
+    assert stepper.is_graphed and stepper.graph is not first
+    eager = ToyEnv()
+    for _ in range(3):
+        eager._step_body(torch.zeros(4, 2))
+    eager_obs = [eager._step_body(torch.full((4, 2), 1.0))[0]["policy"].clone() for _ in range(4)]
+    for a, b in zip(obs, eager_obs):  # the warm-up, the capture and the replay run the changed step
+        torch.testing.assert_close(a, b)
+
+
 def test_the_allegro_env_reset_between_replays_frees_nothing_the_graph_writes(emulated_cuda_graph):
     """Issue 40 end to end on the CPU: the direct Allegro task's step captured (the emulated graph), then
     ``env.reset()``, as the checkpoint judge does before each checkpoint (rsl_rl's env wrapper resets

@@ -71,6 +71,8 @@ ENV_COLUMNS = [
     ("env/raw", "ratio", ".2f"),
     ("physics ms", "physics_ms_per_env_step", ".3f"),
     ("outside physics", "outside_physics_share", ".0%"),
+    ("outside ms", "outside_ms_per_step", ".3f"),
+    ("outside (timed)", "outside_physics_share_timed", ".0%"),
     ("render ms", "render_ms", ".3f"),
     ("renders/step", "renders_per_step", "d"),
     ("render share", "render_share", ".0%"),

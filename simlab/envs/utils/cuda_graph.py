@@ -211,6 +211,17 @@ class EnvStepper:
             self.eager_reason = f"a tensor the graph holds was rebound outside the step: {describe(err)}"
             print(f"[simlab] the env step runs eagerly from now on: {self.eager_reason}")
 
+    def recapture(self) -> None:
+        """Drop the captured graph: the next steps warm up and capture the step again (after what the
+        step runs was changed: a benchmark that leaves the physics out). Eager steppers are unaffected."""
+        if self.graph is None:
+            return
+        self.graph = None
+        self._packed = None
+        self._static_action = None
+        self._slots = None
+        self._calls = 0
+
     def release(self) -> None:
         """Drop the graph and its buffers now (``env.close()``), not whenever garbage collection runs."""
         self.graph = None
