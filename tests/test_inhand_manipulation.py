@@ -399,7 +399,8 @@ def test_contact_buffers_hold_the_cube_squeezed_by_the_closed_hand(task):
         pairs = [(model.geom_bodyid[c.geom1], model.geom_bodyid[c.geom2]) for c in data.contact[: data.ncon]]
         touching = {a if b == cube_body else b for a, b in pairs if cube_body in (a, b)}
         assert len(touching) >= 4, [model.body(b).name for b in touching]
-        reserved = cfg.sim.mujoco  # peaks measured: Allegro 28 / 128, Shadow 19 / 104, OpenAI-FF 20 / 108
+        # peaks measured: Allegro 30 / 136 (28 / 128 at kp 3), Shadow 19 / 104, OpenAI-FF 20 / 108
+        reserved = cfg.sim.mujoco
         assert reserved.nconmax >= 1.5 * max(contacts), f"contacts per world {contacts}, nconmax {reserved.nconmax}"
         assert reserved.njmax >= 1.5 * max(rows), f"constraint rows per world {rows}, njmax {reserved.njmax}"
     finally:

@@ -39,8 +39,9 @@ class AllegroHandEnvCfg(DirectRLEnvCfg):
         render_interval=decimation,
         physics_material=RigidBodyMaterialCfg(static_friction=1.0, dynamic_friction=1.0),
         physx=PhysxCfg(bounce_threshold_velocity=0.2),
-        # per world: peaks of 23 contacts and 108 constraint rows measured under random actions (8 worlds,
-        # 150 steps, the URDF's joint limits; tests/test_inhand_manipulation.py), with room for twice that
+        # per world: peaks of 13 contacts and 68 constraint rows measured under random actions (8 worlds,
+        # 150 steps, the URDF's joint limits, kp 1; 23 and 108 at kp 3), 30 and 136 with the hand closed
+        # on the cube (tests/test_inhand_manipulation.py): room for 1.5 times the worst
         mujoco=MujocoCfg(cone="elliptic", impratio=10.0, nconmax=48, njmax=256),
     )
     # robot

@@ -254,8 +254,9 @@ class InHandObjectEnvCfg(ManagerBasedRLEnvCfg):
         physx=PhysxCfg(
             bounce_threshold_velocity=0.2, gpu_max_rigid_contact_count=2**20, gpu_max_rigid_patch_count=2**23
         ),
-        # per world: peaks of 19 contacts and 92 constraint rows measured under random actions (8 worlds,
-        # 150 steps; tests/test_inhand_manipulation.py), with room for more than twice that
+        # per world: peaks of 17 contacts and 84 constraint rows measured under random actions (8 worlds,
+        # 150 steps, the Allegro at kp 1; 19 and 92 at kp 3; tests/test_inhand_manipulation.py), with room
+        # for more than twice that
         mujoco=MujocoCfg(cone="elliptic", impratio=10.0, nconmax=48, njmax=256),
     )
     observations: ObservationsCfg = ObservationsCfg()
