@@ -383,3 +383,51 @@ def test_the_restart_of_a_task_with_actuator_and_contact_memory_stays_in_the_cap
         env.step(torch.zeros(4, env.action_manager.total_action_dim))
     assert env.step_is_graphed, env.step_mode
     env.close()
+
+
+RESTART_XML = """
+<mujoco>
+  <worldbody>
+    <body name="arm"><joint name="hinge" type="hinge"/><geom size="0.1" mass="1"/></body>
+    <body name="ball" pos="0 0 1"><freejoint/><geom size="0.05" mass="0.2"/></body>
+  </worldbody>
+  <actuator>
+    <position joint="hinge" kp="10"/>
+    <general joint="hinge" dyntype="filter" dynprm="0.1"/>
+  </actuator>
+</mujoco>
+"""
+
+
+def test_the_warp_restart_kernel_clears_what_the_masked_restart_clears():
+    """MuJoCo Warp's restart runs one kernel over the worlds instead of a masked select per field: from
+    the same garbage (NaN in one restarted world), it leaves every field as ``PhysicsBackend.restart``
+    does, bit for bit: the masked worlds at qpos0 with every other field zero, the others untouched."""
+    pytest.importorskip("mujoco_warp")
+    import mujoco
+
+    from simlab.sim.backends.base import LAST_STEP_FIELDS, PhysicsBackend
+    from simlab.sim.backends.cuda import CudaBackend
+
+    model = mujoco.MjModel.from_xml_string(RESTART_XML)
+    fields = ("qpos", "qvel", "act", "qacc_warmstart", "ctrl", "qfrc_applied", "xfrc_applied", *LAST_STEP_FIELDS)
+    mask = torch.tensor([False, True, False, True])
+    results = []
+    for restart in (CudaBackend.restart, PhysicsBackend.restart):
+        backend = CudaBackend(model, 4, device="cpu", overflow_check_interval=0)
+        generator = torch.Generator().manual_seed(0)
+        for name in fields:  # every field bound: the masked restart clears each one then
+            tensor = backend.data(name)
+            assert tensor.numel(), name
+            tensor.copy_(torch.randn(tensor.shape, generator=generator))
+        backend.data("qvel")[1, 0] = float("nan")
+        before = {name: backend.data(name).clone() for name in fields}
+        restart(backend, mask)
+        results.append({name: backend.data(name).clone() for name in fields})
+    kernel, masked = results
+    for name in fields:
+        assert torch.equal(kernel[name], masked[name]), name
+        assert torch.equal(kernel[name][~mask], before[name][~mask]), name
+        if name != "qpos":
+            assert (kernel[name][mask] == 0).all(), name
+    assert torch.equal(kernel["qpos"][mask], torch.as_tensor(model.qpos0, dtype=torch.float32).expand(2, -1))

@@ -22,6 +22,7 @@ Nothing here imports ``warp`` at module import time: ``require_cuda_backend`` do
 from __future__ import annotations
 
 import dataclasses
+import functools
 import time
 from collections.abc import Callable
 from typing import Any
@@ -50,6 +51,48 @@ _OVERFLOW_SETTINGS = {
     1 << 6: ("a contact sensor matched more contacts than its slots (sized from nconmax, at most 64)", "nconmax"),
 }
 _MAX_CONTACT_MATCH_SLOTS = 64  # MuJoCo Warp's default contact_sensor_maxmatch
+
+
+@functools.cache
+def _restart_kernel(wp: Any) -> Any:
+    """The Warp kernel of ``CudaBackend.restart``: one thread per world."""
+
+    @wp.kernel(module="unique")
+    def restart_worlds(
+        mask: wp.array(dtype=bool),
+        qpos0: wp.array(dtype=float),
+        qpos: wp.array2d(dtype=float),
+        qvel: wp.array2d(dtype=float),
+        act: wp.array2d(dtype=float),
+        qacc_warmstart: wp.array2d(dtype=float),
+        ctrl: wp.array2d(dtype=float),
+        qfrc_applied: wp.array2d(dtype=float),
+        qacc: wp.array2d(dtype=float),
+        actuator_force: wp.array2d(dtype=float),
+        qfrc_actuator: wp.array2d(dtype=float),
+        xfrc_applied: wp.array2d(dtype=wp.spatial_vector),
+    ):
+        world = wp.tid()
+        if not mask[world]:
+            return
+        for i in range(qpos.shape[1]):
+            qpos[world, i] = qpos0[i]
+        for i in range(qvel.shape[1]):
+            qvel[world, i] = 0.0
+            qacc_warmstart[world, i] = 0.0
+            qfrc_applied[world, i] = 0.0
+            qacc[world, i] = 0.0
+            qfrc_actuator[world, i] = 0.0
+        for i in range(act.shape[1]):
+            act[world, i] = 0.0
+        for i in range(ctrl.shape[1]):
+            ctrl[world, i] = 0.0
+        for i in range(actuator_force.shape[1]):
+            actuator_force[world, i] = 0.0
+        for i in range(xfrc_applied.shape[1]):
+            xfrc_applied[world, i] = wp.spatial_vector()
+
+    return restart_worlds
 
 
 def contact_match_slots(nconmax: int) -> int:
@@ -422,6 +465,24 @@ class CudaBackend(PhysicsBackend):
             mjw.forward(m, d)
 
         self._run("reset", body)
+
+    def restart(self, mask: torch.Tensor) -> None:
+        """``PhysicsBackend.restart`` in one kernel over the worlds (and the mask's copy), instead of a
+        masked select per field, every step: the masked worlds get ``qpos0`` and zero velocities,
+        activations, warm start, controls, applied forces and what the last step applied
+        (``LAST_STEP_FIELDS``, every one, read or not)."""
+        wp, d = self._wp, self.wp_data
+        self._mask.copy_(mask)
+        kernel = _restart_kernel(wp)
+        qpos0 = wp.from_torch(self._qpos0)
+        fields = [d.qpos, d.qvel, d.act, d.qacc_warmstart, d.ctrl, d.qfrc_applied, d.qacc, d.actuator_force]
+        fields += [d.qfrc_actuator, d.xfrc_applied]
+
+        def body() -> None:
+            wp.launch(kernel, dim=self.num_envs, inputs=[self._reset_mask, qpos0, *fields])
+
+        self._run(("restart", self._qpos0.data_ptr()), body)
+        self.mark_stale(mask)
 
     def set_const(self, env_ids: EnvIds = None) -> None:
         """Recompute derived model constants in all worlds (``env_ids`` is ignored), then forward.
