@@ -8,6 +8,7 @@ upturned palm for 5 s of simulated time on the CPU backend.
 from __future__ import annotations
 
 import re
+from pathlib import Path
 
 import pytest
 import torch
@@ -255,3 +256,29 @@ def test_hands_collide_with_themselves_but_not_in_their_default_pose(hand):
     rng = np.random.default_rng(0)
     touching = sum(self_contacts(rng.uniform(limits[:, 0], limits[:, 1])) > 0 for _ in range(50))
     assert touching > 5  # random poses press fingers into each other or into the palm
+
+
+@pytest.mark.parametrize(("stiffness", "friction", "falls"), [(1.0, 1e-4, False), (3.0, 0.01, True)])
+def test_allegro_keeps_the_cube_under_zero_actions_at_isaac_lab_3s_gains(stiffness, friction, falls):
+    """Zero actions put every joint target mid-range. With Isaac Lab 3.x's gains (kp 1, friction 1e-4, the
+    config's) the hand keeps the cube for 40 env steps; Isaac Lab 2.x's kp 3 and friction 0.01 curl the
+    fingers hard enough to throw it off the palm (docs/dexterous.md: after 13 steps on average)."""
+    import gymnasium as gym
+    from conftest import load_script
+
+    import simlab.tasks  # noqa: F401 - registers the tasks
+    from simlab.tasks.utils import parse_env_cfg
+
+    tool = load_script(Path(__file__).parents[1] / "scripts" / "tools" / "inhand_cube_falls.py")
+    task = "simlab/Repose-Cube-Allegro-Direct-v0"
+    cfg = parse_env_cfg(task, device="cpu", num_envs=8)
+    cfg.seed = 42
+    fingers = cfg.robot_cfg.actuators["fingers"]
+    assert (fingers.stiffness, fingers.friction) == (1.0, 1e-4)  # the config is Isaac Lab 3.x's
+    fingers.stiffness, fingers.friction = stiffness, friction
+    env = gym.make(task, cfg=cfg).unwrapped
+    try:
+        result = tool.cube_falls(env, "zero", steps=40, seed=42)
+    finally:
+        env.close()
+    assert (result.falls >= 3) if falls else (result.falls == 0), result
