@@ -161,7 +161,7 @@ class EventCfg:
         mode="startup",
         params={
             "asset_cfg": SceneEntityCfg("robot", joint_names=".*"),
-            "stiffness_distribution_params": (0.3, 3.0),  # default: 3.0
+            "stiffness_distribution_params": (0.3, 3.0),  # default: 1.0 (Isaac Lab 2.x: 3.0)
             "damping_distribution_params": (0.75, 1.5),  # default: 0.1
             "operation": "scale",
             "distribution": "log_uniform",
