@@ -67,6 +67,21 @@ def test_bench_env_times_the_step_without_its_physics():
     env.close()
 
 
+def test_a_failed_step_without_physics_keeps_the_row(monkeypatch, capsys):
+    """The timed share is measured last; if it fails, the row keeps its other figures and says why."""
+    from simlab.benchmarks import env_suites
+
+    def fails(*args):
+        raise RuntimeError("capture failed\nmore")
+
+    monkeypatch.setattr(env_suites, "_seconds_without_physics", fails)
+    row = env_suites.bench_env("simlab/Cartpole-Direct-v0", num_envs=4, device="cpu", steps=2)
+    assert row["env_steps_per_s"] > 0 and row["outside_physics_share"] is not None
+    assert row["outside_timed_error"] == "RuntimeError: capture failed"
+    assert "outside_physics_share_timed" not in row
+    assert "the step without its physics failed: RuntimeError: capture failed" in capsys.readouterr().err
+
+
 def test_bench_env_builds_each_task_with_the_env_overrides(tmp_path):
     """`--overrides env.x=v` changes the benched env (an A/B of a setting): Cartpole's decimation 2 made 3,
     seen in the physics steps per env step; agent.* ones do not reach the env suites."""

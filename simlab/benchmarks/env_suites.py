@@ -8,6 +8,7 @@ alternating rounds, so ``ratio = physics steps/s through the env / raw physics s
 
 from __future__ import annotations
 
+import sys
 import time
 from collections.abc import Sequence
 
@@ -204,10 +205,18 @@ def bench_env(
         "cuda_graph": _graph_state(env),
         "overrides": " ".join(overrides),
     }
-    # last: it changes the env, and its second graph would count in the memory figures
-    outside = _seconds_without_physics(env, step, steps, device)
-    row["outside_ms_per_step"] = outside * 1e3
-    row["outside_physics_share_timed"] = outside / seconds["env"]
+    # last: it changes the env, and its second graph would count in the memory figures; a failure there
+    # keeps the row's other figures (and says why)
+    try:
+        outside = _seconds_without_physics(env, step, steps, device)
+    except Exception as err:  # noqa: BLE001 - any failure: the row without this figure
+        row["outside_timed_error"] = f"{type(err).__name__}: {err}".splitlines()[0]
+        print(
+            f"[simlab bench] {task}: the step without its physics failed: {row['outside_timed_error']}", file=sys.stderr
+        )
+    else:
+        row["outside_ms_per_step"] = outside * 1e3
+        row["outside_physics_share_timed"] = outside / seconds["env"]
     env.close()
     return row
 
