@@ -257,8 +257,9 @@ class InHandManipulationEnv(DirectRLEnv):
         delta_max = self.hand_dof_upper_limits - default_pos
         delta_min = self.hand_dof_lower_limits - default_pos
         dof_pos_noise = sample_uniform(-1.0, 1.0, (n, self.num_hand_dofs), device=device)
-        rand_delta = torch.addcmul(delta_min, delta_max - delta_min, dof_pos_noise, value=0.5)
-        dof_pos = torch.add(default_pos, rand_delta, alpha=self.cfg.reset_dof_pos_noise)
+        # Isaac Lab's delta_min + (delta_max - delta_min) * 0.5 * noise, to the bit (0.5 t is exact)
+        rand_delta = torch.add(delta_min, (delta_max - delta_min) * dof_pos_noise, alpha=0.5)
+        dof_pos = default_pos + self.cfg.reset_dof_pos_noise * rand_delta
         dof_vel_noise = sample_uniform(-1.0, 1.0, (n, self.num_hand_dofs), device=device)  # drawn even if unused
         dof_vel = self.hand.data.default_joint_vel
         if self.cfg.reset_dof_vel_noise != 0.0:
@@ -390,7 +391,8 @@ class InHandManipulationEnv(DirectRLEnv):
 
 def scale(x: torch.Tensor, lower: torch.Tensor, upper: torch.Tensor, out: torch.Tensor | None = None) -> torch.Tensor:
     """[-1, 1] onto [lower, upper]: ``0.5 (x + 1) (upper - lower) + lower`` (into ``out`` if given)."""
-    return torch.addcmul(lower, x + 1.0, upper - lower, value=0.5, out=out)
+    # 0.5 t is exact (a power of two): adding 0.5 (x + 1)(upper - lower) with alpha rounds as Isaac Lab's
+    return torch.add(lower, (x + 1.0) * (upper - lower), alpha=0.5, out=out)
 
 
 def unscale(x: torch.Tensor, lower: torch.Tensor, upper: torch.Tensor) -> torch.Tensor:
