@@ -114,15 +114,31 @@ class ActuatorBase:
         """``kp (q* - q) + kd (qd* - qd) + tau_ff`` into ``computed_effort``, clipped into ``applied_effort``
         (in place, so that a captured CUDA graph keeps reading the same buffers)."""
         # written with out= and in-place ops: each op is a kernel launch on the GPU, every physics step
-        effort = torch.mul(self.stiffness, control_action.joint_positions - joint_pos, out=self.computed_effort)
-        effort.addcmul_(self.damping, control_action.joint_velocities - joint_vel)
-        if control_action.joint_efforts is not None:
-            effort.add_(control_action.joint_efforts)
+        position_error = control_action.joint_positions - joint_pos
+        velocity_error = control_action.joint_velocities - joint_vel
+        if control_action.joint_efforts is not None:  # tau_ff + kp e, one fused multiply-add
+            effort = torch.addcmul(
+                control_action.joint_efforts, self.stiffness, position_error, out=self.computed_effort
+            )
+        else:
+            effort = torch.mul(self.stiffness, position_error, out=self.computed_effort)
+        effort.addcmul_(self.damping, velocity_error)
         self._clip_effort(effort, out=self.applied_effort)
+
+    @property
+    def effort_limit(self) -> torch.Tensor:
+        return self._effort_limit
+
+    @effort_limit.setter
+    def effort_limit(self, value: torch.Tensor) -> None:
+        # its negative kept beside it: the clip then takes one kernel, not two (every physics step);
+        # assign a new limit (``act.effort_limit = ...``) rather than writing into it
+        self._effort_limit = value
+        self._neg_effort_limit = -value
 
     def _clip_effort(self, effort: torch.Tensor, out: torch.Tensor | None = None) -> torch.Tensor:
         """``effort`` within the model's limits (written into ``out`` when given)."""
-        return torch.clamp(effort, min=-self.effort_limit, max=self.effort_limit, out=out)
+        return torch.clamp(effort, min=self._neg_effort_limit, max=self._effort_limit, out=out)
 
     def _parse_joint_parameter(self, cfg_value, default) -> torch.Tensor:
         """The config's value (a float, or a dict of joint-name patterns to floats), else ``default``
@@ -192,6 +208,11 @@ class DCMotor(IdealPDActuator):
         """The joint velocities of the last ``compute``: where the torque-speed lines are read."""
         self._vel_at_effort_lim = self.velocity_limit * (1 + self.effort_limit / self._saturation_effort)
         """The corner speed: where the torque-speed line meets the effort limit of the other sign."""
+        # made once, so that the clip takes four kernels (it runs every physics step): the corner speed's
+        # negative, the two lines' torques at zero speed and their common slope (N m per rad/s)
+        self._neg_vel_at_effort_lim = -self._vel_at_effort_lim
+        self._saturation_pair = torch.tensor([1.0, -1.0], device=device) * self._saturation_effort
+        self._torque_speed_slope = (-self._saturation_effort / self.velocity_limit).unsqueeze(-1)
 
     def restart(self, mask: torch.Tensor) -> None:
         super().restart(mask)
@@ -205,12 +226,13 @@ class DCMotor(IdealPDActuator):
         # The torque-speed lines bound the torque in all four quadrants: beyond the no-load speed the
         # motor can only brake. Read at a speed clipped to the corner speed, both bounds meet at the
         # braking side's effort limit there and beyond.
-        corner = self._vel_at_effort_lim
-        speed_ratio = torch.clamp(self._joint_vel, min=-corner, max=corner) / self.velocity_limit
-        saturation = self._saturation_effort
-        max_effort = torch.minimum(torch.rsub(speed_ratio, saturation, alpha=saturation), self.effort_limit)
-        min_effort = torch.maximum(torch.rsub(speed_ratio, -saturation, alpha=saturation), -self.effort_limit)
-        return torch.clamp(effort, min=min_effort, max=max_effort, out=out)
+        # Both lines, tau_sat (+-1 - qd / qd_max), in one (N, J, 2) multiply-add, then both within the
+        # effort limits (below the corner speed the upper line never falls under -limit, nor the lower
+        # one over +limit, so this is the minimum with +limit and the maximum with -limit).
+        speed = torch.clamp(self._joint_vel, min=self._neg_vel_at_effort_lim, max=self._vel_at_effort_lim)
+        bounds = torch.addcmul(self._saturation_pair, self._torque_speed_slope, speed.unsqueeze(-1))
+        bounds.clamp_(min=self._neg_effort_limit.unsqueeze(-1), max=self.effort_limit.unsqueeze(-1))
+        return torch.clamp(effort, min=bounds[..., 1], max=bounds[..., 0], out=out)
 
 
 class DelayedPDActuator(IdealPDActuator):
@@ -234,11 +256,11 @@ class DelayedPDActuator(IdealPDActuator):
                 f"{type(cfg).__name__} for {joint_names}: min_delay={low!r} and max_delay={high!r} must be"
                 " integers (physics steps) with 0 <= min_delay <= max_delay."
             )
-        # One buffer for the three target kinds, stacked (num_envs, 3, num_joints): they share the lags,
-        # and one ring costs a third of the kernels of three (this runs every physics step).
+        # One buffer for the three target kinds, each frame (positions, velocities, efforts) side by side:
+        # they share the lags, and one buffer costs a third of the kernels of three (this runs every
+        # physics step); the buffer joins the three in the kernel that shifts its history.
         self.targets_delay_buffer = DelayBuffer(high, num_envs, device=device)
         self._no_effort = torch.zeros_like(self.computed_effort)
-        self._targets = torch.zeros(num_envs, 3, self.num_joints, device=device)
         self.reset(None)
 
     # Isaac Lab's three buffer names, kept for code that reads or sets the lags through them (e.g.
@@ -272,9 +294,8 @@ class DelayedPDActuator(IdealPDActuator):
     def compute(self, control_action, joint_pos, joint_vel):
         efforts = control_action.joint_efforts if control_action.joint_efforts is not None else self._no_effort
         targets = (control_action.joint_positions, control_action.joint_velocities, efforts)
-        positions, velocities, efforts = self.targets_delay_buffer.compute(
-            torch.stack(targets, dim=1, out=self._targets)
-        ).unbind(1)
+        delayed = self.targets_delay_buffer.compute(targets)  # (num_envs, 3 num_joints)
+        positions, velocities, efforts = delayed.view(self.num_envs, 3, self.num_joints).unbind(1)
         delayed = ArticulationActions(
             joint_positions=positions,
             joint_velocities=velocities,
@@ -307,7 +328,9 @@ class RemotizedPDActuator(DelayedPDActuator):
                 f" transmission ratio, max torque) with ascending angles, got shape {tuple(table.shape)}."
             )
         self._joint_parameter_lookup = table.to(device)
-        self._torque_limit = LinearInterpolation(self.angle_samples, self.max_torque_samples, device=device)
+        # the limit and its negative interpolated together: the clip then needs no negation
+        limits = torch.stack((self.max_torque_samples, -self.max_torque_samples), dim=1)
+        self._torque_limits = LinearInterpolation(self.angle_samples, limits, device=device)
 
     @property
     def angle_samples(self) -> torch.Tensor:
@@ -323,11 +346,11 @@ class RemotizedPDActuator(DelayedPDActuator):
 
     def compute(self, control_action, joint_pos, joint_vel):
         # the table is the only limit: the PD's one clip reads it (no clip at an infinite limit first)
-        self._limit = self._torque_limit.compute(joint_pos)
+        self._limits = self._torque_limits.compute(joint_pos)  # (num_envs, num_joints, 2): max, -max
         return super().compute(control_action, joint_pos, joint_vel)
 
     def _clip_effort(self, effort: torch.Tensor, out: torch.Tensor | None = None) -> torch.Tensor:
-        return torch.clamp(effort, min=-self._limit, max=self._limit, out=out)
+        return torch.clamp(effort, min=self._limits[..., 1], max=self._limits[..., 0], out=out)
 
 
 def _first_set(*values):

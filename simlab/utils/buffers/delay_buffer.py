@@ -10,10 +10,11 @@ import torch
 class DelayBuffer:
     """Returns, for each row, the input from ``time_lags[row]`` recorded steps ago.
 
-    Storage is a ring of ``history_length + 1`` frames allocated at the first :meth:`compute`; the
-    write index and per-row history counts stay on the device (no host sync, CUDA-graph safe). A lag
-    of zero returns the current input; while a row has fewer recorded frames than its lag (after
-    construction or :meth:`reset`), it gets its oldest frame, so no data from before a reset leaks.
+    Storage is ``history_length + 1`` frames per row, newest first, allocated at the first
+    :meth:`compute`; recording shifts them one place (one concatenation and one copy back) and the
+    per-row history counts stay on the device (no host sync, CUDA-graph safe). A lag of zero returns
+    the current input; while a row has fewer recorded frames than its lag (after construction or
+    :meth:`reset`), it gets its oldest frame, so no data from before a reset leaks.
 
     Lags are set with :meth:`set_time_lag`, or drawn by the buffer when ``hold_prob`` is given: a
     uniform lag in ``[min_lag, history_length]`` at construction and reset, and on each recorded
@@ -36,7 +37,8 @@ class DelayBuffer:
         self._batch_size = batch_size
         self._device = device
         self._buffer: torch.Tensor | None = None
-        self._write_index = torch.zeros(1, dtype=torch.long, device=device)
+        """(batch_size, history_length + 1, frame size): each row's frames, newest first, flattened."""
+        self._frame_shape: tuple[int, ...] = ()
         self._num_pushes = torch.zeros(batch_size, dtype=torch.long, device=device)
         self._rows = torch.arange(batch_size, device=device)
         self._time_lags = torch.zeros(batch_size, dtype=torch.int, device=device)
@@ -131,46 +133,66 @@ class DelayBuffer:
         else:
             self._time_lags[rows] = self._draw_lags(self._time_lags[rows].shape)
 
-    def compute(self, data: torch.Tensor, *, update_history: bool = True) -> torch.Tensor:
+    def compute(self, data: torch.Tensor | Sequence[torch.Tensor], *, update_history: bool = True) -> torch.Tensor:
         """The delayed data, shape (batch_size, ...), recording ``data`` as the newest frame first.
+
+        ``data`` may also be a sequence of 2-D tensors ``(batch_size, n_i)``: the frame is their
+        concatenation along dim 1, joined in the kernel that shifts the history (an actuator's
+        position, velocity and effort targets, one kernel fewer than stacking them first).
 
         With ``update_history=False`` nothing is recorded: the result is relative to the newest
         recorded frame, and rows with no recorded frame get ``data`` itself. The result is a copy.
         """
-        if data.shape[0] != self._batch_size:
-            raise ValueError(f"DelayBuffer expects data with batch size {self._batch_size}, got {data.shape[0]}.")
+        parts = (data,) if isinstance(data, torch.Tensor) else tuple(data)
+        shape = data.shape if isinstance(data, torch.Tensor) else (parts[0].shape[0], sum(p.shape[1] for p in parts))
+        if shape[0] != self._batch_size or any(p.shape[0] != self._batch_size for p in parts):
+            raise ValueError(f"DelayBuffer expects data with batch size {self._batch_size}, got {shape[0]}.")
+        if not isinstance(data, torch.Tensor) and any(p.dim() != 2 for p in parts):
+            raise ValueError("DelayBuffer: data given as a sequence must be 2-D tensors (batch_size, n).")
+        n, frames = self._batch_size, self._history_length + 1
         if self._buffer is None:
             if not update_history:
-                return data.to(device=self._device).clone()
-            self._buffer = torch.zeros((self._history_length + 1, *data.shape), dtype=data.dtype, device=self._device)
-        elif data.shape != self._buffer.shape[1:]:
-            raise ValueError(
-                f"DelayBuffer expects data of shape {tuple(self._buffer.shape[1:])}, got {tuple(data.shape)}."
-            )
-        data = data.to(device=self._device, dtype=self._buffer.dtype)
-        ring = self._history_length + 1
+                return _joined(parts, self._device).reshape(shape).clone()
+            self._frame_shape = tuple(shape[1:])
+            size = 1
+            for dim in self._frame_shape:
+                size *= dim
+            dtype = parts[0].dtype
+            self._buffer = torch.zeros((n, frames, size), dtype=dtype, device=self._device)
+        elif tuple(shape[1:]) != self._frame_shape:
+            raise ValueError(f"DelayBuffer expects data of shape {self._frame_shape}, got {tuple(shape[1:])}.")
+        flat = [p.to(device=self._device, dtype=self._buffer.dtype).reshape(n, -1) for p in parts]
 
         if not update_history:
             lag = torch.minimum(self._time_lags, (self._num_pushes - 1).clamp_min(0))
-            delayed = self._buffer[(self._write_index - 1 - lag) % ring, self._rows]
-            has_history = (self._num_pushes > 0).view(self._batch_size, *([1] * (data.dim() - 1)))
-            return torch.where(has_history, delayed, data)
+            delayed = self._buffer[self._rows, lag]
+            has_history = (self._num_pushes > 0).view(n, 1)
+            return torch.where(has_history, delayed, _joined(flat, self._device)).view(shape)
 
         if self._hold_prob is not None and self._hold_prob < 1.0:
-            lags = self._draw_lags((self._batch_size,))
+            lags = self._draw_lags((n,))
             if self._hold_prob > 0.0:
-                redraw = torch.rand(self._batch_size, device=self._device) >= self._hold_prob
+                redraw = torch.rand(n, device=self._device) >= self._hold_prob
                 lags = torch.where(redraw, lags, self._time_lags)
             self._time_lags.copy_(lags)
 
-        self._buffer.index_copy_(0, self._write_index, data.unsqueeze(0))
+        # shift: the new frame first, then all but the oldest (kernels: cat, copy back, min, gather, count)
+        history = self._buffer.view(n, -1)
+        shifted = torch.cat([*flat, history[:, : history.shape[1] - self._buffer.shape[2]]], dim=1)
+        history.copy_(shifted)
         lag = torch.minimum(self._time_lags, self._num_pushes)  # never older than the last reset
-        delayed = self._buffer[(self._write_index - lag) % ring, self._rows]  # advanced indexing: a copy
+        delayed = shifted.view(self._buffer.shape)[self._rows, lag]  # advanced indexing: a copy
         self._num_pushes.add_(1)
-        self._write_index.add_(1).remainder_(ring)
-        return delayed
+        return delayed.view(shape)
 
     def _draw_lags(self, shape: torch.Size | tuple[int, ...]) -> torch.Tensor:
         return torch.randint(
             self._min_lag, self._history_length + 1, shape, dtype=self._time_lags.dtype, device=self._device
         )
+
+
+def _joined(parts: Sequence[torch.Tensor], device) -> torch.Tensor:
+    """One frame from its parts (a lone tensor as it is)."""
+    if len(parts) == 1:
+        return parts[0].to(device)
+    return torch.cat([p.to(device) for p in parts], dim=1)

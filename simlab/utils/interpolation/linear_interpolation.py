@@ -6,32 +6,54 @@ import torch
 
 
 class LinearInterpolation:
-    """``f(q)`` from samples ``y = f(x)`` (``x`` ascending): linear between samples, held at the ends."""
+    """``f(q)`` from samples ``y = f(x)`` (``x`` ascending): linear between samples, held at the ends.
+
+    ``y`` is ``(n,)``, or ``(n, K)`` for K functions sampled at the same ``x`` (``compute`` then adds
+    a last dimension of K: one search serves them all). Queries are finite numbers.
+    """
 
     def __init__(self, x: torch.Tensor, y: torch.Tensor, device: str):
         self._x = x.reshape(-1).clone().to(device)
-        self._y = y.reshape(-1).clone().to(device)
-        if self._x.numel() == 0:
+        y = torch.as_tensor(y)
+        n = self._x.numel()
+        if n == 0:
             raise ValueError("LinearInterpolation needs at least one sample; x is empty.")
-        if self._x.numel() != self._y.numel():
-            raise ValueError(
-                f"x and y must have the same number of samples, got {self._x.numel()} and {self._y.numel()}."
-            )
+        several = y.dim() == 2 and y.shape[0] == n and y.shape[1] > 1  # K functions, one column each
+        if not several and y.numel() != n:
+            raise ValueError(f"x and y must have the same number of samples, got {n} and {len(y.reshape(-1))}.")
+        self._y = (y if several else y.reshape(-1)).clone().to(device)
         if torch.any(self._x[1:] < self._x[:-1]):
             raise ValueError("x must be sorted in ascending order.")
-        # One row per segment (start x, start y, slope), made once: a query is then a clamp, a search,
-        # one gather and a multiply-add, five kernels (actuator models run it every physics step).
-        span = self._x[1:] - self._x[:-1]
-        slope = torch.where(span > 0, (self._y[1:] - self._y[:-1]) / torch.where(span > 0, span, 1.0), 0.0)
-        segments = torch.stack((self._x[:-1], self._y[:-1], slope), dim=1)
-        self._segments = segments if len(segments) else torch.stack((self._x, self._y, torch.zeros_like(self._x)), 1)
-        self._inner_x = self._x[1:-1].contiguous()  # where one segment ends and the next begins
+        self._values_per_sample = y.shape[1] if several else 0  # 0: a scalar function
+        # One row per interval between samples, and one before the first and after the last sample
+        # (flat: the end values), as (intercept, slope), made once in float64: a query is then one
+        # search, one gather and one multiply-add, three kernels (actuator models run it every
+        # physics step). Row k holds for x[k-1] < q <= x[k] (searchsorted's left side).
+        x64 = self._x.double()
+        y64 = self._y.double().reshape(len(x64), -1)  # (n, K)
+        span = (x64[1:] - x64[:-1])[:, None]
+        slope = torch.where(span > 0, (y64[1:] - y64[:-1]) / torch.where(span > 0, span, 1.0), 0.0)
+        intercept = y64[:-1] - slope * x64[:-1, None]
+        flat = torch.zeros_like(y64[:1])
+        self._rows64 = torch.cat(
+            (torch.cat((y64[:1], intercept, y64[-1:])), torch.cat((flat, slope, flat))), dim=1
+        )  # (n + 1, 2K): intercepts, then slopes
+        self._tables: dict[torch.dtype, tuple[torch.Tensor, torch.Tensor]] = {}
 
     def compute(self, q: torch.Tensor) -> torch.Tensor:
-        """The interpolated values at the query points ``q`` (any shape; the result has the same shape)."""
-        # beyond the samples: hold the end values
-        clamped = torch.clamp(q.to(self._x.dtype), self._x[0], self._x[-1])
-        # (..., 3): the segment that ends at or after q
-        segment = self._segments[torch.searchsorted(self._inner_x, clamped)]
-        x0, y0, slope = segment.unbind(-1)
-        return torch.addcmul(y0, slope, clamped - x0)
+        """The interpolated values at the query points ``q`` (any shape; the result has the same shape,
+        with a last dimension of K for K functions, and ``q``'s floating dtype)."""
+        if not q.is_floating_point():
+            q = q.to(self._x.dtype)
+        x, rows = self._table(q.dtype)
+        row = rows[torch.searchsorted(x, q)]  # (..., 2K)
+        k = max(self._values_per_sample, 1)
+        values = torch.addcmul(row[..., :k], row[..., k:], q.unsqueeze(-1))
+        return values if self._values_per_sample else values.squeeze(-1)
+
+    def _table(self, dtype: torch.dtype) -> tuple[torch.Tensor, torch.Tensor]:
+        """The samples and rows in ``dtype`` (made at the first query of that dtype)."""
+        table = self._tables.get(dtype)
+        if table is None:
+            table = self._tables[dtype] = (self._x.to(dtype).contiguous(), self._rows64.to(dtype))
+        return table
