@@ -159,6 +159,7 @@ class Articulation(RootedAsset):
                 # its joints and MuJoCo actuators as slices where consecutive (views: no gather per step)
                 own_ctrl = contiguous([model.actuator(self.prefix + name).id for name in names], dev)
                 self._explicit.append((actuator, contiguous(list(ids), dev), own_ctrl))
+        self._bind_explicit_efforts(model)
         # a host-side flag, so that the step of a robot without speed limits does no clamping
         self._speed_capped = bool(torch.isfinite(data.joint_velocity_limits).any())
         # qpos and qvel columns that are consecutive in another order than the joints' (breadth-first
@@ -258,11 +259,34 @@ class Articulation(RootedAsset):
             return
         # Explicit models write their joints' ctrl: the torque they compute.
         joint_pos, joint_vel = d.joint_pos, d.joint_vel
-        for actuator, j, ctrl_cols in self._explicit:
+        for (actuator, j, ctrl_cols), part in zip(self._explicit, self._explicit_parts):
             targets = ArticulationActions(
                 d.joint_pos_target[:, j], d.joint_vel_target[:, j], d.joint_effort_target[:, j], actuator.joint_indices
             )
-            self._ctrl[:, ctrl_cols] = actuator.compute(targets, joint_pos[:, j], joint_vel[:, j]).joint_efforts
+            efforts = actuator.compute(targets, joint_pos[:, j], joint_vel[:, j]).joint_efforts
+            if part is None:
+                self._ctrl[:, ctrl_cols] = efforts
+            elif efforts is not part:  # a model that returns another tensor than its applied_effort
+                part.copy_(efforts)
+        if self._explicit_efforts is not None:
+            self._ctrl[:, self._explicit_ctrl_cols] = self._explicit_efforts
+
+    def _bind_explicit_efforts(self, model: mujoco.MjModel) -> None:
+        """Several explicit models (Spot's hips and knees): their ``applied_effort`` become views side by side
+        in one buffer, written to MuJoCo's ctrl in one kernel per physics step instead of one per model."""
+        self._explicit_parts: list[torch.Tensor | None] = [None] * len(self._explicit)
+        self._explicit_efforts = None
+        if len(self._explicit) < 2:
+            return
+        models = [actuator for actuator, _, _ in self._explicit]
+        widths = [actuator.num_joints for actuator in models]
+        self._explicit_efforts = torch.zeros(self.num_instances, sum(widths), device=self.device)
+        self._explicit_parts = list(self._explicit_efforts.split(widths, dim=1))
+        for actuator, part in zip(models, self._explicit_parts):
+            part.copy_(actuator.applied_effort)
+            actuator.applied_effort = part  # the model clips into it (out=) every physics step
+        ctrl = [model.actuator(self.prefix + name).id for actuator in models for name in actuator.joint_names]
+        self._explicit_ctrl_cols = contiguous(ctrl, self.device)
 
     # joint state ---------------------------------------------------------------------------------
 

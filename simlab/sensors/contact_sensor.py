@@ -222,9 +222,8 @@ class ContactSensor(SensorBase):
         if self.cfg.track_air_time:
             # air and contact times side by side, (N, 2, B): each phase (in the air, in contact) goes
             # on where its condition holds; where it ends after lasting a while, its length is kept
-            force = torch.linalg.vector_norm(external, dim=-1)
-            threshold = self.cfg.force_threshold
-            goes_on = torch.stack((force <= threshold, force > threshold), dim=1)
+            touching = torch.linalg.vector_norm(external, dim=-1) > self.cfg.force_threshold
+            goes_on = torch.eq(touching.unsqueeze(1), self._phase_is_contact)  # (N, 2, B): not touching, touching
             times = self._current_times + elapsed
             ended = (self._current_times > 0.0) > goes_on  # was running and stops now
             torch.where(ended, times, self._last_times, out=self._last_times)
@@ -325,6 +324,7 @@ class ContactSensor(SensorBase):
             self._last_times = torch.zeros(n, 2, b, device=dev)
             d.current_air_time, d.current_contact_time = self._current_times.unbind(1)
             d.last_air_time, d.last_contact_time = self._last_times.unbind(1)
+            self._phase_is_contact = torch.tensor([[False], [True]], device=dev)  # the phases' order
         super()._initialize(sim)
 
     def _bind_filter_sensors(self, sim, body_names: list[str]) -> None:
