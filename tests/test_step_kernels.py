@@ -9,6 +9,7 @@ import torch
 import simlab.envs.mdp as mdp
 import simlab.sim as sim_utils
 import simlab.utils.math as math_utils
+from simlab.actuators import DCMotorCfg, DelayedPDActuatorCfg, IdealPDActuatorCfg, RemotizedPDActuatorCfg
 from simlab.assets import AssetBaseCfg
 from simlab.envs import ManagerBasedRLEnv
 from simlab.managers import ObservationGroupCfg, ObservationTermCfg
@@ -18,6 +19,7 @@ from simlab.sensors import RayCasterCfg, patterns
 from simlab.tasks.manager_based.classic.cartpole.cartpole_env_cfg import CartpoleEnvCfg
 from simlab.utils import configclass
 from simlab.utils.noise import ConstantNoiseCfg, UniformNoiseCfg
+from simlab.utils.types import ArticulationActions
 
 
 def load_counter_script():
@@ -43,7 +45,8 @@ def test_go2_flat_step_stays_within_its_kernel_budget():
     """The Go2 flat env step outside the physics (GPU backend counted on the CPU, docs/locomotion.md):
     687 torch kernels and a forward (115 MuJoCo Warp launches) before issue 12's cuts, 395 torch
     kernels and no forward after; with the CPU backend this test uses, 404 when written, 410 later, 419
-    since the divergence guard's restart also clears each restarted world's derived state."""
+    since the divergence guard's restart also clears each restarted world's derived state, 388 after
+    issue 41's actuator and contact sensor cuts (the DC motor 60 -> 36, the contact update 48 -> 44)."""
     script = load_counter_script()
     env = script.make_env("simlab/Velocity-Flat-Unitree-Go2-v0", num_envs=4, seed=0, engine="mujoco")
     forwards = []
@@ -62,8 +65,67 @@ def test_go2_flat_step_stays_within_its_kernel_budget():
     env.close()
     assert forwards == [], "no term of the flat task reads a quantity that needs a forward after the physics"
     outside = sum(n for label, n in counter.torch_ops.items() if label != "physics")
-    assert outside <= 440, f"{outside} torch kernels per step outside the physics:\n{script.report(counter, 1, 3)}"
+    assert outside <= 395, f"{outside} torch kernels per step outside the physics:\n{script.report(counter, 1, 3)}"
     assert counter.torch_ops["observations (manager)"] <= 10, "noise of the policy group in a few column ops"
+
+
+def test_spot_flat_step_stays_within_its_kernel_budget():
+    """Spot flat (issue 41): its actuators, contact sensor and ctrl write run every physics step, four
+    per env step. CPU backend count, 4 envs: 708 torch kernels outside the physics when written, 644
+    after the cuts: hips (delayed PD) 64 -> 40, knees (remotized PD) 84 -> 52, the contact sensor's
+    update 48 -> 44, the ctrl write 16 -> 12."""
+    script = load_counter_script()
+    env = script.make_env("simlab/Velocity-Flat-Spot-v0", num_envs=4, seed=0, engine="mujoco")
+    counter = script.LaunchCounter()
+    script.instrument(env, counter)
+    env.reset()
+    actions = torch.zeros(env.num_envs, env.action_manager.total_action_dim)
+    with torch.inference_mode(), counter:
+        env.step(actions)  # warm-up
+        counter.active = True
+        env.step(actions)
+        counter.active = False
+    env.close()
+    report = script.report(counter, 1, 3)
+    budgets = {
+        "actuators/robot.spot_hip": 40,
+        "actuators/robot.spot_knee": 52,
+        "scene/contact_forces.update": 44,
+        "scene/robot.write_data_to_sim": 12,
+    }
+    for label, budget in budgets.items():
+        assert counter.torch_ops[label] <= budget, f"{label}: {counter.torch_ops[label]} > {budget}\n{report}"
+    outside = sum(n for label, n in counter.torch_ops.items() if label != "physics")
+    assert outside <= 650, f"{outside} torch kernels per step outside the physics:\n{report}"
+
+
+def _explicit_model_cfgs():
+    table = [[-2.0, 1.0, 10.0], [-1.0, 1.0, 20.0], [0.0, 1.0, 15.0]]
+    common = {"joint_names_expr": [".*"], "stiffness": 20.0, "damping": 0.5}
+    return [
+        (IdealPDActuatorCfg(**common, effort_limit=5.0), 5),
+        (DCMotorCfg(**common, effort_limit=5.0, saturation_effort=8.0, velocity_limit=10.0), 9),
+        (DelayedPDActuatorCfg(**common, effort_limit=5.0, min_delay=0, max_delay=2), 10),
+        (RemotizedPDActuatorCfg(**common, joint_parameter_lookup=table, min_delay=0, max_delay=2), 13),
+    ]
+
+
+@pytest.mark.parametrize("cfg, budget", _explicit_model_cfgs(), ids=lambda v: getattr(v, "__name__", None))
+def test_explicit_actuator_models_compute_in_few_kernels(cfg, budget):
+    """Kernels one ``compute`` launches (every physics step). Before issue 41's cuts: ideal PD 7, DC motor
+    15, delayed PD 16, remotized PD 21."""
+    script = load_counter_script()
+    actuator = cfg.class_type(cfg, joint_names=["a", "b"], joint_ids=[0, 1], num_envs=4, device="cpu")
+    targets = ArticulationActions(torch.rand(4, 2), torch.rand(4, 2), torch.rand(4, 2), slice(None))
+    state = (torch.rand(4, 2) - 1.0, torch.rand(4, 2))
+    counter = script.LaunchCounter()
+    with torch.inference_mode(), counter:
+        actuator.compute(targets, *state)  # warm-up: the delay buffer's first frame allocates it
+        counter.active = True
+        actuator.compute(targets, *state)
+        counter.active = False
+    launched = sum(counter.torch_ops.values())
+    assert launched <= budget, f"{type(actuator).__name__}: {launched} kernels: {dict(counter.op_names)}"
 
 
 def test_root_frame_quantities_are_computed_once_per_state():
