@@ -9,7 +9,7 @@ class LinearInterpolation:
     """``f(q)`` from samples ``y = f(x)`` (``x`` ascending): linear between samples, held at the ends.
 
     ``y`` is ``(n,)``, or ``(n, K)`` for K functions sampled at the same ``x`` (``compute`` then adds
-    a last dimension of K: one search serves them all). Queries are finite numbers.
+    a last dimension of K: one search serves them all).
     """
 
     def __init__(self, x: torch.Tensor, y: torch.Tensor, device: str):
@@ -26,9 +26,10 @@ class LinearInterpolation:
             raise ValueError("x must be sorted in ascending order.")
         self._values_per_sample = y.shape[1] if several else 0  # 0: a scalar function
         # One row per interval between samples, and one before the first and after the last sample
-        # (flat: the end values), as (intercept, slope), made once in float64: a query is then one
-        # search, one gather and one multiply-add, three kernels (actuator models run it every
-        # physics step). Row k holds for x[k-1] < q <= x[k] (searchsorted's left side).
+        # (flat: the end values), as (intercept, slope), made once in float64: a query is then a clamp
+        # into the samples' range (which also gives the search the contiguous input it needs), one
+        # search, one gather and one multiply-add, four kernels (actuator models run it every physics
+        # step). Row k holds for x[k-1] < q <= x[k] (searchsorted's left side).
         x64 = self._x.double()
         y64 = self._y.double().reshape(len(x64), -1)  # (n, K)
         span = (x64[1:] - x64[:-1])[:, None]
@@ -46,6 +47,7 @@ class LinearInterpolation:
         if not q.is_floating_point():
             q = q.to(self._x.dtype)
         x, rows = self._table(q.dtype)
+        q = torch.clamp(q, x[0], x[-1])  # held at the end values beyond the samples, even at +-inf
         row = rows[torch.searchsorted(x, q)]  # (..., 2K)
         k = max(self._values_per_sample, 1)
         values = torch.addcmul(row[..., :k], row[..., k:], q.unsqueeze(-1))
