@@ -241,6 +241,10 @@ def test_linear_interpolation_against_numpy():
     np.testing.assert_allclose(out.numpy()[:, 0], np.interp(q.numpy()[:, 0], x.numpy(), y.numpy()), atol=1e-6)
     with pytest.raises(ValueError, match="ascending"):
         LinearInterpolation(torch.tensor([1.0, 0.0]), torch.zeros(2), "cpu")
+    # K functions per search (a remotized actuator's limit and its negative): each column as alone, bit for bit
+    both = LinearInterpolation(x, torch.stack((y, -y), dim=1), "cpu").compute(q.float())
+    alone = LinearInterpolation(x, y, "cpu").compute(q.float())
+    assert both.shape == (101, 1, 2) and torch.equal(both[..., 0], alone) and torch.equal(both[..., 1], -alone)
 
 
 def test_unique_names_and_regex_roots():

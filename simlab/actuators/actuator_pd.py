@@ -208,11 +208,10 @@ class DCMotor(IdealPDActuator):
         """The joint velocities of the last ``compute``: where the torque-speed lines are read."""
         self._vel_at_effort_lim = self.velocity_limit * (1 + self.effort_limit / self._saturation_effort)
         """The corner speed: where the torque-speed line meets the effort limit of the other sign."""
-        # made once, so that the clip takes four kernels (it runs every physics step): the corner speed's
-        # negative, the two lines' torques at zero speed and their common slope (N m per rad/s)
+        # made once, so that the clip takes five kernels (it runs every physics step): the corner speed's
+        # negative and the two lines' torques at zero speed
         self._neg_vel_at_effort_lim = -self._vel_at_effort_lim
         self._saturation_pair = torch.tensor([1.0, -1.0], device=device) * self._saturation_effort
-        self._torque_speed_slope = (-self._saturation_effort / self.velocity_limit).unsqueeze(-1)
 
     def restart(self, mask: torch.Tensor) -> None:
         super().restart(mask)
@@ -226,11 +225,12 @@ class DCMotor(IdealPDActuator):
         # The torque-speed lines bound the torque in all four quadrants: beyond the no-load speed the
         # motor can only brake. Read at a speed clipped to the corner speed, both bounds meet at the
         # braking side's effort limit there and beyond.
-        # Both lines, tau_sat (+-1 - qd / qd_max), in one (N, J, 2) multiply-add, then both within the
+        # Both lines, +-tau_sat - tau_sat qd / qd_max, in one (N, J, 2) kernel, then both within the
         # effort limits (below the corner speed the upper line never falls under -limit, nor the lower
         # one over +limit, so this is the minimum with +limit and the maximum with -limit).
         speed = torch.clamp(self._joint_vel, min=self._neg_vel_at_effort_lim, max=self._vel_at_effort_lim)
-        bounds = torch.addcmul(self._saturation_pair, self._torque_speed_slope, speed.unsqueeze(-1))
+        speed_ratio = speed / self.velocity_limit
+        bounds = torch.add(self._saturation_pair, speed_ratio.unsqueeze(-1), alpha=-self._saturation_effort)
         bounds.clamp_(min=self._neg_effort_limit.unsqueeze(-1), max=self.effort_limit.unsqueeze(-1))
         return torch.clamp(effort, min=bounds[..., 1], max=bounds[..., 0], out=out)
 

@@ -25,37 +25,27 @@ class LinearInterpolation:
         if torch.any(self._x[1:] < self._x[:-1]):
             raise ValueError("x must be sorted in ascending order.")
         self._values_per_sample = y.shape[1] if several else 0  # 0: a scalar function
-        # One row per interval between samples, and one before the first and after the last sample
-        # (flat: the end values), as (intercept, slope), made once in float64: a query is then a clamp
-        # into the samples' range (which also gives the search the contiguous input it needs), one
-        # search, one gather and one multiply-add, four kernels (actuator models run it every physics
-        # step). Row k holds for x[k-1] < q <= x[k] (searchsorted's left side).
-        x64 = self._x.double()
-        y64 = self._y.double().reshape(len(x64), -1)  # (n, K)
-        span = (x64[1:] - x64[:-1])[:, None]
-        slope = torch.where(span > 0, (y64[1:] - y64[:-1]) / torch.where(span > 0, span, 1.0), 0.0)
-        intercept = y64[:-1] - slope * x64[:-1, None]
-        flat = torch.zeros_like(y64[:1])
-        self._rows64 = torch.cat(
-            (torch.cat((y64[:1], intercept, y64[-1:])), torch.cat((flat, slope, flat))), dim=1
-        )  # (n + 1, 2K): intercepts, then slopes
-        self._tables: dict[torch.dtype, tuple[torch.Tensor, torch.Tensor]] = {}
+        # One row per segment (start x, start values, slopes), made once: a query is then a clamp, a
+        # search, one gather, a subtraction and a multiply-add, five kernels (actuator models run it
+        # every physics step), for all K functions at once.
+        y2 = self._y.reshape(n, -1)  # (n, K)
+        span = (self._x[1:] - self._x[:-1])[:, None]
+        slope = torch.where(span > 0, (y2[1:] - y2[:-1]) / torch.where(span > 0, span, 1.0), 0.0)
+        segments = torch.cat((self._x[:-1, None], y2[:-1], slope), dim=1)  # (n - 1, 1 + 2K)
+        if not len(segments):  # one sample: a constant
+            segments = torch.cat((self._x[:, None], y2, torch.zeros_like(y2)), dim=1)
+        self._segments = segments
+        self._inner_x = self._x[1:-1].contiguous()  # where one segment ends and the next begins
 
     def compute(self, q: torch.Tensor) -> torch.Tensor:
         """The interpolated values at the query points ``q`` (any shape; the result has the same shape,
-        with a last dimension of K for K functions, and ``q``'s floating dtype)."""
-        if not q.is_floating_point():
-            q = q.to(self._x.dtype)
-        x, rows = self._table(q.dtype)
-        q = torch.clamp(q, x[0], x[-1])  # held at the end values beyond the samples, even at +-inf
-        row = rows[torch.searchsorted(x, q)]  # (..., 2K)
+        with a last dimension of K for K functions)."""
+        # beyond the samples: hold the end values (the clamp also gives the search the contiguous
+        # input it needs: a column view of the joint angles would be copied in a hidden kernel)
+        clamped = torch.clamp(q.to(self._x.dtype), self._x[0], self._x[-1])
+        # (..., 1 + 2K): the segment that ends at or after q
+        segment = self._segments[torch.searchsorted(self._inner_x, clamped)]
         k = max(self._values_per_sample, 1)
-        values = torch.addcmul(row[..., :k], row[..., k:], q.unsqueeze(-1))
+        x0, y0, slope = segment[..., :1], segment[..., 1 : 1 + k], segment[..., 1 + k :]
+        values = torch.addcmul(y0, slope, clamped.unsqueeze(-1) - x0)
         return values if self._values_per_sample else values.squeeze(-1)
-
-    def _table(self, dtype: torch.dtype) -> tuple[torch.Tensor, torch.Tensor]:
-        """The samples and rows in ``dtype`` (made at the first query of that dtype)."""
-        table = self._tables.get(dtype)
-        if table is None:
-            table = self._tables[dtype] = (self._x.to(dtype).contiguous(), self._rows64.to(dtype))
-        return table
