@@ -335,6 +335,39 @@ def test_spot_gait_reward_pays_a_trot_and_not_a_pronk():
         spot_mdp.GaitReward(RewardTermCfg(func=spot_mdp.GaitReward, weight=1.0, params=bad), env)
 
 
+def test_spot_gait_reward_is_the_product_over_pairs_of_isaac_labs_kernel():
+    """The six pairs in one gather (issue 41: 74 -> 16 kernels a step) pay what Isaac Lab's loop over the
+    pairs pays: exp(-(min(x^2, e^2) + min(y^2, e^2)) / std) multiplied over them (the product's order
+    may round otherwise)."""
+    from simlab.managers import RewardTermCfg, SceneEntityCfg
+    from simlab.tasks.manager_based.locomotion.velocity.config.spot import mdp as spot_mdp
+
+    generator = torch.Generator().manual_seed(0)
+    air, contact = (0.4 * torch.rand(64, 4, generator=generator) for _ in range(2))
+    env = fake_env(air.tolist(), contact.tolist(), [[1.0, 0.0, 0.0]] * 64)
+    params = {
+        "std": 0.1,
+        "max_err": 0.2,
+        "velocity_threshold": 0.5,
+        "synced_feet_pair_names": (("fl_foot", "hr_foot"), ("fr_foot", "hl_foot")),
+        "asset_cfg": SceneEntityCfg("robot"),
+        "sensor_cfg": SceneEntityCfg("contact_forces"),
+    }
+    term = spot_mdp.GaitReward(RewardTermCfg(func=spot_mdp.GaitReward, weight=10.0, params=params), env)
+
+    def kernel(x, y):
+        return torch.exp(-(torch.square(x).clamp(max=0.2**2) + torch.square(y).clamp(max=0.2**2)) / 0.1)
+
+    fl, fr, hl, hr = range(4)
+    expected = torch.ones(64)
+    for i, j in ((fl, hr), (fr, hl)):
+        expected = expected * kernel(air[:, i] - air[:, j], contact[:, i] - contact[:, j])
+    for i, j in ((fl, fr), (hr, hl), (fl, hl), (fr, hr)):
+        expected = expected * kernel(air[:, i] - contact[:, j], contact[:, i] - air[:, j])
+    assert (expected > 1e-3).any()
+    torch.testing.assert_close(term(env, **params), expected, rtol=1e-6, atol=0.0)
+
+
 def test_spot_air_time_reward_steps_when_moving_and_stands_when_not():
     from simlab.managers import SceneEntityCfg
     from simlab.tasks.manager_based.locomotion.velocity.config.spot import mdp as spot_mdp

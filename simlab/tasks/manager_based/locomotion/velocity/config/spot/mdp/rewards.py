@@ -103,9 +103,16 @@ class GaitReward(ManagerTermBase):
         (a0, a1), (b0, b1) = ([self.sensor.find_bodies(name)[0][0] for name in pair] for pair in pairs)
         self.synced = [(a0, a1), (b0, b1)]
         self.opposed = [(a0, b0), (a1, b1), (a0, b1), (b0, a1)]
-
-    def _kernel(self, x: torch.Tensor, y: torch.Tensor, max_err: float, std: float) -> torch.Tensor:
-        return torch.exp(-(torch.square(x).clamp(max=max_err**2) + torch.square(y).clamp(max=max_err**2)) / std)
+        # The six pairs' two time differences each, x = t_i - t_j and y = t_i' - t_j', as one gather from
+        # the air and contact times side by side (air time of body k in column k, contact time in
+        # column B + k): indices (side i/j, pair, x/y); all pairs then take a few kernels together.
+        num_bodies = self.sensor.data.current_air_time.shape[1]
+        air, contact = (lambda k: k), (lambda k: num_bodies + k)
+        same = [((air(i), contact(i)), (air(j), contact(j))) for i, j in self.synced]
+        opposite = [((air(i), contact(i)), (contact(j), air(j))) for i, j in self.opposed]
+        sides = [[left for left, _ in same + opposite], [right for _, right in same + opposite]]
+        self._pair_columns = torch.tensor(sides, dtype=torch.long, device=env.device)  # (2, 6, 2)
+        self._times = torch.zeros(env.num_envs, 2, num_bodies, device=env.device)
 
     def __call__(
         self,
@@ -117,13 +124,14 @@ class GaitReward(ManagerTermBase):
         asset_cfg: SceneEntityCfg,
         sensor_cfg: SceneEntityCfg,
     ) -> torch.Tensor:
-        air, contact = self.sensor.data.current_air_time, self.sensor.data.current_contact_time
-        reward = torch.ones(env.num_envs, device=env.device)
-        for i, j in self.synced:  # same phase: equal air times and equal contact times
-            reward = reward * self._kernel(air[:, i] - air[:, j], contact[:, i] - contact[:, j], max_err, std)
-        for i, j in self.opposed:  # opposite phase: one's air time is the other's contact time
-            reward = reward * self._kernel(air[:, i] - contact[:, j], contact[:, i] - air[:, j], max_err, std)
-        return torch.where(_moving(env, asset_cfg, velocity_threshold), reward, torch.zeros_like(reward))
+        # same phase (synced pairs): equal air times and equal contact times; opposite phase (the other
+        # four): one's air time is the other's contact time. Each pair: exp(-(min(x^2, e^2) + min(y^2, e^2)) / std)
+        data = self.sensor.data
+        times = torch.stack((data.current_air_time, data.current_contact_time), dim=1, out=self._times)
+        sides = times.view(env.num_envs, -1)[:, self._pair_columns]  # (N, 2, 6, 2)
+        squared = torch.square(sides[:, 0] - sides[:, 1]).clamp_(max=max_err**2)
+        reward = torch.exp(-squared.sum(dim=2) / std).prod(dim=1)
+        return torch.where(_moving(env, asset_cfg, velocity_threshold), reward, 0.0)
 
 
 def foot_clearance_reward(
