@@ -112,8 +112,8 @@ class RayCaster(SensorBase):
             position, orientation = self._free_pose
             pos_w = self._qpos[:, position] + origins + self.drift
             quat_w = self._qpos[:, orientation]
-        else:
-            self._sim.physics.ensure_forward()
+        else:  # body poses only: the kinematics pass, not a forward's collision and constraint solve
+            self._sim.physics.ensure_kinematics()
             pos_w = self._xpos[:, self._body_id] + origins + self.drift
             quat_w = self._xquat[:, self._body_id]
         self._data.pos_w.copy_(pos_w)
