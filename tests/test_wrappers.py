@@ -50,6 +50,25 @@ def test_rsl_rl_wrapper():
         env.close()
 
 
+def test_rsl_rl_wrapper_computes_the_observations_once_per_step():
+    """rsl_rl never reads ``extras["final_obs"]``: under its wrapper the env does not compute its
+    observations a second time before each step's resets (for the rough G1 a second height scan)."""
+    from simlab.rl.rsl_rl import RslRlVecEnvWrapper
+
+    env = RslRlVecEnvWrapper(make("simlab/Cartpole-v0", episode_length_s=0.05))  # 3-step episodes
+    try:
+        manager = env.unwrapped.observation_manager
+        computed = []
+        original = manager.compute
+        manager.compute = lambda *args, **kwargs: computed.append(1) or original(*args, **kwargs)
+        for _ in range(4):  # crosses a time-out
+            _, _, _, extras = env.step(torch.zeros(NUM_ENVS, 1))
+            assert "final_obs" not in extras
+        assert len(computed) == 4
+    finally:
+        env.close()
+
+
 def test_rsl_rl_wrapper_rejects_multi_agent():
     from simlab.rl.rsl_rl import RslRlVecEnvWrapper
 
