@@ -3,6 +3,7 @@ contact buffers on the terrain it scans (issue 39)."""
 
 from __future__ import annotations
 
+import numpy as np
 import torch
 
 import simlab.sim as sim_utils
@@ -50,3 +51,67 @@ def test_height_scanner_on_a_child_body_needs_the_kinematics_not_a_forward():
     scanner.update(0.0, force_recompute=True)
     torch.testing.assert_close(pos, robot.data.body_pos_w[:, robot.find_bodies("FL_thigh")[0][0]])
     torch.testing.assert_close(scanner.data.ray_hits_w, hits)
+
+
+def test_rough_g1_contact_buffers_hold_the_robot_fallen_on_the_hardest_terrains():
+    """The rough G1 reserves MuJoCo Warp buffers from measured peaks (``sim.mujoco.nconmax`` / ``njmax``
+    per world; MuJoCo Warp's estimate reserved 256 contacts and 2122 rows, which its constraint kernels
+    and memory pay for in every world). The worst case is the robot lying on the terrain: 16 worlds
+    drop it 0.3 m onto its front, back or sides at random points of the hardest row's tiles (stairs up
+    and down, boxes, roughness, slopes), three in four driven to random points of their joint ranges,
+    for 1.5 s on MuJoCo Warp (Warp's CPU device). The reserved sizes hold 1.5 times the peaks and
+    nothing overflows. Peaks of such runs over 320 worlds: 41 contacts, 166 rows (MuJoCo C's own
+    height-field collision gives more, 52 and 213 in 24 worlds, but MuJoCo C grows its buffers)."""
+    import gymnasium as gym
+    import mujoco
+
+    import simlab.tasks  # noqa: F401 - registers the tasks
+    from simlab.sensors.ray_caster.ray_targets import find_target_geoms, target_model
+    from simlab.sim.backends.buffer_peaks import BufferPeaks
+    from simlab.tasks.utils.parse_cfg import parse_env_cfg
+
+    task, worlds = "simlab/Velocity-Rough-G1-v0", 16
+    cfg = parse_env_cfg(task, device="cpu", num_envs=worlds)
+    reserved = (cfg.sim.mujoco.nconmax, cfg.sim.mujoco.njmax)
+    cfg.sim.engine, cfg.sim.use_cuda_graph, cfg.seed = "mujoco_warp", False, 0
+    cfg.sim.mujoco.nconmax, cfg.sim.mujoco.njmax = 4 * reserved[0], 4 * reserved[1]  # room to measure
+    env = gym.make(task, cfg=cfg).unwrapped
+    try:
+        env.reset()
+        robot, physics, model = env.scene["robot"], env.sim.physics, env.sim.model
+        assert float(env.sim.env_origins.abs().max()) == 0.0, "the worlds share the terrain's frame"
+        terrain = target_model(model, find_target_geoms(model, ["/World/ground"], "test"))
+        terrain_data = mujoco.MjData(terrain)
+        mujoco.mj_kinematics(terrain, terrain_data)
+        generator = torch.Generator().manual_seed(1)
+        tiles = env.scene.terrain.terrain_origins[-1]  # the hardest row: one tile per column
+        position = torch.zeros(worlds, 3)
+        for world in range(worlds):
+            angle, radius = 2 * torch.pi * torch.rand(2, generator=generator) * torch.tensor([1.0, 0.35])
+            xy = tiles[(world * 7) % len(tiles), :2] + (0.8 + radius) * torch.stack((angle.cos(), angle.sin()))
+            start, down = np.array([*xy.tolist(), 50.0]), np.array([0.0, 0.0, -1.0])
+            down = mujoco.mj_ray(terrain, terrain_data, start, down, None, 1, -1, np.zeros(1, np.int32))
+            position[world] = torch.tensor([*xy.tolist(), 50.0 - down + 0.3])
+        low, high = robot.data.joint_pos_limits.unbind(-1)
+        default = robot.data.default_joint_pos
+        targets = low + torch.rand(low.shape, generator=generator) * (high - low)
+        targets[::4] = default[::4]
+        # lying: a quarter turn about +y (on the front), -y (back), +x and -x (sides)
+        axes = torch.tensor([[0.0, 1.0, 0.0], [0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [-1.0, 0.0, 0.0]]).repeat(4, 1)
+        half = torch.tensor(torch.pi / 4)
+        quat = torch.cat((torch.cos(half).expand(worlds, 1), torch.sin(half) * axes), dim=-1)
+        robot.write_root_pose_to_sim(torch.cat((position, quat), dim=-1))
+        robot.write_root_velocity_to_sim(torch.zeros(worlds, 6))
+        robot.write_joint_state_to_sim(default, torch.zeros_like(default))
+        peaks = BufferPeaks().watch(physics)
+        for _ in range(round(1.5 / env.physics_dt)):
+            robot.set_joint_position_target(targets)
+            env.scene.write_data_to_sim()
+            env.sim.step(render=False)
+        peaks.unwatch()
+        physics.check_overflow()
+        assert peaks.contacts_per_world >= 15, f"the robots lie on the terrain: {peaks}"
+        assert reserved[0] >= 1.5 * peaks.contacts_per_world, f"{peaks}, nconmax {reserved[0]}"
+        assert reserved[1] >= 1.5 * peaks.constraint_rows, f"{peaks}, njmax {reserved[1]}"
+    finally:
+        env.close()

@@ -91,6 +91,11 @@ class G1RoughEnvCfg(LocomotionVelocityRoughEnvCfg):
         super().__post_init__()
         # no pushes or mass changes, start at rest; forward and turning commands; a fall ends at 70 degrees
         humanoid_rough(self, G1_MOTOR_MODEL_CFG, torso="torso_link")
+        # MuJoCo Warp's buffers per world from the measured worst case, the robot fallen on the hardest
+        # terrains (41 contacts, 166 rows over 320 worlds; tests/test_height_scan_cost.py), 1.5 times over
+        # and up to a multiple of 16: its estimate reserved 256 and 2122 (random actions: 12 and 48)
+        self.sim.mujoco.nconmax = 64
+        self.sim.mujoco.njmax = 256
         # the policy drives and sees the 23 joints that walk, each scaled by its motor (mjlab's rule)
         self.actions.joint_pos.joint_names = list(G1_BODY_JOINTS)
         self.actions.joint_pos.scale = dict(G1_MOTOR_MODEL_ACTION_SCALE)
