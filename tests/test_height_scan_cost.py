@@ -115,3 +115,44 @@ def test_rough_g1_contact_buffers_hold_the_robot_fallen_on_the_hardest_terrains(
         assert reserved[1] >= 1.5 * peaks.constraint_rows, f"{peaks}, njmax {reserved[1]}"
     finally:
         env.close()
+
+
+def test_binned_warp_rays_equal_mujoco_warps_cast_against_every_geom():
+    """On MuJoCo Warp a vertical ray is tested against its xy bin's geoms alone (one height-field tile
+    of the rough terrain instead of all 204 targets): bit for bit the distances and normals of
+    ``mujoco_warp.rays`` against every geom, for rays inside tiles, on the tiles' shared edges (tested
+    against all), off the terrain (a miss) and slanted (tested against all)."""
+    from simlab.sensors.ray_caster.ray_targets import XyBins, _WarpCaster, find_target_geoms, target_model
+    from simlab.terrains import ROUGH_TERRAINS_CFG, TerrainImporterCfg
+
+    @configclass
+    class SceneCfg(InteractiveSceneCfg):
+        terrain = TerrainImporterCfg(
+            prim_path="/World/ground",
+            terrain_type="generator",
+            terrain_generator=ROUGH_TERRAINS_CFG.replace(seed=0, num_rows=4, num_cols=6),
+        )
+
+    sim = sim_utils.SimulationContext(sim_utils.SimulationCfg(dt=0.005, device="cpu", engine="mujoco_warp"))
+    InteractiveScene(SceneCfg(num_envs=1, env_spacing=2.0))
+    sim.reset()
+    model = target_model(sim.model, find_target_geoms(sim.model, ["/World/ground"], "test"))
+    bins = XyBins(model)
+    assert not bins.empty and max(len(ids) for ids in bins.geoms) <= 2, "a tile per bin (and a border box)"
+    generator = torch.Generator().manual_seed(0)
+    n = 3000
+    low = torch.tensor(bins.origin) - 3.0
+    span = torch.tensor(bins.counts) * bins.size + 6.0
+    xy = low + torch.rand(n, 2, generator=generator, dtype=torch.float64) * span
+    edges = torch.randint(0, int(bins.counts[0]) + 1, (500,), generator=generator)
+    xy[:500, 0] = bins.origin[0] + bins.size * edges  # on the cells' edges
+    starts = torch.cat((xy.float(), torch.full((n, 1), 10.0)), dim=1)
+    directions = torch.tensor([0.0, 0.0, -1.0]).repeat(n, 1)
+    directions[-200:] = torch.nn.functional.normalize(torch.tensor([0.3, -0.2, -1.0]), dim=0)
+    binned = _WarpCaster(model, n, sim.physics, "cpu")
+    every_geom = _WarpCaster(model, n, sim.physics, "cpu", binned=False)
+    distance, normal = (t.clone() for t in binned.cast(starts, directions, with_normals=True))
+    expected_distance, expected_normal = every_geom.cast(starts, directions, with_normals=True)
+    assert (expected_distance >= 0).sum() > 2000 and (expected_distance < 0).any(), "hits and misses"
+    assert torch.equal(distance, expected_distance)
+    assert torch.equal(normal, expected_normal)

@@ -158,24 +158,18 @@ def geom_xy_bounds(model: mujoco.MjModel) -> np.ndarray:
     return bounds
 
 
-class _MujocoCaster:
-    """``mj_ray`` on mjbatch's thread pool, testing each ray only against the geoms near it.
-
-    ``mj_ray`` tests a ray against every geom of its model (about 60 ns each, ~0.5 us for a height
-    field the ray comes near), so the targets are also split into square bins on the xy plane, each
-    a small model of the geoms overlapping it (a terrain's tiles: one height field or a few boxes
-    per bin). A ray pointing straight up or down (a height scanner's, in "yaw" or "world"
-    alignment) can only hit geoms over its own xy point, so it is cast in its bin's model alone;
-    any other ray is cast against all the targets.
-    """
+class XyBins:
+    """Square bins on the xy plane, each naming the target geoms that overlap it (a terrain's tiles: one
+    height field or a few boxes per bin). A ray pointing straight up or down (a height scanner's, in
+    "yaw" or "world" alignment) can only hit geoms over its own xy point, so it need only be tested
+    against its bin's geoms. ``geoms`` lists each bin's geom ids, ``table`` each cell's bin (-1: none
+    overlaps it); ``empty`` when the targets are too few for bins to gain anything."""
 
     MAX_BINS = 1024
     MIN_GEOMS = 16  # fewer targets: binning gains nothing
 
-    def __init__(self, model: mujoco.MjModel, num_rays: int, num_threads: int):
-        copies = max(1, min(num_threads, num_rays))  # one per thread: the rays are split over them
-        self.full = _static_batch(model, copies)
-        self.bins: list[Any] = []
+    def __init__(self, model: mujoco.MjModel):
+        self.geoms: list[tuple[int, ...]] = []
         bounds = geom_xy_bounds(model)
         finite = np.isfinite(bounds).all(axis=1)
         if finite.sum() < self.MIN_GEOMS:
@@ -189,22 +183,44 @@ class _MujocoCaster:
             if counts.prod() <= self.MAX_BINS:
                 break
             size *= 1.5
-        tol = 1e-6 * size
+        self.tol = 1e-6 * size
         models: dict[tuple[int, ...], int] = {}
         table = np.full(counts.prod(), -1, dtype=np.int64)
         for i in range(counts[0]):
             for j in range(counts[1]):
                 bin_lo = origin + size * np.array([i, j])
                 bin_hi = bin_lo + size
-                inside = (bounds[:, 2] > bin_lo[0] + tol) & (bounds[:, 0] < bin_hi[0] - tol)
-                inside &= (bounds[:, 3] > bin_lo[1] + tol) & (bounds[:, 1] < bin_hi[1] - tol)
+                inside = (bounds[:, 2] > bin_lo[0] + self.tol) & (bounds[:, 0] < bin_hi[0] - self.tol)
+                inside &= (bounds[:, 3] > bin_lo[1] + self.tol) & (bounds[:, 1] < bin_hi[1] - self.tol)
                 ids = tuple(np.flatnonzero(inside).tolist())
                 if ids and ids not in models:
-                    models[ids] = len(self.bins)
-                    self.bins.append(_static_batch(target_model(model, list(ids)), copies))
+                    models[ids] = len(self.geoms)
+                    self.geoms.append(ids)
                 table[i * counts[1] + j] = models.get(ids, -1)
-        self.origin, self.size, self.counts = torch.tensor(origin), size, torch.tensor(counts)
-        self.table = torch.from_numpy(table)
+        self.origin, self.size, self.counts, self.table = origin, size, counts, table
+
+    @property
+    def empty(self) -> bool:
+        return not self.geoms
+
+
+class _MujocoCaster:
+    """``mj_ray`` on mjbatch's thread pool, testing each ray only against the geoms near it.
+
+    ``mj_ray`` tests a ray against every geom of its model (about 60 ns each, ~0.5 us for a height
+    field the ray comes near), so each of the :class:`XyBins` gets a small model of its own geoms; a
+    vertical ray is cast in its bin's model alone, any other ray against all the targets.
+    """
+
+    def __init__(self, model: mujoco.MjModel, num_rays: int, num_threads: int):
+        copies = max(1, min(num_threads, num_rays))  # one per thread: the rays are split over them
+        self.full = _static_batch(model, copies)
+        bins = XyBins(model)
+        self.bins: list[Any] = [_static_batch(target_model(model, list(ids)), copies) for ids in bins.geoms]
+        if bins.empty:
+            return
+        self.origin, self.size, self.counts = torch.tensor(bins.origin), bins.size, torch.tensor(bins.counts)
+        self.table = torch.from_numpy(bins.table)
 
     def cast(self, starts: torch.Tensor, directions: torch.Tensor, with_normals: bool = False) -> Any:
         if not self.bins:
@@ -231,10 +247,11 @@ class _MujocoCaster:
 
 
 class _WarpCaster:
-    """``mujoco_warp.rays`` over one world of the target model, all rays in one launch, recorded
-    into the env step's CUDA graph like the physics (through the backend's ``run_warp``)."""
+    """All rays in one launch, recorded into the env step's CUDA graph like the physics (through the
+    backend's ``run_warp``): with :class:`XyBins`, each vertical ray tested against its bin's geoms
+    (``warp_binned_rays``), else ``mujoco_warp.rays`` over one world of the target model."""
 
-    def __init__(self, model: mujoco.MjModel, num_rays: int, physics: Any, device: str):
+    def __init__(self, model: mujoco.MjModel, num_rays: int, physics: Any, device: str, binned: bool = True):
         from simlab.sim.backends.cuda import require_cuda_backend
 
         wp, mjw = require_cuda_backend(device)
@@ -264,9 +281,20 @@ class _WarpCaster:
             wp.from_torch(self._normal, dtype=wp.vec3),
         )
         self._key = ("simlab_rays", id(self))
+        bins = XyBins(model)
+        self._binned = None
+        if binned and not bins.empty:
+            from .warp_binned_rays import BinnedRays
+
+            self._binned = BinnedRays(model, bins, device)
+            self._binned_args = [wp.from_torch(t[0], dtype=wp.vec3) for t in (self._pnt, self._vec)]
+            self._binned_args += [wp.from_torch(self._dist[0]), wp.from_torch(self._normal[0], dtype=wp.vec3)]
 
     def cast(self, starts: torch.Tensor, directions: torch.Tensor, with_normals: bool = False) -> Any:
         self._pnt[0].copy_(starts)
         self._vec[0].copy_(directions)
-        self._physics.run_warp(self._key, lambda: self._mjw.rays(self._m, self._d, *self._args))
+        if self._binned is not None:
+            self._physics.run_warp(self._key, lambda: self._binned.launch(*self._binned_args))
+        else:
+            self._physics.run_warp(self._key, lambda: self._mjw.rays(self._m, self._d, *self._args))
         return (self._dist[0], self._normal[0]) if with_normals else self._dist[0]
