@@ -13,6 +13,7 @@ from simlab.actuators import DCMotorCfg, DelayedPDActuatorCfg, IdealPDActuatorCf
 from simlab.assets import AssetBaseCfg
 from simlab.envs import ManagerBasedRLEnv
 from simlab.managers import ObservationGroupCfg, ObservationTermCfg
+from simlab.robots.anymal import ANYDRIVE_3_LSTM_ACTUATOR_CFG
 from simlab.robots.unitree import UNITREE_GO2_CFG
 from simlab.scene import InteractiveScene, InteractiveSceneCfg
 from simlab.sensors import RayCasterCfg, patterns
@@ -45,8 +46,8 @@ def test_go2_flat_step_stays_within_its_kernel_budget():
     """The Go2 flat env step outside the physics (GPU backend counted on the CPU, docs/locomotion.md):
     687 torch kernels and a forward (115 MuJoCo Warp launches) before issue 12's cuts, 395 torch
     kernels and no forward after; with the CPU backend this test uses, 404 when written, 410 later, 419
-    since the divergence guard's restart also clears each restarted world's derived state, 392 after
-    issue 41's actuator and contact sensor cuts (the DC motor 60 -> 40, the contact update 48 -> 44)."""
+    since the divergence guard's restart also clears each restarted world's derived state, 388 after
+    issue 41's actuator and contact sensor cuts (the DC motor 60 -> 36, the contact update 48 -> 44)."""
     script = load_counter_script()
     env = script.make_env("simlab/Velocity-Flat-Unitree-Go2-v0", num_envs=4, seed=0, engine="mujoco")
     forwards = []
@@ -65,7 +66,7 @@ def test_go2_flat_step_stays_within_its_kernel_budget():
     env.close()
     assert forwards == [], "no term of the flat task reads a quantity that needs a forward after the physics"
     outside = sum(n for label, n in counter.torch_ops.items() if label != "physics")
-    assert outside <= 395, f"{outside} torch kernels per step outside the physics:\n{script.report(counter, 1, 3)}"
+    assert outside <= 390, f"{outside} torch kernels per step outside the physics:\n{script.report(counter, 1, 3)}"
     assert counter.torch_ops["observations (manager)"] <= 10, "noise of the policy group in a few column ops"
 
 
@@ -105,19 +106,21 @@ def _explicit_model_cfgs():
     common = {"joint_names_expr": [".*"], "stiffness": 20.0, "damping": 0.5}
     return [
         (IdealPDActuatorCfg(**common, effort_limit=5.0), 5),
-        (DCMotorCfg(**common, effort_limit=5.0, saturation_effort=8.0, velocity_limit=10.0), 10),
+        (DCMotorCfg(**common, effort_limit=5.0, saturation_effort=8.0, velocity_limit=10.0), 9),
         (DelayedPDActuatorCfg(**common, effort_limit=5.0, min_delay=0, max_delay=2), 10),
         (RemotizedPDActuatorCfg(**common, joint_parameter_lookup=table, min_delay=0, max_delay=2), 15),
+        (ANYDRIVE_3_LSTM_ACTUATOR_CFG.replace(joint_names_expr=[".*"]), 12),  # ANYmal-B/D's network
     ]
 
 
 @pytest.mark.parametrize("cfg, budget", _explicit_model_cfgs(), ids=lambda v: getattr(v, "__name__", None))
 def test_explicit_actuator_models_compute_in_few_kernels(cfg, budget):
     """Kernels one ``compute`` launches (every physics step). Before issue 41's cuts: ideal PD 7, DC motor
-    15, delayed PD 16, remotized PD 21. The values stay bit for bit (with no feed-forward torque): a
-    fused (intercept, slope) table or the DC motor's slope made once would save a kernel each but round
-    otherwise, and a rollout then drifts apart (the remotized search also needs a contiguous input:
-    the clamp into the table's range gives it one, else the search copies it in a hidden kernel)."""
+    15, delayed PD 16, remotized PD 21, the LSTM actuator network 19. The values stay bit for bit (with no
+    feed-forward torque): a fused (intercept, slope) table or the DC motor's slope made once would save
+    a kernel each but round otherwise, and a rollout then drifts apart (the remotized search also needs
+    a contiguous input: the clamp into the table's range gives it one, else the search copies it in a
+    hidden kernel)."""
     script = load_counter_script()
     actuator = cfg.class_type(cfg, joint_names=["a", "b"], joint_ids=[0, 1], num_envs=4, device="cpu")
     targets = ArticulationActions(torch.rand(4, 2), torch.rand(4, 2), torch.rand(4, 2), slice(None))

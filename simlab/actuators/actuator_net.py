@@ -198,7 +198,7 @@ class ActuatorNetMLP(DCMotor):
         ):
             history.copy_(history.roll(1, dims=1))
             history[:, 0] = newest
-        self._joint_vel.copy_(joint_vel)  # where the DC motor's limits are read
+        self._record_speed(joint_vel)  # where the DC motor's limits are read
         rows = self.num_envs * self.num_joints
         pos = self._pick(self._joint_pos_error_history, rows) * self.cfg.pos_scale
         vel = self._pick(self._joint_vel_history, rows) * self.cfg.vel_scale
@@ -245,9 +245,10 @@ class ActuatorNetLSTM(DCMotor):
         self.state.reset(mask)  # zeros: no draw
 
     def compute(self, control_action, joint_pos, joint_vel):
-        self.sea_input[:, 0, 0] = (control_action.joint_positions - joint_pos).flatten()
-        self.sea_input[:, 0, 1] = joint_vel.flatten()
-        self._joint_vel.copy_(joint_vel)
+        # (position error, velocity) of each env and joint written in one kernel, rows env-major
+        error = control_action.joint_positions - joint_pos
+        torch.stack((error, joint_vel), dim=-1, out=self.sea_input.view(self.num_envs, self.num_joints, 2))
+        self._record_speed(joint_vel)
         with torch.no_grad():
             torques, (hidden, cell) = self.network(self.sea_input, (self.sea_hidden_state, self.sea_cell_state))
         self.sea_hidden_state.copy_(hidden)

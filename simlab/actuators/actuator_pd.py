@@ -205,11 +205,12 @@ class DCMotor(IdealPDActuator):
         if not torch.isfinite(self.velocity_limit).all():
             raise ValueError(f"DCMotorCfg for {joint_names} needs a finite velocity_limit (the no-load speed)")
         self._joint_vel = torch.zeros_like(self.computed_effort)
-        """The joint velocities of the last ``compute``: where the torque-speed lines are read."""
+        """The joint velocities of the last ``compute``, clipped to the corner speed: where the
+        torque-speed lines are read (kept in the clip's one kernel, not copied first)."""
         self._vel_at_effort_lim = self.velocity_limit * (1 + self.effort_limit / self._saturation_effort)
         """The corner speed: where the torque-speed line meets the effort limit of the other sign."""
-        # made once, so that the clip takes five kernels (it runs every physics step): the corner speed's
-        # negative and the two lines' torques at zero speed
+        # made once, so that the clip takes four kernels after the speed's (it runs every physics step):
+        # the corner speed's negative and the two lines' torques at zero speed
         self._neg_vel_at_effort_lim = -self._vel_at_effort_lim
         self._saturation_pair = torch.tensor([1.0, -1.0], device=device) * self._saturation_effort
 
@@ -218,8 +219,12 @@ class DCMotor(IdealPDActuator):
         masked_copy_(self._joint_vel, mask, 0.0)
 
     def compute(self, control_action, joint_pos, joint_vel):
-        self._joint_vel.copy_(joint_vel)
+        self._record_speed(joint_vel)
         return super().compute(control_action, joint_pos, joint_vel)
+
+    def _record_speed(self, joint_vel: torch.Tensor) -> None:
+        """Keep where the torque-speed lines are read: ``joint_vel`` clipped to the corner speed."""
+        torch.clamp(joint_vel, min=self._neg_vel_at_effort_lim, max=self._vel_at_effort_lim, out=self._joint_vel)
 
     def _clip_effort(self, effort: torch.Tensor, out: torch.Tensor | None = None) -> torch.Tensor:
         # The torque-speed lines bound the torque in all four quadrants: beyond the no-load speed the
@@ -228,8 +233,7 @@ class DCMotor(IdealPDActuator):
         # Both lines, +-tau_sat - tau_sat qd / qd_max, in one (N, J, 2) kernel, then both within the
         # effort limits (below the corner speed the upper line never falls under -limit, nor the lower
         # one over +limit, so this is the minimum with +limit and the maximum with -limit).
-        speed = torch.clamp(self._joint_vel, min=self._neg_vel_at_effort_lim, max=self._vel_at_effort_lim)
-        speed_ratio = speed / self.velocity_limit
+        speed_ratio = self._joint_vel / self.velocity_limit
         bounds = torch.add(self._saturation_pair, speed_ratio.unsqueeze(-1), alpha=-self._saturation_effort)
         bounds.clamp_(min=self._neg_effort_limit.unsqueeze(-1), max=self.effort_limit.unsqueeze(-1))
         return torch.clamp(effort, min=bounds[..., 1], max=bounds[..., 0], out=out)
