@@ -62,7 +62,7 @@ def air_time_reward(
     air = data.current_air_time[:, sensor_cfg.body_ids]
     contact = data.current_contact_time[:, sensor_cfg.body_ids]
     longest = torch.maximum(air, contact)
-    stepping = torch.where(longest < mode_time, longest.clamp(max=mode_time), torch.zeros_like(longest))
+    stepping = torch.where(longest < mode_time, longest, 0.0)  # Isaac Lab's clamp(max=mode_time) keeps it as is
     standing = (contact - air).clamp(-mode_time, mode_time)
     moving = _moving(env, asset_cfg, velocity_threshold).unsqueeze(1)
     return torch.where(moving, stepping, standing).sum(dim=1)
