@@ -91,7 +91,8 @@ def main(argv: list[str] | None = None) -> None:
             synchronize()
             times[name].append((time.perf_counter() - start) / args.casts * 1e3)
     rays = args.num_envs * sensor.num_rays
-    where = f"{sim.physics.num_threads} threads" if args.device == "cpu" else args.device
+    threads = getattr(sim.physics, "num_threads", None)  # MuJoCo C's pool; MuJoCo Warp has none
+    where = f"{threads} threads" if threads else f"MuJoCo Warp on {args.device}"
     print(f"{args.num_envs} envs, {rays} rays, {where}")
     for name, ms in times.items():
         print(f"  {name:24s} {statistics.median(ms):8.2f} ms (rounds {[round(t, 2) for t in ms]})")
