@@ -156,3 +156,16 @@ def test_binned_warp_rays_equal_mujoco_warps_cast_against_every_geom():
     assert (expected_distance >= 0).sum() > 2000 and (expected_distance < 0).any(), "hits and misses"
     assert torch.equal(distance, expected_distance)
     assert torch.equal(normal, expected_normal)
+
+
+def test_rough_g1_step_launches_no_forward_outside_the_physics():
+    """The rough G1 env step on the GPU backend (Warp's CPU device, ``simlab bench ops step``): outside
+    the physics only the kinematics pass launches Warp kernels (22 per pass, before and after the
+    resets); 285 when the height scan ran a forward (262)."""
+    from simlab.benchmarks import step_ops
+
+    counter = step_ops.count("simlab/Velocity-Rough-G1-v0", num_envs=2, steps=1)
+    report = step_ops.report(counter, 1)
+    outside = sum(n for label, n in counter.warp_launches.items() if label != "physics")
+    assert not any("forward" in label for label in counter.warp_launches), report
+    assert outside <= 45, f"{outside} Warp launches per step outside the physics:\n{report}"
