@@ -143,6 +143,23 @@ def test_delay_buffer_rejects_bad_lags_without_changing_anything():
         DelayBuffer(3, 4, "cpu", hold_prob=1.5)
 
 
+def test_delay_buffer_joins_a_frame_given_as_parts():
+    """A frame given as 2-D parts (an actuator's position, velocity and effort targets) is their
+    concatenation, joined in the kernel that shifts the history: the same lags as a joined frame."""
+    parts, joined = DelayBuffer(3, 4, "cpu"), DelayBuffer(3, 4, "cpu")
+    for buf in (parts, joined):
+        buf.set_time_lag(torch.tensor([0, 1, 2, 3]))
+    wide = torch.arange(4 * 5, dtype=torch.float32).view(4, 5)
+    for k in range(6):
+        a, b = wide[:, 1:3] + k, wide[:, 3:] * -k  # column views, as an actuator's targets are
+        assert torch.equal(parts.compute((a, b)), joined.compute(torch.cat((a, b), dim=1)))
+        assert torch.equal(
+            parts.compute((a, b), update_history=False), joined.compute(torch.cat((a, b), 1), update_history=False)
+        )
+    with pytest.raises(ValueError, match="2-D"):
+        parts.compute((torch.zeros(4, 2, 1), torch.zeros(4, 2)))
+
+
 def test_delay_buffer_output_is_a_copy():
     buf = DelayBuffer(2, 2, "cpu")
     buf.set_time_lag(1)

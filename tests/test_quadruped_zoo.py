@@ -335,6 +335,24 @@ def test_spot_gait_reward_pays_a_trot_and_not_a_pronk():
         spot_mdp.GaitReward(RewardTermCfg(func=spot_mdp.GaitReward, weight=1.0, params=bad), env)
 
 
+def test_spots_two_actuator_models_reach_mujocos_ctrl_in_one_write():
+    """Spot's hips (delayed PD) and knees (remotized PD) clip into one buffer, written to MuJoCo's ctrl in
+    one kernel (issue 41): each joint's ctrl is its own model's torque, in the model's joint order."""
+    sim, scene = robot_scene(spot.SPOT_CFG, num_envs=3)
+    robot = scene["robot"]
+    generator = torch.Generator().manual_seed(0)
+    targets = robot.data.default_joint_pos + 0.5 * torch.randn(robot.data.default_joint_pos.shape, generator=generator)
+    robot.set_joint_position_target(targets)
+    robot.write_data_to_sim()
+    ctrl = sim.physics.data("ctrl")
+    for name, actuator in robot.actuators.items():
+        columns = [sim.model.actuator(f"{robot.prefix}{joint}").id for joint in actuator.joint_names]
+        assert torch.any(actuator.applied_effort != 0.0), name
+        assert torch.equal(ctrl[:, columns], actuator.applied_effort), name
+    hips, knees = robot.actuators["spot_hip"], robot.actuators["spot_knee"]
+    assert hips.applied_effort.untyped_storage().data_ptr() == knees.applied_effort.untyped_storage().data_ptr()
+
+
 def test_spot_gait_reward_is_the_product_over_pairs_of_isaac_labs_kernel():
     """The six pairs in one gather (issue 41: 74 -> 16 kernels a step) pay what Isaac Lab's loop over the
     pairs pays: exp(-(min(x^2, e^2) + min(y^2, e^2)) / std) multiplied over them (the product's order
