@@ -14,7 +14,7 @@ from simlab.assets import AssetBaseCfg
 from simlab.envs import ManagerBasedRLEnv
 from simlab.managers import ObservationGroupCfg, ObservationTermCfg
 from simlab.robots.anymal import ANYDRIVE_3_LSTM_ACTUATOR_CFG
-from simlab.robots.unitree import UNITREE_GO2_CFG
+from simlab.robots.unitree import GO1_ACTUATOR_CFG, UNITREE_GO2_CFG
 from simlab.scene import InteractiveScene, InteractiveSceneCfg
 from simlab.sensors import RayCasterCfg, patterns
 from simlab.tasks.manager_based.classic.cartpole.cartpole_env_cfg import CartpoleEnvCfg
@@ -110,17 +110,18 @@ def _explicit_model_cfgs():
         (DelayedPDActuatorCfg(**common, effort_limit=5.0, min_delay=0, max_delay=2), 10),
         (RemotizedPDActuatorCfg(**common, joint_parameter_lookup=table, min_delay=0, max_delay=2), 15),
         (ANYDRIVE_3_LSTM_ACTUATOR_CFG.replace(joint_names_expr=[".*"]), 12),  # ANYmal-B/D's network
+        (GO1_ACTUATOR_CFG.replace(joint_names_expr=[".*"]), 21),  # the Go1's MLP network
     ]
 
 
 @pytest.mark.parametrize("cfg, budget", _explicit_model_cfgs(), ids=lambda v: getattr(v, "__name__", None))
 def test_explicit_actuator_models_compute_in_few_kernels(cfg, budget):
     """Kernels one ``compute`` launches (every physics step). Before issue 41's cuts: ideal PD 7, DC motor
-    15, delayed PD 16, remotized PD 21, the LSTM actuator network 19. The values stay bit for bit (with no
-    feed-forward torque): a fused (intercept, slope) table or the DC motor's slope made once would save
-    a kernel each but round otherwise, and a rollout then drifts apart (the remotized search also needs
-    a contiguous input: the clamp into the table's range gives it one, else the search copies it in a
-    hidden kernel)."""
+    15, delayed PD 16, remotized PD 21, the LSTM actuator network 19, the MLP one 34. The values stay bit
+    for bit (with no feed-forward torque): a fused (intercept, slope) table or the DC motor's slope made
+    once would save a kernel each but round otherwise, and a rollout then drifts apart (the remotized
+    search also needs a contiguous input: the clamp into the table's range gives it one, else the
+    search copies it in a hidden kernel)."""
     script = load_counter_script()
     actuator = cfg.class_type(cfg, joint_names=["a", "b"], joint_ids=[0, 1], num_envs=4, device="cpu")
     targets = ArticulationActions(torch.rand(4, 2), torch.rand(4, 2), torch.rand(4, 2), slice(None))

@@ -179,10 +179,18 @@ class ActuatorNetMLP(DCMotor):
                 f" {2 * len(input_idx)} (a position error and a velocity per history step)."
             )
         self._input_idx = torch.tensor(input_idx, dtype=torch.long, device=device)
-        history = (max(input_idx) + 1, self.num_joints)
+        # Both histories in one buffer, newest step first, (envs, steps, 2, joints), the two kinds in the
+        # network's input order: recording a step is one concatenation and one copy, and the inputs are
+        # one gather, one reshape and one scale (this runs every physics step). Isaac Lab's two
+        # histories are views of it.
+        self._pos_first = cfg.input_order == "pos_vel"
         self.state = PerEnvState(num_envs, device)
-        self._joint_pos_error_history = self.state.zeros("joint_pos_error_history", history)
-        self._joint_vel_history = self.state.zeros("joint_vel_history", history)
+        self._history = self.state.zeros("history", (max(input_idx) + 1, 2, self.num_joints))
+        pos, vel = (0, 1) if self._pos_first else (1, 0)  # the channel of each kind
+        self._joint_pos_error_history = self._history[:, :, pos]
+        self._joint_vel_history = self._history[:, :, vel]
+        scales = (cfg.pos_scale, cfg.vel_scale) if self._pos_first else (cfg.vel_scale, cfg.pos_scale)
+        self._input_scale = torch.tensor(scales, device=device).repeat_interleave(len(input_idx))  # (2 K,)
 
     def reset(self, env_ids) -> None:
         self.state.reset(env_mask(env_ids, self.num_envs, self.device))
@@ -192,26 +200,19 @@ class ActuatorNetMLP(DCMotor):
         self.state.reset(mask)  # zeros: no draw
 
     def compute(self, control_action, joint_pos, joint_vel):
-        for history, newest in (
-            (self._joint_pos_error_history, control_action.joint_positions - joint_pos),
-            (self._joint_vel_history, joint_vel),
-        ):
-            history.copy_(history.roll(1, dims=1))
-            history[:, 0] = newest
+        error = control_action.joint_positions - joint_pos
+        newest = (error, joint_vel) if self._pos_first else (joint_vel, error)
+        flat = self._history.view(self.num_envs, -1)  # each env's steps, newest first
+        flat.copy_(torch.cat((*newest, flat[:, : flat.shape[1] - 2 * self.num_joints]), dim=1))
         self._record_speed(joint_vel)  # where the DC motor's limits are read
-        rows = self.num_envs * self.num_joints
-        pos = self._pick(self._joint_pos_error_history, rows) * self.cfg.pos_scale
-        vel = self._pick(self._joint_vel_history, rows) * self.cfg.vel_scale
-        inputs = torch.cat((pos, vel) if self.cfg.input_order == "pos_vel" else (vel, pos), dim=1)
+        # (envs * joints, 2 K): each joint's first kind at the steps input_idx back, then its second kind
+        picked = self._history.index_select(1, self._input_idx).permute(0, 3, 2, 1)
+        inputs = picked.reshape(self.num_envs * self.num_joints, -1) * self._input_scale
         with torch.no_grad():
             torques = self.network(inputs)
         torch.mul(torques.view(self.num_envs, self.num_joints), self.cfg.torque_scale, out=self.computed_effort)
         self._clip_effort(self.computed_effort, out=self.applied_effort)
         return ArticulationActions(joint_efforts=self.applied_effort, joint_indices=control_action.joint_indices)
-
-    def _pick(self, history: torch.Tensor, rows: int) -> torch.Tensor:
-        """The steps ``input_idx`` of ``history`` (envs, steps, joints) as (envs * joints, len(input_idx))."""
-        return history.index_select(1, self._input_idx).transpose(1, 2).reshape(rows, -1)
 
 
 class ActuatorNetLSTM(DCMotor):
