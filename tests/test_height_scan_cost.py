@@ -1,9 +1,10 @@
-"""What a height scan costs per env step: the pose it needs, how often it casts, and the rough G1's
-contact buffers on the terrain it scans (issue 39)."""
+"""What a height scan costs per env step (the pose it needs, the geoms each ray is tested against), the
+rough G1 step's launches, and the rough humanoids' contact buffers on the terrain they scan (issue 39)."""
 
 from __future__ import annotations
 
 import numpy as np
+import pytest
 import torch
 
 import simlab.sim as sim_utils
@@ -53,15 +54,17 @@ def test_height_scanner_on_a_child_body_needs_the_kinematics_not_a_forward():
     torch.testing.assert_close(scanner.data.ray_hits_w, hits)
 
 
-def test_rough_g1_contact_buffers_hold_the_robot_fallen_on_the_hardest_terrains():
-    """The rough G1 reserves MuJoCo Warp buffers from measured peaks (``sim.mujoco.nconmax`` / ``njmax``
-    per world; MuJoCo Warp's estimate reserved 256 contacts and 2122 rows, which its constraint kernels
-    and memory pay for in every world). The worst case is the robot lying on the terrain: 16 worlds
-    drop it 0.3 m onto its front, back or sides at random points of the hardest row's tiles (stairs up
-    and down, boxes, roughness, slopes), three in four driven to random points of their joint ranges,
-    for 1.5 s on MuJoCo Warp (Warp's CPU device). The reserved sizes hold 1.5 times the peaks and
-    nothing overflows. Peaks of such runs over 320 worlds: 41 contacts, 166 rows (MuJoCo C's own
-    height-field collision gives more, 52 and 213 in 24 worlds, but MuJoCo C grows its buffers)."""
+@pytest.mark.parametrize("robot", ["G1", "H1"])
+def test_rough_humanoid_contact_buffers_hold_the_robot_fallen_on_the_hardest_terrains(robot):
+    """The rough G1 and H1 reserve MuJoCo Warp buffers from measured peaks (``sim.mujoco.nconmax`` /
+    ``njmax`` per world; MuJoCo Warp's estimate reserved 256 contacts and 2122 rows for the G1, 192 and
+    1574 for the H1, which its constraint kernels and memory pay for in every world). The worst case is
+    the robot lying on the terrain: 16 worlds drop it 0.3 m onto its front, back or sides at random
+    points of the hardest row's tiles (stairs up and down, boxes, roughness, slopes), three in four
+    driven to random points of their joint ranges, for 1.5 s on MuJoCo Warp (Warp's CPU device). The
+    reserved sizes hold 1.5 times the peaks and nothing overflows. Peaks of such runs over 320 worlds:
+    G1 41 contacts, 166 rows; H1 33 and 132 (MuJoCo C's own height-field collision gives more, for the
+    G1 52 and 213 in 24 worlds, but MuJoCo C grows its buffers)."""
     import gymnasium as gym
     import mujoco
 
@@ -70,7 +73,7 @@ def test_rough_g1_contact_buffers_hold_the_robot_fallen_on_the_hardest_terrains(
     from simlab.sim.backends.buffer_peaks import BufferPeaks
     from simlab.tasks.utils.parse_cfg import parse_env_cfg
 
-    task, worlds = "simlab/Velocity-Rough-G1-v0", 16
+    task, worlds = f"simlab/Velocity-Rough-{robot}-v0", 16
     cfg = parse_env_cfg(task, device="cpu", num_envs=worlds)
     reserved = (cfg.sim.mujoco.nconmax, cfg.sim.mujoco.njmax)
     cfg.sim.engine, cfg.sim.use_cuda_graph, cfg.seed = "mujoco_warp", False, 0

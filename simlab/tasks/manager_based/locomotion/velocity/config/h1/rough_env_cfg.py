@@ -79,6 +79,11 @@ class H1RoughEnvCfg(LocomotionVelocityRoughEnvCfg):
         super().__post_init__()
         # no pushes or mass changes, start at rest; forward and turning commands; a fall ends at 70 degrees
         humanoid_rough(self, H1_MINIMAL_CFG, torso=".*torso_link")
+        # MuJoCo Warp's buffers per world from the measured worst case, the robot fallen on the hardest
+        # terrains (33 contacts, 132 rows over 320 worlds; tests/test_height_scan_cost.py), 1.5 times over
+        # and up to a multiple of 16: its estimate reserved 192 and 1574 (random actions: 15 and 60)
+        self.sim.mujoco.nconmax = 64
+        self.sim.mujoco.njmax = 208
         self.rewards.dof_torques_l2.weight = 0.0
 
 
