@@ -172,3 +172,42 @@ def test_rough_g1_step_launches_no_forward_outside_the_physics():
     outside = sum(n for label, n in counter.warp_launches.items() if label != "physics")
     assert not any("forward" in label for label in counter.warp_launches), report
     assert outside <= 45, f"{outside} Warp launches per step outside the physics:\n{report}"
+
+
+def test_ray_caster_camera_on_a_body_needs_the_kinematics_not_a_forward():
+    """As the height scanner: a ray-caster camera riding on a robot's body reads the body's pose from the
+    kinematics pass on MuJoCo Warp, not a forward; the same image as after a forward."""
+    from simlab.sensors import RayCasterCameraCfg
+
+    @configclass
+    class SceneCfg(InteractiveSceneCfg):
+        ground = AssetBaseCfg(prim_path="/World/ground", spawn=sim_utils.GroundPlaneCfg())
+        robot = UNITREE_GO2_CFG.replace(prim_path="{ENV_REGEX_NS}/Robot")
+        camera = RayCasterCameraCfg(
+            prim_path="{ENV_REGEX_NS}/Robot/FL_thigh",
+            mesh_prim_paths=["/World/ground"],
+            offset=RayCasterCameraCfg.OffsetCfg(pos=(0.0, 0.0, 1.0), rot=(0.0, 1.0, 0.0, 0.0)),
+            data_types=["distance_to_image_plane"],
+            pattern_cfg=patterns.PinholeCameraPatternCfg(width=8, height=6),
+        )
+
+    sim = sim_utils.SimulationContext(sim_utils.SimulationCfg(dt=0.005, device="cpu", engine="mujoco_warp"))
+    scene = InteractiveScene(SceneCfg(num_envs=2, env_spacing=2.0))
+    sim.reset()
+    physics, robot, camera = sim.physics, scene["robot"], scene["camera"]
+    forwards = []
+    original = physics.forward
+    physics.forward = lambda *args, **kwargs: forwards.append(1) or original(*args, **kwargs)
+    for _ in range(3):
+        robot.set_joint_position_target(robot.data.default_joint_pos + 0.2)
+        scene.write_data_to_sim()
+        sim.step()
+        scene.update(sim.get_physics_dt())
+    assert physics.is_stale
+    forwards.clear()
+    depth = camera.data.output["distance_to_image_plane"].clone()
+    assert forwards == [], "the camera ran a forward"
+    assert torch.isfinite(depth).all() and (depth > 0.5).all(), "the ground seen from above the thigh"
+    sim.forward()
+    camera.update(0.0, force_recompute=True)
+    torch.testing.assert_close(camera.data.output["distance_to_image_plane"], depth)

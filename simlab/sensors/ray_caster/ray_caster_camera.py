@@ -199,7 +199,7 @@ class RayCasterCamera(RayCaster):
         origins = self._sim.env_origins
         if self._body_id is None:  # Xform groups: at their translations (the env origins), unturned
             return origins.clone(), self._identity.clone()
-        self._sim.physics.ensure_forward()
+        self._sim.physics.ensure_kinematics()  # body poses only: no collision or constraint solve
         return self._xpos[:, self._body_id] + origins, self._xquat[:, self._body_id].clone()
 
     def _update_poses(self) -> tuple[torch.Tensor, torch.Tensor]:
