@@ -6,7 +6,7 @@ At a reset the episode sums of the resetting envs are logged as ``Episode_Reward
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Hashable, Sequence
 from typing import TYPE_CHECKING
 
 import torch
@@ -33,6 +33,7 @@ class RewardManager(ManagerBase):
         self._step_reward = torch.zeros(self.num_envs, n, device=self.device)
         """(num_envs, num_terms) ``weight * term`` of the last step (per second, before ``dt``)."""
         self._zeros = torch.zeros(self.num_envs, device=self.device)
+        self._shared: dict[Hashable, torch.Tensor] | None = None  # a dict while ``compute`` runs
 
     def __str__(self) -> str:
         rows = [(i, name, float(cfg.weight)) for i, (name, cfg) in enumerate(self._terms)]
@@ -69,16 +70,33 @@ class RewardManager(ManagerBase):
         """The (num_envs,) reward of this env step."""
         if not self._terms:
             return self._reward_buf
-        values = [
-            self._zeros if cfg.weight == 0.0 else self._column(cfg.func(self._env, **cfg.params))
-            for _, cfg in self._terms
-        ]
+        self._shared = {}
+        try:
+            values = [
+                self._zeros if cfg.weight == 0.0 else self._column(cfg.func(self._env, **cfg.params))
+                for _, cfg in self._terms
+            ]
+        finally:
+            self._shared = None
         # Weights are refreshed from the term configs every step (curricula may change them); the
         # copy goes through a host buffer so a captured step reads the current values on replay.
         torch.mul(torch.stack(values, dim=1), self._current_weights(), out=self._step_reward)
         self._episode_sums.add_(self._step_reward, alpha=dt)
         torch.sum(self._step_reward, dim=1, out=self._reward_buf).mul_(dt)
         return self._reward_buf
+
+    def shared(self, key: Hashable, compute: Callable[[], torch.Tensor]) -> torch.Tensor:
+        """``compute()`` once per ``compute`` of the rewards for ``key``: a quantity several terms read
+        (whether an env is commanded or moving, the feet's speeds) costs its kernels once a step. The
+        state and the commands do not change while the terms run; outside ``compute`` it is computed
+        anew. Terms read the tensor and do not write into it. (Python's dict: a captured step records
+        one computation.)"""
+        if self._shared is None:
+            return compute()
+        value = self._shared.get(key)
+        if value is None:
+            value = self._shared[key] = compute()
+        return value
 
     def _column(self, value) -> torch.Tensor:
         """A term's (num_envs,) values; a number (or 0-d tensor) counts for every env."""

@@ -4,6 +4,7 @@ current and last air/contact times of the feet."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 import torch
@@ -32,11 +33,34 @@ __all__ = [
 ]
 
 
+def _per_step(env: ManagerBasedRLEnv, key: tuple, compute: Callable[[], torch.Tensor]) -> torch.Tensor:
+    """``compute()`` once per reward computation (``RewardManager.shared``): several terms read it."""
+    manager = getattr(env, "reward_manager", None)
+    return compute() if manager is None else manager.shared(key, compute)
+
+
 def _moving(env: ManagerBasedRLEnv, asset_cfg: SceneEntityCfg, velocity_threshold: float) -> torch.Tensor:
     """Envs asked to move (any nonzero command) or moving faster than ``velocity_threshold`` in the plane."""
-    command = torch.linalg.norm(env.command_manager.get_command("base_velocity"), dim=1)
-    speed = torch.linalg.norm(env.scene[asset_cfg.name].data.root_lin_vel_b[:, :2], dim=1)
-    return (command > 0.0) | (speed > velocity_threshold)
+
+    def moving() -> torch.Tensor:
+        command = torch.linalg.norm(env.command_manager.get_command("base_velocity"), dim=1)
+        speed = torch.linalg.norm(env.scene[asset_cfg.name].data.root_lin_vel_b[:, :2], dim=1)
+        return (command > 0.0) | (speed > velocity_threshold)
+
+    return _per_step(env, ("spot_moving", asset_cfg.name, velocity_threshold), moving)
+
+
+def _planar_speed(env: ManagerBasedRLEnv, asset_cfg: SceneEntityCfg) -> torch.Tensor:
+    """(envs, bodies) world-frame xy speed of ``asset_cfg``'s bodies (the feet: clearance and slip)."""
+
+    def speed() -> torch.Tensor:
+        velocity = env.scene[asset_cfg.name].data.body_lin_vel_w[:, asset_cfg.body_ids, :2]
+        return torch.linalg.norm(velocity, dim=2)
+
+    ids = asset_cfg.body_ids
+    return _per_step(
+        env, ("spot_planar_speed", asset_cfg.name, repr(ids) if isinstance(ids, slice) else tuple(ids)), speed
+    )
 
 
 def _air_time_sensor(env: ManagerBasedRLEnv, sensor_cfg: SceneEntityCfg):
@@ -141,7 +165,7 @@ def foot_clearance_reward(
     feet should pass at ``target_height`` (world z)."""
     data = env.scene[asset_cfg.name].data
     height_error = torch.square(data.body_pos_w[:, asset_cfg.body_ids, 2] - target_height)
-    swing = torch.tanh(tanh_mult * torch.linalg.norm(data.body_lin_vel_w[:, asset_cfg.body_ids, :2], dim=2))
+    swing = torch.tanh(tanh_mult * _planar_speed(env, asset_cfg))
     return torch.exp(-(height_error * swing).sum(dim=1) / std)
 
 
@@ -180,8 +204,7 @@ def foot_slip_penalty(
     sensor's history)."""
     history = env.scene.sensors[sensor_cfg.name].data.net_forces_w_history[:, :, sensor_cfg.body_ids]
     in_contact = torch.linalg.norm(history, dim=-1).amax(dim=1) > threshold
-    speed = torch.linalg.norm(env.scene[asset_cfg.name].data.body_lin_vel_w[:, asset_cfg.body_ids, :2], dim=2)
-    return (in_contact * speed).sum(dim=1)
+    return (in_contact * _planar_speed(env, asset_cfg)).sum(dim=1)
 
 
 def joint_acceleration_penalty(env: ManagerBasedRLEnv, asset_cfg: SceneEntityCfg) -> torch.Tensor:
