@@ -12,7 +12,7 @@ import simlab.utils.math as math_utils
 from simlab.actuators import DCMotorCfg, DelayedPDActuatorCfg, IdealPDActuatorCfg, RemotizedPDActuatorCfg
 from simlab.assets import AssetBaseCfg
 from simlab.envs import ManagerBasedRLEnv
-from simlab.managers import ObservationGroupCfg, ObservationTermCfg
+from simlab.managers import ObservationGroupCfg, ObservationTermCfg, RewardTermCfg
 from simlab.robots.anymal import ANYDRIVE_3_LSTM_ACTUATOR_CFG
 from simlab.robots.unitree import GO1_ACTUATOR_CFG, UNITREE_GO2_CFG
 from simlab.scene import InteractiveScene, InteractiveSceneCfg
@@ -74,7 +74,9 @@ def test_spot_flat_step_stays_within_its_kernel_budget():
     """Spot flat (issue 41): its actuators, contact sensor and ctrl write run every physics step, four
     per env step. CPU backend count, 4 envs: 708 torch kernels outside the physics when written, 592
     after the cuts: hips (delayed PD) 64 -> 40, knees (remotized PD) 84 -> 60, the contact sensor's
-    update 48 -> 44, the ctrl write 16 -> 12, and once per env step the gait reward 78 -> 20."""
+    update 48 -> 44, the ctrl write 16 -> 12, and once per env step the gait reward 78 -> 20; 573 after
+    the rewards share whether an env is commanded or moving (air time, gait, joint positions) and the
+    feet's planar speeds (clearance, slip) through ``RewardManager.shared``: gait 20 -> 11, slip 15 -> 6."""
     script = load_counter_script()
     env = script.make_env("simlab/Velocity-Flat-Spot-v0", num_envs=4, seed=0, engine="mujoco")
     counter = script.LaunchCounter()
@@ -93,12 +95,14 @@ def test_spot_flat_step_stays_within_its_kernel_budget():
         "actuators/robot.spot_knee": 60,
         "scene/contact_forces.update": 44,
         "scene/robot.write_data_to_sim": 12,
-        "rewards/gait": 20,
+        "rewards/gait": 11,
+        "rewards/foot_slip": 6,
+        "rewards/joint_pos": 5,
     }
     for label, budget in budgets.items():
         assert counter.torch_ops[label] <= budget, f"{label}: {counter.torch_ops[label]} > {budget}\n{report}"
     outside = sum(n for label, n in counter.torch_ops.items() if label != "physics")
-    assert outside <= 595, f"{outside} torch kernels per step outside the physics:\n{report}"
+    assert outside <= 573, f"{outside} torch kernels per step outside the physics:\n{report}"
 
 
 def _explicit_model_cfgs():
@@ -249,6 +253,47 @@ def test_observation_group_noise_clip_and_scale_per_column_equal_per_term():
     # a changed noise config is seen at the next compute
     manager.get_term_cfg("policy", "pos").noise = ConstantNoiseCfg(bias=-0.03)
     torch.testing.assert_close(manager.compute()["policy"][:, :2], (pos - 0.03).clamp(-0.1, 0.1) * 2.0)
+    env.close()
+
+
+_SHARED_COMPUTES: list[torch.Tensor] = []
+
+
+def _shared_pole_angle(env) -> torch.Tensor:
+    def compute() -> torch.Tensor:
+        _SHARED_COMPUTES.append(env.scene["robot"].data.joint_pos[:, 1].clone())
+        return 2.0 * env.scene["robot"].data.joint_pos[:, 1]
+
+    return env.reward_manager.shared(("pole angle",), compute)
+
+
+def _shared_pole_angle_squared(env) -> torch.Tensor:
+    return torch.square(_shared_pole_angle(env))
+
+
+def test_reward_terms_share_a_value_once_per_reward_computation():
+    """``RewardManager.shared`` (issue 41, Spot's "commanded or moving" and feet speeds): computed once
+    while the terms of a step run, anew at the next step (the state moved on) and outside ``compute``."""
+    cfg = CartpoleEnvCfg()
+    cfg.scene.num_envs, cfg.sim.device, cfg.seed = 4, "cpu", 0
+    cfg.rewards.first = RewardTermCfg(func=_shared_pole_angle, weight=1.0)
+    cfg.rewards.second = RewardTermCfg(func=_shared_pole_angle_squared, weight=1.0)
+    env = ManagerBasedRLEnv(cfg)
+    env.reset()
+    names = env.reward_manager.active_terms
+    first, second = names.index("first"), names.index("second")
+    actions = torch.ones(env.num_envs, env.action_manager.total_action_dim)
+    for step in range(3):
+        _SHARED_COMPUTES.clear()
+        env.step(actions)
+        assert len(_SHARED_COMPUTES) == 1, f"step {step}: computed {len(_SHARED_COMPUTES)} times"
+        angle = 2.0 * _SHARED_COMPUTES[0]
+        rewards = env.reward_manager._step_reward
+        assert torch.equal(rewards[:, first], angle) and torch.equal(rewards[:, second], torch.square(angle))
+    assert _SHARED_COMPUTES[0].abs().max() > 0.0, "the pole moved: each step shares its own value"
+    _SHARED_COMPUTES.clear()
+    _shared_pole_angle(env), _shared_pole_angle(env)
+    assert len(_SHARED_COMPUTES) == 2, "outside a reward computation nothing is kept"
     env.close()
 
 
