@@ -76,7 +76,8 @@ def test_spot_flat_step_stays_within_its_kernel_budget():
     after the cuts: hips (delayed PD) 64 -> 40, knees (remotized PD) 84 -> 60, the contact sensor's
     update 48 -> 44, the ctrl write 16 -> 12, and once per env step the gait reward 78 -> 20; 573 after
     the rewards share whether an env is commanded or moving (air time, gait, joint positions) and the
-    feet's planar speeds (clearance, slip) through ``RewardManager.shared``: gait 20 -> 11, slip 15 -> 6."""
+    feet's planar speeds (clearance, slip) through ``RewardManager.shared``: gait 20 -> 11, slip 15 -> 6;
+    569 since the forward of stale worlds keeps the base velocity computed before it (base motion 10 -> 6)."""
     script = load_counter_script()
     env = script.make_env("simlab/Velocity-Flat-Spot-v0", num_envs=4, seed=0, engine="mujoco")
     counter = script.LaunchCounter()
@@ -98,11 +99,12 @@ def test_spot_flat_step_stays_within_its_kernel_budget():
         "rewards/gait": 11,
         "rewards/foot_slip": 6,
         "rewards/joint_pos": 5,
+        "rewards/base_motion": 6,
     }
     for label, budget in budgets.items():
         assert counter.torch_ops[label] <= budget, f"{label}: {counter.torch_ops[label]} > {budget}\n{report}"
     outside = sum(n for label, n in counter.torch_ops.items() if label != "physics")
-    assert outside <= 573, f"{outside} torch kernels per step outside the physics:\n{report}"
+    assert outside <= 569, f"{outside} torch kernels per step outside the physics:\n{report}"
 
 
 def _explicit_model_cfgs():
@@ -168,6 +170,28 @@ def test_root_frame_quantities_are_computed_once_per_state():
     version = physics.state_version
     physics.before_replay()
     assert physics.state_version > version
+    assert robot.data.root_lin_vel_b is not first
+
+
+def test_a_forward_of_stale_worlds_keeps_what_was_computed_from_their_state():
+    """Forwarding stale worlds computes derived quantities and leaves the state as it is: a per-state
+    value read before stays (Spot on the CPU backend: the feet's poses forward, and the base velocity
+    was computed again for the next term, 4 kernels); a forward called directly announces a write."""
+    sim, scene = go2_scene()
+    robot, physics = scene["robot"], sim.physics
+    state = robot.data.default_root_state.clone()
+    state[:, 7:10] = torch.tensor([0.3, -0.2, 0.1])
+    robot.write_root_velocity_to_sim(state[:, 7:13])
+    physics.mark_stale()
+    first = robot.data.root_lin_vel_b
+    forwards = []
+    original = physics.forward
+    physics.forward = lambda *args, **kwargs: forwards.append(1) or original(*args, **kwargs)
+    physics.ensure_forward()
+    assert forwards == [1] and not physics.is_stale
+    assert robot.data.root_lin_vel_b is first
+    torch.testing.assert_close(first, math_utils.quat_apply_inverse(robot.data.root_quat_w, state[:, 7:10]))
+    physics.forward()
     assert robot.data.root_lin_vel_b is not first
 
 

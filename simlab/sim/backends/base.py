@@ -271,12 +271,16 @@ class PhysicsBackend(ABC):
         return self._stale_all or self._any_stale
 
     def ensure_forward(self) -> None:
-        """Forward the stale worlds, if any, so that derived quantities match the state."""
+        """Forward the stale worlds, if any, so that derived quantities match the state. The state
+        itself does not change (marking the worlds stale counted that): what was computed from it at
+        this ``state_version`` stays valid (a base-frame velocity read before and after a body pose)."""
+        version = self.state_version
         if self._stale_all:
             self.forward()
         elif self._any_stale:
             self.forward(self._stale.nonzero().flatten())
             self._clear_stale()
+        self.state_version = version
 
     @property
     def kinematics_stale(self) -> bool:
