@@ -41,14 +41,14 @@ def _contacts_per_sole(env, soles: list[np.ndarray]) -> np.ndarray:
     # MuJoCo C: each world's state through one MjData, its collision run by mj_forward
     robot = env.scene["robot"]
     data = mujoco.MjData(model)
-    root = robot.data.root_state_w[:, :7].numpy()
-    joints = robot.data.joint_pos.numpy()
+    root = robot.data.root_state_w[:, :7].cpu().numpy()
+    joints = robot.data.joint_pos.cpu().numpy()
     adr = model.jnt_qposadr[
         [mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, f"Robot/{n}") for n in robot.joint_names]
     ]
     free = model.jnt_qposadr[np.flatnonzero(model.jnt_type == mujoco.mjtJoint.mjJNT_FREE)[0]]
     for w in range(env.num_envs):
-        data.qpos[free : free + 7] = root[w] - np.r_[env.scene.env_origins[w].numpy(), np.zeros(4)]
+        data.qpos[free : free + 7] = root[w] - np.r_[env.scene.env_origins[w].cpu().numpy(), np.zeros(4)]
         data.qpos[adr] = joints[w]
         mujoco.mj_forward(model, data)
         for c in data.contact[: data.ncon]:
@@ -59,7 +59,14 @@ def _contacts_per_sole(env, soles: list[np.ndarray]) -> np.ndarray:
 
 
 def stance(
-    task: str, engine: str, ground: str, envs: int, seconds: float, seed: int, gains: str = "task"
+    task: str,
+    engine: str,
+    ground: str,
+    envs: int,
+    seconds: float,
+    seed: int,
+    gains: str = "task",
+    device: str = "cpu",
 ) -> dict[str, float]:
     import gymnasium as gym
 
@@ -67,7 +74,7 @@ def stance(
     from simlab.tasks.manager_based.locomotion.velocity.config.common import flat_ground
     from simlab.tasks.utils.parse_cfg import parse_env_cfg
 
-    cfg = parse_env_cfg(task, device="cpu", num_envs=envs)
+    cfg = parse_env_cfg(task, device=device, num_envs=envs)
     cfg.sim.engine, cfg.sim.use_cuda_graph, cfg.seed = engine, False, seed
     if ground == "plane":
         flat_ground(cfg)
@@ -87,7 +94,7 @@ def stance(
         model = env.sim.model
         names = [robot.body_names[i] for i in feet]
         soles = _sole_geoms(model, [mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, f"Robot/{n}") for n in names])
-        actions = torch.zeros(env.num_envs, env.action_manager.total_action_dim)
+        actions = torch.zeros(env.num_envs, env.action_manager.total_action_dim, device=env.device)
         steps = round(seconds / env.step_dt)
         falls, slip, slip_n, height, tilt, contacts = 0, 0.0, 0, [], [], []
         first_fall = seconds
@@ -130,6 +137,7 @@ def main() -> None:
     parser.add_argument("--envs", type=int, default=32)
     parser.add_argument("--seconds", type=float, default=3.0)
     parser.add_argument("--seeds", type=int, nargs="+", default=[0])
+    parser.add_argument("--device", default="cpu", help="cuda:0 runs MuJoCo Warp on the GPU (--engines mujoco_warp)")
     parser.add_argument("--engines", nargs="+", default=["mujoco", "mujoco_warp"])
     parser.add_argument("--grounds", nargs="+", default=["rough", "plane"])
     parser.add_argument("--gains", default="task", choices=["task", "stiff"], help="stiff: kp 1000, kd 30")
@@ -138,7 +146,7 @@ def main() -> None:
     for ground in args.grounds:
         for engine in args.engines:
             for seed in args.seeds:
-                row = stance(task, engine, ground, args.envs, args.seconds, seed, args.gains)
+                row = stance(task, engine, ground, args.envs, args.seconds, seed, args.gains, args.device)
                 print(ground, engine, seed, " ".join(f"{k}={v:.3g}" for k, v in row.items()), flush=True)
 
 
