@@ -5,7 +5,9 @@ MuJoCo Warp warns at start-up that its HFIELD-CAPSULE and HFIELD-BOX pairs get "
 and keeps up to four contacts per pair (the deepest, the farthest from it, and two that widen the
 patch), as MJX does. A G1 sole is two capsules: one contact per pair would leave a sole two points,
 a line it could roll about; with four it rests on a patch. Measured standing at its default pose
-(32 worlds, 3 s, scripts/benchmarks/humanoid_stance.py): see docs/humanoids.md.
+(32 worlds, 3 s, scripts/benchmarks/humanoid_stance.py): see docs/humanoids.md. With a copy of MuJoCo
+Warp whose kernel keeps one contact per pair this test fails (soles of 1-2 contacts) and the standing
+G1 tilts and slides more.
 """
 
 from __future__ import annotations
