@@ -131,6 +131,8 @@ def run_train(args: argparse.Namespace, overrides: list[str], argv: list[str] | 
     lib = get_library(args.library)
     mark("library")
     lib.configure(agent_cfg, args, env_cfg)
+    if not getattr(lib, "READS_FINAL_OBS", True) and hasattr(env_cfg, "final_observations"):
+        env_cfg.final_observations = False  # training only: play's success criteria read them
     # seed + rank: each rank simulates other episodes (the env seeds torch with it; skrl and rl_games
     # add the rank to their own seeds themselves)
     env_cfg.seed = None if env_cfg.seed is None else env_cfg.seed + ranks.rank

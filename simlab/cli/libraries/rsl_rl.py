@@ -35,6 +35,10 @@ from simlab.rl.rsl_rl.fast_update import FastPPOUpdate, fast_update_unsupported 
 from simlab.rl.rsl_rl.graphed_act import GraphedAct, graphed_act_unsupported  # noqa: E402
 from simlab.rl.rsl_rl.vecenv_wrapper import stack_image_history  # noqa: E402
 
+READS_FINAL_OBS = False
+"""rsl_rl bootstraps a time-out from its value estimate, never from ``extras["final_obs"]``: its
+training env need not compute every observation (a height scan's rays too) a second time per step."""
+
 
 def experiment_name(agent_cfg: RslRlOnPolicyRunnerCfg, task: str) -> str:
     return agent_cfg.experiment_name

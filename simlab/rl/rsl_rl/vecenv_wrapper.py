@@ -3,7 +3,8 @@
 rsl_rl reads observations as a ``TensorDict`` of groups, gets ``dones`` as one tensor, and reads
 ``extras["time_outs"]`` to bootstrap the value of time-limited episodes and ``extras["log"]`` for
 logging. It never calls ``reset()``: the wrapper resets once at construction. It never reads
-``extras["final_obs"]`` either: the wrapper turns the env's ``cfg.final_observations`` off.
+``extras["final_obs"]`` either; ``simlab train`` turns them off for it (``READS_FINAL_OBS`` in
+:mod:`simlab.cli.libraries.rsl_rl`), while play keeps them for the success criteria that read them.
 """
 
 from __future__ import annotations
@@ -43,10 +44,6 @@ class RslRlVecEnvWrapper(VecEnv):
         self.num_actions: int = gym.spaces.flatdim(base.single_action_space)
         if clip_actions is not None:
             self._set_action_bounds(base, clip_actions)
-        # rsl_rl bootstraps a time-out from its value estimate, never from extras["final_obs"]: the env
-        # need not compute every observation (a height scan's rays too) a second time per step
-        if hasattr(self.unwrapped.cfg, "final_observations"):
-            self.unwrapped.cfg.final_observations = False
         obs, _ = self.env.reset()
         self._obs = self._to_tensordict(obs)
 
