@@ -15,6 +15,27 @@ from simlab.sensors import RayCasterCfg, patterns
 from simlab.utils import configclass
 
 
+def _stale_go2_scene_counting_forwards(scene_cfg_class: type, sensor: str) -> tuple:
+    """Two Go2 worlds of ``scene_cfg_class`` on MuJoCo Warp (Warp's CPU device), stepped three times with
+    their legs driven, their derived state stale; the list that ``physics.forward`` appends to from now
+    on: (sim, robot, the scene's ``sensor``, forwards)."""
+    sim = sim_utils.SimulationContext(sim_utils.SimulationCfg(dt=0.005, device="cpu", engine="mujoco_warp"))
+    scene = InteractiveScene(scene_cfg_class(num_envs=2, env_spacing=2.0))
+    sim.reset()
+    physics, robot = sim.physics, scene["robot"]
+    forwards = []
+    original = physics.forward
+    physics.forward = lambda *args, **kwargs: forwards.append(1) or original(*args, **kwargs)
+    for _ in range(3):
+        robot.set_joint_position_target(robot.data.default_joint_pos + 0.2)
+        scene.write_data_to_sim()
+        sim.step()
+        scene.update(sim.get_physics_dt())
+    assert physics.is_stale
+    forwards.clear()
+    return sim, robot, scene[sensor], forwards
+
+
 def test_height_scanner_on_a_child_body_needs_the_kinematics_not_a_forward():
     """A scanner on a body below the floating base (the G1's torso_link) reads its pose from the
     kinematics pass: on MuJoCo Warp a forward is the collision and a constraint solve (262 launches for
@@ -32,20 +53,7 @@ def test_height_scanner_on_a_child_body_needs_the_kinematics_not_a_forward():
             mesh_prim_paths=["/World/ground"],
         )
 
-    sim = sim_utils.SimulationContext(sim_utils.SimulationCfg(dt=0.005, device="cpu", engine="mujoco_warp"))
-    scene = InteractiveScene(SceneCfg(num_envs=2, env_spacing=2.0))
-    sim.reset()
-    physics, robot, scanner = sim.physics, scene["robot"], scene["scanner"]
-    forwards = []
-    original = physics.forward
-    physics.forward = lambda *args, **kwargs: forwards.append(1) or original(*args, **kwargs)
-    for _ in range(3):
-        robot.set_joint_position_target(robot.data.default_joint_pos + 0.2)
-        scene.write_data_to_sim()
-        sim.step()
-        scene.update(sim.get_physics_dt())
-    assert physics.is_stale
-    forwards.clear()
+    sim, robot, scanner, forwards = _stale_go2_scene_counting_forwards(SceneCfg, "scanner")
     pos, hits = scanner.data.pos_w.clone(), scanner.data.ray_hits_w.clone()
     assert forwards == [], "the scan ran a forward"
     sim.forward()
@@ -191,20 +199,7 @@ def test_ray_caster_camera_on_a_body_needs_the_kinematics_not_a_forward():
             pattern_cfg=patterns.PinholeCameraPatternCfg(width=8, height=6),
         )
 
-    sim = sim_utils.SimulationContext(sim_utils.SimulationCfg(dt=0.005, device="cpu", engine="mujoco_warp"))
-    scene = InteractiveScene(SceneCfg(num_envs=2, env_spacing=2.0))
-    sim.reset()
-    physics, robot, camera = sim.physics, scene["robot"], scene["camera"]
-    forwards = []
-    original = physics.forward
-    physics.forward = lambda *args, **kwargs: forwards.append(1) or original(*args, **kwargs)
-    for _ in range(3):
-        robot.set_joint_position_target(robot.data.default_joint_pos + 0.2)
-        scene.write_data_to_sim()
-        sim.step()
-        scene.update(sim.get_physics_dt())
-    assert physics.is_stale
-    forwards.clear()
+    sim, robot, camera, forwards = _stale_go2_scene_counting_forwards(SceneCfg, "camera")
     depth = camera.data.output["distance_to_image_plane"].clone()
     assert forwards == [], "the camera ran a forward"
     assert torch.isfinite(depth).all() and (depth > 0.5).all(), "the ground seen from above the thigh"

@@ -308,16 +308,11 @@ class FakeScene:
         return self.robot
 
 
-def test_spot_gait_reward_pays_a_trot_and_not_a_pronk():
-    from simlab.managers import RewardTermCfg, SceneEntityCfg
-    from simlab.tasks.manager_based.locomotion.velocity.config.spot import mdp as spot_mdp
+def gait_params() -> dict:
+    """Isaac Lab's Spot gait reward parameters (its flat_env_cfg.py)."""
+    from simlab.managers import SceneEntityCfg
 
-    # env 0 trots (fl+hr in the air 0.2 s while fr+hl stand 0.2 s), env 1 pronks (all four in the air
-    # 0.2 s), env 2 trots but is neither commanded nor moving
-    air = [[0.2, 0.0, 0.0, 0.2], [0.2, 0.2, 0.2, 0.2], [0.2, 0.0, 0.0, 0.2]]
-    contact = [[0.0, 0.2, 0.2, 0.0], [0.0, 0.0, 0.0, 0.0], [0.0, 0.2, 0.2, 0.0]]
-    env = fake_env(air, contact, [[1.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 0.0]])
-    params = {
+    return {
         "std": 0.1,
         "max_err": 0.2,
         "velocity_threshold": 0.5,
@@ -325,6 +320,18 @@ def test_spot_gait_reward_pays_a_trot_and_not_a_pronk():
         "asset_cfg": SceneEntityCfg("robot"),
         "sensor_cfg": SceneEntityCfg("contact_forces"),
     }
+
+
+def test_spot_gait_reward_pays_a_trot_and_not_a_pronk():
+    from simlab.managers import RewardTermCfg
+    from simlab.tasks.manager_based.locomotion.velocity.config.spot import mdp as spot_mdp
+
+    # env 0 trots (fl+hr in the air 0.2 s while fr+hl stand 0.2 s), env 1 pronks (all four in the air
+    # 0.2 s), env 2 trots but is neither commanded nor moving
+    air = [[0.2, 0.0, 0.0, 0.2], [0.2, 0.2, 0.2, 0.2], [0.2, 0.0, 0.0, 0.2]]
+    contact = [[0.0, 0.2, 0.2, 0.0], [0.0, 0.0, 0.0, 0.0], [0.0, 0.2, 0.2, 0.0]]
+    env = fake_env(air, contact, [[1.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 0.0]])
+    params = gait_params()
     term = spot_mdp.GaitReward(RewardTermCfg(func=spot_mdp.GaitReward, weight=10.0, params=params), env)
     reward = term(env, **params)
     # the pronk: synced pairs agree (1), each of the four opposed pairs misses by 0.2 s twice:
@@ -357,20 +364,13 @@ def test_spot_gait_reward_is_the_product_over_pairs_of_isaac_labs_kernel():
     """The six pairs in one gather (issue 41: 74 -> 16 kernels a step) pay what Isaac Lab's loop over the
     pairs pays: exp(-(min(x^2, e^2) + min(y^2, e^2)) / std) multiplied over them (the product's order
     may round otherwise)."""
-    from simlab.managers import RewardTermCfg, SceneEntityCfg
+    from simlab.managers import RewardTermCfg
     from simlab.tasks.manager_based.locomotion.velocity.config.spot import mdp as spot_mdp
 
     generator = torch.Generator().manual_seed(0)
     air, contact = (0.4 * torch.rand(64, 4, generator=generator) for _ in range(2))
     env = fake_env(air.tolist(), contact.tolist(), [[1.0, 0.0, 0.0]] * 64)
-    params = {
-        "std": 0.1,
-        "max_err": 0.2,
-        "velocity_threshold": 0.5,
-        "synced_feet_pair_names": (("fl_foot", "hr_foot"), ("fr_foot", "hl_foot")),
-        "asset_cfg": SceneEntityCfg("robot"),
-        "sensor_cfg": SceneEntityCfg("contact_forces"),
-    }
+    params = gait_params()
     term = spot_mdp.GaitReward(RewardTermCfg(func=spot_mdp.GaitReward, weight=10.0, params=params), env)
 
     def kernel(x, y):
