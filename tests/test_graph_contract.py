@@ -318,6 +318,24 @@ def _toy_rollout(graphed: bool, steps: int = 8) -> list[torch.Tensor]:
     return outputs
 
 
+def graphed_allegro_env():
+    """A 4-env direct Allegro env on the CPU whose step is captured (emulated graph: use with the
+    ``emulated_cuda_graph`` fixture) after two warm-up steps, as on a GPU."""
+    from simlab.tasks.direct.allegro_hand.allegro_hand_env_cfg import AllegroHandEnvCfg
+    from simlab.tasks.direct.inhand_manipulation.inhand_manipulation_env import InHandManipulationEnv
+
+    cfg = AllegroHandEnvCfg()
+    cfg.scene.num_envs, cfg.sim.device, cfg.seed = 4, "cpu", 1
+    env = InHandManipulationEnv(cfg)
+    env.sim.physics.forwards_all_worlds = True  # a masked reset then marks worlds stale without a host read
+    env._stepper.eager_reason = None  # capture as on a GPU (the physics itself is not replayed here)
+    env.reset()
+    for _ in range(3):  # two warm-up steps and the capture
+        env.step(torch.zeros(4, 16))
+    assert env.step_is_graphed, env.step_mode
+    return env
+
+
 def test_graphed_steps_that_rebind_tensors_agree_with_eager_ones(emulated_cuda_graph):
     eager, graphed = _toy_rollout(graphed=False), _toy_rollout(graphed=True)
     for i, (a, b) in enumerate(zip(graphed, eager)):
@@ -423,18 +441,7 @@ def test_the_allegro_env_reset_between_replays_frees_nothing_the_graph_writes(em
     import gc
     import weakref
 
-    from simlab.tasks.direct.allegro_hand.allegro_hand_env_cfg import AllegroHandEnvCfg
-    from simlab.tasks.direct.inhand_manipulation.inhand_manipulation_env import InHandManipulationEnv
-
-    cfg = AllegroHandEnvCfg()
-    cfg.scene.num_envs, cfg.sim.device, cfg.seed = 4, "cpu", 1
-    env = InHandManipulationEnv(cfg)
-    env.sim.physics.forwards_all_worlds = True  # a masked reset then marks worlds stale without a host read
-    env._stepper.eager_reason = None  # capture as on a GPU (the physics itself is not replayed here)
-    env.reset()
-    for _ in range(3):  # two warm-up steps and the capture
-        env.step(torch.zeros(4, 16))
-    assert env.step_is_graphed, env.step_mode
+    env = graphed_allegro_env()
     graph = env._stepper.graph
     made = graph._made  # storages the capture allocated (a CUDA graph's private pool keeps those)
     written = [

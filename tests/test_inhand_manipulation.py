@@ -10,7 +10,7 @@ from __future__ import annotations
 import gymnasium as gym
 import pytest
 import torch
-from test_graph_contract import emulated_cuda_graph  # noqa: F401 (a fixture)
+from test_graph_contract import emulated_cuda_graph, graphed_allegro_env  # noqa: F401 (a fixture)
 
 import simlab.tasks  # noqa: F401 - registers the tasks
 from simlab.tasks.direct.inhand_manipulation.inhand_manipulation_env import rotation_distance, unscale
@@ -375,18 +375,7 @@ def test_the_graphed_allegro_step_copies_back_one_tensor_per_replay(emulated_cud
     """What the step binds anew each replay of the captured step copies back (``tensor_slots``): the
     direct task writes its own tensors in place, so only the cube's per-state angular velocity is left
     (11 copies per replay before issue 40.4)."""
-    from simlab.tasks.direct.allegro_hand.allegro_hand_env_cfg import AllegroHandEnvCfg
-    from simlab.tasks.direct.inhand_manipulation.inhand_manipulation_env import InHandManipulationEnv
-
-    cfg = AllegroHandEnvCfg()
-    cfg.scene.num_envs, cfg.sim.device, cfg.seed = 4, "cpu", 1
-    env = InHandManipulationEnv(cfg)
-    env.sim.physics.forwards_all_worlds = True  # a masked reset then marks worlds stale without a host read
-    env._stepper.eager_reason = None  # capture as on a GPU (the physics itself is not replayed here)
-    env.reset()
-    for _ in range(3):  # two warm-up steps and the capture
-        env.step(torch.zeros(4, 16))
-    assert env.step_is_graphed, env.step_mode
+    env = graphed_allegro_env()
     rebound = [path for *_, path in env._stepper._slots.written]
     assert env._stepper.write_backs <= 1, rebound
     env.close()
