@@ -23,4 +23,4 @@ from .unitree import (
     UNITREE_GO1_CFG,
     UNITREE_GO2_CFG,
 )
-from .universal_robots import UR10_CFG
+from .universal_robots import UR10_CFG, UR10e_CFG

@@ -1,0 +1,1 @@
+"""Tasks whose policies Isaac Lab has deployed to real robots (Isaac Lab's ``manipulation/deploy``)."""

@@ -1,0 +1,1 @@
+"""Robots for the deployed reach task."""

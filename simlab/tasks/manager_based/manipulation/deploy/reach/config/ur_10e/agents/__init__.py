@@ -1,0 +1,1 @@
+"""Agent configs for the deployed UR10e reach task."""
