@@ -411,7 +411,7 @@ def stage(task: str, checkpoint: str, library: str, log_root: str, matrices: str
     the checkpoint play will make of it; returns that checkpoint, which the CPU replay plays."""
     from simlab.cli.runs import CHECKPOINT_LAYOUT, run_dir_of_checkpoint
     from simlab.pretrained import POLICY_FILE
-    from simlab.pretrained.weights import pack_policy, read_checkpoint, unpack_policy, write_checkpoint
+    from simlab.pretrained.weights import pack_policy, read_checkpoint, save_policy, unpack_policy, write_checkpoint
 
     run_dir = run_dir_of_checkpoint(checkpoint, library)
     staged = os.path.join(log_root, "stored", task.split("/")[-1], library)
@@ -419,28 +419,11 @@ def stage(task: str, checkpoint: str, library: str, log_root: str, matrices: str
     shutil.copytree(os.path.join(run_dir, "params"), os.path.join(staged, "params"))
     name = os.path.join(*CHECKPOINT_LAYOUT[library][0], os.path.basename(checkpoint))  # skrl's: checkpoints/
     state = read_checkpoint(checkpoint, library)  # weights only: a run's file is data
-    save_deflated(pack_policy(state, library, name, matrices), os.path.join(staged, POLICY_FILE))
+    save_policy(pack_policy(state, library, name, matrices), os.path.join(staged, POLICY_FILE))
     name, played = unpack_policy(os.path.join(staged, POLICY_FILE))
     os.makedirs(os.path.dirname(os.path.join(staged, name)), exist_ok=True)
     write_checkpoint(played, os.path.join(staged, name), library)
     return os.path.join(staged, name)
-
-
-def save_deflated(obj: Any, path: str) -> None:
-    """``torch.save(obj, path)`` with the archive's entries deflate-compressed (level 9): about a tenth
-    smaller for int8 weights, more for float16 ones. ``torch.load`` reads it as it is (not with
-    ``mmap=True``, which needs stored entries); the entries and their order are torch's."""
-    import io
-    import zipfile
-
-    import torch
-
-    saved = io.BytesIO()
-    torch.save(obj, saved)
-    with zipfile.ZipFile(saved) as source, zipfile.ZipFile(path, "w") as target:
-        for entry in source.infolist():
-            # a fresh entry (fixed 1980 date): the same weights give the same bytes
-            target.writestr(zipfile.ZipInfo(entry.filename), source.read(entry), zipfile.ZIP_DEFLATED, 9)
 
 
 def stage_and_replay(

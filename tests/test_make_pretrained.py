@@ -401,16 +401,19 @@ def test_a_file_that_is_not_a_bc_policy_gets_a_one_line_error(tmp_path, saved):
 
 
 def test_a_deflated_policy_file_loads_as_the_stored_one_and_is_smaller(tmp_path):
-    """The shipped form of new policies: torch.save's archive with its entries deflated. The stored
-    policies (torch.save's plain archive) read back through the loader to the same weights."""
-    stored = os.path.join(REPO, "simlab", "pretrained", "Humanoid-AMP-Walk-Direct-v0", "skrl", "policy.pt")
-    deflated = str(tmp_path / "policy.pt")
-    _script().save_deflated(torch.load(stored, weights_only=True), deflated)
+    """The shipped form of policies: torch.save's archive with its entries deflated; it reads back
+    through the loader to the same weights as torch.save's plain archive."""
+    from simlab.pretrained.weights import save_policy
+
+    shipped = os.path.join(REPO, "simlab", "pretrained", "Humanoid-AMP-Walk-Direct-v0", "skrl", "policy.pt")
+    plain, deflated = str(tmp_path / "plain.pt"), str(tmp_path / "policy.pt")
+    torch.save(torch.load(shipped, weights_only=True), plain)
+    save_policy(torch.load(shipped, weights_only=True), deflated)
     assert {entry.compress_type for entry in zipfile.ZipFile(deflated).infolist()} == {zipfile.ZIP_DEFLATED}
-    assert os.path.getsize(deflated) < 0.95 * os.path.getsize(stored)  # int8 rows: 621,673 -> 581,431 bytes
-    (name, checkpoint), (stored_name, stored_checkpoint) = unpack_policy(deflated), unpack_policy(stored)
-    assert name == stored_name
-    torch.testing.assert_close(checkpoint, stored_checkpoint, rtol=0, atol=0)
+    assert os.path.getsize(deflated) < 0.95 * os.path.getsize(plain)  # int8 rows: 621,673 -> 581,393 bytes
+    (name, checkpoint), (plain_name, plain_checkpoint) = unpack_policy(deflated), unpack_policy(plain)
+    assert name == plain_name
+    torch.testing.assert_close(checkpoint, plain_checkpoint, rtol=0, atol=0)
 
 
 def test_a_checkpoint_whose_play_raises_skips_its_task_with_a_line_and_the_batch_goes_on(tmp_path, capsys, monkeypatch):

@@ -122,7 +122,10 @@ def test_isaac_labs_pretrained_checkpoint_lookup_finds_the_shipped_policies(tmp_
 
 
 def test_each_shipped_policy_is_one_weights_only_file():
-    """One stored file per policy, read with weights_only=True; no exports (play makes them)."""
+    """One stored file per policy, read with weights_only=True, its zip entries deflated (as
+    make_pretrained.py writes them); no exports (play makes them)."""
+    import zipfile
+
     import torch
 
     from simlab.pretrained import POLICY_FILE, pretrained_run_dir
@@ -134,6 +137,8 @@ def test_each_shipped_policy_is_one_weights_only_file():
         weights = [f for f in files if f.endswith((".pt", ".pth", ".onnx", ".zip", ".pkl"))]
         assert weights == [POLICY_FILE], f"{task} ({library}): {weights}"
         assert torch.load(os.path.join(folder, POLICY_FILE), weights_only=True)["format"] == FORMAT
+        kinds = {entry.compress_type for entry in zipfile.ZipFile(os.path.join(folder, POLICY_FILE)).infolist()}
+        assert kinds == {zipfile.ZIP_DEFLATED}, f"{task} ({library}): policy.pt is not deflated (save_policy)"
 
 
 def test_a_stored_policy_unpacks_to_the_checkpoint_within_half_a_step_of_int8(tmp_path):
