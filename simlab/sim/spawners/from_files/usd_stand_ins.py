@@ -250,6 +250,7 @@ USD_STAND_INS: dict[str, UsdStandIn] = {
         "anybotics_anymal_c.xml", "Isaac Sim's older ANYmal-C file (ANYMAL_C_CFG's other path, Isaac Lab's tests)"
     ),
     "Robots/BostonDynamics/spot/spot.usd": mjcf("boston_dynamics_spot.xml"),
+    "Robots/UniversalRobots/ur10e/ur10e.usd": mjcf("universal_robots_ur10e.xml"),
     "Robots/Agility/Digit/digit_v4.usd": mjcf(
         "agility_digit.xml", "the leg rods as equality constraints; docs/locomotion.md"
     ),
