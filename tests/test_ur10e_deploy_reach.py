@@ -6,6 +6,7 @@ pose in the "base" frame the task tracks commands in."""
 from __future__ import annotations
 
 import math
+from types import SimpleNamespace
 
 import gymnasium as gym
 import mujoco
@@ -15,6 +16,7 @@ import torch
 
 import simlab.tasks  # noqa: F401 - registers the tasks
 from simlab.envs import ManagerBasedRLEnv
+from simlab.managers import SceneEntityCfg
 from simlab.robots import UR10e_CFG
 from simlab.tasks.manager_based.manipulation.deploy import mdp
 from simlab.tasks.utils.criteria import criterion_for
@@ -76,12 +78,18 @@ def test_keypoint_distances_and_reward_match_hand_computed_values():
     torch.testing.assert_close(distance[0], torch.full((7,), 0.05))
     moved = 2 * 0.45 * math.sin(theta / 2)
     torch.testing.assert_close(distance[1].sort().values, torch.tensor([0.0, 0.0, 0.0, moved, moved, moved, moved]))
-    # the exponential bonus of the mean distance d: sum over (a, b) of 1 / (exp(a d) + b + exp(-a d))
+    # the reward terms read the frame transformer's first target and the command: the mean distance d,
+    # and the bonus sum over (a, b) of 1 / (exp(a d) + b + exp(-a d))
+    frame = SimpleNamespace(data=SimpleNamespace(target_pos_source=pos[:, None], target_quat_source=quat[:, None]))
+    command = torch.cat([target_pos, target_quat], dim=-1)
+    env = SimpleNamespace(scene={"ee": frame}, command_manager=SimpleNamespace(get_command=lambda name: command))
+    ee, coeffs = SceneEntityCfg("ee"), [(50, 1e-4), (300, 1e-4)]
     d = 4 * moved / 7
-    expected = sum(1 / (math.exp(a * d) + b + math.exp(-a * d)) for a, b in [(50, 1e-4), (300, 1e-4)])
-    mean = distance.mean(-1, keepdim=True)
-    reward = sum(1 / (torch.exp(a * mean) + b + torch.exp(-a * mean)) for a, b in [(50, 1e-4), (300, 1e-4)])
-    assert float(reward[1, 0]) == pytest.approx(expected, rel=1e-5)
+    error = mdp.keypoint_command_error(env, "ee_pose", ee, keypoint_scale=0.45)
+    torch.testing.assert_close(error, torch.tensor([0.05, d]))
+    bonus = mdp.keypoint_command_error_exp(env, "ee_pose", ee, coeffs, kp_use_sum_of_exps=False, keypoint_scale=0.45)
+    expected = [sum(1 / (math.exp(a * x) + b + math.exp(-a * x)) for a, b in coeffs) for x in (0.05, d)]
+    torch.testing.assert_close(bonus, torch.tensor(expected))
 
 
 @pytest.mark.parametrize("task", TASKS)
