@@ -13,6 +13,10 @@ and did not settle (CPU, measured here); with 0.1 the wrists reach their targets
 Under gravity the 87 N m limit leaves the PD a steady sag: a differential-IK target in the reach
 command's range was missed by 3.5-4.9 cm with gravity on and by 0.01 mm with it off on the arm
 (tests/test_ur10_reach.py).
+
+``UR10e_CFG`` is Isaac Lab's UR10e (the deployed reach task's arm): the same joint names, its model
+``simlab/robots/assets/universal_robots_ur10e.xml`` in the frames of Universal Robots' ROS 2
+description, the end effector ``wrist_3_link`` (the tool flange, z out).
 """
 
 import os
