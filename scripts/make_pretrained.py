@@ -7,6 +7,7 @@
     python scripts/make_pretrained.py --device cuda:0 --num_envs 1024 --eval_every 30 \
         --tasks simlab/Cartpole-RGB-Camera-Direct-v0 --overrides env.frame_stack=2   # trained (and played) so
     python scripts/make_pretrained.py --list      # every task: its criterion, whether rsl_rl trains it, shipped?
+    python scripts/make_pretrained.py --restore --tasks simlab/Reach-Franka-v0   # its policy.pt stored again
     python scripts/make_pretrained.py --device cuda:0 --time_budget 960 --tasks simlab/Velocity-Rough-Unitree-Go2-v0 \
         --overrides env.scene.terrain.terrain_generator.seed=42   # train and play on one generated terrain
     python scripts/make_pretrained.py --device cuda:0 --num_envs 4096 --time_budget 1120 --library skrl \
@@ -50,6 +51,10 @@ say on NaN observations, or another error) is skipped with one ``SKIPPED`` line 
 next one trains.
 Every task must have a criterion and a config of ``--library``, checked before any training starts. The
 script exits with 1 when a task was not shipped.
+
+``--restore`` stores shipped policies again, from their own ``policy.pt``, when the stored forms
+improve (:mod:`simlab.pretrained.weights`): the smallest form whose CPU replay, with the envs, seconds
+and seed of the record's ``cpu_evaluation``, passes; the record keeps how the policy was trained.
 
 ``--checkpoint PATH`` ships a policy trained elsewhere (one task; a checkpoint of the task's agent for
 ``--library``, e.g. an AMP humanoid's ``agent_<timestep>.pt`` with ``--library skrl``) without
@@ -107,6 +112,12 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
     parser.add_argument("--log_root", default=None, help="Keep the training runs here (default: a temporary folder).")
     parser.add_argument("--checkpoint", default=None, help="Ship this checkpoint, no training (one task).")
     parser.add_argument(
+        "--restore",
+        action="store_true",
+        help="Store the shipped policies of --tasks again from their own policy.pt, in the smallest form whose"
+        " CPU replay (record.json's) passes; no training",
+    )
+    parser.add_argument(
         "--resume", default=None, help="Train on from this checkpoint (one task), e.g. one a time budget stopped."
     )
     parser.add_argument(
@@ -145,6 +156,8 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
         )
     if args.teacher is not None and (args.agent is None or args.resume is not None):
         parser.error("--teacher is the checkpoint a distillation --agent learns from: give --agent, and not --resume")
+    if args.restore and (args.checkpoint is not None or args.resume is not None):
+        parser.error("--restore stores shipped policies again from their policy.pt: no --checkpoint or --resume")
     if args.checkpoint is not None:
         if len(args.tasks or []) != 1:
             parser.error("--checkpoint ships one policy: give exactly one task with --tasks")
@@ -671,6 +684,56 @@ def adopt_checkpoint(task: str, args: argparse.Namespace, log_root: str, argv: l
     return None
 
 
+def restore(task: str, args: argparse.Namespace, log_root: str, argv: list[str]) -> str | None:
+    """Store the shipped ``task`` policy of ``--library`` in ``--out`` again from its own ``policy.pt``
+    (when the stored forms improve): the smallest form whose CPU replay, as its record ran it, passes.
+    Its record keeps how it was trained; ``weights``, ``cpu_evaluation`` and the file's size are the new
+    file's, ``weights_note`` says what changed. None when stored again, else why not."""
+    from simlab.pretrained import POLICY_FILE
+    from simlab.pretrained.weights import unpack_policy, write_checkpoint
+
+    shipped = os.path.join(args.out, task.split("/")[-1], args.library)
+    record_path = os.path.join(shipped, "record.json")
+    if not os.path.isfile(record_path):
+        return f"no shipped {args.library} policy with a record.json in {shipped}"
+    with open(record_path) as f:
+        record = json.load(f)
+    # the play that judged it when it shipped: its envs, seconds, seed, env overrides and agent config
+    replay = record["cpu_evaluation"]
+    args = argparse.Namespace(**vars(args))
+    args.cpu_eval_envs, args.eval_seconds, args.seed = replay["envs"], replay["seconds"], replay["seed"]
+    args.reward_threshold, args.agent = record.get("reward_threshold"), record.get("agent")
+    args.overrides = list(record.get("env_overrides", []))
+    name, checkpoint = unpack_policy(os.path.join(shipped, POLICY_FILE))
+    # a run folder as the training left it: its params and the checkpoint in its library's place
+    run_dir = os.path.join(log_root, "restored", task.split("/")[-1])
+    shutil.rmtree(run_dir, ignore_errors=True)
+    shutil.copytree(os.path.join(shipped, "params"), os.path.join(run_dir, "params"))
+    path = os.path.join(run_dir, name)
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    write_checkpoint(checkpoint, path, args.library)
+    _, cpu, matrices = stage_and_replay(task, path, max(0, record.get("iterations", 1) - 1), args, log_root)
+    if not cpu["passed"]:
+        return f"no stored form replays to its criterion on the CPU ({matrices}: {cpu['score']:.3f})"
+    before = os.path.getsize(os.path.join(shipped, POLICY_FILE))
+    staged = os.path.join(log_root, "stored", task.split("/")[-1], args.library, POLICY_FILE)  # stage()'s
+    shutil.copyfile(staged, os.path.join(shipped, POLICY_FILE))
+    after = os.path.getsize(os.path.join(shipped, POLICY_FILE))
+    note = (
+        f"stored again on {datetime.date.today().isoformat()} from its shipped {record.get('weights')} weights"
+        f" (`{shlex.join(['python', 'scripts/make_pretrained.py', *argv])}`): {matrices}, {before:,} -> {after:,}"
+        f" bytes; cpu_evaluation replays this file (before: {replay['score']:.4g})"
+    )
+    record["weights_note"] = note + (f"; earlier: {record['weights_note']}" if "weights_note" in record else "")
+    record.update(weights=matrices, cpu_evaluation=cpu)
+    record.setdefault("files_bytes", {})[POLICY_FILE] = after
+    with open(record_path, "w") as f:
+        json.dump(record, f, indent=2)
+        f.write("\n")
+    print(f"[make_pretrained] {task}: stored again as {matrices}, {before:,} -> {after:,} bytes", flush=True)
+    return None
+
+
 def task_table() -> list[dict[str, Any]]:
     """Every registered task but the -Play variants: its criterion (or why none), whether it has an
     rsl_rl config (what this script trains with) and which libraries' policies are shipped."""
@@ -739,7 +802,7 @@ def main(argv: list[str] | None = None) -> int:
         os.makedirs(log_root, exist_ok=True)
         for task in args.tasks:
             try:
-                make = adopt_checkpoint if args.checkpoint else make_one
+                make = restore if args.restore else adopt_checkpoint if args.checkpoint else make_one
                 skipped[task] = make(task, args, log_root, argv)
             except (OverBudget, RuntimeError, subprocess.SubprocessError, OSError, SimlabError) as e:
                 skipped[task] = str(e)

@@ -476,3 +476,43 @@ def test_rl_games_checkpoints_count_iterations_as_rsl_rl_does(tmp_path):
     assert make_pretrained.checkpoint_iteration(str(path), "rl_games", {}) == 29
     assert make_pretrained.checkpoint_name(str(path), "rl_games", 29, {}) == path.name
     assert make_pretrained.checkpoint_name("/x/policy.pt", "rl_games", 29, {}) == "last_ep_30.pth"
+
+
+def test_restore_stores_a_shipped_float16_policy_again_as_int8_rows_and_play_loads_it(tmp_path, monkeypatch):
+    """--restore: a policy shipped as float16 (before rsl_rl's (1, N) normalizer rows stayed float32) is
+    stored again from its own policy.pt in the smallest form whose replay, as its record ran it, passes."""
+    from simlab.pretrained.weights import save_policy
+
+    out = tmp_path / "pretrained"
+    script = _script()
+    assert script.main(["--tasks", TASK, *TINY, "--reward_threshold=-1e9", "--out", str(out)]) == 0
+    shipped = out / "Cartpole-Direct-v0" / "rsl_rl"
+    name, checkpoint = unpack_policy(str(shipped / "policy.pt"))
+    save_policy(pack_policy(checkpoint, "rsl_rl", name, "float16"), str(shipped / "policy.pt"))
+    record = json.loads((shipped / "record.json").read_text())
+    (shipped / "record.json").write_text(json.dumps({**record, "weights": "float16"}, indent=2) + "\n")
+    float16_bytes = os.path.getsize(shipped / "policy.pt")
+
+    assert script.main(["--restore", "--tasks", TASK, "--out", str(out)]) == 0
+    restored = json.loads((shipped / "record.json").read_text())
+    assert restored["weights"] == "int8_rows" and restored["cpu_evaluation"]["passed"]
+    assert restored["files_bytes"]["policy.pt"] == os.path.getsize(shipped / "policy.pt") < float16_bytes
+    assert restored["train_command"] == record["train_command"]  # how it was trained stays
+    assert "from its shipped float16 weights" in restored["weights_note"]
+    replay = restored["cpu_evaluation"]  # the record's play: its envs, seconds and seed
+    assert (replay["envs"], replay["seconds"], replay["seed"]) == (4, 0.5, 3)
+    stored = torch.load(shipped / "policy.pt", weights_only=True)["state"]["actor_state_dict"]
+    _, back = unpack_policy(str(shipped / "policy.pt"))
+    for key, value in checkpoint["actor_state_dict"].items():
+        if sum(size > 1 for size in value.shape) >= 2:  # int8 rows of the float16 weights, within half a step
+            assert stored[key]["__packed__"] == "int8_rows"
+            step = value.abs().amax(dim=1, keepdim=True) / 127
+            assert bool(((back["actor_state_dict"][key] - value).abs() <= step / 2 + 1e-3 * value.abs()).all())
+        else:  # vectors (the (1, 32) output row too) stay float32
+            torch.testing.assert_close(back["actor_state_dict"][key], value, rtol=1e-3, atol=1e-4)  # float16's
+
+    monkeypatch.setattr(simlab.pretrained, "PRETRAINED_DIR", str(out))
+    argv = ["play", "--task", TASK, "--use_pretrained_checkpoint", "--headless", "--device", "cpu"]
+    argv += ["--num_envs", "2", "--steps", "5", "--log_root", str(tmp_path / "logs")]
+    assert run_play(build_parser().parse_args(argv), [])["checkpoint"].startswith(str(tmp_path / "logs"))
+    assert script.main(["--restore", "--tasks", "simlab/Cartpole-v0", "--out", str(out)]) == 1  # none shipped there

@@ -148,6 +148,8 @@ def test_a_stored_policy_unpacks_to_the_checkpoint_within_half_a_step_of_int8(tm
 
     torch.manual_seed(0)
     actor = {"mlp.0.weight": torch.randn(64, 10) * 3.0, "mlp.0.bias": torch.randn(64), "zero": torch.zeros(4, 4)}
+    # rsl_rl's normalizer keeps (1, N) statistics: features of unlike magnitudes, one int8 scale would zero some
+    actor["obs_normalizer._var"] = torch.logspace(-4, 3, 10).reshape(1, 10)
     checkpoint = {"actor_state_dict": actor, "critic_state_dict": {"w": torch.ones(3)}, "iter": 7, "infos": None}
     checkpoint["optimizer_state_dict"] = {"state": {}}
     torch.save(pack_policy(checkpoint, "rsl_rl", "model_7.pt"), tmp_path / "policy.pt")
@@ -156,6 +158,7 @@ def test_a_stored_policy_unpacks_to_the_checkpoint_within_half_a_step_of_int8(tm
     restored = back["actor_state_dict"]
     assert torch.equal(restored["mlp.0.bias"], actor["mlp.0.bias"])  # vectors stay float32
     assert torch.equal(restored["zero"], actor["zero"])
+    assert torch.equal(restored["obs_normalizer._var"], actor["obs_normalizer._var"])  # a (1, N) row is a vector
     half_step = actor["mlp.0.weight"].abs().amax(dim=1, keepdim=True) / 254
     error = (restored["mlp.0.weight"] - actor["mlp.0.weight"]).abs()
     assert bool((error <= half_step * 1.0001).all()) and float(error.max()) > 0

@@ -10,14 +10,15 @@ matrices stored smaller than float32, in one of two forms (``MATRICES``):
 
 - ``int8_rows``: int8 with one float32 scale per row (symmetric, the row's largest magnitude maps
   to 127), a quarter of float32's bytes;
-- ``float16``: half of float32's bytes, for policies whose task needs finer actions (measured on
-  the Franka reach with IK-Abs: float32 0.982 of its tolerance, float16 0.982, int8 rows 1.13, a
-  failure).
+- ``float16``: half of float32's bytes, for a policy whose int8 replay misses its criterion.
 
 ``scripts/make_pretrained.py`` ships the first form whose replay still meets the task's criterion,
 written by :func:`save_policy` (its zip entries deflated).
-Vectors (biases, action noise, normalizer statistics) stay float32. The stored file holds only
-tensors, dicts, numbers and strings, so ``torch.load(weights_only=True)`` reads it.
+Vectors (biases, action noise, normalizer statistics) stay float32, rsl_rl's ``(1, N)`` normalizer
+statistics too: one int8 scale across features of unlike magnitudes rounds the small ones to 0 (the
+Franka reach with IK-Abs replayed at 1.10 of its tolerance so, a failure; with them float32 and the
+weights int8 rows, 0.98, as float16). The stored file holds only tensors, dicts, numbers and strings,
+so ``torch.load(weights_only=True)`` reads it.
 
 :func:`unpack_policy` turns it back into the library's own checkpoint (float32), which play writes
 into the user's log folder and loads as any checkpoint; exports (ONNX, TorchScript) are made there.
@@ -70,10 +71,15 @@ OPTIONAL_KEYS = ("observation_preprocessor", "epochs")
 # a packed matrix is {"__packed__": <one of MATRICES>, "values": ..., ("scale": per-row float32)}
 
 
+def _is_matrix(value: Any) -> bool:
+    """A float tensor with two or more dimensions longer than 1: a (1, N) row is a vector."""
+    return torch.is_tensor(value) and value.is_floating_point() and sum(size > 1 for size in value.shape) >= 2
+
+
 def _pack(value: Any, matrices: str) -> Any:
     if isinstance(value, dict):
         return {key: _pack(item, matrices) for key, item in value.items()}
-    if torch.is_tensor(value) and value.is_floating_point() and value.dim() >= 2:
+    if _is_matrix(value):
         matrix = value.detach().float().cpu()
         if matrices == "float16":
             return {"__packed__": matrices, "values": matrix.half()}
