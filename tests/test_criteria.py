@@ -118,7 +118,7 @@ def test_reach_criterion_takes_the_errors_at_the_end_of_each_command_window():
         for _ in range(round(4.5 / env.step_dt)):
             env.step(actions)
             on_step(env, None, None)
-        (position,), (orientation,) = errors["position"], errors["orientation"]
+        (position,), (orientation,) = errors["ee_pose"]["position"], errors["ee_pose"]["orientation"]
         assert position.shape == orientation.shape == (2,)  # one window ended in each env
         score, passed = criterion.judge({}, errors)
         assert score == pytest.approx(max(float(position.mean()) / 0.02, float(orientation.mean()) / 0.1))

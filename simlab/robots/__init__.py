@@ -11,6 +11,7 @@ from .cassie import CASSIE_CFG
 from .franka import FRANKA_PANDA_CFG, FRANKA_PANDA_HIGH_PD_CFG
 from .humanoid import HUMANOID_CFG
 from .humanoid_28 import HUMANOID_28_CFG
+from .openarm import OPENARM_BI_CFG, OPENARM_BI_HIGH_PD_CFG, OPENARM_UNI_CFG, OPENARM_UNI_HIGH_PD_CFG
 from .quadcopter import CRAZYFLIE_CFG
 from .shadow_hand import SHADOW_HAND_CFG
 from .unitree import (

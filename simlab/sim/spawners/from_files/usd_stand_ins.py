@@ -251,6 +251,8 @@ USD_STAND_INS: dict[str, UsdStandIn] = {
     ),
     "Robots/BostonDynamics/spot/spot.usd": mjcf("boston_dynamics_spot.xml"),
     "Robots/UniversalRobots/ur10e/ur10e.usd": mjcf("universal_robots_ur10e.xml"),
+    "Robots/OpenArm/openarm_unimanual/openarm_unimanual.usd": mjcf("enactic_openarm.xml"),
+    "Robots/OpenArm/openarm_bimanual/openarm_bimanual.usd": mjcf("enactic_openarm_bimanual.xml"),
     "Robots/Agility/Digit/digit_v4.usd": mjcf(
         "agility_digit.xml", "the leg rods as equality constraints; docs/locomotion.md"
     ),

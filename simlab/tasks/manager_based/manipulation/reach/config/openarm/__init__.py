@@ -1,0 +1,1 @@
+"""OpenArm reach tasks: one arm (``unimanual``) and two arms (``bimanual``)."""

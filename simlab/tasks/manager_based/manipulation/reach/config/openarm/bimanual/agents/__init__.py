@@ -1,0 +1,1 @@
+"""Agent configs for the two-arm OpenArm reach task."""

@@ -1,0 +1,1 @@
+"""Agent configs for the one-arm OpenArm reach task."""
