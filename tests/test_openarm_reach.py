@@ -43,9 +43,14 @@ def rotation(axis, angle: float) -> np.ndarray:
     return np.eye(3) + math.sin(angle) * cross + (1 - math.cos(angle)) * cross @ cross
 
 
-def hand_pose(q, mirrored: bool, mount=np.eye(4), joint2_frame=np.eye(3)) -> tuple[np.ndarray, np.ndarray]:
+def hand_pose(
+    q, mirrored: bool, mount: np.ndarray | None = None, joint2_frame: np.ndarray | None = None
+) -> tuple[np.ndarray, np.ndarray]:
     """The hand's position and orientation from the description's numbers: each joint's origin, then its
-    rotation; joint2's frame turned by ``joint2_frame`` (the two-arm mount's offset)."""
+    rotation; the arm's base at ``mount`` (a 4x4 pose, default the origin), joint2's frame turned by
+    ``joint2_frame`` (the two-arm mount's offset)."""
+    mount = np.eye(4) if mount is None else mount
+    joint2_frame = np.eye(3) if joint2_frame is None else joint2_frame
     pos, rot = mount[:3, 3].copy(), mount[:3, :3].copy()
     for i, (origin, axis, angle) in enumerate(zip(ORIGINS, AXES, q, strict=True)):
         pos = pos + rot @ np.array(origin)
