@@ -223,3 +223,8 @@ def test_the_registered_agents_are_isaac_labs():
     two = load_cfg_from_registry(BI, "rsl_rl_cfg_entry_point")
     assert two.experiment_name == "openarm_bi_reach" and two.max_iterations == 550
     assert not two.actor.obs_normalization and two.critic.hidden_dims == [64, 64]
+    for task, name in ((UNI, "openarm_reach"), (BI, "openarm_bi_reach")):
+        skrl = load_cfg_from_registry(task, "skrl_cfg_entry_point")
+        assert skrl["agent"]["rollouts"] == 24 and skrl["agent"]["experiment"]["directory"] == name
+        params = load_cfg_from_registry(task, "rl_games_cfg_entry_point")["params"]
+        assert params["config"]["name"] == name and params["network"]["mlp"]["units"] == [64, 64]
