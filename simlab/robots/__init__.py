@@ -8,6 +8,7 @@ from .cabinet import SEKTION_CABINET_CFG
 from .cart_double_pendulum import CART_DOUBLE_PENDULUM_CFG
 from .cartpole import CARTPOLE_CFG
 from .cassie import CASSIE_CFG
+from .flexiv import FLEXIV_RIZON4S_CFG
 from .franka import FRANKA_PANDA_CFG, FRANKA_PANDA_HIGH_PD_CFG
 from .humanoid import HUMANOID_CFG
 from .humanoid_28 import HUMANOID_28_CFG

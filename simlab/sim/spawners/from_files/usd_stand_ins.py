@@ -235,6 +235,7 @@ USD_STAND_INS: dict[str, UsdStandIn] = {
     ),
     "IsaacLab/Robots/FrankaEmika/panda_instanceable.usd": _FRANKA,
     "IsaacLab/Robots/UniversalRobots/UR10/ur10_instanceable.usd": mjcf("universal_robots_ur10.xml"),
+    "IsaacLab/Robots/Flexiv/Rizon4s/rizon4s.usd": mjcf("flexiv_rizon4s.xml"),
     "IsaacLab/Robots/Classic/Cartpole/cartpole.usd": mjcf("cartpole.xml"),
     "IsaacLab/Robots/Classic/CartDoublePendulum/cart_double_pendulum.usd": mjcf("cart_double_pendulum.xml"),
     "IsaacLab/Robots/Classic/Humanoid28/humanoid_28.usd": mjcf(

@@ -1,0 +1,1 @@
+"""Agent configs for the deployed Rizon 4s reach task."""
