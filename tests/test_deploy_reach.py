@@ -1,7 +1,7 @@
-"""The UR10e and its deployed reach task (Isaac Lab's ``Isaac-Deploy-Reach-UR10e-v0``): Isaac Lab's joint
-names, forward kinematics equal to Universal Robots' published DH parameters, the keypoint rewards
-against hand-computed values, the task builds and steps on both backends, and its criterion reads the
-pose in the "base" frame the task tracks commands in."""
+"""The deployed reach tasks (Isaac Lab's ``Isaac-Deploy-Reach-UR10e-v0`` and ``-Rizon4s-v0``) and their arms:
+Isaac Lab's joint names, forward kinematics equal to the makers' published kinematics, the keypoint
+rewards against hand-computed values, the tasks build and step on both backends, and the criterion
+reads the pose in the "base" frame the tasks track commands in."""
 
 from __future__ import annotations
 
@@ -17,15 +17,32 @@ import torch
 import simlab.tasks  # noqa: F401 - registers the tasks
 from simlab.envs import ManagerBasedRLEnv
 from simlab.managers import SceneEntityCfg
-from simlab.robots import UR10e_CFG
+from simlab.robots import FLEXIV_RIZON4S_CFG, UR10e_CFG
 from simlab.tasks.manager_based.manipulation.deploy import mdp
 from simlab.tasks.utils.criteria import criterion_for
 from simlab.tasks.utils.parse_cfg import load_cfg_from_registry, parse_env_cfg
 from simlab.utils.math import quat_from_euler_xyz
 
 TASK = "simlab/Deploy-Reach-UR10e-v0"
-TASKS = [TASK, "simlab/Deploy-Reach-UR10e-Play-v0", "simlab/Deploy-Reach-UR10e-ROS-Inference-v0"]
+RIZON = "simlab/Deploy-Reach-Rizon4s-v0"
+TASKS = [
+    f"simlab/Deploy-Reach-{arm}{suffix}"
+    for arm in ("UR10e", "Rizon4s")
+    for suffix in ("-v0", "-Play-v0", "-ROS-Inference-v0")
+]
 JOINTS = ["shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint", "wrist_1_joint", "wrist_2_joint", "wrist_3_joint"]
+RIZON_JOINTS = [f"joint{i}" for i in range(1, 8)]
+# Flexiv's Rizon 4s description: each joint's origin (xyz, rpy) in its parent link and its axis; the flange
+RIZON_CHAIN = [
+    ((0.0, 0.0, 0.155), (0.0, 0.0, math.pi), (0, 0, 1)),
+    ((0.0, 0.03, 0.21), (0.0, 0.0, 0.0), (0, 1, 0)),
+    ((0.0, 0.035, 0.205), (0.0, 0.0, 0.0), (0, 0, 1)),
+    ((-0.02, -0.03, 0.19), (0.0, 0.0, -math.pi), (0, 1, 0)),
+    ((-0.02, 0.025, 0.195), (0.0, 0.0, -math.pi), (0, 0, 1)),
+    ((0.0, 0.03, 0.19), (0.0, 0.0, 0.0), (0, 1, 0)),
+    ((-0.055, 0.07, 0.11), (0.0, -math.pi / 2, 0.0), (0, 0, 1)),
+]
+RIZON_FLANGE = ((0.0, 0.0, 0.124), (0.0, 0.0, -math.pi))
 # UR10e standard DH parameters, as Universal Robots publishes them
 DH_D = [0.1807, 0.0, 0.0, 0.17415, 0.11985, 0.11655]
 DH_A = [0.0, -0.6127, -0.57155, 0.0, 0.0, 0.0]
@@ -40,6 +57,29 @@ def dh_flange_pose(q: np.ndarray) -> np.ndarray:
             [[ct, -st * ca, st * sa, a * ct], [st, ct * ca, -ct * sa, a * st], [0, sa, ca, d], [0, 0, 0, 1]]
         )
     return pose
+
+
+def _rotation(axis: tuple[float, float, float], angle: float) -> np.ndarray:
+    x, y, z = axis
+    k = np.array([[0, -z, y], [z, 0, -x], [-y, x, 0]])
+    return np.eye(3) + math.sin(angle) * k + (1 - math.cos(angle)) * k @ k
+
+
+def _urdf_origin(xyz, rpy) -> np.ndarray:
+    pose = np.eye(4)
+    roll, pitch, yaw = rpy
+    pose[:3, :3] = _rotation((0, 0, 1), yaw) @ _rotation((0, 1, 0), pitch) @ _rotation((1, 0, 0), roll)
+    pose[:3, 3] = xyz
+    return pose
+
+
+def rizon_flange_pose(q: np.ndarray) -> np.ndarray:
+    pose = np.eye(4)
+    for (xyz, rpy, axis), angle in zip(RIZON_CHAIN, q, strict=True):
+        turn = np.eye(4)
+        turn[:3, :3] = _rotation(axis, angle)
+        pose = pose @ _urdf_origin(xyz, rpy) @ turn
+    return pose @ _urdf_origin(*RIZON_FLANGE)
 
 
 def make_env(num_envs: int = 4, engine: str = "mujoco", task: str = TASK) -> ManagerBasedRLEnv:
@@ -63,6 +103,21 @@ def test_the_model_has_isaac_labs_joint_names_the_published_masses_and_dh_kinema
         pose = dh_flange_pose(q)
         np.testing.assert_allclose(data.xpos[flange], base_turn @ pose[:3, 3], atol=1e-9)
         np.testing.assert_allclose(data.xmat[flange].reshape(3, 3), base_turn @ pose[:3, :3], atol=1e-9)
+
+
+def test_the_rizon_model_has_isaac_labs_joint_names_flexivs_masses_and_kinematics():
+    model = mujoco.MjModel.from_xml_path(FLEXIV_RIZON4S_CFG.spawn.asset_path)
+    data = mujoco.MjData(model)
+    assert [model.joint(i).name for i in range(model.njnt)] == RIZON_JOINTS
+    assert set(FLEXIV_RIZON4S_CFG.init_state.joint_pos) == set(RIZON_JOINTS)
+    assert model.body_mass.sum() == pytest.approx(3.7 + 3.7 + 2.7 + 3 * 2.4 + 2.1 + 1.4)
+    flange = model.body("flange").id
+    for q in np.random.default_rng(0).uniform(-1.3, 1.3, size=(5, 7)):
+        data.qpos[:] = q
+        mujoco.mj_kinematics(model, data)
+        pose = rizon_flange_pose(q)
+        np.testing.assert_allclose(data.xpos[flange], pose[:3, 3], atol=1e-9)
+        np.testing.assert_allclose(data.xmat[flange].reshape(3, 3), pose[:3, :3], atol=1e-7)
 
 
 def test_keypoint_distances_and_reward_match_hand_computed_values():
@@ -94,40 +149,47 @@ def test_keypoint_distances_and_reward_match_hand_computed_values():
 
 @pytest.mark.parametrize("task", TASKS)
 def test_tasks_build_and_step_with_isaac_labs_spaces(task):
+    joints = RIZON_JOINTS if "Rizon" in task else JOINTS
+    n = len(joints)
     env = gym.make(task, cfg=parse_env_cfg(task, device="cpu", num_envs=2))
     try:
         obs, _ = env.reset(seed=0)
-        assert env.unwrapped.scene["robot"].joint_names == JOINTS
-        assert obs["policy"].shape == (2, 19) and env.action_space.shape == (2, 6)  # the ROS node's 19 and 6
+        assert env.unwrapped.scene["robot"].joint_names == joints
+        # the ROS node's observation and action sizes: joint positions and velocities, a pose
+        assert obs["policy"].shape == (2, 2 * n + 7) and env.action_space.shape == (2, n)
         for _ in range(3):
             obs, reward, *_ = env.step(torch.randn(env.action_space.shape))
         assert torch.isfinite(obs["policy"]).all() and torch.isfinite(reward).all()
         if "ROS" in task:
             cfg = env.unwrapped.cfg
             assert cfg.obs_order == ["arm_dof_pos", "arm_dof_vel", "target_pos", "target_quat"]
-            assert cfg.action_scale_joint_space == [0.0625] * 6 and cfg.arm_joint_names == JOINTS
+            assert cfg.action_scale_joint_space == [0.0625] * n and cfg.arm_joint_names == joints
+            assert cfg.observation_space == 2 * n + 7 and cfg.action_space == n
     finally:
         env.close()
 
 
+@pytest.mark.parametrize("task", [TASK, RIZON])
 @pytest.mark.parametrize("engine", ["mujoco", "mujoco_warp"])
-def test_the_task_steps_on_both_backends_and_actions_move_the_targets_by_a_sixteenth(engine):
+def test_the_task_steps_on_both_backends_and_actions_move_the_targets_by_a_sixteenth(engine, task):
     """Relative joint-position actions: each physics step, the drive's target is the joint's position
     then plus 0.0625 x the action; random actions keep the arm finite and slow (no torque cap: Isaac
-    Lab's config has none)."""
+    Lab's UR10e config has none; the Rizon 4s is capped, with simlab's armature)."""
     if engine == "mujoco_warp":
         pytest.importorskip("mujoco_warp")
-    env = make_env(engine=engine)
+    env = make_env(engine=engine, task=task)
     try:
         env.reset()
         robot, term = env.scene["robot"], env.action_manager.get_term("arm_action")
         torch.manual_seed(0)
         for _ in range(30):
-            actions = torch.randn(env.num_envs, 6)
+            actions = torch.randn(env.num_envs, robot.num_joints)
             obs, reward, *_ = env.step(actions)
             torch.testing.assert_close(term.processed_actions, 0.0625 * actions)
-            # the last physics step's target: the position after the first one, plus the same offset
-            assert (robot.data.joint_pos_target - term.processed_actions - robot.data.joint_pos).abs().max() < 0.02
+            # the last physics step's target: the position after the first one (at most one physics step
+            # at the speed bound below from where the joints end), plus the same offset
+            moved = robot.data.joint_pos_target - term.processed_actions - robot.data.joint_pos
+            assert moved.abs().max() < 10.0 * env.physics_dt
             assert torch.isfinite(obs["policy"]).all() and torch.isfinite(reward).all()
             assert robot.data.joint_vel.abs().max() < 10.0
     finally:
@@ -168,8 +230,10 @@ def test_criterion_reads_the_flange_in_the_base_frame_and_random_actions_miss_it
         env.close()
 
 
-def test_the_registered_agent_is_isaac_labs():
-    agent = load_cfg_from_registry(TASK, "rsl_rl_cfg_entry_point")
-    assert agent.num_steps_per_env == 512 and agent.experiment_name == "reach_ur10e"
+@pytest.mark.parametrize(("task", "experiment"), [(TASK, "reach_ur10e"), (RIZON, "reach_rizon4s")])
+def test_the_registered_agent_is_isaac_labs(task, experiment):
+    agent = load_cfg_from_registry(task, "rsl_rl_cfg_entry_point")
+    assert agent.num_steps_per_env == 512 and agent.experiment_name == experiment
     assert agent.actor.obs_normalization and agent.actor.hidden_dims == [256, 128, 64]
     assert agent.algorithm.learning_rate == 5.0e-4 and agent.algorithm.desired_kl == 0.008
+    assert "mean position error < 0.02 m" in criterion_for(task).description
