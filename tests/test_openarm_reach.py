@@ -215,24 +215,14 @@ def test_the_one_arm_criterion_reads_the_hand_and_random_actions_miss():
         env.close()
 
 
-def test_the_registered_agents_are_isaac_labs_with_normalized_observations_and_larger_networks():
-    from simlab.tasks.manager_based.manipulation.reach.config.openarm.bimanual.agents import rsl_rl_ppo_cfg as bi
-    from simlab.tasks.manager_based.manipulation.reach.config.openarm.unimanual.agents import rsl_rl_ppo_cfg as uni
-
+def test_the_registered_agents_are_isaac_labs():
     one = load_cfg_from_registry(UNI, "rsl_rl_cfg_entry_point")
     assert one.experiment_name == "openarm_reach" and one.max_iterations == 1000
+    assert one.actor.obs_normalization and one.actor.hidden_dims == [64, 64]
     assert one.algorithm.learning_rate == 1.0e-2 and one.algorithm.num_learning_epochs == 8
     two = load_cfg_from_registry(BI, "rsl_rl_cfg_entry_point")
     assert two.experiment_name == "openarm_bi_reach" and two.max_iterations == 550
-    for agent in (one, two):
-        assert agent.actor.obs_normalization and agent.critic.obs_normalization
-        assert agent.actor.hidden_dims == agent.critic.hidden_dims == [256, 128, 64]
-    # Isaac Lab's own: [64, 64]; the one arm's normalizes its observations, the two arms' does not
-    assert (
-        uni.OpenArmReachPPORunnerCfg().actor.obs_normalization
-        and uni.OpenArmReachPPORunnerCfg().actor.hidden_dims == [64, 64]
-    )
-    assert not bi.OpenArmReachPPORunnerCfg().actor.obs_normalization
+    assert not two.actor.obs_normalization and two.critic.hidden_dims == [64, 64]
     for task, name in ((UNI, "openarm_reach"), (BI, "openarm_bi_reach")):
         skrl = load_cfg_from_registry(task, "skrl_cfg_entry_point")
         assert skrl["agent"]["rollouts"] == 24 and skrl["agent"]["experiment"]["directory"] == name

@@ -11,7 +11,7 @@ for _suffix, _cfg in (("-v0", "OpenArmReachEnvCfg"), ("-Play-v0", "OpenArmReachE
         disable_env_checker=True,
         kwargs={
             "env_cfg_entry_point": f"{__name__}.joint_pos_env_cfg:{_cfg}",
-            "rsl_rl_cfg_entry_point": f"{agents.__name__}.rsl_rl_ppo_cfg:OpenArmReachLargePPORunnerCfg",
+            "rsl_rl_cfg_entry_point": f"{agents.__name__}.rsl_rl_ppo_cfg:OpenArmReachPPORunnerCfg",
             "skrl_cfg_entry_point": f"{agents.__name__}:skrl_ppo_cfg.yaml",
             "rl_games_cfg_entry_point": f"{agents.__name__}:rl_games_ppo_cfg.yaml",
             "success_criterion_entry_point": (

@@ -32,16 +32,3 @@ class OpenArmReachPPORunnerCfg(RslRlOnPolicyRunnerCfg):
         desired_kl=0.01,
         max_grad_norm=1.0,
     )
-
-
-@configclass
-class OpenArmReachLargePPORunnerCfg(OpenArmReachPPORunnerCfg):
-    """Isaac Lab's agent with normalized observations and [256, 128, 64] networks, the registered
-    agent (the Franka and UR10 reaches' change, ``FrankaReachNormalizedPPORunnerCfg``): with Isaac
-    Lab's [64, 64] networks the one-arm policy reached within 1 cm but not the commanded orientation
-    (0.108 rad at iteration 100, 0.155 rad at 999; CPU, 512 envs, docs/manipulation.md)."""
-
-    def __post_init__(self):
-        for model in (self.actor, self.critic):
-            model.obs_normalization = True
-            model.hidden_dims = [256, 128, 64]
