@@ -228,3 +228,57 @@ def test_the_registered_agents_are_isaac_labs():
         assert skrl["agent"]["rollouts"] == 24 and skrl["agent"]["experiment"]["directory"] == name
         params = load_cfg_from_registry(task, "rl_games_cfg_entry_point")["params"]
         assert params["config"]["name"] == name and params["network"]["mlp"]["units"] == [64, 64]
+
+
+def solve_ik(model: mujoco.MjModel, q: np.ndarray, pos: np.ndarray, quat: np.ndarray) -> np.ndarray:
+    """Damped least-squares IK of the one-arm MJCF's hand to a pose, within the joint ranges."""
+    data, hand = mujoco.MjData(model), model.body("openarm_hand").id
+    low, high = model.jnt_range[:7, 0], model.jnt_range[:7, 1]
+    q = q.copy()
+    for _ in range(200):
+        data.qpos[:7] = q
+        mujoco.mj_kinematics(model, data)
+        mujoco.mj_comPos(model, data)
+        turn, inverse, rotvec = np.zeros(4), np.zeros(4), np.zeros(3)
+        mujoco.mju_negQuat(inverse, data.xquat[hand])
+        mujoco.mju_mulQuat(turn, quat, inverse)
+        mujoco.mju_quat2Vel(rotvec, turn, 1.0)
+        jac_pos, jac_rot = np.zeros((3, model.nv)), np.zeros((3, model.nv))
+        mujoco.mj_jacBody(model, data, jac_pos, jac_rot, hand)
+        jac = np.vstack([jac_pos, jac_rot])[:, :7]
+        error = np.concatenate([pos - data.xpos[hand], rotvec])
+        q = np.clip(q + 0.5 * jac.T @ np.linalg.solve(jac @ jac.T + 1e-4 * np.eye(6), error), low, high)
+    return q
+
+
+@pytest.mark.slow
+def test_a_scripted_ik_controller_meets_the_one_arm_criterion():
+    """The commands are within the criterion in simlab's dynamics: IK to each command, joint targets with
+    integral action against the kp-80 drive's gravity sag. Measured: 0.06 here (8 envs, one window),
+    0.30 on 32 envs for 16 s; without the integral action the drive's sag stays and this scores 1.93."""
+    model = mujoco.MjModel.from_xml_path(OPENARM_UNI_CFG.spawn.asset_path)
+    criterion = criterion_for(UNI)
+    env = make_env(UNI, num_envs=8)
+    try:
+        env.reset()
+        robot, term = env.scene["robot"], env.command_manager.get_term("ee_pose")
+        default = robot.data.default_joint_pos[:, :7].clone()
+        target, integral, last = robot.data.joint_pos[:, :7].clone(), torch.zeros(8, 7), None
+        on_step, errors = criterion.make_hook()
+        for _ in range(int(criterion.play_seconds(0.0) / env.step_dt)):
+            command = term.pose_command_b.clone()
+            changed = torch.ones(8, dtype=torch.bool) if last is None else (command != last).any(1)
+            for i in torch.nonzero(changed).flatten().tolist():
+                q = robot.data.joint_pos[i, :7].double().numpy()
+                target[i] = torch.from_numpy(
+                    solve_ik(model, q, command[i, :3].double().numpy(), command[i, 3:].double().numpy())
+                )
+            integral[changed], last = 0.0, command
+            integral += 0.05 * (target - robot.data.joint_pos[:, :7])
+            actions = (target + integral - default) / 0.5
+            obs, *_ = env.step(actions)
+            on_step(env, obs, actions)
+        score, passed = criterion.judge({}, errors)
+        assert passed and score < 0.6
+    finally:
+        env.close()
