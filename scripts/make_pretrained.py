@@ -26,7 +26,7 @@ Its checkpoints are then played in order on the training device, up to the first
 the task's criterion (registered with the task, ``success_criterion_entry_point``:
 ``simlab.tasks.utils.criteria``). That checkpoint is played again on the CPU (MuJoCo C,
 ``--cpu_eval_envs`` envs for ``--eval_seconds``), where ``--use_pretrained_checkpoint`` plays it
-after install, and shipped only if it passes there too.
+after install, and shipped only if it passes there too (if it does not, the later checkpoints are judged on).
 
 Shipped into ``<out>/<task name>/<library>/``: the run's ``params/`` (the agent config, the command and
 the run's description; not the resolved env config, ``env.yaml``: about 18 KB a policy, which the task's
@@ -384,7 +384,7 @@ def train_until_solved(task: str, args: argparse.Namespace, log_root: str) -> di
     row = judge_checkpoints(task, args, checkpoints, started)
     if over_budget and not row["solved"]:
         raise OverBudget(over_budget_text(task, args, checkpoints[-1]))
-    return row
+    return {**row, "checkpoints": checkpoints, "started": started}
 
 
 def evaluate_on_cpu(task: str, checkpoint: str, iteration: int, args: argparse.Namespace) -> dict[str, Any]:
@@ -538,21 +538,35 @@ def make_one(task: str, args: argparse.Namespace, log_root: str, argv: list[str]
 
     start = time.perf_counter()
     row = train_until_solved(task, args, log_root)
-    if not row["solved"]:
-        return f"not solved in {row['iteration'] + 1} iterations ({row['criterion']}: {row['score']:.3f})"
-    solved = next(e for e in row["evaluations"] if e["passed"])
-    try:
-        staged, cpu, matrices = stage_and_replay(task, solved["checkpoint"], solved["iteration"], args, log_root)
-    except JudgeFailed as e:  # the stored weights played and raised on the CPU (NaN observations, say)
-        raise JudgeFailed(
-            f"{os.path.basename(solved['checkpoint'])} passed on {args.device} ({solved['score']:.3f}), but {e}"
-        ) from e
-    except (RuntimeError, SimlabError) as e:  # e.g. a camera task on a host without OpenGL
-        raise RuntimeError(
-            f"{os.path.basename(solved['checkpoint'])} passed on {args.device} ({solved['score']:.3f}), but its"
-            f" CPU replay failed here ({e}). Ship it from a machine where the replay runs:"
-            f" {script_command(task, args, '--checkpoint', solved['checkpoint'], '--trained_by', '...')}"
-        ) from e
+    missed_on_cpu = ""  # a checkpoint that passed on the training device, not in its CPU replay
+    while True:
+        if not row["solved"]:
+            score = f"{row['criterion']}: {row['score']:.3f}"
+            return f"{missed_on_cpu}not solved in {row['iteration'] + 1} iterations ({score})"
+        solved = next(e for e in row["evaluations"] if e["passed"])
+        try:
+            staged, cpu, matrices = stage_and_replay(task, solved["checkpoint"], solved["iteration"], args, log_root)
+        except JudgeFailed as e:  # the stored weights played and raised on the CPU (NaN observations, say)
+            raise JudgeFailed(
+                f"{os.path.basename(solved['checkpoint'])} passed on {args.device} ({solved['score']:.3f}), but {e}"
+            ) from e
+        except (RuntimeError, SimlabError) as e:  # e.g. a camera task on a host without OpenGL
+            raise RuntimeError(
+                f"{os.path.basename(solved['checkpoint'])} passed on {args.device} ({solved['score']:.3f}), but its"
+                f" CPU replay failed here ({e}). Ship it from a machine where the replay runs:"
+                f" {script_command(task, args, '--checkpoint', solved['checkpoint'], '--trained_by', '...')}"
+            ) from e
+        # a score at the criterion's edge can pass one replay and miss the other: judge on from the next checkpoint
+        later = row["checkpoints"][row["checkpoints"].index(solved["checkpoint"]) + 1 :]
+        if cpu["passed"] or not later:
+            break
+        missed_on_cpu = (
+            f"{os.path.basename(solved['checkpoint'])} passed on {args.device} ({solved['score']:.3f}) but not on the"
+            f" CPU ({cpu['score']:.3f}); the later checkpoints: "
+        )
+        print(f"[make_pretrained] {missed_on_cpu}judged next", flush=True)
+        judged = judge_checkpoints(task, args, later, row["started"])
+        row = {**judged, "checkpoints": later, "started": row["started"]}
     record = {
         **record_header(task, args, argv),
         "train_command": run_command(row["run_dir"]),

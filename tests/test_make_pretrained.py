@@ -227,6 +227,25 @@ def test_a_failing_cpu_replay_names_the_passing_checkpoint_and_how_to_ship_it(tm
     assert os.path.isfile(checkpoint) and not out.exists()  # kept for --checkpoint, nothing shipped
 
 
+def test_a_checkpoint_whose_cpu_replay_misses_is_passed_over_for_a_later_one(tmp_path, capsys, monkeypatch):
+    script = _script()
+    replayed = []
+
+    def replay(task, staged, iteration, args):  # the first checkpoint sits at the criterion's edge on the CPU
+        replayed.append(iteration)
+        passed = iteration > 0
+        return {"device": "cpu", "envs": 4, "seconds": 0.5, "seed": 3, "score": float(passed), "passed": passed}
+
+    monkeypatch.setattr(script, "evaluate_on_cpu", replay)
+    out = tmp_path / "pretrained"
+    argv = ["--tasks", TASK, *TINY, "--reward_threshold=-1e9", "--out", str(out), "--log_root", str(tmp_path / "logs")]
+    assert script.main(argv) == 0
+    assert replayed[0] == 0 and replayed[-1] > 0  # both stored forms of model_0 missed, then a later one passed
+    assert "model_0.pt passed on cpu" in capsys.readouterr().out
+    record = json.loads((out / "Cartpole-Direct-v0" / "rsl_rl" / "record.json").read_text())
+    assert record["checkpoint"] != "model_0.pt" and record["cpu_evaluation"]["passed"]
+
+
 def test_a_training_stopped_by_the_budget_saves_where_it_is_and_says_how_to_go_on(tmp_path):
     import subprocess
     import time
